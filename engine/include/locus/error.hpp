@@ -1,0 +1,35 @@
+// locus::Error — the one exception type of the library.
+//
+// Every failure names what is wrong and where (file and line, face, vertex,
+// column). The code mirrors the CLI's exit status so that tools can map an
+// error to a status without parsing the message.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace locus {
+
+enum class ErrorCode : int {
+  BadUsage = 2,      // wrong arguments / options from the caller
+  BadInput = 3,      // malformed or unsuitable mesh / file
+  Numerical = 4,     // e.g. matrix not positive definite
+  Cancelled = 5,     // a RunContext cancel flag was raised
+  ResourceLimit = 6, // would exceed the memory limit
+  Internal = 70,     // a bug in locus
+};
+
+class Error : public std::runtime_error {
+ public:
+  Error(ErrorCode code, const std::string& message)
+      : std::runtime_error(message), code_(code) {}
+  ErrorCode code() const noexcept { return code_; }
+  // Exit status the CLI uses for this error.
+  int exit_status() const noexcept { return code_ == ErrorCode::ResourceLimit ? 3 : static_cast<int>(code_); }
+
+ private:
+  ErrorCode code_;
+};
+
+[[noreturn]] inline void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
+
+}  // namespace locus

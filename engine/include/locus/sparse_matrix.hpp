@@ -1,0 +1,30 @@
+// Compressed sparse column matrices (DESIGN.md "Data").
+//
+// Symmetric matrices store the lower triangle only (row >= col in every column),
+// rows sorted ascending within a column, no duplicates.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace locus {
+
+struct CscMatrix {
+  int32_t nrows = 0, ncols = 0;
+  std::vector<int64_t> colptr{0};  // ncols + 1
+  std::vector<int32_t> rowind;     // colptr[ncols]
+  std::vector<double> values;      // colptr[ncols]
+  int64_t nnz() const { return colptr.empty() ? 0 : colptr.back(); }
+};
+
+// Builds a lower-triangular symmetric CSC matrix from triplets (i, j, v); entries
+// with i < j are mirrored to (j, i); duplicates are summed. O(nnz + n).
+CscMatrix lower_from_triplets(int32_t n, const std::vector<int32_t>& ii, const std::vector<int32_t>& jj,
+                              const std::vector<double>& vv);
+
+// y = A x for a lower-stored symmetric A.
+void symmetric_multiply(const CscMatrix& lower, const double* x, double* y);
+
+// Linear combination a*A + b*B of two lower-stored matrices with the SAME pattern.
+CscMatrix combine_same_pattern(double a, const CscMatrix& A, double b, const CscMatrix& B);
+
+}  // namespace locus

@@ -1,0 +1,31 @@
+// Discrete operators on triangle meshes (thesis §3.3, eqs. 3.5, 3.6; §6.5 eqs. 6.1, 6.2).
+//
+// Sign convention: L_C is the cotan "Laplacian" with NEGATIVE diagonal
+// ((L_C)_ij = (cot a_ij + cot b_ij)/2 for edges, (L_C)_ii = -sum_j (L_C)_ij), so
+// -L_C is positive semidefinite and the heat operator M - t L_C is SPD for t > 0.
+// All matrices are stored as the lower triangle (CscMatrix) with the SAME pattern
+// (diagonal + every unique edge), so they can be combined value-wise.
+#pragma once
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "locus/sparse_matrix.hpp"
+
+namespace locus {
+
+CscMatrix cotan_laplacian(const Mesh& m);                 // L_C
+std::vector<double> lumped_mass(const Mesh& m);           // diag of M: one third of incident triangle areas
+CscMatrix mass_matrix_as_csc(const Mesh& m);              // M on the pattern of L_C (zeros off the diagonal)
+CscMatrix heat_operator(const Mesh& m, double t);         // M - t L_C
+// -L_C + eps * M with eps relative to the operator's own scale,
+// eps = rel * trace(-L_C) / trace(M), so the regularization (and the condition
+// number) does not depend on the units of the mesh.
+CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-8);
+
+// Per-vertex normals, unit length, 3*nv interleaved (x,y,z).
+std::vector<double> area_weighted_normals(const Mesh& m);
+// Mean-curvature normal vector H_i n_i = (M^{-1} L_C p)_i (eq. 6.1/6.2 up to sign:
+// points outward on a convex surface, magnitude = 2 * mean curvature), 3*nv interleaved.
+std::vector<double> mean_curvature_normals(const Mesh& m);
+
+}  // namespace locus

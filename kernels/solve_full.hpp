@@ -1,0 +1,28 @@
+// Full triangular solves with a supernodal factor (DESIGN.md "Numeric core" 5).
+//
+// solve():  x = A^{-1} b for one right-hand side, in original numbering, in place.
+// solve8(): eight right-hand sides at once, row-interleaved (rhs[row*8 + lane],
+//           one cache line per row), processed with xsimd batches. Fewer than 8
+//           lanes are padded by the caller (use zeros), never a separate path.
+// The permutation is applied inside. `work` (n or 8n doubles) may be passed to
+// avoid allocating; solves are const on the factor and safe to run concurrently.
+#pragma once
+#include <span>
+#include <vector>
+
+#include "kernels/supernodal_factor.hpp"
+
+namespace locus {
+
+constexpr int kLanes = 8;
+
+void solve(const NumericFactor& f, std::span<double> b, std::span<double> work = {});
+void solve8(const NumericFactor& f, std::span<double> b8, std::span<double> work = {});
+
+// In factor numbering: L y = b (forward) and L^T x = y (backward), in place.
+void forward_full(const NumericFactor& f, double* x);
+void backward_full(const NumericFactor& f, double* x);
+void forward_full8(const NumericFactor& f, double* x8);
+void backward_full8(const NumericFactor& f, double* x8);
+
+}  // namespace locus

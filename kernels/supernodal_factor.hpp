@@ -1,0 +1,37 @@
+// Numeric supernodal Cholesky factorization A = L L^T (DESIGN.md "Numeric core" 3, 4).
+//
+// Left-looking, supernode by supernode: gather the updates of descendant
+// supernodes with BLAS-3 (dsyrk/dgemm), then dpotrf on the diagonal block and
+// dtrsm below it. Independent subtrees of the supernodal etree run in parallel
+// on oneTBB with single-threaded BLAS inside tasks. The order in which updates
+// are summed is fixed, so the factor is bit-identical for any thread count.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/symbolic_factor.hpp"
+#include "locus/run_context.hpp"
+#include "locus/sparse_matrix.hpp"
+
+namespace locus {
+
+struct NumericFactor {
+  std::shared_ptr<const SymbolicFactor> symbolic;
+  std::vector<double> values;  // symbolic->nnz_L entries, supernode blocks column-major
+
+  int32_t n() const { return symbolic ? symbolic->n : 0; }
+  const double* block(int32_t s) const { return values.data() + symbolic->super_value_ptr[s]; }
+  double* block(int32_t s) { return values.data() + symbolic->super_value_ptr[s]; }
+};
+
+// Factors A (lower CSC, original numbering, same pattern that `symbolic` was built from).
+// A non-positive pivot raises Error(Numerical) naming the factor column and the
+// original (input) index of that column: "not positive definite at vertex 513 (column 20771)".
+NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const CscMatrix& lower,
+                        const RunContext& ctx = {});
+// Same pattern, new values: reuses the symbolic factor and the storage of f.
+void refactorize(NumericFactor& f, const CscMatrix& lower, const RunContext& ctx = {});
+
+}  // namespace locus

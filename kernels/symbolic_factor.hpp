@@ -1,0 +1,84 @@
+// Symbolic Cholesky analysis (thesis §4.2, §5.3; DESIGN.md "Numeric core" 2).
+//
+// From the pattern of A (lower CSC, original numbering) and an ordering P, builds
+// everything numeric factorization and the local solves need, in O(nnz(L)):
+// column elimination tree, postorder, column counts (Gilbert–Ng–Peyton),
+// fundamental supernodes with relaxed amalgamation, the supernodal etree, the
+// supernodes' row structures, and the map from A's entries to L's storage.
+//
+// Everything is in the *factor* numbering (column k of L = original index
+// perm[k]); supernodes are postordered so that every subtree is a contiguous range.
+// The structure is immutable and shared by every numeric factor with the same
+// pattern (all heat operators M - tL of one mesh, whatever t).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "kernels/ordering.hpp"
+#include "locus/sparse_matrix.hpp"
+
+namespace locus {
+
+struct SymbolicOptions {
+  // Relaxed amalgamation (CHOLMOD-style): merge a child into its parent when the
+  // merged supernode has at most `relax_cols_small` columns, or when the fraction
+  // of explicit zeros it adds stays below the threshold for its size.
+  int32_t relax_cols_small = 4;
+  int32_t relax_cols_medium = 16;
+  int32_t relax_cols_large = 48;
+  double relax_zeros_medium = 0.8;
+  double relax_zeros_large = 0.1;
+  double relax_zeros_huge = 0.05;
+  int32_t max_super_cols = 256;  // never merge beyond this width
+};
+
+struct SymbolicFactor {
+  int32_t n = 0;
+  std::vector<int32_t> perm, iperm;  // see Ordering
+
+  // Column elimination tree of P A P^T (factor numbering); parent = -1 at roots.
+  std::vector<int32_t> parent;
+  std::vector<int32_t> col_count;    // nnz of each column of L (with diagonal), exact (before amalgamation)
+  int64_t nnz_exact = 0;             // sum of col_count
+  int32_t etree_height = 0;          // longest leaf-to-root path, in columns
+
+  // Supernodes: columns super_first_col[s] .. super_first_col[s+1]-1.
+  int32_t ns = 0;
+  std::vector<int32_t> super_first_col;  // ns + 1
+  std::vector<int32_t> col_to_super;     // n
+  std::vector<int32_t> super_parent;     // ns, -1 at roots; parent > child (postorder)
+  std::vector<int64_t> super_row_ptr;    // ns + 1, into super_rows
+  std::vector<int32_t> super_rows;       // rows of each supernode, ascending; the first
+                                         // ncols(s) are its own columns
+  std::vector<int64_t> super_value_ptr;  // ns + 1: block of s = nrows(s) x ncols(s), column-major, ld = nrows(s)
+  int64_t nnz_L = 0;                     // stored entries of L (lower trapezoids incl. amalgamation zeros)
+  int32_t super_etree_height = 0;
+
+  // Map from A's stored lower entries (in A's CSC order) to positions in L's values.
+  std::vector<int64_t> a_colptr_check;   // copy of A.colptr to check a later matrix has the same pattern
+  std::vector<int64_t> a_to_l;           // nnz(A)
+
+  // Supernodes that update s in a left-looking factorization, ascending
+  // (descendants d with a row in s's column range), CSR.
+  std::vector<int64_t> update_ptr;       // ns + 1
+  std::vector<int32_t> update_from;
+
+  int32_t ncols(int32_t s) const { return super_first_col[s + 1] - super_first_col[s]; }
+  int32_t nrows(int32_t s) const { return static_cast<int32_t>(super_row_ptr[s + 1] - super_row_ptr[s]); }
+  int64_t flops() const;  // floating-point operations of one numeric factorization
+};
+
+// Throws BadInput if A is not square or not lower-stored with sorted rows.
+std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& lower, const Ordering& ordering,
+                                              const SymbolicOptions& opt = {});
+
+// Row structure of L in CSR (factor numbering): for each row i, the columns j < i with
+// L_ij stored (supernodal pattern), ascending. Chapter 5 (factor-once updates) needs it.
+struct RowStructure {
+  std::vector<int64_t> row_ptr;  // n + 1
+  std::vector<int32_t> cols;
+};
+RowStructure row_structure(const SymbolicFactor& s);
+
+}  // namespace locus
