@@ -1,0 +1,11 @@
+// The subcommands of `locus-bench`, one file each (tools/bench/bench_<name>.cpp).
+// They share the grammar of the `locus` tool (tools/cli/cli_common.hpp).
+#pragma once
+#include "tools/cli/cli_common.hpp"
+
+namespace locus::bench {
+
+// `locus-bench factor`: locus vs CHOLMOD vs Eigen on one operator.
+void register_factor_bench(cli::CommandTable& table);
+
+}  // namespace locus::bench

@@ -1,0 +1,404 @@
+// `locus-bench factor MESH`: locus's numeric core against CHOLMOD (supernodal,
+// its default orderings) and Eigen's SimplicialLLT with METIS ordering, on the
+// same matrix, in the same run, alternating peer by peer within each repeat so
+// that machine noise hits all three alike (DESIGN.md "Measuring").
+//
+// Phases: analyze (ordering + symbolic), numeric factorization the first time
+// (allocates L) and again on the same pattern (refactorization), a 1-lane and
+// an 8-lane full solve. Reported: medians over --repeats, nnz(L), ratios
+// locus/peer per phase (< 1: locus is faster / sparser), and how far the three
+// solutions of the same right-hand side are apart.
+//
+// Threads: locus and CHOLMOD get the same budget. CHOLMOD parallelises only
+// inside BLAS, so OpenBLAS gets --threads N for CHOLMOD's runs; locus runs
+// under tbb::global_control (set by the command table) and manages BLAS itself.
+// Eigen's simplicial factorization is sequential whatever the budget.
+// Eigen/MetisSupport uses std::cerr without including <iostream>.
+#include <iostream>
+#include <Eigen/MetisSupport>
+#include <Eigen/SparseCholesky>
+#include <oneapi/tbb/info.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "kernels/ordering.hpp"
+#include "kernels/solve_full.hpp"
+#include "kernels/supernodal_factor.hpp"
+#include "kernels/symbolic_factor.hpp"
+#include "locus/error.hpp"
+#include "tools/bench/bench_commands.hpp"
+
+#ifdef LOCUS_HAVE_CHOLMOD
+#include <cholmod.h>
+#endif
+
+extern "C" void openblas_set_num_threads(int);
+extern "C" int openblas_get_num_threads(void);
+
+namespace locus::bench {
+namespace {
+
+using cli::Stopwatch;
+
+struct Options {
+  cli::OperatorSpec op;
+  int repeats = 5;
+};
+
+// Per-peer samples (one entry per repeat) and final figures.
+struct PeerRun {
+  std::vector<double> analyze_s, factor_first_s, factor_repeat_s, solve_s, solve8_s;
+  double nnz_L = 0;         // entries of the exact (pure) factor L
+  double nnz_L_stored = 0;  // entries stored, including supernodal amalgamation zeros
+  std::vector<double> x;    // solution of the 1-lane system
+  std::vector<double> x8;   // solutions of the 8-lane system, column-major n x 8
+  nlohmann::json extra = nlohmann::json::object();
+
+  nlohmann::json medians() const {
+    nlohmann::json j{{"analyze_s", cli::median(analyze_s)},
+                     {"factor_first_s", cli::median(factor_first_s)},
+                     {"factor_repeat_s", cli::median(factor_repeat_s)},
+                     {"solve_s", cli::median(solve_s)},
+                     {"solve8_s", cli::median(solve8_s)},
+                     {"nnz_L", nnz_L},
+                     {"nnz_L_stored", nnz_L_stored}};
+    j.update(extra);
+    return j;
+  }
+};
+
+// The right-hand sides: b, and an n x 8 block (column-major) whose first column is b.
+struct Rhs {
+  int32_t n = 0;
+  std::vector<double> b, b8;
+};
+
+double rel_diff(const std::vector<double>& a, const std::vector<double>& ref) {
+  double d = 0, r = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    d += (a[i] - ref[i]) * (a[i] - ref[i]);
+    r += ref[i] * ref[i];
+  }
+  return r > 0 ? std::sqrt(d / r) : std::sqrt(d);
+}
+
+// ---------------------------------------------------------------- locus ----
+
+void run_locus(const CscMatrix& A, const Rhs& rhs, const RunContext& ctx, PeerRun& out) {
+  const size_t n = static_cast<size_t>(rhs.n);
+  Stopwatch sw;
+  const Ordering ord = order_matrix(A);
+  const double order_s = sw.seconds();
+  std::shared_ptr<const SymbolicFactor> sym = analyze(A, ord);
+  out.analyze_s.push_back(sw.seconds());
+  out.extra["order_s"] = order_s;  // last repeat's split of analyze_s, for orientation
+  ctx.check_cancel();
+
+  sw.restart();
+  NumericFactor F = factorize(sym, A, ctx);
+  out.factor_first_s.push_back(sw.seconds());
+  ctx.check_cancel();
+  sw.restart();
+  refactorize(F, A, ctx);
+  out.factor_repeat_s.push_back(sw.seconds());
+  ctx.check_cancel();
+
+  std::vector<double> work(std::max(solve_work_size(F, 1), solve_work_size(F, kLanes)));
+  out.x = rhs.b;
+  sw.restart();
+  solve(F, out.x, work);
+  out.solve_s.push_back(sw.seconds());
+
+  // locus takes 8 lanes row-interleaved (rhs[row*8 + lane]).
+  std::vector<double> x8(n * kLanes);
+  for (size_t i = 0; i < n; ++i)
+    for (int l = 0; l < kLanes; ++l) x8[i * kLanes + l] = rhs.b8[l * n + i];
+  sw.restart();
+  solve8(F, x8, work);
+  out.solve8_s.push_back(sw.seconds());
+  out.x8.resize(n * kLanes);
+  for (size_t i = 0; i < n; ++i)
+    for (int l = 0; l < kLanes; ++l) out.x8[l * n + i] = x8[i * kLanes + l];
+
+  out.nnz_L = static_cast<double>(sym->nnz_exact);
+  out.nnz_L_stored = static_cast<double>(sym->nnz_L);
+  out.extra["supernodes"] = sym->ns;
+  out.extra["etree_height"] = sym->etree_height;
+  out.extra["super_etree_height"] = sym->super_etree_height;
+}
+
+// ---------------------------------------------------------------- Eigen ----
+
+void run_eigen(const CscMatrix& A, const Rhs& rhs, PeerRun& out) {
+  using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  const int n = rhs.n;
+  std::vector<int> colptr(A.colptr.begin(), A.colptr.end());
+  const Eigen::Map<const SpMat> Am(n, n, static_cast<int>(A.nnz()), colptr.data(), A.rowind.data(), A.values.data());
+  const SpMat Ae = Am;  // Eigen's solvers read only the lower triangle (UpLo = Lower)
+
+  Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::MetisOrdering<int>> llt;
+  Stopwatch sw;
+  llt.analyzePattern(Ae);
+  out.analyze_s.push_back(sw.seconds());
+  sw.restart();
+  llt.factorize(Ae);
+  out.factor_first_s.push_back(sw.seconds());
+  if (llt.info() != Eigen::Success) fail(ErrorCode::Numerical, "Eigen SimplicialLLT: matrix is not positive definite");
+  sw.restart();
+  llt.factorize(Ae);
+  out.factor_repeat_s.push_back(sw.seconds());
+
+  const Eigen::Map<const Eigen::VectorXd> b(rhs.b.data(), n);
+  Eigen::VectorXd x(n);
+  sw.restart();
+  x = llt.solve(b);
+  out.solve_s.push_back(sw.seconds());
+  const Eigen::Map<const Eigen::MatrixXd> B8(rhs.b8.data(), n, kLanes);
+  Eigen::MatrixXd X8(n, kLanes);
+  sw.restart();
+  X8 = llt.solve(B8);
+  out.solve8_s.push_back(sw.seconds());
+
+  out.x.assign(x.data(), x.data() + n);
+  out.x8.assign(X8.data(), X8.data() + static_cast<size_t>(n) * kLanes);
+  out.nnz_L = static_cast<double>(llt.matrixL().nestedExpression().nonZeros());
+  out.nnz_L_stored = out.nnz_L;
+}
+
+// -------------------------------------------------------------- CHOLMOD ----
+
+#ifdef LOCUS_HAVE_CHOLMOD
+const char* cholmod_ordering_name(int ordering) {
+  switch (ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "amd";
+    case CHOLMOD_METIS: return "metis";
+    case CHOLMOD_NESDIS: return "nesdis";
+    case CHOLMOD_COLAMD: return "colamd";
+    case CHOLMOD_POSTORDERED: return "postordered";
+    default: return "unknown";
+  }
+}
+
+// Owns a cholmod_common and everything allocated with it, so that an error
+// thrown half way frees what was allocated.
+class Cholmod {
+ public:
+  Cholmod() {
+    cholmod_start(&c_);
+    c_.supernodal = CHOLMOD_SUPERNODAL;  // supernodal always, as locus; orderings stay CHOLMOD's defaults
+  }
+  ~Cholmod() {
+    if (L_) cholmod_free_factor(&L_, &c_);
+    if (A_) cholmod_free_sparse(&A_, &c_);
+    for (cholmod_dense** d : {&B_, &B8_, &X_, &X8_, &Y_, &E_})
+      if (*d) cholmod_free_dense(d, &c_);
+    cholmod_finish(&c_);
+  }
+  Cholmod(const Cholmod&) = delete;
+  Cholmod& operator=(const Cholmod&) = delete;
+
+  void run(const CscMatrix& A, const Rhs& rhs, PeerRun& out) {
+    const size_t n = static_cast<size_t>(rhs.n);
+    if (A.nnz() > std::numeric_limits<int>::max())
+      fail(ErrorCode::ResourceLimit, "CHOLMOD peer: nnz(A) exceeds 32-bit indices");
+    A_ = cholmod_allocate_sparse(n, n, static_cast<size_t>(A.nnz()), /*sorted=*/1, /*packed=*/1, /*stype=*/-1,
+                                 CHOLMOD_REAL, &c_);
+    check("cholmod_allocate_sparse");
+    int* p = static_cast<int*>(A_->p);
+    int* i = static_cast<int*>(A_->i);
+    double* x = static_cast<double*>(A_->x);
+    for (size_t k = 0; k <= n; ++k) p[k] = static_cast<int>(A.colptr[k]);
+    std::copy(A.rowind.begin(), A.rowind.end(), i);
+    std::copy(A.values.begin(), A.values.end(), x);
+
+    Stopwatch sw;
+    L_ = cholmod_analyze(A_, &c_);
+    out.analyze_s.push_back(sw.seconds());
+    check("cholmod_analyze");
+    sw.restart();
+    cholmod_factorize(A_, L_, &c_);
+    out.factor_first_s.push_back(sw.seconds());
+    check("cholmod_factorize");
+    sw.restart();
+    cholmod_factorize(A_, L_, &c_);
+    out.factor_repeat_s.push_back(sw.seconds());
+    check("cholmod_factorize (repeat)");
+
+    B_ = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &c_);
+    B8_ = cholmod_allocate_dense(n, kLanes, n, CHOLMOD_REAL, &c_);
+    check("cholmod_allocate_dense");
+    std::copy(rhs.b.begin(), rhs.b.end(), static_cast<double*>(B_->x));
+    std::copy(rhs.b8.begin(), rhs.b8.end(), static_cast<double*>(B8_->x));
+    // cholmod_solve2 with caller-owned X, Y, E (as locus's solves take a work
+    // buffer): a first untimed call sizes them, the timed call reuses them.
+    cholmod_solve2(CHOLMOD_A, L_, B_, nullptr, &X_, nullptr, &Y_, &E_, &c_);
+    sw.restart();
+    cholmod_solve2(CHOLMOD_A, L_, B_, nullptr, &X_, nullptr, &Y_, &E_, &c_);
+    out.solve_s.push_back(sw.seconds());
+    check("cholmod_solve2");
+    cholmod_solve2(CHOLMOD_A, L_, B8_, nullptr, &X8_, nullptr, &Y_, &E_, &c_);
+    sw.restart();
+    cholmod_solve2(CHOLMOD_A, L_, B8_, nullptr, &X8_, nullptr, &Y_, &E_, &c_);
+    out.solve8_s.push_back(sw.seconds());
+    check("cholmod_solve2 (8 lanes)");
+
+    const double* xs = static_cast<const double*>(X_->x);
+    const double* x8s = static_cast<const double*>(X8_->x);
+    out.x.assign(xs, xs + n);
+    out.x8.assign(x8s, x8s + n * kLanes);
+    out.nnz_L = c_.lnz;
+    out.nnz_L_stored = static_cast<double>(L_->xsize);
+    out.extra["ordering"] = cholmod_ordering_name(L_->ordering);
+    out.extra["supernodes"] = static_cast<int64_t>(L_->nsuper);
+    out.extra["is_supernodal"] = L_->is_super != 0;
+  }
+
+ private:
+  void check(const char* what) {
+    if (c_.status == CHOLMOD_NOT_POSDEF)
+      fail(ErrorCode::Numerical, std::string("CHOLMOD: not positive definite (") + what + ")");
+    if (c_.status != CHOLMOD_OK) fail(ErrorCode::Internal, std::string(what) + " failed with status " + std::to_string(c_.status));
+  }
+  cholmod_common c_{};
+  cholmod_sparse* A_ = nullptr;
+  cholmod_factor* L_ = nullptr;
+  cholmod_dense *B_ = nullptr, *B8_ = nullptr, *X_ = nullptr, *X8_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
+};
+#endif
+
+// ------------------------------------------------------------ reporting ----
+
+nlohmann::json ratios(const nlohmann::json& mine, const nlohmann::json& peer) {
+  nlohmann::json r;
+  for (const char* k : {"analyze_s", "factor_first_s", "factor_repeat_s", "solve_s", "solve8_s", "nnz_L", "nnz_L_stored"}) {
+    const double a = mine[k].get<double>(), b = peer[k].get<double>();
+    std::string key(k);
+    if (key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0) key.resize(key.size() - 2);
+    r[key] = b > 0 ? nlohmann::json(a / b) : nlohmann::json(nullptr);
+  }
+  return r;
+}
+
+void print_table(std::ostream& os, const nlohmann::json& j) {
+  const bool have_cholmod = !j["cholmod"].is_null();
+  char line[256];
+  std::snprintf(line, sizeof line, "%-18s %12s %12s %12s %14s %12s\n", "phase (median)", "CHOLMOD", "Eigen", "locus",
+                "locus/CHOLMOD", "locus/Eigen");
+  os << line;
+  const std::pair<const char*, const char*> rows[] = {
+      {"analyze_s", "analyze [s]"},         {"factor_first_s", "factor [s]"}, {"factor_repeat_s", "refactor [s]"},
+      {"solve_s", "solve 1 lane [s]"},      {"solve8_s", "solve 8 lanes [s]"}, {"nnz_L", "nnz(L) exact"},
+      {"nnz_L_stored", "nnz(L) stored"}};
+  for (const auto& [key, label] : rows) {
+    std::string k(key);
+    const std::string rk = k.size() > 2 && k.compare(k.size() - 2, 2, "_s") == 0 ? k.substr(0, k.size() - 2) : k;
+    const double c = have_cholmod ? j["cholmod"][key].get<double>() : NAN;
+    const double e = j["eigen"][key].get<double>(), l = j["locus"][key].get<double>();
+    const auto ratio = [&](const char* peer) {
+      const nlohmann::json& r = j[peer];
+      return r.is_null() || r[rk].is_null() ? NAN : r[rk].get<double>();
+    };
+    std::snprintf(line, sizeof line, "%-18s %12.4g %12.4g %12.4g %14.3f %12.3f\n", label, c, e, l,
+                  ratio("ratio_locus_cholmod"), ratio("ratio_locus_eigen"));
+    os << line;
+  }
+  os << "solutions: " << j["agreement"].dump() << "\n";
+}
+
+int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
+  cli::validate_operator_spec(bo.op);
+  cli::Input in = cli::load_input(opt, ctx);
+  const cli::BuiltOperator op = cli::build_operator(in.mesh, bo.op);
+  const CscMatrix& A = op.A;
+  Rhs rhs;
+  rhs.n = A.ncols;
+  const size_t n = static_cast<size_t>(rhs.n);
+  rhs.b = cli::random_vector(n, opt.seed);
+  rhs.b8.resize(n * kLanes);
+  std::copy(rhs.b.begin(), rhs.b.end(), rhs.b8.begin());
+  for (int l = 1; l < kLanes; ++l) {
+    const std::vector<double> col = cli::random_vector(n, opt.seed + l);
+    std::copy(col.begin(), col.end(), rhs.b8.begin() + static_cast<std::ptrdiff_t>(l * n));
+  }
+
+  const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+  const int blas_default = openblas_get_num_threads();
+  PeerRun cholmod_run, eigen_run, locus_run;
+  for (int r = 0; r < bo.repeats; ++r) {
+#ifdef LOCUS_HAVE_CHOLMOD
+    openblas_set_num_threads(threads);
+    {
+      Cholmod ch;
+      ch.run(A, rhs, cholmod_run);
+    }
+    openblas_set_num_threads(blas_default);
+    ctx.check_cancel();
+#endif
+    run_eigen(A, rhs, eigen_run);
+    ctx.check_cancel();
+    run_locus(A, rhs, ctx, locus_run);
+    ctx.check_cancel();
+    cli::log("bench factor: repeat " + std::to_string(r + 1) + "/" + std::to_string(bo.repeats) + " done");
+  }
+
+  nlohmann::json j{{"command", "bench factor"}, {"input", cli::input_json(opt, in)}};
+  j["operator"] = bo.op.kind;
+  j["t"] = op.t;
+  j["h"] = op.h;
+  j["n"] = rhs.n;
+  j["nnz_A"] = A.nnz();
+  j["threads"] = threads;
+  j["repeats"] = bo.repeats;
+  j["seed"] = opt.seed;
+  j["locus"] = locus_run.medians();
+  j["eigen"] = eigen_run.medians();
+  j["ratio_locus_eigen"] = ratios(j["locus"], j["eigen"]);
+  nlohmann::json agree{{"locus_vs_eigen", rel_diff(locus_run.x, eigen_run.x)},
+                       {"locus_vs_eigen_8", rel_diff(locus_run.x8, eigen_run.x8)},
+                       {"residual_locus", cli::relative_residual(A, locus_run.x.data(), rhs.b.data())},
+                       {"residual_eigen", cli::relative_residual(A, eigen_run.x.data(), rhs.b.data())}};
+#ifdef LOCUS_HAVE_CHOLMOD
+  j["cholmod"] = cholmod_run.medians();
+  j["ratio_locus_cholmod"] = ratios(j["locus"], j["cholmod"]);
+  agree["locus_vs_cholmod"] = rel_diff(locus_run.x, cholmod_run.x);
+  agree["locus_vs_cholmod_8"] = rel_diff(locus_run.x8, cholmod_run.x8);
+  agree["cholmod_vs_eigen"] = rel_diff(cholmod_run.x, eigen_run.x);
+  agree["residual_cholmod"] = cli::relative_residual(A, cholmod_run.x.data(), rhs.b.data());
+#else
+  j["cholmod"] = nullptr;
+  j["ratio_locus_cholmod"] = nullptr;
+  cli::log("bench factor: built without CHOLMOD (LOCUS_WITH_CHOLMOD_BENCH=OFF); CHOLMOD column empty");
+#endif
+  j["agreement"] = agree;
+  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
+
+  // The table always goes to stderr; stdout carries the JSON object only.
+  std::ostringstream table;
+  table << opt.mesh_path << ": n " << rhs.n << ", nnz(A) " << A.nnz() << ", " << bo.op.kind << " operator, threads "
+        << threads << ", " << bo.repeats << " repeats\n";
+  print_table(table, j);
+  std::cerr << table.str();
+  if (opt.json) cli::emit(opt, j, {});
+  return 0;
+}
+
+}  // namespace
+
+void register_factor_bench(cli::CommandTable& table) {
+  auto bo = std::make_shared<Options>();
+  CLI::App* app = table.add("factor", "Factor and solve with locus, CHOLMOD and Eigen (METIS); medians and ratios",
+                            [bo](const cli::CommonOptions& opt, const RunContext& ctx) {
+                              return run_bench_factor(opt, *bo, ctx);
+                            });
+  cli::add_operator_options(app, bo->op);
+  app->add_option("--repeats,--repeat", bo->repeats, "Repeats; medians are reported (default 5)")
+      ->check(CLI::Range(1, 1000));
+}
+
+}  // namespace locus::bench

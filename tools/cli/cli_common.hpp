@@ -1,0 +1,143 @@
+// The shared grammar of the `locus` and `locus-bench` tools (DESIGN.md "The
+// command-line contract"): `tool <command> <mesh-file> [options]` with the
+// common options --json, -o/--output, --threads, --seed, --subdivide; exit
+// status 0 ok, 2 bad usage, 3 bad input, 4 numerical failure, 5 cancelled.
+//
+// A command is a name, a description, its own options and a body. The
+// CommandTable owns parsing, the thread budget (tbb::global_control), the
+// SIGINT cancel flag and the mapping from exceptions to exit statuses, so a new
+// command only declares its options and writes its body: load the input with
+// load_input(), compute, emit() a JSON object.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "locus/sparse_matrix.hpp"
+
+namespace locus::cli {
+
+// Options every command accepts, with the contract's defaults.
+struct CommonOptions {
+  std::string mesh_path;  // positional <mesh-file>
+  bool json = false;      // one JSON object on stdout, logs on stderr
+  std::string output;     // -o FILE: result file, format from the extension ("" = none)
+  int threads = 0;        // 0 = all cores
+  uint64_t seed = 1;      // every random choice derives from it
+  int subdivide = 0;      // 1:4 midpoint subdivisions after loading
+};
+
+// A command's body runs after a successful parse and returns the exit status
+// (normally 0); failures are thrown as locus::Error and mapped by the table.
+using CommandBody = std::function<int(const CommonOptions&, const RunContext&)>;
+
+class CommandTable {
+ public:
+  // `tool_name` prefixes every message ("locus: error: ...").
+  CommandTable(std::string tool_name, std::string description);
+  ~CommandTable();
+  CommandTable(const CommandTable&) = delete;
+  CommandTable& operator=(const CommandTable&) = delete;
+
+  // Declares `<tool> <name> <mesh-file> [common options]`; the caller adds the
+  // command's own options to the returned app (owned by the table).
+  CLI::App* add(const std::string& name, const std::string& description, CommandBody body);
+
+  // Parses argv, runs the chosen command and returns the exit status. Never throws.
+  int run(int argc, char** argv);
+
+ private:
+  struct Command;
+  std::string tool_;
+  CLI::App app_;
+  std::vector<std::unique_ptr<Command>> commands_;
+};
+
+// Monotonic stopwatch for phase timings, in seconds.
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  void restart() { start_ = std::chrono::steady_clock::now(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+// The mesh a command works on: read from <mesh-file>, then subdivided.
+struct Input {
+  Mesh mesh;
+  double load_s = 0;       // reading and parsing the file
+  double subdivide_s = 0;  // --subdivide (0 when not asked)
+};
+
+// Reads the mesh (locus::read_mesh) and applies --subdivide. Throws
+// Error(BadInput) for unreadable files and for subdividing a polygon mesh, and
+// Error(BadUsage) when the subdivision would overflow 32-bit face indices.
+Input load_input(const CommonOptions& opt, const RunContext& ctx);
+
+// {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input.
+nlohmann::json input_json(const CommonOptions& opt, const Input& in);
+
+// Writes `m` to -o FILE when one was given (format from the extension).
+void write_output_mesh(const CommonOptions& opt, const Mesh& m);
+
+// With --json prints `result` as one JSON object on stdout; otherwise calls
+// `human` with stdout.
+void emit(const CommonOptions& opt, const nlohmann::json& result, const std::function<void(std::ostream&)>& human);
+
+// A log line on stderr ("<tool>: <text>"); stdout stays reserved for results.
+void log(const std::string& text);
+
+// Diffusion time: an absolute value ("0.001", "1e-3") or a multiple of h^2,
+// h = mean edge length ("h2", "2h2", "500h2"), as geometry-central's tCoef.
+struct TimeSpec {
+  double value = 1.0;
+  bool times_h2 = true;  // value is a multiple of h^2
+  double resolve(double h) const { return times_h2 ? value * h * h : value; }
+};
+// Throws Error(BadUsage) naming the text unless it is a finite positive time.
+TimeSpec parse_time_spec(const std::string& text);
+
+// The operators the tools factor (--operator heat|laplacian, --t T).
+struct OperatorSpec {
+  std::string kind = "heat";  // "heat": M - t L_C;  "laplacian": -L_C + eps M
+  std::string t_text;         // --t as given ("" = default h^2)
+};
+struct BuiltOperator {
+  CscMatrix A;
+  double t = 0;  // diffusion time used (0 for the Laplacian)
+  double h = 0;  // mean edge length of the mesh
+};
+// Adds --operator and --t to a command.
+void add_operator_options(CLI::App* app, OperatorSpec& spec);
+// Checks the spec before any work (BadUsage: --t with the Laplacian, bad --t).
+void validate_operator_spec(const OperatorSpec& spec);
+// Checks the mesh suits the operators (triangles, manifold, no degenerate
+// faces, no unreferenced vertices; BadInput otherwise) and builds A.
+BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec);
+
+// Median of a non-empty sample (mean of the two middle values for even sizes).
+double median(std::vector<double> v);
+
+// n deterministic pseudo-random values in [-1, 1) from `seed` (splitmix64), the
+// same on every platform, unlike std::uniform_real_distribution.
+std::vector<double> random_vector(size_t n, uint64_t seed);
+
+// ||A x - b|| / ||b|| for a lower-stored symmetric A.
+double relative_residual(const CscMatrix& A, const double* x, const double* b);
+
+// Commands of the `locus` tool, one file each (tools/cli/cmd_<name>.cpp).
+void register_info_command(CommandTable& table);
+void register_factor_command(CommandTable& table);
+
+}  // namespace locus::cli
