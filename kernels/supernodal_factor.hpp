@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/default_init_allocator.hpp"
 #include "kernels/symbolic_factor.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
@@ -19,7 +20,9 @@ namespace locus {
 
 struct NumericFactor {
   std::shared_ptr<const SymbolicFactor> symbolic;
-  std::vector<double> values;  // symbolic->nnz_L entries, supernode blocks column-major
+  // super_value_ptr[ns] entries: supernode blocks, column-major (the strict upper
+  // triangle of each diagonal block is unused).
+  std::vector<double, DefaultInitAllocator<double>> values;
 
   int32_t n() const { return symbolic ? symbolic->n : 0; }
   const double* block(int32_t s) const { return values.data() + symbolic->super_value_ptr[s]; }

@@ -55,9 +55,15 @@ struct SymbolicFactor {
   int64_t nnz_L = 0;                     // stored entries of L (lower trapezoids incl. amalgamation zeros)
   int32_t super_etree_height = 0;
 
-  // Map from A's stored lower entries (in A's CSC order) to positions in L's values.
-  std::vector<int64_t> a_colptr_check;   // copy of A.colptr to check a later matrix has the same pattern
-  std::vector<int64_t> a_to_l;           // nnz(A)
+  // Where A's stored entries go in L's values, grouped by supernode so each
+  // supernode's task assembles its own block: for k in a_super_ptr[s]..[s+1],
+  // L.values[a_dst[k]] = A.values[a_src[k]].
+  std::vector<int64_t> a_super_ptr;      // ns + 1
+  std::vector<int64_t> a_src, a_dst;     // nnz(A)
+  uint64_t a_pattern_hash = 0;           // of A's colptr/rowind: refactorization checks the pattern
+  int64_t a_nnz = 0;
+  int64_t max_update_entries = 0;        // largest dense update block (workspace size)
+  int32_t max_super_rows = 0;            // largest nrows(s) (solve workspace size)
 
   // Supernodes that update s in a left-looking factorization, ascending
   // (descendants d with a row in s's column range), CSR.
@@ -80,5 +86,8 @@ struct RowStructure {
   std::vector<int32_t> cols;
 };
 RowStructure row_structure(const SymbolicFactor& s);
+
+// Hash of a matrix's sparsity pattern (dimensions, colptr, rowind).
+uint64_t pattern_hash(const CscMatrix& A);
 
 }  // namespace locus

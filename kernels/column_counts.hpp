@@ -1,0 +1,17 @@
+// Column counts of the Cholesky factor without forming it (Gilbert, Ng & Peyton
+// 1994): every row subtree T_r(i) is represented by its leaves; a column's count
+// is the number of row subtrees containing it, accumulated bottom-up from
+// per-node differences. O(nnz(A) * alpha(n)) time.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace locus {
+
+// Graph in CSR (symmetric adjacency, factor numbering), etree parent[] and its
+// postorder. Returns nnz of each column of L, diagonal included.
+std::vector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx,
+                                   std::span<const int32_t> parent, std::span<const int32_t> post);
+
+}  // namespace locus

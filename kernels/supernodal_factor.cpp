@@ -1,0 +1,203 @@
+// Left-looking supernodal Cholesky with subtree parallelism (kernels/supernodal_factor.hpp).
+//
+// Supernode s is computed from its assembled block of A minus the updates of
+// every descendant d in its update list (ascending, so the sum order is fixed):
+// C = L_d[p1:, :] * L_d[p1:p2, :]^T with dsyrk/dgemm, scattered into s through a
+// row map; then dpotrf on the diagonal block and dtrsm below it.
+//
+// Parallelism: the supernodal etree is cut into subtrees of at most 1/(16 p) of
+// the total work, each factored sequentially in postorder by one task; above
+// the cut, the children of a branching node run as parallel tasks before it.
+// A supernode only reads finished descendants and writes its own block, so no
+// locks are needed and the result does not depend on the schedule.
+#include "kernels/supernodal_factor.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "kernels/blas.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+struct Workspace {
+  std::vector<int32_t> rowmap;  // global row -> local row in the current supernode
+  std::vector<double> update;   // dense update block C
+};
+
+class Factorizer {
+ public:
+  Factorizer(NumericFactor& f, const CscMatrix& A, const RunContext& ctx)
+      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx),
+        ws_([this] {
+          Workspace w;
+          w.rowmap.resize(S_.n);
+          w.update.resize(static_cast<size_t>(std::max<int64_t>(1, S_.max_update_entries)));
+          return w;
+        }) {}
+
+  void run() {
+    const int32_t ns = S_.ns;
+    if (ns == 0) return;
+    // Work per subtree (flops) and first descendant of each supernode.
+    work_.assign(ns, 0.0);
+    first_desc_.resize(ns);
+    for (int32_t s = 0; s < ns; ++s) first_desc_[s] = s;
+    for (int32_t s = 0; s < ns; ++s) {
+      const double m = S_.nrows(s), k = S_.ncols(s);
+      work_[s] += k * m * m - k * k * m + k * k * k / 3.0 + m;  // ~ its own potrf/trsm + updates it causes
+      const int32_t p = S_.super_parent[s];
+      if (p >= 0) {
+        work_[p] += work_[s];
+        first_desc_[p] = std::min(first_desc_[p], first_desc_[s]);
+      }
+    }
+    child_ptr_.assign(static_cast<size_t>(ns) + 1, 0);
+    children_.resize(ns);
+    for (int32_t s = 0; s < ns; ++s)
+      if (S_.super_parent[s] >= 0) ++child_ptr_[S_.super_parent[s] + 1];
+    for (int32_t s = 0; s < ns; ++s) child_ptr_[s + 1] += child_ptr_[s];
+    {
+      std::vector<int32_t> next(child_ptr_.begin(), child_ptr_.end() - 1);
+      for (int32_t s = 0; s < ns; ++s)
+        if (S_.super_parent[s] >= 0) children_[next[S_.super_parent[s]]++] = s;
+    }
+    double total = 0;
+    std::vector<int32_t> roots;
+    for (int32_t s = 0; s < ns; ++s)
+      if (S_.super_parent[s] < 0) { roots.push_back(s); total += work_[s]; }
+
+    blas::SingleThreaded single;
+    const int threads = ctx_.threads > 0 ? ctx_.threads : tbb::this_task_arena::max_concurrency();
+    if (threads <= 1) {
+      for (int32_t s = 0; s < ns; ++s) factor_one(s);
+      return;
+    }
+    threshold_ = total / (16.0 * threads);
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      tbb::task_group tg;
+      for (int32_t r : roots) tg.run([this, r] { process(r); });
+      tg.wait();
+    });
+  }
+
+ private:
+  // Factors the subtree of s: children first (in parallel when large), then the chain above.
+  void process(int32_t s) {
+    std::vector<int32_t> chain{s};
+    while (work_[chain.back()] > threshold_ && child_ptr_[chain.back() + 1] - child_ptr_[chain.back()] == 1)
+      chain.push_back(children_[child_ptr_[chain.back()]]);
+    const int32_t bottom = chain.back();
+    if (work_[bottom] <= threshold_) {
+      chain.pop_back();
+      for (int32_t q = first_desc_[bottom]; q <= bottom; ++q) factor_one(q);
+    } else {
+      tbb::task_group tg;
+      for (int32_t c = child_ptr_[bottom]; c < child_ptr_[bottom + 1]; ++c) {
+        const int32_t child = children_[c];
+        tg.run([this, child] { process(child); });
+      }
+      tg.wait();
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) factor_one(*it);
+  }
+
+  void factor_one(int32_t s) {
+    ctx_.check_cancel();
+    Workspace& w = ws_.local();
+    const int32_t f = S_.super_first_col[s];
+    const int32_t k = S_.ncols(s), m = S_.nrows(s);
+    const int32_t* rows = S_.super_rows.data() + S_.super_row_ptr[s];
+    double* Ls = F_.values.data() + S_.super_value_ptr[s];
+    std::memset(Ls, 0, sizeof(double) * static_cast<size_t>(m) * k);
+    for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q) Ls[S_.a_dst[q] - S_.super_value_ptr[s]] = A_.values[S_.a_src[q]];
+    for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
+
+    for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u) apply_update(S_.update_from[u], f, k, m, Ls, w);
+
+    const char lo = 'L';
+    int info = 0;
+    dpotrf_(&lo, &k, Ls, &m, &info);
+    if (info != 0) {
+      const int32_t col = f + info - 1;
+      fail(ErrorCode::Numerical, "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) +
+                                     " (factor column " + std::to_string(col) + ")");
+    }
+    if (m > k) {
+      const int mk = m - k;
+      const double one = 1.0;
+      const char r = 'R', t = 'T', nu = 'N';
+      dtrsm_(&r, &lo, &t, &nu, &mk, &k, &one, Ls, &m, Ls + k, &m);
+    }
+  }
+
+  void apply_update(int32_t d, int32_t f, int32_t k, int32_t m, double* Ls, Workspace& w) {
+    const int32_t md = S_.nrows(d), kd = S_.ncols(d);
+    const int32_t* rd = S_.super_rows.data() + S_.super_row_ptr[d];
+    const double* Ld = F_.values.data() + S_.super_value_ptr[d];
+    const int32_t p1 = static_cast<int32_t>(std::lower_bound(rd + kd, rd + md, f) - rd);
+    const int32_t p2 = static_cast<int32_t>(std::lower_bound(rd + p1, rd + md, f + k) - rd);
+    const int mm = md - p1, kk = p2 - p1;
+    double* C = w.update.data();
+    const double one = 1.0, zero = 0.0;
+    const char lo = 'L', nt = 'N', tr = 'T';
+    // C(mm x kk) = Ld[p1:md, :] * Ld[p1:p2, :]^T: lower triangle of the top square by dsyrk, the rest by dgemm.
+    dsyrk_(&lo, &nt, &kk, &kd, &one, Ld + p1, &md, &zero, C, &mm);
+    if (mm > kk) {
+      const int rest = mm - kk;
+      dgemm_(&nt, &tr, &rest, &kk, &kd, &one, Ld + p2, &md, Ld + p1, &md, &zero, C + kk, &mm);
+    }
+    // Scatter-subtract into s. When d's rows p1.. map to consecutive rows of s the
+    // target columns are contiguous runs; the general path uses the row map.
+    const int32_t* rmap = w.rowmap.data();
+    for (int jj = 0; jj < kk; ++jj) {
+      double* dst = Ls + static_cast<int64_t>(rd[p1 + jj] - f) * m;
+      const double* src = C + static_cast<int64_t>(jj) * mm;
+      for (int ii = jj; ii < mm; ++ii) dst[rmap[rd[p1 + ii]]] -= src[ii];
+    }
+  }
+
+  NumericFactor& F_;
+  const SymbolicFactor& S_;
+  const CscMatrix& A_;
+  const RunContext& ctx_;
+  tbb::enumerable_thread_specific<Workspace> ws_;
+  std::vector<double> work_;
+  std::vector<int32_t> first_desc_, child_ptr_, children_;
+  double threshold_ = 0;
+};
+
+void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
+  if (A.ncols != S.n || A.nrows != S.n || A.nnz() != S.a_nnz ||
+      static_cast<int64_t>(A.values.size()) != A.nnz() || pattern_hash(A) != S.a_pattern_hash)
+    fail(ErrorCode::BadUsage, "matrix does not have the sparsity pattern the symbolic factor was built for");
+}
+
+}  // namespace
+
+NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const CscMatrix& A, const RunContext& ctx) {
+  if (!symbolic) fail(ErrorCode::BadUsage, "factorize: no symbolic factor");
+  check_pattern(*symbolic, A);
+  NumericFactor f;
+  f.symbolic = std::move(symbolic);
+  f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
+  Factorizer(f, A, ctx).run();
+  return f;
+}
+
+void refactorize(NumericFactor& f, const CscMatrix& A, const RunContext& ctx) {
+  if (!f.symbolic) fail(ErrorCode::BadUsage, "refactorize: factor has no symbolic part");
+  check_pattern(*f.symbolic, A);
+  f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
+  Factorizer(f, A, ctx).run();
+}
+
+}  // namespace locus
