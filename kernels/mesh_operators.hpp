@@ -3,6 +3,9 @@
 // Sign convention: L_C is the cotan "Laplacian" with NEGATIVE diagonal
 // ((L_C)_ij = (cot a_ij + cot b_ij)/2 for edges, (L_C)_ii = -sum_j (L_C)_ij), so
 // -L_C is positive semidefinite and the heat operator M - t L_C is SPD for t > 0.
+// Every operator needs a triangle mesh and throws BadInput naming the first face with
+// another degree; the cotan-based ones also reject zero-area faces (their cotangents
+// are undefined).
 // All matrices are stored as the lower triangle (CscMatrix) with the SAME pattern
 // (diagonal + every unique edge), so they can be combined value-wise.
 #pragma once
@@ -22,10 +25,13 @@ CscMatrix heat_operator(const Mesh& m, double t);         // M - t L_C
 // number) does not depend on the units of the mesh.
 CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-8);
 
-// Per-vertex normals, unit length, 3*nv interleaved (x,y,z).
+// Per-vertex normals, unit length, 3*nv interleaved (x,y,z): the normalized sum of the
+// vector areas of the incident faces (polygon faces allowed here); 0 at unreferenced
+// vertices.
 std::vector<double> area_weighted_normals(const Mesh& m);
-// Mean-curvature normal vector H_i n_i = (M^{-1} L_C p)_i (eq. 6.1/6.2 up to sign:
-// points outward on a convex surface, magnitude = 2 * mean curvature), 3*nv interleaved.
+// Mean-curvature normal vector -(M^{-1} L_C p)_i (eq. 6.1/6.2 up to sign: points
+// outward on a convex surface, magnitude = 2 * mean curvature, i.e. 2/r on a sphere of
+// radius r), 3*nv interleaved; 0 at unreferenced vertices.
 std::vector<double> mean_curvature_normals(const Mesh& m);
 
 }  // namespace locus

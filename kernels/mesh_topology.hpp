@@ -1,6 +1,10 @@
 // Derived mesh structure (DESIGN.md "Data"): vertex adjacency (CSR), unique
 // edges, boundary loops, connected components, Euler characteristic / genus,
 // mean edge length, and a validation report. All O(nv + nf log) or better.
+//
+// Every function here first checks the mesh arrays themselves (validate_mesh_arrays)
+// and throws locus::Error(BadInput) naming the face and vertex when an index is out
+// of range, so hostile meshes built through the API never read out of bounds.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -20,6 +24,42 @@ struct Edges {                  // unique undirected edges of the faces, e0 < e1
   std::vector<int32_t> face_count;  // faces incident to each edge (1 boundary, 2 interior, >2 non-manifold)
 };
 
+// Edges together with their half-edges. A corner c is an index into
+// m.face_vertices; the half-edge of corner c runs from face_vertices[c] to the next
+// vertex of the same face. Built by one bucket sort on the smaller endpoint, O(#corners).
+struct EdgeIncidence {
+  Edges edges;
+  std::vector<int32_t> corner_edge;          // per corner: edge id of its half-edge, -1 if both ends coincide
+  std::vector<int64_t> edge_corner_offsets;  // ne + 1: CSR of the corners whose half-edge is that edge
+  std::vector<int32_t> edge_corners;         //   (ascending corner index, i.e. ascending face)
+};
+
+// Throws BadInput (naming the mesh source, face and vertex) unless x/y/z have equal
+// length, face_offsets is a non-decreasing CSR starting at 0 and ending at
+// face_vertices.size(), every face has >= 3 vertices, every index is in [0, nv), and
+// f0/f1/f2 are either empty or hold exactly the faces (all triangles).
+void validate_mesh_arrays(const Mesh& m);
+// "source" or "mesh" when the mesh was generated, for the prefix of messages.
+std::string mesh_name(const Mesh& m);
+
+EdgeIncidence edge_incidence(const Mesh& m);
+Adjacency vertex_adjacency(const Mesh& m);
+Adjacency vertex_adjacency(const Mesh& m, const Edges& edges);  // from precomputed edges
+Edges unique_edges(const Mesh& m);
+// Boundary loops as vertex cycles (edges with exactly one incident face), each in order.
+// A loop follows the direction of its faces (the surface lies to the left of the walk
+// for counter-clockwise faces). Loops are found in order of their lowest-numbered
+// boundary edge and start at the tail of that edge's half-edge. At non-manifold
+// boundary vertices (more than two boundary edges) the walk prefers the first unused
+// boundary edge leaving the vertex in face direction.
+std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m);
+std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncidence& inc);
+// Component id per vertex (unreferenced vertices get their own component id -1), returns count.
+// Components are numbered in order of their smallest vertex.
+int32_t connected_components(const Mesh& m, std::vector<int32_t>& component_of_vertex);
+double mean_edge_length(const Mesh& m);
+double mean_edge_length(const Mesh& m, const Edges& edges);
+
 struct MeshReport {
   int32_t n_vertices = 0, n_faces = 0;
   int64_t n_edges = 0;
@@ -38,19 +78,27 @@ struct MeshReport {
   // First offending elements, for messages (-1 if none).
   int64_t first_non_manifold_edge_v0 = -1, first_non_manifold_edge_v1 = -1;
   int64_t first_degenerate_face = -1, first_unreferenced_vertex = -1;
+  // Added after the first interface (all -1 / 0 when there is nothing to report):
+  int64_t boundary_edges = 0;
+  int64_t first_non_manifold_edge_faces = -1;   // face count of that edge (2 = inconsistent orientation)
+  int64_t first_non_manifold_edge_face_a = -1;  // two of the faces on that edge
+  int64_t first_non_manifold_edge_face_b = -1;
+  int64_t first_non_manifold_vertex = -1;
+  int64_t first_non_manifold_vertex_fans = 0;
+  int64_t first_non_triangle_face = -1;
+  int64_t first_boundary_vertex = -1;           // a vertex of the first boundary loop
 };
 
-Adjacency vertex_adjacency(const Mesh& m);
-Edges unique_edges(const Mesh& m);
-// Boundary loops as vertex cycles (edges with exactly one incident face), each in order.
-std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m);
-// Component id per vertex (unreferenced vertices get their own component id -1), returns count.
-int32_t connected_components(const Mesh& m, std::vector<int32_t>& component_of_vertex);
-double mean_edge_length(const Mesh& m);
+// Degenerate-face threshold: a face is degenerate when its area is not above
+// kDegenerateAreaRelative * h^2 (h = mean edge length), or not finite.
+inline constexpr double kDegenerateAreaRelative = 1e-14;
+
 MeshReport analyze_mesh(const Mesh& m);
 
 // What a pipeline needs of its input; check_requirements throws BadInput naming
 // the first offending element (face, edge, vertex) and the mesh's source file.
+// Checks run in this order: triangles, unreferenced vertices, degenerate faces,
+// manifold edges, manifold vertices, connected, closed.
 struct MeshRequirements {
   bool triangles = true;
   bool manifold = true;
@@ -60,5 +108,6 @@ struct MeshRequirements {
   bool closed = false;
 };
 void check_requirements(const Mesh& m, const MeshRequirements& req);
+void check_requirements(const Mesh& m, const MeshRequirements& req, const MeshReport& report);
 
 }  // namespace locus
