@@ -56,10 +56,10 @@ struct PeerRun {
   double nnz_L_stored = 0;  // entries stored, including supernodal amalgamation zeros
   std::vector<double> x;    // solution of the 1-lane system
   std::vector<double> x8;   // solutions of the 8-lane system, column-major n x 8
-  nlohmann::json extra = nlohmann::json::object();
+  cli::Json extra = cli::Json::object();
 
-  nlohmann::json medians() const {
-    nlohmann::json j{{"analyze_s", cli::median(analyze_s)},
+  cli::Json medians() const {
+    cli::Json j{{"analyze_s", cli::median(analyze_s)},
                      {"factor_first_s", cli::median(factor_first_s)},
                      {"factor_repeat_s", cli::median(factor_repeat_s)},
                      {"solve_s", cli::median(solve_s)},
@@ -274,18 +274,18 @@ class Cholmod {
 
 // ------------------------------------------------------------ reporting ----
 
-nlohmann::json ratios(const nlohmann::json& mine, const nlohmann::json& peer) {
-  nlohmann::json r;
+cli::Json ratios(const cli::Json& mine, const cli::Json& peer) {
+  cli::Json r;
   for (const char* k : {"analyze_s", "factor_first_s", "factor_repeat_s", "solve_s", "solve8_s", "nnz_L", "nnz_L_stored"}) {
     const double a = mine[k].get<double>(), b = peer[k].get<double>();
     std::string key(k);
     if (key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0) key.resize(key.size() - 2);
-    r[key] = b > 0 ? nlohmann::json(a / b) : nlohmann::json(nullptr);
+    r[key] = b > 0 ? cli::Json(a / b) : cli::Json(nullptr);
   }
   return r;
 }
 
-void print_table(std::ostream& os, const nlohmann::json& j) {
+void print_table(std::ostream& os, const cli::Json& j) {
   const bool have_cholmod = !j["cholmod"].is_null();
   char line[256];
   std::snprintf(line, sizeof line, "%-18s %12s %12s %12s %14s %12s\n", "phase (median)", "CHOLMOD", "Eigen", "locus",
@@ -301,7 +301,7 @@ void print_table(std::ostream& os, const nlohmann::json& j) {
     const double c = have_cholmod ? j["cholmod"][key].get<double>() : NAN;
     const double e = j["eigen"][key].get<double>(), l = j["locus"][key].get<double>();
     const auto ratio = [&](const char* peer) {
-      const nlohmann::json& r = j[peer];
+      const cli::Json& r = j[peer];
       return r.is_null() || r[rk].is_null() ? NAN : r[rk].get<double>();
     };
     std::snprintf(line, sizeof line, "%-18s %12.4g %12.4g %12.4g %14.3f %12.3f\n", label, c, e, l,
@@ -347,7 +347,7 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
     cli::log("bench factor: repeat " + std::to_string(r + 1) + "/" + std::to_string(bo.repeats) + " done");
   }
 
-  nlohmann::json j{{"command", "bench factor"}, {"input", cli::input_json(opt, in)}};
+  cli::Json j{{"command", "bench factor"}, {"input", cli::input_json(opt, in)}};
   j["operator"] = bo.op.kind;
   j["t"] = op.t;
   j["h"] = op.h;
@@ -359,7 +359,7 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
   j["locus"] = locus_run.medians();
   j["eigen"] = eigen_run.medians();
   j["ratio_locus_eigen"] = ratios(j["locus"], j["eigen"]);
-  nlohmann::json agree{{"locus_vs_eigen", rel_diff(locus_run.x, eigen_run.x)},
+  cli::Json agree{{"locus_vs_eigen", rel_diff(locus_run.x, eigen_run.x)},
                        {"locus_vs_eigen_8", rel_diff(locus_run.x8, eigen_run.x8)},
                        {"residual_locus", cli::relative_residual(A, locus_run.x.data(), rhs.b.data())},
                        {"residual_eigen", cli::relative_residual(A, eigen_run.x.data(), rhs.b.data())}};

@@ -151,7 +151,7 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
   return in;
 }
 
-nlohmann::json input_json(const CommonOptions& opt, const Input& in) {
+Json input_json(const CommonOptions& opt, const Input& in) {
   return {{"file", opt.mesh_path},
           {"subdivide", opt.subdivide},
           {"n_vertices", in.mesh.num_vertices()},
@@ -164,7 +164,7 @@ void write_output_mesh(const CommonOptions& opt, const Mesh& m) {
   log("wrote " + opt.output);
 }
 
-void emit(const CommonOptions& opt, const nlohmann::json& result, const std::function<void(std::ostream&)>& human) {
+void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
     std::cout << result.dump(2) << std::endl;
   } else {

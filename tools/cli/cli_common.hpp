@@ -26,6 +26,10 @@
 
 namespace locus::cli {
 
+// JSON objects keep their keys in insertion order, so outputs read top-down
+// (command, input, sizes, timings, quality) rather than alphabetically.
+using Json = nlohmann::ordered_json;
+
 // Options every command accepts, with the contract's defaults.
 struct CommonOptions {
   std::string mesh_path;  // positional <mesh-file>
@@ -86,14 +90,14 @@ struct Input {
 Input load_input(const CommonOptions& opt, const RunContext& ctx);
 
 // {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input.
-nlohmann::json input_json(const CommonOptions& opt, const Input& in);
+Json input_json(const CommonOptions& opt, const Input& in);
 
 // Writes `m` to -o FILE when one was given (format from the extension).
 void write_output_mesh(const CommonOptions& opt, const Mesh& m);
 
 // With --json prints `result` as one JSON object on stdout; otherwise calls
 // `human` with stdout.
-void emit(const CommonOptions& opt, const nlohmann::json& result, const std::function<void(std::ostream&)>& human);
+void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human);
 
 // A log line on stderr ("<tool>: <text>"); stdout stays reserved for results.
 void log(const std::string& text);

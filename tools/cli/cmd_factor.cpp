@@ -93,7 +93,7 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   }
   if (xnorm > 0) lane0_vs_solve /= xnorm;
 
-  nlohmann::json j{{"command", "factor"}, {"input", input_json(opt, in)}};
+  Json j{{"command", "factor"}, {"input", input_json(opt, in)}};
   j["operator"] = fo.op.kind;
   j["t"] = op.t;
   j["h"] = op.h;

@@ -13,11 +13,11 @@
 namespace locus::cli {
 namespace {
 
-nlohmann::json report_json(const MeshReport& r) {
-  nlohmann::json hist = nlohmann::json::object();
+Json report_json(const MeshReport& r) {
+  Json hist = Json::object();
   for (size_t d = 0; d < r.face_degree_histogram.size(); ++d)
     if (r.face_degree_histogram[d] != 0) hist[std::to_string(d)] = r.face_degree_histogram[d];
-  nlohmann::json j;
+  Json j;
   j["n_vertices"] = r.n_vertices;
   j["n_faces"] = r.n_faces;
   j["n_edges"] = r.n_edges;
@@ -26,7 +26,7 @@ nlohmann::json report_json(const MeshReport& r) {
   j["boundary_loops"] = r.boundary_loops;
   j["euler_characteristic"] = r.euler_characteristic;
   // Genus is only defined for a connected manifold; analyze_mesh says -1 otherwise.
-  j["genus"] = r.genus >= 0 ? nlohmann::json(r.genus) : nlohmann::json(nullptr);
+  j["genus"] = r.genus >= 0 ? Json(r.genus) : Json(nullptr);
   j["manifold"] = r.manifold;
   j["non_manifold_edges"] = r.non_manifold_edges;
   j["non_manifold_vertices"] = r.non_manifold_vertices;
@@ -75,7 +75,7 @@ int run_info(const CommonOptions& opt, const RunContext& ctx) {
   const MeshReport r = analyze_mesh(in.mesh);
   const double analysis_s = sw.seconds();
 
-  nlohmann::json j{{"command", "info"}, {"input", input_json(opt, in)}};
+  Json j{{"command", "info"}, {"input", input_json(opt, in)}};
   j.update(report_json(r));
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"analysis_s", analysis_s}};
   write_output_mesh(opt, in.mesh);
