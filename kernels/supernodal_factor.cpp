@@ -34,8 +34,8 @@ struct Workspace {
 
 class Factorizer {
  public:
-  Factorizer(NumericFactor& f, const CscMatrix& A, const RunContext& ctx)
-      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx),
+  Factorizer(NumericFactor& f, const CscMatrix& A, const RunContext& ctx, const uint8_t* only = nullptr)
+      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx), only_(only),
         ws_([this] {
           Workspace w;
           w.rowmap.resize(S_.n);
@@ -52,7 +52,7 @@ class Factorizer {
     for (int32_t s = 0; s < ns; ++s) first_desc_[s] = s;
     for (int32_t s = 0; s < ns; ++s) {
       const double m = S_.nrows(s), k = S_.ncols(s);
-      work_[s] += k * m * m - k * k * m + k * k * k / 3.0 + m;  // ~ its own potrf/trsm + updates it causes
+      if (!only_ || only_[s]) work_[s] += k * m * m - k * k * m + k * k * k / 3.0 + m;  // ~ own potrf/trsm + updates
       const int32_t p = S_.super_parent[s];
       if (p >= 0) {
         work_[p] += work_[s];
@@ -111,6 +111,7 @@ class Factorizer {
   }
 
   void factor_one(int32_t s) {
+    if (only_ && !only_[s]) return;
     ctx_.check_cancel();
     Workspace& w = ws_.local();
     const int32_t f = S_.super_first_col[s];
@@ -169,6 +170,7 @@ class Factorizer {
   const SymbolicFactor& S_;
   const CscMatrix& A_;
   const RunContext& ctx_;
+  const uint8_t* only_;  // if set, factor only supernodes with only_[s] != 0
   tbb::enumerable_thread_specific<Workspace> ws_;
   std::vector<double> work_;
   std::vector<int32_t> first_desc_, child_ptr_, children_;
@@ -198,6 +200,17 @@ void refactorize(NumericFactor& f, const CscMatrix& A, const RunContext& ctx) {
   check_pattern(*f.symbolic, A);
   f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
   Factorizer(f, A, ctx).run();
+}
+
+void factorize_supernodes(NumericFactor& f, const CscMatrix& A, std::span<const uint8_t> refactor, const RunContext& ctx) {
+  if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
+  check_pattern(*f.symbolic, A);
+  if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
+    fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
+                                  std::to_string(f.symbolic->ns) + " supernodes");
+  if (static_cast<int64_t>(f.values.size()) != f.symbolic->super_value_ptr[f.symbolic->ns])
+    fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+  Factorizer(f, A, ctx, refactor.data()).run();
 }
 
 }  // namespace locus

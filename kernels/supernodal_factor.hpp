@@ -36,5 +36,11 @@ NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const Cs
                         const RunContext& ctx = {});
 // Same pattern, new values: reuses the symbolic factor and the storage of f.
 void refactorize(NumericFactor& f, const CscMatrix& lower, const RunContext& ctx = {});
+// Recomputes only the supernodes s with refactor[s] != 0 (from A and the
+// current values of their descendants); the others keep the values f already
+// holds, e.g. copied from another factor (chapter 5, factor once). f.values
+// must be sized to the symbolic factor.
+void factorize_supernodes(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
+                          const RunContext& ctx = {});
 
 }  // namespace locus

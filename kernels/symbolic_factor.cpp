@@ -84,6 +84,100 @@ int64_t SymbolicFactor::flops() const {
   return static_cast<int64_t>(f);
 }
 
+void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
+  const int32_t n = S.n, ns = S.ns;
+  if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
+  S.a_nnz = A.nnz();
+  S.a_pattern_hash = pattern_hash(A);
+  S.super_etree_height = tree_height(S.super_parent);
+  if (static_cast<int32_t>(S.parent.size()) != n) {  // column etree from the supernodal structure
+    S.parent.assign(n, -1);
+    S.col_count.assign(n, 0);
+    for (int32_t s = 0; s < ns; ++s) {
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      for (int32_t c = f; c < l; ++c) {
+        S.col_count[c] = S.nrows(s) - (c - f);
+        if (c + 1 < l) S.parent[c] = c + 1;
+        else if (S.nrows(s) > S.ncols(s)) S.parent[c] = S.super_rows[S.super_row_ptr[s] + S.ncols(s)];
+      }
+    }
+    S.nnz_exact = 0;
+    for (int32_t c : S.col_count) S.nnz_exact += c;
+    S.etree_height = tree_height(S.parent);
+  }
+  std::vector<int32_t> mark(n, -1);
+  S.max_super_rows = 0;
+  S.max_update_entries = 0;
+  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  S.nnz_L = 0;
+  for (int32_t s = 0; s < ns; ++s) {
+    const int64_t r = S.nrows(s), c = S.ncols(s);
+    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
+    S.nnz_L += r * c - c * (c - 1) / 2;
+    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
+  }
+
+  // (5a) assembly map, grouped by supernode.
+  const int64_t nnzA = A.nnz();
+  S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+      const int32_t a = S.iperm[A.rowind[p]], b = S.iperm[j];
+      entry_col[p] = std::min(a, b);
+      entry_row[p] = std::max(a, b);
+      ++S.a_super_ptr[S.col_to_super[entry_col[p]] + 1];
+    }
+  for (int32_t s = 0; s < ns; ++s) S.a_super_ptr[s + 1] += S.a_super_ptr[s];
+  S.a_src.resize(nnzA);
+  S.a_dst.resize(nnzA);
+  {
+    std::vector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
+    for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
+  }
+  std::vector<int32_t>& rowpos = mark;  // reuse: row -> local index within the current supernode
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t f = S.super_first_col[s], nr = S.nrows(s);
+    for (int32_t t = 0; t < nr; ++t) rowpos[S.super_rows[S.super_row_ptr[s] + t]] = t;
+    for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k) {
+      const int64_t p = S.a_src[k];
+      const int32_t t = rowpos[entry_row[p]];
+      if (t < 0 || t >= nr || S.super_rows[S.super_row_ptr[s] + t] != entry_row[p])
+        fail(ErrorCode::Internal, "symbolic structure misses entry (" + std::to_string(entry_row[p]) + ", " +
+                                      std::to_string(entry_col[p]) + ") of the matrix");
+      S.a_dst[k] = S.super_value_ptr[s] + static_cast<int64_t>(entry_col[p] - f) * nr + rowpos[entry_row[p]];
+    }
+  }
+
+  // (5b) left-looking update lists: d updates every supernode its rows below reach.
+  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int64_t> next;
+    if (pass == 1) {
+      for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
+      S.update_from.resize(static_cast<size_t>(S.update_ptr[ns]));
+      next.assign(S.update_ptr.begin(), S.update_ptr.end() - 1);
+    }
+    for (int32_t d = 0; d < ns; ++d) {
+      const int64_t r0 = S.super_row_ptr[d], nr = S.nrows(d);
+      int64_t t = S.ncols(d);
+      while (t < nr) {
+        const int32_t s = S.col_to_super[S.super_rows[r0 + t]];
+        const int32_t send = S.super_first_col[s + 1];
+        int64_t t2 = t;
+        while (t2 < nr && S.super_rows[r0 + t2] < send) ++t2;
+        if (pass == 0) {
+          ++S.update_ptr[s + 1];
+          S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+        } else {
+          S.update_from[next[s]++] = d;
+        }
+        t = t2;
+      }
+    }
+  }
+}
+
 std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt) {
   check_lower(A);
   const int32_t n = A.ncols;
@@ -175,70 +269,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
     S->super_row_ptr[s + 1] = static_cast<int64_t>(S->super_rows.size());
   }
   S->super_rows.shrink_to_fit();
-  S->super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  S->nnz_L = 0;
-  for (int32_t s = 0; s < ns; ++s) {
-    const int64_t r = S->nrows(s), c = S->ncols(s);
-    S->super_value_ptr[s + 1] = S->super_value_ptr[s] + r * c;
-    S->nnz_L += r * c - c * (c - 1) / 2;
-    S->max_super_rows = std::max<int32_t>(S->max_super_rows, static_cast<int32_t>(r));
-  }
-
-  // (5a) assembly map, grouped by supernode.
-  const int64_t nnzA = A.nnz();
-  S->a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
-  for (int32_t j = 0; j < n; ++j)
-    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
-      const int32_t a = S->iperm[A.rowind[p]], b = S->iperm[j];
-      entry_col[p] = std::min(a, b);
-      entry_row[p] = std::max(a, b);
-      ++S->a_super_ptr[S->col_to_super[entry_col[p]] + 1];
-    }
-  for (int32_t s = 0; s < ns; ++s) S->a_super_ptr[s + 1] += S->a_super_ptr[s];
-  S->a_src.resize(nnzA);
-  S->a_dst.resize(nnzA);
-  {
-    std::vector<int64_t> next(S->a_super_ptr.begin(), S->a_super_ptr.end() - 1);
-    for (int64_t p = 0; p < nnzA; ++p) S->a_src[next[S->col_to_super[entry_col[p]]]++] = p;
-  }
-  std::vector<int32_t>& rowpos = mark;  // reuse: row -> local index within the current supernode
-  for (int32_t s = 0; s < ns; ++s) {
-    const int32_t f = S->super_first_col[s], nr = S->nrows(s);
-    for (int32_t t = 0; t < nr; ++t) rowpos[S->super_rows[S->super_row_ptr[s] + t]] = t;
-    for (int64_t k = S->a_super_ptr[s]; k < S->a_super_ptr[s + 1]; ++k) {
-      const int64_t p = S->a_src[k];
-      S->a_dst[k] = S->super_value_ptr[s] + static_cast<int64_t>(entry_col[p] - f) * nr + rowpos[entry_row[p]];
-    }
-  }
-
-  // (5b) left-looking update lists: d updates every supernode its rows below reach.
-  S->update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<int64_t> next;
-    if (pass == 1) {
-      for (int32_t s = 0; s < ns; ++s) S->update_ptr[s + 1] += S->update_ptr[s];
-      S->update_from.resize(static_cast<size_t>(S->update_ptr[ns]));
-      next.assign(S->update_ptr.begin(), S->update_ptr.end() - 1);
-    }
-    for (int32_t d = 0; d < ns; ++d) {
-      const int64_t r0 = S->super_row_ptr[d], nr = S->nrows(d);
-      int64_t t = S->ncols(d);
-      while (t < nr) {
-        const int32_t s = S->col_to_super[S->super_rows[r0 + t]];
-        const int32_t send = S->super_first_col[s + 1];
-        int64_t t2 = t;
-        while (t2 < nr && S->super_rows[r0 + t2] < send) ++t2;
-        if (pass == 0) {
-          ++S->update_ptr[s + 1];
-          S->max_update_entries = std::max(S->max_update_entries, (nr - t) * (t2 - t));
-        } else {
-          S->update_from[next[s]++] = d;
-        }
-        t = t2;
-      }
-    }
-  }
+  complete_symbolic(*S, A);
   return S;
 }
 

@@ -79,6 +79,17 @@ struct SymbolicFactor {
 std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& lower, const Ordering& ordering,
                                               const SymbolicOptions& opt = {});
 
+// Fills the derived parts of a symbolic factor whose ordering (n, perm, iperm)
+// and supernodal structure (ns, super_first_col, col_to_super, super_parent,
+// super_row_ptr, super_rows) are set: value offsets, nnz_L, the assembly map of
+// A (lower CSC, original numbering), update lists and workspace sizes, heights;
+// and the column etree and counts from the supernodal structure when `parent`
+// is empty. analyze() ends with it; the factor-once update (chapter 5) builds
+// the restricted structure of a submesh factor and calls it too. The structure
+// must be closed: for every supernode d and every supernode s its rows below
+// reach, d's rows >= first(s) are rows of s.
+void complete_symbolic(SymbolicFactor& S, const CscMatrix& A);
+
 // Row structure of L in CSR (factor numbering): for each row i, the columns j < i with
 // L_ij stored (supernodal pattern), ascending. Chapter 5 (factor-once updates) needs it.
 struct RowStructure {
