@@ -50,6 +50,9 @@ CommandTable::CommandTable(std::string tool_name, std::string description)
     : tool_(std::move(tool_name)), app_(std::move(description), tool_) {
   app_.require_subcommand(1);
   app_.fallthrough(false);
+  app_.footer("Usage: " + tool_ + " <command> <mesh-file> [options]; '" + tool_ +
+              " <command> --help' lists a command's options.\n"
+              "Exit status: 0 ok, 2 bad usage, 3 bad input file, 4 numerical failure, 5 cancelled (SIGINT).");
 }
 
 CommandTable::~CommandTable() = default;
