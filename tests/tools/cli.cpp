@@ -269,6 +269,23 @@ TEST_CASE("cli: factor --t accepts multiples of h^2 and absolute times; --operat
   CHECK(jc["residual"].get<double>() < 1e-6);
 }
 
+TEST_CASE("cli: a numerically singular operator is a numerical failure (exit 4), never a quiet answer") {
+  if (!have_binary()) return;
+  TempDir dir;
+  const std::string mesh = dir.file("octahedron.off", octahedron_off());
+  // t = 1e200: M vanishes next to t L, whose constant null vector makes the matrix singular in floating point.
+  // t = 1e308: the entries overflow to infinity.
+  for (const char* t : {"1e200", "1e308"}) {
+    CAPTURE(t);
+    const Result r = run_locus(dir, "factor " + quoted(mesh) + " --json --t " + t);
+    CAPTURE(r.err);
+    CHECK(r.status == 4);
+    CHECK(r.out.empty());
+    CHECK(r.err.rfind("locus: error: ", 0) == 0);
+    CHECK(mentions_any(r.err, {"residual", "positive definite", "not finite"}));
+  }
+}
+
 TEST_CASE("cli: factor gives the same ordering and result for any thread count (DESIGN.md: deterministic)") {
   if (!have_binary()) return;
   TempDir dir;

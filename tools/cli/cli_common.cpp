@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <iostream>
 #include <limits>
 #include <new>
@@ -223,7 +224,7 @@ BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) {
   BuiltOperator op;
   op.h = mean_edge_length(m);
   if (!(op.h > 0) || !std::isfinite(op.h))
-    fail(ErrorCode::BadInput, where + ": mean edge length is " + std::to_string(op.h) + ", cannot scale the operator");
+    fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(op.h) + ", cannot scale the operator");
   if (spec.kind == "laplacian") {
     op.A = regularized_laplacian(m);
   } else {
@@ -231,6 +232,12 @@ BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) {
     op.A = heat_operator(m, op.t);
   }
   return op;
+}
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 double median(std::vector<double> v) {

@@ -130,6 +130,9 @@ void validate_operator_spec(const OperatorSpec& spec);
 // faces, no unreferenced vertices; BadInput otherwise) and builds A.
 BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec);
 
+// A number for messages: %.6g ("1e+12", "0.000134", "nan"), not std::to_string's fixed notation.
+std::string format_number(double v);
+
 // Median of a non-empty sample (mean of the two middle values for even sizes).
 double median(std::vector<double> v);
 
