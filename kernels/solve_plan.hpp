@@ -1,0 +1,43 @@
+// Solve plans for localized solves (thesis §4.3, §3.6; DESIGN.md "Numeric core" 5).
+//
+// A right-hand side with support R touches, in the forward solve L y = b, only
+// the supernodes on the etree paths from R to the root (the reach). The exact
+// values of x = A^{-1} b at a wanted set W need, in the backward solve, only
+// the supernodes of W and their ancestors. The approximate selective solve of
+// thesis Algorithm 2 instead computes x only at a kept set K and treats every
+// other entry as zero. A plan holds these supernode lists, ordered, computed
+// once per (support, wanted/kept) pattern in time proportional to their size,
+// and is reused for every right-hand side with that pattern. Forward and
+// backward sets are independent: R and W may be disjoint (thesis §4.3).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/symbolic_factor.hpp"
+
+namespace locus {
+
+struct SolvePlan {
+  int32_t n = 0;
+  std::vector<int32_t> rhs;       // support of b (original ids, as given)
+  std::vector<int32_t> outputs;   // wanted (exact) or kept (approximate) ids, as given
+  std::vector<int32_t> forward;   // supernodes, ascending
+  std::vector<int32_t> backward;  // supernodes, descending
+  std::vector<int32_t> touched;   // supernodes whose columns the solve reads or writes (forward ∪ backward), ascending
+  bool approximate = false;
+  // Approximate plans: kept factor columns, ascending (entries elsewhere are zero).
+  std::vector<int32_t> kept_cols;
+  int64_t forward_columns = 0, backward_columns = 0;  // sizes, for reporting
+
+  std::size_t num_outputs() const { return outputs.size(); }
+};
+
+// Exact plan: x at `wanted` equals the full solve's there.
+SolvePlan plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
+                            std::span<const int32_t> wanted);
+// Approximate plan (thesis Algorithm 2): x is computed at `kept` only, zero elsewhere.
+SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
+                               std::span<const int32_t> kept);
+
+}  // namespace locus
