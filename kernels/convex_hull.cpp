@@ -133,8 +133,47 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
   if (s[3] < 0) fail(ErrorCode::BadInput, "convex_hull_3d: all " + std::to_string(n) + " points are coplanar");
   if (orient3d_exact(pt(s[0]), pt(s[1]), pt(s[2]), pt(s[3])) > 0) std::swap(s[1], s[2]);
 
+  // Insertion follows the input order, but the points are stored in Morton (Z-curve)
+  // order: the points re-filed together after an insertion are spatially close, and
+  // now also close in memory. Halves the running time on large inputs (cache misses
+  // dominated). `orig` maps storage position to input index, `internal` the reverse.
+  std::vector<int32_t> orig(static_cast<size_t>(n)), internal(static_cast<size_t>(n));
+  {
+    auto spread = [](uint64_t v) {  // 21 bits -> every third bit of 63
+      v &= 0x1fffff;
+      v = (v | v << 32) & 0x1f00000000ffffULL;
+      v = (v | v << 16) & 0x1f0000ff0000ffULL;
+      v = (v | v << 8) & 0x100f00f00f00f00fULL;
+      v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+      v = (v | v << 2) & 0x1249249249249249ULL;
+      return v;
+    };
+    std::vector<std::pair<uint64_t, int32_t>> key(static_cast<size_t>(n));
+    for (int32_t i = 0; i < n; ++i) {
+      const int64_t* c = pt(i);
+      uint64_t k = 0;
+      for (int d = 0; d < 3; ++d) k |= spread(static_cast<uint64_t>(c[d] + kConvexHullMaxCoordinate) >> 32) << d;
+      key[i] = {k, i};
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<int64_t> sorted(P.size());
+    for (int32_t k = 0; k < n; ++k) {
+      orig[k] = key[k].second;
+      internal[key[k].second] = k;
+      for (int d = 0; d < 3; ++d) sorted[3 * static_cast<size_t>(k) + d] = P[3 * static_cast<size_t>(key[k].second) + d];
+    }
+    P.swap(sorted);
+    for (int32_t& v : s) v = internal[v];
+  }
+
   std::vector<int32_t> fv, nb, head, stamp;
   std::vector<char> alive;
+  // Per face a rounded normal and the coefficients of the permanent, so that most
+  // visibility tests cost one dot product. n_k = u_i w_j - u_j w_i is off by at most
+  // 2 eps (|u_i w_j| + |u_j w_i|) = 2 eps perm_k; with the dot product's own rounding
+  // the error of n . (q - a) stays below 5 eps sum_k perm_k |q_k - a_k| (5 eps = 5.6e-16),
+  // so 2e-15 times that sum is a safe filter; anything closer is decided exactly.
+  std::vector<double> plane;  // 6 per face: n, perm
   auto new_face = [&](int32_t a, int32_t b, int32_t c) {
     const int32_t f = static_cast<int32_t>(alive.size());
     fv.insert(fv.end(), {a, b, c});
@@ -142,10 +181,24 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
     alive.push_back(1);
     head.push_back(-1);
     stamp.push_back(-1);
+    const int64_t *pa = pt(a), *pb = pt(b), *pc = pt(c);
+    const double ux = double(pb[0] - pa[0]), uy = double(pb[1] - pa[1]), uz = double(pb[2] - pa[2]);
+    const double wx = double(pc[0] - pa[0]), wy = double(pc[1] - pa[1]), wz = double(pc[2] - pa[2]);
+    plane.insert(plane.end(), {uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx,
+                               std::fabs(uy * wz) + std::fabs(uz * wy), std::fabs(uz * wx) + std::fabs(ux * wz),
+                               std::fabs(ux * wy) + std::fabs(uy * wx)});
     return f;
   };
   auto sees = [&](int32_t f, int32_t q) {
-    return orient3d_exact(pt(fv[3 * f]), pt(fv[3 * f + 1]), pt(fv[3 * f + 2]), pt(q)) > 0;
+    const int64_t* a = pt(fv[3 * f]);
+    const int64_t* p = pt(q);
+    const double dx = double(p[0] - a[0]), dy = double(p[1] - a[1]), dz = double(p[2] - a[2]);
+    const double* pl = plane.data() + 6 * static_cast<size_t>(f);
+    const double det = pl[0] * dx + pl[1] * dy + pl[2] * dz;
+    const double bound = 2e-15 * (pl[3] * std::fabs(dx) + pl[4] * std::fabs(dy) + pl[5] * std::fabs(dz));
+    if (det > bound) return true;
+    if (det < -bound) return false;
+    return orient3d_exact(a, pt(fv[3 * f + 1]), pt(fv[3 * f + 2]), p) > 0;
   };
   // s[3] lies below (s0, s1, s2); these four faces then all face outward.
   new_face(s[0], s[1], s[2]);
@@ -180,7 +233,8 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
     int32_t u, w, outside;
   };
   std::vector<HorizonEdge> horizon;
-  for (int32_t p = 0; p < n; ++p) {
+  for (int32_t i = 0; i < n; ++i) {
+    const int32_t p = internal[i];
     const int32_t f0 = conflict[p];
     if (f0 < 0) continue;  // inside the hull (or a simplex vertex)
     // Visible faces: the region around f0 whose planes have p strictly above. stamp =
@@ -241,7 +295,7 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
 
   std::vector<int32_t> tri;
   for (size_t f = 0; f < alive.size(); ++f)
-    if (alive[f]) tri.insert(tri.end(), {fv[3 * f], fv[3 * f + 1], fv[3 * f + 2]});
+    if (alive[f]) tri.insert(tri.end(), {orig[fv[3 * f]], orig[fv[3 * f + 1]], orig[fv[3 * f + 2]]});
   return tri;
 }
 
