@@ -1,11 +1,23 @@
 // The `locus` command-line tool: command dispatch. Each command lives in its
 // own file (cmd_<name>.cpp) and registers itself here; the grammar, exit
 // statuses and shared helpers are in cli_common.
+#include <exception>
+#include <iostream>
+
 #include "tools/cli/cli_common.hpp"
 
 int main(int argc, char** argv) {
-  locus::cli::CommandTable table("locus", "locus: factor a mesh operator once, then solve locally");
-  locus::cli::register_info_command(table);
-  locus::cli::register_factor_command(table);
-  return table.run(argc, argv);
+  // CommandTable::run maps every error of a command to an exit status; this
+  // guard covers building the table itself, so no exception ever leaves main.
+  try {
+    locus::cli::CommandTable table("locus", "locus: factor a mesh operator once, then solve locally");
+    locus::cli::register_info_command(table);
+    locus::cli::register_factor_command(table);
+    return table.run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "locus: internal error: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "locus: internal error\n";
+  }
+  return 70;
 }
