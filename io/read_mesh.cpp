@@ -55,7 +55,9 @@ Mesh read_mesh(const std::string& path, const ReadOptions& opt) {
   if (ext != "obj" && ext != "off" && ext != "ply")
     fail(ErrorCode::BadInput, path + ": unknown mesh file extension '" + ext + "' (expected .obj, .off or .ply)");
 
-  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC)};
+  // O_NONBLOCK: opening a FIFO named like a mesh must not wait for a writer;
+  // the S_ISREG check below then refuses it. Reads of regular files ignore it.
+  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK)};
   if (f.fd < 0) fail(ErrorCode::BadInput, path + ": cannot open: " + std::strerror(errno));
   struct stat st {};
   if (::fstat(f.fd, &st) != 0) fail(ErrorCode::BadInput, path + ": cannot stat: " + std::strerror(errno));

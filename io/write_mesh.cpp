@@ -50,7 +50,7 @@ void validate(const std::string& path, const Mesh& m, const WriteOptions& opt) {
   if (m.face_offsets.empty() || m.face_offsets[0] != 0) usage(path, "face_offsets must start with 0");
   const int64_t nf = static_cast<int64_t>(m.face_offsets.size()) - 1;
   for (int64_t f = 0; f < nf; ++f)
-    if (m.face_offsets[f + 1] < m.face_offsets[f] + 1)
+    if (int64_t(m.face_offsets[f + 1]) < int64_t(m.face_offsets[f]) + 1)
       usage(path, "face_offsets decrease or give face " + std::to_string(f) + " no vertex");
   if (static_cast<size_t>(m.face_offsets.back()) != m.face_vertices.size())
     usage(path, "face_offsets end at " + std::to_string(m.face_offsets.back()) + " but face_vertices has " +

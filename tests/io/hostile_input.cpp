@@ -5,7 +5,10 @@
 // fuzzers once crashed or hung on), which must now raise BadInput.
 #include <doctest/doctest.h>
 
+#include <sys/stat.h>
+
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -227,6 +230,12 @@ TEST_CASE("hostile: file-level problems (missing, directory, unknown extension)"
   check_bad(catch_error([] { locus::read_mesh("mesh.stl"); }), {"mesh.stl", "unknown mesh file extension"});
   check_bad(catch_error([] { locus::read_mesh("noextension"); }), {"unknown mesh file extension"});
   check_bad(catch_error([] { locus::read_mesh_from_memory("x", 1, "stl", "m"); }), {"unknown mesh format"});
+  // A FIFO must be refused at once, not block waiting for a writer.
+  const auto fifo = (locus_test::scratch_dir() / "pipe.off").string();
+  std::filesystem::remove(fifo);
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  check_bad(catch_error([&] { locus::read_mesh(fifo); }), {"pipe.off", "not a regular file"});
+  std::filesystem::remove(fifo);
   const auto empty = (locus_test::scratch_dir() / "empty.obj").string();
   { std::FILE* f = std::fopen(empty.c_str(), "wb"); REQUIRE(f); std::fclose(f); }
   check_bad(catch_error([&] { locus::read_mesh(empty); }), {"empty.obj", "empty"});
