@@ -116,10 +116,13 @@ Header parse_header(std::string_view data, const std::string& name) {
       const std::string_view ctok = f.next();
       if (e.name.empty() || ctok.empty()) lines.fail("element line needs a name and a count");
       if (!parse_int(ctok, e.count) || e.count < 0)
-        lines.fail("element '" + e.name + "' has an invalid count " + quote(ctok) +
+        lines.fail("element " + quote(e.name) + " has an invalid count " + quote(ctok) +
                    " (not a non-negative 64-bit integer: overflow or garbage)");
-      for (const Element& o : h.elements)
-        if (o.name == e.name) lines.fail("element '" + e.name + "' is declared twice");
+      // Only the two elements we keep must be unique; checking every name
+      // against every other would be quadratic in a hostile header.
+      if (e.name == "vertex" || e.name == "face")
+        for (const Element& o : h.elements)
+          if (o.name == e.name) lines.fail("element '" + e.name + "' is declared twice");
       h.elements.push_back(std::move(e));
     } else if (kw == "property") {
       if (h.elements.empty()) lines.fail("property declared before any element");
@@ -139,7 +142,7 @@ Header parse_header(std::string_view data, const std::string& name) {
       const int idx = static_cast<int>(e.props.size());
       Layout& L = h.layout;
       auto claim = [&](int& slot) {
-        if (slot >= 0) lines.fail("property '" + p.name + "' appears twice in element '" + e.name + "'");
+        if (slot >= 0) lines.fail("property '" + p.name + "' appears twice in element '" + e.name + "'");  // names are x/y/z/vertex_indices here
         slot = idx;
       };
       const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
@@ -205,7 +208,7 @@ class BinaryBody {
 
   size_t pos() const { return pos_; }
   [[noreturn]] void fail_here(size_t at, const Element& e, int64_t item, const std::string& msg) const {
-    fail_offset(name_, at, "element '" + e.name + "' item " + std::to_string(item) + ": " + msg);
+    fail_offset(name_, at, "element " + quote(e.name) + " item " + std::to_string(item) + ": " + msg);
   }
   // Makes sure n more bytes exist (n may be huge for hostile list counts).
   void need(uint64_t n, const Element& e, int64_t item) const {
@@ -296,7 +299,7 @@ void read_binary_body(std::string_view data, const Header& h, const std::string&
         in.need(type_size(p.count_type), e, item);
         const size_t count_at = in.pos();
         const int64_t cnt = in.as_int(p.count_type);
-        if (cnt < 0) in.fail_here(count_at, e, item, "negative list count " + std::to_string(cnt) + " for property '" + p.name + "'");
+        if (cnt < 0) in.fail_here(count_at, e, item, "negative list count " + std::to_string(cnt) + " for property " + quote(p.name));
         const uint64_t bytes = uint64_t(cnt) * type_size(p.type);  // cnt < 2^32, no overflow
         in.need(bytes, e, item);
         if (!(is_face && int(pi) == L.pface)) {
@@ -375,8 +378,8 @@ void read_ascii_body(std::string_view data, const Header& h, const std::string& 
       auto take = [&](const Property& p) {
         const std::string_view t = in.next();
         if (t.empty())
-          in.fail("the file ends inside element '" + e.name + "' item " + std::to_string(item) + " (property '" +
-                  p.name + "'): truncated");
+          in.fail("the file ends inside element " + quote(e.name) + " item " + std::to_string(item) + " (property " +
+                  quote(p.name) + "): truncated");
         return t;
       };
       double c[3] = {0, 0, 0};
@@ -393,11 +396,11 @@ void read_ascii_body(std::string_view data, const Header& h, const std::string& 
         const std::string_view ct = take(p);
         int64_t cnt;
         if (!parse_int(ct, cnt))
-          in.fail("element '" + e.name + "' item " + std::to_string(item) + ": list count of '" + p.name +
-                  "' is not an integer: " + quote(ct));
+          in.fail("element " + quote(e.name) + " item " + std::to_string(item) + ": list count of " + quote(p.name) +
+                  " is not an integer: " + quote(ct));
         if (cnt < 0)
-          in.fail("element '" + e.name + "' item " + std::to_string(item) + ": negative list count " +
-                  std::to_string(cnt) + " for property '" + p.name + "'");
+          in.fail("element " + quote(e.name) + " item " + std::to_string(item) + ": negative list count " +
+                  std::to_string(cnt) + " for property " + quote(p.name));
         const bool keep = is_face && int(pi) == L.pface;
         if (keep && cnt < 3)
           in.fail("face " + std::to_string(item) + " has " + std::to_string(cnt) + " vertices (a face needs at least 3)");

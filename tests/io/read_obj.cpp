@@ -82,11 +82,18 @@ TEST_CASE("obj: a vertex-only file is a point set with no faces") {
   CHECK(m.num_faces() == 0);
 }
 
-TEST_CASE("obj: degenerate and unreferenced geometry is not a reader error") {
+TEST_CASE("obj: degenerate, non-manifold, unreferenced, disconnected geometry is not a reader error") {
   // Zero-area (collinear) triangle plus an unreferenced vertex: accepted.
   const auto m = parse("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 5 5 5\nf 1 2 3\n", "obj");
   CHECK(m.num_faces() == 1);
   CHECK(m.num_vertices() == 4);
+  // Three triangles on edge (1,2) (non-manifold) and a second component.
+  const auto n = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
+                       "v 9 9 9\nv 10 9 9\nv 9 10 9\n"
+                       "f 1 2 3\nf 2 1 4\nf 1 2 5\nf 6 7 8\n",
+                       "obj");
+  CHECK(n.num_faces() == 4);
+  CHECK(face_of(n, 3) == std::vector<int32_t>{5, 6, 7});
 }
 
 TEST_CASE("obj: malformed statements name the line") {
