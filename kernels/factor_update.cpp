@@ -1,0 +1,416 @@
+// Factor-once update of a supernodal factor to a principal submatrix
+// (kernels/factor_update.hpp; thesis §5.4–5.5, algorithm steps 1–6 of §5.5).
+//
+// Supernodal version of the column algorithm of the thesis:
+//  - structure: global supernode s restricted to its columns in I is one
+//    supernode of L' with rows rows(s) ∩ I. Closure holds because the global
+//    structure is closed and restriction keeps every row ≥ first(s') of a
+//    descendant inside rows(s) ∩ I. Its supernodal parent is the restricted
+//    supernode holding its first off-diagonal row (not the global parent,
+//    which may have no column in I).
+//  - marking: the column etree of the restricted structure contains every
+//    ancestor relation of the exact factor of A_II (its column patterns are
+//    supersets), so walking it from the first I-row of each column of L_IB
+//    reaches every changed column (§5.5). Per global supernode only one start
+//    is needed: the first I-column after its first B-column, or, when its last
+//    columns are all in B, its first I-row below — every other start it could
+//    give is an ancestor of that one. The walk stops at marked columns.
+//  - values: unmarked supernodes copy their restricted rows/columns of L;
+//    marked ones are recomputed by factorize_supernodes from A_II and their
+//    descendants (copied or recomputed), BLAS-3, in parallel subtrees.
+#include "kernels/factor_update.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <string>
+
+#include "kernels/etree.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Runs f inside an arena of the context's thread budget (TBB owns the threads).
+template <class F>
+void in_arena(const RunContext& ctx, F&& f) {
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  if (threads <= 1) {
+    f(1);
+    return;
+  }
+  tbb::task_arena arena(threads);
+  arena.execute([&] { f(threads); });
+}
+
+// A_II from the local map (local[v] = position of v in I, -1 outside). The map
+// is increasing on I, so rows stay sorted and lower.
+CscMatrix submatrix_from_map(const CscMatrix& A, std::span<const int32_t> vertices, const std::vector<int32_t>& local) {
+  const int32_t m = static_cast<int32_t>(vertices.size());
+  CscMatrix B;
+  B.nrows = B.ncols = m;
+  B.colptr.assign(static_cast<size_t>(m) + 1, 0);
+  for (int32_t a = 0; a < m; ++a) {
+    const int32_t v = vertices[a];
+    int64_t cnt = 0;
+    for (int64_t p = A.colptr[v]; p < A.colptr[v + 1]; ++p) cnt += local[A.rowind[p]] >= 0;
+    B.colptr[a + 1] = B.colptr[a] + cnt;
+  }
+  B.rowind.resize(static_cast<size_t>(B.colptr[m]));
+  B.values.resize(static_cast<size_t>(B.colptr[m]));
+  for (int32_t a = 0; a < m; ++a) {
+    const int32_t v = vertices[a];
+    int64_t q = B.colptr[a];
+    for (int64_t p = A.colptr[v]; p < A.colptr[v + 1]; ++p) {
+      const int32_t r = local[A.rowind[p]];
+      if (r >= 0) {
+        B.rowind[q] = r;
+        B.values[q] = A.values[p];
+        ++q;
+      }
+    }
+  }
+  return B;
+}
+
+// The restricted supernodal structure, with the positions of its rows and
+// columns inside the global supernodes (for copying values).
+struct Restricted {
+  int32_t ns = 0;
+  std::vector<int32_t> gsuper;      // ns: global supernode it comes from
+  std::vector<int32_t> first_col;   // ns + 1
+  std::vector<int32_t> gcol;        // m: global factor column of each restricted column
+  std::vector<int32_t> colpos;      // m: offset of that column inside its global supernode
+  std::vector<int64_t> row_ptr;     // ns + 1
+  std::vector<int32_t> rows;        // restricted column ids, ascending per supernode
+  std::vector<int32_t> rowpos;      // position of each row in the global supernode's row list
+  std::vector<int32_t> parent;      // ns
+};
+
+Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t>& col_new, std::vector<int32_t> gcol) {
+  Restricted R;
+  const int32_t m = static_cast<int32_t>(gcol.size());
+  R.gcol = std::move(gcol);
+  R.colpos.resize(m);
+  R.first_col.push_back(0);
+  R.row_ptr.push_back(0);
+  for (int32_t c = 0; c < m;) {
+    const int32_t s = S.col_to_super[R.gcol[c]];
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    int32_t c2 = c;
+    while (c2 < m && R.gcol[c2] < l) {
+      R.colpos[c2] = R.gcol[c2] - f;
+      ++c2;
+    }
+    R.gsuper.push_back(s);
+    R.first_col.push_back(c2);
+    const int64_t r0 = S.super_row_ptr[s], nr = S.nrows(s);
+    for (int64_t t = 0; t < nr; ++t) {
+      const int32_t r = col_new[S.super_rows[r0 + t]];
+      if (r >= 0) {
+        R.rows.push_back(r);
+        R.rowpos.push_back(static_cast<int32_t>(t));
+      }
+    }
+    R.row_ptr.push_back(static_cast<int64_t>(R.rows.size()));
+    c = c2;
+  }
+  R.ns = static_cast<int32_t>(R.gsuper.size());
+  std::vector<int32_t> col_to_super(m);
+  for (int32_t s = 0; s < R.ns; ++s)
+    for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) col_to_super[c] = s;
+  R.parent.assign(R.ns, -1);
+  for (int32_t s = 0; s < R.ns; ++s) {
+    const int64_t below = R.row_ptr[s] + (R.first_col[s + 1] - R.first_col[s]);
+    if (below < R.row_ptr[s + 1]) R.parent[s] = col_to_super[R.rows[below]];
+  }
+  return R;
+}
+
+// Renumbers the restricted supernodes in postorder of their tree (children in
+// ascending order, so an order that is already a postorder is kept). Needed
+// when I splits a global subtree: a restricted node can then become a root (or
+// hang elsewhere) in the middle of another node's range, and the parallel
+// factorization relies on contiguous subtrees.
+bool postorder_in_place(Restricted& R) {
+  const std::vector<int32_t> post = tree_postorder(R.parent);
+  bool identity = true;
+  for (int32_t k = 0; k < R.ns; ++k) identity = identity && post[k] == k;
+  if (identity) return false;
+  const int32_t m = static_cast<int32_t>(R.gcol.size());
+  std::vector<int32_t> new_of_old(R.ns);
+  for (int32_t k = 0; k < R.ns; ++k) new_of_old[post[k]] = k;
+  Restricted Q;
+  Q.ns = R.ns;
+  Q.gsuper.resize(R.ns);
+  Q.parent.resize(R.ns);
+  Q.first_col.assign(static_cast<size_t>(R.ns) + 1, 0);
+  for (int32_t k = 0; k < R.ns; ++k) {
+    const int32_t s = post[k];
+    Q.gsuper[k] = R.gsuper[s];
+    Q.parent[k] = R.parent[s] < 0 ? -1 : new_of_old[R.parent[s]];
+    Q.first_col[k + 1] = Q.first_col[k] + (R.first_col[s + 1] - R.first_col[s]);
+  }
+  std::vector<int32_t> colmap(m);
+  Q.gcol.resize(m);
+  Q.colpos.resize(m);
+  for (int32_t s = 0; s < R.ns; ++s) {
+    const int32_t k = new_of_old[s];
+    for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) {
+      const int32_t nc = Q.first_col[k] + (c - R.first_col[s]);
+      colmap[c] = nc;
+      Q.gcol[nc] = R.gcol[c];
+      Q.colpos[nc] = R.colpos[c];
+    }
+  }
+  Q.row_ptr.assign(static_cast<size_t>(R.ns) + 1, 0);
+  Q.rows.resize(R.rows.size());
+  Q.rowpos.resize(R.rowpos.size());
+  std::vector<std::pair<int32_t, int32_t>> tmp;
+  for (int32_t k = 0; k < R.ns; ++k) {
+    const int32_t s = post[k];
+    tmp.clear();
+    for (int64_t p = R.row_ptr[s]; p < R.row_ptr[s + 1]; ++p) tmp.emplace_back(colmap[R.rows[p]], R.rowpos[p]);
+    // Own columns stay first: the rows below are ancestors, after them in any postorder.
+    std::sort(tmp.begin(), tmp.end());
+    const int64_t q0 = Q.row_ptr[k];
+    for (size_t t = 0; t < tmp.size(); ++t) {
+      Q.rows[q0 + static_cast<int64_t>(t)] = tmp[t].first;
+      Q.rowpos[q0 + static_cast<int64_t>(t)] = tmp[t].second;
+    }
+    Q.row_ptr[k + 1] = q0 + static_cast<int64_t>(tmp.size());
+  }
+  R = std::move(Q);
+  return true;
+}
+
+// Re-raises a not-positive-definite error of the submatrix factorization with
+// the vertex named in A's numbering (or the caller's ids), not the local one.
+[[noreturn]] void rethrow_numerical(const Error& e, const SymbolicFactor& Sp, std::span<const int32_t> vertices,
+                                    std::span<const int32_t> ids) {
+  const std::string msg = e.what();
+  const std::string key = "factor column ";
+  const size_t at = msg.rfind(key);
+  if (at != std::string::npos) {
+    size_t p = at + key.size();
+    int64_t col = 0;
+    bool digits = false;
+    while (p < msg.size() && msg[p] >= '0' && msg[p] <= '9') {
+      col = col * 10 + (msg[p] - '0');
+      digits = true;
+      ++p;
+      if (col > Sp.n) break;
+    }
+    if (digits && col < Sp.n) {
+      const int32_t local = Sp.perm[static_cast<size_t>(col)];
+      const int32_t v = vertices[local];
+      const int32_t name = ids.empty() ? v : ids[v];
+      fail(ErrorCode::Numerical, "submatrix is not positive definite at vertex " + std::to_string(name) +
+                                     " (submatrix index " + std::to_string(local) + ", factor column " +
+                                     std::to_string(col) + ")");
+    }
+  }
+  fail(ErrorCode::Numerical, std::string("submatrix: ") + msg);
+}
+
+}  // namespace
+
+CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> vertices) {
+  const int32_t n = A.ncols;
+  std::vector<int32_t> local(n, -1);
+  int32_t prev = -1;
+  for (size_t a = 0; a < vertices.size(); ++a) {
+    const int32_t v = vertices[a];
+    if (v < 0 || v >= n || v <= prev)
+      fail(ErrorCode::BadUsage, "principal_submatrix: indices must be sorted, unique and in [0, " + std::to_string(n) +
+                                    "); entry " + std::to_string(a) + " is " + std::to_string(v));
+    local[v] = static_cast<int32_t>(a);
+    prev = v;
+  }
+  return submatrix_from_map(A, vertices, local);
+}
+
+Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
+
+FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
+                           const RunContext& ctx, const FactorUpdateOptions& opt) {
+  using clock = std::chrono::steady_clock;
+  if (!L.symbolic) fail(ErrorCode::BadUsage, "update_factor: factor has no symbolic part");
+  const SymbolicFactor& S = *L.symbolic;
+  const int32_t n = S.n;
+  if (A.ncols != n || A.nrows != n || A.nnz() != S.a_nnz || pattern_hash(A) != S.a_pattern_hash)
+    fail(ErrorCode::BadUsage, "update_factor: matrix does not have the sparsity pattern the factor was built for");
+  if (static_cast<int64_t>(L.values.size()) != S.super_value_ptr[S.ns])
+    fail(ErrorCode::BadUsage, "update_factor: factor values are not sized to its symbolic factor");
+  if (!opt.vertex_ids.empty() && static_cast<int32_t>(opt.vertex_ids.size()) != n)
+    fail(ErrorCode::BadUsage, "update_factor: vertex_ids has " + std::to_string(opt.vertex_ids.size()) +
+                                  " entries for a matrix of " + std::to_string(n) + " columns");
+  if (I.empty()) fail(ErrorCode::BadUsage, "update_factor: the vertex set is empty");
+  auto name = [&](int32_t v) { return std::to_string(opt.vertex_ids.empty() ? v : opt.vertex_ids[v]); };
+
+  const auto t0 = clock::now();
+  // local[v]: position of v in sorted I (-1 outside); sorted by one scan.
+  std::vector<int32_t> local(n, -1);
+  for (size_t a = 0; a < I.size(); ++a) {
+    const int32_t v = I[a];
+    if (v < 0 || v >= n)
+      fail(ErrorCode::BadUsage, "update_factor: vertex " + std::to_string(v) + " (entry " + std::to_string(a) +
+                                    ") is out of range [0, " + std::to_string(n) + ")");
+    if (local[v] >= 0) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
+    local[v] = 0;
+  }
+  FactorUpdate out;
+  const int32_t m = static_cast<int32_t>(I.size());
+  out.vertices.reserve(m);
+  for (int32_t v = 0; v < n; ++v)
+    if (local[v] >= 0) {
+      local[v] = static_cast<int32_t>(out.vertices.size());
+      out.vertices.push_back(v);
+    }
+  FactorUpdateStats& st = out.stats;
+  st.n = n;
+  st.n_sub = m;
+
+  if (m == n) {  // nothing is removed: L is the factor (same numbering)
+    out.A_sub = A;
+    out.factor.symbolic = L.symbolic;
+    out.factor.values = L.values;
+    st.supernodes = S.ns;
+    st.values_stored = static_cast<int64_t>(L.values.size());
+    st.nnz_stored = S.nnz_L;
+    st.copied_whole = true;
+    st.copy_s = seconds_since(t0);
+    return out;
+  }
+
+  // (1) Restricted structure, in L's order.
+  out.A_sub = submatrix_from_map(A, out.vertices, local);
+  std::vector<int32_t> col_new(n, -1), gcol;
+  gcol.reserve(m);
+  for (int32_t k = 0; k < n; ++k)
+    if (local[S.perm[k]] >= 0) {
+      col_new[k] = static_cast<int32_t>(gcol.size());
+      gcol.push_back(k);
+    }
+  Restricted R = restrict_structure(S, col_new, std::move(gcol));
+  st.reordered = postorder_in_place(R);
+  if (st.reordered)
+    for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
+
+  auto Sp = std::make_shared<SymbolicFactor>();
+  Sp->n = m;
+  Sp->perm.resize(m);
+  Sp->iperm.resize(m);
+  for (int32_t c = 0; c < m; ++c) {
+    Sp->perm[c] = local[S.perm[R.gcol[c]]];
+    Sp->iperm[Sp->perm[c]] = c;
+  }
+  Sp->ns = R.ns;
+  Sp->super_first_col = R.first_col;
+  Sp->col_to_super.resize(m);
+  for (int32_t s = 0; s < R.ns; ++s)
+    for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) Sp->col_to_super[c] = s;
+  Sp->super_parent = R.parent;
+  Sp->super_row_ptr = R.row_ptr;
+  Sp->super_rows = R.rows;
+  complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
+  st.supernodes = Sp->ns;
+  st.nnz_stored = Sp->nnz_L;
+  st.values_stored = Sp->super_value_ptr[Sp->ns];
+  st.structure_s = seconds_since(t0);
+  ctx.check_cancel();
+
+  // (2) Marking: one start per global supernode with a column in B (§5.5,
+  // "first nonzero in all columns of L_IB"), found in parallel, walked in order.
+  const auto t1 = clock::now();
+  std::vector<int32_t> start(S.ns, -1);
+  in_arena(ctx, [&](int) {
+    tbb::parallel_for(tbb::blocked_range<int32_t>(0, S.ns, 256), [&](const tbb::blocked_range<int32_t>& rg) {
+      for (int32_t s = rg.begin(); s < rg.end(); ++s) {
+        const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+        int32_t c0 = f;
+        while (c0 < l && col_new[c0] >= 0) ++c0;
+        if (c0 == l) continue;  // no column of s is in B
+        int32_t c1 = c0 + 1;
+        while (c1 < l && col_new[c1] < 0) ++c1;
+        if (c1 < l) {
+          start[s] = col_new[c1];
+          continue;
+        }
+        const int64_t r0 = S.super_row_ptr[s];
+        for (int64_t t = r0 + (l - f); t < S.super_row_ptr[s + 1]; ++t)
+          if (col_new[S.super_rows[t]] >= 0) {
+            start[s] = col_new[S.super_rows[t]];
+            break;
+          }
+      }
+    });
+  });
+  std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
+  for (int32_t s = 0; s < S.ns; ++s)
+    for (int32_t c = start[s]; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
+      cmark[c] = 1;
+      ++st.columns_marked;
+      smark[Sp->col_to_super[c]] = 1;
+    }
+  for (int32_t s = 0; s < Sp->ns; ++s)
+    if (smark[s]) {
+      ++st.supernodes_recomputed;
+      st.columns_recomputed += Sp->ncols(s);
+      st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+    }
+  st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
+  st.mark_s = seconds_since(t1);
+  ctx.check_cancel();
+
+  // (3) Copy the unmarked supernodes' restricted blocks from L.
+  const auto t2 = clock::now();
+  NumericFactor& F = out.factor;
+  F.symbolic = Sp;
+  F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
+  in_arena(ctx, [&](int) {
+    tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64), [&](const tbb::blocked_range<int32_t>& rg) {
+      for (int32_t s = rg.begin(); s < rg.end(); ++s) {
+        if (smark[s]) continue;
+        const int32_t gs = R.gsuper[s];
+        const int64_t gm = S.nrows(gs);
+        const double* src = L.block(gs);
+        double* dst = F.block(s);
+        const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
+        const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
+        for (int32_t j = 0; j < k; ++j) {
+          const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
+          double* dc = dst + static_cast<int64_t>(j) * mr;
+          for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
+          for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+        }
+      }
+    });
+  });
+  st.copy_s = seconds_since(t2);
+  ctx.check_cancel();
+
+  // (4) Recompute the marked supernodes (left-looking, skipping the others).
+  const auto t3 = clock::now();
+  if (st.supernodes_recomputed > 0) {
+    try {
+      factorize_supernodes(F, out.A_sub, smark, ctx);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::Numerical) throw;
+      rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);
+    }
+  }
+  st.factor_s = seconds_since(t3);
+  return out;
+}
+
+}  // namespace locus

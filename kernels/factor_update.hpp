@@ -1,0 +1,85 @@
+// Factor once: the Cholesky factor of a principal submatrix A_II from the
+// factor L of A (thesis chapter 5, §5.4–5.5, eqs. 5.10–5.15).
+//
+// With the global order kept, A_II = L_II L_II^T + L_IB L_IB^T (eq. 5.14): the
+// factor L' of A_II is L_II plus a low-rank update, and it fits in the
+// structure of L restricted to I (§5.5). A column j of L' differs from L_II's
+// column j only if row j of L has an entry in a column of B = complement(I) or
+// an entry in a column of I that differs; so the changed columns are the
+// ancestors, in the elimination tree of the restricted structure, of the first
+// I-row of every column of L_IB (Figure 5.5c–e). The update therefore
+//   1. restricts every supernode of L to its columns and rows in I (empty ones
+//      are dropped) — a closed supernodal structure that holds L';
+//   2. marks the restricted supernodes reached from those first rows;
+//   3. copies the unmarked supernodes' values from L and recomputes the marked
+//      ones with the left-looking factorization (factorize_supernodes).
+// The result is an ordinary NumericFactor of A_II: every solve works on it, and
+// it can itself be updated for a subset of I (cascading updates, §5.8).
+//
+// Numbering. Let v_0 < v_1 < ... < v_{m-1} be the vertex set I sorted. Local
+// index a of the submatrix is vertex v_a: A_II(a, b) = A(v_a, v_b), and
+// `vertices[a] = v_a`. The factor's perm/iperm map factor columns to local
+// indices. Its elimination order is L's order restricted to I, except that the
+// restricted supernodes are put in postorder of their tree when they are not
+// already (the factorization needs subtrees to be contiguous); a postorder of
+// the elimination tree is an equivalent ordering: it changes neither the
+// structure nor the values of the factor, only their positions.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/ordering.hpp"
+#include "kernels/supernodal_factor.hpp"
+#include "locus/run_context.hpp"
+#include "locus/sparse_matrix.hpp"
+
+namespace locus {
+
+struct FactorUpdateOptions {
+  // Optional names of A's indices (size n) used in error messages, e.g. the
+  // original mesh vertex ids when A is itself a submatrix (cascades). Empty:
+  // A's own indices are the names.
+  std::span<const int32_t> vertex_ids;
+};
+
+struct FactorUpdateStats {
+  int32_t n = 0;                      // size of A
+  int32_t n_sub = 0;                  // |I|
+  int32_t supernodes = 0;             // restricted supernodes (non-empty)
+  int32_t supernodes_recomputed = 0;  // marked supernodes
+  int32_t columns_marked = 0;         // columns reached by the etree walk (exact, column level)
+  int32_t columns_recomputed = 0;     // columns of the marked supernodes (the work done)
+  double columns_updated_fraction = 0;  // columns_recomputed / n_sub
+  int64_t values_stored = 0;          // doubles in the factor's value array
+  int64_t values_recomputed = 0;      // of which in marked supernodes
+  int64_t nnz_stored = 0;             // entries of the restricted structure (SymbolicFactor::nnz_L)
+  bool reordered = false;             // restricted supernodes needed a postorder
+  bool copied_whole = false;          // I = all indices: L copied, nothing recomputed
+  double structure_s = 0, mark_s = 0, copy_s = 0, factor_s = 0;  // phase timings (seconds)
+};
+
+struct FactorUpdate {
+  NumericFactor factor;            // factor of A_II, local numbering (see above)
+  CscMatrix A_sub;                 // A_II, lower CSC, local numbering
+  std::vector<int32_t> vertices;   // local index -> index of A (sorted I)
+  FactorUpdateStats stats;
+};
+
+// Factor of A_II from the factor L of A (same pattern as the one L was analyzed
+// with; checked by its hash). I: indices of A in any order. Throws
+// Error(BadUsage) for an empty I, an index out of range or a repeated index,
+// and Error(Numerical) naming the vertex (A's index, or vertex_ids of it) when
+// A_II is not positive definite. Deterministic for any thread count.
+FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
+                           const RunContext& ctx = {}, const FactorUpdateOptions& opt = {});
+
+// A_II of a lower-stored symmetric A for sorted unique indices `vertices`
+// (local index a = vertices[a]); O(sum of the selected columns' lengths + n).
+CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> vertices);
+
+// The elimination order of a symbolic factor as an Ordering (perm/iperm), e.g.
+// to analyze A_II from scratch in the order the update produced.
+Ordering factor_ordering(const SymbolicFactor& S);
+
+}  // namespace locus
