@@ -1,8 +1,8 @@
 // Hostile input for all three readers (DESIGN.md "Input is hostile"): every
 // refusal is locus::Error with BadInput (ResourceLimit for the max_bytes
 // budget) and a message that names the file, the line or byte offset, and the
-// problem. Also replays every file in tests/data/io/regress/ (inputs the
-// fuzzers once crashed or hung on), which must now raise BadInput.
+// problem. Also replays every file in tests/data/io/regress/ (fuzzer findings
+// and hand-made hostile inputs, see its README), which must raise BadInput.
 #include <doctest/doctest.h>
 
 #include <sys/stat.h>
