@@ -13,6 +13,7 @@
 #include "kernels/supernodal_factor.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -76,12 +77,16 @@ class Factorizer {
 
     blas::SingleThreaded single;
     const int threads = ctx_.threads > 0 ? ctx_.threads : tbb::this_task_arena::max_concurrency();
+    // Always inside an arena of the requested size: the large-supernode path
+    // uses nested parallel loops, which must not spill onto other cores.
+    tbb::task_arena arena(std::max(1, threads));
     if (threads <= 1) {
-      for (int32_t s = 0; s < ns; ++s) factor_one(s);
+      arena.execute([&] {
+        for (int32_t s = 0; s < ns; ++s) factor_one(s);
+      });
       return;
     }
     threshold_ = total / (16.0 * threads);
-    tbb::task_arena arena(threads);
     arena.execute([&] {
       tbb::task_group tg;
       for (int32_t r : roots) tg.run([this, r] { process(r); });
@@ -113,6 +118,10 @@ class Factorizer {
   void factor_one(int32_t s) {
     if (only_ && !only_[s]) return;
     ctx_.check_cancel();
+    if (is_large(s)) {
+      factor_large(s);
+      return;
+    }
     Workspace& w = ws_.local();
     const int32_t f = S_.super_first_col[s];
     const int32_t k = S_.ncols(s), m = S_.nrows(s);
@@ -140,13 +149,86 @@ class Factorizer {
     }
   }
 
+  // Supernodes near the root are few and wide: they are factored with
+  // parallelism inside (column blocks of the update gathering, then a blocked
+  // right-looking panel Cholesky). The choice depends only on the supernode's
+  // size, never on the thread count, so the arithmetic is the same for any
+  // number of threads.
+  static constexpr int kBlock = 96;
+  bool is_large(int32_t s) const {
+    const double k = S_.ncols(s), m = S_.nrows(s);
+    return k >= 2 * kBlock && k * k * m >= 2.0e7;
+  }
+
+  void factor_large(int32_t s) {
+    const int32_t f = S_.super_first_col[s];
+    const int32_t k = S_.ncols(s), m = S_.nrows(s);
+    const int32_t* rows = S_.super_rows.data() + S_.super_row_ptr[s];
+    double* Ls = F_.values.data() + S_.super_value_ptr[s];
+    const int nblocks = (k + kBlock - 1) / kBlock;
+    // Assembly and descendant updates, one task per block of kBlock columns of s.
+    tbb::parallel_for(0, nblocks, [&](int b) {
+      Workspace& w = ws_.local();
+      const int32_t c0 = b * kBlock, c1 = std::min(k, c0 + kBlock);
+      std::memset(Ls + static_cast<int64_t>(c0) * m, 0, sizeof(double) * static_cast<size_t>(m) * (c1 - c0));
+      for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q) {
+        const int64_t off = S_.a_dst[q] - S_.super_value_ptr[s];
+        if (off >= static_cast<int64_t>(c0) * m && off < static_cast<int64_t>(c1) * m) Ls[off] = A_.values[S_.a_src[q]];
+      }
+      for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
+      for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u)
+        apply_update(S_.update_from[u], f + c0, c1 - c0, m, Ls + static_cast<int64_t>(c0) * m, w, f);
+    });
+    // Blocked right-looking Cholesky of the m x k panel.
+    const char lo = 'L', nt = 'N', tr = 'T', right = 'R', nu = 'N';
+    const double one = 1.0, mone = -1.0;
+    for (int32_t j0 = 0; j0 < k; j0 += kBlock) {
+      const int jb = std::min<int32_t>(kBlock, k - j0);
+      double* Djj = Ls + static_cast<int64_t>(j0) * m + j0;
+      int info = 0;
+      dpotrf_(&lo, &jb, Djj, &m, &info);
+      if (info != 0) {
+        const int32_t col = f + j0 + info - 1;
+        fail(ErrorCode::Numerical, "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) +
+                                       " (factor column " + std::to_string(col) + ")");
+      }
+      const int32_t r0 = j0 + jb;
+      if (r0 >= m) break;
+      const int nrb = (m - r0 + 2 * kBlock - 1) / (2 * kBlock);
+      tbb::parallel_for(0, nrb, [&](int b) {
+        const int32_t a0 = r0 + b * 2 * kBlock;
+        const int rows_b = std::min<int32_t>(2 * kBlock, m - a0);
+        dtrsm_(&right, &lo, &tr, &nu, &rows_b, &jb, &one, Djj, &m, Ls + static_cast<int64_t>(j0) * m + a0, &m);
+      });
+      if (r0 >= k) continue;
+      // Trailing columns r0..k-1 of the panel (all rows below their diagonal).
+      const int ntb = (k - r0 + kBlock - 1) / kBlock;
+      tbb::parallel_for(0, ntb, [&](int b) {
+        const int32_t c0 = r0 + b * kBlock;
+        const int cw = std::min<int32_t>(kBlock, k - c0);
+        const double* Lc = Ls + static_cast<int64_t>(j0) * m + c0;  // rows c0.. of the current block column
+        double* T = Ls + static_cast<int64_t>(c0) * m + c0;
+        dsyrk_(&lo, &nt, &cw, &jb, &mone, Lc, &m, &one, T, &m);
+        const int below = m - c0 - cw;
+        if (below > 0) dgemm_(&nt, &tr, &below, &cw, &jb, &mone, Lc + cw, &m, Lc, &m, &one, T + cw, &m);
+      });
+    }
+  }
+
   void apply_update(int32_t d, int32_t f, int32_t k, int32_t m, double* Ls, Workspace& w) {
+    apply_update(d, f, k, m, Ls, w, f);
+  }
+
+  // Update of columns [f, f + k) of the supernode whose first column is sf and
+  // whose block starts at Ls - (f - sf) * m: C = Ld[p1:, :] * Ld[p1:p2, :]^T.
+  void apply_update(int32_t d, int32_t f, int32_t k, int32_t m, double* Ls, Workspace& w, int32_t sf) {
     const int32_t md = S_.nrows(d), kd = S_.ncols(d);
     const int32_t* rd = S_.super_rows.data() + S_.super_row_ptr[d];
     const double* Ld = F_.values.data() + S_.super_value_ptr[d];
     const int32_t p1 = static_cast<int32_t>(std::lower_bound(rd + kd, rd + md, f) - rd);
     const int32_t p2 = static_cast<int32_t>(std::lower_bound(rd + p1, rd + md, f + k) - rd);
     const int mm = md - p1, kk = p2 - p1;
+    if (kk == 0) return;  // d has no row in this column range
     double* C = w.update.data();
     const double one = 1.0, zero = 0.0;
     const char lo = 'L', nt = 'N', tr = 'T';
@@ -159,8 +241,9 @@ class Factorizer {
     // Scatter-subtract into s. When d's rows p1.. map to consecutive rows of s the
     // target columns are contiguous runs; the general path uses the row map.
     const int32_t* rmap = w.rowmap.data();
+    double* base = Ls - static_cast<int64_t>(f - sf) * m;  // column sf of the supernode
     for (int jj = 0; jj < kk; ++jj) {
-      double* dst = Ls + static_cast<int64_t>(rd[p1 + jj] - f) * m;
+      double* dst = base + static_cast<int64_t>(rd[p1 + jj] - sf) * m;
       const double* src = C + static_cast<int64_t>(jj) * mm;
       for (int ii = jj; ii < mm; ++ii) dst[rmap[rd[p1 + ii]]] -= src[ii];
     }

@@ -84,6 +84,7 @@ TEST_CASE("numeric factor equals Eigen's SimplicialLLT under the same permutatio
     CAPTURE(threads);
     check_against_eigen(test::grid_laplacian(40, 37, 0.01), threads);
     check_against_eigen(test::grid_laplacian(90, 80, 1e-3), threads);
+    check_against_eigen(test::grid_laplacian(330, 310, 1e-3), threads);  // wide root supernodes: blocked parallel path
     for (uint64_t seed = 1; seed <= 4; ++seed) check_against_eigen(test::random_spd(500 + 300 * seed, 3, seed), threads);
   }
 }
@@ -137,7 +138,7 @@ TEST_CASE("an indefinite matrix raises the not-positive-definite error naming th
 }
 
 TEST_CASE("refactorization reuses the symbolic factor; the factor is identical for 1 and 2 threads") {
-  CscMatrix A = test::grid_laplacian(120, 100, 0.05);
+  CscMatrix A = test::grid_laplacian(330, 300, 0.05);
   auto S = analyze(A, order_matrix(A));
   RunContext one, two;
   one.threads = 1;
@@ -156,10 +157,10 @@ TEST_CASE("refactorization reuses the symbolic factor; the factor is identical f
   solve(F2, x);
   CHECK(residual(B, x, b) <= 1e-12);
   // A different pattern is refused.
-  CscMatrix C = test::grid_laplacian(120, 100, 0.05);
+  CscMatrix C = test::grid_laplacian(330, 300, 0.05);
   C.rowind.back() = C.rowind.back();  // same pattern: accepted
   CHECK_NOTHROW(refactorize(F2, C, one));
-  CscMatrix D = test::grid_laplacian(100, 120, 0.05);
+  CscMatrix D = test::grid_laplacian(300, 330, 0.05);
   CHECK_THROWS_AS(refactorize(F2, D, one), Error);
 }
 
