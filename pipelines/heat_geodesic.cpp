@@ -1,0 +1,198 @@
+// Heat geodesic distance, whole-mesh and localized (pipelines/heat_geodesic.hpp;
+// thesis §6.4.1-6.4.2, eqs. 6.3-6.6).
+#include "pipelines/heat_geodesic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "kernels/ordering.hpp"
+#include "kernels/solve_full.hpp"
+#include "kernels/solve_plan.hpp"
+#include "kernels/symbolic_factor.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+void check_vertex(int32_t v, int32_t n, const char* what) {
+  if (v < 0 || v >= n)
+    fail(ErrorCode::BadUsage, std::string(what) + " " + std::to_string(v) + " is not a vertex (the mesh has " +
+                                  std::to_string(n) + " vertices)");
+}
+
+// Normalized negative gradient of the heat in face k (eq. 6.5); zero where the
+// heat is flat (underflow), so such faces carry no direction.
+inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, double X[3]) {
+  g.gradient(k, h0, h1, h2, X);
+  const double len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+  const double s = len > 0.0 && std::isfinite(len) ? -1.0 / len : 0.0;
+  for (int c = 0; c < 3; ++c) X[c] *= s;
+}
+
+// A_k grad(phi_s) . X for the three corners of face k.
+inline void corner_divergence(const TriangleGradients& g, int32_t k, const double X[3], double out[3]) {
+  const double* b = g.basis.data() + 9 * static_cast<int64_t>(k);
+  const double a = g.area[k];
+  for (int s = 0; s < 3; ++s) out[s] = a * (b[3 * s] * X[0] + b[3 * s + 1] * X[1] + b[3 * s + 2] * X[2]);
+}
+
+}  // namespace
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
+  if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
+    fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
+                                  std::to_string(opt.t_factor) + ")");
+  if (!(opt.poisson_rel > 0) || !std::isfinite(opt.poisson_rel))
+    fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  check_requirements(m, req);
+  if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
+  grad_ = triangle_gradients(m);
+  h_ = locus::mean_edge_length(m);
+  t_ = opt.t_factor * h_ * h_;
+  const CscMatrix A = heat_operator(m, t_);
+  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
+  ctx.check_cancel();
+  // Both operators live on the same lower pattern: one ordering, one symbolic factor.
+  const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A));
+  ctx.check_cancel();
+  heat_ = factorize(S, A, ctx);
+  ctx.check_cancel();
+  poisson_ = factorize(S, P, ctx);
+}
+
+void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) const {
+  const int32_t n = grad_.nv;
+  if (r.local.size() != static_cast<size_t>(n)) r.local.assign(n, -1);
+  if (r.face_mark.size() != static_cast<size_t>(grad_.nf)) r.face_mark.assign(grad_.nf, 0);
+  r.verts.clear();
+  r.faces.clear();
+  if (patch.empty()) fail(ErrorCode::BadUsage, "the patch is empty");
+  for (size_t k = 0; k < patch.size(); ++k) {
+    const int32_t v = patch[k];
+    if (v < 0 || v >= n || r.local[v] >= 0) {
+      const bool dup = v >= 0 && v < n;
+      release_region(r);
+      fail(ErrorCode::BadUsage, "patch entry " + std::to_string(k) + " is vertex " + std::to_string(v) +
+                                    (dup ? ", listed twice" : ", outside 0.." + std::to_string(n - 1)));
+    }
+    r.local[v] = static_cast<int32_t>(r.verts.size());
+    r.verts.push_back(v);
+  }
+  r.patch_size = static_cast<int32_t>(patch.size());
+  for (int32_t k = 0; k < r.patch_size; ++k) {
+    const int32_t v = r.verts[k];
+    for (int64_t q = grad_.vf_offsets[v]; q < grad_.vf_offsets[v + 1]; ++q) {
+      const int32_t f = grad_.vf_faces[q];
+      if (r.face_mark[f]) continue;
+      r.face_mark[f] = 1;
+      r.faces.push_back(f);
+      for (int s = 0; s < 3; ++s) {
+        const int32_t w = grad_.tri[3 * static_cast<int64_t>(f) + s];
+        if (r.local[w] < 0) {
+          r.local[w] = static_cast<int32_t>(r.verts.size());
+          r.verts.push_back(w);
+        }
+      }
+    }
+  }
+}
+
+void HeatGeodesic::release_region(PatchRegion& r) const {
+  for (int32_t v : r.verts) r.local[v] = -1;
+  for (int32_t f : r.faces) r.face_mark[f] = 0;
+  r.verts.clear();
+  r.faces.clear();
+  r.patch_size = 0;
+}
+
+void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
+                                      std::span<double> distance, HeatGeodesicWorkspace& ws,
+                                      HeatGeodesicOptions::PoissonRhs rhs) const {
+  const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
+  const bool flux = rhs == HeatGeodesicOptions::PoissonRhs::BoundaryFlux;
+  ws.b.assign(static_cast<size_t>(flux ? nloc : np), 0.0);
+  for (int32_t f : r.faces) {
+    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
+    const int32_t l0 = r.local[t[0]], l1 = r.local[t[1]], l2 = r.local[t[2]];
+    double X[3], d[3];
+    unit_direction(grad_, f, h[l0], h[l1], h[l2], X);
+    corner_divergence(grad_, f, X, d);
+    const int32_t l[3] = {l0, l1, l2};
+    for (int s = 0; s < 3; ++s)
+      if (flux || l[s] < np) ws.b[l[s]] += d[s];
+  }
+  const std::span<const int32_t> support(r.verts.data(), ws.b.size());
+  const std::span<const int32_t> wanted(r.verts.data(), static_cast<size_t>(np));
+  const SolvePlan plan = plan_subset_solve(*poisson_.symbolic, support, wanted);
+  ws.x.resize(static_cast<size_t>(np));
+  solve_planned(poisson_, plan, ws.b, ws.x, ws.poisson);
+  const double d0 = ws.x[source_local];
+  for (int32_t k = 0; k < np; ++k) distance[k] = ws.x[k] - d0;
+}
+
+void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
+                                           HeatGeodesicWorkspace& ws) const {
+  const int32_t n = grad_.nv;
+  ws.b.assign(static_cast<size_t>(n), 0.0);
+  for (int32_t f = 0; f < grad_.nf; ++f) {
+    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
+    double X[3], d[3];
+    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], X);
+    corner_divergence(grad_, f, X, d);
+    for (int s = 0; s < 3; ++s) ws.b[t[s]] += d[s];
+  }
+  ws.x.resize(solve_work_size(poisson_, 1));
+  solve(poisson_, ws.b, ws.x);
+  const double d0 = ws.b[source];
+  for (int32_t i = 0; i < n; ++i) distance[i] = ws.b[i] - d0;
+}
+
+void HeatGeodesic::query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,
+                         HeatGeodesicWorkspace& ws, HeatGeodesicOptions::PoissonRhs rhs) const {
+  check_vertex(source, grad_.nv, "source");
+  if (distance.size() != patch.size())
+    fail(ErrorCode::BadUsage, "heat geodesic: distance has " + std::to_string(distance.size()) +
+                                  " entries for a patch of " + std::to_string(patch.size()));
+  PatchRegion& r = ws.region;
+  build_region(patch, r);
+  const int32_t sl = r.local[source];
+  if (sl < 0 || sl >= r.patch_size) {
+    release_region(r);
+    fail(ErrorCode::BadUsage, "the source vertex " + std::to_string(source) + " is not in the patch");
+  }
+  try {
+    const int32_t src[1] = {source};
+    const double one[1] = {1.0};
+    const SolvePlan plan = plan_subset_solve(*heat_.symbolic, src, r.verts);
+    ws.h.resize(r.verts.size());
+    solve_planned(heat_, plan, one, ws.h, ws.heat);
+    distance_from_heat(r, ws.h, sl, distance, ws, rhs);
+  } catch (...) {
+    release_region(r);
+    throw;
+  }
+  release_region(r);
+}
+
+void HeatGeodesic::query_full(int32_t source, std::span<double> distance, HeatGeodesicWorkspace& ws) const {
+  const int32_t n = grad_.nv;
+  check_vertex(source, n, "source");
+  if (distance.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "heat geodesic: distance has " + std::to_string(distance.size()) + " entries for " +
+                                  std::to_string(n) + " vertices");
+  std::vector<double>& h = ws.h;
+  h.assign(static_cast<size_t>(n), 0.0);
+  h[source] = 1.0;
+  ws.x.resize(solve_work_size(heat_, 1));
+  solve(heat_, h, ws.x);
+  // distance_from_heat_full reuses ws.b and ws.x, not ws.h.
+  distance_from_heat_full(h, source, distance, ws);
+}
+
+}  // namespace locus

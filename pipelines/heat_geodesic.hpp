@@ -1,0 +1,127 @@
+// Heat geodesic distance, whole-mesh and localized to a patch (thesis §6.4.1,
+// eqs. 6.3-6.6, after Crane et al. 2013; localization §6.4.2 with the exact
+// subset solves of chapter 4).
+//
+// prepare (the constructor): t = t_factor * h^2 (h = mean edge length), one
+// METIS ordering and one symbolic factor for the shared pattern, numeric
+// factors of the heat operator M - t L_C (eq. 6.3) and of -L_C + eps M (the
+// regularized Poisson operator of eq. 6.6), per-triangle gradient bases (eq. 6.4).
+// query: heat h = A^{-1} e_source; per triangle X = -grad h / |grad h| (eq. 6.5);
+// integrated divergence b = D X; (-L_C + eps M) d = b (eq. 6.6, the sign of
+// mesh_gradient.hpp); d shifted so that d(source) = 0.
+//
+// Localized query on a patch P (the caller's vertex set, containing the source):
+//  * heat: exact subset solve, support {source}, wanted = P ∪ ring(P) (the
+//    vertices of the triangles touching P) — the same numbers as a full solve;
+//  * divergence: only from the triangles T(P) with at least one vertex in P;
+//  * Poisson: exact subset solve, wanted = P. The right-hand side is where the
+//    approximation lies: the true b also has entries outside P, which the
+//    localized solve cannot know without the heat outside P ∪ ring.
+//    PoissonRhs::Truncated keeps b on P only (the rest treated as zero, §6.4.2
+//    as stated). Its entries do not sum to zero, and the regularized Laplacian
+//    turns the net source into a constant plus a sink spread uniformly over the
+//    whole surface, which bends d inside P (on a unit sphere with a geodesic
+//    disk of radius 0.5: the gradient is off by ~0.12 r).
+//    PoissonRhs::BoundaryFlux (default) uses the divergence of X restricted to
+//    T(P): patch vertices get their complete divergence, ring vertices the
+//    partial one, i.e. the flux of X through the patch boundary. It sums to zero
+//    exactly and, by Gauss' law, leaves a radially symmetric field exact inside
+//    P; what remains is the effect of the divergence outside T(P) on the
+//    Helmholtz projection inside, which is small when X is nearly curl-free.
+//    Both are measured against the full solve in tests/pipelines/heat_geodesic.cpp
+//    and by `locus-bench logmap`.
+// Cost of a localized query: the reach of {source} and of P ∪ ring in the
+// etree, plus O(|P| + |ring|) for gradients and divergence; nothing of size n
+// is touched except O(#supernodes) bytes cleared by the plan builder.
+//
+// Heat values decay like exp(-r / sqrt(t)); beyond ~700 sqrt(t) they underflow
+// to 0, the gradient vanishes and those triangles contribute no direction
+// (Crane et al. note the same limit): keep patches within that radius.
+//
+// Thread safety: after construction every member is const; queries may run
+// concurrently, each thread with its own HeatGeodesicWorkspace.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/solve_sparse.hpp"
+#include "kernels/supernodal_factor.hpp"
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "pipelines/mesh_gradient.hpp"
+
+namespace locus {
+
+struct HeatGeodesicOptions {
+  double t_factor = 1.0;      // diffusion time t = t_factor * h^2 (Crane et al. recommend 1)
+  double poisson_rel = 1e-6;  // eps of -L_C + eps M, relative (kernels/mesh_operators.hpp)
+  enum class PoissonRhs { BoundaryFlux, Truncated };
+  PoissonRhs poisson_rhs = PoissonRhs::BoundaryFlux;  // localized queries only, see above
+};
+
+// The vertices and triangles a localized query works on. Built by
+// HeatGeodesic::build_region, reset by release_region (the n- and nf-sized mark
+// arrays are all -1 / 0 between queries, so a query touches only its region).
+struct PatchRegion {
+  int32_t patch_size = 0;
+  std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
+  std::vector<int32_t> faces;      // faces with at least one patch vertex
+  std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
+  std::vector<uint8_t> face_mark;  // nf
+};
+
+struct HeatGeodesicWorkspace {
+  SolveWorkspace heat, poisson;
+  PatchRegion region;
+  std::vector<double> h, b, x;  // per region vertex (or per vertex for full queries)
+};
+
+class HeatGeodesic {
+ public:
+  // Needs a manifold triangle mesh without zero-area faces or unreferenced
+  // vertices (Error(BadInput) naming the element otherwise); boundaries are
+  // allowed (natural boundary conditions). Factorization runs on ctx's threads.
+  explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {});
+
+  int32_t num_vertices() const { return grad_.nv; }
+  double mean_edge_length() const { return h_; }
+  double time() const { return t_; }
+  const HeatGeodesicOptions& options() const { return opt_; }
+  const TriangleGradients& gradients() const { return grad_; }
+  const NumericFactor& heat_factor() const { return heat_; }
+  const NumericFactor& poisson_factor() const { return poisson_; }
+
+  // distance[k] = heat geodesic distance from `source` to patch[k]; `source` must be
+  // in the patch; patch ids distinct and in range (Error(BadUsage) otherwise).
+  void query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,
+             HeatGeodesicWorkspace& ws) const {
+    query(source, patch, distance, ws, opt_.poisson_rhs);
+  }
+  // The same with the Poisson right-hand side chosen per query (for measuring both).
+  void query(int32_t source, std::span<const int32_t> patch, std::span<double> distance, HeatGeodesicWorkspace& ws,
+             HeatGeodesicOptions::PoissonRhs rhs) const;
+  // Whole mesh with full solves: distance has num_vertices() entries.
+  void query_full(int32_t source, std::span<double> distance, HeatGeodesicWorkspace& ws) const;
+
+  // Building blocks shared with the log map (pipelines/logmap.hpp).
+  void build_region(std::span<const int32_t> patch, PatchRegion& r) const;
+  void release_region(PatchRegion& r) const;
+  // From heat values at r.verts (h[k] at r.verts[k]) to distances at the patch,
+  // zero at r.verts[source_local].
+  void distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
+                          std::span<double> distance, HeatGeodesicWorkspace& ws,
+                          HeatGeodesicOptions::PoissonRhs rhs) const;
+  // From heat values at every vertex to distances at every vertex.
+  void distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
+                               HeatGeodesicWorkspace& ws) const;
+
+ private:
+  HeatGeodesicOptions opt_;
+  TriangleGradients grad_;
+  double h_ = 0, t_ = 0;
+  NumericFactor heat_, poisson_;
+};
+
+}  // namespace locus

@@ -1,0 +1,130 @@
+// Smoothed logarithmic (inverse exponential) map by heat diffusion (thesis
+// §6.5-6.6, eqs. 6.1, 6.2, 6.7, 6.8; Herholz & Alexa 2019).
+//
+// For a centre i and a patch P: the heat h_k = A^{-1} e_k from i and from each
+// one-ring neighbour k of i, all in one exact subset solve (support
+// S = {i} ∪ N(i), wanted P ∪ ring(P)) processed 8 lanes at a time
+// (solve_planned8; valence > 7 runs more batches over the same plan). By
+// symmetry of A, (h_k)_j = (h_j)_k: these |S| solves give, for every j in P,
+// the heat from j at i and at i's neighbours, i.e. everything the gradient of
+// h_j at i needs. That gradient, taken in the triangles around i, projected
+// into the tangent plane of the mean-curvature normal n_i (eqs. 6.1, 6.2, 6.7)
+// and area-averaged (eq. 6.8), points from i towards j; its angle to a fixed
+// reference direction is the angular coordinate. The distance is the heat
+// geodesic from i (pipelines/heat_geodesic.hpp, lane 0 of the same solve).
+// Polar to Cartesian gives (u, v).
+//
+// Because the gradient and the average are linear in the values, each centre
+// has one tangent vector per source k, W_k = sum_faces A_f P grad(phi_k)_f, and the
+// direction to j is sum_k W_k f((h_k)_j): 2 * |S| multiply-adds per patch vertex.
+//
+// Angle estimator (LogMapAngle):
+//  * HeatAverage, f = identity: eqs. 6.7/6.8 as in the thesis. The heat from a
+//    far vertex j decays like exp(-r_j / sqrt(t)), i.e. by a factor ~e per edge at
+//    t = h^2, so across i's star h_j is strongly convex; the piecewise-linear
+//    gradient of such values in a lopsided star leans towards the star's longer
+//    or denser side. On regular meshes the star's symmetry cancels this; on
+//    irregular ones (convex hulls of random sphere points) it does not.
+//  * LogHeat (default), f = log: the same average of gradients of log h_j.
+//    log h_j ~ -r_j / sqrt(t) + smooth terms is nearly linear over a star, so its
+//    piecewise-linear gradient is nearly exact whatever the star's shape, and
+//    grad log h = grad h / h has the direction of grad h (Varadhan's transform
+//    applied before differentiating). Same solves, same cost. Where some
+//    (h_k)_j is not positive (possible on non-Delaunay meshes, or after
+//    underflow) that vertex falls back to HeatAverage, counted in the result.
+// Measured (E_a, mean angle error after the best global rotation, geodesic disk
+// of radius 0.5): see tests/pipelines/logmap.cpp and `locus-bench logmap-accuracy`.
+//
+// Reference direction: the projection into the tangent plane of the edge from
+// i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
+// face normals, so consistently oriented triangles keep their orientation.
+//
+// Thread safety: const after construction; concurrent queries each need their
+// own LogMapWorkspace.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "pipelines/heat_geodesic.hpp"
+
+namespace locus {
+
+enum class LogMapAngle { LogHeat, HeatAverage };
+
+struct LogMapOptions {
+  HeatGeodesicOptions geodesic;  // t = geodesic.t_factor * h^2, Poisson options
+  LogMapAngle angle = LogMapAngle::LogHeat;
+};
+
+// Caller memory for one query: each span has one entry per patch vertex.
+struct LogMapOutput {
+  std::span<double> distance, angle, u, v;
+};
+
+struct LogMapStats {
+  int32_t sources = 0;          // |S| = |N(i) ∪ {i}|
+  int32_t batches = 0;          // 8-lane solves
+  int32_t region_size = 0;      // |P ∪ ring(P)|
+  int32_t angle_fallbacks = 0;  // LogHeat only: vertices that used HeatAverage
+};
+
+struct LogMapWorkspace {
+  HeatGeodesicWorkspace geo;
+  std::vector<int32_t> sources;
+  std::vector<double> weights;     // 3 * |S| tangent vectors W_k
+  std::vector<double> rhs8, out8;  // one batch
+  std::vector<double> heat;        // region (or n) x |S|, row-major
+  std::vector<double> dist_full;   // n, full variant
+};
+
+class HeatLogMap {
+ public:
+  // Needs what HeatGeodesic needs (manifold triangle mesh, no zero-area faces).
+  explicit HeatLogMap(const Mesh& m, const LogMapOptions& opt = {}, const RunContext& ctx = {});
+
+  const HeatGeodesic& geodesic() const { return geo_; }
+  const LogMapOptions& options() const { return opt_; }
+  int32_t num_vertices() const { return geo_.num_vertices(); }
+
+  // Localized (exact subset solves). `centre` must be in `patch`; patch ids
+  // distinct and in range (Error(BadUsage) otherwise).
+  LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
+                    LogMapWorkspace& ws) const {
+    return query(centre, patch, out, ws, opt_.angle);
+  }
+  // The same with the angle estimator chosen per query (for measuring both).
+  LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out, LogMapWorkspace& ws,
+                    LogMapAngle angle) const;
+  // Same map with full solves and the whole-mesh Poisson problem (the baseline
+  // of the thesis without localization); results at the patch vertices.
+  LogMapStats query_full(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
+                         LogMapWorkspace& ws) const {
+    return query_full(centre, patch, out, ws, opt_.angle);
+  }
+  LogMapStats query_full(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
+                         LogMapWorkspace& ws, LogMapAngle angle) const;
+
+  // Unit tangent frame at vertex i: normal n, reference e1, e2 = n x e1 (3 each).
+  void frame(int32_t i, double n[3], double e1[3], double e2[3]) const;
+
+ private:
+  void prepare_centre(int32_t centre, LogMapWorkspace& ws) const;
+  void angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
+              std::span<const int32_t> rows, const LogMapOutput& out, LogMapAngle angle, LogMapStats& st,
+              LogMapWorkspace& ws) const;
+
+  LogMapOptions opt_;
+  HeatGeodesic geo_;
+  std::vector<double> x_, y_, z_;  // positions
+  std::vector<double> normal_;     // 3 * n: eq. 6.2 (mean-curvature normal, area normal where it vanishes)
+};
+
+// Triangles with all three corners in the patch whose (u, v) image has negative
+// signed area (the map's orientation is that of the faces). `local` is
+// scratch of num_vertices() entries, all -1 between calls.
+int64_t count_flipped_triangles(const TriangleGradients& g, std::span<const int32_t> patch,
+                                std::span<const double> u, std::span<const double> v, std::vector<int32_t>& local);
+
+}  // namespace locus

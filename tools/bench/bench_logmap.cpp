@@ -1,0 +1,471 @@
+// `locus-bench logmap MESH`: the heat log map (thesis §6.5-6.7) localized with
+// exact subset solves, against the same map with full solves and against the
+// Dijkstra-based discrete exponential map (DEM), on the same centres and the
+// same patches, alternating the contenders within each query so that machine
+// noise hits all alike (DESIGN.md "Measuring"). Patches are geodesic disks
+// (Dijkstra in graph metric) of round(fraction * n) vertices around seeded
+// random centres. Reported per fraction: medians of the query times, the
+// ratios full / local and DEM / local, flipped triangles, how far the localized
+// map is from the full one (distance: the effect of the Poisson right-hand side
+// on the patch only; angle: must be ~0, the heat values are the same), and the
+// crossover: the smallest listed fraction from which on the localized heat map
+// is faster than DEM.
+//
+// `locus-bench logmap-accuracy SPEC`: the accuracy experiment of thesis §6.7
+// (Table 6.8.1) on analytic surfaces, SPEC one of
+//   icosphere:L        unit icosphere, level L (7: ~164k vertices, h ~ 0.0094)
+//   random-sphere:N    convex hull of N random unit vectors (irregular)
+//   bump:R             z = exp(-(x^2 + y^2) / sigma^2) over the disk of radius 1.5
+//                      (R rings, h ~ 1.5 / R), centre at the top
+// Patch: the vertices within geodesic distance --radius (exact) of the centre.
+// Errors: E_d = mean |d - d_exact|, E_a = mean |angle - angle_exact - delta|
+// (wrapped) with delta the best global rotation (circular mean of the
+// differences), both over the patch without the centre. Exact values: on the
+// sphere d = acos(p_c . p_j) and the azimuth of p_j in the tangent plane of p_c;
+// on the bump the azimuth atan2(y, x) and the arc length of the radial profile
+// by Simpson quadrature. Heat (localized, both angle estimators and both
+// Poisson right-hand sides), heat with full solves, and DEM.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <sstream>
+
+#include "kernels/mesh_generators.hpp"
+#include "locus/error.hpp"
+#include "pipelines/dem_logmap.hpp"
+#include "pipelines/logmap.hpp"
+#include "tools/bench/bench_commands.hpp"
+
+namespace locus::bench {
+namespace {
+
+using cli::Json;
+using cli::Stopwatch;
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<double> parse_list(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != '\0' || !(v > 0) || v > 1)
+      fail(ErrorCode::BadUsage, "--fractions: '" + item + "' is not a number in (0, 1]");
+    out.push_back(v);
+  }
+  if (out.empty()) fail(ErrorCode::BadUsage, "--fractions is empty");
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Distinct seeded centres (splitmix64 through cli::random_vector).
+std::vector<int32_t> pick_centres(int32_t n, int q, uint64_t seed) {
+  const std::vector<double> r = cli::random_vector(static_cast<size_t>(q) * 4, seed);
+  std::vector<int32_t> c;
+  for (double x : r) {
+    const int32_t v = std::min(n - 1, static_cast<int32_t>((x + 1.0) * 0.5 * n));
+    if (std::find(c.begin(), c.end(), v) == c.end()) c.push_back(v);
+    if (static_cast<int>(c.size()) == q) break;
+  }
+  return c;
+}
+
+double wrap(double a) {
+  while (a > kPi) a -= 2 * kPi;
+  while (a <= -kPi) a += 2 * kPi;
+  return a;
+}
+
+struct Maps {  // one map's output over a patch
+  std::vector<double> d, a, u, v;
+  void resize(size_t k) {
+    d.resize(k);
+    a.resize(k);
+    u.resize(k);
+    v.resize(k);
+  }
+  LogMapOutput out() { return {d, a, u, v}; }
+};
+
+// ---------------------------------------------------------------- timing ----
+
+struct TimingOptions {
+  std::string fractions = "0.01,0.02,0.05,0.1,0.2";
+  int queries = 10;
+  double t_factor = 1.0;
+  bool no_full = false;
+};
+
+int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const RunContext& ctx) {
+  const std::vector<double> fractions = parse_list(to.fractions);
+  if (to.queries < 1) fail(ErrorCode::BadUsage, "--queries must be at least 1");
+  cli::Input in = cli::load_input(opt, ctx);
+  const int32_t n = in.mesh.num_vertices();
+  Stopwatch sw;
+  LogMapOptions lo;
+  lo.geodesic.t_factor = to.t_factor;
+  const HeatLogMap heat(in.mesh, lo, ctx);
+  const double precompute_s = sw.seconds();
+  sw.restart();
+  const DemLogMap dem(in.mesh);
+  const double dem_prepare_s = sw.seconds();
+  const std::vector<int32_t> centres = pick_centres(n, to.queries, opt.seed);
+
+  LogMapWorkspace lws;
+  DemWorkspace dws;
+  std::vector<int32_t> patch(n), dem_patch(n), scratch;
+  Maps local, full;
+  std::vector<double> du(n), dv(n);
+  Json rows = Json::array();
+  double crossover = -1;
+  std::vector<double> local_wins;
+  for (double f : fractions) {
+    const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
+    std::vector<double> t_local, t_full, t_dem, t_patch;
+    double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
+    int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
+    int32_t max_sources = 0;
+    for (int32_t c : centres) {
+      ctx.check_cancel();
+      sw.restart();
+      const int32_t k = dem.disk(c, count, patch, dws);
+      t_patch.push_back(sw.seconds());
+      const std::span<const int32_t> P(patch.data(), k);
+      local.resize(k);
+      full.resize(k);
+      sw.restart();
+      const LogMapStats st = heat.query(c, P, local.out(), lws);
+      t_local.push_back(sw.seconds());
+      max_sources = std::max(max_sources, st.sources);
+      if (!to.no_full) {
+        sw.restart();
+        heat.query_full(c, P, full.out(), lws);
+        t_full.push_back(sw.seconds());
+      }
+      sw.restart();
+      const int32_t kd = dem.query(c, count, std::numeric_limits<double>::infinity(), dem_patch, du, dv, dws);
+      t_dem.push_back(sw.seconds());
+      flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), P, local.u, local.v, scratch);
+      flipped_dem += count_flipped_triangles(heat.geodesic().gradients(), std::span<const int32_t>(dem_patch.data(), kd),
+                                             std::span<const double>(du.data(), kd),
+                                             std::span<const double>(dv.data(), kd), scratch);
+      double r = 0;
+      for (int32_t p = 0; p < k; ++p) r = std::max(r, local.d[p]);
+      radius += r / centres.size();
+      if (!to.no_full)
+        for (int32_t p = 0; p < k; ++p) {
+          const double dd = std::abs(local.d[p] - full.d[p]);
+          max_dd = std::max(max_dd, dd / std::max(r, 1e-300));
+          sum_dd += dd / std::max(r, 1e-300);
+          if (patch[p] != c) max_da = std::max(max_da, std::abs(wrap(local.a[p] - full.a[p])));
+          ++cnt;
+        }
+    }
+    const double ml = cli::median(t_local), md = cli::median(t_dem);
+    Json row{{"fraction", f}, {"patch_size", count}, {"queries", centres.size()}};
+    row["heat_local_s"] = ml;
+    if (!to.no_full) {
+      row["heat_full_s"] = cli::median(t_full);
+      row["full_over_local"] = cli::median(t_full) / ml;
+    }
+    row["dem_s"] = md;
+    row["dem_over_local"] = md / ml;
+    row["patch_select_s"] = cli::median(t_patch);
+    row["max_sources"] = max_sources;
+    row["mean_patch_radius"] = radius;
+    row["flipped_triangles_heat"] = flipped_heat;
+    row["flipped_triangles_dem"] = flipped_dem;
+    if (!to.no_full && cnt > 0) {
+      row["local_vs_full_distance_max_rel"] = max_dd;  // relative to the patch radius
+      row["local_vs_full_distance_mean_rel"] = sum_dd / cnt;
+      row["local_vs_full_angle_max"] = max_da;
+    }
+    rows.push_back(row);
+    local_wins.push_back(ml < md ? 1.0 : 0.0);
+    cli::log("logmap: fraction " + cli::format_number(f) + ": local " + cli::format_number(ml) + " s, DEM " +
+             cli::format_number(md) + " s" +
+             (to.no_full ? std::string() : ", full " + cli::format_number(cli::median(t_full)) + " s"));
+  }
+  for (size_t q = fractions.size(); q-- > 0;) {
+    if (local_wins[q] == 0) break;
+    crossover = fractions[q];
+  }
+  Json j{{"command", "logmap"}, {"input", cli::input_json(opt, in)}};
+  j["n"] = n;
+  j["t_factor"] = to.t_factor;
+  j["h"] = heat.geodesic().mean_edge_length();
+  j["precompute_s"] = precompute_s;
+  j["dem_prepare_s"] = dem_prepare_s;
+  j["queries"] = centres.size();
+  j["rows"] = rows;
+  j["crossover_fraction"] = crossover < 0 ? Json(nullptr) : Json(crossover);
+  cli::emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": n " << n << ", precompute " << precompute_s << " s, " << centres.size()
+       << " centres, medians\n";
+    for (const Json& r : rows) {
+      os << "  fraction " << r["fraction"] << " (" << r["patch_size"] << " vertices): local " << r["heat_local_s"]
+         << " s, DEM " << r["dem_s"] << " s (DEM/local " << r["dem_over_local"] << ")";
+      if (r.contains("heat_full_s")) os << ", full " << r["heat_full_s"] << " s (full/local " << r["full_over_local"] << ")";
+      os << "\n";
+    }
+    os << "  crossover fraction (local faster than DEM from here on): " << j["crossover_fraction"] << "\n";
+  });
+  return 0;
+}
+
+// -------------------------------------------------------------- accuracy ----
+
+struct Surface {
+  Mesh mesh;
+  std::string kind;  // "sphere" or "bump"
+  double sigma = 0.5;
+  std::vector<double> profile_r, profile_s;  // bump: arc length s(r) on a fine grid
+  double exact_distance(int32_t c, int32_t j) const {
+    if (kind == "sphere") {
+      const double d = mesh.x[c] * mesh.x[j] + mesh.y[c] * mesh.y[j] + mesh.z[c] * mesh.z[j];
+      const double nc = std::sqrt(mesh.x[c] * mesh.x[c] + mesh.y[c] * mesh.y[c] + mesh.z[c] * mesh.z[c]);
+      const double nj = std::sqrt(mesh.x[j] * mesh.x[j] + mesh.y[j] * mesh.y[j] + mesh.z[j] * mesh.z[j]);
+      return std::acos(std::clamp(d / (nc * nj), -1.0, 1.0));
+    }
+    const double r = std::hypot(mesh.x[j], mesh.y[j]);
+    const double step = profile_r[1] - profile_r[0];
+    const size_t k = std::min(profile_r.size() - 2, static_cast<size_t>(r / step));
+    const double w = (r - profile_r[k]) / step;
+    return profile_s[k] * (1 - w) + profile_s[k + 1] * w;
+  }
+};
+
+Surface make_surface(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  if (colon == std::string::npos) fail(ErrorCode::BadUsage, "accuracy surface '" + spec + "': expected KIND:SIZE");
+  const std::string kind = spec.substr(0, colon);
+  char* end = nullptr;
+  const long size = std::strtol(spec.c_str() + colon + 1, &end, 10);
+  if (*end != '\0' || size < 1) fail(ErrorCode::BadUsage, "accuracy surface '" + spec + "': bad size");
+  Surface s;
+  if (kind == "icosphere") {
+    if (size > 9) fail(ErrorCode::BadUsage, "icosphere level at most 9");
+    s.mesh = make_icosphere(static_cast<int>(size), 1.0);
+    s.kind = "sphere";
+  } else if (kind == "random-sphere") {
+    s.mesh = make_random_sphere(static_cast<int32_t>(size), 12345);
+    s.kind = "sphere";
+  } else if (kind == "bump") {
+    s.mesh = make_disk(static_cast<int32_t>(size));
+    s.kind = "bump";
+    const double R = 1.5, sig2 = s.sigma * s.sigma;
+    for (int32_t i = 0; i < s.mesh.num_vertices(); ++i) {
+      s.mesh.x[i] *= R;
+      s.mesh.y[i] *= R;
+      s.mesh.z[i] = std::exp(-(s.mesh.x[i] * s.mesh.x[i] + s.mesh.y[i] * s.mesh.y[i]) / sig2);
+    }
+    // s(r) = int_0^r sqrt(1 + f'(p)^2) dp, f' = -2p/sigma^2 exp(-p^2/sigma^2); Simpson per cell.
+    const int cells = 200000;
+    const double step = 2.2 / cells;
+    auto integrand = [&](double p) {
+      const double fp = -2 * p / sig2 * std::exp(-p * p / sig2);
+      return std::sqrt(1 + fp * fp);
+    };
+    s.profile_r.resize(cells + 1);
+    s.profile_s.resize(cells + 1);
+    for (int k = 0; k <= cells; ++k) s.profile_r[k] = k * step;
+    for (int k = 0; k < cells; ++k) {
+      const double a = k * step;
+      s.profile_s[k + 1] =
+          s.profile_s[k] + step / 6 * (integrand(a) + 4 * integrand(a + step / 2) + integrand(a + step));
+    }
+  } else {
+    fail(ErrorCode::BadUsage, "accuracy surface kind '" + kind + "': use icosphere, random-sphere or bump");
+  }
+  return s;
+}
+
+// Exact azimuth of j around c.
+double exact_angle(const Surface& s, int32_t c, int32_t j) {
+  const Mesh& m = s.mesh;
+  if (s.kind == "bump") return std::atan2(m.y[j] - m.y[c], m.x[j] - m.x[c]);
+  const double n[3] = {m.x[c], m.y[c], m.z[c]};
+  const double nl = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const double nn[3] = {n[0] / nl, n[1] / nl, n[2] / nl};
+  // Any tangent basis: the rotation is removed by the best global offset.
+  double a[3] = {1, 0, 0};
+  if (std::abs(nn[0]) > 0.9) a[0] = 0, a[1] = 1;
+  const double an = a[0] * nn[0] + a[1] * nn[1] + a[2] * nn[2];
+  double b1[3] = {a[0] - an * nn[0], a[1] - an * nn[1], a[2] - an * nn[2]};
+  const double bl = std::sqrt(b1[0] * b1[0] + b1[1] * b1[1] + b1[2] * b1[2]);
+  for (double& x : b1) x /= bl;
+  const double b2[3] = {nn[1] * b1[2] - nn[2] * b1[1], nn[2] * b1[0] - nn[0] * b1[2], nn[0] * b1[1] - nn[1] * b1[0]};
+  const double p[3] = {m.x[j], m.y[j], m.z[j]};
+  return std::atan2(p[0] * b2[0] + p[1] * b2[1] + p[2] * b2[2], p[0] * b1[0] + p[1] * b1[1] + p[2] * b1[2]);
+}
+
+struct Errors {
+  double ed = 0, ea = 0;
+  int64_t count = 0;
+};
+
+// Mean errors over the patch minus the centre; `mapped[p]` false skips p.
+Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, std::span<const double> d,
+                 std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr) {
+  double cs = 0, sn = 0;
+  for (size_t p = 0; p < patch.size(); ++p) {
+    if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
+    const double diff = a[p] - exact_angle(s, c, patch[p]);
+    cs += std::cos(diff);
+    sn += std::sin(diff);
+  }
+  const double delta = std::atan2(sn, cs);
+  Errors e;
+  for (size_t p = 0; p < patch.size(); ++p) {
+    if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
+    e.ed += std::abs(d[p] - s.exact_distance(c, patch[p]));
+    e.ea += std::abs(wrap(a[p] - exact_angle(s, c, patch[p]) - delta));
+    ++e.count;
+  }
+  if (e.count > 0) {
+    e.ed /= e.count;
+    e.ea /= e.count;
+  }
+  return e;
+}
+
+struct AccuracyOptions {
+  int centres = 3;
+  double radius = 0.5;
+  double t_factor = 1.0;
+  bool no_full = false;
+};
+
+int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
+  Stopwatch sw;
+  const Surface s = make_surface(opt.mesh_path);
+  const double generate_s = sw.seconds();
+  const int32_t n = s.mesh.num_vertices();
+  sw.restart();
+  LogMapOptions lo;
+  lo.geodesic.t_factor = ao.t_factor;
+  const HeatLogMap heat(s.mesh, lo, ctx);
+  const double precompute_s = sw.seconds();
+  const DemLogMap dem(s.mesh);
+  const std::vector<int32_t> centres =
+      s.kind == "bump" ? std::vector<int32_t>{0} : pick_centres(n, ao.centres, opt.seed);
+
+  // Accumulated means over centres (each centre's mean weighs the same).
+  struct Acc {
+    double ed = 0, ea = 0;
+    void add(const Errors& e, double w) {
+      ed += e.ed * w;
+      ea += e.ea * w;
+    }
+  } log_flux, plain_flux, log_trunc, full_log, full_plain, dem_acc;
+  int64_t flipped_heat = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
+  double local_vs_full_d = 0;
+  LogMapWorkspace lws;
+  DemWorkspace dws;
+  std::vector<int32_t> scratch, dem_patch(n), dem_pos(n, -1);
+  std::vector<double> du(n), dv(n);
+  const double w = 1.0 / centres.size();
+  for (int32_t c : centres) {
+    ctx.check_cancel();
+    std::vector<int32_t> patch{c};
+    for (int32_t j = 0; j < n; ++j)
+      if (j != c && s.exact_distance(c, j) <= ao.radius) patch.push_back(j);
+    patch_total += static_cast<int64_t>(patch.size());
+    Maps m;
+    m.resize(patch.size());
+    LogMapStats st = heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeat);
+    fallbacks += st.angle_fallbacks;
+    log_flux.add(errors_of(s, c, patch, m.d, m.a), w);
+    flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
+    heat.query(c, patch, m.out(), lws, LogMapAngle::HeatAverage);
+    plain_flux.add(errors_of(s, c, patch, m.d, m.a), w);
+    // Truncated Poisson right-hand side (distance only; the angle does not depend on it).
+    HeatGeodesicWorkspace gws;
+    std::vector<double> dt(patch.size());
+    heat.geodesic().query(c, patch, dt, gws, HeatGeodesicOptions::PoissonRhs::Truncated);
+    log_trunc.add(errors_of(s, c, patch, dt, m.a), w);
+    if (!ao.no_full) {
+      Maps f;
+      f.resize(patch.size());
+      heat.query_full(c, patch, f.out(), lws, LogMapAngle::HeatAverage);
+      full_plain.add(errors_of(s, c, patch, f.d, f.a), w);
+      heat.query_full(c, patch, f.out(), lws, LogMapAngle::LogHeat);
+      full_log.add(errors_of(s, c, patch, f.d, f.a), w);
+      flipped_full += count_flipped_triangles(heat.geodesic().gradients(), patch, f.u, f.v, scratch);
+      Maps l2;
+      l2.resize(patch.size());
+      heat.query(c, patch, l2.out(), lws, LogMapAngle::LogHeat);
+      double md = 0;
+      for (size_t p = 0; p < patch.size(); ++p) md = std::max(md, std::abs(l2.d[p] - f.d[p]));
+      local_vs_full_d = std::max(local_vs_full_d, md);
+    }
+    // DEM over a graph-metric disk comfortably containing the exact one.
+    const int32_t kd = dem.query(c, n, 1.5 * ao.radius, dem_patch, du, dv, dws);
+    for (int32_t p = 0; p < kd; ++p) dem_pos[dem_patch[p]] = p;
+    std::vector<double> dd(patch.size()), da(patch.size());
+    std::vector<uint8_t> mapped(patch.size(), 0);
+    for (size_t p = 0; p < patch.size(); ++p) {
+      const int32_t q = dem_pos[patch[p]];
+      if (q < 0) continue;
+      mapped[p] = 1;
+      dd[p] = std::hypot(du[q], dv[q]);
+      da[p] = std::atan2(dv[q], du[q]);
+    }
+    dem_acc.add(errors_of(s, c, patch, dd, da, &mapped), w);
+    flipped_dem += count_flipped_triangles(heat.geodesic().gradients(), std::span<const int32_t>(dem_patch.data(), kd),
+                                           std::span<const double>(du.data(), kd),
+                                           std::span<const double>(dv.data(), kd), scratch);
+    for (int32_t p = 0; p < kd; ++p) dem_pos[dem_patch[p]] = -1;
+  }
+  auto pair = [](const Acc& a) { return Json{{"E_d", a.ed}, {"E_a", a.ea}}; };
+  Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}};
+  j["n"] = n;
+  j["h"] = heat.geodesic().mean_edge_length();
+  j["t_factor"] = ao.t_factor;
+  j["radius"] = ao.radius;
+  j["centres"] = centres;
+  j["mean_patch_size"] = static_cast<double>(patch_total) / centres.size();
+  j["generate_s"] = generate_s;
+  j["precompute_s"] = precompute_s;
+  j["heat_local_logheat"] = pair(log_flux);
+  j["heat_local_heataverage"] = pair(plain_flux);
+  j["heat_local_truncated_rhs_distance"] = log_trunc.ed;
+  if (!ao.no_full) {
+    j["heat_full_logheat"] = pair(full_log);
+    j["heat_full_heataverage"] = pair(full_plain);
+    j["local_vs_full_distance_max"] = local_vs_full_d;
+    j["flipped_triangles_heat_full"] = flipped_full;
+  }
+  j["dem"] = pair(dem_acc);
+  j["flipped_triangles_heat"] = flipped_heat;
+  j["flipped_triangles_dem"] = flipped_dem;
+  j["angle_fallbacks"] = fallbacks;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+}  // namespace
+
+void register_logmap_bench(cli::CommandTable& table) {
+  auto to = std::make_shared<TimingOptions>();
+  CLI::App* app = table.add("logmap", "heat log map: localized vs full solves vs DEM, medians and crossover",
+                            [to](const cli::CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *to, ctx); });
+  app->add_option("--fractions", to->fractions, "Patch sizes as fractions of the vertex count, comma-separated");
+  app->add_option("--queries", to->queries, "Random centres (seeded by --seed), default 10");
+  app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
+  app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
+
+  auto ao = std::make_shared<AccuracyOptions>();
+  CLI::App* acc = table.add(
+      "logmap-accuracy",
+      "E_d / E_a against analytic maps; mesh-file is a surface spec: icosphere:L, random-sphere:N or bump:RINGS",
+      [ao](const cli::CommonOptions& o, const RunContext& ctx) { return run_accuracy(o, *ao, ctx); });
+  acc->add_option("--centers", ao->centres, "Random centres (spheres; the bump uses its top), default 3");
+  acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
+  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
+  acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
+}
+
+}  // namespace locus::bench
