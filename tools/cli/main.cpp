@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     locus::cli::CommandTable table("locus", "locus: factor a mesh operator once, then solve locally");
     locus::cli::register_info_command(table);
     locus::cli::register_factor_command(table);
+    locus::cli::register_deform_command(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus: internal error: " << e.what() << "\n";
