@@ -145,6 +145,7 @@ double relative_residual(const CscMatrix& A, const double* x, const double* b);
 
 // Commands of the `locus` tool, one file each (tools/cli/cmd_<name>.cpp).
 void register_info_command(CommandTable& table);
+void register_perfect_laplacian_commands(CommandTable& table);  // perfect-laplacian, param, selfsupport
 void register_factor_command(CommandTable& table);
 void register_deform_command(CommandTable& table);
 

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   try {
     locus::cli::CommandTable table("locus", "locus: factor a mesh operator once, then solve locally");
     locus::cli::register_info_command(table);
+    locus::cli::register_perfect_laplacian_commands(table);
     locus::cli::register_factor_command(table);
     locus::cli::register_deform_command(table);
     return table.run(argc, argv);

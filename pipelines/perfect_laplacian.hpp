@@ -1,0 +1,132 @@
+// Perfect Laplacians for polygon meshes: Algorithm 1 of thesis chapter 2
+// (§2.3.1 planar meshes, eqs. 2.4-2.8; §2.3.2 meshes in space, eqs. 2.9-2.10;
+// §2.3.3 steady state, eq. 2.11).
+//
+// Start with ω = 1 on every unique edge of the faces; repeat: embed the mesh by
+// solving the embedding system (pipelines/polygon_laplacian.hpp), multiply each
+// weight by (embedded length / target length) (eq. 2.8), normalize to unit 2-norm;
+// stop when no vertex moved more than eps · (bounding-box diagonal of the
+// embedding) in the last iteration. The pattern of the system never changes: one
+// METIS ordering and one symbolic analysis, then one numeric refactorization per
+// iteration.
+//
+// Two generalizations of the thesis' loop, both documented where they act:
+//  * Right-hand-side scale. Normalizing ω changes nothing when b = 0 (planar
+//    meshes) or when no vertex is fixed but a pin (closed meshes: the embedding
+//    only scales). With fixed vertices AND b != 0 (a mesh in space with boundary,
+//    self-supporting surfaces) it would change the problem, so the solve uses
+//    b · rhs_scale with rhs_scale = 1 / (product of all normalization divisors):
+//    the iterates are exactly those of the un-normalized update while the stored
+//    weights stay O(1). The raw (un-normalized) weights are weights / rhs_scale.
+//  * Decaying weights (§2.3.3). Where no perfect Laplacian exists, some weights
+//    decay geometrically towards 0 and the plain loop needs hundreds of iterations.
+//    We detect an edge whose per-iteration factor has stayed below 1 at a steady
+//    rate for `clamp_window` iterations and set it to its limit, 0 (the system
+//    keeps a tiny floor, see EmbeddingSystem). A clamped edge that later becomes
+//    too long for the current network (its update factor would exceed 1) is
+//    revived at the weight it had when clamped, at most `max_revivals` times.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "pipelines/polygon_laplacian.hpp"
+
+namespace locus {
+
+// The generic problem of Algorithm 1 (also used by the parameterization and the
+// self-supporting surfaces of §2.6).
+struct PerfectLaplacianProblem {
+  int32_t nv = 0;
+  int dims = 3;                        // 2 (planar embedding) or 3
+  std::vector<int32_t> e0, e1;         // unique edges of the faces
+  std::vector<double> target_length;   // per edge, > 0: the lengths ||ê|| of eq. 2.8
+  std::vector<uint8_t> fixed;          // per vertex: held at fixed_pos
+  Coords fixed_pos;                    // nv per used coordinate (only fixed entries are read)
+  Coords b;                            // right-hand side of eq. 2.10 per vertex, empty = 0
+  std::vector<double> initial_weights; // empty = all 1 (Algorithm 1)
+};
+
+struct PerfectLaplacianOptions {
+  int max_iterations = 1000;
+  double eps = 1e-6;            // stop when max vertex change < eps · bbox diagonal of the embedding
+  int anderson_depth = 6;       // 0 = the plain update of eq. 2.8
+  double anderson_restart = 10; // drop the history when ||f|| exceeds this · best ||f|| so far
+  double max_log_step = 4.0;    // no weight changes by more than e^4 in one iteration
+  double floor_rel = 1e-12;     // weights below this · max weight are exactly 0 (their limit)
+  double zero_weight_rel = 1e-8;  // weights <= this · max weight count as numerically zero
+  EmbeddingSystemOptions system;
+};
+
+struct PerfectLaplacianResult {
+  Coords pos;                    // the embedding V of the last iteration
+  std::vector<double> weights;   // normalized (unit 2-norm) weights; clamped edges are exactly 0
+  double rhs_scale = 1.0;        // raw weights (those that balance b) = weights / rhs_scale
+  bool converged = false;
+  int iterations = 0;
+  double last_change_rel = 0;    // max vertex change of the last iteration / bbox diagonal
+  double min_weight = 0;         // over all edges (0 when some are clamped)
+  double min_positive_weight = 0;
+  int64_t zero_weights = 0;      // <= zero_weight_rel · max weight
+  int64_t at_floor = 0;          // weights held at exactly 0 (decayed to their limit)
+  double order_s = 0, analyze_s = 0;
+  double first_iter_s = 0;       // the first iteration including order + analyze + factorize
+  double iter_s = 0;             // median of the later iterations (refactorize, solve, update)
+  std::vector<double> change_history;  // max vertex change / diagonal per iteration
+};
+
+PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& problem,
+                                             const PerfectLaplacianOptions& opt = {}, const RunContext& ctx = {});
+
+// ---- Algorithm 1 on a mesh ----
+
+struct MeshPerfectLaplacianOptions {
+  // Planar mode (§2.3.1): forced by `planar` (z is ignored) or chosen when every
+  // z is equal. Needs exactly one boundary loop. The boundary is held at its input
+  // positions when it is (weakly) convex, otherwise on a circle (see below).
+  bool planar = false;
+  // In space (§2.3.2): boundary vertices are held at their input positions; a
+  // component without boundary gets one pinned vertex (its lowest-numbered one):
+  // with Σ_i b_i = 0 (true for the b below) pinning is exact, not a regularization.
+  PerfectLaplacianOptions iteration;
+};
+
+struct MeshPerfectLaplacianResult {
+  std::string mode;                  // "planar" or "space"
+  bool boundary_on_circle = false;   // planar mode with a non-convex boundary
+  int32_t boundary_loops = 0;
+  int32_t pinned = 0;                // pins of closed components
+  std::vector<int32_t> e0, e1;       // the edges the weights belong to
+  PerfectLaplacianResult run;
+  Coords aligned;                    // run.pos after the best similarity (scale s, translation t) onto the input
+  double align_scale = 1.0;
+  double max_displacement_rel = 0;   // after alignment, / bbox diagonal of the input
+  double mean_displacement_rel = 0;
+  double bbox_diagonal = 0;          // of the input (in the dimensions used)
+  double rhs_s = 0;                  // computing H_i n_i
+  double total_s = 0;
+};
+
+// Validates the mesh (manifold, no unreferenced vertices, no zero-length edge;
+// BadInput naming the element otherwise) and runs Algorithm 1.
+//
+// H_i n_i (eq. 2.10) is the integrated mean-curvature normal of the INPUT,
+// b = L_C x̂, with L_C the cotan Laplacian (kernels/mesh_operators) of the mesh,
+// polygons fan-triangulated from their first vertex. It vanishes at planar
+// vertices (linear precision) and Σ_i b_i = 0 exactly as for any Laplacian, which
+// is what makes a single pin exact on closed meshes. For planar cyclic polygons
+// (squares, rectangles, isosceles trapezoids: regular quad meshes) the fan
+// diagonal's cotan weight is 0, so b is realizable on the polygon edges alone.
+MeshPerfectLaplacianResult perfect_laplacian(const Mesh& m, const MeshPerfectLaplacianOptions& opt = {},
+                                             const RunContext& ctx = {});
+
+// Best similarity without rotation: s, t minimizing Σ_i ||s p_i + t - q_i||^2 over
+// `dims` coordinates. Writes s·p + t into `out` and returns s.
+double align_similarity(int dims, const Coords& p, const Coords& q, Coords& out);
+
+// Integrated mean-curvature normal b = L_C x̂ of a polygon mesh (fan triangulation), see above.
+Coords integrated_mean_curvature_normal(const Mesh& m);
+
+}  // namespace locus
