@@ -93,8 +93,12 @@ MeshReport analyze_mesh(const Mesh& m) {
 
   // Edges: boundary, non-manifold (> 2 faces or same direction twice), and the
   // corner unions that decide the fans around each vertex.
+  // fans[v] starts at the number of corners at v; every union that joins two of its
+  // classes removes one.
   std::vector<int32_t> corner_parent(nc);
   for (size_t c = 0; c < nc; ++c) corner_parent[c] = static_cast<int32_t>(c);
+  std::vector<int32_t> fans(static_cast<size_t>(nv), 0);
+  for (size_t c = 0; c < nc; ++c) ++fans[fv[c]];
   for (int64_t e = 0; e < ne; ++e) {
     const int32_t fc = E.face_count[e];
     const int64_t p = inc.edge_corner_offsets[e];
@@ -111,8 +115,8 @@ MeshReport analyze_mesh(const Mesh& m) {
       const int32_t u = E.e0[e];
       const int32_t u1 = fv[c1] == u ? c1 : next_corner(c1), w1 = fv[c1] == u ? next_corner(c1) : c1;
       const int32_t u2 = fv[c2] == u ? c2 : next_corner(c2), w2 = fv[c2] == u ? next_corner(c2) : c2;
-      uf_unite(corner_parent, u1, u2);
-      uf_unite(corner_parent, w1, w2);
+      fans[u] -= uf_unite(corner_parent, u1, u2);
+      fans[E.e1[e]] -= uf_unite(corner_parent, w1, w2);
     }
     if (bad) {
       ++r.non_manifold_edges;
@@ -126,9 +130,6 @@ MeshReport analyze_mesh(const Mesh& m) {
     }
   }
   {
-    std::vector<int32_t> fans(static_cast<size_t>(nv), 0);
-    for (size_t c = 0; c < nc; ++c)
-      if (uf_find(corner_parent, static_cast<int32_t>(c)) == static_cast<int32_t>(c)) ++fans[fv[c]];
     for (int32_t v = 0; v < nv; ++v)
       if (fans[v] > 1) {
         ++r.non_manifold_vertices;

@@ -16,12 +16,14 @@ inline int32_t uf_find(std::vector<int32_t>& parent, int32_t a) {
   return a;
 }
 
-inline void uf_unite(std::vector<int32_t>& parent, int32_t a, int32_t b) {
+// Returns true when a and b were in different sets (one set fewer now).
+inline bool uf_unite(std::vector<int32_t>& parent, int32_t a, int32_t b) {
   a = uf_find(parent, a);
   b = uf_find(parent, b);
-  if (a == b) return;
+  if (a == b) return false;
   if (a < b) std::swap(a, b);
   parent[a] = b;
+  return true;
 }
 
 }  // namespace locus

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 
@@ -322,4 +323,57 @@ TEST_CASE("armadillo.off: one closed genus-0 component") {
   CHECK(r.genus == 0);
   CHECK(r.manifold);
   CHECK_NOTHROW(check_requirements(m, MeshRequirements{.connected = true, .closed = true}));
+}
+
+TEST_CASE("random polygon soups: analysis never fails on valid indices and its counts add up") {
+  // Faces of degree 3..6 over a few vertices, repeated vertices allowed: every kind of
+  // defect at once. Oracles: brute-force counts of half-edges, referenced vertices and
+  // degrees; the Euler characteristic from its definition.
+  std::mt19937_64 rng(12345);
+  for (int trial = 0; trial < 300; ++trial) {
+    Mesh m;
+    const int32_t nv = 1 + static_cast<int32_t>(rng() % 12);
+    for (int32_t v = 0; v < nv; ++v) m.add_vertex(double(rng() % 5), double(rng() % 5), double(rng() % 3));
+    const int32_t nf = static_cast<int32_t>(rng() % 15);
+    int64_t proper_half_edges = 0;
+    std::set<int32_t> referenced;
+    std::vector<int64_t> hist(7, 0);
+    for (int32_t f = 0; f < nf; ++f) {
+      const int32_t d = 3 + static_cast<int32_t>(rng() % 4);
+      std::vector<int32_t> vs(d);
+      for (auto& v : vs) v = static_cast<int32_t>(rng() % nv);
+      for (int32_t k = 0; k < d; ++k) {
+        proper_half_edges += vs[k] != vs[(k + 1) % d];
+        referenced.insert(vs[k]);
+      }
+      ++hist[d];
+      m.add_face(vs);
+    }
+    const MeshReport r = analyze_mesh(m);
+    const Edges e = unique_edges(m);
+    int64_t sum = 0;
+    for (int32_t c : e.face_count) sum += c;
+    CHECK(sum == proper_half_edges);
+    CHECK(r.unreferenced_vertices == nv - static_cast<int64_t>(referenced.size()));
+    CHECK(r.euler_characteristic == static_cast<int64_t>(referenced.size()) - r.n_edges + nf);
+    for (size_t d = 0; d < r.face_degree_histogram.size(); ++d) CHECK(r.face_degree_histogram[d] == hist[d]);
+    CHECK(r.components <= static_cast<int32_t>(referenced.size()));
+    CHECK((r.manifold == (r.non_manifold_edges == 0 && r.non_manifold_vertices == 0)));
+    std::vector<int32_t> comp;
+    CHECK(connected_components(m, comp) == r.components);
+    // Every boundary edge is walked once: a closed loop of L vertices uses L edges, an
+    // open chain (next to non-manifold edges) L - 1.
+    int64_t boundary_vertices = 0;
+    const auto loops = boundary_loops(m);
+    for (const auto& loop : loops) boundary_vertices += static_cast<int64_t>(loop.size());
+    CHECK(boundary_vertices >= r.boundary_edges);
+    CHECK(boundary_vertices <= r.boundary_edges + static_cast<int64_t>(loops.size()));
+    CHECK(static_cast<int64_t>(loops.size()) == r.boundary_loops);
+    try {
+      check_requirements(m, MeshRequirements{.connected = true, .closed = true});
+    } catch (const Error& err) {
+      CHECK(err.code() == ErrorCode::BadInput);
+      CHECK(std::string(err.what()).rfind("mesh: ", 0) == 0);
+    }
+  }
 }
