@@ -26,8 +26,10 @@ void check_vertex(int32_t v, int32_t n, const char* what) {
 
 // Normalized negative gradient of the heat in face k (eq. 6.5); zero where the
 // heat is flat (underflow), so such faces carry no direction.
-inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, double X[3]) {
-  g.gradient(k, h0, h1, h2, X);
+inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, bool log_heat,
+                           double X[3]) {
+  if (log_heat && h0 > 0 && h1 > 0 && h2 > 0) g.gradient(k, std::log(h0), std::log(h1), std::log(h2), X);
+  else g.gradient(k, h0, h1, h2, X);
   const double len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
   const double s = len > 0.0 && std::isfinite(len) ? -1.0 / len : 0.0;
   for (int c = 0; c < 3; ++c) X[c] *= s;
@@ -121,7 +123,7 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
     const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
     const int32_t l0 = r.local[t[0]], l1 = r.local[t[1]], l2 = r.local[t[2]];
     double X[3], d[3];
-    unit_direction(grad_, f, h[l0], h[l1], h[l2], X);
+    unit_direction(grad_, f, h[l0], h[l1], h[l2], opt_.log_heat_gradient, X);
     corner_divergence(grad_, f, X, d);
     const int32_t l[3] = {l0, l1, l2};
     for (int s = 0; s < 3; ++s)
@@ -143,7 +145,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   for (int32_t f = 0; f < grad_.nf; ++f) {
     const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
     double X[3], d[3];
-    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], X);
+    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], opt_.log_heat_gradient, X);
     corner_divergence(grad_, f, X, d);
     for (int s = 0; s < 3; ++s) ws.b[t[s]] += d[s];
   }

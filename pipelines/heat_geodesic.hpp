@@ -59,6 +59,7 @@ struct HeatGeodesicOptions {
   double poisson_rel = 1e-6;  // eps of -L_C + eps M, relative (kernels/mesh_operators.hpp)
   enum class PoissonRhs { BoundaryFlux, Truncated };
   PoissonRhs poisson_rhs = PoissonRhs::BoundaryFlux;  // localized queries only, see above
+  bool log_heat_gradient = true;  // direction of grad log h instead of grad h per triangle, see above
 };
 
 // The vertices and triangles a localized query works on. Built by

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "kernels/mesh_operators.hpp"
@@ -74,9 +75,51 @@ void HeatLogMap::frame(int32_t i, double n[3], double e1[3], double e2[3]) const
   e2[2] = n[0] * e1[1] - n[1] * e1[0];
 }
 
-// Sources S = {i} ∪ N(i) (i first, neighbours ascending) and their tangent
-// vectors W_k = sum_{f ∋ i} A_f P grad(phi_k)_f, P = I - n n^T (eqs. 6.7, 6.8).
-void HeatLogMap::prepare_centre(int32_t i, LogMapWorkspace& ws) const {
+// A star is irregular when a corner angle at i is off the regular value 2 pi / valence
+// by more than 25 % or its longest edge exceeds 1.6 times its shortest. Icospheres
+// of any level stay well inside (angles within ~15 %, edge ratio < 1.3); convex
+// hulls of random points mostly do not.
+bool HeatLogMap::irregular_star(int32_t i) const {
+  const TriangleGradients& g = geo_.gradients();
+  const int64_t valence = g.vf_offsets[i + 1] - g.vf_offsets[i];
+  if (valence < 3) return false;
+  double total = 0, lmin = std::numeric_limits<double>::infinity(), lmax = 0;
+  for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q) {
+    const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(g.vf_faces[q]);
+    const int s = t[0] == i ? 0 : (t[1] == i ? 1 : 2);
+    const int32_t a = t[(s + 1) % 3], b = t[(s + 2) % 3];
+    const double u[3] = {x_[a] - x_[i], y_[a] - y_[i], z_[a] - z_[i]};
+    const double w[3] = {x_[b] - x_[i], y_[b] - y_[i], z_[b] - z_[i]};
+    const double lu = std::sqrt(dot3(u, u)), lw = std::sqrt(dot3(w, w));
+    lmin = std::min({lmin, lu, lw});
+    lmax = std::max({lmax, lu, lw});
+    const double ang = std::acos(std::clamp(dot3(u, w) / (lu * lw), -1.0, 1.0));
+    total += ang;
+  }
+  const double regular = total / static_cast<double>(valence);
+  double worst = 0;
+  for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q) {
+    const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(g.vf_faces[q]);
+    const int s = t[0] == i ? 0 : (t[1] == i ? 1 : 2);
+    const int32_t a = t[(s + 1) % 3], b = t[(s + 2) % 3];
+    const double u[3] = {x_[a] - x_[i], y_[a] - y_[i], z_[a] - z_[i]};
+    const double w[3] = {x_[b] - x_[i], y_[b] - y_[i], z_[b] - z_[i]};
+    const double ang = std::acos(std::clamp(dot3(u, w) / std::sqrt(dot3(u, u) * dot3(w, w)), -1.0, 1.0));
+    worst = std::max(worst, std::abs(ang - regular) / regular);
+  }
+  return worst > 0.25 || lmax > 1.6 * lmin;
+}
+
+// Sources S = {i} ∪ N(i) (i first, neighbours ascending; TwoRing: then the
+// second ring, ascending) and the estimator coefficients in the frame (e1, e2):
+// direction to j = (sum_k a_k f_k, sum_k b_k f_k), f_k = (h_k)_j or log (h_k)_j.
+// One ring: a_k = W_k . e1, b_k = W_k . e2 with W_k = sum_{f ∋ i} A_f P grad(phi_k)_f,
+// P = I - n n^T (eqs. 6.7, 6.8). Two ring: the gradient at i of the least-squares
+// quadratic c + g.q + q^T H q / 2 through the values at the 2-ring, q_k the
+// tangent-plane coordinates of vertex k; the quadratic terms absorb the
+// curvature of log h_j (~ 1 / (r_j sqrt(t))) so that lopsided stencils do not
+// turn it into a gradient bias.
+void HeatLogMap::prepare_centre(int32_t i, LogMapAngle angle, LogMapWorkspace& ws) const {
   const TriangleGradients& g = geo_.gradients();
   std::vector<int32_t>& S = ws.sources;
   S.clear();
@@ -86,50 +129,108 @@ void HeatLogMap::prepare_centre(int32_t i, LogMapWorkspace& ws) const {
   S.erase(std::unique(S.begin(), S.end()), S.end());
   S.erase(std::find(S.begin(), S.end(), i));
   S.insert(S.begin(), i);
+  const size_t ring1 = S.size();
+  if (angle == LogMapAngle::Auto) angle = irregular_star(i) ? LogMapAngle::LogHeatTwoRing : LogMapAngle::LogHeat;
+  if (angle == LogMapAngle::LogHeatTwoRing) {
+    std::vector<int32_t>& R2 = ws.ring2;
+    R2.clear();
+    for (size_t k = 1; k < ring1; ++k)
+      for (int64_t q = g.vf_offsets[S[k]]; q < g.vf_offsets[S[k] + 1]; ++q)
+        for (int s = 0; s < 3; ++s) R2.push_back(g.tri[3 * static_cast<int64_t>(g.vf_faces[q]) + s]);
+    std::sort(R2.begin(), R2.end());
+    R2.erase(std::unique(R2.begin(), R2.end()), R2.end());
+    for (int32_t w : R2)
+      if (std::find(S.begin(), S.begin() + ring1, w) == S.begin() + ring1) S.push_back(w);
+  }
   const size_t d = S.size();
-  ws.weights.assign(3 * d, 0.0);
-  const double* n = normal_.data() + 3 * static_cast<size_t>(i);
+  double n[3], e1[3], e2[3];
+  frame(i, n, e1, e2);
+  ws.coef1.assign(2 * d, 0.0);
   for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q) {
     const int32_t f = g.vf_faces[q];
     const double* b = g.basis.data() + 9 * static_cast<int64_t>(f);
     for (int s = 0; s < 3; ++s) {
       const int32_t w = g.tri[3 * static_cast<int64_t>(f) + s];
-      const size_t k = static_cast<size_t>(std::find(S.begin(), S.end(), w) - S.begin());
-      const double bn = dot3(b + 3 * s, n);
-      for (int c = 0; c < 3; ++c) ws.weights[3 * k + c] += g.area[f] * (b[3 * s + c] - bn * n[c]);
+      const size_t k = static_cast<size_t>(std::find(S.begin(), S.begin() + ring1, w) - S.begin());
+      // P grad(phi) . e = grad(phi) . e for e in the tangent plane.
+      ws.coef1[2 * k] += g.area[f] * dot3(b + 3 * s, e1);
+      ws.coef1[2 * k + 1] += g.area[f] * dot3(b + 3 * s, e2);
     }
+  }
+  ws.coef2.clear();
+  if (angle != LogMapAngle::LogHeatTwoRing) return;
+  // Normal equations of the quadratic fit in coordinates scaled by 1/h, solved
+  // by a 6x6 Cholesky factorization (SPD unless the stencil is degenerate).
+  const double inv_h = 1.0 / geo_.mean_edge_length();
+  double N[6][6] = {};
+  ws.phi.resize(6 * d);
+  for (size_t k = 0; k < d; ++k) {
+    const int32_t v = S[k];
+    const double p[3] = {x_[v] - x_[i], y_[v] - y_[i], z_[v] - z_[i]};
+    const double qx = dot3(p, e1) * inv_h, qy = dot3(p, e2) * inv_h;
+    double* f = ws.phi.data() + 6 * k;
+    f[0] = 1.0, f[1] = qx, f[2] = qy, f[3] = 0.5 * qx * qx, f[4] = qx * qy, f[5] = 0.5 * qy * qy;
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c <= r; ++c) N[r][c] += f[r] * f[c];
+  }
+  double Lc[6][6] = {};
+  double dmax = 0, dmin = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 6; ++c) {
+    double diag = N[c][c];
+    for (int k = 0; k < c; ++k) diag -= Lc[c][k] * Lc[c][k];
+    if (!(diag > 0)) return;  // degenerate stencil: one-ring estimator only
+    Lc[c][c] = std::sqrt(diag);
+    dmax = std::max(dmax, diag);
+    dmin = std::min(dmin, diag);
+    for (int r = c + 1; r < 6; ++r) {
+      double v = N[r][c];
+      for (int k = 0; k < c; ++k) v -= Lc[r][k] * Lc[c][k];
+      Lc[r][c] = v / Lc[c][c];
+    }
+  }
+  if (!(dmin > 1e-12 * dmax)) return;
+  ws.coef2.resize(2 * d);
+  for (size_t k = 0; k < d; ++k) {
+    double y[6];
+    const double* f = ws.phi.data() + 6 * k;
+    for (int r = 0; r < 6; ++r) {
+      double v = f[r];
+      for (int c = 0; c < r; ++c) v -= Lc[r][c] * y[c];
+      y[r] = v / Lc[r][r];
+    }
+    for (int r = 5; r >= 0; --r) {
+      double v = y[r];
+      for (int c = r + 1; c < 6; ++c) v -= Lc[c][r] * y[c];
+      y[r] = v / Lc[r][r];
+    }
+    ws.coef2[2 * k] = y[1] * inv_h;
+    ws.coef2[2 * k + 1] = y[2] * inv_h;
   }
 }
 
 // heat[row * row_stride + k] = (h_k)_j for the patch vertex j = patch[p], row = rows[p] (row = p when rows is empty).
+// Patch vertices inside the two-ring stencil use the one-ring estimator: the
+// heat from them peaks inside the stencil, where no quadratic fits it.
 void HeatLogMap::angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
                         std::span<const int32_t> rows, const LogMapOutput& out, LogMapAngle angle,
                         LogMapStats& st, LogMapWorkspace& ws) const {
-  double n[3], e1[3], e2[3];
-  frame(centre, n, e1, e2);
   const size_t d = ws.sources.size();
-  // Weights in the frame: direction to j = (sum_k a_k f_k, sum_k b_k f_k).
-  double a[64], b[64];
-  std::vector<double> ab;
-  double* pa = a;
-  double* pb = b;
-  if (d > 64) {
-    ab.resize(2 * d);
-    pa = ab.data();
-    pb = ab.data() + d;
-  }
-  for (size_t k = 0; k < d; ++k) {
-    pa[k] = dot3(ws.weights.data() + 3 * k, e1);
-    pb[k] = dot3(ws.weights.data() + 3 * k, e2);
-  }
-  const bool use_log = angle == LogMapAngle::LogHeat;
+  const bool use_log = angle != LogMapAngle::HeatAverage;
+  const bool two_ring = !ws.coef2.empty();
+  ws.sorted_sources.assign(ws.sources.begin(), ws.sources.end());
+  std::sort(ws.sorted_sources.begin(), ws.sorted_sources.end());
   for (size_t p = 0; p < patch.size(); ++p) {
     double gx = 0, gy = 0;
     if (patch[p] != centre) {
       const double* f = heat + (rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride;
+      const double* c =
+          two_ring && !std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p])
+              ? ws.coef2.data()
+              : ws.coef1.data();
       bool plain = !use_log;
       if (use_log) {
         for (size_t k = 0; k < d; ++k) {
+          if (c[2 * k] == 0 && c[2 * k + 1] == 0) continue;
           if (!(f[k] > 0.0)) {
             plain = true;
             ++st.angle_fallbacks;
@@ -137,14 +238,14 @@ void HeatLogMap::angles(int32_t centre, std::span<const int32_t> patch, const do
             break;
           }
           const double l = std::log(f[k]);
-          gx += pa[k] * l;
-          gy += pb[k] * l;
+          gx += c[2 * k] * l;
+          gy += c[2 * k + 1] * l;
         }
       }
       if (plain)
         for (size_t k = 0; k < d; ++k) {
-          gx += pa[k] * f[k];
-          gy += pb[k] * f[k];
+          gx += ws.coef1[2 * k] * f[k];
+          gy += ws.coef1[2 * k + 1] * f[k];
         }
     }
     const double th = (gx == 0 && gy == 0) ? 0.0 : std::atan2(gy, gx);
@@ -168,7 +269,8 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     const int32_t cl = r.local[centre];
     if (cl < 0 || cl >= r.patch_size)
       fail(ErrorCode::BadUsage, "the centre vertex " + std::to_string(centre) + " is not in the patch");
-    prepare_centre(centre, ws);
+    prepare_centre(centre, angle, ws);
+    st.two_ring = !ws.coef2.empty();
     const std::vector<int32_t>& S = ws.sources;
     const int32_t d = static_cast<int32_t>(S.size());
     const size_t nloc = r.verts.size();
@@ -215,9 +317,10 @@ LogMapStats HeatLogMap::query_full(int32_t centre, std::span<const int32_t> patc
     has_centre |= v == centre;
   }
   if (!has_centre) fail(ErrorCode::BadUsage, "the centre vertex " + std::to_string(centre) + " is not in the patch");
-  prepare_centre(centre, ws);
+  prepare_centre(centre, angle, ws);
   const int32_t d = static_cast<int32_t>(ws.sources.size());
   LogMapStats st;
+  st.two_ring = !ws.coef2.empty();
   st.sources = d;
   st.batches = (d + kLanes - 1) / kLanes;
   st.region_size = n;

@@ -22,18 +22,31 @@
 //  * HeatAverage, f = identity: eqs. 6.7/6.8 as in the thesis. The heat from a
 //    far vertex j decays like exp(-r_j / sqrt(t)), i.e. by a factor ~e per edge at
 //    t = h^2, so across i's star h_j is strongly convex; the piecewise-linear
-//    gradient of such values in a lopsided star leans towards the star's longer
-//    or denser side. On regular meshes the star's symmetry cancels this; on
-//    irregular ones (convex hulls of random sphere points) it does not.
-//  * LogHeat (default), f = log: the same average of gradients of log h_j.
-//    log h_j ~ -r_j / sqrt(t) + smooth terms is nearly linear over a star, so its
-//    piecewise-linear gradient is nearly exact whatever the star's shape, and
+//    gradient of such values in a lopsided star leans towards its longer or
+//    denser side. On regular meshes the star's symmetry cancels this.
+//  * LogHeat, f = log: the same average of gradients of log h_j.
+//    log h_j ~ -r_j / sqrt(t) + smooth terms is nearly linear over a star, and
 //    grad log h = grad h / h has the direction of grad h (Varadhan's transform
-//    applied before differentiating). Same solves, same cost. Where some
-//    (h_k)_j is not positive (possible on non-Delaunay meshes, or after
-//    underflow) that vertex falls back to HeatAverage, counted in the result.
-// Measured (E_a, mean angle error after the best global rotation, geodesic disk
-// of radius 0.5): see tests/pipelines/logmap.cpp and `locus-bench logmap-accuracy`.
+//    applied before differentiating). Same solves, same cost.
+//  * LogHeatTwoRing: log h_j at the two-ring of i (|S| ~ 19, three 8-lane
+//    batches instead of one) and the gradient at i of the least-squares quadratic
+//    through them in tangent-plane coordinates. On irregular meshes the
+//    discrete heat kernel carries vertex-level noise; a one-ring stencil turns
+//    it into an angle distortion (harmonics 1-4 of the azimuth), the wider
+//    least-squares stencil averages it down. Vertices j inside the stencil use
+//    the one-ring estimator.
+//  * Auto (default): LogHeatTwoRing where the star of i is irregular (a corner
+//    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6), LogHeat elsewhere.
+// Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
+// estimators fall back to HeatAverage for that vertex, counted in the stats.
+// Measured E_a (mean angle error after the best global rotation, geodesic disk
+// of radius 0.5, t = h^2; `locus-bench logmap-accuracy`):
+//   icosphere level 6: HeatAverage 5.5e-3, LogHeat 4.5e-3, TwoRing 4.6e-3;
+//   random sphere 40k (h = 0.02): HeatAverage 6.1e-2, LogHeat 4.7e-2, TwoRing 2.4e-2.
+// On icospheres the remaining error is not the estimator's (all agree) but the
+// heat kernel's: at t = h^2 its decay rate per unit length depends on the local
+// edge length (h / sqrt(t) ~ 1), which bends the level sets; it falls as
+// t_factor grows (level 6: 2.7e-3 at 2 h^2, 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
@@ -51,11 +64,11 @@
 
 namespace locus {
 
-enum class LogMapAngle { LogHeat, HeatAverage };
+enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 
 struct LogMapOptions {
   HeatGeodesicOptions geodesic;  // t = geodesic.t_factor * h^2, Poisson options
-  LogMapAngle angle = LogMapAngle::LogHeat;
+  LogMapAngle angle = LogMapAngle::Auto;
 };
 
 // Caller memory for one query: each span has one entry per patch vertex.
@@ -67,13 +80,15 @@ struct LogMapStats {
   int32_t sources = 0;          // |S| = |N(i) ∪ {i}|
   int32_t batches = 0;          // 8-lane solves
   int32_t region_size = 0;      // |P ∪ ring(P)|
-  int32_t angle_fallbacks = 0;  // LogHeat only: vertices that used HeatAverage
+  int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
+  bool two_ring = false;        // the two-ring estimator was used at this centre
 };
 
 struct LogMapWorkspace {
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
-  std::vector<double> weights;     // 3 * |S| tangent vectors W_k
+  std::vector<int32_t> ring2, sorted_sources;
+  std::vector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
   std::vector<double> rhs8, out8;  // one batch
   std::vector<double> heat;        // region (or n) x |S|, row-major
   std::vector<double> dist_full;   // n, full variant
@@ -110,7 +125,8 @@ class HeatLogMap {
   void frame(int32_t i, double n[3], double e1[3], double e2[3]) const;
 
  private:
-  void prepare_centre(int32_t centre, LogMapWorkspace& ws) const;
+  void prepare_centre(int32_t centre, LogMapAngle angle, LogMapWorkspace& ws) const;
+  bool irregular_star(int32_t i) const;
   void angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
               std::span<const int32_t> rows, const LogMapOutput& out, LogMapAngle angle, LogMapStats& st,
               LogMapWorkspace& ws) const;

@@ -336,6 +336,8 @@ struct AccuracyOptions {
   double radius = 0.5;
   double t_factor = 1.0;
   bool no_full = false;
+  bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
+  std::string dump;  // CSV of per-vertex errors of the localized LogHeat map
 };
 
 int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
@@ -346,6 +348,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   sw.restart();
   LogMapOptions lo;
   lo.geodesic.t_factor = ao.t_factor;
+  lo.geodesic.log_heat_gradient = !ao.plain_gradient;
   const HeatLogMap heat(s.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   const DemLogMap dem(s.mesh);
@@ -359,8 +362,8 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
       ed += e.ed * w;
       ea += e.ea * w;
     }
-  } log_flux, plain_flux, log_trunc, full_log, full_plain, dem_acc;
-  int64_t flipped_heat = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
+  } log_flux, plain_flux, two_ring, auto_acc, log_trunc, full_log, full_plain, dem_acc;
+  int64_t flipped_heat = 0, flipped_two_ring = 0, flipped_auto = 0, auto_two_ring = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
   double local_vs_full_d = 0;
   LogMapWorkspace lws;
   DemWorkspace dws;
@@ -378,9 +381,24 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     LogMapStats st = heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeat);
     fallbacks += st.angle_fallbacks;
     log_flux.add(errors_of(s, c, patch, m.d, m.a), w);
+    if (!ao.dump.empty()) {
+      std::FILE* fp = std::fopen(ao.dump.c_str(), c == centres.front() ? "w" : "a");
+      if (!fp) fail(ErrorCode::BadUsage, "cannot write " + ao.dump);
+      for (size_t p = 0; p < patch.size(); ++p)
+        std::fprintf(fp, "%d,%d,%.9g,%.9g,%.9g,%.9g\n", c, patch[p], s.exact_distance(c, patch[p]),
+                     exact_angle(s, c, patch[p]), m.d[p], m.a[p]);
+      std::fclose(fp);
+    }
     flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     heat.query(c, patch, m.out(), lws, LogMapAngle::HeatAverage);
     plain_flux.add(errors_of(s, c, patch, m.d, m.a), w);
+    st = heat.query(c, patch, m.out(), lws, LogMapAngle::Auto);
+    auto_acc.add(errors_of(s, c, patch, m.d, m.a), w);
+    auto_two_ring += st.two_ring;
+    flipped_auto += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
+    heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeatTwoRing);
+    two_ring.add(errors_of(s, c, patch, m.d, m.a), w);
+    flipped_two_ring += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     // Truncated Poisson right-hand side (distance only; the angle does not depend on it).
     HeatGeodesicWorkspace gws;
     std::vector<double> dt(patch.size());
@@ -424,6 +442,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   j["n"] = n;
   j["h"] = heat.geodesic().mean_edge_length();
   j["t_factor"] = ao.t_factor;
+  j["distance_gradient"] = ao.plain_gradient ? "heat" : "log_heat";
   j["radius"] = ao.radius;
   j["centres"] = centres;
   j["mean_patch_size"] = static_cast<double>(patch_total) / centres.size();
@@ -431,6 +450,11 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   j["precompute_s"] = precompute_s;
   j["heat_local_logheat"] = pair(log_flux);
   j["heat_local_heataverage"] = pair(plain_flux);
+  j["heat_local_auto"] = pair(auto_acc);
+  j["auto_two_ring_centres"] = auto_two_ring;
+  j["flipped_triangles_heat_auto"] = flipped_auto;
+  j["heat_local_logheat_tworing"] = pair(two_ring);
+  j["flipped_triangles_heat_tworing"] = flipped_two_ring;
   j["heat_local_truncated_rhs_distance"] = log_trunc.ed;
   if (!ao.no_full) {
     j["heat_full_logheat"] = pair(full_log);
@@ -466,6 +490,8 @@ void register_logmap_bench(cli::CommandTable& table) {
   acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
   acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
+  acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
+  acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle), localized LogHeat map");
 }
 
 }  // namespace locus::bench
