@@ -84,6 +84,37 @@ int64_t SymbolicFactor::flops() const {
   return static_cast<int64_t>(f);
 }
 
+void compute_update_lists(SymbolicFactor& S) {
+  const int32_t ns = S.ns;
+  S.max_update_entries = 0;
+  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int64_t> next;
+    if (pass == 1) {
+      for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
+      S.update_from.resize(static_cast<size_t>(S.update_ptr[ns]));
+      next.assign(S.update_ptr.begin(), S.update_ptr.end() - 1);
+    }
+    for (int32_t d = 0; d < ns; ++d) {
+      const int64_t r0 = S.super_row_ptr[d], nr = S.nrows(d);
+      int64_t t = S.ncols(d);
+      while (t < nr) {
+        const int32_t s = S.col_to_super[S.super_rows[r0 + t]];
+        const int32_t send = S.super_first_col[s + 1];
+        int64_t t2 = t;
+        while (t2 < nr && S.super_rows[r0 + t2] < send) ++t2;
+        if (pass == 0) {
+          ++S.update_ptr[s + 1];
+          S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+        } else {
+          S.update_from[next[s]++] = d;
+        }
+        t = t2;
+      }
+    }
+  }
+}
+
 void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
   const int32_t n = S.n, ns = S.ns;
   if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
@@ -149,32 +180,70 @@ void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
     }
   }
 
-  // (5b) left-looking update lists: d updates every supernode its rows below reach.
-  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<int64_t> next;
-    if (pass == 1) {
-      for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
-      S.update_from.resize(static_cast<size_t>(S.update_ptr[ns]));
-      next.assign(S.update_ptr.begin(), S.update_ptr.end() - 1);
+  compute_update_lists(S);
+
+}
+
+void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
+  auto bad = [](const std::string& what) { fail(ErrorCode::BadInput, "invalid factor structure: " + what); };
+  const int32_t n = S.n, ns = S.ns;
+  if (n < 0 || ns < 0 || ns > n || (n > 0 && ns == 0)) bad("sizes n/ns");
+  if (static_cast<int32_t>(S.perm.size()) != n || static_cast<int32_t>(S.iperm.size()) != n) bad("permutation size");
+  for (int32_t k = 0; k < n; ++k)
+    if (S.perm[k] < 0 || S.perm[k] >= n || S.iperm[S.perm[k]] != k) bad("permutation at " + std::to_string(k));
+  if (static_cast<int32_t>(S.super_first_col.size()) != ns + 1 || S.super_first_col[0] != 0 || S.super_first_col[ns] != n)
+    bad("supernode column ranges");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_first_col[s + 1] <= S.super_first_col[s]) bad("empty supernode " + std::to_string(s));
+  if (static_cast<int32_t>(S.col_to_super.size()) != n) bad("column map size");
+  for (int32_t s = 0; s < ns; ++s)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c)
+      if (S.col_to_super[c] != s) bad("column map at " + std::to_string(c));
+  if (static_cast<int32_t>(S.super_parent.size()) != ns) bad("supernodal etree size");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_parent[s] != -1 && (S.super_parent[s] <= s || S.super_parent[s] >= ns)) bad("supernodal parent of " + std::to_string(s));
+  if (static_cast<int32_t>(S.parent.size()) != n || static_cast<int32_t>(S.col_count.size()) != n) bad("column etree size");
+  for (int32_t j = 0; j < n; ++j)
+    if (S.parent[j] != -1 && (S.parent[j] <= j || S.parent[j] >= n)) bad("column parent of " + std::to_string(j));
+  if (static_cast<int32_t>(S.super_row_ptr.size()) != ns + 1 || S.super_row_ptr[0] != 0 ||
+      S.super_row_ptr[ns] != static_cast<int64_t>(S.super_rows.size()))
+    bad("row pointers");
+  for (int32_t s = 0; s < ns; ++s) {
+    if (S.super_row_ptr[s + 1] - S.super_row_ptr[s] < S.ncols(s)) bad("rows of supernode " + std::to_string(s));
+    const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
+    for (int32_t t = 0; t < S.nrows(s); ++t) {
+      if (t < S.ncols(s) ? rows[t] != S.super_first_col[s] + t : (rows[t] <= rows[t - 1] || rows[t] >= n))
+        bad("row " + std::to_string(t) + " of supernode " + std::to_string(s));
     }
-    for (int32_t d = 0; d < ns; ++d) {
-      const int64_t r0 = S.super_row_ptr[d], nr = S.nrows(d);
-      int64_t t = S.ncols(d);
-      while (t < nr) {
-        const int32_t s = S.col_to_super[S.super_rows[r0 + t]];
-        const int32_t send = S.super_first_col[s + 1];
-        int64_t t2 = t;
-        while (t2 < nr && S.super_rows[r0 + t2] < send) ++t2;
-        if (pass == 0) {
-          ++S.update_ptr[s + 1];
-          S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
-        } else {
-          S.update_from[next[s]++] = d;
-        }
-        t = t2;
+  }
+  if (static_cast<int32_t>(S.super_value_ptr.size()) != ns + 1 || S.super_value_ptr[0] != 0) bad("value offsets");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_value_ptr[s + 1] - S.super_value_ptr[s] != static_cast<int64_t>(S.nrows(s)) * S.ncols(s)) bad("value offsets of " + std::to_string(s));
+  if (num_values >= 0 && S.super_value_ptr[ns] != num_values) bad("number of values");
+  // Closure: every row of d at or after a supernode s it reaches is a row of s
+  // (left-looking updates and refactorization index through it).
+  for (int32_t d = 0; d < ns; ++d) {
+    const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
+    const int32_t nr = S.nrows(d);
+    for (int32_t t = S.ncols(d); t < nr;) {
+      const int32_t s = S.col_to_super[rd[t]];
+      const int32_t* rs = S.super_rows.data() + S.super_row_ptr[s];
+      int32_t q = 0;
+      for (int32_t u = t; u < nr; ++u) {
+        while (q < S.nrows(s) && rs[q] < rd[u]) ++q;
+        if (q == S.nrows(s) || rs[q] != rd[u]) bad("structure not closed at supernodes " + std::to_string(d) + ", " + std::to_string(s));
       }
+      while (t < nr && S.col_to_super[rd[t]] == s) ++t;
     }
+  }
+  if (static_cast<int64_t>(S.a_super_ptr.size()) != ns + 1 || S.a_super_ptr[0] != 0 || S.a_super_ptr[ns] != S.a_nnz ||
+      static_cast<int64_t>(S.a_src.size()) != S.a_nnz || static_cast<int64_t>(S.a_dst.size()) != S.a_nnz)
+    bad("assembly map sizes");
+  for (int32_t s = 0; s < ns; ++s) {
+    if (S.a_super_ptr[s + 1] < S.a_super_ptr[s]) bad("assembly map pointers");
+    for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k)
+      if (S.a_src[k] < 0 || S.a_src[k] >= S.a_nnz || S.a_dst[k] < S.super_value_ptr[s] || S.a_dst[k] >= S.super_value_ptr[s + 1])
+        bad("assembly map entry " + std::to_string(k));
   }
 }
 

@@ -90,6 +90,15 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& lower, const Orde
 // reach, d's rows >= first(s) are rows of s.
 void complete_symbolic(SymbolicFactor& S, const CscMatrix& A);
 
+// Recomputes update_ptr/update_from and max_update_entries from the supernodal structure.
+void compute_update_lists(SymbolicFactor& S);
+
+// Checks every invariant the numeric kernels index through (permutation,
+// supernode ranges, sorted in-range rows, closure of the structure, value
+// offsets against num_values (skipped if < 0), assembly map ranges); throws
+// Error(BadInput) naming the first violation. For structures read from files.
+void validate_symbolic(const SymbolicFactor& S, int64_t num_values);
+
 // Row structure of L in CSR (factor numbering): for each row i, the columns j < i with
 // L_ij stored (supernodal pattern), ascending. Chapter 5 (factor-once updates) needs it.
 struct RowStructure {
