@@ -1,0 +1,54 @@
+// Heat centroids of surface regions (thesis §3.5, eqs. 3.24-3.29, heat source
+// eqs. 3.10/3.11) and their refinement off the vertices (§3.7.1 "Centroids on faces").
+//
+// The centroid of a cell C is the hottest point after diffusing C's indicator:
+// (M - t L_C) u = M chi_C (eq. 3.7 with h = chi_C, i.e. eq. 3.10 up to the cell area,
+// which does not move the maximum), whose right-hand side is the lumped mass at
+// C's vertices. The discrete maximum is a vertex; to let Lloyd's generators move
+// smoothly, a bivariate quadratic is fitted (least squares) to the heat at the
+// hottest vertex and its one-ring (two-ring when the one-ring gives fewer than six
+// values), in the tangent plane of the area-weighted vertex normal; its maximizer is
+// located in the projected incident triangles and mapped back by barycentric
+// coordinates (the closest point of those triangles when it lies outside them; the
+// vertex itself when the quadratic has no maximum).
+//
+// Thread safety: CentroidGeometry is immutable; all functions are re-entrant.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/mesh_topology.hpp"
+#include "locus/mesh.hpp"
+#include "pipelines/heat_voronoi.hpp"
+
+namespace locus {
+
+struct CentroidGeometry {
+  int32_t n = 0;
+  std::vector<int64_t> vf_offsets;  // n + 1: faces incident to each vertex (CSR), ascending
+  std::vector<int32_t> vf_faces;
+  Adjacency adj;
+  std::vector<double> normals;      // 3n, area-weighted unit normals
+};
+CentroidGeometry prepare_centroid_geometry(const Mesh& m);
+
+struct HeatCentroid {
+  SurfacePoint point;       // refined centroid (or the hottest vertex)
+  int32_t hottest = -1;     // hottest vertex
+  bool refined = false;     // the quadratic had a maximum and the point moved off the vertex
+  int32_t fit_points = 0;   // values used by the fit
+};
+
+// Quadratic refinement around `hottest`, with heat values given at every vertex
+// the fit may read (heat[v]; localized callers scatter their kept values and leave
+// zeros elsewhere).
+HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
+                                 int32_t hottest);
+
+// One-shot: full solve of the cell indicator, hottest vertex, refinement (if `refine`).
+// `cell` lists vertex ids (non-empty, valid).
+HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const CentroidGeometry& g,
+                           std::span<const int32_t> cell, bool refine);
+
+}  // namespace locus
