@@ -1,0 +1,450 @@
+// Lloyd's method with heat-diffusion Voronoi cells and centroids, localized
+// (pipelines/cvt_lloyd.hpp; thesis §3.7.1, §3.4-3.6), and the R^6 lift of the
+// anisotropic variant.
+#include "pipelines/cvt_lloyd.hpp"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <string>
+
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "kernels/solve_full.hpp"
+#include "locus/error.hpp"
+#include "pipelines/heat_centroid.hpp"
+
+namespace locus {
+
+CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
+                                       std::vector<double>& mass, double& mean_edge) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
+    fail(ErrorCode::BadUsage, "heat operator from positions: expected " + std::to_string(dim) + " values per vertex");
+  auto len2 = [&](int32_t a, int32_t b) {
+    double s = 0;
+    for (int c = 0; c < dim; ++c) {
+      const double d = pos[static_cast<size_t>(a) * dim + c] - pos[static_cast<size_t>(b) * dim + c];
+      s += d * d;
+    }
+    return s;
+  };
+  mass.assign(n, 0.0);
+  std::vector<int32_t> ii, jj;
+  std::vector<double> vv;
+  ii.reserve(static_cast<size_t>(n) + 3 * static_cast<size_t>(nf));
+  jj.reserve(ii.capacity());
+  vv.reserve(ii.capacity());
+  std::vector<double> diag(n, 0.0);
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    // l2[k]: squared length of the edge opposite corner k.
+    const double l2[3] = {len2(v[1], v[2]), len2(v[2], v[0]), len2(v[0], v[1])};
+    double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+    // Heron in Kahan's stable form (a >= b >= c), exact for needle triangles.
+    std::sort(l, l + 3, std::greater<double>());
+    const double a = l[0], b = l[1], c = l[2];
+    const double q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    const double area = q > 0 ? 0.25 * std::sqrt(q) : 0.0;
+    if (!(area > 0) || !std::isfinite(area))
+      fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has zero area in the lifted metric");
+    for (int k = 0; k < 3; ++k) {
+      mass[v[k]] += area / 3;
+      const int32_t i = v[(k + 1) % 3], j = v[(k + 2) % 3];
+      const double w = 0.5 * (l2[(k + 1) % 3] + l2[(k + 2) % 3] - l2[k]) / (4 * area);  // cot at k, halved
+      ii.push_back(i);
+      jj.push_back(j);
+      vv.push_back(-t * w);
+      diag[i] += t * w;
+      diag[j] += t * w;
+    }
+  }
+  for (int32_t v = 0; v < n; ++v) {
+    ii.push_back(v);
+    jj.push_back(v);
+    vv.push_back(mass[v] + diag[v]);
+  }
+  const Edges e = unique_edges(m);
+  double sum = 0;
+  for (size_t k = 0; k < e.e0.size(); ++k) sum += std::sqrt(len2(e.e0[k], e.e1[k]));
+  mean_edge = e.e0.empty() ? 0.0 : sum / static_cast<double>(e.e0.size());
+  return lower_from_triplets(n, ii, jj, vv);
+}
+
+std::vector<double> lifted_positions(const Mesh& m, double lambda) {
+  const int32_t n = m.num_vertices();
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  const std::vector<double>* X[3] = {&m.x, &m.y, &m.z};
+  for (int c = 0; c < 3; ++c)
+    for (int32_t v = 0; v < n; ++v) {
+      lo[c] = std::min(lo[c], (*X[c])[v]);
+      hi[c] = std::max(hi[c], (*X[c])[v]);
+    }
+  const double side = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(side > 0) || !std::isfinite(side)) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no extent");
+  const std::vector<double> nrm = area_weighted_normals(m);
+  std::vector<double> p(static_cast<size_t>(n) * 6);
+  for (int32_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      p[6 * static_cast<size_t>(v) + c] = ((*X[c])[v] - lo[c]) / side;
+      p[6 * static_cast<size_t>(v) + 3 + c] = lambda * nrm[3 * static_cast<size_t>(v) + c];
+    }
+  return p;
+}
+
+namespace {
+
+// Morton order of the sites' positions: batches of 8 consecutive sites are compact,
+// so the unions of their neighbourhoods stay small.
+std::vector<int32_t> spatial_order(const Mesh& m, std::span<const SurfacePoint> sites) {
+  const size_t ns = sites.size();
+  std::vector<std::array<double, 3>> p(ns);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t s = 0; s < ns; ++s) {
+    p[s] = surface_point_position(m, sites[s]);
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], p[s][c]);
+      hi[c] = std::max(hi[c], p[s][c]);
+    }
+  }
+  auto spread = [](uint64_t x) {  // 21 bits -> every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+  };
+  std::vector<std::pair<uint64_t, int32_t>> key(ns);
+  for (size_t s = 0; s < ns; ++s) {
+    uint64_t code = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double ext = hi[c] - lo[c];
+      const double f = ext > 0 ? (p[s][c] - lo[c]) / ext : 0.0;
+      code |= spread(static_cast<uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0)) << c;
+    }
+    key[s] = {code, static_cast<int32_t>(s)};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<int32_t> order(ns);
+  for (size_t s = 0; s < ns; ++s) order[s] = key[s].second;
+  return order;
+}
+
+// Vertices within graph distance `radius` of a surface point (Dijkstra on edge lengths),
+// sorted. Scratch `dist` is all +inf between calls.
+struct DijkstraScratch {
+  std::vector<double> dist;
+  std::vector<int32_t> touched;
+};
+std::vector<int32_t> dijkstra_ball(const Mesh& m, const Adjacency& adj, const SurfacePoint& s, double radius,
+                                   DijkstraScratch& w) {
+  const int32_t n = m.num_vertices();
+  if (w.dist.size() != static_cast<size_t>(n)) w.dist.assign(n, INFINITY);
+  using Entry = std::pair<double, int32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> pq;
+  const auto p = surface_point_position(m, s);
+  int32_t sv[3];
+  double sw[3];
+  const int cnt = surface_point_support(m, s, sv, sw);
+  for (int k = 0; k < cnt; ++k) {
+    const double d = std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
+                               (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2]));
+    if (d < w.dist[sv[k]]) {
+      if (w.dist[sv[k]] == INFINITY) w.touched.push_back(sv[k]);
+      w.dist[sv[k]] = d;
+      pq.push({d, sv[k]});
+    }
+  }
+  std::vector<int32_t> out;
+  while (!pq.empty()) {
+    const auto [d, v] = pq.top();
+    pq.pop();
+    if (d > w.dist[v]) continue;
+    out.push_back(v);
+    for (int64_t q = adj.offsets[v]; q < adj.offsets[v + 1]; ++q) {
+      const int32_t u = adj.neighbors[q];
+      const double e = std::sqrt((m.x[u] - m.x[v]) * (m.x[u] - m.x[v]) + (m.y[u] - m.y[v]) * (m.y[u] - m.y[v]) +
+                                 (m.z[u] - m.z[v]) * (m.z[u] - m.z[v]));
+      const double nd = d + e;
+      if (nd <= radius && nd < w.dist[u]) {
+        if (w.dist[u] == INFINITY) w.touched.push_back(u);
+        w.dist[u] = nd;
+        pq.push({nd, u});
+      }
+    }
+  }
+  for (int32_t v : w.touched) w.dist[v] = INFINITY;
+  w.touched.clear();
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Cells as CSR (vertices ascending within a cell) and the cell adjacency graph.
+struct Cells {
+  std::vector<int64_t> offsets;  // ns + 1
+  std::vector<int32_t> verts;
+  std::vector<int64_t> adj_offsets;
+  std::vector<int32_t> adj;
+};
+Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
+  Cells c;
+  c.offsets.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int32_t l : label) ++c.offsets[l + 1];
+  for (int32_t s = 0; s < ns; ++s) c.offsets[s + 1] += c.offsets[s];
+  c.verts.resize(label.size());
+  std::vector<int64_t> fill(c.offsets.begin(), c.offsets.end() - 1);
+  for (size_t v = 0; v < label.size(); ++v) c.verts[fill[label[v]]++] = static_cast<int32_t>(v);
+  std::vector<std::pair<int32_t, int32_t>> pairs;
+  for (size_t k = 0; k < edges.e0.size(); ++k) {
+    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+    if (a != b) {
+      pairs.push_back({a, b});
+      pairs.push_back({b, a});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  c.adj_offsets.assign(static_cast<size_t>(ns) + 1, 0);
+  for (const auto& pr : pairs) ++c.adj_offsets[pr.first + 1];
+  for (int32_t s = 0; s < ns; ++s) c.adj_offsets[s + 1] += c.adj_offsets[s];
+  c.adj.resize(pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) c.adj[k] = pairs[k].second;
+  return c;
+}
+
+// Cell s, its neighbour cells and their neighbours (sorted cell ids), appended to `out`.
+void two_ring_cells(const Cells& c, int32_t s, std::vector<int32_t>& out) {
+  out.push_back(s);
+  for (int64_t p = c.adj_offsets[s]; p < c.adj_offsets[s + 1]; ++p) {
+    const int32_t a = c.adj[p];
+    out.push_back(a);
+    for (int64_t q = c.adj_offsets[a]; q < c.adj_offsets[a + 1]; ++q) out.push_back(c.adj[q]);
+  }
+}
+
+void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<int32_t>& verts) {
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  verts.clear();
+  for (int32_t a : cells) verts.insert(verts.end(), c.verts.begin() + c.offsets[a], c.verts.begin() + c.offsets[a + 1]);
+  std::sort(verts.begin(), verts.end());
+}
+
+struct CentroidMsg {
+  int32_t cells[kLanes];
+  HeatCentroid result[kLanes];
+  int lanes = 0;
+  int32_t batch = 0;
+  int64_t kept = 0;
+};
+
+struct CentroidScratch {
+  HeatBatch batch;
+  std::vector<double> dense;  // n, zero between uses
+  std::vector<int32_t> cells;
+};
+
+}  // namespace
+
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
+  if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
+  if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
+  if (opt.sites > m.num_vertices())
+    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(opt.sites) + " sites but only " +
+                                  std::to_string(m.num_vertices()) + " vertices (cells cannot be smaller than a vertex)");
+  BatchStopwatch sw;
+  std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
+  const double seed_s = sw.lap();
+  LloydResult r = cvt_lloyd(m, std::move(init), opt, ctx);
+  r.init_s += seed_s;
+  return r;
+}
+
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
+  if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
+    fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
+  if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  check_requirements(m, req);
+  for (int32_t s = 0; s < ns; ++s) check_surface_point(m, sites[s], "site", s);
+  const bool local = opt.solver == LloydOptions::Solver::Local;
+
+  LloydResult r;
+  BatchStopwatch sw;
+  HeatDiffusion H;
+  if (opt.anisotropy > 0) {
+    if (!(opt.t_abs >= 0) || (opt.t_abs == 0 && !(opt.t_factor > 0)))
+      fail(ErrorCode::BadUsage, "cvt: the diffusion time must be positive");
+    const std::vector<double> lifted = lifted_positions(m, opt.anisotropy);
+    std::vector<double> mass;
+    double h = 0;
+    // t needs h of the lifted metric: build once with t = 1 to measure, then for real.
+    heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);
+    const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
+    const CscMatrix A = heat_operator_from_positions(m, lifted, 6, t, mass, h);
+    const double op_s = sw.lap();
+    H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
+    H.operator_s = op_s;
+  } else {
+    H = prepare_heat_diffusion(m, opt.t_factor, opt.t_abs, ctx);
+  }
+  sw.lap();
+  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s;
+  r.h = H.h;
+  r.t = H.t;
+  const CentroidGeometry geo = prepare_centroid_geometry(m);
+  const Edges edges = unique_edges(m);
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(std::max(1, threads));
+
+  // First neighbourhoods: Dijkstra balls of the expected cell radius times init_radius.
+  std::vector<std::vector<int32_t>> nb;
+  if (local) {
+    const std::vector<double> mass3 = lumped_mass(m);
+    const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
+    const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
+    nb.resize(ns);
+    tbb::enumerable_thread_specific<DijkstraScratch> scratch;
+    arena.execute([&] {
+      tbb::parallel_for(0, ns, [&](int32_t s) { nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local()); });
+    });
+    ctx.check_cancel();
+  }
+  r.init_s = sw.lap();
+
+  HeatVoronoi V;
+  Cells cells;
+  tbb::enumerable_thread_specific<CentroidScratch> cscratch;
+  std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
+  auto labels_of_sites = [&]() {
+    const std::vector<int32_t> order = spatial_order(m, sites);
+    V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
+                                        : std::span<const std::vector<int32_t>>(),
+                     order, ctx);
+    r.unreached += V.unreached;
+    cells = build_cells(edges, V.label, ns);
+    return order;
+  };
+  auto refresh_neighborhoods = [&]() {  // per site: its cell and two rings of neighbour cells
+    if (!local) return;
+    arena.execute([&] {
+      tbb::parallel_for(0, ns, [&](int32_t s) {
+        std::vector<int32_t> cl;
+        two_ring_cells(cells, s, cl);
+        cells_to_vertices(cells, cl, nb[s]);
+      });
+    });
+  };
+
+  for (int32_t it = 0; it < opt.iterations; ++it) {
+    ctx.check_cancel();
+    BatchStopwatch isw;
+    const std::vector<int32_t> order = labels_of_sites();
+    refresh_neighborhoods();
+    // Centroids: batches of 8 cells in the sites' spatial order.
+    std::vector<HeatCentroid> cent(ns);
+    std::vector<uint8_t> has(ns, 0);
+    const int32_t nbatch = (ns + kLanes - 1) / kLanes;
+    const size_t kept_base = kept_fraction.size();
+    kept_fraction.resize(kept_base + nbatch, 0.0);
+    auto solve = [&](int32_t b) {
+      CentroidScratch& cs = cscratch.local();
+      if (cs.dense.size() != static_cast<size_t>(n)) cs.dense.assign(n, 0.0);
+      auto msg = std::make_shared<CentroidMsg>();
+      HeatBatch& hb = cs.batch;
+      hb.clear_sources();
+      hb.kept.clear();
+      cs.cells.clear();
+      msg->lanes = std::min(kLanes, ns - b * kLanes);
+      msg->batch = b;
+      std::vector<int32_t> sv;
+      std::vector<double> sw8;
+      for (int l = 0; l < msg->lanes; ++l) {
+        const int32_t c = order[b * kLanes + l];
+        msg->cells[l] = c;
+        sv.assign(cells.verts.begin() + cells.offsets[c], cells.verts.begin() + cells.offsets[c + 1]);
+        sw8.resize(sv.size());
+        for (size_t k = 0; k < sv.size(); ++k) sw8[k] = H.mass[sv[k]];  // M chi_C (eqs. 3.7, 3.10)
+        hb.add_source(sv, sw8);
+        if (local) two_ring_cells(cells, c, cs.cells);
+      }
+      if (local) cells_to_vertices(cells, cs.cells, hb.kept);
+      solve_heat_batch(H, hb);
+      msg->kept = hb.count();
+      const int32_t cnt = hb.count();
+      for (int l = 0; l < msg->lanes; ++l) {
+        const int32_t c = msg->cells[l];
+        if (cells.offsets[c + 1] == cells.offsets[c]) {
+          msg->result[l].hottest = -1;  // empty cell: the site stays
+          continue;
+        }
+        // Hottest vertex: largest heat, smallest id on ties (deterministic).
+        int32_t best = -1;
+        double bv = -INFINITY;
+        for (int32_t k = 0; k < cnt; ++k) {
+          const double val = hb.values[static_cast<size_t>(k) * kLanes + l];
+          if (val > bv) {
+            bv = val;
+            best = hb.id(k);
+          }
+        }
+        if (!opt.refine) {
+          msg->result[l].hottest = best;
+          msg->result[l].point = vertex_point(best);
+          continue;
+        }
+        for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = hb.values[static_cast<size_t>(k) * kLanes + l];
+        msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best);
+        if (local) {
+          for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = 0.0;
+        } else {
+          std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
+        }
+      }
+      return msg;
+    };
+    auto store = [&](const std::shared_ptr<CentroidMsg>& msg) {  // one slot per cell: arrival order is irrelevant
+      for (int l = 0; l < msg->lanes; ++l) {
+        cent[msg->cells[l]] = msg->result[l];
+        has[msg->cells[l]] = 1;
+      }
+      kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
+    };
+    run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
+    for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
+      if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
+      if (cent[s].hottest < 0) {
+        ++r.empty_cells;
+        continue;
+      }
+      sites[s] = cent[s].point;
+    }
+    r.iter_s.push_back(isw.lap());
+    ctx.report(static_cast<double>(it + 1) / std::max(1, opt.iterations), "lloyd");
+  }
+  ctx.check_cancel();
+  BatchStopwatch fsw;
+  labels_of_sites();
+  r.final_labels_s = fsw.lap();
+  r.label = V.label;
+  r.sites = std::move(sites);
+  r.mean_kept_fraction = kept_fraction.empty() ? 1.0
+                                              : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /
+                                                    static_cast<double>(kept_fraction.size());
+  return r;
+}
+
+}  // namespace locus

@@ -1,0 +1,80 @@
+// Centroidal Voronoi tessellations by Lloyd's method with heat-diffusion cells and
+// centroids, localized (thesis §3.7.1; cells §3.4 eq. 3.18, centroids §3.5 and
+// "Centroids on faces", localization §3.6 Algorithm 2), isotropic or anisotropic.
+//
+// prepare: one factorization of M - t L_C (t = t_factor h^2 or absolute).
+// Anisotropic (lambda > 0): the mesh is scaled to a unit bounding box (largest side
+// 1) and lifted to R^6 by (p, lambda n) with area-weighted vertex normals n; the
+// cotan weights, lumped masses and h of the lifted mesh come from its 6-D edge
+// lengths (cotan_from_lengths below), so cells and centroids follow the metric
+// that also measures normal variation (thesis: lambda = 0.05).
+// iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve,
+// sites batched in Morton order of their positions; (2) per cell, the heat of the
+// cell's indicator and its hottest point, refined by the quadratic fit (a oneTBB
+// flow graph: an unlimited function_node solves batches of 8 cells, a serial node
+// stores each centroid in its cell's slot; the new sites are read in cell order).
+// Localized solver (default): every solve is the approximate selective solve
+// restricted to the union of the cell, its neighbour cells and their neighbours
+// (from the previous labels; before the first labels, the vertices within a
+// Dijkstra radius of init_radius * sqrt(area / (pi N)) of the site). The full
+// solver does the same arithmetic with full solves, for comparison.
+// After the last iteration the labels of the final sites are computed once more,
+// so `label` and `sites` belong together.
+//
+// Deterministic: seeded initial sites (random_surface_points), order-independent
+// reductions; the result is bit-identical for any ctx.threads. Progress is reported
+// per iteration ("lloyd"); cancellation is polled between work items.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "locus/sparse_matrix.hpp"
+#include "pipelines/heat_voronoi.hpp"
+
+namespace locus {
+
+struct LloydOptions {
+  int32_t sites = 100;       // number of generators (random initial sites)
+  int32_t iterations = 10;
+  uint64_t seed = 1;         // initial sites
+  enum class Solver { Local, Full } solver = Solver::Local;
+  double t_factor = 1.0;     // t = t_factor * h^2 (thesis §3.7: t = h^2) unless t_abs > 0
+  double t_abs = 0.0;
+  double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
+  bool refine = true;        // quadratic refinement of centroids (§3.7.1)
+  double init_radius = 4.0;  // first neighbourhoods, in units of sqrt(area / (pi N))
+};
+
+struct LloydResult {
+  std::vector<SurfacePoint> sites;
+  std::vector<int32_t> label;     // per vertex, cell of the final sites
+  double h = 0, t = 0;            // in the operator's metric
+  double factor_s = 0;            // operator + ordering + symbolic + numeric
+  double init_s = 0;              // initial sites and first neighbourhoods
+  std::vector<double> iter_s;     // per iteration (labels + centroids)
+  double final_labels_s = 0;
+  int64_t unreached = 0;          // labels filled by the breadth-first fallback, all iterations
+  int64_t empty_cells = 0;        // cells without vertices, all iterations (their sites stay)
+  double mean_kept_fraction = 0;  // localized: mean over centroid batches of |kept| / n
+};
+
+// Random initial sites (seeded), then `iterations` Lloyd steps.
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx);
+// The same from given initial sites (opt.sites and opt.seed are ignored).
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const LloydOptions& opt,
+                      const RunContext& ctx);
+
+// Heat operator M - t L of a triangle mesh whose vertex positions are given in
+// `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed
+// from edge lengths only (Heron's area, cot = (a^2 + b^2 - c^2) / 4A), on the
+// lower pattern diagonal + edges. Returns the mass and the mean edge length.
+// Throws BadInput naming the face if a triangle has zero area in that metric.
+CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
+                                       std::vector<double>& mass, double& mean_edge);
+// The R^6 lift (p, lambda n) of the mesh scaled to a unit bounding box (6 per vertex).
+std::vector<double> lifted_positions(const Mesh& m, double lambda);
+
+}  // namespace locus

@@ -1,0 +1,157 @@
+// Tests for pipelines/cvt_lloyd and pipelines/cvt_quality (thesis §3.7.1).
+// Oracles: analytic facts (an icosahedron with one cell per vertex has an
+// equilateral dual; Lloyd lowers the CVT energy, so cell areas even out and dual
+// angles grow on a sphere); kernels/mesh_operators' heat operator for the
+// edge-length operator; the full solver for the localized one; runs with 1 and 2
+// threads for determinism.
+#include "pipelines/cvt_lloyd.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+#include "kernels/mesh_generators.hpp"
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "locus/error.hpp"
+#include "pipelines/cvt_quality.hpp"
+
+using namespace locus;
+
+TEST_CASE("cvt quality: icosahedron with one cell per vertex has an equilateral dual and equal areas") {
+  const Mesh m = make_icosphere(0);
+  std::vector<int32_t> label(m.num_vertices());
+  std::vector<SurfacePoint> sites;
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    label[v] = v;
+    sites.push_back(vertex_point(v));
+  }
+  const CvtQuality q = cvt_quality(m, label, sites);
+  CHECK(q.dual_triangles == 20);
+  CHECK(q.min_angle_deg == doctest::Approx(60).epsilon(1e-9));
+  CHECK(q.mean_angle_deg == doctest::Approx(60).epsilon(1e-9));
+  CHECK(q.area_cv < 1e-12);
+  CHECK(q.area_variance < 1e-20);
+  // Two cells: no corner, areas 1/12 vs 11/12 of the total.
+  std::vector<int32_t> two(m.num_vertices(), 0);
+  two[0] = 1;
+  const CvtQuality q2 = cvt_quality(m, two, std::vector<SurfacePoint>{vertex_point(1), vertex_point(0)});
+  CHECK(q2.dual_triangles == 0);
+  CHECK(q2.area_variance == doctest::Approx(((11.0 / 12 - 0.5) * (11.0 / 12 - 0.5) + (1.0 / 12 - 0.5) * (1.0 / 12 - 0.5)) / 2));
+  CHECK_THROWS_AS(cvt_quality(m, std::vector<int32_t>(m.num_vertices(), 2), std::span<const SurfacePoint>(sites).subspan(0, 2)), Error);
+}
+
+TEST_CASE("cvt: heat operator from edge lengths equals the cotan heat operator; lifted at lambda 0 it is scaled") {
+  const Mesh m = make_random_sphere(300, 8);
+  const int32_t n = m.num_vertices();
+  std::vector<double> p3(3 * static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v) {
+    p3[3 * v] = m.x[v];
+    p3[3 * v + 1] = m.y[v];
+    p3[3 * v + 2] = m.z[v];
+  }
+  std::vector<double> mass;
+  double h = 0;
+  const double t = 0.01;
+  const CscMatrix A = heat_operator_from_positions(m, p3, 3, t, mass, h);
+  const CscMatrix B = heat_operator(m, t);
+  const std::vector<double> mref = lumped_mass(m);
+  REQUIRE(A.colptr == B.colptr);
+  REQUIRE(A.rowind == B.rowind);
+  for (size_t k = 0; k < A.values.size(); ++k) CHECK(A.values[k] == doctest::Approx(B.values[k]).epsilon(1e-10));
+  for (int32_t v = 0; v < n; ++v) CHECK(mass[v] == doctest::Approx(mref[v]).epsilon(1e-12));
+  CHECK(h == doctest::Approx(mean_edge_length(m)).epsilon(1e-12));
+  // Lift with lambda = 0: positions scaled by 1/2 (the sphere's bounding box side is ~2).
+  const std::vector<double> lifted = lifted_positions(m, 0.0);
+  std::vector<double> mass6;
+  double h6 = 0;
+  heat_operator_from_positions(m, lifted, 6, t, mass6, h6);
+  double side = 0;
+  for (const auto* c : {&m.x, &m.y, &m.z})
+    side = std::max(side, *std::max_element(c->begin(), c->end()) - *std::min_element(c->begin(), c->end()));
+  CHECK(h6 == doctest::Approx(h / side).epsilon(1e-12));
+  for (int32_t v = 0; v < n; ++v) CHECK(mass6[v] == doctest::Approx(mref[v] / (side * side)).epsilon(1e-12));
+}
+
+TEST_CASE("cvt: Lloyd on an icosphere raises the mean dual angle and evens out cell areas") {
+  const Mesh m = make_icosphere(4);
+  LloydOptions o;
+  o.sites = 30;
+  o.seed = 3;
+  o.iterations = 0;
+  const LloydResult r0 = cvt_lloyd(m, o, {});
+  o.iterations = 12;
+  const LloydResult r = cvt_lloyd(m, o, {});
+  const CvtQuality q0 = cvt_quality(m, r0.label, r0.sites), q = cvt_quality(m, r.label, r.sites);
+  INFO("mean angle " << q0.mean_angle_deg << " -> " << q.mean_angle_deg << ", area variance " << q0.area_variance
+                     << " -> " << q.area_variance);
+  CHECK(q.mean_angle_deg > q0.mean_angle_deg + 5);
+  CHECK(q.mean_angle_deg > 45);
+  CHECK(q.area_variance < 0.25 * q0.area_variance);
+  CHECK(q.empty_cells == 0);
+  CHECK(r.iter_s.size() == 12);
+  // Euler: a sphere tessellated into N cells with only 3-valent corners has 2N - 4 of them.
+  CHECK(q.dual_triangles == 2 * o.sites - 4);
+}
+
+TEST_CASE("cvt: localized and full solvers give close results; bit-identical with 1 and 2 threads") {
+  const Mesh m = make_icosphere(4);
+  const double h = mean_edge_length(m);
+  LloydOptions o;
+  o.sites = 40;
+  o.seed = 5;
+  o.iterations = 5;
+  RunContext one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const LloydResult a = cvt_lloyd(m, o, one);
+  const LloydResult b = cvt_lloyd(m, o, two);
+  REQUIRE(a.sites.size() == b.sites.size());
+  for (size_t s = 0; s < a.sites.size(); ++s) {
+    CHECK(a.sites[s].face == b.sites[s].face);
+    CHECK(a.sites[s].vertex == b.sites[s].vertex);
+    for (int k = 0; k < 3; ++k) CHECK(a.sites[s].bary[k] == b.sites[s].bary[k]);  // bitwise equal
+  }
+  CHECK(a.label == b.label);
+  CHECK(a.mean_kept_fraction < 0.95);  // the localized solves did skip part of the mesh
+
+  o.solver = LloydOptions::Solver::Full;
+  const LloydResult f = cvt_lloyd(m, o, two);
+  double worst = 0;
+  for (size_t s = 0; s < a.sites.size(); ++s) {
+    const auto p = surface_point_position(m, a.sites[s]), q = surface_point_position(m, f.sites[s]);
+    worst = std::max(worst, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                      (p[2] - q[2]) * (p[2] - q[2])));
+  }
+  INFO("largest site distance local vs full: " << worst / h << " h");
+  CHECK(worst < 0.5 * h);
+  const CvtQuality qa = cvt_quality(m, a.label, a.sites), qf = cvt_quality(m, f.label, f.sites);
+  CHECK(std::abs(qa.mean_angle_deg - qf.mean_angle_deg) < 1.0);
+}
+
+TEST_CASE("cvt: anisotropic lift runs on a torus; cancellation stops with Error(Cancelled)") {
+  const Mesh m = make_torus(40, 16);
+  LloydOptions o;
+  o.sites = 20;
+  o.iterations = 3;
+  o.anisotropy = 0.05;
+  const LloydResult r = cvt_lloyd(m, o, {});
+  const CvtQuality q = cvt_quality(m, r.label, r.sites);
+  CHECK(q.empty_cells == 0);
+  CHECK(r.unreached == 0);
+
+  std::atomic<bool> stop{true};
+  RunContext ctx;
+  ctx.cancel = &stop;
+  try {
+    cvt_lloyd(m, o, ctx);
+    FAIL("not cancelled");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::Cancelled);
+  }
+  o.sites = m.num_vertices() + 1;
+  CHECK_THROWS_AS(cvt_lloyd(m, o, {}), Error);
+}
