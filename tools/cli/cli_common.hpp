@@ -148,5 +148,6 @@ void register_info_command(CommandTable& table);
 void register_perfect_laplacian_commands(CommandTable& table);  // perfect-laplacian, param, selfsupport
 void register_factor_command(CommandTable& table);
 void register_deform_command(CommandTable& table);
+void register_local_solve_commands(CommandTable& table);  // adf, hks, heat
 
 }  // namespace locus::cli

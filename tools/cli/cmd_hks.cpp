@@ -1,0 +1,186 @@
+// `locus hks MESH --ts t1,t2,... (--vertices LIST | --all) [--method subset|selinv|full] [-o out.ply] --json`:
+// the heat kernel signature of thesis §4.6 — the auto-diffusion values
+// (M - t L_C)^{-1}_ii for several t (no mass scaling; see pipelines/adf.hpp) —
+// with one ordering and one symbolic factor shared by every t. Also the body of
+// `locus adf` (cmd_adf.cpp), which is the same with one t.
+//
+// Output file: only with --all (every vertex has a value, so the file has no
+// placeholders): the input mesh as PLY with vertex properties `adf` (adf) or
+// hks_0, hks_1, ... in the order of --ts (hks). With --vertices the values are
+// in the JSON only, and -o is a usage error.
+// JSON: n, factor_s (ordering + symbolic + numeric for every t), query_s (the
+// values after factorization), the method, t (absolute) and the t as given,
+// the factor's size and etree height; per-vertex values for --vertices, or
+// min / max / mean per t for --all.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <ostream>
+
+#include "kernels/mesh_topology.hpp"
+#include "locus/mesh_io.hpp"
+#include "pipelines/adf.hpp"
+#include "tools/cli/heat_signature.hpp"
+#include "tools/cli/vertex_list.hpp"
+
+namespace locus::cli {
+
+namespace {
+
+bool has_ply_extension(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".ply";
+}
+
+}  // namespace
+
+void add_heat_signature_options(CLI::App* app, HeatSignatureCliOptions& so) {
+  app->add_option("--vertices", so.vertices, "Comma-separated vertex ids to evaluate (values go to the JSON)");
+  app->add_flag("--all", so.all, "Evaluate every vertex (needed for -o)");
+  app->add_option("--method", so.method,
+                  "subset (etree path per vertex, default), selinv (selected inversion, all vertices at once) or full "
+                  "(one full solve per vertex; slow reference)")
+      ->check(CLI::IsMember({"subset", "selinv", "full"}));
+}
+
+int run_heat_signature(const std::string& command, const CommonOptions& opt, const HeatSignatureCliOptions& so,
+                       const RunContext& ctx) {
+  // Usage errors before reading the file.
+  const AdfMethod method = parse_adf_method(so.method);
+  std::vector<TimeSpec> specs;
+  for (const std::string& s : so.t_texts) specs.push_back(parse_time_spec(s));
+  if (specs.empty()) fail(ErrorCode::BadUsage, command + ": no diffusion time given");
+  if (so.all == !so.vertices.empty()) fail(ErrorCode::BadUsage, command + ": give exactly one of --vertices LIST or --all");
+  if (!opt.output.empty() && !so.all)
+    fail(ErrorCode::BadUsage, command + ": -o writes a value for every vertex; use it with --all (with --vertices the "
+                                        "values are in the JSON)");
+  if (!opt.output.empty() && !has_ply_extension(opt.output))
+    fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": per-vertex properties need a .ply file");
+
+  Input in = load_input(opt, ctx);
+  const Mesh& m = in.mesh;
+  const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
+  if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
+  check_requirements(m, MeshRequirements{});
+  const double h = mean_edge_length(m);
+  if (!(h > 0) || !std::isfinite(h)) fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(h));
+  std::vector<double> ts;
+  for (const TimeSpec& s : specs) ts.push_back(s.resolve(h));
+  const std::vector<int32_t> vertices = so.all ? std::vector<int32_t>{} : parse_vertex_list(so.vertices, m.num_vertices(), "--vertices");
+  ctx.check_cancel();
+
+  const HeatFactors H = factor_heat_operators(m, ts, ctx);
+  const double factor_s = H.order_s + H.analyze_s + H.numeric_s;
+  const size_t nt = ts.size();
+  const size_t count = so.all ? static_cast<size_t>(m.num_vertices()) : vertices.size();
+  std::vector<double> values(count * nt);
+  Stopwatch sw;
+  heat_kernel_signature(H, vertices, method, values, ctx);
+  const double query_s = sw.seconds();
+  for (size_t k = 0; k < values.size(); ++k)
+    if (!(std::isfinite(values[k]) && values[k] > 0)) {
+      const int32_t v = so.all ? static_cast<int32_t>(k / nt) : vertices[k / nt];
+      fail(ErrorCode::Numerical, command + ": the value at vertex " + std::to_string(v) + " for t = " +
+                                     format_number(ts[k % nt]) + " is " + format_number(values[k]) +
+                                     "; the heat operator is numerically singular");
+    }
+
+  if (!opt.output.empty()) {
+    WriteOptions wo;
+    for (size_t j = 0; j < nt; ++j) {
+      VertexProperty p;
+      p.name = command == "adf" ? std::string("adf") : "hks_" + std::to_string(j);
+      p.type = VertexProperty::Type::Double;
+      p.values.resize(count);
+      for (size_t k = 0; k < count; ++k) p.values[k] = values[k * nt + j];
+      wo.vertex_properties.push_back(std::move(p));
+    }
+    write_mesh(opt.output, m, wo);
+    log("wrote " + opt.output);
+  }
+
+  Json j{{"command", command}, {"input", input_json(opt, in)}};
+  j["quantity"] = "(M - t L_C)^{-1}_ii: heat at vertex i after one backward-Euler step from a unit amount at i "
+                  "(eq. 6.3, b = e_i); multiply by M_ii for a unit density";
+  j["method"] = adf_method_name(method);
+  j["n"] = m.num_vertices();
+  j["h"] = h;
+  if (command == "adf") {
+    j["t"] = ts[0];
+    j["t_spec"] = so.t_texts[0];
+  } else {
+    j["t"] = ts;
+    j["t_spec"] = so.t_texts;
+  }
+  j["threads"] = opt.threads;
+  j["nnz_L"] = H.symbolic->nnz_L;
+  j["supernodes"] = H.symbolic->ns;
+  j["etree_height"] = H.symbolic->etree_height;
+  j["factor_s"] = factor_s;
+  j["query_s"] = query_s;
+  j["evaluated"] = count;
+  if (so.all) {
+    Json summary = Json::array();
+    for (size_t t = 0; t < nt; ++t) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0;
+      for (size_t k = 0; k < count; ++k) {
+        const double v = values[k * nt + t];
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        sum += v;
+      }
+      summary.push_back({{"t", ts[t]}, {"min", lo}, {"max", hi}, {"mean", sum / static_cast<double>(count)}});
+    }
+    j["summary"] = summary;
+    if (!opt.output.empty()) j["output"] = opt.output;
+  } else {
+    j["vertices"] = vertices;
+    if (command == "adf") {
+      j["adf"] = values;
+    } else {
+      Json rows = Json::array();
+      for (size_t k = 0; k < count; ++k)
+        rows.push_back(std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(k * nt),
+                                           values.begin() + static_cast<std::ptrdiff_t>((k + 1) * nt)));
+      j["hks"] = rows;
+    }
+  }
+  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
+                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
+  emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": " << command << " by " << adf_method_name(method) << ", n " << m.num_vertices()
+       << ", etree height " << H.symbolic->etree_height << "\n  factor " << factor_s << " s (" << nt
+       << " t), values " << query_s << " s for " << count << " vertices\n";
+    if (!so.all)
+      for (size_t k = 0; k < count; ++k) {
+        os << "  vertex " << vertices[k] << ":";
+        for (size_t t = 0; t < nt; ++t) os << " " << values[k * nt + t];
+        os << "\n";
+      }
+  });
+  return 0;
+}
+
+void register_hks_command(CommandTable& table) {
+  auto so = std::make_shared<HeatSignatureCliOptions>();
+  auto ts = std::make_shared<std::string>();
+  CLI::App* app = table.add("hks", "Heat kernel signature (thesis 4.6): (M - tL)^{-1}_ii for several t",
+                            [so, ts](const CommonOptions& opt, const RunContext& ctx) {
+                              so->t_texts = split_list(*ts, "--ts");
+                              return run_heat_signature("hks", opt, *so, ctx);
+                            });
+  app->add_option("--ts", *ts, "Comma-separated diffusion times: absolute (1e-3) or multiples of h^2 (1h2,10h2,100h2)")
+      ->required();
+  add_heat_signature_options(app, *so);
+}
+
+void register_local_solve_commands(CommandTable& table) {
+  register_adf_command(table);
+  register_hks_command(table);
+  register_heat_command(table);
+}
+
+}  // namespace locus::cli
