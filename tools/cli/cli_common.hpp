@@ -149,5 +149,7 @@ void register_perfect_laplacian_commands(CommandTable& table);  // perfect-lapla
 void register_factor_command(CommandTable& table);
 void register_deform_command(CommandTable& table);
 void register_local_solve_commands(CommandTable& table);  // adf, hks, heat
+void register_voronoi_command(CommandTable& table);
+void register_cvt_command(CommandTable& table);
 
 }  // namespace locus::cli

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     locus::cli::register_factor_command(table);
     locus::cli::register_deform_command(table);
     locus::cli::register_local_solve_commands(table);
+    locus::cli::register_voronoi_command(table);
+    locus::cli::register_cvt_command(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus: internal error: " << e.what() << "\n";
