@@ -201,7 +201,9 @@ DeformRegion make_deform_region(const Adjacency& adj, int32_t roi_seed, double r
 
 DeformSystem prepare_deform_system(const DeformOperator& op, const DeformRegion& region, const RunContext& ctx) {
   DeformSystem sys;
+  const auto t0 = std::chrono::steady_clock::now();
   sys.sub = update_factor(op.L, op.mats.A, region.free, ctx);
+  sys.update_s = seconds_since(t0);
   sys.E_FF = principal_submatrix(op.mats.E, sys.sub.vertices);
   const CscMatrix& E = op.mats.E;
   const int32_t n = E.ncols, nf = static_cast<int32_t>(sys.sub.vertices.size());
@@ -233,25 +235,35 @@ DeformSystem prepare_deform_system(const DeformOperator& op, const DeformRegion&
   return sys;
 }
 
-DeformSolveStats solve_deformation(const NumericFactor& F, const DeformSystem& sys, const DeformRegion& region,
-                                   const Mesh& rest, const std::array<double, 3>& offset, Mesh& out) {
+Mesh handle_target(const Mesh& rest, const DeformRegion& region, const std::array<double, 3>& offset) {
+  Mesh t = rest;
+  const int32_t n = rest.num_vertices();
+  for (int32_t v : region.handle) {
+    if (v < 0 || v >= n) fail(ErrorCode::BadUsage, "handle_target: region does not match the mesh");
+    t.x[v] = rest.x[v] + offset[0];
+    t.y[v] = rest.y[v] + offset[1];
+    t.z[v] = rest.z[v] + offset[2];
+  }
+  return t;
+}
+
+DeformSolveStats solve_deformation(const NumericFactor& F, const DeformSystem& sys, const Mesh& rest,
+                                   const Mesh& target, Mesh& out) {
   const int32_t nf = static_cast<int32_t>(sys.sub.vertices.size());
   if (F.n() != nf) fail(ErrorCode::BadUsage, "solve_deformation: factor size differs from the free set");
   const int32_t n = rest.num_vertices();
-  out = rest;
-  for (int32_t v : region.handle) {
-    out.x[v] = rest.x[v] + offset[0];
-    out.y[v] = rest.y[v] + offset[1];
-    out.z[v] = rest.z[v] + offset[2];
-  }
-  const std::vector<double>* P[3] = {&out.x, &out.y, &out.z};
-  // b = -E_FB x_B, x, y, z in lanes 0..2 of a row-interleaved 8-lane block.
+  if (target.num_vertices() != n) fail(ErrorCode::BadUsage, "solve_deformation: target and rest differ in size");
+  out = target;  // known vertices: bit for bit
+  const std::vector<double>* T[3] = {&target.x, &target.y, &target.z};
+  const std::vector<double>* R[3] = {&rest.x, &rest.y, &rest.z};
+  // b = -E_FB d_B, d = target - rest; x, y, z in lanes 0..2 of a row-interleaved 8-lane block.
   std::vector<double> b8(static_cast<size_t>(nf) * kLanes, 0.0);
   for (int32_t a = 0; a < nf; ++a)
     for (int64_t q = sys.coupling_ptr[a]; q < sys.coupling_ptr[a + 1]; ++q) {
       const int32_t w = sys.coupling_vertex[q];
       if (w < 0 || w >= n) fail(ErrorCode::BadUsage, "solve_deformation: mesh does not match the system");
-      for (int c = 0; c < 3; ++c) b8[static_cast<size_t>(a) * kLanes + c] -= sys.coupling_value[q] * (*P[c])[w];
+      for (int c = 0; c < 3; ++c)
+        b8[static_cast<size_t>(a) * kLanes + c] -= sys.coupling_value[q] * ((*T[c])[w] - (*R[c])[w]);
     }
   std::vector<double> work(solve_work_size(F, kLanes));
   std::vector<double> x8 = b8;
@@ -308,9 +320,9 @@ DeformSolveStats solve_deformation(const NumericFactor& F, const DeformSystem& s
   residual8(r8, &st.residual);
   for (int32_t a = 0; a < nf; ++a) {
     const int32_t v = sys.sub.vertices[a];
-    out.x[v] = x8[static_cast<size_t>(a) * kLanes + 0];
-    out.y[v] = x8[static_cast<size_t>(a) * kLanes + 1];
-    out.z[v] = x8[static_cast<size_t>(a) * kLanes + 2];
+    out.x[v] = rest.x[v] + x8[static_cast<size_t>(a) * kLanes + 0];
+    out.y[v] = rest.y[v] + x8[static_cast<size_t>(a) * kLanes + 1];
+    out.z[v] = rest.z[v] + x8[static_cast<size_t>(a) * kLanes + 2];
   }
   return st;
 }

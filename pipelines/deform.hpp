@@ -6,8 +6,9 @@
 // interest (ROI, a BFS patch around a seed) is chosen; inside it a handle (a
 // vertex and its k-ring) is moved by an offset; everything outside the ROI is
 // fixed at rest. The free vertices F = ROI \ handle solve, per coordinate,
-//     E_FF x_F = -E_FB x_B                                          (eq. 5.3)
-// where B = handle ∪ outside holds the known positions. The factor of A_FF is
+//     E_FF d_F = -E_FB d_B                                          (eq. 5.3)
+// for the displacements d = x - rest, where B = handle ∪ outside holds the
+// known ones (offset on the handle, 0 outside). The factor of A_FF is
 // built from the global factor by the factor-once update
 // (kernels/factor_update.hpp), never from scratch; moving the handle again only
 // re-solves (x, y, z ride in 3 of the 8 lanes of solve8).
@@ -24,6 +25,7 @@
 // rel * (ROI diameter / edge length)^2 per step. So the result does not depend
 // on the regularization, and translating the handle together with everything
 // outside moves every vertex by exactly that translation (E 1 = 0).
+// DeformSolveStats::residual is that of the exact system.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -87,6 +89,7 @@ struct DeformSystem {
   std::vector<int64_t> coupling_ptr;   // |F| + 1: E(f, b) for b not free, CSR by free local index
   std::vector<int32_t> coupling_vertex;
   std::vector<double> coupling_value;
+  double update_s = 0;                 // seconds in update_factor (the rest is E_FF and the coupling)
 };
 DeformSystem prepare_deform_system(const DeformOperator& op, const DeformRegion& region, const RunContext& ctx = {});
 
@@ -96,13 +99,20 @@ struct DeformSolveStats {
   double residual = 0;          // ||E_FF x_F + E_FB x_B|| / ||E_FB x_B|| (worst coordinate)
 };
 
-// Positions of every vertex after moving the handle by `offset`: outside the
-// ROI bit-identical to `rest`, the handle at rest + offset, the free vertices
-// solved. `factor_FF` is a factor of A_FF in the local numbering of
-// sys.sub.vertices — sys.sub.factor, or any other (e.g. from scratch, to compare).
-// Throws Error(Numerical) when the refinement does not converge (a region whose
-// free vertices touch no fixed vertex, or a regularization too large for it).
-DeformSolveStats solve_deformation(const NumericFactor& factor_FF, const DeformSystem& sys, const DeformRegion& region,
-                                   const Mesh& rest, const std::array<double, 3>& offset, Mesh& out);
+// Deformed positions (Botsch–Sorkine: the energy is minimised by the
+// displacement d = x - rest, so a zero offset keeps the rest shape and its
+// details). `target` gives the wanted positions of the known vertices
+// (handle and outside the ROI; entries of free vertices are ignored): their
+// displacements d_B = target_B - rest_B are the Dirichlet data, the free
+// displacements solve E_FF d_F = -E_FB d_B. In `out`, known vertices are copied
+// from `target` bit for bit and free vertices are rest + d_F. `factor_FF` is a
+// factor of A_FF in the local numbering of sys.sub.vertices — sys.sub.factor,
+// or any other (e.g. from scratch, to compare). Throws Error(Numerical) when
+// the refinement does not converge (free vertices that touch no known vertex,
+// or a regularization too large for the region).
+DeformSolveStats solve_deformation(const NumericFactor& factor_FF, const DeformSystem& sys, const Mesh& rest,
+                                   const Mesh& target, Mesh& out);
+// The usual target: `rest` with the handle moved by `offset`.
+Mesh handle_target(const Mesh& rest, const DeformRegion& region, const std::array<double, 3>& offset);
 
 }  // namespace locus

@@ -67,12 +67,12 @@ TEST_CASE("planar grid: affine boundary data give the affine map everywhere (Lap
     const DeformSystem sys = prepare_deform_system(op, region);
     CHECK(sys.sub.stats.columns_updated_fraction < 1.0);
 
-    // Translation: handle and outside moved by t (rest translated, offset 0).
+    // Translation: handle and outside moved by t.
     const std::array<double, 3> t{0.25, -0.125, 0.75};
     Mesh shifted = grid;
     for (int32_t v = 0; v < grid.num_vertices(); ++v) { shifted.x[v] += t[0]; shifted.y[v] += t[1]; shifted.z[v] += t[2]; }
     Mesh out;
-    const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, region, shifted, {0, 0, 0}, out);
+    const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, grid, shifted, out);
     double worst = 0;
     for (int32_t v = 0; v < grid.num_vertices(); ++v)
       worst = std::max({worst, std::abs(out.x[v] - grid.x[v] - t[0]), std::abs(out.y[v] - grid.y[v] - t[1]),
@@ -90,7 +90,7 @@ TEST_CASE("planar grid: affine boundary data give the affine map everywhere (Lap
       affine.y[v] = map(grid.x[v], grid.y[v], grid.z[v], 1);
       affine.z[v] = map(grid.x[v], grid.y[v], grid.z[v], 2);
     }
-    solve_deformation(sys.sub.factor, sys, region, affine, {0, 0, 0}, out);
+    solve_deformation(sys.sub.factor, sys, grid, affine, out);
     worst = 0;
     for (int32_t v : region.free)
       worst = std::max({worst, std::abs(out.x[v] - affine.x[v]), std::abs(out.y[v] - affine.y[v]),
@@ -110,14 +110,19 @@ TEST_CASE("icosphere: the deformation solves the constrained system (Eigen oracl
     CHECK(region.handle.size() > 1);
     const DeformSystem sys = prepare_deform_system(op, region);
     Mesh out;
-    solve_deformation(sys.sub.factor, sys, region, sphere, offset, out);
+    solve_deformation(sys.sub.factor, sys, sphere, handle_target(sphere, region, offset), out);
     check_fixed_bit_identical(sphere, out, region);
+    // A zero offset keeps the rest shape (displacement formulation).
+    Mesh still;
+    solve_deformation(sys.sub.factor, sys, sphere, sphere, still);
+    CHECK(still.x == sphere.x);
+    CHECK(still.z == sphere.z);
     for (int32_t v : region.handle) {
       CHECK(out.x[v] == sphere.x[v] + offset[0]);
       CHECK(out.z[v] == sphere.z[v] + offset[2]);
     }
 
-    // Oracle: E = -L_C (or L_C M^{-1} L_C) built here with Eigen, E_FF x_F = -E_FB x_B.
+    // Oracle: E = -L_C (or L_C M^{-1} L_C) built here with Eigen, E_FF d_F = -E_FB d_B.
     const CscMatrix Lc = cotan_laplacian(sphere);
     std::vector<Eigen::Triplet<double>> t;
     for (int32_t j = 0; j < Lc.ncols; ++j)
@@ -146,9 +151,9 @@ TEST_CASE("icosphere: the deformation solves the constrained system (Eigen oracl
         if (pos[i] < 0) continue;
         if (pos[j] >= 0) tf.emplace_back(pos[i], pos[j], it.value());
         else {
-          rhs(pos[i], 0) -= it.value() * out.x[j];
-          rhs(pos[i], 1) -= it.value() * out.y[j];
-          rhs(pos[i], 2) -= it.value() * out.z[j];
+          rhs(pos[i], 0) -= it.value() * (out.x[j] - sphere.x[j]);
+          rhs(pos[i], 1) -= it.value() * (out.y[j] - sphere.y[j]);
+          rhs(pos[i], 2) -= it.value() * (out.z[j] - sphere.z[j]);
         }
       }
     Eigen::SparseMatrix<double> Eff(nf, nf);
@@ -159,7 +164,8 @@ TEST_CASE("icosphere: the deformation solves the constrained system (Eigen oracl
     double diff = 0, scale = 0;
     for (Eigen::Index a = 0; a < nf; ++a) {
       const int32_t v = region.free[static_cast<size_t>(a)];
-      diff = std::max({diff, std::abs(X(a, 0) - out.x[v]), std::abs(X(a, 1) - out.y[v]), std::abs(X(a, 2) - out.z[v])});
+      diff = std::max({diff, std::abs(X(a, 0) - (out.x[v] - sphere.x[v])), std::abs(X(a, 1) - (out.y[v] - sphere.y[v])),
+                       std::abs(X(a, 2) - (out.z[v] - sphere.z[v]))});
       scale = std::max(scale, X.row(a).cwiseAbs().maxCoeff());
     }
     CHECK(diff <= 1e-8 * scale);
@@ -168,7 +174,7 @@ TEST_CASE("icosphere: the deformation solves the constrained system (Eigen oracl
     const CscMatrix& Aff = sys.sub.A_sub;
     const NumericFactor Fs = factorize(analyze(Aff, order_matrix(Aff)), Aff);
     Mesh out2;
-    solve_deformation(Fs, sys, region, sphere, offset, out2);
+    solve_deformation(Fs, sys, sphere, handle_target(sphere, region, offset), out2);
     double d2 = 0;
     for (int32_t v = 0; v < n; ++v)
       d2 = std::max({d2, std::abs(out2.x[v] - out.x[v]), std::abs(out2.y[v] - out.y[v]), std::abs(out2.z[v] - out.z[v])});

@@ -8,5 +8,6 @@ namespace locus::bench {
 // `locus-bench factor`: locus vs CHOLMOD vs Eigen on one operator.
 void register_factor_bench(cli::CommandTable& table);
 void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accuracy
+void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs refactoring
 
 }  // namespace locus::bench

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     locus::cli::CommandTable table("locus-bench", "locus-bench: locus against its peers, medians and ratios");
     locus::bench::register_factor_bench(table);
     locus::bench::register_logmap_bench(table);
+    locus::bench::register_submesh_bench(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus-bench: internal error: " << e.what() << "\n";

@@ -1,0 +1,388 @@
+// `locus-bench submesh MESH`: the factor-once update (thesis §5.7, Figures
+// 5.6–5.9) against refactoring the submatrix A_II from scratch.
+//
+// The global operator is factored once (not timed). For every cell (a patch
+// size as a fraction of the vertices) and every random BFS patch I (seeded):
+//   (a) update:           locus update_factor(L, A, I)            [copy + recompute marked supernodes]
+//   (b) locus refactor:   locus analyze(A_II, restricted order) + factorize
+//   (c) CHOLMOD given:    cholmod_analyze_p with that order (CHOLMOD_GIVEN, no postorder) + factorize
+//   (d) CHOLMOD METIS:    cholmod_analyze with METIS (its own ordering of A_II) + factorize
+// A_II is extracted once per patch outside the timers, as in the thesis. The
+// contenders run back to back on the same patch, their order rotating from
+// patch to patch so that machine noise hits all alike. Every update is
+// checked (relative residual of A_II x = b) before it is counted.
+// JSON: `cells` with medians and ratios; the spread of the speedups goes to stderr.
+// CHOLMOD's row deletion (cholmod_rowdel per vertex of B, the thesis's
+// "low-rank update" peer) is measured only with --updown, for the smallest
+// fraction, capped at --updown-cap seconds per patch (reported as a lower
+// bound when the cap is hit).
+#include <oneapi/tbb/info.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "kernels/factor_update.hpp"
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "kernels/ordering.hpp"
+#include "kernels/solve_full.hpp"
+#include "kernels/symbolic_factor.hpp"
+#include "locus/error.hpp"
+#include "pipelines/deform.hpp"
+#include "tools/bench/bench_commands.hpp"
+
+#ifdef LOCUS_HAVE_CHOLMOD
+#include <cholmod.h>
+#endif
+
+extern "C" void openblas_set_num_threads(int);
+extern "C" int openblas_get_num_threads(void);
+
+namespace locus::bench {
+namespace {
+
+using cli::Stopwatch;
+
+struct Options {
+  std::string fractions = "0.1,0.25,0.5";
+  int patches = 5;
+  std::string op = "laplacian";
+  bool updown = false;
+  double updown_cap = 60.0;
+};
+
+std::vector<double> parse_fractions(const std::string& text) {
+  std::vector<double> f;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size() || !(v > 0 && v < 1))
+      fail(ErrorCode::BadUsage, "--fractions expects numbers in (0, 1) separated by commas, got '" + text + "'");
+    f.push_back(v);
+  }
+  if (f.empty()) fail(ErrorCode::BadUsage, "--fractions is empty");
+  return f;
+}
+
+// min, lower quartile, median, upper quartile, max.
+std::array<double, 5> spread(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  auto q = [&](double p) {
+    const double k = p * static_cast<double>(v.size() - 1);
+    const size_t lo = static_cast<size_t>(std::floor(k)), hi = static_cast<size_t>(std::ceil(k));
+    return v[lo] + (k - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  };
+  return {v.front(), q(0.25), q(0.5), q(0.75), v.back()};
+}
+
+#ifdef LOCUS_HAVE_CHOLMOD
+class Cholmod {
+ public:
+  Cholmod() { cholmod_start(&c_); }
+  ~Cholmod() { cholmod_finish(&c_); }
+  Cholmod(const Cholmod&) = delete;
+  Cholmod& operator=(const Cholmod&) = delete;
+
+  // Analyze + factorize A (lower) with `perm` (given order, no postorder) or
+  // with METIS when perm is empty; returns seconds. The factor is freed.
+  double analyze_factorize(const CscMatrix& A, const std::vector<int32_t>& perm) {
+    cholmod_sparse* As = to_cholmod(A);
+    c_.supernodal = CHOLMOD_SUPERNODAL;
+    c_.nmethods = 1;
+    c_.postorder = perm.empty() ? 1 : 0;
+    c_.method[0].ordering = perm.empty() ? CHOLMOD_METIS : CHOLMOD_GIVEN;
+    std::vector<int> p(perm.begin(), perm.end());
+    Stopwatch sw;
+    cholmod_factor* L = perm.empty() ? cholmod_analyze(As, &c_) : cholmod_analyze_p(As, p.data(), nullptr, 0, &c_);
+    check("cholmod_analyze");
+    cholmod_factorize(As, L, &c_);
+    const double t = sw.seconds();
+    const int status = c_.status;
+    cholmod_free_factor(&L, &c_);
+    cholmod_free_sparse(&As, &c_);
+    if (status != CHOLMOD_OK) fail(ErrorCode::Numerical, "CHOLMOD factorize failed with status " + std::to_string(status));
+    return t;
+  }
+
+  // Factor of A (METIS), then cholmod_rowdel for every index outside `keep`,
+  // leaving the factor of A_II (padded with identity rows). Seconds of the
+  // deletions only; stops after `cap` seconds (then returns a lower bound and sets capped).
+  double rowdel(const CscMatrix& A, const std::vector<int32_t>& keep_sorted, double cap, bool& capped) {
+    cholmod_sparse* As = to_cholmod(A);
+    c_.supernodal = CHOLMOD_SUPERNODAL;
+    c_.nmethods = 1;
+    c_.postorder = 1;
+    c_.method[0].ordering = CHOLMOD_METIS;
+    cholmod_factor* L = cholmod_analyze(As, &c_);
+    cholmod_factorize(As, L, &c_);
+    check("cholmod_factorize");
+    std::vector<uint8_t> keep(static_cast<size_t>(A.ncols), 0);
+    for (int32_t v : keep_sorted) keep[v] = 1;
+    capped = false;
+    Stopwatch sw;
+    // cholmod_rowdel works on a simplicial LDL' factor; the conversion is part of the cost.
+    cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, L, &c_);
+    // Rows of the factor are in CHOLMOD's permuted numbering: row k is vertex Perm[k].
+    const int* perm = static_cast<const int*>(L->Perm);
+    for (int32_t k = 0; k < A.ncols; ++k) {
+      if (keep[perm[k]]) continue;
+      cholmod_rowdel(static_cast<size_t>(k), nullptr, L, &c_);
+      if (sw.seconds() > cap) {
+        capped = true;
+        break;
+      }
+    }
+    const double t = sw.seconds();
+    cholmod_free_factor(&L, &c_);
+    cholmod_free_sparse(&As, &c_);
+    return t;
+  }
+
+ private:
+  cholmod_sparse* to_cholmod(const CscMatrix& A) {
+    const size_t n = static_cast<size_t>(A.ncols);
+    if (A.nnz() > std::numeric_limits<int>::max()) fail(ErrorCode::ResourceLimit, "CHOLMOD peer: nnz exceeds 32-bit indices");
+    cholmod_sparse* S = cholmod_allocate_sparse(n, n, static_cast<size_t>(A.nnz()), 1, 1, -1, CHOLMOD_REAL, &c_);
+    check("cholmod_allocate_sparse");
+    int* p = static_cast<int*>(S->p);
+    for (size_t k = 0; k <= n; ++k) p[k] = static_cast<int>(A.colptr[k]);
+    std::copy(A.rowind.begin(), A.rowind.end(), static_cast<int*>(S->i));
+    std::copy(A.values.begin(), A.values.end(), static_cast<double*>(S->x));
+    return S;
+  }
+  void check(const char* what) {
+    if (c_.status == CHOLMOD_NOT_POSDEF) fail(ErrorCode::Numerical, std::string("CHOLMOD: not positive definite (") + what + ")");
+    if (c_.status != CHOLMOD_OK) fail(ErrorCode::Internal, std::string(what) + " failed with status " + std::to_string(c_.status));
+  }
+  cholmod_common c_{};
+};
+#endif
+
+struct Cell {
+  double fraction = 0;
+  std::vector<double> update_s, refactor_s, given_s, metis_s, cols, mem, sp_given, sp_refactor, sp_metis, residual;
+  std::vector<double> zeros;
+  std::vector<double> structure_s, mark_s, copy_s, factor_s;  // phases of the update  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
+  std::vector<double> rowdel_s;
+  int rowdel_capped = 0;
+};
+
+int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
+  const std::vector<double> fractions = parse_fractions(bo.fractions);
+  if (bo.op != "laplacian" && bo.op != "bilaplacian")
+    fail(ErrorCode::BadUsage, "--operator must be laplacian or bilaplacian, got '" + bo.op + "'");
+  cli::Input in = cli::load_input(opt, ctx);
+  const Mesh& mesh = in.mesh;
+  Stopwatch sw;
+  // laplacian: -L_C + eps M; bilaplacian: K M^{-1} K with K = -L_C + eps M (A^T M^{-1} A).
+  const CscMatrix A = bo.op == "laplacian" ? (check_requirements(mesh, MeshRequirements{}), regularized_laplacian(mesh))
+                                           : deform_matrices(mesh, DeformEnergy::Bilaplacian).A;
+  const double operator_s = sw.seconds();
+  const int32_t n = A.ncols;
+  sw.restart();
+  const NumericFactor L = factorize(analyze(A, order_matrix(A)), A, ctx);
+  const double global_s = sw.seconds();
+  const Adjacency adj = vertex_adjacency(mesh);
+  const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+  const int blas_default = openblas_get_num_threads();
+  cli::log("bench submesh: n " + std::to_string(n) + ", nnz(L) " + std::to_string(L.symbolic->nnz_L) +
+           ", global factor " + cli::format_number(global_s) + " s");
+
+  std::mt19937_64 rng(opt.seed);
+  std::vector<Cell> cells;
+#ifdef LOCUS_HAVE_CHOLMOD
+  Cholmod ch;
+#endif
+  int rotation = 0;
+  for (double frac : fractions) {
+    Cell cell;
+    cell.fraction = frac;
+    const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(frac * n)));
+    for (int p = 0; p < bo.patches; ++p) {
+      ctx.check_cancel();
+      const int32_t seed = static_cast<int32_t>(rng() % static_cast<uint64_t>(n));
+      const std::vector<int32_t> I = bfs_patch(adj, seed, count);
+      // A_II and the restricted order, outside the timers (one untimed update provides both).
+      const FactorUpdate ref = update_factor(L, A, I, ctx);
+      const CscMatrix& Aii = ref.A_sub;
+      const std::vector<int32_t>& order = ref.factor.symbolic->perm;
+      double t_update = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
+      int64_t values_refactor = 0, nnz_exact = 0;
+      FactorUpdate up;
+      for (int k = 0; k < 4; ++k) {
+        switch ((k + rotation) % 4) {
+          case 0: {
+            sw.restart();
+            up = update_factor(L, A, I, ctx);
+            t_update = sw.seconds();
+            break;
+          }
+          case 1: {
+            sw.restart();
+            auto S = analyze(Aii, Ordering{order, ref.factor.symbolic->iperm});
+            const NumericFactor F = factorize(S, Aii, ctx);
+            t_refactor = sw.seconds();
+            values_refactor = static_cast<int64_t>(F.values.size());
+            nnz_exact = S->nnz_exact;
+            break;
+          }
+#ifdef LOCUS_HAVE_CHOLMOD
+          case 2:
+            openblas_set_num_threads(threads);
+            t_given = ch.analyze_factorize(Aii, order);
+            openblas_set_num_threads(blas_default);
+            break;
+          case 3:
+            openblas_set_num_threads(threads);
+            t_metis = ch.analyze_factorize(Aii, {});
+            openblas_set_num_threads(blas_default);
+            break;
+#endif
+          default: break;
+        }
+      }
+      ++rotation;
+      // Correctness before speed: the timed update must solve A_II.
+      const std::vector<double> b = cli::random_vector(static_cast<size_t>(Aii.ncols), opt.seed + static_cast<uint64_t>(p));
+      std::vector<double> x = b;
+      solve(up.factor, x);
+      const double res = cli::relative_residual(Aii, x.data(), b.data());
+      if (!(res <= 1e-8))
+        fail(ErrorCode::Internal, "bench submesh: updated factor gives relative residual " + cli::format_number(res));
+      cell.residual.push_back(res);
+      cell.update_s.push_back(t_update);
+      cell.refactor_s.push_back(t_refactor);
+      cell.cols.push_back(up.stats.columns_updated_fraction);
+      cell.mem.push_back(static_cast<double>(up.stats.values_stored) / static_cast<double>(values_refactor));
+      cell.sp_refactor.push_back(t_refactor / t_update);
+      cell.structure_s.push_back(up.stats.structure_s);
+      cell.mark_s.push_back(up.stats.mark_s);
+      cell.copy_s.push_back(up.stats.copy_s);
+      cell.factor_s.push_back(up.stats.factor_s);
+      cell.zeros.push_back(1.0 - static_cast<double>(nnz_exact) / static_cast<double>(up.stats.nnz_stored));
+      if (!std::isnan(t_given)) {
+        cell.given_s.push_back(t_given);
+        cell.metis_s.push_back(t_metis);
+        cell.sp_given.push_back(t_given / t_update);
+        cell.sp_metis.push_back(t_metis / t_update);
+      }
+#ifdef LOCUS_HAVE_CHOLMOD
+      if (bo.updown && frac == *std::min_element(fractions.begin(), fractions.end())) {
+        bool capped = false;
+        cell.rowdel_s.push_back(ch.rowdel(A, ref.vertices, bo.updown_cap, capped));
+        cell.rowdel_capped += capped;
+      }
+#endif
+      cli::log("bench submesh: fraction " + cli::format_number(frac) + " patch " + std::to_string(p + 1) + "/" +
+               std::to_string(bo.patches) + ": update " + cli::format_number(t_update) + " s, locus refactor " +
+               cli::format_number(t_refactor) + " s, CHOLMOD given " + cli::format_number(t_given) +
+               " s, CHOLMOD METIS " + cli::format_number(t_metis) + " s, columns updated " +
+               cli::format_number(up.stats.columns_updated_fraction));
+    }
+    cells.push_back(std::move(cell));
+  }
+
+  cli::Json j{{"command", "bench submesh"}, {"input", cli::input_json(opt, in)}};
+  j["operator"] = bo.op;
+  j["n"] = n;
+  j["nnz_A"] = A.nnz();
+  j["nnz_L"] = L.symbolic->nnz_L;
+  j["threads"] = threads;
+  j["seed"] = opt.seed;
+  j["patches"] = bo.patches;
+  j["operator_s"] = operator_s;
+  j["global_factor_s"] = global_s;
+#ifdef LOCUS_HAVE_CHOLMOD
+  j["cholmod"] = true;
+#else
+  j["cholmod"] = false;
+#endif
+  auto med = [](const std::vector<double>& v) { return v.empty() ? cli::Json(nullptr) : cli::Json(cli::median(v)); };
+  cli::Json jc = cli::Json::array();
+  std::ostringstream table;
+  table << opt.mesh_path << ": n " << n << ", " << bo.op << ", " << bo.patches << " patches per cell, threads "
+        << threads << "\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "%-8s %10s %10s %10s %10s %9s %9s %9s %7s\n", "fraction", "update", "locus_ref",
+                "chol_given", "chol_metis", "x_given", "x_locref", "cols_upd", "mem");
+  table << line;
+  for (const Cell& c : cells) {
+    cli::Json e{{"fraction", c.fraction}, {"patches", c.update_s.size()}};
+    e["update_s"] = med(c.update_s);
+    e["locus_refactor_s"] = med(c.refactor_s);
+    e["cholmod_given_s"] = med(c.given_s);
+    e["cholmod_metis_s"] = med(c.metis_s);
+    e["speedup_vs_cholmod_given"] = med(c.sp_given);
+    e["speedup_vs_cholmod_metis"] = med(c.sp_metis);
+    e["speedup_vs_locus_refactor"] = med(c.sp_refactor);
+    e["columns_updated_fraction"] = med(c.cols);
+    e["memory_ratio"] = med(c.mem);
+    // Entries the restricted structure stores beyond the exact factor of A_II
+    // (explicit zeros: fill of L not present in L', plus L's amalgamation zeros).
+    e["explicit_zero_fraction"] = med(c.zeros);
+    e["update_phases"] = {{"structure_s", med(c.structure_s)}, {"mark_s", med(c.mark_s)},
+                          {"copy_s", med(c.copy_s)}, {"factor_s", med(c.factor_s)}};
+    e["max_residual"] = *std::max_element(c.residual.begin(), c.residual.end());
+    if (!c.rowdel_s.empty()) {
+      e["cholmod_rowdel_s"] = med(c.rowdel_s);
+      e["cholmod_rowdel_capped"] = c.rowdel_capped;
+    }
+    jc.push_back(e);
+    auto num = [](const cli::Json& v) { return v.is_null() ? NAN : v.get<double>(); };
+    std::snprintf(line, sizeof line, "%-8.3g %10.4g %10.4g %10.4g %10.4g %9.2f %9.2f %9.3f %7.3f\n", c.fraction,
+                  num(e["update_s"]), num(e["locus_refactor_s"]), num(e["cholmod_given_s"]), num(e["cholmod_metis_s"]),
+                  num(e["speedup_vs_cholmod_given"]), num(e["speedup_vs_locus_refactor"]),
+                  num(e["columns_updated_fraction"]), num(e["memory_ratio"]));
+    table << line;
+  }
+  table << "speedup spread (min, q1, median, q3, max):\n";
+  for (const Cell& c : cells) {
+    for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"vs CHOLMOD given", &c.sp_given},
+                                  {"vs CHOLMOD METIS", &c.sp_metis},
+                                  {"vs locus refactor", &c.sp_refactor}}) {
+      if (v->empty()) continue;
+      const auto s = spread(*v);
+      std::snprintf(line, sizeof line, "  %-6.3g %-18s %7.2f %7.2f %7.2f %7.2f %7.2f\n", c.fraction, name, s[0], s[1],
+                    s[2], s[3], s[4]);
+      table << line;
+    }
+    if (!c.rowdel_s.empty())
+      table << "  " << c.fraction << " CHOLMOD rowdel median " << cli::median(c.rowdel_s) << " s"
+            << (c.rowdel_capped ? " (capped: lower bound)" : "") << "\n";
+  }
+  j["cells"] = jc;
+  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
+  std::cerr << table.str();
+  if (opt.json) cli::emit(opt, j, {});
+  return 0;
+}
+
+}  // namespace
+
+void register_submesh_bench(cli::CommandTable& table) {
+  auto bo = std::make_shared<Options>();
+  CLI::App* app = table.add("submesh", "Factor-once update of a submesh factor vs refactoring (locus, CHOLMOD)",
+                            [bo](const cli::CommonOptions& opt, const RunContext& ctx) {
+                              return run_bench_submesh(opt, *bo, ctx);
+                            });
+  app->add_option("--fractions", bo->fractions, "Patch sizes as fractions of the vertices (default 0.1,0.25,0.5)");
+  app->add_option("--patches", bo->patches, "Random BFS patches per fraction (default 5)")->check(CLI::Range(1, 10000));
+  app->add_option("--operator", bo->op, "laplacian (-L_C + eps M, default) or bilaplacian (K M^-1 K)");
+  app->add_flag("--updown", bo->updown, "Also time CHOLMOD row deletions (smallest fraction only)");
+  app->add_option("--updown-cap", bo->updown_cap, "Seconds per patch for the row deletions (default 60)")
+      ->check(CLI::Range(1.0, 3600.0));
+}
+
+}  // namespace locus::bench
