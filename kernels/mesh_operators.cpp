@@ -23,6 +23,12 @@ namespace {
 
 void require_triangles(const Mesh& m, const char* what) {
   validate_mesh_arrays(m);
+  // A NaN or infinite coordinate would poison the mesh scale and every area after it;
+  // name the vertex instead.
+  for (int32_t v = 0; v < m.num_vertices(); ++v)
+    if (!std::isfinite(m.x[v]) || !std::isfinite(m.y[v]) || !std::isfinite(m.z[v]))
+      fail(ErrorCode::BadInput, mesh_name(m) + ": vertex " + std::to_string(v) + " has a non-finite coordinate; " +
+                                    what + " needs finite positions");
   const int32_t nf = m.num_faces();
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t d = m.face_offsets[f + 1] - m.face_offsets[f];

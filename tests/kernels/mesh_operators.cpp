@@ -349,6 +349,10 @@ TEST_CASE("operators reject polygon meshes, zero-area triangles and bad indices"
   } catch (const Error& e) {
     CHECK(e.code() == ErrorCode::BadInput);
   }
+  Mesh nan = make_icosphere(1);
+  nan.y[7] = std::nan("");
+  CHECK_THROWS_WITH_AS(cotan_laplacian(nan), "mesh: vertex 7 has a non-finite coordinate; the cotan Laplacian needs finite positions", Error);
+  CHECK_THROWS_AS(lumped_mass(nan), Error);
   Mesh bad = make_icosphere(0);
   bad.face_vertices[5] = 12;
   bad.f0.clear(), bad.f1.clear(), bad.f2.clear();
