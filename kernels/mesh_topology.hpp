@@ -87,6 +87,8 @@ struct MeshReport {
   int64_t first_non_manifold_vertex_fans = 0;
   int64_t first_non_triangle_face = -1;
   int64_t first_boundary_vertex = -1;           // a vertex of the first boundary loop
+  int64_t non_finite_vertices = 0;              // vertices with a NaN or infinite coordinate
+  int64_t first_non_finite_vertex = -1;
 };
 
 // Degenerate-face threshold: a face is degenerate when its area is not above
@@ -97,8 +99,8 @@ MeshReport analyze_mesh(const Mesh& m);
 
 // What a pipeline needs of its input; check_requirements throws BadInput naming
 // the first offending element (face, edge, vertex) and the mesh's source file.
-// Checks run in this order: triangles, unreferenced vertices, degenerate faces,
-// manifold edges, manifold vertices, connected, closed.
+// Checks run in this order: finite coordinates, triangles, unreferenced vertices,
+// degenerate faces, manifold edges, manifold vertices, connected, closed.
 struct MeshRequirements {
   bool triangles = true;
   bool manifold = true;
@@ -106,6 +108,7 @@ struct MeshRequirements {
   bool no_unreferenced_vertices = true;
   bool connected = false;
   bool closed = false;
+  bool finite_coordinates = true;  // (added last so existing designated initializers still compile)
 };
 void check_requirements(const Mesh& m, const MeshRequirements& req);
 void check_requirements(const Mesh& m, const MeshRequirements& req, const MeshReport& report);

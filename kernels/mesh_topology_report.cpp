@@ -72,6 +72,11 @@ MeshReport analyze_mesh(const Mesh& m) {
       if (r.first_unreferenced_vertex < 0) r.first_unreferenced_vertex = v;
     }
   }
+  for (int32_t v = 0; v < nv; ++v)
+    if (!std::isfinite(m.x[v]) || !std::isfinite(m.y[v]) || !std::isfinite(m.z[v])) {
+      ++r.non_finite_vertices;
+      if (r.first_non_finite_vertex < 0) r.first_non_finite_vertex = v;
+    }
   if (nv > 0) {
     const auto [xlo, xhi] = std::minmax_element(m.x.begin(), m.x.end());
     const auto [ylo, yhi] = std::minmax_element(m.y.begin(), m.y.end());
@@ -175,6 +180,8 @@ MeshReport analyze_mesh(const Mesh& m) {
 void check_requirements(const Mesh& m, const MeshRequirements& req, const MeshReport& r) {
   const std::string name = mesh_name(m);
   auto bad = [&](const std::string& what) { fail(ErrorCode::BadInput, name + ": " + what); };
+  if (req.finite_coordinates && r.first_non_finite_vertex >= 0)
+    bad("vertex " + std::to_string(r.first_non_finite_vertex) + " has a non-finite coordinate");
   if (req.triangles && r.first_non_triangle_face >= 0) {
     const int64_t f = r.first_non_triangle_face;
     const int32_t d = m.face_offsets[f + 1] - m.face_offsets[f];

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -275,6 +276,17 @@ TEST_CASE("zero-area triangle is reported and rejected") {
   // A tiny but valid triangle (area 1e-10 * h^2) is not degenerate.
   Mesh tiny = tri_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1e-10, 0}}, {{0, 1, 2}});
   CHECK(analyze_mesh(tiny).degenerate_faces == 0);
+}
+
+TEST_CASE("non-finite coordinates are reported before anything they would poison") {
+  Mesh m = make_icosphere(1);
+  m.z[9] = std::numeric_limits<double>::infinity();
+  m.x[20] = std::nan("");
+  m.source = "inf.off";
+  const MeshReport r = analyze_mesh(m);
+  CHECK(r.non_finite_vertices == 2);
+  CHECK(r.first_non_finite_vertex == 9);
+  CHECK(message_of(m, {}) == "inf.off: vertex 9 has a non-finite coordinate");
 }
 
 TEST_CASE("hostile arrays are rejected with BadInput, never read out of bounds") {
