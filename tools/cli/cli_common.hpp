@@ -151,5 +151,6 @@ void register_deform_command(CommandTable& table);
 void register_local_solve_commands(CommandTable& table);  // adf, hks, heat
 void register_voronoi_command(CommandTable& table);
 void register_cvt_command(CommandTable& table);
+void register_geodesic_commands(CommandTable& table);  // geodesic, logmap
 
 }  // namespace locus::cli

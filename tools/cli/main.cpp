@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     locus::cli::register_local_solve_commands(table);
     locus::cli::register_voronoi_command(table);
     locus::cli::register_cvt_command(table);
+    locus::cli::register_geodesic_commands(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus: internal error: " << e.what() << "\n";
