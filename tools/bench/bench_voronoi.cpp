@@ -1,0 +1,155 @@
+// `locus-bench voronoi-convergence random-sphere`: the bisector convergence study of
+// thesis §3.4 (Fig. 3.1, eq. 3.22). On random-point hulls of the unit sphere of
+// increasing size, generators at (1,0,0), (-1,0,0), (0,1,0) (as surface points on
+// the faces the axis rays cross); the heat Voronoi diagram (pipelines/heat_voronoi)
+// and the RMS over its edge points of the distance to the exact bisector plane
+// (all bisectors of the sphere lie in planes through the origin). Reports h, RMS
+// per size and t, and the least-squares slope of log RMS against log h (quadratic
+// convergence: 2). The test suite runs two sizes; this runs as many as given.
+#include <cmath>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kernels/mesh_generators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "locus/error.hpp"
+#include "pipelines/heat_voronoi.hpp"
+#include "tools/bench/bench_commands.hpp"
+
+namespace locus::bench {
+namespace {
+
+using cli::Json;
+
+struct ConvergenceOptions {
+  std::string sizes = "1000,4000,16000,64000";
+  std::string times = "1,0.0078125";
+};
+
+std::vector<double> parse_list(const std::string& text, const char* what) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != part.size() || !(v > 0) || !std::isfinite(v))
+      fail(ErrorCode::BadUsage, std::string(what) + " expects comma-separated positive numbers, got '" + text + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) fail(ErrorCode::BadUsage, std::string(what) + " is empty");
+  return out;
+}
+
+// The face the ray from the origin along d crosses (convex mesh around the origin), by Cramer's rule.
+SurfacePoint ray_point(const Mesh& m, const double d[3]) {
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    double P[3][3];
+    for (int k = 0; k < 3; ++k) {
+      P[0][k] = m.x[v[k]];
+      P[1][k] = m.y[v[k]];
+      P[2][k] = m.z[v[k]];
+    }
+    auto det = [](const double A[3][3]) {
+      return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+             A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    };
+    const double D = det(P);
+    if (D == 0) continue;
+    double w[3];
+    for (int k = 0; k < 3; ++k) {
+      double Q[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) Q[r][c] = c == k ? d[r] : P[r][c];
+      w[k] = det(Q) / D;
+    }
+    const double s = w[0] + w[1] + w[2];
+    if (w[0] >= 0 && w[1] >= 0 && w[2] >= 0 && s > 0) return SurfacePoint{f, -1, {w[0] / s, w[1] / s, w[2] / s}};
+  }
+  fail(ErrorCode::Numerical, "no face crosses the generator's ray");
+}
+
+int run_convergence(const cli::CommonOptions& opt, const ConvergenceOptions& o, const RunContext& ctx) {
+  if (opt.mesh_path != "random-sphere")
+    fail(ErrorCode::BadUsage, "voronoi-convergence generates its meshes: give 'random-sphere' as the mesh");
+  const std::vector<double> sizes = parse_list(o.sizes, "--sizes"), times = parse_list(o.times, "--t");
+  const double gen[3][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}};
+  Json j{{"command", "voronoi-convergence"}, {"seed", opt.seed}};
+  Json rows = Json::array();
+  std::vector<double> logh;
+  std::vector<std::vector<double>> loge(times.size());
+  for (double sz : sizes) {
+    ctx.check_cancel();
+    const Mesh m = make_random_sphere(static_cast<int32_t>(sz), opt.seed);
+    std::vector<SurfacePoint> sites;
+    for (const auto& g : gen) sites.push_back(ray_point(m, g));
+    const double h = mean_edge_length(m);
+    logh.push_back(std::log(h));
+    Json row{{"n", m.num_vertices()}, {"h", h}};
+    for (size_t ti = 0; ti < times.size(); ++ti) {
+      const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, times[ti], ctx);
+      const HeatVoronoi V = heat_voronoi(H, m, sites, {}, {}, ctx);
+      const VoronoiDiagram D = extract_voronoi_diagram(H, m, sites, V, ctx);
+      double sum = 0;
+      int64_t cnt = 0;
+      for (size_t p = 0; p < D.points.size() / 3; ++p) {
+        const int32_t a = D.point_edge_sites[2 * p], b = D.point_edge_sites[2 * p + 1];
+        if (a < 0) continue;
+        double nrm[3], len = 0;
+        for (int c = 0; c < 3; ++c) {
+          nrm[c] = gen[a][c] - gen[b][c];
+          len += nrm[c] * nrm[c];
+        }
+        const double e = (D.points[3 * p] * nrm[0] + D.points[3 * p + 1] * nrm[1] + D.points[3 * p + 2] * nrm[2]) /
+                         std::sqrt(len);  // eq. 3.22
+        sum += e * e;
+        ++cnt;
+      }
+      const double rms = cnt ? std::sqrt(sum / cnt) : 0.0;
+      loge[ti].push_back(std::log(rms));
+      row["rms_t" + cli::format_number(times[ti])] = rms;
+      row["points_t" + cli::format_number(times[ti])] = cnt;
+    }
+    rows.push_back(row);
+  }
+  j["rows"] = rows;
+  Json slopes = Json::object();
+  for (size_t ti = 0; ti < times.size(); ++ti) {  // least-squares slope of log rms on log h
+    const size_t k = logh.size();
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < k; ++i) {
+      mx += logh[i] / k;
+      my += loge[ti][i] / k;
+    }
+    double sxy = 0, sxx = 0;
+    for (size_t i = 0; i < k; ++i) {
+      sxy += (logh[i] - mx) * (loge[ti][i] - my);
+      sxx += (logh[i] - mx) * (logh[i] - mx);
+    }
+    slopes["t" + cli::format_number(times[ti])] = sxx > 0 ? sxy / sxx : 0.0;
+  }
+  j["slopes"] = slopes;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+}  // namespace
+
+void register_voronoi_bench(cli::CommandTable& table) {
+  auto o = std::make_shared<ConvergenceOptions>();
+  CLI::App* app = table.add(
+      "voronoi-convergence", "Heat Voronoi bisector RMS error vs mean edge length on random unit spheres (thesis Fig. 3.1)",
+      [o](const cli::CommonOptions& opt, const RunContext& ctx) { return run_convergence(opt, *o, ctx); });
+  app->add_option("--sizes", o->sizes, "Vertex counts of the random spheres (default 1000,4000,16000,64000)");
+  app->add_option("--t", o->times, "Absolute diffusion times (default 1,0.0078125 = 2^0, 2^-7)");
+}
+
+}  // namespace locus::bench
