@@ -25,8 +25,8 @@ int orient3d_exact(const int64_t a[3], const int64_t b[3], const int64_t c[3], c
 
 // Hull triangles as 3*nt vertex indices into the input, oriented counter-clockwise
 // seen from outside. Points inside the hull, or duplicating a hull vertex, are not
-// referenced. Coplanar neighbouring faces can occur only for exactly coplanar input
-// points. Throws BadInput when fewer than 4 points are given, a coordinate exceeds
+// referenced. Only exactly coplanar (collinear) input points can give coplanar
+// neighbouring faces (zero-area triangles); points on a sphere never do. Throws BadInput when fewer than 4 points are given, a coordinate exceeds
 // kConvexHullMaxCoordinate, or all points are coplanar.
 std::vector<int32_t> convex_hull_3d(std::span<const int64_t> x, std::span<const int64_t> y,
                                     std::span<const int64_t> z);
