@@ -96,6 +96,7 @@ struct TimingOptions {
   int queries = 10;
   double t_factor = 1.0;
   bool no_full = false;
+  std::string angle = "auto";
 };
 
 int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const RunContext& ctx) {
@@ -106,6 +107,10 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   Stopwatch sw;
   LogMapOptions lo;
   lo.geodesic.t_factor = to.t_factor;
+  if (to.angle == "log") lo.angle = LogMapAngle::LogHeat;
+  else if (to.angle == "two-ring") lo.angle = LogMapAngle::LogHeatTwoRing;
+  else if (to.angle == "average") lo.angle = LogMapAngle::HeatAverage;
+  else if (to.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average");
   const HeatLogMap heat(in.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   sw.restart();
@@ -126,7 +131,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     std::vector<double> t_local, t_full, t_dem, t_patch;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
-    int32_t max_sources = 0;
+    int32_t max_sources = 0, two_ring_centres = 0;
     for (int32_t c : centres) {
       ctx.check_cancel();
       sw.restart();
@@ -139,6 +144,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       const LogMapStats st = heat.query(c, P, local.out(), lws);
       t_local.push_back(sw.seconds());
       max_sources = std::max(max_sources, st.sources);
+      two_ring_centres += st.two_ring;
       if (!to.no_full) {
         sw.restart();
         heat.query_full(c, P, full.out(), lws);
@@ -174,6 +180,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     row["dem_over_local"] = md / ml;
     row["patch_select_s"] = cli::median(t_patch);
     row["max_sources"] = max_sources;
+    row["two_ring_centres"] = two_ring_centres;
     row["mean_patch_radius"] = radius;
     row["flipped_triangles_heat"] = flipped_heat;
     row["flipped_triangles_dem"] = flipped_dem;
@@ -195,6 +202,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   Json j{{"command", "logmap"}, {"input", cli::input_json(opt, in)}};
   j["n"] = n;
   j["t_factor"] = to.t_factor;
+  j["angle"] = to.angle;
   j["h"] = heat.geodesic().mean_edge_length();
   j["precompute_s"] = precompute_s;
   j["dem_prepare_s"] = dem_prepare_s;
@@ -480,6 +488,7 @@ void register_logmap_bench(cli::CommandTable& table) {
   app->add_option("--queries", to->queries, "Random centres (seeded by --seed), default 10");
   app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
+  app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
 
   auto ao = std::make_shared<AccuracyOptions>();
   CLI::App* acc = table.add(
