@@ -348,7 +348,9 @@ MeshPerfectLaplacianResult perfect_laplacian(const Mesh& m, const MeshPerfectLap
   const auto t0 = Clock::now();
   MeshRequirements req;
   req.triangles = false;
-  req.manifold = true;
+  // Only the edge graph and the boundary vertices matter: non-manifold vertices
+  // (several fans, common in real polygon meshes) are fine, so are such edges.
+  req.manifold = false;
   req.no_degenerate_faces = false;  // the Laplacian only needs nonzero edge lengths (checked below)
   req.no_unreferenced_vertices = true;
   check_requirements(m, req);

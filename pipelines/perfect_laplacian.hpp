@@ -18,13 +18,20 @@
 //    b · rhs_scale with rhs_scale = 1 / (product of all normalization divisors):
 //    the iterates are exactly those of the un-normalized update while the stored
 //    weights stay O(1). The raw (un-normalized) weights are weights / rhs_scale.
-//  * Decaying weights (§2.3.3). Where no perfect Laplacian exists, some weights
-//    decay geometrically towards 0 and the plain loop needs hundreds of iterations.
-//    We detect an edge whose per-iteration factor has stayed below 1 at a steady
-//    rate for `clamp_window` iterations and set it to its limit, 0 (the system
-//    keeps a tiny floor, see EmbeddingSystem). A clamped edge that later becomes
-//    too long for the current network (its update factor would exceed 1) is
-//    revived at the weight it had when clamped, at most `max_revivals` times.
+//  * Acceleration. The update of eq. 2.8 is, in log form, the fixed-point
+//    iteration U <- U + log(||e(U)|| / ||ê||) on U = log ω (it is exponentiated
+//    gradient ascent on F(ω) = min_V Σ ω_e ||e_V||² - Σ ω_e ||ê_e||², whose
+//    maximizers are the perfect Laplacians). Near a non-isolated fixed point, or
+//    where weights head for 0 (§2.3.3), it converges slowly: hundreds of
+//    iterations on noisy closed meshes and small quad-dominant ones. We apply
+//    Anderson acceleration (depth 6) to that fixed-point map in log space, which
+//    keeps every weight positive by construction; a step never changes a weight
+//    by more than e^4, and the history is dropped when ||f|| grows 10x over its
+//    best. Weights that fall below floor_rel (1e-12) · max are set to exactly 0
+//    (their limit) and held there while they still want to shrink; the system
+//    keeps them at a tiny positive floor so it stays positive definite (see
+//    EmbeddingSystem). Measured (tests and the report): noisy icosphere 552 -> 64
+//    iterations, regular quad torus 274 -> 57, random Delaunay disks ~25.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -62,12 +69,12 @@ struct PerfectLaplacianOptions {
 
 struct PerfectLaplacianResult {
   Coords pos;                    // the embedding V of the last iteration
-  std::vector<double> weights;   // normalized (unit 2-norm) weights; clamped edges are exactly 0
+  std::vector<double> weights;   // normalized (unit 2-norm) weights; decayed ones are exactly 0
   double rhs_scale = 1.0;        // raw weights (those that balance b) = weights / rhs_scale
   bool converged = false;
   int iterations = 0;
   double last_change_rel = 0;    // max vertex change of the last iteration / bbox diagonal
-  double min_weight = 0;         // over all edges (0 when some are clamped)
+  double min_weight = 0;         // over all edges (0 when some decayed to the floor)
   double min_positive_weight = 0;
   int64_t zero_weights = 0;      // <= zero_weight_rel · max weight
   int64_t at_floor = 0;          // weights held at exactly 0 (decayed to their limit)
