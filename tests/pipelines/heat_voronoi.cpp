@@ -134,15 +134,30 @@ TEST_CASE("heat voronoi: top-K heat values equal a dense solve of (M - tL_C) u =
   }
 }
 
-TEST_CASE("heat voronoi: bisector RMS error converges about quadratically in the edge length") {
-  // Two resolutions here (h ratio ~2); the four-resolution study is `locus-bench`-sized.
+TEST_CASE("heat voronoi: bisector RMS error converges quadratically in the edge length (4 resolutions)") {
+  // Thesis Fig. 3.1: least-squares slope of log RMS (eq. 3.22) on log h over four
+  // random spheres (h halves from one to the next); issue 6 asks for >= 1.7.
+  // `locus-bench voronoi-convergence random-sphere` runs the same study.
+  const int32_t sizes[4] = {1000, 4000, 16000, 64000};
+  std::vector<Mesh> meshes;
+  for (int32_t n : sizes) meshes.push_back(make_random_sphere(n, 1));
   for (double t : {1.0, 1.0 / 128}) {
-    const Mesh a = make_random_sphere(1500, 3), b = make_random_sphere(6000, 3);
-    const double ea = bisector_rms(a, t), eb = bisector_rms(b, t);
-    const double slope = std::log(ea / eb) / std::log(mean_edge_length(a) / mean_edge_length(b));
-    INFO("t = " << t << " rms " << ea << " -> " << eb << " slope " << slope);
-    CHECK(eb < ea);
+    double lh[4], le[4], mx = 0, my = 0;
+    for (int k = 0; k < 4; ++k) {
+      lh[k] = std::log(mean_edge_length(meshes[k]));
+      le[k] = std::log(bisector_rms(meshes[k], t));
+      mx += lh[k] / 4;
+      my += le[k] / 4;
+    }
+    double sxy = 0, sxx = 0;
+    for (int k = 0; k < 4; ++k) {
+      sxy += (lh[k] - mx) * (le[k] - my);
+      sxx += (lh[k] - mx) * (lh[k] - mx);
+    }
+    const double slope = sxy / sxx;
+    INFO("t = " << t << " rms " << std::exp(le[0]) << " -> " << std::exp(le[3]) << " slope " << slope);
     CHECK(slope >= 1.7);
+    for (int k = 1; k < 4; ++k) CHECK(le[k] < le[k - 1]);
   }
 }
 
