@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "kernels/mesh_operators.hpp"
@@ -26,9 +27,10 @@ void check_vertex(int32_t v, int32_t n, const char* what) {
 
 // Normalized negative gradient of the heat in face k (eq. 6.5); zero where the
 // heat is flat (underflow), so such faces carry no direction.
-inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, bool log_heat,
+// l* = log h* (or NaN where h <= 0, computed once per vertex), used when all three are finite.
+inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, const double* l,
                            double X[3]) {
-  if (log_heat && h0 > 0 && h1 > 0 && h2 > 0) g.gradient(k, std::log(h0), std::log(h1), std::log(h2), X);
+  if (l && std::isfinite(l[0] + l[1] + l[2])) g.gradient(k, l[0], l[1], l[2], X);
   else g.gradient(k, h0, h1, h2, X);
   const double len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
   const double s = len > 0.0 && std::isfinite(len) ? -1.0 / len : 0.0;
@@ -119,11 +121,17 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
   const bool flux = rhs == HeatGeodesicOptions::PoissonRhs::BoundaryFlux;
   ws.b.assign(static_cast<size_t>(flux ? nloc : np), 0.0);
+  const bool lg = opt_.log_heat_gradient;
+  if (lg) {
+    ws.logh.resize(static_cast<size_t>(nloc));
+    for (int32_t v = 0; v < nloc; ++v) ws.logh[v] = h[v] > 0 ? std::log(h[v]) : std::numeric_limits<double>::quiet_NaN();
+  }
   for (int32_t f : r.faces) {
     const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
     const int32_t l0 = r.local[t[0]], l1 = r.local[t[1]], l2 = r.local[t[2]];
     double X[3], d[3];
-    unit_direction(grad_, f, h[l0], h[l1], h[l2], opt_.log_heat_gradient, X);
+    const double lh[3] = {lg ? ws.logh[l0] : 0.0, lg ? ws.logh[l1] : 0.0, lg ? ws.logh[l2] : 0.0};
+    unit_direction(grad_, f, h[l0], h[l1], h[l2], lg ? lh : nullptr, X);
     corner_divergence(grad_, f, X, d);
     const int32_t l[3] = {l0, l1, l2};
     for (int s = 0; s < 3; ++s)
@@ -142,10 +150,16 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
                                            HeatGeodesicWorkspace& ws) const {
   const int32_t n = grad_.nv;
   ws.b.assign(static_cast<size_t>(n), 0.0);
+  const bool lg = opt_.log_heat_gradient;
+  if (lg) {
+    ws.logh.resize(static_cast<size_t>(n));
+    for (int32_t v = 0; v < n; ++v) ws.logh[v] = h[v] > 0 ? std::log(h[v]) : std::numeric_limits<double>::quiet_NaN();
+  }
   for (int32_t f = 0; f < grad_.nf; ++f) {
     const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
     double X[3], d[3];
-    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], opt_.log_heat_gradient, X);
+    const double lh[3] = {lg ? ws.logh[t[0]] : 0.0, lg ? ws.logh[t[1]] : 0.0, lg ? ws.logh[t[2]] : 0.0};
+    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], lg ? lh : nullptr, X);
     corner_divergence(grad_, f, X, d);
     for (int s = 0; s < 3; ++s) ws.b[t[s]] += d[s];
   }
