@@ -101,6 +101,16 @@ Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t
   const int32_t m = static_cast<int32_t>(gcol.size());
   R.gcol = std::move(gcol);
   R.colpos.resize(m);
+  {  // size the row lists once: the touched supernodes' rows bound them
+    int64_t bound = 0;
+    for (int32_t c = 0, prev = -1; c < m; ++c) {
+      const int32_t s = S.col_to_super[R.gcol[c]];
+      if (s != prev) bound += S.nrows(s);
+      prev = s;
+    }
+    R.rows.reserve(static_cast<size_t>(bound));
+    R.rowpos.reserve(static_cast<size_t>(bound));
+  }
   R.first_col.push_back(0);
   R.row_ptr.push_back(0);
   for (int32_t c = 0; c < m;) {
@@ -321,7 +331,7 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
     for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) Sp->col_to_super[c] = s;
   Sp->super_parent = R.parent;
   Sp->super_row_ptr = R.row_ptr;
-  Sp->super_rows = R.rows;
+  Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
   complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
   st.supernodes = Sp->ns;
   st.nnz_stored = Sp->nnz_L;
@@ -330,31 +340,29 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
   ctx.check_cancel();
 
   // (2) Marking: one start per global supernode with a column in B (§5.5,
-  // "first nonzero in all columns of L_IB"), found in parallel, walked in order.
+  // "first nonzero in all columns of L_IB"), then the etree walks.
   const auto t1 = clock::now();
+  // Sequential on purpose: a memory-bound scan of the row lists, cheaper than
+  // waking a thread arena for it (measured on the shared 2-core machines).
   std::vector<int32_t> start(S.ns, -1);
-  in_arena(ctx, [&](int) {
-    tbb::parallel_for(tbb::blocked_range<int32_t>(0, S.ns, 256), [&](const tbb::blocked_range<int32_t>& rg) {
-      for (int32_t s = rg.begin(); s < rg.end(); ++s) {
-        const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-        int32_t c0 = f;
-        while (c0 < l && col_new[c0] >= 0) ++c0;
-        if (c0 == l) continue;  // no column of s is in B
-        int32_t c1 = c0 + 1;
-        while (c1 < l && col_new[c1] < 0) ++c1;
-        if (c1 < l) {
-          start[s] = col_new[c1];
-          continue;
-        }
-        const int64_t r0 = S.super_row_ptr[s];
-        for (int64_t t = r0 + (l - f); t < S.super_row_ptr[s + 1]; ++t)
-          if (col_new[S.super_rows[t]] >= 0) {
-            start[s] = col_new[S.super_rows[t]];
-            break;
-          }
+  for (int32_t s = 0; s < S.ns; ++s) {
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    int32_t c0 = f;
+    while (c0 < l && col_new[c0] >= 0) ++c0;
+    if (c0 == l) continue;  // no column of s is in B
+    int32_t c1 = c0 + 1;
+    while (c1 < l && col_new[c1] < 0) ++c1;
+    if (c1 < l) {
+      start[s] = col_new[c1];
+      continue;
+    }
+    const int64_t r0 = S.super_row_ptr[s];
+    for (int64_t t = r0 + (l - f); t < S.super_row_ptr[s + 1]; ++t)
+      if (col_new[S.super_rows[t]] >= 0) {
+        start[s] = col_new[S.super_rows[t]];
+        break;
       }
-    });
-  });
+  }
   std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
   for (int32_t s = 0; s < S.ns; ++s)
     for (int32_t c = start[s]; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
@@ -377,25 +385,32 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
   NumericFactor& F = out.factor;
   F.symbolic = Sp;
   F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
-  in_arena(ctx, [&](int) {
-    tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64), [&](const tbb::blocked_range<int32_t>& rg) {
-      for (int32_t s = rg.begin(); s < rg.end(); ++s) {
-        if (smark[s]) continue;
-        const int32_t gs = R.gsuper[s];
-        const int64_t gm = S.nrows(gs);
-        const double* src = L.block(gs);
-        double* dst = F.block(s);
-        const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
-        const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
-        for (int32_t j = 0; j < k; ++j) {
-          const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
-          double* dc = dst + static_cast<int64_t>(j) * mr;
-          for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
-          for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
-        }
+  auto copy_range = [&](int32_t s0, int32_t s1) {
+    for (int32_t s = s0; s < s1; ++s) {
+      if (smark[s]) continue;
+      const int32_t gs = R.gsuper[s];
+      const int64_t gm = S.nrows(gs);
+      const double* src = L.block(gs);
+      double* dst = F.block(s);
+      const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
+      const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
+      for (int32_t j = 0; j < k; ++j) {
+        const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
+        double* dc = dst + static_cast<int64_t>(j) * mr;
+        for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
+        for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
       }
+    }
+  };
+  // Threads only pay off for large copies (a gather, memory-bound).
+  if (st.values_stored - st.values_recomputed < (int64_t{1} << 22)) {
+    copy_range(0, Sp->ns);
+  } else {
+    in_arena(ctx, [&](int) {
+      tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64),
+                        [&](const tbb::blocked_range<int32_t>& rg) { copy_range(rg.begin(), rg.end()); });
     });
-  });
+  }
   st.copy_s = seconds_since(t2);
   ctx.check_cancel();
 
