@@ -34,7 +34,7 @@ TriangleGradients triangle_gradients(const Mesh& m) {
       e[s][1] = m.y[b] - m.y[a];
       e[s][2] = m.z[b] - m.z[a];
     }
-    // Vector area a_k = (e_2 x e_0) / 2 ... computed as (v1 - v0) x (v2 - v0) / 2.
+    // Vector area (twice the area times the unit normal): (v1 - v0) x (v2 - v0).
     const double ux = m.x[v[1]] - m.x[v[0]], uy = m.y[v[1]] - m.y[v[0]], uz = m.z[v[1]] - m.z[v[0]];
     const double wx = m.x[v[2]] - m.x[v[0]], wy = m.y[v[2]] - m.y[v[0]], wz = m.z[v[2]] - m.z[v[0]];
     const double ax = uy * wz - uz * wy, ay = uz * wx - ux * wz, az = ux * wy - uy * wx;
