@@ -93,6 +93,11 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   std::vector<int64_t> cell_size(sites.size(), 0);
   for (int32_t l : V.label) ++cell_size[l];
   const int64_t empty = std::count(cell_size.begin(), cell_size.end(), 0);
+  // Heat decays like exp(-r / sqrt(t)) and underflows to 0 far from every generator
+  // (small t, few generators); such vertices are labelled by the smallest generator id,
+  // which makes noisy cells: report them so the user can raise --t.
+  int64_t cold = 0;
+  for (int32_t v = 0; v < mesh.num_vertices(); ++v) cold += !(V.top_value[static_cast<size_t>(v) * kVoronoiTopK] > 0);
 
   if (!opt.output.empty()) write_polylines(opt.output, D);
   Json j{{"command", "voronoi"}, {"input", input_json(opt, in)}};
@@ -107,6 +112,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   j["polylines"] = D.polylines.size();
   j["corners"] = D.corners;
   j["empty_cells"] = empty;
+  j["vertices_without_heat"] = cold;
   j["values_solved_again"] = D.resolved_missing;
   j["timings"] = {{"load_s", in.load_s},      {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
                   {"order_s", H.order_s},     {"analyze_s", H.analyze_s},      {"factor_s", H.factor_s},
@@ -117,6 +123,8 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
        << "  factor " << prepare_s << " s, heat solves " << solve_s << " s (" << V.batches << " batches of 8), diagram "
        << diagram_s << " s\n"
        << "  " << D.polylines.size() << " polylines, " << D.corners << " corners, " << empty << " empty cells\n";
+    if (cold > 0)
+      os << "  " << cold << " vertices received no heat (underflow far from every generator): raise --t\n";
   });
   return 0;
 }
