@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     locus::bench::register_factor_bench(table);
     locus::bench::register_logmap_bench(table);
     locus::bench::register_submesh_bench(table);
+    locus::bench::register_local_bench(table);
     locus::bench::register_voronoi_bench(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {

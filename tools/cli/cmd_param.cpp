@@ -18,6 +18,7 @@
 #include "locus/mesh_io.hpp"
 #include "pipelines/flipfree_param.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/param_patch.hpp"
 
 namespace locus::cli {
 namespace {
@@ -26,6 +27,8 @@ struct ParamCliOptions {
   std::string method = "perfect";
   int iters = 1000;
   double eps = 1e-6;
+  int center = -1;        // --center V: patch mode (tools/cli/param_patch.hpp)
+  double fraction = 0.1;  // --fraction f of the vertices in the patch
 };
 
 // What is parameterized.
@@ -48,6 +51,7 @@ ParamRun parameterize(const Mesh& mesh, const ParamCliOptions& po, const RunCont
 }
 
 int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunContext& ctx) {
+  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, ctx);
   parse_param_method(po.method);  // bad usage before reading the file
   Input in = load_input(opt, ctx);
   const ParamRun run = parameterize(in.mesh, po, ctx);
@@ -93,6 +97,9 @@ void register_param_command(CommandTable& table) {
   app->add_option("--method", po->method, "perfect (Algorithm 1), cotan or uniform (default perfect)");
   app->add_option("--iters", po->iters, "Algorithm 1 iteration cap (default 1000)")->check(CLI::Range(1, 1000000));
   app->add_option("--eps", po->eps, "Algorithm 1 tolerance (default 1e-6 of the diagonal)")->check(CLI::PositiveNumber);
+  app->add_option("--center", po->center, "Patch mode: BFS patch around vertex V, parameterized from the global factor (thesis 4.4)")
+      ->check(CLI::Range(0, 2147483647));
+  app->add_option("--fraction", po->fraction, "Patch mode: fraction of the vertices in the patch (default 0.1)");
 }
 
 }  // namespace locus::cli

@@ -1,0 +1,108 @@
+// The patch mode of `locus param` (tools/cli/param_patch.hpp): thesis §4.4.
+//
+// The whole mesh's regularized cotan Laplacian -L_C + eps M is ordered and
+// factored once; the patch is the BFS patch of round(fraction * n) vertices
+// around --center (pipelines/bfs_patch); its boundary loop on a circle gives the
+// Neumann data of eq. 4.6; u and v come from one 8-lane subset solve with the
+// patch vertices as the wanted set (exact: the full solve's values there), then
+// are centred and scaled into the unit disk. --method does not apply: the patch
+// mode always uses the global cotan operator (that is the point of §4.4).
+//
+// -o FILE writes the PATCH as a mesh of its own (vertex k = k-th patch vertex)
+// with the parameterization as texture coordinates (OBJ `vt`, PLY u/v).
+// JSON: n, factor_s (order + symbolic + numeric of the global operator),
+// query_s (patch growing + data + subset solve + normalization + flip check),
+// the patch and boundary sizes, Euler characteristic, flipped / degenerate
+// faces (orientation against the majority), the columns of L the solve visited.
+#include <cmath>
+#include <ostream>
+
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "kernels/ordering.hpp"
+#include "kernels/symbolic_factor.hpp"
+#include "locus/mesh_io.hpp"
+#include "pipelines/patch_param.hpp"
+#include "tools/cli/param_patch.hpp"
+
+namespace locus::cli {
+
+int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const RunContext& ctx) {
+  if (!(fraction > 0.0 && fraction <= 1.0))
+    fail(ErrorCode::BadUsage, "--fraction must be in (0, 1], got " + format_number(fraction));
+  Input in = load_input(opt, ctx);
+  const Mesh& m = in.mesh;
+  const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
+  if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
+  check_requirements(m, MeshRequirements{});
+  if (center < 0 || center >= m.num_vertices())
+    fail(ErrorCode::BadUsage, "--center " + std::to_string(center) + " is outside 0.." +
+                                  std::to_string(m.num_vertices() - 1));
+  ctx.check_cancel();
+
+  Stopwatch sw;
+  const CscMatrix K = regularized_laplacian(m);
+  const double operator_s = sw.seconds();
+  sw.restart();
+  const Ordering ord = order_matrix(K);
+  const double order_s = sw.seconds();
+  sw.restart();
+  std::shared_ptr<const SymbolicFactor> sym = analyze(K, ord);
+  const double analyze_s = sw.seconds();
+  ctx.check_cancel();
+  sw.restart();
+  const NumericFactor F = factorize(sym, K, ctx);
+  const double numeric_s = sw.seconds();
+  ctx.check_cancel();
+
+  sw.restart();
+  const PatchGrower grower = prepare_patch_grower(m);
+  const double prepare_s = sw.seconds();
+  PatchWorkspace pws;
+  SolveWorkspace ws;
+  sw.restart();
+  const PatchParam P = parameterize_patch(F, grower, center, patch_vertex_count(m.num_vertices(), fraction), pws, ws);
+  const double query_s = sw.seconds();
+  for (double v : P.uv)
+    if (!std::isfinite(v)) fail(ErrorCode::Numerical, "param: the patch parameterization is not finite");
+
+  if (!opt.output.empty()) {
+    WriteOptions wo;
+    wo.uv = &P.uv;
+    write_mesh(opt.output, P.patch.mesh, wo);
+    log("wrote " + opt.output);
+  }
+  Json j{{"command", "param"}, {"input", input_json(opt, in)}};
+  j["domain"] = "patch";
+  j["operator"] = "regularized cotan Laplacian of the whole mesh (-L_C + eps M), Neumann data of eq. 4.6";
+  j["n"] = m.num_vertices();
+  j["center"] = center;
+  j["fraction"] = fraction;
+  j["patch_vertices"] = P.patch.vertices.size();
+  j["patch_faces"] = P.patch.faces.size();
+  j["bfs_rings"] = P.patch.rings;
+  j["boundary_vertices"] = P.boundary.size();
+  j["boundary_loops"] = P.boundary_loops;
+  j["euler_characteristic"] = P.euler_characteristic;
+  j["flipped_faces"] = P.flips.flipped;
+  j["degenerate_faces"] = P.flips.degenerate;
+  j["orientation"] = P.flips.orientation;
+  j["etree_height"] = sym->etree_height;
+  j["forward_columns"] = P.forward_columns;
+  j["backward_columns"] = P.backward_columns;
+  j["factor_s"] = order_s + analyze_s + numeric_s;
+  j["query_s"] = query_s;
+  j["timings"] = {{"load_s", in.load_s},   {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
+                  {"order_s", order_s},    {"analyze_s", analyze_s},       {"numeric_s", numeric_s},
+                  {"prepare_s", prepare_s}, {"grow_s", P.grow_s},          {"rhs_s", P.rhs_s},
+                  {"solve_s", P.solve_s},  {"check_s", P.check_s}};
+  emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": patch of " << P.patch.vertices.size() << " vertices around " << center
+       << " (boundary " << P.boundary.size() << " vertices, " << P.boundary_loops << " loop(s), Euler characteristic "
+       << P.euler_characteristic << ")\n  flipped faces " << P.flips.flipped << ", degenerate faces "
+       << P.flips.degenerate << "\n  factor " << j["factor_s"] << " s, patch " << query_s << " s\n";
+  });
+  return 0;
+}
+
+}  // namespace locus::cli

@@ -1,0 +1,15 @@
+// `locus param MESH --center V --fraction f [-o patch.obj] --json`: the patch
+// mode of `locus param` (cmd_param.cpp dispatches to it): harmonic
+// parameterization of a BFS patch from the GLOBAL factor of the regularized
+// cotan Laplacian (thesis §4.4, eq. 4.6; pipelines/patch_param.hpp).
+// Implemented in cmd_param_patch.cpp.
+#pragma once
+#include <cstdint>
+
+#include "tools/cli/cli_common.hpp"
+
+namespace locus::cli {
+
+int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const RunContext& ctx);
+
+}  // namespace locus::cli
