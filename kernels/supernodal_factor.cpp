@@ -18,6 +18,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -264,6 +265,12 @@ void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
   if (A.ncols != S.n || A.nrows != S.n || A.nnz() != S.a_nnz ||
       static_cast<int64_t>(A.values.size()) != A.nnz() || pattern_hash(A) != S.a_pattern_hash)
     fail(ErrorCode::BadUsage, "matrix does not have the sparsity pattern the symbolic factor was built for");
+  // A NaN or infinite entry would pass dpotrf silently and poison every solve.
+  for (int32_t j = 0; j < A.ncols; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p)
+      if (!std::isfinite(A.values[p]))
+        fail(ErrorCode::Numerical, "matrix entry (" + std::to_string(A.rowind[p]) + ", " + std::to_string(j) +
+                                       ") is not finite (vertex " + std::to_string(j) + ")");
 }
 
 }  // namespace

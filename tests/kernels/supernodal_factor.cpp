@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "kernels/solve_full.hpp"
@@ -192,4 +193,20 @@ TEST_CASE("factorize_supernodes recomputes exactly the masked supernodes") {
   }
   std::vector<uint8_t> short_mask(3, 1);
   CHECK_THROWS_AS(factorize_supernodes(F, A, short_mask), Error);
+}
+
+TEST_CASE("non-finite matrix entries are refused before factoring") {
+  CscMatrix A = test::grid_laplacian(10, 10, 0.1);
+  auto S = analyze(A, order_matrix(A));
+  for (double bad : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+    CscMatrix B = A;
+    B.values[B.colptr[37] + 1] = bad;
+    try {
+      factorize(S, B);
+      FAIL("accepted a non-finite entry");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::Numerical);
+      CHECK(std::string(e.what()).find("not finite") != std::string::npos);
+    }
+  }
 }
