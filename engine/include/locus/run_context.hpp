@@ -3,6 +3,7 @@
 // No process-global configuration: everything travels in this object.
 #pragma once
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <string_view>
 
@@ -15,6 +16,9 @@ struct RunContext {
   // Called with a fraction in [0,1] and a phase name; may be called from worker threads.
   std::function<void(double fraction, std::string_view phase)> progress;
   const std::atomic<bool>* cancel = nullptr;  // raised by the caller to stop promptly
+  // Upper bound on the memory a factorization may allocate, checked against the
+  // symbolic estimate before any numeric work; 0 = 80% of physical memory.
+  std::size_t max_memory_bytes = 0;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
   void check_cancel() const {
