@@ -1,0 +1,445 @@
+// locus::Session (engine/include/locus/session.hpp): a mesh, its derived data
+// cached per key, and the queries of the pipelines on top of them.
+//
+// Concurrency design. The mesh and its position-dependent caches live in an
+// immutable-after-construction State held by shared_ptr; set_positions()
+// builds a new State and swaps the pointer under a mutex, so a running query
+// keeps its State alive and never sees a half-updated mesh. Inside a State every
+// cache is a OnceMap: key -> shared_future of an immutable value. The first
+// thread to ask for a key builds it outside the lock; the others wait on the
+// future (polling their own cancel flag). Failures that depend on the caller
+// (cancellation, memory limit, allocation failure) are not cached: the entry is
+// removed and the next caller builds again; deterministic failures (a mesh that
+// is not positive definite) are cached like values.
+#include "locus/session.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <future>
+#include <map>
+#include <mutex>
+#include <new>
+#include <utility>
+
+#include "kernels/factor_update.hpp"
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "kernels/ordering.hpp"
+#include "kernels/solve_full.hpp"
+#include "kernels/solve_plan.hpp"
+#include "kernels/solve_sparse.hpp"
+#include "kernels/supernodal_factor.hpp"
+#include "kernels/symbolic_factor.hpp"
+#include "locus/error.hpp"
+#include "pipelines/cvt_lloyd.hpp"
+#include "pipelines/deform.hpp"
+#include "pipelines/dem_logmap.hpp"
+#include "pipelines/heat_geodesic.hpp"
+#include "pipelines/logmap.hpp"
+
+namespace locus {
+namespace {
+
+bool transient_failure(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const Error& err) {
+    return err.code() == ErrorCode::Cancelled || err.code() == ErrorCode::ResourceLimit;
+  } catch (const std::bad_alloc&) {
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+// Build-once map: concurrent callers of get() for one key share one build.
+template <class K, class V>
+class OnceMap {
+ public:
+  template <class Build>
+  std::shared_ptr<const V> get(const K& key, const RunContext& ctx, Build&& build) {
+    for (;;) {
+      std::promise<std::shared_ptr<const V>> promise;
+      std::shared_future<std::shared_ptr<const V>> fut;
+      bool owner = false;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        auto it = map_.find(key);
+        if (it == map_.end()) {
+          fut = promise.get_future().share();
+          map_.emplace(key, fut);
+          owner = true;
+        } else {
+          fut = it->second;
+        }
+      }
+      if (owner) {
+        try {
+          promise.set_value(build());
+        } catch (...) {
+          const std::exception_ptr e = std::current_exception();
+          if (transient_failure(e)) {  // erase first: waiters that retry must not find this entry
+            std::lock_guard<std::mutex> lock(mu_);
+            map_.erase(key);
+          }
+          promise.set_exception(e);
+        }
+        return fut.get();
+      }
+      while (fut.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) ctx.check_cancel();
+      try {
+        return fut.get();
+      } catch (...) {
+        // The builder's cancel flag or memory limit is not ours: build again with ours.
+        if (!transient_failure(std::current_exception())) throw;
+        ctx.check_cancel();
+      }
+    }
+  }
+
+ private:
+  std::mutex mu_;
+  std::map<K, std::shared_future<std::shared_ptr<const V>>> map_;
+};
+
+uint64_t bits_of(double x) {
+  uint64_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+
+enum class OperatorKind : int { Heat = 0 };
+
+struct Counters {
+  std::atomic<int64_t> symbolic{0}, numeric{0}, engines{0}, deform{0};
+};
+
+// Symbolic factors depend on the sparsity pattern only: shared by every State of a Session.
+struct SymbolicCache {
+  OnceMap<std::pair<uint64_t, int64_t>, SymbolicFactor> by_pattern;  // (pattern hash, nnz)
+};
+
+struct State {
+  Mesh mesh;
+  double h = 0;
+  int64_t version = 0;
+  std::shared_ptr<SymbolicCache> symbolic;
+  std::shared_ptr<Counters> counters;
+  OnceMap<uint64_t, HeatLogMap> engines;                             // t_factor bits
+  OnceMap<std::pair<int, uint64_t>, NumericFactor> factors;          // (kind, t bits)
+  OnceMap<int, DeformOperator> deform_ops;                           // energy
+  OnceMap<int, DemLogMap> dem;                                       // single entry
+  OnceMap<int, Adjacency> adjacency;                                 // single entry
+};
+
+void check_mesh(const Mesh& m) {
+  validate_mesh_arrays(m);
+  if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
+  if (m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no faces");
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  req.finite_coordinates = true;
+  check_requirements(m, req);
+}
+
+void check_vertex(const State& s, int64_t v, const char* what) {
+  const int32_t n = s.mesh.num_vertices();
+  if (v < 0 || v >= n)
+    fail(ErrorCode::BadUsage, std::string(what) + " " + std::to_string(v) + " is not a vertex of " +
+                                  mesh_name(s.mesh) + " (" + std::to_string(n) + " vertices, ids 0.." +
+                                  std::to_string(n - 1) + ")");
+}
+
+void check_t_factor(double t_factor) {
+  if (!(t_factor > 0) || !std::isfinite(t_factor))
+    fail(ErrorCode::BadUsage, "t_factor must be a finite positive number (got " + std::to_string(t_factor) + ")");
+}
+
+std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx) {
+  check_t_factor(q.t_factor);
+  return s.engines.get(bits_of(q.t_factor), ctx, [&] {
+    ctx.report(0.0, "prepare heat method");
+    LogMapOptions o;
+    o.geodesic.t_factor = q.t_factor;
+    auto e = std::make_shared<const HeatLogMap>(s.mesh, o, ctx);
+    s.counters->engines.fetch_add(1);
+    ctx.report(1.0, "prepare heat method");
+    return e;
+  });
+}
+
+std::shared_ptr<const SymbolicFactor> symbolic_for(State& s, const CscMatrix& A, const RunContext& ctx) {
+  return s.symbolic->by_pattern.get({pattern_hash(A), A.nnz()}, ctx, [&] {
+    auto S = analyze(A, order_matrix(A));  // the ordering HeatGeodesic uses: the same factor, bit for bit
+    s.counters->symbolic.fetch_add(1);
+    return S;
+  });
+}
+
+std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, const RunContext& ctx) {
+  check_t_factor(t_factor);
+  const double t = t_factor * s.h * s.h;
+  return s.factors.get({static_cast<int>(OperatorKind::Heat), bits_of(t)}, ctx, [&] {
+    ctx.report(0.0, "factor heat operator");
+    const CscMatrix A = heat_operator(s.mesh, t);
+    auto S = symbolic_for(s, A, ctx);
+    ctx.check_cancel();
+    auto F = std::make_shared<const NumericFactor>(factorize(S, A, ctx));
+    s.counters->numeric.fetch_add(1);
+    ctx.report(1.0, "factor heat operator");
+    return F;
+  });
+}
+
+std::shared_ptr<const DemLogMap> dem(State& s, const RunContext& ctx) {
+  return s.dem.get(0, ctx, [&] { return std::make_shared<const DemLogMap>(s.mesh); });
+}
+
+std::shared_ptr<const Adjacency> adjacency(State& s, const RunContext& ctx) {
+  return s.adjacency.get(0, ctx, [&] { return std::make_shared<const Adjacency>(vertex_adjacency(s.mesh)); });
+}
+
+std::shared_ptr<State> make_state(Mesh mesh, int64_t version, std::shared_ptr<SymbolicCache> symbolic,
+                                  std::shared_ptr<Counters> counters) {
+  auto s = std::make_shared<State>();
+  s->mesh = std::move(mesh);
+  s->h = locus::mean_edge_length(s->mesh);
+  s->version = version;
+  s->symbolic = std::move(symbolic);
+  s->counters = std::move(counters);
+  return s;
+}
+
+}  // namespace
+
+struct Session::Impl {
+  mutable std::mutex mu;  // guards `state` (the pointer, not what it points to)
+  std::shared_ptr<State> state;
+  int32_t nv = 0, nf = 0;
+
+  std::shared_ptr<State> current() const {
+    std::lock_guard<std::mutex> lock(mu);
+    return state;
+  }
+};
+
+Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
+  check_mesh(mesh);
+  impl_->nv = mesh.num_vertices();
+  impl_->nf = mesh.num_faces();
+  impl_->state = make_state(std::move(mesh), 0, std::make_shared<SymbolicCache>(), std::make_shared<Counters>());
+}
+
+Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
+
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+Session::~Session() = default;
+
+int32_t Session::num_vertices() const { return impl_->nv; }
+int32_t Session::num_faces() const { return impl_->nf; }
+double Session::mean_edge_length() const { return impl_->current()->h; }
+Mesh Session::mesh() const { return impl_->current()->mesh; }
+
+void Session::prepare_heat(const HeatQuery& q, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  engine(*s, q, ctx);
+}
+
+void Session::geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q,
+                                const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  check_vertex(*s, source, "geodesic_distance: source");
+  if (out.size() != static_cast<size_t>(impl_->nv))
+    fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
+                                  std::to_string(impl_->nv));
+  const auto e = engine(*s, q, ctx);
+  ctx.check_cancel();
+  HeatGeodesicWorkspace ws;
+  e->geodesic().query_full(source, out, ws);
+  for (int32_t i = 0; i < impl_->nv; ++i)
+    if (!std::isfinite(out[i]))
+      fail(ErrorCode::Numerical, "geodesic_distance: the distance from vertex " + std::to_string(source) +
+                                     " is not finite at vertex " + std::to_string(i) + " (t = " +
+                                     std::to_string(e->geodesic().time()) + ")");
+}
+
+std::vector<double> Session::geodesic_distance(int32_t source, const HeatQuery& q, const RunContext& ctx) const {
+  std::vector<double> d(static_cast<size_t>(impl_->nv));
+  geodesic_distance(source, d, q, ctx);
+  return d;
+}
+
+LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  check_vertex(*s, center, "logmap: center");
+  if (!(fraction > 0 && fraction <= 1))
+    fail(ErrorCode::BadUsage, "logmap: fraction must be in (0, 1] (got " + std::to_string(fraction) + ")");
+  const int32_t n = impl_->nv;
+  const int32_t count = std::clamp<int32_t>(static_cast<int32_t>(std::lround(fraction * n)), 1, n);
+  const auto e = engine(*s, q, ctx);
+  const auto disk = dem(*s, ctx);
+  ctx.check_cancel();
+  LogMapResult r;
+  r.patch.resize(static_cast<size_t>(count));
+  DemWorkspace dws;
+  const int32_t k = disk->disk(center, count, r.patch, dws);
+  r.patch.resize(static_cast<size_t>(k));
+  r.distance.resize(r.patch.size());
+  r.angle.resize(r.patch.size());
+  r.u.resize(r.patch.size());
+  r.v.resize(r.patch.size());
+  LogMapWorkspace ws;
+  e->query(center, r.patch, {r.distance, r.angle, r.u, r.v}, ws);
+  for (int32_t p = 0; p < k; ++p)
+    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
+      fail(ErrorCode::Numerical, "logmap: the map around vertex " + std::to_string(center) +
+                                     " is not finite at vertex " + std::to_string(r.patch[p]));
+  return r;
+}
+
+std::vector<double> Session::heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
+                                         const HeatQuery& q, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  for (size_t k = 0; k < sources.size(); ++k)
+    check_vertex(*s, sources[k], ("heat_values: source " + std::to_string(k) + " is vertex").c_str());
+  for (size_t k = 0; k < targets.size(); ++k)
+    check_vertex(*s, targets[k], ("heat_values: target " + std::to_string(k) + " is vertex").c_str());
+  const size_t ns = sources.size(), nt = targets.size();
+  std::vector<double> out(ns * nt);
+  if (ns == 0 || nt == 0) return out;
+  const auto F = heat_factor(*s, q.t_factor, ctx);
+  // One exact plan per batch of 8 sources, wanted = the distinct targets.
+  std::vector<int32_t> wanted(targets.begin(), targets.end());
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  std::vector<size_t> target_row(nt);
+  for (size_t k = 0; k < nt; ++k)
+    target_row[k] = static_cast<size_t>(std::lower_bound(wanted.begin(), wanted.end(), targets[k]) - wanted.begin());
+  SolveWorkspace ws;
+  std::vector<int32_t> support;
+  std::vector<double> rhs, vals;
+  const size_t nbatch = (ns + kLanes - 1) / kLanes;
+  for (size_t b = 0; b < nbatch; ++b) {
+    ctx.check_cancel();
+    const size_t first = b * kLanes, lanes = std::min<size_t>(kLanes, ns - first);
+    support.assign(sources.begin() + first, sources.begin() + first + lanes);
+    std::sort(support.begin(), support.end());
+    support.erase(std::unique(support.begin(), support.end()), support.end());
+    const SolvePlan plan = plan_subset_solve(*F->symbolic, support, wanted);
+    rhs.assign(support.size() * kLanes, 0.0);
+    for (size_t l = 0; l < lanes; ++l) {
+      const size_t pos = std::lower_bound(support.begin(), support.end(), sources[first + l]) - support.begin();
+      rhs[pos * kLanes + l] = 1.0;
+    }
+    vals.assign(wanted.size() * kLanes, 0.0);
+    solve_planned8(*F, plan, rhs, vals, ws);
+    for (size_t l = 0; l < lanes; ++l)
+      for (size_t k = 0; k < nt; ++k) out[(first + l) * nt + k] = vals[target_row[k] * kLanes + l];
+    ctx.report(static_cast<double>(b + 1) / static_cast<double>(nbatch), "heat values");
+  }
+  return out;
+}
+
+CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  if (sites < 1 || sites > impl_->nv)
+    fail(ErrorCode::BadUsage, "cvt: the number of sites must be in 1.." + std::to_string(impl_->nv) +
+                                  " (the vertex count), got " + std::to_string(sites));
+  if (iterations < 0)
+    fail(ErrorCode::BadUsage, "cvt: the number of iterations must be >= 0, got " + std::to_string(iterations));
+  LloydOptions o;
+  o.sites = sites;
+  o.iterations = iterations;
+  o.seed = seed;
+  // cvt_lloyd factors M - h^2 L itself (it takes no prepared factor yet).
+  const LloydResult lr = cvt_lloyd(s->mesh, o, ctx);
+  CvtResult r;
+  r.label = lr.label;
+  r.empty_cells = lr.empty_cells;
+  r.unreached = lr.unreached;
+  for (const SurfacePoint& p : lr.sites) {
+    const std::array<double, 3> x = surface_point_position(s->mesh, p);
+    r.site_xyz.insert(r.site_xyz.end(), x.begin(), x.end());
+    r.site_face.push_back(p.face);
+    r.site_vertex.push_back(p.face < 0 ? p.vertex : -1);
+    r.site_bary.insert(r.site_bary.end(), p.bary.begin(), p.bary.end());
+  }
+  return r;
+}
+
+DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  check_vertex(*s, req.roi_seed, "deform: roi_seed");
+  check_vertex(*s, req.handle_vertex, "deform: handle_vertex");
+  if (!(req.roi_fraction > 0 && req.roi_fraction <= 1))
+    fail(ErrorCode::BadUsage, "deform: roi_fraction must be in (0, 1] (got " + std::to_string(req.roi_fraction) + ")");
+  if (req.handle_ring < 0) fail(ErrorCode::BadUsage, "deform: handle_ring must be >= 0");
+  for (double c : req.offset)
+    if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "deform: the offset must be finite");
+  const DeformEnergy energy =
+      req.energy == DeformEnergyKind::Bilaplacian ? DeformEnergy::Bilaplacian : DeformEnergy::Laplacian;
+  const auto op = s->deform_ops.get(static_cast<int>(energy), ctx, [&] {
+    auto o = std::make_shared<const DeformOperator>(prepare_deform_operator(s->mesh, energy, 1e-6, ctx));
+    s->counters->deform.fetch_add(1);
+    return o;
+  });
+  const auto adj = adjacency(*s, ctx);
+  const DeformRegion region =
+      make_deform_region(*adj, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
+  const DeformSystem sys = prepare_deform_system(*op, region, ctx);
+  const Mesh target = handle_target(s->mesh, region, req.offset);
+  Mesh out;
+  const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, s->mesh, target, out);
+  DeformResult r;
+  const int32_t n = impl_->nv;
+  r.xyz.resize(3 * static_cast<size_t>(n));
+  for (int32_t i = 0; i < n; ++i) {
+    r.xyz[3 * static_cast<size_t>(i)] = out.x[i];
+    r.xyz[3 * static_cast<size_t>(i) + 1] = out.y[i];
+    r.xyz[3 * static_cast<size_t>(i) + 2] = out.z[i];
+  }
+  r.roi_size = static_cast<int32_t>(region.roi.size());
+  r.free_size = static_cast<int32_t>(region.free.size());
+  r.columns_updated_fraction = sys.sub.stats.columns_updated_fraction;
+  r.refinement_steps = st.refinement_steps;
+  r.residual = st.residual;
+  return r;
+}
+
+void Session::set_positions(std::span<const double> xyz) {
+  const int32_t n = impl_->nv;
+  if (xyz.size() != 3 * static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "set_positions: " + std::to_string(xyz.size()) + " coordinates, expected 3 * " +
+                                  std::to_string(n));
+  for (size_t k = 0; k < xyz.size(); ++k)
+    if (!std::isfinite(xyz[k]))
+      fail(ErrorCode::BadInput, "set_positions: vertex " + std::to_string(k / 3) + " has a non-finite coordinate");
+  const std::shared_ptr<State> old = impl_->current();
+  Mesh m = old->mesh;
+  for (int32_t i = 0; i < n; ++i) {
+    m.x[i] = xyz[3 * static_cast<size_t>(i)];
+    m.y[i] = xyz[3 * static_cast<size_t>(i) + 1];
+    m.z[i] = xyz[3 * static_cast<size_t>(i) + 2];
+  }
+  check_mesh(m);  // zero-area faces
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  // Versions count calls; concurrent set_positions calls are serialized here (the last one wins).
+  impl_->state = make_state(std::move(m), impl_->state->version + 1, impl_->state->symbolic, impl_->state->counters);
+}
+
+SessionStats Session::stats() const {
+  const std::shared_ptr<State> s = impl_->current();
+  SessionStats st;
+  st.symbolic_analyses = s->counters->symbolic.load();
+  st.numeric_factorizations = s->counters->numeric.load();
+  st.heat_engines = s->counters->engines.load();
+  st.deform_operators = s->counters->deform.load();
+  st.positions_version = s->version;
+  return st;
+}
+
+}  // namespace locus
