@@ -1,0 +1,159 @@
+/* locus.h — the C API of locus (DESIGN.md "Engine API"; issue 9 item 2).
+ *
+ * For game engines, DCC plugins and other languages: opaque session handles,
+ * flat arrays with counts, outputs written into caller memory, status codes,
+ * and no exception or abort ever crosses this boundary. C99 and C++.
+ *
+ * A session owns one triangle mesh and caches what is derived from it: the
+ * first query factors the operators it needs (heat method: M - tL and
+ * -L + eps M, t = h^2 with h the mean edge length), every later query reuses
+ * those factors. See locus/session.hpp for the algorithms.
+ *
+ * Status codes mirror the exit statuses of the `locus` command-line tool:
+ *   LOCUS_OK (0), LOCUS_BAD_USAGE (2: a wrong argument — null pointer, count or
+ *   vertex id out of range), LOCUS_BAD_INPUT (3: an unreadable or unsuitable
+ *   mesh, or a resource limit such as memory), LOCUS_NUMERICAL (4: an operator
+ *   is not positive definite, a result is not finite), LOCUS_CANCELLED (5: a
+ *   progress callback asked to stop), LOCUS_INTERNAL (70: a bug in locus).
+ * On failure, locus_last_error_message() says what is wrong and where, and
+ * output arrays may have been partly written.
+ *
+ * Thread safety: a session may be queried from any number of threads at once
+ * (two threads that need the same factor share one factorization; results are
+ * bit-identical to single-threaded calls). locus_session_destroy must not run
+ * concurrently with any other call on that session. The last-error message is
+ * per thread.
+ *
+ * Vertex ids are 0-based, in the order of the input.
+ */
+#ifndef LOCUS_LOCUS_H
+#define LOCUS_LOCUS_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LOCUS_VERSION_MAJOR 0
+#define LOCUS_VERSION_MINOR 1
+#define LOCUS_VERSION_PATCH 0
+
+typedef enum locus_status {
+  LOCUS_OK = 0,
+  LOCUS_BAD_USAGE = 2,
+  LOCUS_BAD_INPUT = 3,
+  LOCUS_NUMERICAL = 4,
+  LOCUS_CANCELLED = 5,
+  LOCUS_INTERNAL = 70
+} locus_status;
+
+/* Opaque handle. */
+typedef struct locus_session locus_session;
+
+/* Progress of a long call: `fraction` in [0, 1] within `phase` (a short
+ * English name, valid during the call only). Return 0 to continue, nonzero to
+ * cancel: the call then stops at its next check and returns LOCUS_CANCELLED.
+ * locus serializes the calls of one operation (never two at once for one
+ * call), but they may come from worker threads. */
+typedef int (*locus_progress_fn)(double fraction, const char* phase, void* user_data);
+
+/* Options of a long call; a NULL pointer, or a zero-initialized struct, means
+ * all defaults (locus_run_options_default() returns them). */
+typedef struct locus_run_options {
+  int32_t threads;           /* worker threads, 0 = all cores (default) */
+  locus_progress_fn progress; /* NULL: no progress reports, no cancellation */
+  void* user_data;           /* passed to progress */
+  uint64_t max_memory_bytes; /* limit of one factorization, 0 = 80% of physical memory */
+  double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = default 1 (cvt: 1 only) */
+} locus_run_options;
+
+/* The defaults: threads 0, no callback, no memory limit beyond the default, t_factor 1. */
+locus_run_options locus_run_options_default(void);
+
+/* Version of the library (which may differ from the LOCUS_VERSION_* macros of
+ * the header a program was compiled with); any pointer may be NULL. Returns
+ * "major.minor.patch". Thread-safe, never fails. */
+const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
+
+/* Message of the last failed call on this thread ("" after a successful call:
+ * every function except this one clears it on entry). The pointer stays valid
+ * until the next locus call on this thread. Never NULL. */
+const char* locus_last_error_message(void);
+
+/* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
+ * The mesh must be a manifold triangle mesh with at least one face, finite
+ * coordinates, no zero-area faces and no unreferenced vertices (boundaries are
+ * fine); otherwise LOCUS_BAD_INPUT naming the file and the element.
+ * path: NUL-terminated. out: receives the handle (set to NULL on failure).
+ * Builds no operator (queries factor on first use). Thread-safe. */
+locus_status locus_session_create_from_file(const char* path, locus_session** out);
+
+/* A new session from arrays (copied; the caller keeps ownership):
+ * xyz: 3 * nv doubles, vertex i at xyz[3i .. 3i+2], finite;
+ * tris: 3 * nf vertex ids, triangle f = tris[3f .. 3f+2], each in [0, nv);
+ * 1 <= nv < 2^31 - 1 and 1 <= nf <= (2^31 - 1) / 3 (LOCUS_BAD_USAGE otherwise).
+ * The arrays must hold that many elements (locus cannot check a pointer's size).
+ * Same mesh requirements as locus_session_create_from_file. Thread-safe. */
+locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                  locus_session** out);
+
+/* Frees the session and everything it cached. NULL is a no-op. Not concurrently
+ * with other calls on the same session. */
+void locus_session_destroy(locus_session* session);
+
+/* Number of vertices, or -1 (with a message) when session is NULL. */
+int64_t locus_session_vertex_count(const locus_session* session);
+
+/* Number of triangles, or -1 (with a message) when session is NULL. */
+int64_t locus_session_face_count(const locus_session* session);
+
+/* Replaces the vertex positions (3 * nv finite doubles, nv = the vertex count)
+ * keeping the connectivity. Factors that depend on positions are rebuilt on
+ * the next query; orderings and symbolic factors are kept. Safe concurrently
+ * with queries (running ones finish on the old positions). On failure (e.g. a
+ * face becomes degenerate: LOCUS_BAD_INPUT) the old positions stay. */
+locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv);
+
+/* Heat geodesic distance (Crane et al., thesis §6.4) from vertex `source` to
+ * every vertex: out_nv receives vertex-count doubles, 0 at the source.
+ * The first call factors the two heat-method operators (the long part);
+ * later calls cost two solves. */
+locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv);
+/* The same with options (progress/cancel, threads, t_factor); opts may be NULL. */
+locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
+                                        const locus_run_options* opts);
+
+/* Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv)
+ * vertices (at least 1) around vertex `center`, 0 < fraction <= 1.
+ * out_uv: 2 * vertex-count doubles; vertex i gets (u, v) at out_uv[2i], out_uv[2i+1]
+ * (geodesic polar coordinates in the tangent plane of the centre) when it lies
+ * in the disk, NaN in both otherwise. Shares its factors with the geodesic distance. */
+locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv);
+locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
+                             const locus_run_options* opts);
+
+/* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
+ * §3.7): `sites` seeded random initial sites (1 <= sites <= vertex count),
+ * `iters` >= 0 iterations. out_labels_nv: vertex-count int32 labels in
+ * [0, sites). The same seed gives the same labels for any thread count. */
+locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                       int32_t* out_labels_nv);
+/* The same with options; with out_sites_xyz non-NULL (3 * sites doubles) also the
+ * final site positions. opts may be NULL. */
+locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                          int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts);
+
+/* Entries of the inverse heat operator (M - tL)^{-1} between vertex sets, by
+ * exact local solves: out[s * n_targets + k] = value at targets[k] of the heat
+ * from sources[s] (n_sources * n_targets doubles). Counts >= 1 and ids in range;
+ * n_sources * n_targets <= 2^28. Repeated ids are allowed. opts may be NULL. */
+locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
+                               const int64_t* targets, int64_t n_targets, double* out,
+                               const locus_run_options* opts);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LOCUS_LOCUS_H */

@@ -1,0 +1,327 @@
+// The C API (engine/include/locus/locus.h) over locus::Session.
+//
+// Every entry point runs its body inside guarded(): a locus::Error becomes its
+// status (the CLI's exit status), std::bad_alloc becomes LOCUS_BAD_INPUT (a
+// resource limit), anything else LOCUS_INTERNAL; nothing propagates to the C
+// caller. Arguments are checked here, before anything is allocated from them,
+// because C callers cannot be trusted to pass consistent counts.
+#include "locus/locus.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "locus/error.hpp"
+#include "locus/mesh_io.hpp"
+#include "locus/session.hpp"
+
+struct locus_session {
+  explicit locus_session(locus::Session s) : session(std::move(s)) {}
+  locus::Session session;
+};
+
+namespace {
+
+using locus::ErrorCode;
+using locus::fail;
+
+thread_local std::string t_last_error;
+
+// Upper bounds that keep every derived size within int32 indices and sane memory.
+constexpr int64_t kMaxVertices = std::numeric_limits<int32_t>::max() - 1;
+constexpr int64_t kMaxFaces = std::numeric_limits<int32_t>::max() / 3;
+constexpr int32_t kMaxIterations = 10000;
+constexpr int64_t kMaxHeatValues = int64_t(1) << 28;
+
+locus_status status_of(int exit_status) {
+  switch (exit_status) {
+    case 2: return LOCUS_BAD_USAGE;
+    case 3: return LOCUS_BAD_INPUT;
+    case 4: return LOCUS_NUMERICAL;
+    case 5: return LOCUS_CANCELLED;
+    default: return LOCUS_INTERNAL;
+  }
+}
+
+template <class F>
+locus_status guarded(const char* function, F&& body) {
+  t_last_error.clear();
+  try {
+    body();
+    return LOCUS_OK;
+  } catch (const locus::Error& e) {
+    t_last_error = std::string(function) + ": " + e.what();
+    return status_of(e.exit_status());
+  } catch (const std::bad_alloc&) {
+    t_last_error = std::string(function) + ": out of memory";
+    return LOCUS_BAD_INPUT;
+  } catch (const std::exception& e) {
+    t_last_error = std::string(function) + ": internal error: " + e.what();
+    return LOCUS_INTERNAL;
+  } catch (...) {
+    t_last_error = std::string(function) + ": internal error (unknown exception)";
+    return LOCUS_INTERNAL;
+  }
+}
+
+void require(bool ok, const char* message) {
+  if (!ok) fail(ErrorCode::BadUsage, message);
+}
+
+// The RunContext of one call: the C callback behind a mutex (one call at a
+// time, as locus.h promises), its nonzero return raising the cancel flag.
+struct CallContext {
+  std::atomic<bool> cancel{false};
+  std::mutex mu;
+  locus::RunContext ctx;
+  double t_factor = 1.0;
+
+  explicit CallContext(const locus_run_options* o) {
+    if (!o) return;
+    if (o->threads < 0) fail(ErrorCode::BadUsage, "threads must be >= 0 (got " + std::to_string(o->threads) + ")");
+    if (o->t_factor != 0.0) {  // 0: the default, so that a zero-initialized struct means all defaults
+      if (!(o->t_factor > 0) || !std::isfinite(o->t_factor))
+        fail(ErrorCode::BadUsage, "t_factor must be a finite positive number or 0 for the default (got " +
+                                      std::to_string(o->t_factor) + ")");
+      t_factor = o->t_factor;
+    }
+    ctx.threads = o->threads;
+    ctx.max_memory_bytes = static_cast<std::size_t>(
+        std::min<uint64_t>(o->max_memory_bytes, std::numeric_limits<std::size_t>::max()));
+    if (o->progress) {
+      const locus_progress_fn fn = o->progress;
+      void* const user = o->user_data;
+      ctx.cancel = &cancel;
+      ctx.progress = [this, fn, user](double fraction, std::string_view phase) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (cancel.load()) return;
+        const std::string name(phase);
+        int stop = 1;
+        try {
+          stop = fn(fraction, name.c_str(), user);
+        } catch (...) {  // a C++ callback that throws: treat as a request to stop
+        }
+        if (stop != 0) cancel.store(true);
+      };
+    }
+  }
+  locus::HeatQuery heat() const { return locus::HeatQuery{t_factor}; }
+};
+
+locus::Session& session_of(locus_session* s) {
+  require(s != nullptr, "session is NULL");
+  return s->session;
+}
+
+int32_t vertex_id(const locus::Session& s, int64_t v, const char* what) {
+  const int64_t n = s.num_vertices();
+  if (v < 0 || v >= n)
+    fail(ErrorCode::BadUsage, std::string(what) + " " + std::to_string(v) + " is not a vertex (the mesh has " +
+                                  std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
+  return static_cast<int32_t>(v);
+}
+
+}  // namespace
+
+extern "C" {
+
+locus_run_options locus_run_options_default(void) {
+  locus_run_options o;
+  std::memset(&o, 0, sizeof o);
+  o.t_factor = 1.0;
+  return o;
+}
+
+const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch) {
+  if (major) *major = LOCUS_VERSION_MAJOR;
+  if (minor) *minor = LOCUS_VERSION_MINOR;
+  if (patch) *patch = LOCUS_VERSION_PATCH;
+#define LOCUS_STR2(x) #x
+#define LOCUS_STR(x) LOCUS_STR2(x)
+  return LOCUS_STR(LOCUS_VERSION_MAJOR) "." LOCUS_STR(LOCUS_VERSION_MINOR) "." LOCUS_STR(LOCUS_VERSION_PATCH);
+#undef LOCUS_STR
+#undef LOCUS_STR2
+}
+
+const char* locus_last_error_message(void) { return t_last_error.c_str(); }
+
+locus_status locus_session_create_from_file(const char* path, locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_from_file", [&] {
+    require(out != nullptr, "out is NULL");
+    require(path != nullptr, "path is NULL");
+    require(path[0] != '\0', "path is empty");
+    *out = new locus_session(locus::Session::from_file(path));
+  });
+}
+
+locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                  locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create", [&] {
+    require(out != nullptr, "out is NULL");
+    require(xyz != nullptr, "xyz is NULL");
+    require(tris != nullptr, "tris is NULL");
+    if (nv < 1 || nv > kMaxVertices)
+      fail(ErrorCode::BadUsage, "nv = " + std::to_string(nv) + " is not in 1.." + std::to_string(kMaxVertices));
+    if (nf < 1 || nf > kMaxFaces)
+      fail(ErrorCode::BadUsage, "nf = " + std::to_string(nf) + " is not in 1.." + std::to_string(kMaxFaces) +
+                                    (nf == 0 ? " (the mesh has no faces)" : ""));
+    for (int64_t i = 0; i < 3 * nv; ++i)
+      if (!std::isfinite(xyz[i]))
+        fail(ErrorCode::BadInput, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
+                                      "xyz[" + std::to_string(i) + "] = " + std::to_string(xyz[i]) + ")");
+    for (int64_t k = 0; k < 3 * nf; ++k)
+      if (tris[k] < 0 || tris[k] >= nv)
+        fail(ErrorCode::BadInput, "triangle " + std::to_string(k / 3) + " references vertex " +
+                                      std::to_string(tris[k]) + " but the mesh has " + std::to_string(nv) +
+                                      " vertices (tris[" + std::to_string(k) + "])");
+    locus::Mesh m;
+    m.x.resize(static_cast<size_t>(nv));
+    m.y.resize(static_cast<size_t>(nv));
+    m.z.resize(static_cast<size_t>(nv));
+    for (int64_t i = 0; i < nv; ++i) {
+      m.x[i] = xyz[3 * i];
+      m.y[i] = xyz[3 * i + 1];
+      m.z[i] = xyz[3 * i + 2];
+    }
+    m.face_offsets.resize(static_cast<size_t>(nf) + 1);
+    for (int64_t f = 0; f <= nf; ++f) m.face_offsets[f] = static_cast<int32_t>(3 * f);
+    m.face_vertices.assign(tris, tris + 3 * nf);
+    m.f0.resize(static_cast<size_t>(nf));
+    m.f1.resize(static_cast<size_t>(nf));
+    m.f2.resize(static_cast<size_t>(nf));
+    for (int64_t f = 0; f < nf; ++f) {
+      m.f0[f] = tris[3 * f];
+      m.f1[f] = tris[3 * f + 1];
+      m.f2[f] = tris[3 * f + 2];
+    }
+    *out = new locus_session(locus::Session(std::move(m)));
+  });
+}
+
+void locus_session_destroy(locus_session* session) {
+  t_last_error.clear();
+  delete session;
+}
+
+int64_t locus_session_vertex_count(const locus_session* session) {
+  t_last_error.clear();
+  if (!session) {
+    t_last_error = "locus_session_vertex_count: session is NULL";
+    return -1;
+  }
+  return session->session.num_vertices();
+}
+
+int64_t locus_session_face_count(const locus_session* session) {
+  t_last_error.clear();
+  if (!session) {
+    t_last_error = "locus_session_face_count: session is NULL";
+    return -1;
+  }
+  return session->session.num_faces();
+}
+
+locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv) {
+  return guarded("locus_session_set_positions", [&] {
+    locus::Session& s = session_of(session);
+    require(xyz != nullptr, "xyz is NULL");
+    if (nv != s.num_vertices())
+      fail(ErrorCode::BadUsage, "nv = " + std::to_string(nv) + " but the session has " +
+                                    std::to_string(s.num_vertices()) + " vertices");
+    s.set_positions(std::span<const double>(xyz, 3 * static_cast<size_t>(nv)));
+  });
+}
+
+locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
+                                        const locus_run_options* opts) {
+  return guarded("locus_geodesic_distance", [&] {
+    locus::Session& s = session_of(session);
+    require(out_nv != nullptr, "out_nv is NULL");
+    const int32_t src = vertex_id(s, source, "source");
+    CallContext cc(opts);
+    s.geodesic_distance(src, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+  });
+}
+
+locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv) {
+  return locus_geodesic_distance_ex(session, source, out_nv, nullptr);
+}
+
+locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
+                             const locus_run_options* opts) {
+  return guarded("locus_logmap", [&] {
+    locus::Session& s = session_of(session);
+    require(out_uv != nullptr, "out_uv is NULL");
+    const int32_t c = vertex_id(s, center, "center");
+    if (!(fraction > 0 && fraction <= 1))
+      fail(ErrorCode::BadUsage, "fraction must be in (0, 1] (got " + std::to_string(fraction) + ")");
+    CallContext cc(opts);
+    const locus::LogMapResult r = s.logmap(c, fraction, cc.heat(), cc.ctx);
+    const size_t n = static_cast<size_t>(s.num_vertices());
+    std::fill(out_uv, out_uv + 2 * n, std::numeric_limits<double>::quiet_NaN());
+    for (size_t k = 0; k < r.patch.size(); ++k) {
+      out_uv[2 * static_cast<size_t>(r.patch[k])] = r.u[k];
+      out_uv[2 * static_cast<size_t>(r.patch[k]) + 1] = r.v[k];
+    }
+  });
+}
+
+locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv) {
+  return locus_logmap_ex(session, center, fraction, out_uv, nullptr);
+}
+
+locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                          int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts) {
+  return guarded("locus_cvt", [&] {
+    locus::Session& s = session_of(session);
+    require(out_labels_nv != nullptr, "out_labels_nv is NULL");
+    if (sites < 1 || sites > s.num_vertices())
+      fail(ErrorCode::BadUsage, "sites = " + std::to_string(sites) + " is not in 1.." +
+                                    std::to_string(s.num_vertices()) + " (the vertex count)");
+    if (iters < 0 || iters > kMaxIterations)
+      fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
+    CallContext cc(opts);
+    if (cc.t_factor != 1.0)
+      fail(ErrorCode::BadUsage, "t_factor: cvt uses t = h^2 (t_factor 1) only");
+    const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
+    std::copy(r.label.begin(), r.label.end(), out_labels_nv);
+    if (out_sites_xyz) std::copy(r.site_xyz.begin(), r.site_xyz.end(), out_sites_xyz);
+  });
+}
+
+locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed, int32_t* out_labels_nv) {
+  return locus_cvt_ex(session, sites, iters, seed, out_labels_nv, nullptr, nullptr);
+}
+
+locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
+                               const int64_t* targets, int64_t n_targets, double* out,
+                               const locus_run_options* opts) {
+  return guarded("locus_heat_values", [&] {
+    locus::Session& s = session_of(session);
+    require(sources != nullptr, "sources is NULL");
+    require(targets != nullptr, "targets is NULL");
+    require(out != nullptr, "out is NULL");
+    if (n_sources < 1 || n_targets < 1 || n_sources > kMaxHeatValues || n_targets > kMaxHeatValues ||
+        n_sources * n_targets > kMaxHeatValues)
+      fail(ErrorCode::BadUsage, "n_sources = " + std::to_string(n_sources) + ", n_targets = " +
+                                    std::to_string(n_targets) + ": each must be >= 1 and their product <= 2^28");
+    std::vector<int32_t> src(static_cast<size_t>(n_sources)), tgt(static_cast<size_t>(n_targets));
+    for (int64_t k = 0; k < n_sources; ++k)
+      src[k] = vertex_id(s, sources[k], ("sources[" + std::to_string(k) + "] =").c_str());
+    for (int64_t k = 0; k < n_targets; ++k)
+      tgt[k] = vertex_id(s, targets[k], ("targets[" + std::to_string(k) + "] =").c_str());
+    CallContext cc(opts);
+    const std::vector<double> v = s.heat_values(src, tgt, cc.heat(), cc.ctx);
+    std::copy(v.begin(), v.end(), out);
+  });
+}
+
+}  // extern "C"
