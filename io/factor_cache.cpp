@@ -11,12 +11,18 @@
 
 #include <flatbuffers/flatbuffers.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <string>
-#include <sys/stat.h>
 
 #include "factor_cache_generated.h"
 #include "locus/error.hpp"
@@ -56,34 +62,50 @@ Array arr(const char* name, const V& v) {
   return {name, v.data(), static_cast<uint64_t>(v.size()), static_cast<uint32_t>(sizeof(typename V::value_type))};
 }
 
-std::vector<Array> arrays_of(const NumericFactor& f) {
-  const SymbolicFactor& S = *f.symbolic;
-  return {arr("perm", S.perm),           arr("iperm", S.iperm),
-          arr("parent", S.parent),       arr("col_count", S.col_count),
-          arr("super_first_col", S.super_first_col), arr("col_to_super", S.col_to_super),
-          arr("super_parent", S.super_parent),       arr("super_row_ptr", S.super_row_ptr),
-          arr("super_rows", S.super_rows),           arr("super_value_ptr", S.super_value_ptr),
-          arr("a_super_ptr", S.a_super_ptr),         arr("a_src", S.a_src),
-          arr("a_dst", S.a_dst),                     arr("values", f.values)};
+// The symbolic arrays, then one values section per factor.
+std::vector<Array> arrays_of(const SymbolicFactor& S, std::span<const FactorEntry> entries,
+                             std::vector<std::string>& value_names) {
+  std::vector<Array> a = {arr("perm", S.perm),
+                          arr("iperm", S.iperm),
+                          arr("parent", S.parent),
+                          arr("col_count", S.col_count),
+                          arr("super_first_col", S.super_first_col),
+                          arr("col_to_super", S.col_to_super),
+                          arr("super_parent", S.super_parent),
+                          arr("super_row_ptr", S.super_row_ptr),
+                          arr("super_rows", S.super_rows),
+                          arr("super_value_ptr", S.super_value_ptr),
+                          arr("a_super_ptr", S.a_super_ptr),
+                          arr("a_src", S.a_src),
+                          arr("a_dst", S.a_dst)};
+  value_names.clear();
+  for (size_t k = 0; k < entries.size(); ++k) value_names.push_back(k == 0 ? "values" : "values" + std::to_string(k));
+  for (size_t k = 0; k < entries.size(); ++k) a.push_back(arr(value_names[k].c_str(), entries[k].factor->values));
+  return a;
 }
 
-std::vector<uint8_t> build_meta(const NumericFactor& f, const FactorCacheInfo& info, const std::vector<Array>& arrays,
+std::vector<uint8_t> build_meta(const SymbolicFactor& S, uint64_t mesh_hash, std::span<const FactorEntry> entries,
+                                const std::vector<std::string>& value_names, const std::vector<Array>& arrays,
                                 const std::vector<uint64_t>& offsets, const std::vector<uint64_t>& sums) {
-  const SymbolicFactor& S = *f.symbolic;
   flatbuffers::FlatBufferBuilder b;
   b.ForceDefaults(true);  // fixed size whatever the values: offsets are filled in a second pass
   std::vector<flatbuffers::Offset<fbs::Section>> secs;
   for (size_t k = 0; k < arrays.size(); ++k)
     secs.push_back(fbs::CreateSection(b, b.CreateString(arrays[k].name), offsets[k], arrays[k].count, arrays[k].elem, sums[k]));
   auto sv = b.CreateVector(secs);
+  std::vector<flatbuffers::Offset<fbs::Factor>> facs;
+  for (size_t k = 0; k < entries.size(); ++k)
+    facs.push_back(fbs::CreateFactor(b, b.CreateString(entries[k].operator_kind), entries[k].t,
+                                     b.CreateString(value_names[k])));
+  auto fv = b.CreateVector(facs);
   auto ver = b.CreateString("locus 0.1");
-  auto kind = b.CreateString(info.operator_kind);
+  auto kind = b.CreateString(entries[0].operator_kind);
   fbs::FactorCacheBuilder fb(b);
   fb.add_format_version(kFactorCacheFormat);
   fb.add_locus_version(ver);
-  fb.add_mesh_hash(info.mesh_hash);
+  fb.add_mesh_hash(mesh_hash);
   fb.add_operator_kind(kind);
-  fb.add_t(info.t);
+  fb.add_t(entries[0].t);
   fb.add_n(S.n);
   fb.add_ns(S.ns);
   fb.add_nnz_exact(S.nnz_exact);
@@ -95,6 +117,7 @@ std::vector<uint8_t> build_meta(const NumericFactor& f, const FactorCacheInfo& i
   fb.add_max_update_entries(S.max_update_entries);
   fb.add_max_super_rows(S.max_super_rows);
   fb.add_sections(sv);
+  fb.add_factors(fv);
   b.Finish(fb.Finish());
   return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }
@@ -114,18 +137,25 @@ uint64_t mesh_content_hash(const Mesh& m) {
   return h ? h : 1;
 }
 
-void save_factor(const std::string& path, const NumericFactor& f, const FactorCacheInfo& info) {
-  if (!f.symbolic) fail(ErrorCode::BadUsage, "save_factor: empty factor");
-  const std::vector<Array> arrays = arrays_of(f);
+void save_factors(const std::string& path, uint64_t mesh_hash, std::span<const FactorEntry> entries) {
+  if (entries.empty()) fail(ErrorCode::BadUsage, "save_factors: no factor to save");
+  for (const FactorEntry& e : entries) {
+    if (!e.factor || !e.factor->symbolic) fail(ErrorCode::BadUsage, "save_factors: empty factor");
+    if (e.factor->symbolic != entries[0].factor->symbolic)
+      fail(ErrorCode::BadUsage, "save_factors: the factors of one file must share one symbolic factor");
+  }
+  const SymbolicFactor& S = *entries[0].factor->symbolic;
+  std::vector<std::string> value_names;
+  const std::vector<Array> arrays = arrays_of(S, entries, value_names);
   std::vector<uint64_t> sums(arrays.size()), offsets(arrays.size(), 0);
   for (size_t k = 0; k < arrays.size(); ++k) sums[k] = checksum(arrays[k].data, arrays[k].count * arrays[k].elem);
-  const uint64_t meta_size = build_meta(f, info, arrays, offsets, sums).size();
+  const uint64_t meta_size = build_meta(S, mesh_hash, entries, value_names, arrays, offsets, sums).size();
   uint64_t pos = pad8(kHeaderBytes + meta_size);
   for (size_t k = 0; k < arrays.size(); ++k) {
     offsets[k] = pos;
     pos = pad8(pos + arrays[k].count * arrays[k].elem);
   }
-  const std::vector<uint8_t> meta = build_meta(f, info, arrays, offsets, sums);
+  const std::vector<uint8_t> meta = build_meta(S, mesh_hash, entries, value_names, arrays, offsets, sums);
   if (meta.size() != meta_size) fail(ErrorCode::Internal, "factor cache metadata changed size between passes");
   // Write to a temporary name and rename: a crash never leaves a half-written cache under the real name.
   const std::string tmp = path + ".tmp";
@@ -145,45 +175,82 @@ void save_factor(const std::string& path, const NumericFactor& f, const FactorCa
       out.write(static_cast<const char*>(arrays[k].data), static_cast<std::streamsize>(arrays[k].count * arrays[k].elem));
       at = offsets[k] + arrays[k].count * arrays[k].elem;
     }
-    if (!out) fail(ErrorCode::BadInput, path + ": write failed (disk full?)");
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      fail(ErrorCode::BadInput, path + ": write failed (disk full?)");
+    }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail(ErrorCode::BadInput, path + ": cannot rename " + tmp);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    fail(ErrorCode::BadInput, path + ": cannot rename " + tmp + " to it");
+  }
 }
 
-NumericFactor load_factor(const std::string& path, FactorCacheInfo& info, uint64_t expected_mesh_hash) {
+void save_factor(const std::string& path, const NumericFactor& f, const FactorCacheInfo& info) {
+  const FactorEntry e{info.operator_kind, info.t, &f};
+  save_factors(path, info.mesh_hash, std::span<const FactorEntry>(&e, 1));
+}
+
+namespace {
+
+// Closes the descriptor on every exit path.
+struct Fd {
+  int fd = -1;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+// Reads exactly `bytes` at `offset` with large pread calls (no stream buffer copy).
+bool read_at(int fd, void* dst, uint64_t bytes, uint64_t offset) {
+  auto* p = static_cast<char*>(dst);
+  while (bytes > 0) {
+    const size_t chunk = static_cast<size_t>(std::min<uint64_t>(bytes, uint64_t(1) << 30));
+    const ssize_t got = ::pread(fd, p, chunk, static_cast<off_t>(offset));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return false;
+    p += got;
+    offset += static_cast<uint64_t>(got);
+    bytes -= static_cast<uint64_t>(got);
+  }
+  return true;
+}
+
+}  // namespace
+
+LoadedFactors load_factors(const std::string& path, uint64_t expected_mesh_hash) {
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) bad_file(path, "no such file");
   if (!S_ISREG(st.st_mode)) bad_file(path, "not a regular file");
   const uint64_t file_size = static_cast<uint64_t>(st.st_size);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) bad_file(path, "cannot open");
+  Fd file;
+  file.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (file.fd < 0) bad_file(path, "cannot open");
   if (file_size < kHeaderBytes) bad_file(path, "truncated (no header)");
-  char magic[8];
-  uint32_t fmt = 0, reserved = 0;
+  char header[kHeaderBytes];
+  if (!read_at(file.fd, header, kHeaderBytes, 0)) bad_file(path, "cannot read the header");
+  uint32_t fmt = 0;
   uint64_t meta_size = 0;
-  in.read(magic, 8);
-  in.read(reinterpret_cast<char*>(&fmt), 4);
-  in.read(reinterpret_cast<char*>(&reserved), 4);
-  in.read(reinterpret_cast<char*>(&meta_size), 8);
-  if (std::memcmp(magic, kMagic, 8) != 0) bad_file(path, "not a locus factor cache");
+  std::memcpy(&fmt, header + 8, 4);
+  std::memcpy(&meta_size, header + 16, 8);
+  if (std::memcmp(header, kMagic, 8) != 0) bad_file(path, "not a locus factor cache");
   if (fmt != kFactorCacheFormat)
     bad_file(path, "factor cache format " + std::to_string(fmt) + ", this locus reads format " + std::to_string(kFactorCacheFormat));
   if (meta_size > file_size - kHeaderBytes || meta_size > (64u << 20)) bad_file(path, "truncated or corrupted metadata");
   std::vector<uint8_t> meta(meta_size);
-  in.read(reinterpret_cast<char*>(meta.data()), static_cast<std::streamsize>(meta_size));
-  if (!in) bad_file(path, "truncated metadata");
+  if (!read_at(file.fd, meta.data(), meta_size, kHeaderBytes)) bad_file(path, "truncated metadata");
   flatbuffers::Verifier verifier(meta.data(), meta.size());
   if (!fbs::VerifyFactorCacheBuffer(verifier)) bad_file(path, "corrupted metadata");
   const fbs::FactorCache* fc = fbs::GetFactorCache(meta.data());
   if (fc->format_version() != kFactorCacheFormat) bad_file(path, "format version mismatch in metadata");
-  info.mesh_hash = fc->mesh_hash();
-  info.operator_kind = fc->operator_kind() ? fc->operator_kind()->str() : "";
-  info.t = fc->t();
-  if (expected_mesh_hash != 0 && info.mesh_hash != expected_mesh_hash)
+  LoadedFactors out;
+  out.mesh_hash = fc->mesh_hash();
+  if (expected_mesh_hash != 0 && out.mesh_hash != expected_mesh_hash)
     bad_file(path, "factor was made for another mesh (content hash differs)");
 
   auto S = std::make_shared<SymbolicFactor>();
-  NumericFactor f;
   S->n = fc->n();
   S->ns = fc->ns();
   S->nnz_exact = fc->nnz_exact();
@@ -198,20 +265,18 @@ NumericFactor load_factor(const std::string& path, FactorCacheInfo& info, uint64
   for (const fbs::Section* s : *fc->sections())
     if (s && s->name()) secs[s->name()->str()] = s;
   // Reads one section into v after checking it lies inside the file and has the element size of v.
-  auto load = [&](const char* name, auto& v) {
+  auto load = [&](const std::string& name, auto& v) {
     using T = typename std::decay_t<decltype(v)>::value_type;
     auto it = secs.find(name);
-    if (it == secs.end()) bad_file(path, std::string("missing section ") + name);
+    if (it == secs.end()) bad_file(path, "missing section " + name);
     const fbs::Section* s = it->second;
-    if (s->elem_size() != sizeof(T)) bad_file(path, std::string("section ") + name + " has the wrong element size");
+    if (s->elem_size() != sizeof(T)) bad_file(path, "section " + name + " has the wrong element size");
     if (s->offset() > file_size || s->count() > (file_size - s->offset()) / sizeof(T))
-      bad_file(path, std::string("truncated: section ") + name + " extends past the end of the file");
+      bad_file(path, "truncated: section " + name + " extends past the end of the file");
     v.resize(s->count());
-    in.seekg(static_cast<std::streamoff>(s->offset()));
-    in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(s->count() * sizeof(T)));
-    if (!in) bad_file(path, std::string("cannot read section ") + name);
+    if (!read_at(file.fd, v.data(), s->count() * sizeof(T), s->offset())) bad_file(path, "cannot read section " + name);
     if (checksum(v.data(), v.size() * sizeof(T)) != s->checksum())
-      bad_file(path, std::string("corrupted: checksum mismatch in section ") + name);
+      bad_file(path, "corrupted: checksum mismatch in section " + name);
   };
   load("perm", S->perm);
   load("iperm", S->iperm);
@@ -226,23 +291,58 @@ NumericFactor load_factor(const std::string& path, FactorCacheInfo& info, uint64
   load("a_super_ptr", S->a_super_ptr);
   load("a_src", S->a_src);
   load("a_dst", S->a_dst);
-  load("values", f.values);
-  validate_symbolic(*S, static_cast<int64_t>(f.values.size()));
+  // The numeric factors: the `factors` list, or (older files) one "values" section.
+  struct Label {
+    std::string kind, section;
+    double t;
+  };
+  std::vector<Label> labels;
+  if (fc->factors()) {
+    for (const fbs::Factor* f : *fc->factors()) {
+      if (!f || !f->section()) bad_file(path, "corrupted: factor without a values section");
+      labels.push_back({f->operator_kind() ? f->operator_kind()->str() : "", f->section()->str(), f->t()});
+    }
+  } else {
+    labels.push_back({fc->operator_kind() ? fc->operator_kind()->str() : "", "values", fc->t()});
+  }
+  if (labels.empty()) bad_file(path, "holds no factor");
+  out.factors.resize(labels.size());
+  for (size_t k = 0; k < labels.size(); ++k) {
+    load(labels[k].section, out.factors[k].values);
+    if (static_cast<int64_t>(out.factors[k].values.size()) != static_cast<int64_t>(out.factors[0].values.size()))
+      bad_file(path, "corrupted: factors of different sizes");
+    out.operator_kinds.push_back(labels[k].kind);
+    out.t.push_back(labels[k].t);
+  }
+  validate_symbolic(*S, static_cast<int64_t>(out.factors[0].values.size()));
   // Derived data is recomputed, not trusted.
   compute_update_lists(*S);
   S->max_super_rows = 0;
   for (int32_t s = 0; s < S->ns; ++s) S->max_super_rows = std::max(S->max_super_rows, S->nrows(s));
-  for (int32_t s = 0; s < S->ns; ++s) {
-    const double* L = f.values.data() + S->super_value_ptr[s];
-    for (int32_t j = 0; j < S->ncols(s); ++j) {
-      const double d = L[static_cast<int64_t>(j) * S->nrows(s) + j];
-      if (!(d > 0) || !std::isfinite(d)) bad_file(path, "corrupted: non-positive diagonal in the factor");
-      for (int32_t i = j; i < S->nrows(s); ++i)
-        if (!std::isfinite(L[static_cast<int64_t>(j) * S->nrows(s) + i])) bad_file(path, "corrupted: non-finite factor entry");
+  for (NumericFactor& f : out.factors) {
+    for (int32_t s = 0; s < S->ns; ++s) {
+      const double* L = f.values.data() + S->super_value_ptr[s];
+      const int32_t nr = S->nrows(s);
+      for (int32_t j = 0; j < S->ncols(s); ++j) {
+        const double* col = L + static_cast<int64_t>(j) * nr;
+        if (!(col[j] > 0) || !std::isfinite(col[j])) bad_file(path, "corrupted: non-positive diagonal in the factor");
+        // Finite test without branches per entry: x - x is 0 for finite x, NaN otherwise.
+        double probe = 0;
+        for (int32_t i = j; i < nr; ++i) probe += col[i] - col[i];
+        if (probe != 0) bad_file(path, "corrupted: non-finite factor entry");
+      }
     }
+    f.symbolic = S;
   }
-  f.symbolic = std::move(S);
-  return f;
+  return out;
+}
+
+NumericFactor load_factor(const std::string& path, FactorCacheInfo& info, uint64_t expected_mesh_hash) {
+  LoadedFactors L = load_factors(path, expected_mesh_hash);
+  info.mesh_hash = L.mesh_hash;
+  info.operator_kind = L.operator_kinds[0];
+  info.t = L.t[0];
+  return std::move(L.factors[0]);
 }
 
 }  // namespace locus
