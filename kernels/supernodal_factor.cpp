@@ -23,6 +23,7 @@
 #include <string>
 
 #include "kernels/blas.hpp"
+#include "kernels/memory_budget.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -278,6 +279,7 @@ void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
 NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const CscMatrix& A, const RunContext& ctx) {
   if (!symbolic) fail(ErrorCode::BadUsage, "factorize: no symbolic factor");
   check_pattern(*symbolic, A);
+  check_factor_memory(*symbolic, ctx);  // refuse up front rather than be killed by the OS
   NumericFactor f;
   f.symbolic = std::move(symbolic);
   f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
