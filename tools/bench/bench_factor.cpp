@@ -47,6 +47,7 @@ using cli::Stopwatch;
 struct Options {
   cli::OperatorSpec op;
   int repeats = 5;
+  std::string cholmod_ordering = "default";  // default (AMD, METIS only if AMD fills badly) | metis | amd
 };
 
 // Per-peer samples (one entry per repeat) and final figures.
@@ -189,9 +190,16 @@ const char* cholmod_ordering_name(int ordering) {
 // thrown half way frees what was allocated.
 class Cholmod {
  public:
-  Cholmod() {
+  explicit Cholmod(const std::string& ordering) {
     cholmod_start(&c_);
-    c_.supernodal = CHOLMOD_SUPERNODAL;  // supernodal always, as locus; orderings stay CHOLMOD's defaults
+    c_.supernodal = CHOLMOD_SUPERNODAL;  // supernodal always, as locus
+    // "default" keeps CHOLMOD's own choice; "metis"/"amd" force one method, so
+    // the analyze time can be compared against the same kind of ordering.
+    if (ordering != "default") {
+      c_.nmethods = 1;
+      c_.method[0].ordering = ordering == "metis" ? CHOLMOD_METIS : CHOLMOD_AMD;
+      c_.postorder = 1;
+    }
   }
   ~Cholmod() {
     if (L_) cholmod_free_factor(&L_, &c_);
@@ -334,7 +342,7 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
 #ifdef LOCUS_HAVE_CHOLMOD
     openblas_set_num_threads(threads);
     {
-      Cholmod ch;
+      Cholmod ch(bo.cholmod_ordering);
       ch.run(A, rhs, cholmod_run);
     }
     openblas_set_num_threads(blas_default);
@@ -365,6 +373,7 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
                        {"residual_eigen", cli::relative_residual(A, eigen_run.x.data(), rhs.b.data())}};
 #ifdef LOCUS_HAVE_CHOLMOD
   j["cholmod"] = cholmod_run.medians();
+  j["cholmod"]["ordering_requested"] = bo.cholmod_ordering;
   j["ratio_locus_cholmod"] = ratios(j["locus"], j["cholmod"]);
   agree["locus_vs_cholmod"] = rel_diff(locus_run.x, cholmod_run.x);
   agree["locus_vs_cholmod_8"] = rel_diff(locus_run.x8, cholmod_run.x8);
@@ -399,6 +408,9 @@ void register_factor_bench(cli::CommandTable& table) {
   cli::add_operator_options(app, bo->op);
   app->add_option("--repeats,--repeat", bo->repeats, "Repeats; medians are reported (default 5)")
       ->check(CLI::Range(1, 1000));
+  app->add_option("--cholmod-ordering", bo->cholmod_ordering,
+                  "CHOLMOD's ordering: default (its own choice), metis or amd (default: default)")
+      ->check(CLI::IsMember({"default", "metis", "amd"}));
 }
 
 }  // namespace locus::bench
