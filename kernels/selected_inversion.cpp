@@ -45,6 +45,11 @@ class Inverter {
     dtrtri_(&lo, &nu, &k, Zs, &m, &info);
     if (info != 0) fail(ErrorCode::Numerical, "selected inversion: singular diagonal block at factor column " + std::to_string(f + info - 1));
     dlauum_(&lo, &k, Zs, &m, &info);
+    // The strict upper triangle of the square is not part of Z's storage; it held
+    // whatever the allocation held (DefaultInitAllocator) and the GEMM below
+    // would carry that on. Zeroed, so every byte of Z is a function of the input
+    // alone (bit-identical for any thread count and heap state).
+    for (int j = 1; j < k; ++j) std::fill(Zs + static_cast<int64_t>(j) * m, Zs + static_cast<int64_t>(j) * m + j, 0.0);
     if (below == 0) return;
     // U = L21 L11^{-1} (below x k).
     w.U.resize(static_cast<size_t>(below) * k);
@@ -87,8 +92,9 @@ class Inverter {
                w.ZRJ.data() + off, &below);
       t = t2;
     }
-    // Z_JJ -= U^T Z_RJ (lower triangle used); store Z_RJ below.
+    // Z_JJ -= U^T Z_RJ (lower triangle used; the upper is cleared again after); store Z_RJ below.
     dgemm_(&tr, &nt, &k, &k, &below, &mone, w.U.data(), &below, w.ZRJ.data(), &below, &one, Zs, &m);
+    for (int j = 1; j < k; ++j) std::fill(Zs + static_cast<int64_t>(j) * m, Zs + static_cast<int64_t>(j) * m + j, 0.0);
     for (int j = 0; j < k; ++j)
       std::copy(w.ZRJ.begin() + static_cast<int64_t>(j) * below, w.ZRJ.begin() + static_cast<int64_t>(j + 1) * below,
                 Zs + static_cast<int64_t>(j) * m + k);
