@@ -56,6 +56,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
+  num_components_ = connected_components(m, component_);
   grad_ = triangle_gradients(m);
   h_ = locus::mean_edge_length(m);
   t_ = opt.t_factor * h_ * h_;
@@ -143,7 +144,9 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   ws.x.resize(static_cast<size_t>(np));
   solve_planned(poisson_, plan, ws.b, ws.x, ws.poisson);
   const double d0 = ws.x[source_local];
-  for (int32_t k = 0; k < np; ++k) distance[k] = ws.x[k] - d0;
+  const int32_t c = component_[r.verts[source_local]];
+  for (int32_t k = 0; k < np; ++k)
+    distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
 }
 
 void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
@@ -166,7 +169,9 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   ws.x.resize(solve_work_size(poisson_, 1));
   solve(poisson_, ws.b, ws.x);
   const double d0 = ws.b[source];
-  for (int32_t i = 0; i < n; ++i) distance[i] = ws.b[i] - d0;
+  const int32_t c = component_[source];
+  for (int32_t i = 0; i < n; ++i)
+    distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
 }
 
 void HeatGeodesic::query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,

@@ -42,6 +42,12 @@
 // etree, plus O(|P| + |ring|) for gradients and divergence; nothing of size n
 // is touched except O(#supernodes) bytes cleared by the plan builder.
 //
+// Several connected components: both operators stay SPD (M regularizes each
+// component's block of the heat operator, eps M that of the Poisson operator),
+// but heat never crosses components, so a vertex in another component than the
+// source has no geodesic path to it: its distance is +infinity (whole-mesh and
+// localized queries alike), never a finite number.
+//
 // Heat values decay like exp(-r / sqrt(t)); beyond ~700 sqrt(t) they underflow
 // to 0, the gradient vanishes and those triangles contribute no direction
 // (Crane et al. note the same limit): keep patches within that radius.
@@ -101,6 +107,9 @@ class HeatGeodesic {
   const TriangleGradients& gradients() const { return grad_; }
   const NumericFactor& heat_factor() const { return heat_; }
   const NumericFactor& poisson_factor() const { return poisson_; }
+  // Connected component of vertex v (components numbered by their smallest vertex).
+  int32_t component(int32_t v) const { return component_[v]; }
+  int32_t num_components() const { return num_components_; }
 
   // distance[k] = heat geodesic distance from `source` to patch[k]; `source` must be
   // in the patch; patch ids distinct and in range (Error(BadUsage) otherwise).
@@ -131,6 +140,8 @@ class HeatGeodesic {
   TriangleGradients grad_;
   double h_ = 0, t_ = 0;
   NumericFactor heat_, poisson_;
+  std::vector<int32_t> component_;
+  int32_t num_components_ = 0;
 };
 
 }  // namespace locus

@@ -23,6 +23,18 @@ void check_outputs(const LogMapOutput& out, size_t np) {
     fail(ErrorCode::BadUsage, "log map: every output span needs one entry per patch vertex (" + std::to_string(np) + ")");
 }
 
+// A vertex in another component than the centre has no geodesic path to it
+// and receives no heat from it: no distance, no direction. Refused rather than
+// mapped to infinity or NaN. Patch ids are already checked to be in range.
+void check_same_component(const HeatGeodesic& geo, int32_t centre, std::span<const int32_t> patch) {
+  if (geo.num_components() <= 1) return;
+  const int32_t c = geo.component(centre);
+  for (size_t k = 0; k < patch.size(); ++k)
+    if (geo.component(patch[k]) != c)
+      fail(ErrorCode::BadUsage, "log map: patch entry " + std::to_string(k) + " is vertex " + std::to_string(patch[k]) +
+                                    ", in another connected component than the centre " + std::to_string(centre));
+}
+
 }  // namespace
 
 HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, const RunContext& ctx)
@@ -269,6 +281,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     const int32_t cl = r.local[centre];
     if (cl < 0 || cl >= r.patch_size)
       fail(ErrorCode::BadUsage, "the centre vertex " + std::to_string(centre) + " is not in the patch");
+    check_same_component(geo_, centre, patch);
     prepare_centre(centre, angle, ws);
     st.two_ring = !ws.coef2.empty();
     const std::vector<int32_t>& S = ws.sources;
@@ -317,6 +330,7 @@ LogMapStats HeatLogMap::query_full(int32_t centre, std::span<const int32_t> patc
     has_centre |= v == centre;
   }
   if (!has_centre) fail(ErrorCode::BadUsage, "the centre vertex " + std::to_string(centre) + " is not in the patch");
+  check_same_component(geo_, centre, patch);
   prepare_centre(centre, angle, ws);
   const int32_t d = static_cast<int32_t>(ws.sources.size());
   LogMapStats st;

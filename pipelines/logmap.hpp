@@ -104,7 +104,8 @@ class HeatLogMap {
   int32_t num_vertices() const { return geo_.num_vertices(); }
 
   // Localized (exact subset solves). `centre` must be in `patch`; patch ids
-  // distinct and in range (Error(BadUsage) otherwise).
+  // distinct, in range and in the centre's connected component (Error(BadUsage)
+  // otherwise; the other components receive no heat from the centre).
   LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
                     LogMapWorkspace& ws) const {
     return query(centre, patch, out, ws, opt_.angle);
