@@ -55,6 +55,16 @@ uint64_t checksum(const uint8_t* p, size_t bytes) {
   return h;
 }
 
+// Address of a scalar field of a verified flatbuffer table (its vtable lookup;
+// the generated accessors inherit flatbuffers::Table privately), or nullptr.
+const uint8_t* field_address(const void* table, flatbuffers::voffset_t field) {
+  const auto* t = static_cast<const uint8_t*>(table);
+  const uint8_t* vt = t - flatbuffers::ReadScalar<flatbuffers::soffset_t>(t);
+  if (field >= flatbuffers::ReadScalar<flatbuffers::voffset_t>(vt)) return nullptr;
+  const auto off = flatbuffers::ReadScalar<flatbuffers::voffset_t>(vt + field);
+  return off ? t + off : nullptr;
+}
+
 // Rewrites the checksum field of every section that lies inside the file.
 void repair_checksums(std::vector<uint8_t>& file) {
   if (file.size() < kHeaderBytes) return;
@@ -70,7 +80,7 @@ void repair_checksums(std::vector<uint8_t>& file) {
   if (!fc->sections()) return;
   for (const locus::fbs::Section* s : *fc->sections()) {
     if (!s) continue;
-    const uint8_t* field = s->GetAddressOf(locus::fbs::Section::VT_CHECKSUM);
+    const uint8_t* field = field_address(s, locus::fbs::Section::VT_CHECKSUM);
     if (!field) continue;
     const uint64_t off = s->offset(), elem = s->elem_size();
     if (elem == 0 || off > file.size() || s->count() > (file.size() - off) / elem) continue;
