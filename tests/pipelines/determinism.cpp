@@ -7,7 +7,9 @@
 // threads and passes the same count in RunContext::threads, so both the
 // kernels that open their own arena and those that use the caller's
 // (parallel_for over vertices) see it. Seeds are fixed, so the repeated run
-// also checks "same seed, same result". The meshes are small but large enough
+// also checks "same seed, same result". The engine Session (a facade over the
+// pipelines, with caches) is checked the same way with a fresh Session per run.
+// The meshes are small but large enough
 // that the factorization has independent subtrees and the per-vertex loops
 // split into several blocks.
 #include <oneapi/tbb/task_arena.h>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "kernels/factor_update.hpp"
+#include "locus/session.hpp"
 #include "kernels/mesh_generators.hpp"
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
@@ -443,6 +446,31 @@ TEST_CASE("determinism: perfect Laplacian, flip-free parameterization, self-supp
     const SelfSupportResult S = self_supporting(vault, so, ctx);
     for (const auto& c : S.pos) out.add_vec(c);
     out.add_vec(S.forces);
+    return out;
+  });
+}
+
+TEST_CASE("determinism: engine Session (geodesic, log map, heat values, CVT, deformation)") {
+  const Mesh m = make_random_sphere(1500, 22);
+  check_deterministic([&](const RunContext& ctx) {
+    const Session s{Mesh(m)};  // fresh caches: every factor is computed inside this run
+    Bytes out;
+    out.add_vec(s.geodesic_distance(4, {}, ctx));
+    const LogMapResult lm = s.logmap(4, 0.1, {}, ctx);
+    out.add_vec(lm.patch);
+    out.add_vec(lm.u);
+    out.add_vec(lm.v);
+    out.add_vec(s.heat_values(std::vector<int32_t>{0, 9, 700}, std::vector<int32_t>{1, 2, 1400}, {}, ctx));
+    const CvtResult c = s.cvt(12, 2, 5, ctx);
+    out.add_vec(c.label);
+    out.add_vec(c.site_xyz);
+    DeformRequest req;
+    req.roi_seed = 30;
+    req.roi_fraction = 0.2;
+    req.handle_vertex = 30;
+    req.offset = {0.0, 0.1, 0.2};
+    req.energy = DeformEnergyKind::Bilaplacian;
+    out.add_vec(s.deform(req, ctx).xyz);
     return out;
   });
 }

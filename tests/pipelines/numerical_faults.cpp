@@ -15,10 +15,18 @@
 //  * heat geodesic distance: vertices in another component than the source
 //    receive no heat; their distance is +infinity (documented in
 //    pipelines/heat_geodesic.hpp), never a finite number.
-//  * heat Voronoi: a component without a generator receives no heat; its
-//    vertices are labelled -1 ... (see the test for what is reported).
+//  * heat Voronoi: a component without a generator receives no heat: its
+//    vertices' best heat is exactly 0 and their label only the tie-break of
+//    the total order (the lowest generator id); callers detect them by the
+//    zero top value (locus voronoi reports them).
+//  * heat log map: patches must stay in the centre's component (BadUsage).
+//  * patch parameterization: patches grow inside a component; a patch that is
+//    a whole closed component has no boundary and is refused (BadInput).
 //  * perfect Laplacian in space: one pinned vertex per closed component.
 //  * flip-free parameterization: refuses (BadInput): it needs one disk.
+//  * self-supporting surfaces: refuse (BadInput naming a vertex) a component
+//    without a supported boundary; several supported components are fine.
+//  * heat exchange between components: exactly 0.
 //  * a bare semidefinite -L_C: factorization refuses it (Numerical, naming the
 //    vertex of the zero pivot), see the test.
 #include <doctest/doctest.h>
@@ -43,6 +51,7 @@
 #include "pipelines/deform.hpp"
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/flipfree_param.hpp"
+#include "pipelines/heat_exchange.hpp"
 #include "pipelines/heat_geodesic.hpp"
 #include "pipelines/heat_voronoi.hpp"
 #include "pipelines/logmap.hpp"
@@ -100,6 +109,23 @@ Mesh grid_with_flat_triangle(double lift) {
   Mesh m = make_grid(4);
   m.x[1] = 0.125;
   m.y[1] = 0.125 + lift;
+  return m;
+}
+
+// A quad vault over [-1, 1]^2 (n x n quads), boundary on z = 0.
+Mesh quad_vault(int n) {
+  Mesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
+      m.add_vertex(x, y, 0.6 * (1 - x * x) * (1 - y * y));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int32_t a = j * (n + 1) + i;
+      const int32_t q[4] = {a, a + 1, a + n + 2, a + n + 1};
+      m.add_face(q);
+    }
   return m;
 }
 
@@ -378,6 +404,31 @@ TEST_CASE("faults: meshes with several components") {
     INFO(o.message);
     CHECK(o.threw);
     CHECK(o.code == ErrorCode::BadInput);
+  }
+
+  SUBCASE("heat exchange across components is exactly zero, within one component positive") {
+    const HeatFactors H = factor_heat_operators(m, std::vector<double>{0.05});
+    HeatWorkspace ws;
+    std::vector<double> x(2);
+    for (HeatExchangeMethod meth : {HeatExchangeMethod::Subset, HeatExchangeMethod::Union, HeatExchangeMethod::Full}) {
+      heat_exchange(H.factors[0], std::vector<int32_t>{0, 1}, std::vector<int32_t>{2, na + 2}, meth, x, ws);
+      CHECK(x[0] > 0.0);
+      CHECK(x[1] == 0.0);
+    }
+  }
+
+  SUBCASE("self-supporting: every component needs a supported boundary; two vaults are fine") {
+    const Mesh vault = quad_vault(6);
+    SelfSupportOptions o;
+    o.iteration.max_iterations = 20;
+    const SelfSupportResult R = self_supporting(disjoint_union(vault, vault, 3.0), o);
+    CHECK(finite(R.forces));
+    for (const auto& c : R.pos) CHECK(finite(c));
+    const Outcome bad = attempt([&] { self_supporting(disjoint_union(vault, make_icosphere(1), 3.0), o); });
+    INFO(bad.message);
+    CHECK(bad.threw);
+    CHECK(bad.code == ErrorCode::BadInput);
+    CHECK(bad.message.find("vertex " + std::to_string(vault.num_vertices())) != std::string::npos);
   }
 
   SUBCASE("deformation: a region in one component moves, the other component stays bit for bit") {
