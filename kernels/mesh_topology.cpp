@@ -67,6 +67,7 @@ namespace {
 
 // Sorts a short run of keys; buckets are vertex neighbourhoods, mostly < 16 long.
 void sort_bucket(uint64_t* b, uint64_t* e) {
+  if (e - b < 2) return;  // also an empty bucket of an empty array: b may be null, and null + 1 is UB
   if (e - b > 24) {
     std::sort(b, e);
     return;
