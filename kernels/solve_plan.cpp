@@ -19,9 +19,11 @@ void check_ids(const SymbolicFactor& S, std::span<const int32_t> ids, const char
                                     ", outside 0.." + std::to_string(S.n - 1));
 }
 
-// Supernodes on the paths from the given vertices to the root, ascending.
-std::vector<int32_t> ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::vector<uint8_t>& seen) {
-  std::vector<int32_t> out;
+// Supernodes on the paths from the given vertices to the root, ascending, into
+// `out`; `seen` is all zero on entry and on exit.
+void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::vector<uint8_t>& seen,
+                  std::vector<int32_t>& out) {
+  out.clear();
   for (int32_t v : ids)
     for (int32_t s = S.col_to_super[S.iperm[v]]; s >= 0 && !seen[s]; s = S.super_parent[s]) {
       seen[s] = 1;
@@ -29,7 +31,6 @@ std::vector<int32_t> ancestors_of(const SymbolicFactor& S, std::span<const int32
     }
   for (int32_t s : out) seen[s] = 0;
   std::sort(out.begin(), out.end());
-  return out;
 }
 
 int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) {
@@ -38,53 +39,76 @@ int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) 
   return c;
 }
 
-SolvePlan base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out,
-                    std::vector<uint8_t>& seen) {
+void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out, SolvePlan& p,
+               PlanWorkspace& ws) {
   check_ids(S, rhs, "right-hand side support");
   check_ids(S, out, "output set");
-  SolvePlan p;
+  if (ws.seen.size() != static_cast<size_t>(S.ns)) ws.seen.assign(static_cast<size_t>(S.ns), 0);
   p.n = S.n;
+  p.approximate = false;
+  p.kept_cols.clear();
   p.rhs.assign(rhs.begin(), rhs.end());
   p.outputs.assign(out.begin(), out.end());
-  p.forward = ancestors_of(S, rhs, seen);
+  ancestors_of(S, rhs, ws.seen, p.forward);
   p.forward_columns = columns_of(S, p.forward);
-  return p;
 }
 
+// touched = forward ∪ backward (backward is descending), ascending.
 void finish(const SymbolicFactor& S, SolvePlan& p) {
   p.backward_columns = columns_of(S, p.backward);
-  std::vector<int32_t> bw(p.backward.rbegin(), p.backward.rend());
   p.touched.clear();
-  std::set_union(p.forward.begin(), p.forward.end(), bw.begin(), bw.end(), std::back_inserter(p.touched));
+  auto f = p.forward.begin();
+  auto b = p.backward.rbegin();
+  while (f != p.forward.end() || b != p.backward.rend()) {
+    if (b == p.backward.rend() || (f != p.forward.end() && *f < *b)) {
+      p.touched.push_back(*f++);
+    } else {
+      if (f != p.forward.end() && *f == *b) ++f;
+      p.touched.push_back(*b++);
+    }
+  }
 }
 
 }  // namespace
 
-SolvePlan plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
-                            std::span<const int32_t> wanted) {
-  std::vector<uint8_t> seen(S.ns, 0);
-  SolvePlan p = base_plan(S, rhs_support, wanted, seen);
-  p.backward = ancestors_of(S, wanted, seen);
+void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> wanted,
+                       SolvePlan& p, PlanWorkspace& ws) {
+  base_plan(S, rhs_support, wanted, p, ws);
+  ancestors_of(S, wanted, ws.seen, p.backward);
   std::reverse(p.backward.begin(), p.backward.end());
   finish(S, p);
-  return p;
 }
 
-SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
-                               std::span<const int32_t> kept) {
-  std::vector<uint8_t> seen(S.ns, 0);
-  SolvePlan p = base_plan(S, rhs_support, kept, seen);
+void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> kept,
+                          SolvePlan& p, PlanWorkspace& ws) {
+  base_plan(S, rhs_support, kept, p, ws);
   p.approximate = true;
   p.kept_cols.reserve(kept.size());
   for (int32_t v : kept) p.kept_cols.push_back(S.iperm[v]);
   std::sort(p.kept_cols.begin(), p.kept_cols.end());
   p.kept_cols.erase(std::unique(p.kept_cols.begin(), p.kept_cols.end()), p.kept_cols.end());
+  p.backward.clear();
   for (int32_t c : p.kept_cols) {
     const int32_t s = S.col_to_super[c];
     if (p.backward.empty() || p.backward.back() != s) p.backward.push_back(s);
   }
   std::reverse(p.backward.begin(), p.backward.end());
   finish(S, p);
+}
+
+SolvePlan plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
+                            std::span<const int32_t> wanted) {
+  SolvePlan p;
+  PlanWorkspace ws;
+  plan_subset_solve(S, rhs_support, wanted, p, ws);
+  return p;
+}
+
+SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
+                               std::span<const int32_t> kept) {
+  SolvePlan p;
+  PlanWorkspace ws;
+  plan_selective_solve(S, rhs_support, kept, p, ws);
   return p;
 }
 

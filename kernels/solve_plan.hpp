@@ -40,4 +40,19 @@ SolvePlan plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rh
 SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
                                std::span<const int32_t> kept);
 
+// Scratch of the planners: one mark per supernode, all zero between calls.
+// Keeping it (and the plan) across queries makes planning cost proportional to
+// the plan's size, not to the number of supernodes — small queries on a big
+// mesh (single heat values, log-map patches, CVT cells) plan many times.
+struct PlanWorkspace {
+  std::vector<uint8_t> seen;
+};
+
+// The same plans written into a caller-owned plan (its vectors' capacity is
+// reused, so repeated planning does not allocate once warmed up).
+void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> wanted,
+                       SolvePlan& plan, PlanWorkspace& ws);
+void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> kept,
+                          SolvePlan& plan, PlanWorkspace& ws);
+
 }  // namespace locus

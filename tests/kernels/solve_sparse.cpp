@@ -40,12 +40,22 @@ std::vector<double> full_at(const NumericFactor& F, const std::vector<int32_t>& 
   return r;
 }
 
+// Plans into a plan object reused across calls (big plans followed by small
+// ones), checks it equals a freshly built plan, then solves with it.
 void check_exact(const NumericFactor& F, const std::vector<int32_t>& supp, const std::vector<int32_t>& wanted,
                  SolveWorkspace& ws, std::mt19937_64& rng) {
+  static thread_local SolvePlan plan;
+  static thread_local PlanWorkspace pws;
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<double> vals(supp.size());
   for (auto& v : vals) v = u(rng);
-  const SolvePlan plan = plan_subset_solve(*F.symbolic, supp, wanted);
+  plan_subset_solve(*F.symbolic, supp, wanted, plan, pws);
+  const SolvePlan fresh = plan_subset_solve(*F.symbolic, supp, wanted);
+  CHECK(plan.forward == fresh.forward);
+  CHECK(plan.backward == fresh.backward);
+  CHECK(plan.touched == fresh.touched);
+  CHECK(plan.forward_columns == fresh.forward_columns);
+  CHECK(plan.backward_columns == fresh.backward_columns);
   std::vector<double> out(wanted.size());
   solve_planned(F, plan, vals, out, ws);
   const std::vector<double> ref = full_at(F, supp, vals, wanted);
