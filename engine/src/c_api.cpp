@@ -229,6 +229,19 @@ int64_t locus_session_face_count(const locus_session* session) {
   return session->session.num_faces();
 }
 
+locus_status locus_session_get_positions(const locus_session* session, double* out_xyz) {
+  return guarded("locus_session_get_positions", [&] {
+    require(session != nullptr, "session is NULL");
+    require(out_xyz != nullptr, "out_xyz is NULL");
+    const locus::Mesh m = session->session.mesh();
+    for (int32_t i = 0; i < m.num_vertices(); ++i) {
+      out_xyz[3 * static_cast<size_t>(i)] = m.x[i];
+      out_xyz[3 * static_cast<size_t>(i) + 1] = m.y[i];
+      out_xyz[3 * static_cast<size_t>(i) + 2] = m.z[i];
+    }
+  });
+}
+
 locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv) {
   return guarded("locus_session_set_positions", [&] {
     locus::Session& s = session_of(session);

@@ -260,10 +260,11 @@ void Session::geodesic_distance(int32_t source, std::span<double> out, const Hea
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
   e->geodesic().query_full(source, out, ws);
+  // +infinity is the answer in other connected components (no path); NaN never is.
   for (int32_t i = 0; i < impl_->nv; ++i)
-    if (!std::isfinite(out[i]))
+    if (std::isnan(out[i]))
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from vertex " + std::to_string(source) +
-                                     " is not finite at vertex " + std::to_string(i) + " (t = " +
+                                     " is NaN at vertex " + std::to_string(i) + " (t = " +
                                      std::to_string(e->geodesic().time()) + ")");
 }
 

@@ -200,6 +200,11 @@ TEST_CASE("c api: queries equal the C++ Session; bad query arguments; NaN outsid
   // set_positions: scale by 2 doubles distances.
   std::vector<double> xyz2 = a.xyz;
   for (double& c : xyz2) c *= 2;
+  std::vector<double> pos(3 * n);
+  REQUIRE(locus_session_get_positions(g.s, pos.data()) == LOCUS_OK);
+  CHECK(pos == a.xyz);
+  CHECK(locus_session_get_positions(g.s, nullptr) == LOCUS_BAD_USAGE);
+  CHECK(locus_session_get_positions(nullptr, pos.data()) == LOCUS_BAD_USAGE);
   CHECK(locus_session_set_positions(g.s, xyz2.data(), a.nv - 1) == LOCUS_BAD_USAGE);
   CHECK(locus_session_set_positions(g.s, nullptr, a.nv) == LOCUS_BAD_USAGE);
   REQUIRE(locus_session_set_positions(g.s, xyz2.data(), a.nv) == LOCUS_OK);
@@ -208,6 +213,8 @@ TEST_CASE("c api: queries equal the C++ Session; bad query arguments; NaN outsid
   for (size_t i = 0; i < n; ++i) CHECK(d2[i] == doctest::Approx(2 * d[i]).epsilon(1e-9).scale(1));
   xyz2[4] = std::numeric_limits<double>::quiet_NaN();
   CHECK(locus_session_set_positions(g.s, xyz2.data(), a.nv) == LOCUS_BAD_INPUT);
+  REQUIRE(locus_session_get_positions(g.s, pos.data()) == LOCUS_OK);
+  CHECK(pos[4] == 2 * a.xyz[4]);  // the failed call kept the scaled positions
 }
 
 namespace {

@@ -108,6 +108,10 @@ int64_t locus_session_vertex_count(const locus_session* session);
 /* Number of triangles, or -1 (with a message) when session is NULL. */
 int64_t locus_session_face_count(const locus_session* session);
 
+/* Copies the current vertex positions into out_xyz (3 * vertex-count doubles,
+ * vertex i at out_xyz[3i .. 3i+2]). */
+locus_status locus_session_get_positions(const locus_session* session, double* out_xyz);
+
 /* Replaces the vertex positions (3 * nv finite doubles, nv = the vertex count)
  * keeping the connectivity. Factors that depend on positions are rebuilt on
  * the next query; orderings and symbolic factors are kept. Safe concurrently
@@ -116,7 +120,8 @@ int64_t locus_session_face_count(const locus_session* session);
 locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv);
 
 /* Heat geodesic distance (Crane et al., thesis §6.4) from vertex `source` to
- * every vertex: out_nv receives vertex-count doubles, 0 at the source.
+ * every vertex: out_nv receives vertex-count doubles, 0 at the source,
+ * +infinity at vertices in another connected component than the source.
  * The first call factors the two heat-method operators (the long part);
  * later calls cost two solves. */
 locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv);

@@ -124,7 +124,8 @@ class Session {
   // Builds the heat-method engine for q.t_factor now (queries build it on first use).
   void prepare_heat(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
-  // Heat geodesic distance from `source` to every vertex (full solves).
+  // Heat geodesic distance from `source` to every vertex (full solves);
+  // +infinity at vertices in another connected component than the source.
   // out.size() must be num_vertices().
   void geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
