@@ -526,6 +526,22 @@ TEST_CASE("faults: diffusion times 0, negative, NaN, infinite and huge") {
   }
 }
 
+// Regression of a fuzz_c_api finding: a mesh whose faces all collapse to one
+// vertex has no edge at all; building its edge incidence computed nullptr + 1
+// (UBSan, kernels/mesh_topology.cpp sort_bucket; caught by the sanitizer CI job).
+TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refused by name") {
+  Mesh m;
+  m.add_vertex(0, 0, 0);
+  m.add_triangle(0, 0, 0);
+  const EdgeIncidence inc = edge_incidence(m);
+  CHECK(inc.edges.e0.empty());
+  CHECK(analyze_mesh(m).degenerate_faces == 1);
+  const Outcome o = attempt([&] { HeatGeodesic g(m); });
+  INFO(o.message);
+  CHECK(o.threw);
+  CHECK(o.code == ErrorCode::BadInput);
+}
+
 // Regression of a fuzz_c_api finding (input tests/fuzz_corpus/c_api/
 // regress_cvt_component_without_site): localized Lloyd on a mesh where one
 // component receives no site leaves that component's labels at -1 (no batch

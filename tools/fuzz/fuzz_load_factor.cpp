@@ -1,8 +1,8 @@
 // libFuzzer target for the factor-cache loader (io/factor_cache.cpp,
-// load_factor). The input is the file. The only acceptable outcomes are a
+// load_factors, which load_factor wraps). The input is the file. The only acceptable outcomes are a
 // factor or a locus::Error; any other exception, crash, sanitizer report, hang
 // (-timeout) or memory blow-up (-rss_limit_mb) is a finding. A loaded factor is
-// then used for a full solve, an 8-lane solve and a subset solve, so that a
+// then (its last factor) used for a full solve, an 8-lane solve and a subset solve, so that a
 // structure the validator let through but a solve cannot index shows up
 // under ASan.
 //
@@ -13,7 +13,8 @@
 // three inputs in four (size % 4 != 3); the others are loaded as they are.
 //
 // Seeds: LOCUS_FUZZ_WRITE_SEEDS=DIR fuzz_load_factor writes small valid caches
-// (save_factor of grid heat operators) and truncations of them into DIR and
+// (save_factor of grid heat operators, one save_factors file with two factors)
+// and truncations of them into DIR and
 // exits; tests/fuzz_corpus/load_factor/ holds their output.
 #include <flatbuffers/flatbuffers.h>
 #include <unistd.h>
@@ -107,6 +108,11 @@ void write_seeds(const std::string& dir) {
     const locus::NumericFactor F = locus::factorize(locus::analyze(A, locus::order_matrix(A)), A);
     const std::string path = dir + "/grid" + std::to_string(n) + ".locusfc";
     locus::save_factor(path, F, {static_cast<uint64_t>(1000 + n), "heat", 0.01});
+    if (n == 3) {  // several factors on one symbolic factor (save_factors)
+      const locus::NumericFactor G = locus::factorize(F.symbolic, locus::heat_operator(m, 0.1));
+      const locus::FactorEntry entries[2] = {{"heat", 0.01, &F}, {"heat", 0.1, &G}};
+      locus::save_factors(dir + "/grid3_two_factors.locusfc", 1003, entries);
+    }
     std::ifstream in(path, std::ios::binary);
     const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     // Truncations: inside the header, inside the metadata, inside the arrays.
@@ -134,8 +140,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size % 4 != 3) repair_checksums(file);
   write_file(path, file.data(), file.size());
   try {
-    locus::FactorCacheInfo info;
-    const locus::NumericFactor F = locus::load_factor(path, info);
+    const locus::LoadedFactors loaded = locus::load_factors(path);
+    if (loaded.factors.empty()) std::abort();  // a successful load holds at least one factor
+    const locus::NumericFactor& F = loaded.factors.back();
     const int32_t n = F.n();
     std::vector<double> b(static_cast<size_t>(n), 1.0);
     locus::solve(F, b);
