@@ -208,26 +208,15 @@ bool postorder_in_place(Restricted& R) {
 [[noreturn]] void rethrow_numerical(const Error& e, const SymbolicFactor& Sp, std::span<const int32_t> vertices,
                                     std::span<const int32_t> ids) {
   const std::string msg = e.what();
-  const std::string key = "factor column ";
-  const size_t at = msg.rfind(key);
-  if (at != std::string::npos) {
-    size_t p = at + key.size();
-    int64_t col = 0;
-    bool digits = false;
-    while (p < msg.size() && msg[p] >= '0' && msg[p] <= '9') {
-      col = col * 10 + (msg[p] - '0');
-      digits = true;
-      ++p;
-      if (col > Sp.n) break;
-    }
-    if (digits && col < Sp.n) {
-      const int32_t local = Sp.perm[static_cast<size_t>(col)];
-      const int32_t v = vertices[local];
-      const int32_t name = ids.empty() ? v : ids[v];
-      fail(ErrorCode::Numerical, "submatrix is not positive definite at vertex " + std::to_string(name) +
-                                     " (submatrix index " + std::to_string(local) + ", factor column " +
-                                     std::to_string(col) + ")");
-    }
+  const int64_t col = e.where().column;
+  if (col >= 0 && col < Sp.n) {
+    const int32_t local = Sp.perm[static_cast<size_t>(col)];
+    const int32_t v = vertices[local];
+    const int32_t name = ids.empty() ? v : ids[v];
+    fail(ErrorCode::Numerical,
+         "submatrix is not positive definite at vertex " + std::to_string(name) + " (submatrix index " +
+             std::to_string(local) + ", factor column " + std::to_string(col) + ")",
+         ErrorLocation{name, col});
   }
   fail(ErrorCode::Numerical, std::string("submatrix: ") + msg);
 }

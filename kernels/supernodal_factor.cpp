@@ -140,8 +140,10 @@ class Factorizer {
     dpotrf_(&lo, &k, Ls, &m, &info);
     if (info != 0) {
       const int32_t col = f + info - 1;
-      fail(ErrorCode::Numerical, "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) +
-                                     " (factor column " + std::to_string(col) + ")");
+      fail(ErrorCode::Numerical,
+           "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) + " (factor column " +
+               std::to_string(col) + ")",
+           ErrorLocation{S_.perm[col], col});
     }
     if (m > k) {
       const int mk = m - k;
@@ -191,8 +193,10 @@ class Factorizer {
       dpotrf_(&lo, &jb, Djj, &m, &info);
       if (info != 0) {
         const int32_t col = f + j0 + info - 1;
-        fail(ErrorCode::Numerical, "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) +
-                                       " (factor column " + std::to_string(col) + ")");
+        fail(ErrorCode::Numerical,
+             "matrix is not positive definite at vertex " + std::to_string(S_.perm[col]) + " (factor column " +
+                 std::to_string(col) + ")",
+             ErrorLocation{S_.perm[col], col});
       }
       const int32_t r0 = j0 + jb;
       if (r0 >= m) break;

@@ -31,7 +31,8 @@ struct NumericFactor {
 
 // Factors A (lower CSC, original numbering, same pattern that `symbolic` was built from).
 // A non-positive pivot raises Error(Numerical) naming the factor column and the
-// original (input) index of that column: "not positive definite at vertex 513 (column 20771)".
+// original (input) index of that column: "not positive definite at vertex 513 (column 20771)";
+// Error::where() carries both numbers.
 NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const CscMatrix& lower,
                         const RunContext& ctx = {});
 // Same pattern, new values: reuses the symbolic factor and the storage of f.
@@ -39,7 +40,11 @@ void refactorize(NumericFactor& f, const CscMatrix& lower, const RunContext& ctx
 // Recomputes only the supernodes s with refactor[s] != 0 (from A and the
 // current values of their descendants); the others keep the values f already
 // holds, e.g. copied from another factor (chapter 5, factor once). f.values
-// must be sized to the symbolic factor.
+// must be sized to the symbolic factor. Like every numeric kernel it relies on
+// the symbolic invariants (validate_symbolic): supernodes postordered (each
+// parent after its children, every subtree a contiguous range), which is what
+// lets the subtree tasks run independently; a structure assembled by hand
+// (complete_symbolic) must keep that order.
 void factorize_supernodes(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
                           const RunContext& ctx = {});
 

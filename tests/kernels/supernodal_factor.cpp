@@ -133,6 +133,8 @@ TEST_CASE("an indefinite matrix raises the not-positive-definite error naming th
         const std::string msg = e.what();
         CHECK(msg.find("not positive definite at vertex " + std::to_string(bad) + " ") != std::string::npos);
         CHECK(msg.find("column " + std::to_string(S->iperm[bad])) != std::string::npos);
+        CHECK(e.where().vertex == bad);
+        CHECK(e.where().column == S->iperm[bad]);
       }
     }
   }

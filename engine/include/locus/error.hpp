@@ -4,6 +4,7 @@
 // column). The code mirrors the CLI's exit status so that tools can map an
 // error to a status without parsing the message.
 #pragma once
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -18,18 +19,30 @@ enum class ErrorCode : int {
   Internal = 70,     // a bug in locus
 };
 
+// Where a failure happened, for callers that react to it without parsing the
+// message (e.g. the factor-once update renames a submatrix column): the input
+// vertex / row index and the factor column; -1 when not applicable.
+struct ErrorLocation {
+  int64_t vertex = -1;
+  int64_t column = -1;
+};
+
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, const std::string& message)
-      : std::runtime_error(message), code_(code) {}
+  Error(ErrorCode code, const std::string& message, ErrorLocation where = {})
+      : std::runtime_error(message), code_(code), where_(where) {}
   ErrorCode code() const noexcept { return code_; }
+  const ErrorLocation& where() const noexcept { return where_; }
   // Exit status the CLI uses for this error.
   int exit_status() const noexcept { return code_ == ErrorCode::ResourceLimit ? 3 : static_cast<int>(code_); }
 
  private:
   ErrorCode code_;
+  ErrorLocation where_;
 };
 
-[[noreturn]] inline void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
+[[noreturn]] inline void fail(ErrorCode code, const std::string& message, ErrorLocation where = {}) {
+  throw Error(code, message, where);
+}
 
 }  // namespace locus
