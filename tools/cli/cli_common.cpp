@@ -7,18 +7,25 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <new>
 #include <optional>
 
+#include "io/factor_cache.hpp"
+#include "io/write_png.hpp"
 #include "kernels/mesh_generators.hpp"
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
+#include "kernels/ordering.hpp"
+#include "kernels/rasterize.hpp"
+#include "kernels/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
 
@@ -71,9 +78,21 @@ CLI::App* CommandTable::add(const std::string& name, const std::string& descript
   app->add_option("--seed", c.seed, "Seed of every random choice (default 1)");
   app->add_option("--subdivide", c.subdivide, "1:4 midpoint subdivision K times after loading")
       ->check(CLI::Range(0, 16));
+  app->add_option("--max-memory", c.max_memory,
+                  "Memory limit of a factorization: bytes or K/M/G/T (e.g. 4G); default 80% of physical memory");
   cmd->app = app;
   commands_.push_back(std::move(cmd));
   return app;
+}
+
+void CommandTable::add_listing(const std::string& name, const std::string& description) {
+  app_.add_subcommand(name, description)->allow_extras()->prefix_command();
+}
+
+std::vector<std::string> CommandTable::names() const {
+  std::vector<std::string> out;
+  for (const auto& c : commands_) out.push_back(c->name);
+  return out;
 }
 
 int CommandTable::run(int argc, char** argv) {
@@ -104,6 +123,7 @@ int CommandTable::run(int argc, char** argv) {
     g_cancel.store(false);
     auto previous = std::signal(SIGINT, on_sigint);
     RunContext ctx;
+    if (!chosen->common.max_memory.empty()) ctx.max_memory_bytes = parse_memory_size(chosen->common.max_memory);
     ctx.threads = chosen->common.threads;
     ctx.cancel = &g_cancel;
     int status = chosen->body(chosen->common, ctx);
@@ -232,6 +252,165 @@ BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) {
     op.A = heat_operator(m, op.t);
   }
   return op;
+}
+
+std::size_t parse_memory_size(const std::string& text) {
+  auto bad = [&]() -> std::size_t {
+    fail(ErrorCode::BadUsage, "--max-memory '" + text + "': expected a positive size in bytes or with a K, M, G or T suffix (4G, 512M)");
+  };
+  std::string number = text, unit;
+  while (!number.empty() && std::isalpha(static_cast<unsigned char>(number.back()))) {
+    unit.insert(unit.begin(), static_cast<char>(std::toupper(static_cast<unsigned char>(number.back()))));
+    number.pop_back();
+  }
+  double scale = 1;
+  if (unit.empty() || unit == "B") {
+    scale = 1;
+  } else {
+    static const char* const kUnits = "KMGT";
+    const char* at = unit.size() <= 3 ? std::strchr(kUnits, unit[0]) : nullptr;
+    const std::string rest = unit.substr(1);
+    if (!at || !(rest.empty() || rest == "B" || rest == "IB")) return bad();
+    scale = std::pow(1024.0, static_cast<double>(at - kUnits + 1));
+  }
+  double v = 0;
+  const char* first = number.data();
+  const char* last = first + number.size();
+  auto [ptr, ec] = std::from_chars(first, last, v);
+  if (number.empty() || ec != std::errc() || ptr != last || !std::isfinite(v) || !(v > 0)) return bad();
+  const double bytes = std::floor(v * scale);
+  if (!(bytes >= 1) || bytes >= 0x1p63) return bad();
+  return static_cast<std::size_t>(bytes);
+}
+
+void add_factor_cache_options(CLI::App* app, FactorCacheOptions& fc) {
+  app->add_option("--save", fc.save, "Save the factor(s) to FILE (.locus) after factoring");
+  app->add_option("--load", fc.load,
+                  "Load the factor(s) from FILE instead of factoring; refused (exit 3) if made for another mesh, "
+                  "operator or t");
+}
+
+void validate_factor_cache_options(const FactorCacheOptions& fc) {
+  if (!fc.save.empty() && !fc.load.empty())
+    fail(ErrorCode::BadUsage, "--save and --load exclude each other (load " + fc.load + " or save " + fc.save + ")");
+}
+
+namespace {
+
+std::string operator_label(const std::string& kind, double t) {
+  return t != 0 ? kind + " (t = " + format_number(t) + ")" : kind;
+}
+
+std::string operator_list(const std::vector<std::string>& kinds, const std::vector<double>& t) {
+  std::string s;
+  for (size_t k = 0; k < kinds.size(); ++k) s += (k ? ", " : "") + operator_label(kinds[k], t[k]);
+  return s;
+}
+
+}  // namespace
+
+Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<const FactorRequest> ops,
+                       const RunContext& ctx) {
+  validate_factor_cache_options(fc);
+  if (ops.empty() || !ops[0].A) fail(ErrorCode::Internal, "factor_or_load: no operator");
+  const CscMatrix& A0 = *ops[0].A;
+  Factors F;
+  Stopwatch sw;
+  if (!fc.load.empty()) {
+    const uint64_t hash = mesh_content_hash(m);
+    LoadedFactors L = load_factors(fc.load, hash);
+    std::vector<std::string> want_kinds;
+    std::vector<double> want_t;
+    for (const FactorRequest& r : ops) {
+      want_kinds.push_back(r.kind);
+      want_t.push_back(r.t);
+    }
+    bool same = L.factors.size() == ops.size();
+    for (size_t k = 0; same && k < ops.size(); ++k)
+      same = L.operator_kinds[k] == ops[k].kind &&
+             std::abs(L.t[k] - ops[k].t) <= 1e-12 * std::max(std::abs(L.t[k]), std::abs(ops[k].t));
+    if (!same)
+      fail(ErrorCode::BadInput, fc.load + ": holds factors of " + operator_list(L.operator_kinds, L.t) +
+                                    ", but this command needs " + operator_list(want_kinds, want_t) +
+                                    " (save it again with --save and these options)");
+    const SymbolicFactor& S = *L.factors[0].symbolic;
+    if (S.n != A0.ncols || S.a_nnz != A0.nnz() || S.a_pattern_hash != pattern_hash(A0))
+      fail(ErrorCode::BadInput, fc.load + ": the saved factor is of another matrix pattern (" + std::to_string(S.n) +
+                                    " columns, " + std::to_string(S.a_nnz) + " entries) than this operator (" +
+                                    std::to_string(A0.ncols) + " columns, " + std::to_string(A0.nnz()) + " entries)");
+    F.symbolic = L.factors[0].symbolic;
+    F.factors = std::move(L.factors);
+    F.loaded = true;
+    F.load_s = sw.seconds();
+    log("loaded " + std::to_string(F.factors.size()) + " factor(s) from " + fc.load + " in " +
+        format_number(F.load_s) + " s");
+    return F;
+  }
+  for (const FactorRequest& r : ops)
+    if (!r.A || r.A->ncols != A0.ncols || r.A->nnz() != A0.nnz())
+      fail(ErrorCode::Internal, "factor_or_load: the operators do not share one pattern");
+  const Ordering ord = order_matrix(A0);
+  F.order_s = sw.seconds();
+  ctx.check_cancel();
+  sw.restart();
+  F.symbolic = analyze(A0, ord);
+  F.analyze_s = sw.seconds();
+  for (const FactorRequest& r : ops) {
+    ctx.check_cancel();
+    sw.restart();
+    F.factors.push_back(factorize(F.symbolic, *r.A, ctx));
+    F.numeric_s += sw.seconds();
+  }
+  if (!fc.save.empty()) {
+    ctx.check_cancel();
+    sw.restart();
+    std::vector<FactorEntry> entries;
+    for (size_t k = 0; k < ops.size(); ++k) entries.push_back({ops[k].kind, ops[k].t, &F.factors[k]});
+    save_factors(fc.save, mesh_content_hash(m), entries);
+    F.save_s = sw.seconds();
+    log("saved " + std::to_string(entries.size()) + " factor(s) to " + fc.save);
+  }
+  return F;
+}
+
+Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f) {
+  Json j;
+  j["loaded"] = fc.load.empty() ? Json(nullptr) : Json(fc.load);
+  j["saved"] = fc.save.empty() ? Json(nullptr) : Json(fc.save);
+  j["load_s"] = f.load_s;
+  j["save_s"] = f.save_s;
+  return j;
+}
+
+void add_preview_option(CLI::App* app, std::string& path) {
+  app->add_option("--preview", path, "Render a shaded PNG of the mesh coloured by the result (800x800)");
+}
+
+void check_preview_path(const std::string& path) {
+  if (path.empty()) return;
+  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".png") fail(ErrorCode::BadUsage, "--preview " + path + ": the preview is a PNG image; name it *.png");
+}
+
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path) {
+  if (path.empty()) return;
+  check_preview_path(path);
+  RasterOptions ro;
+  ro.coloring = kind == PreviewKind::Scalar   ? Coloring::Scalar
+                : kind == PreviewKind::Labels ? Coloring::Labels
+                                              : Coloring::Checker;
+  // Negative scalars mean "no value" in the CLI's outputs (-1 outside a geodesic patch).
+  std::vector<double> shown;
+  if (kind == PreviewKind::Scalar) {
+    shown.assign(values.begin(), values.end());
+    for (double& v : shown)
+      if (v < 0) v = std::numeric_limits<double>::quiet_NaN();
+    values = shown;
+  }
+  const RasterImage img = rasterize_mesh(m, values, ro);
+  write_png(path, img.width, img.height, img.rgb);
+  log("wrote " + path);
 }
 
 std::string format_number(double v) {

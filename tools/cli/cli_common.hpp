@@ -17,11 +17,13 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
+#include "kernels/supernodal_factor.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus::cli {
@@ -38,6 +40,7 @@ struct CommonOptions {
   int threads = 0;        // 0 = all cores
   uint64_t seed = 1;      // every random choice derives from it
   int subdivide = 0;      // 1:4 midpoint subdivisions after loading
+  std::string max_memory; // --max-memory SIZE as given ("" = default: 80% of physical memory)
 };
 
 // A command's body runs after a successful parse and returns the exit status
@@ -55,6 +58,12 @@ class CommandTable {
   // Declares `<tool> <name> <mesh-file> [common options]`; the caller adds the
   // command's own options to the returned app (owned by the table).
   CLI::App* add(const std::string& name, const std::string& description, CommandBody body);
+
+  // Lists a command with its own grammar in --help without parsing it (the caller dispatches it).
+  void add_listing(const std::string& name, const std::string& description);
+
+  // Names of the commands added with add(), in order.
+  std::vector<std::string> names() const;
 
   // Parses argv, runs the chosen command and returns the exit status. Never throws.
   int run(int argc, char** argv);
@@ -130,6 +139,81 @@ void validate_operator_spec(const OperatorSpec& spec);
 // faces, no unreferenced vertices; BadInput otherwise) and builds A.
 BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec);
 
+// --max-memory SIZE: bytes, or a number with a K, M, G or T suffix (powers of
+// 1024; "512M", "1.5G", "2GiB" and "2GB" are the same as their binary forms).
+// Throws Error(BadUsage) naming the text otherwise. The CommandTable parses it
+// before the body runs and puts it in RunContext::max_memory_bytes.
+std::size_t parse_memory_size(const std::string& text);
+
+// ---- Factor cache (--save F.locus / --load F.locus, io/factor_cache.hpp) ----
+//
+// A command that factors declares the options with add_factor_cache_options,
+// checks them with validate_factor_cache_options before reading the mesh, and
+// gets its factors from factor_or_load, which either
+//  * loads them from --load F (refusing, with Error(BadInput) = exit 3, a file
+//    made for another mesh (content hash after --subdivide), for other
+//    operators or another t, for another matrix pattern, of another format
+//    version, truncated or corrupted), or
+//  * orders, analyzes and factors every requested operator (one ordering and
+//    one symbolic factor, from the first matrix: all must share its pattern)
+//    and, with --save F, writes them.
+// Usage, e.g. for one heat operator:
+//   FactorCacheOptions fc;                        // member of the command's options
+//   add_factor_cache_options(app, fc);            // at registration
+//   validate_factor_cache_options(fc);            // first thing in the body
+//   const CscMatrix A = heat_operator(mesh, t);
+//   const FactorRequest req{"heat", t, &A};
+//   Factors F = factor_or_load(fc, mesh, std::span(&req, 1), ctx);
+//   ... F.factors[0] ...;  j["factor_cache"] = factor_cache_json(fc, F);
+struct FactorCacheOptions {
+  std::string save;  // --save FILE ("" = none)
+  std::string load;  // --load FILE ("" = factor)
+};
+void add_factor_cache_options(CLI::App* app, FactorCacheOptions& fc);
+// Error(BadUsage) for --save and --load together.
+void validate_factor_cache_options(const FactorCacheOptions& fc);
+
+// One operator to factor: its label (kind, t) is stored in the file and must
+// match on load; t is compared with a relative tolerance of 1e-12.
+struct FactorRequest {
+  std::string kind;             // "heat", "laplacian", "poisson", "deform-bilaplacian", ...
+  double t = 0;                 // 0 when the operator has no time (or another scalar parameter, e.g. eps)
+  const CscMatrix* A = nullptr; // lower CSC, original vertex numbering
+};
+struct Factors {
+  std::shared_ptr<const SymbolicFactor> symbolic;
+  std::vector<NumericFactor> factors;  // one per request, in order
+  bool loaded = false;
+  double order_s = 0, analyze_s = 0, numeric_s = 0;  // 0 when loaded
+  double load_s = 0, save_s = 0;
+  double factor_s() const { return order_s + analyze_s + numeric_s; }
+};
+Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<const FactorRequest> ops,
+                       const RunContext& ctx);
+// {"loaded": FILE or null, "saved": FILE or null, "load_s", "save_s"}.
+Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f);
+
+// ---- Previews (--preview out.png, kernels/rasterize.hpp, io/write_png.hpp) ----
+//
+// A shaded picture of the mesh coloured by a per-vertex result, from a fixed
+// camera fitted to the bounding box (orthographic, a three-quarter view from
+// +z), Lambert-shaded, 800 x 800. Usage:
+//   std::string preview;                            // member of the command's options
+//   add_preview_option(app, preview);               // at registration
+//   check_preview_path(preview);                    // before reading the mesh (BadUsage unless "" or *.png)
+//   write_preview(mesh, values, PreviewKind::Scalar, preview);  // after computing; no-op when preview == ""
+enum class PreviewKind {
+  Scalar,   // values: nv numbers (distance, adf, ...), colour map from min to max with iso-bands; NaN or
+            // negative = no value (grey), e.g. -1 outside a geodesic patch
+  Labels,   // values: nv integer labels (cvt cells), one distinct colour per label, negative = grey
+  Checker,  // values: 2 nv numbers, (u, v) per vertex interleaved; a checkerboard of the UVs, NaN = grey
+};
+void add_preview_option(CLI::App* app, std::string& path);
+void check_preview_path(const std::string& path);
+// Renders and writes the PNG (Error(BadUsage) if values has the wrong size,
+// Error(BadInput) if the file cannot be written); logs "wrote <path>".
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path);
+
 // A number for messages: %.6g ("1e+12", "0.000134", "nan"), not std::to_string's fixed notation.
 std::string format_number(double v);
 
@@ -152,5 +236,11 @@ void register_local_solve_commands(CommandTable& table);  // adf, hks, heat
 void register_voronoi_command(CommandTable& table);
 void register_cvt_command(CommandTable& table);
 void register_geodesic_commands(CommandTable& table);  // geodesic, logmap
+
+// `locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR` (cmd_run.cpp).
+// Its grammar differs from the per-mesh commands: main() hands it argv when
+// argv[1] is "run" (the table only lists it in --help, CommandTable::add_listing);
+// `commands` are the valid PIPELINE names. Throws locus::Error for bad usage.
+int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& commands);
 
 }  // namespace locus::cli

@@ -4,6 +4,9 @@
 // per-phase medians over --repeat runs and the relative residual
 // ||A x - b|| / ||b|| of a seeded random right-hand side (A applied with
 // symmetric_multiply, independent of the factor) as the quality check.
+// --load F replaces ordering, analysis and factorization by loading F (each
+// repeat; order_s, symbolic_s, numeric_s are then 0 and factor_cache.load_s
+// is the median load time); --save F writes the factor of the last repeat.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -32,10 +35,12 @@ double worst(double a, double b) { return (std::isnan(b) || b > a) ? b : a; }
 struct FactorOptions {
   OperatorSpec op;
   int repeat = 1;
+  FactorCacheOptions cache;
 };
 
 int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunContext& ctx) {
   validate_operator_spec(fo.op);  // bad --t is bad usage: say so before reading the file
+  validate_factor_cache_options(fo.cache);
   Input in = load_input(opt, ctx);
   ctx.check_cancel();
   Stopwatch sw;
@@ -54,23 +59,22 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   }
   std::vector<double> x(b.size()), x8(b8.size()), work;
 
-  std::vector<double> order_s, symbolic_s, numeric_s, solve_s, solve8_s;
+  std::vector<double> order_s, symbolic_s, numeric_s, solve_s, solve8_s, load_s, save_s;
   std::shared_ptr<const SymbolicFactor> sym;
+  const FactorRequest req{fo.op.kind, op.t, &A};
   for (int r = 0; r < fo.repeat; ++r) {
     ctx.check_cancel();
-    sw.restart();
-    const Ordering ord = order_matrix(A);
-    order_s.push_back(sw.seconds());
-    ctx.check_cancel();
-
-    sw.restart();
-    sym = analyze(A, ord);
-    symbolic_s.push_back(sw.seconds());
-    ctx.check_cancel();
-
-    sw.restart();
-    const NumericFactor F = factorize(sym, A, ctx);
-    numeric_s.push_back(sw.seconds());
+    // Factored (or loaded with --load) every repeat; --save writes the last one.
+    FactorCacheOptions cache = fo.cache;
+    if (r + 1 < fo.repeat) cache.save.clear();
+    const Factors Fs = factor_or_load(cache, in.mesh, std::span(&req, 1), ctx);
+    const NumericFactor& F = Fs.factors[0];
+    sym = Fs.symbolic;
+    order_s.push_back(Fs.order_s);
+    symbolic_s.push_back(Fs.analyze_s);
+    numeric_s.push_back(Fs.numeric_s);
+    load_s.push_back(Fs.load_s);
+    save_s.push_back(Fs.save_s);
     ctx.check_cancel();
 
     // Caller-owned workspace, sized outside the timers: the solves then do not allocate.
@@ -133,6 +137,10 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   j["numeric_s"] = median(numeric_s);
   j["solve_s"] = median(solve_s);
   j["solve8_s"] = median(solve8_s);
+  j["factor_cache"] = {{"loaded", fo.cache.load.empty() ? Json(nullptr) : Json(fo.cache.load)},
+                       {"saved", fo.cache.save.empty() ? Json(nullptr) : Json(fo.cache.save)},
+                       {"load_s", median(load_s)},
+                       {"save_s", save_s.back()}};
   j["residual"] = residual;
   j["residual8"] = residual8;
   // max_i |x8[i, lane 0] - x[i]| / max_i |x[i]|: the 8-lane path must agree with the 1-lane one.
@@ -146,7 +154,9 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
        << "), supernodes " << sym->ns << "\n  etree height " << sym->etree_height << ", supernodal etree height "
        << sym->super_etree_height << "\n  medians over " << fo.repeat << " run(s): order " << j["order_s"]
        << " s, symbolic " << j["symbolic_s"] << " s, numeric " << j["numeric_s"] << " s, solve " << j["solve_s"]
-       << " s, solve8 " << j["solve8_s"] << " s\n  residual " << residual << ", 8-lane residual " << residual8
+       << " s, solve8 " << j["solve8_s"] << " s\n"
+       << (fo.cache.load.empty() ? std::string() : "  loaded from " + fo.cache.load + " in " + format_number(median(load_s)) + " s\n")
+       << "  residual " << residual << ", 8-lane residual " << residual8
        << "\n";
   });
   return 0;
@@ -161,6 +171,7 @@ void register_factor_command(CommandTable& table) {
   add_operator_options(app, fo->op);
   app->add_option("--repeat,--repeats", fo->repeat, "Repeat the pipeline R times and report medians (default 1)")
       ->check(CLI::Range(1, 1000));
+  add_factor_cache_options(app, fo->cache);
 }
 
 }  // namespace locus::cli

@@ -22,6 +22,7 @@ struct GeodesicOptions {
   int64_t source = -1;
   double fraction = 1.0;
   double t_factor = 1.0;
+  std::string preview;  // --preview out.png: distance colour map
 };
 
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
@@ -29,6 +30,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(go.fraction) + ")");
   if (!(go.t_factor > 0) || !std::isfinite(go.t_factor))
     fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(go.t_factor) + ")");
+  check_preview_path(go.preview);
   Input in = load_input(opt, ctx);
   const int32_t n = in.mesh.num_vertices();
   if (go.source < 0 || go.source >= n)
@@ -77,6 +79,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);  // -1 outside the patch: grey
   Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
   j["source"] = source;
   j["method"] = local ? "heat-local" : "heat-full";
@@ -111,6 +114,7 @@ void register_geodesic_commands(CommandTable& table) {
   app->add_option("--source", go->source, "Source vertex (0-based)")->required();
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
   app->add_option("--t-factor", go->t_factor, "Diffusion time t = c h^2 (default 1)");
+  add_preview_option(app, go->preview);
 }
 
 }  // namespace locus::cli

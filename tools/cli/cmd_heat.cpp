@@ -7,9 +7,11 @@
 // JSON: n, factor_s (ordering + symbolic + numeric), query_s (median over
 // --repeat runs of plan + solve), plan_s / solve_s, the columns of L the query
 // visited, the etree height, the values per target and their sum.
+// --save F / --load F keep the factor of M - t L_C in a factor cache.
 #include <cmath>
 #include <ostream>
 
+#include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "pipelines/heat_exchange.hpp"
 #include "tools/cli/heat_signature.hpp"
@@ -24,11 +26,13 @@ struct HeatCliOptions {
   std::string t_text = "1h2";
   std::string method = "subset";
   int repeat = 1;
+  FactorCacheOptions cache;
 };
 
 int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContext& ctx) {
   const HeatExchangeMethod method = parse_heat_exchange_method(ho.method);
   const TimeSpec spec = parse_time_spec(ho.t_text);
+  validate_factor_cache_options(ho.cache);
   Input in = load_input(opt, ctx);
   const Mesh& m = in.mesh;
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
@@ -40,8 +44,12 @@ int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContex
   const std::vector<int32_t> T = parse_vertex_list(ho.targets, m.num_vertices(), "--target");
   const double t = spec.resolve(h);
 
-  const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx);
-  const double factor_s = H.order_s + H.analyze_s + H.numeric_s;
+  Stopwatch osw;
+  const CscMatrix A = heat_operator(m, t);
+  const double operator_s = osw.seconds();
+  const FactorRequest req{"heat", t, &A};
+  const Factors H = factor_or_load(ho.cache, m, std::span(&req, 1), ctx);
+  const double factor_s = H.factor_s();
   HeatWorkspace ws;
   std::vector<double> out(T.size());
   std::vector<double> query_s, plan_s, solve_s;
@@ -80,7 +88,8 @@ int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContex
   j["plan_s"] = median(plan_s);
   j["solve_s"] = median(solve_s);
   j["repeats"] = ho.repeat;
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
+  j["factor_cache"] = factor_cache_json(ho.cache, H);
+  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
                   {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat exchange by " << heat_exchange_method_name(method) << ", t = " << t << ", n "
@@ -105,6 +114,7 @@ void register_heat_command(CommandTable& table) {
       ->check(CLI::IsMember({"subset", "union", "full"}));
   app->add_option("--repeat", ho->repeat, "Repeat the query R times; median time (default 1)")
       ->check(CLI::Range(1, 100000));
+  add_factor_cache_options(app, ho->cache);
 }
 
 }  // namespace locus::cli

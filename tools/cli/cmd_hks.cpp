@@ -12,12 +12,15 @@
 // values after factorization), the method, t (absolute) and the t as given,
 // the factor's size and etree height; per-vertex values for --vertices, or
 // min / max / mean per t for --all.
+// --save F / --load F keep the factors (one per t) in a factor cache;
+// --preview out.png (with --all) renders the values of the first t.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <limits>
 #include <ostream>
 
+#include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "locus/mesh_io.hpp"
 #include "pipelines/adf.hpp"
@@ -44,6 +47,8 @@ void add_heat_signature_options(CLI::App* app, HeatSignatureCliOptions& so) {
                   "subset (etree path per vertex, default), selinv (selected inversion, all vertices at once) or full "
                   "(one full solve per vertex; slow reference)")
       ->check(CLI::IsMember({"subset", "selinv", "full"}));
+  add_factor_cache_options(app, so.cache);
+  add_preview_option(app, so.preview);
 }
 
 int run_heat_signature(const std::string& command, const CommonOptions& opt, const HeatSignatureCliOptions& so,
@@ -59,6 +64,10 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
                                         "values are in the JSON)");
   if (!opt.output.empty() && !has_ply_extension(opt.output))
     fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": per-vertex properties need a .ply file");
+  validate_factor_cache_options(so.cache);
+  check_preview_path(so.preview);
+  if (!so.preview.empty() && !so.all)
+    fail(ErrorCode::BadUsage, command + ": --preview shows a value at every vertex; use it with --all");
 
   Input in = load_input(opt, ctx);
   const Mesh& m = in.mesh;
@@ -72,7 +81,25 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
   const std::vector<int32_t> vertices = so.all ? std::vector<int32_t>{} : parse_vertex_list(so.vertices, m.num_vertices(), "--vertices");
   ctx.check_cancel();
 
-  const HeatFactors H = factor_heat_operators(m, ts, ctx);
+  // One heat operator per t on one pattern: factored (one ordering, one symbolic factor) or loaded.
+  HeatFactors H;
+  H.t = ts;
+  Stopwatch osw;
+  std::vector<CscMatrix> A;
+  for (double t : ts) {
+    if (!(std::isfinite(t) && t > 0))
+      fail(ErrorCode::BadUsage, command + ": diffusion time " + format_number(t) + " must be finite and > 0");
+    A.push_back(heat_operator(m, t));
+  }
+  H.operator_s = osw.seconds();
+  std::vector<FactorRequest> req;
+  for (size_t k = 0; k < ts.size(); ++k) req.push_back({"heat", ts[k], &A[k]});
+  Factors F = factor_or_load(so.cache, m, req, ctx);
+  H.symbolic = F.symbolic;
+  H.factors = std::move(F.factors);
+  H.order_s = F.order_s;
+  H.analyze_s = F.analyze_s;
+  H.numeric_s = F.numeric_s;
   const double factor_s = H.order_s + H.analyze_s + H.numeric_s;
   const size_t nt = ts.size();
   const size_t count = so.all ? static_cast<size_t>(m.num_vertices()) : vertices.size();
@@ -148,8 +175,15 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
       j["hks"] = rows;
     }
   }
+  j["factor_cache"] = factor_cache_json(so.cache, F);
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
                   {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
+  if (!so.preview.empty()) {
+    std::vector<double> first(count);
+    for (size_t k = 0; k < count; ++k) first[k] = values[k * nt];
+    write_preview(m, first, PreviewKind::Scalar, so.preview);
+    j["preview"] = so.preview;
+  }
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << command << " by " << adf_method_name(method) << ", n " << m.num_vertices()
        << ", etree height " << H.symbolic->etree_height << "\n  factor " << factor_s << " s (" << nt

@@ -26,6 +26,7 @@ struct LogmapOptions {
   double t_factor = 1.0;
   std::string method = "heat";
   std::string angle = "auto";
+  std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
 };
 
 int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunContext& ctx) {
@@ -40,6 +41,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   else if (lo.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average (got '" + lo.angle + "')");
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
+  check_preview_path(lo.preview);
   Input in = load_input(opt, ctx);
   const int32_t n = in.mesh.num_vertices();
   if (lo.center < 0 || lo.center >= n)
@@ -121,6 +123,14 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
+  if (!lo.preview.empty()) {
+    std::vector<double> uv(2 * static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
+    for (int32_t p = 0; p < k; ++p) {
+      uv[2 * static_cast<size_t>(patch[p])] = u[p];
+      uv[2 * static_cast<size_t>(patch[p]) + 1] = v[p];
+    }
+    write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview);
+  }
   double dmax = 0;
   for (double x : d) dmax = std::max(dmax, x);
   Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
@@ -163,6 +173,7 @@ void register_logmap_command(CommandTable& table) {
   app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
+  add_preview_option(app, lo->preview);
 }
 
 }  // namespace locus::cli

@@ -29,6 +29,7 @@ struct ParamCliOptions {
   double eps = 1e-6;
   int center = -1;        // --center V: patch mode (tools/cli/param_patch.hpp)
   double fraction = 0.1;  // --fraction f of the vertices in the patch
+  FactorCacheOptions cache;  // --save / --load: patch mode only (the disk methods refactor per iteration)
 };
 
 // What is parameterized.
@@ -51,7 +52,10 @@ ParamRun parameterize(const Mesh& mesh, const ParamCliOptions& po, const RunCont
 }
 
 int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunContext& ctx) {
-  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, ctx);
+  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, po.cache, ctx);
+  if (!po.cache.save.empty() || !po.cache.load.empty())
+    fail(ErrorCode::BadUsage, "param: --save / --load apply to the patch mode (--center V); the disk methods "
+                              "factor a new matrix per iteration");
   parse_param_method(po.method);  // bad usage before reading the file
   Input in = load_input(opt, ctx);
   const ParamRun run = parameterize(in.mesh, po, ctx);
@@ -100,6 +104,7 @@ void register_param_command(CommandTable& table) {
   app->add_option("--center", po->center, "Patch mode: BFS patch around vertex V, parameterized from the global factor (thesis 4.4)")
       ->check(CLI::Range(0, 2147483647));
   app->add_option("--fraction", po->fraction, "Patch mode: fraction of the vertices in the patch (default 0.1)");
+  add_factor_cache_options(app, po->cache);
 }
 
 }  // namespace locus::cli

@@ -14,6 +14,7 @@
 // query_s (patch growing + data + subset solve + normalization + flip check),
 // the patch and boundary sizes, Euler characteristic, flipped / degenerate
 // faces (orientation against the majority), the columns of L the solve visited.
+// --save F / --load F keep the global factor in a factor cache.
 #include <cmath>
 #include <ostream>
 
@@ -27,9 +28,11 @@
 
 namespace locus::cli {
 
-int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const RunContext& ctx) {
+int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const FactorCacheOptions& cache,
+                    const RunContext& ctx) {
   if (!(fraction > 0.0 && fraction <= 1.0))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1], got " + format_number(fraction));
+  validate_factor_cache_options(cache);
   Input in = load_input(opt, ctx);
   const Mesh& m = in.mesh;
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
@@ -43,16 +46,11 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
   Stopwatch sw;
   const CscMatrix K = regularized_laplacian(m);
   const double operator_s = sw.seconds();
-  sw.restart();
-  const Ordering ord = order_matrix(K);
-  const double order_s = sw.seconds();
-  sw.restart();
-  std::shared_ptr<const SymbolicFactor> sym = analyze(K, ord);
-  const double analyze_s = sw.seconds();
-  ctx.check_cancel();
-  sw.restart();
-  const NumericFactor F = factorize(sym, K, ctx);
-  const double numeric_s = sw.seconds();
+  const FactorRequest req{"laplacian", 0, &K};
+  const Factors Fs = factor_or_load(cache, m, std::span(&req, 1), ctx);
+  const NumericFactor& F = Fs.factors[0];
+  const std::shared_ptr<const SymbolicFactor>& sym = Fs.symbolic;
+  const double order_s = Fs.order_s, analyze_s = Fs.analyze_s, numeric_s = Fs.numeric_s;
   ctx.check_cancel();
 
   sw.restart();
@@ -92,6 +90,7 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
   j["backward_columns"] = P.backward_columns;
   j["factor_s"] = order_s + analyze_s + numeric_s;
   j["query_s"] = query_s;
+  j["factor_cache"] = factor_cache_json(cache, Fs);
   j["timings"] = {{"load_s", in.load_s},   {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
                   {"order_s", order_s},    {"analyze_s", analyze_s},       {"numeric_s", numeric_s},
                   {"prepare_s", prepare_s}, {"grow_s", P.grow_s},          {"rhs_s", P.rhs_s},

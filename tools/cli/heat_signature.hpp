@@ -14,6 +14,8 @@ struct HeatSignatureCliOptions {
   std::string vertices;              // --vertices LIST ("" = none)
   bool all = false;                  // --all
   std::string method = "subset";     // subset | selinv | full
+  FactorCacheOptions cache;          // --save / --load (one heat factor per t)
+  std::string preview;               // --preview out.png (with --all; the first t)
 };
 
 // `command` is "adf" (property and JSON key `adf`, one t) or "hks" (properties
@@ -21,7 +23,7 @@ struct HeatSignatureCliOptions {
 int run_heat_signature(const std::string& command, const CommonOptions& opt, const HeatSignatureCliOptions& so,
                        const RunContext& ctx);
 
-// --vertices / --all / --method, shared by both commands.
+// --vertices / --all / --method / --save / --load / --preview, shared by both commands.
 void add_heat_signature_options(CLI::App* app, HeatSignatureCliOptions& so);
 
 // The local-solve commands, one file each (cmd_adf.cpp, cmd_hks.cpp,

@@ -3,7 +3,9 @@
 // statuses and shared helpers are in cli_common.
 #include <exception>
 #include <iostream>
+#include <string>
 
+#include "locus/error.hpp"
 #include "tools/cli/cli_common.hpp"
 
 int main(int argc, char** argv) {
@@ -19,6 +21,15 @@ int main(int argc, char** argv) {
     locus::cli::register_voronoi_command(table);
     locus::cli::register_cvt_command(table);
     locus::cli::register_geodesic_commands(table);
+    table.add_listing("run", "Run one command over many meshes: locus run PIPELINE FILE-OR-FOLDER... [options] --out DIR");
+    if (argc >= 2 && std::string(argv[1]) == "run") {
+      try {
+        return locus::cli::run_pipeline_runner(argc, argv, table.names());
+      } catch (const locus::Error& e) {
+        std::cerr << "locus: error: " << e.what() << "\n";
+        return e.exit_status();
+      }
+    }
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus: internal error: " << e.what() << "\n";

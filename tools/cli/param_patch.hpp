@@ -10,6 +10,8 @@
 
 namespace locus::cli {
 
-int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const RunContext& ctx);
+// cache: --save / --load of the global factor (cli_common.hpp, factor_or_load).
+int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, const FactorCacheOptions& cache,
+                    const RunContext& ctx);
 
 }  // namespace locus::cli

@@ -1,0 +1,564 @@
+// `locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR [--jobs J]
+// [--threads N] [--ext EXT] [--json]`: one pipeline (any locus command) over
+// many meshes (issue 9 item 4).
+//
+// Inputs are the arguments between PIPELINE and the first option; a folder
+// stands for the mesh files directly inside it (.off .obj .ply, any case),
+// sorted by name; other files in a folder are ignored (counted in the summary).
+// Every later argument that is not one of the runner's own options goes to
+// the pipeline unchanged (--sites 200 --iters 20 ...).
+//
+// Design: every item runs as a child process of this same executable
+// (/proc/self/exe via posix_spawn) with `PIPELINE INPUT [options] --json
+// --threads T -o DIR/STEM.EXT`, stdout to a file that becomes the item's
+// report and stderr captured into it. A child process isolates what a
+// thread cannot: a crash, an abort or a runaway allocation on one hostile file
+// costs that item only, and the memory of a finished item is returned to the
+// system. The cost, one exec and one mesh load per item, is what the item
+// would cost anyway. Children run J at a time with T = max(1, N / J) threads
+// each (N = --threads, default all cores), so the machine is not oversubscribed.
+//
+// Outputs in DIR, per input STEM (the file name without extension; "-2", "-3"
+// appended when two inputs share one): STEM.EXT (the pipeline's -o file; EXT
+// defaults per pipeline: ply for per-vertex results, obj for param, locus for
+// factor (--save), none for info and heat) and STEM.json, the item report:
+// {input, status (ok | failed | crashed | cancelled), exit_status, signal,
+// seconds, output, error (last "error:" line of stderr), stderr, result (the
+// pipeline's JSON, or null)}. DIR/summary.json lists every item and the counts;
+// --json prints it on stdout too, otherwise a short table goes to stdout.
+//
+// Progress: a one-line bar on stderr (items done / total, items per second,
+// ETA) only when stderr is a terminal.
+// Ctrl-C (SIGINT) or SIGTERM: no new item starts, running children get SIGINT
+// (they stop at their next cancellation check; SIGKILL after 10 s), finished
+// results stay, the summary is written with the unfinished items as
+// "cancelled" / "not_run", exit status 5. A second Ctrl-C kills the runner.
+//
+// Exit status: 0 every input succeeded; 3 some input failed (bad file,
+// numerical failure or crash: each is reported and skipped, the run goes on);
+// 2 bad usage of the runner, or pipeline options a child refused as bad usage
+// (then every item would fail the same way: the run stops at the first);
+// 5 cancelled.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "locus/error.hpp"
+#include "tools/cli/cli_common.hpp"
+
+extern char** environ;
+
+namespace locus::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::atomic<int> g_stop{0};  // signal number that asked the runner to stop, 0 = none
+static_assert(std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_stop_signal(int sig) {
+  g_stop.store(sig, std::memory_order_relaxed);
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C kills
+}
+
+struct RunOptions {
+  std::string pipeline;
+  std::vector<std::string> inputs;
+  std::vector<std::string> pipeline_args;
+  std::string out;
+  int jobs = 1;
+  int threads = 0;
+  std::string ext;  // "" = the pipeline's default
+  bool json = false;
+};
+
+const char* kUsage =
+    "Usage: locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR [--jobs J] [--threads N]\n"
+    "                 [--ext EXT|none] [--json]\n"
+    "Runs `locus PIPELINE` on every input (folders: the .off/.obj/.ply files inside, sorted), J at a time with\n"
+    "N/J threads each. Writes DIR/<name>.<EXT> (the pipeline's -o output), DIR/<name>.json (one report per\n"
+    "input) and DIR/summary.json (also on stdout with --json). A failing input is reported and skipped.\n"
+    "Exit status: 0 all inputs ok, 3 some input failed, 2 bad usage, 5 cancelled (Ctrl-C; results so far kept).\n";
+
+[[noreturn]] void usage_error(const std::string& msg) { fail(ErrorCode::BadUsage, "run: " + msg); }
+
+int parse_int(const std::string& name, const std::string& v, int lo, int hi) {
+  try {
+    size_t used = 0;
+    const long x = std::stol(v, &used);
+    if (used == v.size() && x >= lo && x <= hi) return static_cast<int>(x);
+  } catch (const std::exception&) {
+  }
+  usage_error(name + " " + v + ": expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+}
+
+// Default output extension of each pipeline's -o file ("" = the runner passes no -o).
+std::string default_ext(const std::string& pipeline) {
+  if (pipeline == "info" || pipeline == "heat") return "";
+  if (pipeline == "factor") return "locus";
+  if (pipeline == "param" || pipeline == "perfect-laplacian") return "obj";
+  return "ply";
+}
+
+RunOptions parse_run_args(int argc, char** argv, const std::vector<std::string>& commands) {
+  RunOptions o;
+  std::vector<std::string> args(argv + 2, argv + argc);  // after "locus run"
+  if (!args.empty() && (args[0] == "-h" || args[0] == "--help")) {
+    std::cout << kUsage;
+    std::exit(0);
+  }
+  if (args.empty() || args[0].empty() || args[0][0] == '-') usage_error("expected a PIPELINE (a locus command) first\n" + std::string(kUsage));
+  o.pipeline = args[0];
+  if (o.pipeline == "run" || std::find(commands.begin(), commands.end(), o.pipeline) == commands.end()) {
+    std::string list;
+    for (const auto& c : commands) list += (list.empty() ? "" : ", ") + c;
+    usage_error("unknown pipeline '" + o.pipeline + "' (one of: " + list + ")");
+  }
+  size_t i = 1;
+  for (; i < args.size() && !(args[i].size() > 1 && args[i][0] == '-'); ++i) o.inputs.push_back(args[i]);
+  auto value = [&](size_t& k, const std::string& name, const std::string& inline_value, bool has_inline) {
+    if (has_inline) return inline_value;
+    if (k + 1 >= args.size()) usage_error(name + " needs a value");
+    return args[++k];
+  };
+  for (; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const size_t eq = a.find('=');
+    const bool has_inline = a.rfind("--", 0) == 0 && eq != std::string::npos;
+    const std::string name = has_inline ? a.substr(0, eq) : a;
+    const std::string inline_value = has_inline ? a.substr(eq + 1) : "";
+    if (name == "--out") {
+      o.out = value(i, name, inline_value, has_inline);
+    } else if (name == "--jobs" || name == "-j") {
+      o.jobs = parse_int("--jobs", value(i, name, inline_value, has_inline), 1, 1024);
+    } else if (name == "--threads") {
+      o.threads = parse_int("--threads", value(i, name, inline_value, has_inline), 1, 4096);
+    } else if (name == "--ext") {
+      o.ext = value(i, name, inline_value, has_inline);
+    } else if (name == "--json") {
+      o.json = true;
+    } else if (name == "-h" || name == "--help") {
+      std::cout << kUsage;
+      std::exit(0);
+    } else if (name == "-o" || name == "--output") {
+      usage_error(name + ": the runner names each output itself (DIR/<name>.<ext>); use --out DIR and --ext EXT");
+    } else {
+      o.pipeline_args.push_back(a);
+    }
+  }
+  if (o.inputs.empty()) usage_error("no input file or folder given (inputs come right after the pipeline name)");
+  if (o.out.empty()) usage_error("--out DIR is required");
+  if (o.ext.empty()) o.ext = default_ext(o.pipeline);
+  if (o.ext == "none") o.ext.clear();
+  if (!o.ext.empty() && o.ext[0] == '.') o.ext.erase(0, 1);
+  if (o.ext.find('/') != std::string::npos) usage_error("--ext " + o.ext + ": not a file extension");
+  return o;
+}
+
+bool is_mesh_file(const fs::path& p) {
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e == ".off" || e == ".obj" || e == ".ply";
+}
+
+struct Item {
+  std::string input;
+  std::string stem;  // unique within DIR
+  std::string missing;  // non-empty: the input could not be listed (reported as failed, not run)
+  // Result.
+  std::string status = "not_run";
+  int exit_status = -1, signal = 0;
+  double seconds = 0;
+  pid_t pid = -1;
+  std::chrono::steady_clock::time_point start;
+};
+
+std::vector<Item> expand_inputs(const std::vector<std::string>& inputs, int64_t& ignored) {
+  std::vector<Item> items;
+  ignored = 0;
+  for (const std::string& in : inputs) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(in, ec);
+    if (!ec && fs::is_directory(st)) {
+      std::vector<std::string> files;
+      for (fs::directory_iterator it(in, ec), end; !ec && it != end; it.increment(ec)) {
+        std::error_code fec;
+        if (it->is_directory(fec)) continue;
+        if (is_mesh_file(it->path())) {
+          files.push_back(it->path().string());
+        } else {
+          ++ignored;
+        }
+      }
+      if (ec) {
+        Item bad;
+        bad.input = in;
+        bad.missing = in + ": cannot list the folder (" + ec.message() + ")";
+        items.push_back(bad);
+      }
+      std::sort(files.begin(), files.end());
+      for (auto& f : files) {
+        Item it;
+        it.input = f;
+        items.push_back(it);
+      }
+    } else {
+      Item it;
+      it.input = in;
+      if (ec || !fs::exists(st)) it.missing = in + ": no such file or folder";
+      items.push_back(it);
+    }
+  }
+  // Unique stems, in input order.
+  std::set<std::string> used{"summary"};
+  for (Item& it : items) {
+    std::string base = fs::path(it.input).stem().string();
+    if (base.empty() || base == "." || base == "..") base = "input";
+    std::string stem = base;
+    for (int k = 2; used.count(stem); ++k) stem = base + "-" + std::to_string(k);
+    used.insert(stem);
+    it.stem = stem;
+  }
+  return items;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The last "error:" line of a child's stderr, without the "locus: error: " prefix.
+std::string last_error_line(const std::string& err) {
+  std::string found;
+  std::istringstream is(err);
+  for (std::string line; std::getline(is, line);) {
+    const size_t at = line.find("error: ");
+    if (at != std::string::npos) found = line.substr(at + 7);
+  }
+  return found;
+}
+
+std::string human_seconds(double s) {
+  if (!(s >= 0) || s > 1e7) return "?";
+  char buf[32];
+  if (s < 60) {
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  } else if (s < 3600) {
+    std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
+  }
+  return buf;
+}
+
+class Progress {
+ public:
+  explicit Progress(size_t total) : total_(total), on_(::isatty(STDERR_FILENO) == 1) {}
+  void draw(size_t done, size_t running, size_t failed, double elapsed) {
+    if (!on_) return;
+    constexpr int kWidth = 30;
+    const int fill = total_ ? static_cast<int>(kWidth * done / total_) : kWidth;
+    const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+    const std::string eta = done > 0 && done < total_ ? human_seconds((total_ - done) / rate) : (done == total_ ? "0s" : "?");
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu  %.2f items/s  ETA %s  running %zu  failed %zu \x1b[K",
+                 std::string(static_cast<size_t>(fill), '#').c_str(), std::string(static_cast<size_t>(kWidth - fill), '.').c_str(),
+                 done, total_, rate, eta.c_str(), running, failed);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish() {
+    if (on_ && drawn_) std::fputc('\n', stderr);
+    drawn_ = false;
+  }
+  // Writes a log line without breaking the bar.
+  void line(const std::string& text) {
+    if (on_ && drawn_) std::fputs("\r\x1b[K", stderr);
+    std::fprintf(stderr, "locus: %s\n", text.c_str());
+  }
+
+ private:
+  size_t total_;
+  bool on_;
+  bool drawn_ = false;
+};
+
+std::string self_exe() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("/proc/self/exe") : p.string();
+}
+
+pid_t spawn_item(const std::string& exe, const RunOptions& o, const Item& it, const fs::path& out_dir,
+                 int threads_per_item) {
+  std::vector<std::string> args = {exe, o.pipeline, it.input};
+  args.insert(args.end(), o.pipeline_args.begin(), o.pipeline_args.end());
+  args.insert(args.end(), {"--json", "--threads", std::to_string(threads_per_item)});
+  if (!o.ext.empty()) {
+    const std::string out = (out_dir / (it.stem + "." + o.ext)).string();
+    // factor writes its factor with --save; every other pipeline with -o.
+    if (o.pipeline == "factor") {
+      args.insert(args.end(), {"--save", out});
+    } else {
+      args.insert(args.end(), {"-o", out});
+    }
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  const std::string out_path = (out_dir / ("." + it.stem + ".stdout")).string();
+  const std::string err_path = (out_dir / ("." + it.stem + ".stderr")).string();
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  // The child starts with default SIGINT handling (its own handler then turns Ctrl-C into exit 5).
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t def;
+  sigemptyset(&def);
+  sigaddset(&def, SIGINT);
+  sigaddset(&def, SIGTERM);
+  posix_spawnattr_setsigdefault(&attr, &def);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, exe.c_str(), &fa, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) fail(ErrorCode::Internal, "run: cannot start " + exe + ": " + std::strerror(rc));
+  return pid;
+}
+
+// Reads the child's stdout/stderr, writes DIR/STEM.json, returns the item's summary line.
+Json finish_item(Item& it, const RunOptions& o, const fs::path& out_dir) {
+  const fs::path out_path = out_dir / ("." + it.stem + ".stdout");
+  const fs::path err_path = out_dir / ("." + it.stem + ".stderr");
+  std::string out = it.missing.empty() ? slurp(out_path) : "";
+  std::string err = it.missing.empty() ? slurp(err_path) : it.missing;
+  std::error_code ec;
+  fs::remove(out_path, ec);
+  fs::remove(err_path, ec);
+  Json result = nullptr;
+  if (!out.empty()) {
+    try {
+      result = Json::parse(out);
+    } catch (const std::exception&) {
+      result = nullptr;  // a crash mid-output: the raw text goes into the report instead
+    }
+  }
+  std::string error = it.missing.empty() ? last_error_line(err) : it.missing;
+  if (it.status == "crashed" && error.empty()) error = "killed by signal " + std::to_string(it.signal);
+  constexpr size_t kMaxStderr = 64 * 1024;  // a runaway log must not blow up the report
+  if (err.size() > kMaxStderr) err = "..." + err.substr(err.size() - kMaxStderr);
+
+  std::string output;
+  if (!o.ext.empty() && it.status == "ok") {
+    const fs::path p = out_dir / (it.stem + "." + o.ext);
+    if (fs::exists(p, ec)) output = p.string();
+  }
+  Json report{{"input", it.input}, {"pipeline", o.pipeline}, {"status", it.status}, {"exit_status", it.exit_status}};
+  report["signal"] = it.signal;
+  report["seconds"] = it.seconds;
+  report["output"] = output.empty() ? Json(nullptr) : Json(output);
+  report["error"] = error.empty() ? Json(nullptr) : Json(error);
+  report["stderr"] = err;
+  if (result.is_null() && !out.empty()) report["stdout"] = out.substr(0, kMaxStderr);
+  report["result"] = result;
+  const fs::path report_path = out_dir / (it.stem + ".json");
+  {
+    std::ofstream f(report_path, std::ios::trunc);
+    f << report.dump(2) << "\n";
+    if (!f) fail(ErrorCode::BadInput, "run: cannot write " + report_path.string());
+  }
+  Json line{{"input", it.input}, {"status", it.status}, {"exit_status", it.exit_status}, {"seconds", it.seconds}};
+  line["report"] = report_path.string();
+  line["output"] = report["output"];
+  line["error"] = report["error"];
+  return line;
+}
+
+}  // namespace
+
+int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& commands) {
+  const RunOptions o = parse_run_args(argc, argv, commands);
+  const fs::path out_dir = o.out;
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec || !fs::is_directory(out_dir)) usage_error("--out " + o.out + ": cannot create the folder (" + ec.message() + ")");
+  }
+  int64_t ignored = 0;
+  std::vector<Item> items = expand_inputs(o.inputs, ignored);
+  const int total_threads = o.threads > 0 ? o.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int per_item = std::max(1, total_threads / o.jobs);
+  const std::string exe = self_exe();
+
+  g_stop.store(0);
+  auto prev_int = std::signal(SIGINT, on_stop_signal);
+  auto prev_term = std::signal(SIGTERM, on_stop_signal);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  Progress bar(items.size());
+  std::vector<Json> lines(items.size());
+  size_t next = 0, done = 0, failed = 0;
+  std::vector<size_t> running;
+  bool usage_stop = false;
+  std::string usage_message;
+  bool forwarded = false;
+  std::chrono::steady_clock::time_point forwarded_at;
+
+  auto complete = [&](size_t k) {
+    lines[k] = finish_item(items[k], o, out_dir);
+    ++done;
+    if (items[k].status != "ok" && items[k].status != "cancelled") {
+      ++failed;
+      bar.line(items[k].input + ": " + items[k].status + " (" +
+               (lines[k]["error"].is_null() ? std::string("exit ") + std::to_string(items[k].exit_status)
+                                            : lines[k]["error"].get<std::string>()) +
+               ")");
+    }
+  };
+
+  while (true) {
+    const bool stopping = g_stop.load() != 0 || usage_stop;
+    // Start items while there is room.
+    while (!stopping && running.size() < static_cast<size_t>(o.jobs) && next < items.size()) {
+      Item& it = items[next];
+      if (!it.missing.empty()) {
+        it.status = "failed";
+        it.exit_status = static_cast<int>(ErrorCode::BadInput);
+        complete(next++);
+        continue;
+      }
+      it.start = std::chrono::steady_clock::now();
+      it.pid = spawn_item(exe, o, it, out_dir, per_item);
+      running.push_back(next++);
+    }
+    if (running.empty() && (stopping || next >= items.size())) break;
+    if (stopping && !forwarded) {
+      // Ask running children to stop (a terminal Ctrl-C reached them already; SIGTERM or kill -INT did not).
+      for (size_t k : running) ::kill(items[k].pid, SIGINT);
+      forwarded = true;
+      forwarded_at = std::chrono::steady_clock::now();
+    }
+    if (forwarded && std::chrono::steady_clock::now() - forwarded_at > std::chrono::seconds(10)) {
+      for (size_t k : running) ::kill(items[k].pid, SIGKILL);
+      forwarded_at = std::chrono::steady_clock::now();
+    }
+    // Reap whatever finished.
+    bool reaped = false;
+    for (size_t r = 0; r < running.size();) {
+      Item& it = items[running[r]];
+      int ws = 0;
+      const pid_t got = ::waitpid(it.pid, &ws, WNOHANG);
+      if (got == 0 || (got < 0 && errno == EINTR)) {
+        ++r;
+        continue;
+      }
+      it.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - it.start).count();
+      if (got > 0 && WIFEXITED(ws)) {
+        it.exit_status = WEXITSTATUS(ws);
+        it.status = it.exit_status == 0                                           ? "ok"
+                    : it.exit_status == static_cast<int>(ErrorCode::Cancelled) ? "cancelled"
+                                                                                 : "failed";
+        if (it.exit_status == static_cast<int>(ErrorCode::BadUsage) && !usage_stop) {
+          usage_stop = true;
+          usage_message = last_error_line(slurp(out_dir / ("." + it.stem + ".stderr")));
+        }
+      } else if (got > 0 && WIFSIGNALED(ws)) {
+        it.signal = WTERMSIG(ws);
+        it.status = forwarded && (it.signal == SIGINT || it.signal == SIGKILL) ? "cancelled" : "crashed";
+      } else {
+        it.status = "crashed";
+      }
+      complete(running[r]);
+      running.erase(running.begin() + static_cast<std::ptrdiff_t>(r));
+      reaped = true;
+    }
+    bar.draw(done, running.size(), failed, elapsed());
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  bar.finish();
+  std::signal(SIGINT, prev_int);
+  std::signal(SIGTERM, prev_term);
+
+  const bool cancelled = g_stop.load() != 0;
+  size_t ok = 0, n_failed = 0, n_cancelled = 0, not_run = 0;
+  Json item_list = Json::array();
+  for (size_t k = 0; k < items.size(); ++k) {
+    const std::string& s = items[k].status;
+    if (s == "ok") ++ok;
+    else if (s == "cancelled") ++n_cancelled;
+    else if (s == "not_run") ++not_run;
+    else ++n_failed;
+    if (lines[k].is_null()) lines[k] = {{"input", items[k].input}, {"status", s}, {"exit_status", nullptr}, {"seconds", 0.0},
+                                        {"report", nullptr}, {"output", nullptr}, {"error", nullptr}};
+    item_list.push_back(lines[k]);
+  }
+  int status = 0;
+  if (cancelled) status = static_cast<int>(ErrorCode::Cancelled);
+  else if (usage_stop) status = static_cast<int>(ErrorCode::BadUsage);
+  else if (n_failed > 0) status = static_cast<int>(ErrorCode::BadInput);
+
+  Json summary{{"command", "run"}, {"pipeline", o.pipeline}, {"pipeline_options", o.pipeline_args}};
+  summary["out"] = o.out;
+  summary["jobs"] = o.jobs;
+  summary["threads_per_item"] = per_item;
+  summary["inputs"] = items.size();
+  summary["ignored_files"] = ignored;
+  summary["succeeded"] = ok;
+  summary["failed"] = n_failed;
+  summary["cancelled"] = n_cancelled;
+  summary["not_run"] = not_run;
+  summary["exit_status"] = status;
+  summary["stopped"] = cancelled ? Json("cancelled") : usage_stop ? Json("bad usage: " + usage_message) : Json(nullptr);
+  summary["seconds"] = elapsed();
+  summary["items"] = item_list;
+  const fs::path summary_path = out_dir / "summary.json";
+  {
+    std::ofstream f(summary_path, std::ios::trunc);
+    f << summary.dump(2) << "\n";
+    if (!f) fail(ErrorCode::BadInput, "run: cannot write " + summary_path.string());
+  }
+  if (o.json) {
+    std::cout << summary.dump(2) << std::endl;
+  } else {
+    std::cout << o.pipeline << " on " << items.size() << " input(s): " << ok << " ok, " << n_failed << " failed, "
+              << n_cancelled << " cancelled, " << not_run << " not run, in " << format_number(elapsed()) << " s\n";
+    for (size_t k = 0; k < items.size(); ++k)
+      if (items[k].status != "ok")
+        std::cout << "  " << items[k].status << ": " << items[k].input
+                  << (lines[k]["error"].is_string() ? " (" + lines[k]["error"].get<std::string>() + ")" : "") << "\n";
+    std::cout << "summary: " << summary_path.string() << "\n";
+  }
+  if (usage_stop)
+    std::cerr << "locus: error: run: the pipeline refused its options (" << usage_message
+              << "); stopped after the first input\n";
+  if (cancelled) std::cerr << "locus: error: cancelled\n";
+  return status;
+}
+
+}  // namespace locus::cli
