@@ -219,6 +219,7 @@ struct Session::Impl {
   mutable std::mutex mu;  // guards `state` (the pointer, not what it points to)
   std::shared_ptr<State> state;
   int32_t nv = 0, nf = 0;
+  int32_t components = 0;  // connectivity never changes
 
   std::shared_ptr<State> current() const {
     std::lock_guard<std::mutex> lock(mu);
@@ -230,6 +231,8 @@ Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   check_mesh(mesh);
   impl_->nv = mesh.num_vertices();
   impl_->nf = mesh.num_faces();
+  std::vector<int32_t> component;
+  impl_->components = connected_components(mesh, component);
   impl_->state = make_state(std::move(mesh), 0, std::make_shared<SymbolicCache>(), std::make_shared<Counters>());
 }
 
@@ -352,6 +355,11 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
                                   " (the vertex count), got " + std::to_string(sites));
   if (iterations < 0)
     fail(ErrorCode::BadUsage, "cvt: the number of iterations must be >= 0, got " + std::to_string(iterations));
+  // cvt_lloyd cannot yet handle a component that receives no site (it indexes
+  // cells with label -1; fuzz_c_api finding 17fa79a): refuse until it can.
+  if (impl_->components > 1)
+    fail(ErrorCode::BadInput, "cvt: " + mesh_name(s->mesh) + " has " + std::to_string(impl_->components) +
+                                  " connected components; cvt needs a connected mesh");
   LloydOptions o;
   o.sites = sites;
   o.iterations = iterations;

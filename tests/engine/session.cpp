@@ -330,3 +330,26 @@ TEST_CASE("session: bad meshes and bad arguments raise the right error; cancella
   CHECK(d[0] == 0.0);
   CHECK(s.stats().heat_engines == 1);
 }
+
+TEST_CASE("session: two components (distance +inf across, cvt refused), one-vertex log-map patch") {
+  Mesh m = make_icosphere(2);
+  const Mesh other = make_icosphere(2);
+  const int32_t n1 = m.num_vertices();
+  for (int32_t i = 0; i < other.num_vertices(); ++i) m.add_vertex(other.x[i] + 5, other.y[i], other.z[i]);
+  for (int32_t f = 0; f < other.num_faces(); ++f) m.add_triangle(other.f0[f] + n1, other.f1[f] + n1, other.f2[f] + n1);
+  const Session s(m);
+  const std::vector<double> d = s.geodesic_distance(3);
+  int64_t inf = 0;
+  for (int32_t i = n1; i < m.num_vertices(); ++i) inf += d[i] == INFINITY;
+  CHECK(inf == m.num_vertices() - n1);
+  for (int32_t i = 0; i < n1; ++i) CHECK(std::isfinite(d[i]));
+  CHECK(code_of([&] { s.cvt(10, 1, 1); }) == ErrorCode::BadInput);
+  const LogMapResult r = s.logmap(n1 + 4, 0.5);  // the disk stays in the centre's component
+  for (int32_t v : r.patch) CHECK(v >= n1);
+
+  const LogMapResult one = s.logmap(7, 1e-9);
+  REQUIRE(one.patch.size() == 1);
+  CHECK(one.patch[0] == 7);
+  CHECK(one.u[0] == 0.0);
+  CHECK(one.v[0] == 0.0);
+}

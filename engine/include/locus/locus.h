@@ -140,7 +140,8 @@ locus_status locus_logmap_ex(locus_session* session, int64_t center, double frac
 
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
  * §3.7): `sites` seeded random initial sites (1 <= sites <= vertex count),
- * `iters` >= 0 iterations. out_labels_nv: vertex-count int32 labels in
+ * 0 <= iters <= 10000 iterations; the mesh must be connected
+ * (LOCUS_BAD_INPUT otherwise). out_labels_nv: vertex-count int32 labels in
  * [0, sites). The same seed gives the same labels for any thread count. */
 locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                        int32_t* out_labels_nv);

@@ -143,7 +143,8 @@ class Session {
                                   const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv),
-  // `iterations` >= 0 localized Lloyd steps, t = h^2.
+  // `iterations` >= 0 localized Lloyd steps, t = h^2. Needs a connected mesh
+  // (Error(BadInput) otherwise, for now).
   CvtResult cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx = {}) const;
 
   // ROI deformation on a copy of the positions (the Session is not changed).
