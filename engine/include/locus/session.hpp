@@ -30,6 +30,8 @@
 // factors (orderings and supernodal structures, which depend on the pattern,
 // not on positions) carry over to the new positions.
 //
+// A moved-from Session may only be assigned to or destroyed.
+//
 // Errors: locus::Error with ErrorCode BadUsage (an argument is wrong: vertex id
 // out of range, fraction outside (0, 1], ...), BadInput (the mesh is unsuitable),
 // Numerical (an operator is not positive definite), Cancelled, ResourceLimit.
