@@ -11,5 +11,6 @@ void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accurac
 void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs refactoring
 void register_local_bench(cli::CommandTable& table);  // local: heat values, ADF at all vertices, patch parameterization
 void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (thesis Fig. 3.1)
+void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Session queries, RSS, cancellation; --big
 
 }  // namespace locus::bench
