@@ -16,21 +16,14 @@
 #include <vector>
 
 #include "io/readers.hpp"
+#include "io/file_extension.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
 
 namespace locus {
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot + 1);
-  for (char& c : ext)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return ext;
-}
+using io::lower_extension;
 
 Mesh dispatch(std::string_view data, const std::string& format, const std::string& name, const ReadOptions& opt) {
   if (data.empty()) fail(ErrorCode::BadInput, name + ": the file is empty");

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "io/file_extension.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
 
@@ -30,15 +31,7 @@ namespace locus {
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot + 1);
-  for (char& c : ext)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return ext;
-}
+using io::lower_extension;
 
 [[noreturn]] void usage(const std::string& path, const std::string& msg) {
   fail(ErrorCode::BadUsage, "write_mesh " + path + ": " + msg);

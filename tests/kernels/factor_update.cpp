@@ -25,6 +25,7 @@
 #include "kernels/solve_full.hpp"
 #include "kernels/symbolic_factor.hpp"
 #include "locus/error.hpp"
+#include "matrix_fixtures.hpp"
 
 using namespace locus;
 
@@ -32,39 +33,14 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-SpMat to_eigen_full(const CscMatrix& A) {
-  std::vector<Eigen::Triplet<double>> t;
-  for (int32_t j = 0; j < A.ncols; ++j)
-    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
-      t.emplace_back(A.rowind[p], j, A.values[p]);
-      if (A.rowind[p] != j) t.emplace_back(j, A.rowind[p], A.values[p]);
-    }
-  SpMat E(A.nrows, A.ncols);
-  E.setFromTriplets(t.begin(), t.end());
-  return E;
-}
-
-CscMatrix lower_of(const SpMat& E) {
-  std::vector<int32_t> I, J;
-  std::vector<double> V;
-  for (int k = 0; k < E.outerSize(); ++k)
-    for (SpMat::InnerIterator it(E, k); it; ++it)
-      if (it.row() >= it.col()) {
-        I.push_back(static_cast<int32_t>(it.row()));
-        J.push_back(static_cast<int32_t>(it.col()));
-        V.push_back(it.value());
-      }
-  return lower_from_triplets(static_cast<int32_t>(E.rows()), I, J, V);
-}
-
 // Bi-Laplacian K M^{-1} K with K = -L_C + eps M, by Eigen sparse products.
 CscMatrix bilaplacian(const Mesh& m, double rel) {
-  const SpMat K = to_eigen_full(regularized_laplacian(m, rel));
+  const SpMat K = test::to_eigen(regularized_laplacian(m, rel));
   const std::vector<double> M = lumped_mass(m);
   Eigen::VectorXd minv(static_cast<Eigen::Index>(M.size()));
   for (size_t i = 0; i < M.size(); ++i) minv[static_cast<Eigen::Index>(i)] = 1.0 / M[i];
   const SpMat B = (K * minv.asDiagonal() * K).pruned();
-  return lower_of(B);
+  return test::from_eigen_lower(B);
 }
 
 // A_II assembled directly from A's entries (independent of principal_submatrix).
@@ -159,7 +135,7 @@ Checked check_update(const NumericFactor& L, const CscMatrix& A, const std::vect
   const int32_t m = static_cast<int32_t>(sorted.size());
   REQUIRE(up.factor.n() == m);
   const SpMat E = submatrix_by_hand(A, sorted);
-  CHECK((to_eigen_full(up.A_sub) - E).norm() == 0.0);
+  CHECK((test::to_eigen(up.A_sub) - E).norm() == 0.0);
 
   // (i) residual of A_II x = b with the updated factor.
   std::mt19937_64 rng(5);

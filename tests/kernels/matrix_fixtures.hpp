@@ -64,6 +64,20 @@ inline Eigen::SparseMatrix<double> to_eigen(const CscMatrix& A) {
   return E;
 }
 
+// Lower-stored matrix from a full symmetric Eigen one.
+inline CscMatrix from_eigen_lower(const Eigen::SparseMatrix<double>& E) {
+  std::vector<int32_t> I, J;
+  std::vector<double> V;
+  for (int k = 0; k < E.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(E, k); it; ++it)
+      if (it.row() >= it.col()) {
+        I.push_back(static_cast<int32_t>(it.row()));
+        J.push_back(static_cast<int32_t>(it.col()));
+        V.push_back(it.value());
+      }
+  return lower_from_triplets(static_cast<int32_t>(E.rows()), I, J, V);
+}
+
 // CHOLMOD triplet (.tri: "nrow ncol nnz stype") or Matrix Market (.mtx) text; 1-based.
 // Keeps a symmetric matrix: for "general" files only the lower triangle is read.
 inline CscMatrix read_triplet_file(const std::string& path) {
