@@ -32,6 +32,22 @@ using locus::ErrorCode;
 using locus::fail;
 
 thread_local std::string t_last_error;
+thread_local bool t_error_unrecorded = false;  // the message itself could not be allocated
+
+void clear_error() noexcept {
+  t_last_error.clear();
+  t_error_unrecorded = false;
+}
+
+// Never throws: when even the message cannot be allocated, a fixed one stands in.
+void set_error(const char* function, const char* what) noexcept {
+  try {
+    t_last_error = std::string(function) + ": " + what;
+    t_error_unrecorded = false;
+  } catch (...) {
+    t_error_unrecorded = true;
+  }
+}
 
 // Upper bounds that keep every derived size within int32 indices and sane memory.
 constexpr int64_t kMaxVertices = std::numeric_limits<int32_t>::max() - 1;
@@ -50,22 +66,26 @@ locus_status status_of(int exit_status) {
 }
 
 template <class F>
-locus_status guarded(const char* function, F&& body) {
-  t_last_error.clear();
+locus_status guarded(const char* function, F&& body) noexcept {
+  clear_error();
   try {
     body();
     return LOCUS_OK;
   } catch (const locus::Error& e) {
-    t_last_error = std::string(function) + ": " + e.what();
+    set_error(function, e.what());
     return status_of(e.exit_status());
   } catch (const std::bad_alloc&) {
-    t_last_error = std::string(function) + ": out of memory";
+    set_error(function, "out of memory");
     return LOCUS_BAD_INPUT;
   } catch (const std::exception& e) {
-    t_last_error = std::string(function) + ": internal error: " + e.what();
+    try {
+      set_error(function, (std::string("internal error: ") + e.what()).c_str());
+    } catch (...) {
+      set_error(function, "internal error");
+    }
     return LOCUS_INTERNAL;
   } catch (...) {
-    t_last_error = std::string(function) + ": internal error (unknown exception)";
+    set_error(function, "internal error (unknown exception)");
     return LOCUS_INTERNAL;
   }
 }
@@ -149,7 +169,9 @@ const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch) {
 #undef LOCUS_STR2
 }
 
-const char* locus_last_error_message(void) { return t_last_error.c_str(); }
+const char* locus_last_error_message(void) {
+  return t_error_unrecorded ? "locus: out of memory while recording an error" : t_last_error.c_str();
+}
 
 locus_status locus_session_create_from_file(const char* path, locus_session** out) {
   if (out) *out = nullptr;
@@ -207,23 +229,23 @@ locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* 
 }
 
 void locus_session_destroy(locus_session* session) {
-  t_last_error.clear();
+  clear_error();
   delete session;
 }
 
 int64_t locus_session_vertex_count(const locus_session* session) {
-  t_last_error.clear();
+  clear_error();
   if (!session) {
-    t_last_error = "locus_session_vertex_count: session is NULL";
+    set_error("locus_session_vertex_count", "session is NULL");
     return -1;
   }
   return session->session.num_vertices();
 }
 
 int64_t locus_session_face_count(const locus_session* session) {
-  t_last_error.clear();
+  clear_error();
   if (!session) {
-    t_last_error = "locus_session_face_count: session is NULL";
+    set_error("locus_session_face_count", "session is NULL");
     return -1;
   }
   return session->session.num_faces();
