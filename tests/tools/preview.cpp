@@ -1,0 +1,102 @@
+// Previews (--preview out.png; kernels/rasterize, io/write_png): the PNG a
+// command writes decodes (stb_image, the library that wrote it) to 800 x 800
+// RGB with many colours; the kernel's picture of a known scene has the mesh
+// where the camera must put it and the background elsewhere; bad sizes and
+// names are refused.
+#include <doctest/doctest.h>
+
+#include <set>
+#include <string>
+
+#include "io/write_png.hpp"
+#include "kernels/mesh_generators.hpp"
+#include "kernels/rasterize.hpp"
+#include "locus/error.hpp"
+#include "locus/mesh_io.hpp"
+#include "tests/tools/cli_support.hpp"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+using namespace locus::test_cli;
+
+namespace {
+
+struct Decoded {
+  int w = 0, h = 0, channels = 0;
+  std::set<uint32_t> colours;
+};
+
+Decoded decode(const std::string& path) {
+  Decoded d;
+  unsigned char* px = stbi_load(path.c_str(), &d.w, &d.h, &d.channels, 3);
+  REQUIRE(px != nullptr);
+  for (int i = 0; i < d.w * d.h; ++i)
+    d.colours.insert(uint32_t(px[3 * i]) << 16 | uint32_t(px[3 * i + 1]) << 8 | px[3 * i + 2]);
+  stbi_image_free(px);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("preview: geodesic, logmap and adf write decodable, non-uniform PNGs") {
+  if (!have_locus()) return;
+  Scratch dir("preview");
+  const std::string mesh = dir / "sphere.off";
+  locus::write_mesh(mesh, locus::make_icosphere(4));
+  struct Case {
+    std::vector<std::string> args;
+    size_t min_colours;
+  };
+  const std::vector<Case> cases = {
+      {{"geodesic", mesh, "--source", "0", "--preview", dir / "geo.png"}, 200},
+      {{"logmap", mesh, "--center", "0", "--fraction", "0.3", "--preview", dir / "log.png"}, 50},
+      {{"adf", mesh, "--all", "--preview", dir / "adf.png"}, 50},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.args[0]);
+    const Run r = run_locus(dir, c.args);
+    REQUIRE(r.status == 0);
+    const Decoded d = decode(c.args.back());
+    CHECK(d.w == 800);
+    CHECK(d.h == 800);
+    CHECK(d.colours.size() >= c.min_colours);
+  }
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--preview", dir / "geo.jpg"}).status == 2);
+  CHECK(run_locus(dir, {"adf", mesh, "--vertices", "1", "--preview", dir / "adf.png"}).status == 2);
+}
+
+TEST_CASE("rasterize: a square facing the camera lands in the middle, background around it") {
+  // A flat square in the plane z = 0: seen by the fixed camera (yaw 210, pitch 20
+  // degrees, orthographic, fitted to 90% of the image) it covers the centre, not
+  // the corners.
+  locus::Mesh m = locus::make_grid(8);
+  std::vector<double> values(static_cast<size_t>(m.num_vertices()));
+  for (int32_t v = 0; v < m.num_vertices(); ++v) values[v] = m.x[v];
+  locus::RasterOptions ro;
+  ro.width = 120;
+  ro.height = 100;
+  const locus::RasterImage img = locus::rasterize_mesh(m, values, ro);
+  REQUIRE(img.rgb.size() == 120u * 100u * 3u);
+  auto px = [&](int x, int y) { return &img.rgb[3 * (static_cast<size_t>(y) * 120 + x)]; };
+  CHECK(px(0, 0)[0] == 242);  // background
+  CHECK(px(119, 99)[1] == 242);
+  const uint8_t* c = px(60, 50);
+  CHECK_FALSE((c[0] == 242 && c[1] == 242 && c[2] == 242));
+  // Scalar colouring follows x: the two sides of the square differ in colour.
+  std::set<uint32_t> row;
+  for (int x = 0; x < 120; ++x) row.insert(uint32_t(px(x, 50)[0]) << 16 | uint32_t(px(x, 50)[1]) << 8 | px(x, 50)[2]);
+  CHECK(row.size() > 10);
+  // Wrong sizes are usage errors.
+  CHECK_THROWS_AS(locus::rasterize_mesh(m, std::span<const double>(values.data(), 3), ro), locus::Error);
+  ro.coloring = locus::Coloring::Checker;
+  CHECK_THROWS_AS(locus::rasterize_mesh(m, values, ro), locus::Error);
+  CHECK_THROWS_AS(locus::write_png("/nonexistent-dir/x.png", 2, 2, std::vector<uint8_t>(12, 0)), locus::Error);
+  CHECK_THROWS_AS(locus::write_png("x.png", 2, 2, std::vector<uint8_t>(11, 0)), locus::Error);
+}
