@@ -18,7 +18,9 @@
 #include "kernels/mesh_topology.hpp"
 #include "kernels/solve_full.hpp"
 #include "locus/error.hpp"
+#include "pipelines/cvt_quality.hpp"
 #include "pipelines/heat_centroid.hpp"
+#include "pipelines/voronoi_cell_partition.hpp"
 
 namespace locus {
 
@@ -285,28 +287,58 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   LloydResult r;
   BatchStopwatch sw;
   HeatDiffusion H;
-  if (opt.anisotropy > 0) {
-    if (!(opt.t_abs >= 0) || (opt.t_abs == 0 && !(opt.t_factor > 0)))
-      fail(ErrorCode::BadUsage, "cvt: the diffusion time must be positive");
-    const std::vector<double> lifted = lifted_positions(m, opt.anisotropy);
+  const std::vector<double> area_r3 = face_areas(m);
+  std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
+  // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
+  std::vector<double> lifted;
+  if (opt.anisotropy > 0) lifted = lifted_positions(m, opt.anisotropy);
+  auto build = [&](double t, std::vector<double>& mass, double& h) {
+    if (opt.anisotropy > 0) return heat_operator_from_positions(m, lifted, 6, t, mass, h);
+    mass = lumped_mass(m);
+    h = mean_edge_length(m);
+    return heat_operator(m, t);
+  };
+  if (!(opt.t_abs >= 0) || !std::isfinite(opt.t_abs) ||
+      (opt.t_abs == 0 && (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))))
+    fail(ErrorCode::BadUsage, "cvt: the diffusion time must be a finite positive number");
+  if (!(opt.t_centroid_factor >= 0) || !std::isfinite(opt.t_centroid_factor))
+    fail(ErrorCode::BadUsage, "cvt: the centroid diffusion time must be a finite number >= 0");
+  {
     std::vector<double> mass;
     double h = 0;
-    // t needs h of the lifted metric: build once with t = 1 to measure, then for real.
-    heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);
+    if (opt.anisotropy > 0) {
+      heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);  // h of the lifted metric first
+    } else {
+      h = mean_edge_length(m);
+    }
     const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
-    const CscMatrix A = heat_operator_from_positions(m, lifted, 6, t, mass, h);
+    const CscMatrix A = build(t, mass, h);
+    area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
     const double op_s = sw.lap();
     H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
     H.operator_s = op_s;
-  } else {
-    H = prepare_heat_diffusion(m, opt.t_factor, opt.t_abs, ctx);
   }
+  // Centroids with their own diffusion time: same pattern, so the symbolic factor is shared.
+  HeatDiffusion Hc_own;
+  if (opt.t_centroid_factor > 0) {
+    sw.lap();
+    Hc_own.n = H.n;
+    Hc_own.h = H.h;
+    Hc_own.t = opt.t_centroid_factor * H.h * H.h;
+    double h = 0;
+    const CscMatrix A = build(Hc_own.t, Hc_own.mass, h);
+    Hc_own.factor = factorize(H.factor.symbolic, A, ctx);
+    Hc_own.factor_s = sw.lap();
+  }
+  const HeatDiffusion& Hc = opt.t_centroid_factor > 0 ? Hc_own : H;
   sw.lap();
-  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s;
+  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + Hc_own.factor_s;
   r.h = H.h;
   r.t = H.t;
   const CentroidGeometry geo = prepare_centroid_geometry(m);
   const Edges edges = unique_edges(m);
+  const std::vector<double> mass_r3 = lumped_mass(m);
+  const double h_r3 = mean_edge_length(m);
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(std::max(1, threads));
 
@@ -327,6 +359,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
 
   HeatVoronoi V;
   Cells cells;
+  CellPartition part;
   tbb::enumerable_thread_specific<CentroidScratch> cscratch;
   std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
   auto labels_of_sites = [&]() {
@@ -336,6 +369,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
                      order, ctx);
     r.unreached += V.unreached;
     cells = build_cells(edges, V.label, ns);
+    if (opt.split_faces) {
+      part = partition_cells(m, area_op, V, ns);
+      r.fallback_faces += part.fallback_faces;
+    }
     return order;
   };
   auto refresh_neighborhoods = [&]() {  // per site: its cell and two rings of neighbour cells
@@ -354,6 +391,24 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     BatchStopwatch isw;
     const std::vector<int32_t> order = labels_of_sites();
     refresh_neighborhoods();
+    {  // diagnostics of this iteration's labels and sites (sequential: fixed order)
+      std::vector<std::array<double, 3>> pos(ns);
+      for (int32_t s = 0; s < ns; ++s) pos[s] = surface_point_position(m, sites[s]);
+      double e = 0;
+      for (int32_t v = 0; v < n; ++v) {
+        const auto& p = pos[V.label[v]];
+        e += mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
+                           (m.z[v] - p[2]) * (m.z[v] - p[2]));
+      }
+      r.energy.push_back(e);
+      if (opt.track_quality) {
+        const CvtQuality q = cvt_quality(m, V.label, sites);
+        r.mean_angle.push_back(q.mean_angle_deg);
+        r.min_angle.push_back(q.min_angle_deg);
+      }
+    }
+    std::vector<std::array<double, 3>> before(ns);
+    for (int32_t s = 0; s < ns; ++s) before[s] = surface_point_position(m, sites[s]);
     // Centroids: batches of 8 cells in the sites' spatial order.
     std::vector<HeatCentroid> cent(ns);
     std::vector<uint8_t> has(ns, 0);
@@ -375,14 +430,19 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       for (int l = 0; l < msg->lanes; ++l) {
         const int32_t c = order[b * kLanes + l];
         msg->cells[l] = c;
-        sv.assign(cells.verts.begin() + cells.offsets[c], cells.verts.begin() + cells.offsets[c + 1]);
-        sw8.resize(sv.size());
-        for (size_t k = 0; k < sv.size(); ++k) sw8[k] = H.mass[sv[k]];  // M chi_C (eqs. 3.7, 3.10)
-        hb.add_source(sv, sw8);
+        if (opt.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11)
+          hb.add_source({part.vertex.data() + part.offsets[c], static_cast<size_t>(part.offsets[c + 1] - part.offsets[c])},
+                        {part.load.data() + part.offsets[c], static_cast<size_t>(part.offsets[c + 1] - part.offsets[c])});
+        } else {
+          sv.assign(cells.verts.begin() + cells.offsets[c], cells.verts.begin() + cells.offsets[c + 1]);
+          sw8.resize(sv.size());
+          for (size_t k = 0; k < sv.size(); ++k) sw8[k] = Hc.mass[sv[k]];  // M chi_C (eqs. 3.7, 3.10)
+          hb.add_source(sv, sw8);
+        }
         if (local) two_ring_cells(cells, c, cs.cells);
       }
       if (local) cells_to_vertices(cells, cs.cells, hb.kept);
-      solve_heat_batch(H, hb);
+      solve_heat_batch(Hc, hb);
       msg->kept = hb.count();
       const int32_t cnt = hb.count();
       for (int l = 0; l < msg->lanes; ++l) {
@@ -432,6 +492,13 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       }
       sites[s] = cent[s].point;
     }
+    double mv = 0;
+    for (int32_t s = 0; s < ns; ++s) {
+      const auto p = surface_point_position(m, sites[s]);
+      mv += (p[0] - before[s][0]) * (p[0] - before[s][0]) + (p[1] - before[s][1]) * (p[1] - before[s][1]) +
+            (p[2] - before[s][2]) * (p[2] - before[s][2]);
+    }
+    r.moved.push_back(std::sqrt(mv / ns) / h_r3);
     r.iter_s.push_back(isw.lap());
     ctx.report(static_cast<double>(it + 1) / std::max(1, opt.iterations), "lloyd");
   }
@@ -440,6 +507,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   labels_of_sites();
   r.final_labels_s = fsw.lap();
   r.label = V.label;
+  r.cell_area = partition_cells(m, area_r3, V, ns).area;
   r.sites = std::move(sites);
   r.mean_kept_fraction = kept_fraction.empty() ? 1.0
                                               : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /

@@ -43,9 +43,16 @@ struct LloydOptions {
   enum class Solver { Local, Full } solver = Solver::Local;
   double t_factor = 1.0;     // t = t_factor * h^2 (thesis §3.7: t = h^2) unless t_abs > 0
   double t_abs = 0.0;
+  // Centroid diffusion time as a multiple of h^2 (0: the cells' operator, t above);
+  // a second numeric factor on the same symbolic factor.
+  double t_centroid_factor = 0.0;
   double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
   bool refine = true;        // quadratic refinement of centroids (§3.7.1)
   double init_radius = 4.0;  // first neighbourhoods, in units of sqrt(area / (pi N))
+  // Cell sources from triangles split along the heat bisectors
+  // (pipelines/voronoi_cell_partition.hpp) instead of whole vertex stars.
+  bool split_faces = true;
+  bool track_quality = false;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
 };
 
 struct LloydResult {
@@ -59,6 +66,15 @@ struct LloydResult {
   int64_t unreached = 0;          // labels filled by the breadth-first fallback, all iterations
   int64_t empty_cells = 0;        // cells without vertices, all iterations (their sites stay)
   double mean_kept_fraction = 0;  // localized: mean over centroid batches of |kept| / n
+  // Per iteration, for the labels of that iteration and the sites before the move:
+  // the Euclidean CVT energy sum_v M_vv |x_v - site(label v)|^2 (R^3, lumped mass);
+  // Lloyd with exact centroids never raises it, so it shows convergence.
+  std::vector<double> energy;
+  std::vector<double> cell_area;   // final cells, triangles split along the bisectors, R^3 metric
+  int64_t fallback_faces = 0;      // split triangles cut by vertex labels (heat value missing), all iterations
+  std::vector<double> moved;       // RMS site displacement of the move, in units of h (R^3 mean edge)
+  std::vector<double> mean_angle;  // with track_quality: mean smallest dual angle (deg)
+  std::vector<double> min_angle;   // with track_quality: min smallest dual angle (deg)
 };
 
 // Random initial sites (seeded), then `iterations` Lloyd steps.

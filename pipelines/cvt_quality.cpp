@@ -38,6 +38,19 @@ double smallest_angle_deg(const std::array<double, 3>& a, const std::array<doubl
 
 }  // namespace
 
+void cell_area_spread(std::span<const double> area, double& cv, double& variance) {
+  cv = variance = 0;
+  if (area.empty()) return;
+  double total = 0;
+  for (double a : area) total += a;
+  const double mean = total / static_cast<double>(area.size());
+  double var = 0;
+  for (double a : area) var += (a - mean) * (a - mean);
+  var /= static_cast<double>(area.size());
+  cv = mean > 0 ? std::sqrt(var) / mean : 0.0;
+  variance = total > 0 ? var / (total * total) : 0.0;
+}
+
 CvtQuality cvt_quality(const Mesh& m, std::span<const int32_t> label, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
@@ -79,6 +92,7 @@ CvtQuality cvt_quality(const Mesh& m, std::span<const int32_t> label, std::span<
     const double a = smallest_angle_deg(pos[t[0]], pos[t[1]], pos[t[2]]);
     sum += a;
     mn = std::min(mn, a);
+    ++q.angle_histogram[std::clamp(static_cast<int>(a / 5), 0, 11)];
   }
   q.min_angle_deg = tri.empty() ? 0.0 : mn;
   q.mean_angle_deg = tri.empty() ? 0.0 : sum / static_cast<double>(tri.size());

@@ -14,6 +14,7 @@
 // the coefficient of variation std/mean and the variance of area / total area
 // (the thesis's "variance in cell area" on meshes scaled to unit area).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -27,11 +28,16 @@ struct CvtQuality {
   int64_t dual_triangles = 0;
   double min_angle_deg = 0;   // min over dual triangles of the smallest angle (0 if none)
   double mean_angle_deg = 0;  // mean over dual triangles of the smallest angle
+  std::array<int64_t, 12> angle_histogram{};  // dual triangles per 5-degree bin of the smallest angle
   double area_cv = 0;         // std / mean of the cell areas (population std)
   double area_variance = 0;   // variance of cell area / total area
   int64_t empty_cells = 0;
   std::vector<double> cell_area;
 };
+
+// Spread of given cell areas (e.g. LloydResult::cell_area from split triangles):
+// cv = std / mean (population std), variance of area / total area.
+void cell_area_spread(std::span<const double> area, double& cv, double& variance);
 
 // label[v] in [0, sites.size()); throws BadUsage otherwise.
 CvtQuality cvt_quality(const Mesh& m, std::span<const int32_t> label, std::span<const SurfacePoint> sites);

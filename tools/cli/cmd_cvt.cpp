@@ -24,6 +24,9 @@ struct CvtOptions {
   std::string solver = "local";
   std::string t_text;
   bool no_refine = false;
+  bool track = false;
+  bool no_split = false;
+  double t_centroid = 0.0;
 };
 
 int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
@@ -42,6 +45,9 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   lo.solver = o.solver == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
   lo.anisotropy = o.anisotropy;
   lo.refine = !o.no_refine;
+  lo.track_quality = o.track;
+  lo.split_faces = !o.no_split;
+  lo.t_centroid_factor = o.t_centroid;
   if (ts.times_h2) {
     lo.t_factor = ts.value;
   } else {
@@ -79,18 +85,30 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["dual_triangles"] = q.dual_triangles;
   j["min_angle_deg"] = q.min_angle_deg;
   j["mean_angle_deg"] = q.mean_angle_deg;
-  j["area_cv"] = q.area_cv;
-  j["area_variance"] = q.area_variance;
+  j["angle_histogram_5deg"] = std::vector<int64_t>(q.angle_histogram.begin(), q.angle_histogram.end());
+  double cv = 0, var = 0;
+  cell_area_spread(r.cell_area, cv, var);
+  j["area_cv"] = cv;  // cells with triangles split along the bisectors
+  j["area_variance"] = var;
+  j["area_cv_vertex"] = q.area_cv;  // cells as unions of vertex stars (lumped mass)
+  j["area_variance_vertex"] = q.area_variance;
+  j["fallback_faces"] = r.fallback_faces;
   j["empty_cells"] = q.empty_cells;
   j["unreached_vertices"] = r.unreached;
   j["iter_s_all"] = r.iter_s;
+  j["energy"] = r.energy;
+  j["moved_h"] = r.moved;
+  if (o.track) {
+    j["mean_angle_all"] = r.mean_angle;
+    j["min_angle_all"] = r.min_angle;
+  }
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": CVT of " << o.sites << " sites on " << mesh.num_vertices() << " vertices, "
        << o.iterations << " Lloyd iterations (" << o.solver << " solves" << (o.anisotropy > 0 ? ", anisotropic" : "")
        << ")\n"
        << "  factor " << r.factor_s << " s, init " << r.init_s << " s, median iteration " << j["iter_s"] << " s\n"
        << "  dual triangles " << q.dual_triangles << ": smallest angle min " << q.min_angle_deg << ", mean "
-       << q.mean_angle_deg << " deg; cell area cv " << q.area_cv << "\n";
+       << q.mean_angle_deg << " deg; cell area cv " << cv << "\n";
   });
   return 0;
 }
@@ -109,6 +127,10 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");
   app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2");
   app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");
+  app->add_option("--t-centroid", o->t_centroid, "Centroid diffusion time in units of h^2 (default: the cells' t)")
+      ->check(CLI::Range(0.0, 1e12));
+  app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
+  app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }
 
 }  // namespace locus::cli
