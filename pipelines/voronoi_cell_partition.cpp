@@ -74,6 +74,27 @@ double heron(double l2a, double l2b, double l2c) {
 
 }  // namespace
 
+void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]) {
+  for (int a = 0; a < nl; ++a) {
+    Polygon poly;
+    poly.p[0] = {0, 0};
+    poly.p[1] = {1, 0};
+    poly.p[2] = {0, 1};
+    poly.size = 3;
+    for (int b = 0; b < nl && poly.size >= 3; ++b) {
+      if (b == a) continue;
+      const double g[3] = {u[a][0] - u[b][0], u[a][1] - u[b][1], u[a][2] - u[b][2]};
+      poly = clip(poly, g, lab[a] < lab[b]);
+    }
+    double frac = 0, c1 = 1.0 / 3, c2 = 1.0 / 3;
+    if (poly.size >= 3) moments(poly, frac, c1, c2);
+    fraction[a] = frac;
+    centroid[a][0] = 1 - c1 - c2;
+    centroid[a][1] = c1;
+    centroid[a][2] = c2;
+  }
+}
+
 std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": face areas need a triangle mesh");
@@ -148,25 +169,11 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
       for (int k = 0; k < 3; ++k) entries.push_back({l[k], v[k], A / 3});
       continue;
     }
-    for (int a = 0; a < nl; ++a) {
-      Polygon poly;
-      poly.p[0] = {0, 0};
-      poly.p[1] = {1, 0};
-      poly.p[2] = {0, 1};
-      poly.size = 3;
-      for (int b = 0; b < nl && poly.size >= 3; ++b) {
-        if (b == a) continue;
-        const double g[3] = {u[a][0] - u[b][0], u[a][1] - u[b][1], u[a][2] - u[b][2]};
-        poly = clip(poly, g, lab[a] < lab[b]);
-      }
-      if (poly.size < 3) continue;
-      double frac = 0, c1 = 0, c2 = 0;
-      moments(poly, frac, c1, c2);
-      if (!(frac > 0)) continue;
-      const double bc[3] = {1 - c1 - c2, c1, c2};
+    double frac[3], cen[3][3];
+    split_triangle(nl, lab, u, frac, cen);
+    for (int a = 0; a < nl; ++a)
       for (int k = 0; k < 3; ++k)
-        if (bc[k] > 0) entries.push_back({lab[a], v[k], A * frac * bc[k]});
-    }
+        if (frac[a] > 0 && cen[a][k] > 0) entries.push_back({lab[a], v[k], A * frac[a] * cen[a][k]});
   }
   // Counting sort by cell, then by vertex within each cell; merge equal vertices.
   std::vector<int64_t> start(static_cast<size_t>(cells) + 1, 0);

@@ -46,6 +46,11 @@ struct CellPartition {
 CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, const HeatVoronoi& V,
                               int32_t cells);
 
+// One triangle: nl (1..3) distinct labels lab[a] with heat u[a][k] at corner k.
+// fraction[a]: the share of the triangle's area of label a's part (the shares sum
+// to 1); centroid[a]: barycentric coordinates of that part's centroid.
+void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]);
+
 // Triangle areas of a mesh whose positions are given in `dim` dimensions
 // (pos[v * dim + c]), by Kahan's stable Heron formula.
 std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
