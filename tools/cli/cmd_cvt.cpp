@@ -115,7 +115,14 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
 
 }  // namespace
 
+// Defined in cmd_nncoords.cpp and cmd_skinweights.cpp; registered with cvt so that
+// main.cpp's registration list does not change.
+void register_nncoords_command(CommandTable& table);
+void register_skinweights_command(CommandTable& table);
+
 void register_cvt_command(CommandTable& table) {
+  register_nncoords_command(table);
+  register_skinweights_command(table);
   auto o = std::make_shared<CvtOptions>();
   CLI::App* app = table.add("cvt", "Centroidal Voronoi tessellation (Lloyd with heat cells and centroids)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_cvt(opt, *o, ctx); });
