@@ -8,7 +8,7 @@
 // exception that is not a locus::Error) or anything else aborts as a finding,
 // as do crashes, sanitizer reports and hangs.
 //
-// Keeping the bodies cheap: the process works in a scratch directory holding
+// Keeping the bodies cheap: each input runs in a scratch directory holding
 // three tiny meshes (t.off: a 19-vertex disk, s.ply: an icosahedron, q.obj: a
 // 3x3 quad grid), rewritten before every input, and every other file there is
 // deleted after it. Inputs are rejected (return -1, not kept) when an argument
@@ -126,7 +126,17 @@ bool acceptable(const std::vector<std::string>& args) {
   return true;
 }
 
-std::string g_scratch;
+// The scratch directory, and the directory libFuzzer was started in (its
+// corpus and artifact paths are relative to it): each input runs inside the
+// scratch directory and returns to the start directory afterwards.
+std::string g_scratch, g_home;
+
+void enter(const std::string& dir) {
+  if (chdir(dir.c_str()) != 0) {
+    std::perror(("fuzz_cli_options: chdir " + dir).c_str());
+    std::abort();
+  }
+}
 
 }  // namespace
 
@@ -135,11 +145,17 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/locus_fuzz_cli_XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());
   buf.push_back('\0');
-  if (!mkdtemp(buf.data()) || chdir(buf.data()) != 0) {
+  if (!mkdtemp(buf.data())) {
     std::perror("fuzz_cli_options: scratch directory");
     std::abort();
   }
   g_scratch = buf.data();
+  char cwd[4096];
+  if (!getcwd(cwd, sizeof cwd)) {
+    std::perror("fuzz_cli_options: getcwd");
+    std::abort();
+  }
+  g_home = cwd;
   static NullBuffer null;
   std::cout.rdbuf(&null);
   std::cerr.rdbuf(&null);
@@ -161,6 +177,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (args.size() > 40) return -1;
   if (!acceptable(std::vector<std::string>(args.begin() + 1, args.end()))) return -1;
 
+  enter(g_scratch);
   write_fixtures();
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -179,6 +196,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     status = table.run(static_cast<int>(args.size()), argv.data());
   }
   remove_other_files();
+  enter(g_home);
   if (status != 0 && status != 2 && status != 3 && status != 4 && status != 5) {
     std::fprintf(stderr, "fuzz_cli_options: exit status %d for:", status);
     for (const std::string& a : args) std::fprintf(stderr, " [%s]", a.c_str());
