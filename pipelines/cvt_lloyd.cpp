@@ -236,8 +236,8 @@ void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   verts.clear();
+  // Cells are disjoint: the concatenation is already unique (the solve plan needs no order).
   for (int32_t a : cells) verts.insert(verts.end(), c.verts.begin() + c.offsets[a], c.verts.begin() + c.offsets[a + 1]);
-  std::sort(verts.begin(), verts.end());
 }
 
 struct CentroidMsg {
@@ -363,16 +363,19 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   tbb::enumerable_thread_specific<CentroidScratch> cscratch;
   std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
   auto labels_of_sites = [&]() {
+    BatchStopwatch psw;
     const std::vector<int32_t> order = spatial_order(m, sites);
     V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
                                         : std::span<const std::vector<int32_t>>(),
                      order, ctx);
     r.unreached += V.unreached;
+    r.labels_s += psw.lap();
     cells = build_cells(edges, V.label, ns);
     if (opt.split_faces) {
-      part = partition_cells(m, area_op, V, ns);
+      arena.execute([&] { part = partition_cells(m, area_op, V, ns); });
       r.fallback_faces += part.fallback_faces;
     }
+    r.partition_s += psw.lap();
     return order;
   };
   auto refresh_neighborhoods = [&]() {  // per site: its cell and two rings of neighbour cells
@@ -390,7 +393,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     ctx.check_cancel();
     BatchStopwatch isw;
     const std::vector<int32_t> order = labels_of_sites();
+    BatchStopwatch psw;
     refresh_neighborhoods();
+    r.neighbourhood_s += psw.lap();
     {  // diagnostics of this iteration's labels and sites (sequential: fixed order)
       std::vector<std::array<double, 3>> pos(ns);
       for (int32_t s = 0; s < ns; ++s) pos[s] = surface_point_position(m, sites[s]);
@@ -483,7 +488,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       }
       kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
     };
+    psw.lap();
     run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
+    r.centroids_s += psw.lap();
     for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
       if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
       if (cent[s].hottest < 0) {
@@ -507,7 +514,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   labels_of_sites();
   r.final_labels_s = fsw.lap();
   r.label = V.label;
-  r.cell_area = partition_cells(m, area_r3, V, ns).area;
+  arena.execute([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
   r.sites = std::move(sites);
   r.mean_kept_fraction = kept_fraction.empty() ? 1.0
                                               : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /

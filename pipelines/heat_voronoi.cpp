@@ -147,6 +147,23 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_ab
   return H;
 }
 
+void dedupe_kept(HeatBatch& b, int32_t n) {
+  if (b.mark_.size() != static_cast<size_t>(n)) b.mark_.assign(n, 0);
+  size_t w = 0;
+  for (size_t i = 0; i < b.kept.size(); ++i) {
+    const int32_t v = b.kept[i];
+    if (v < 0 || v >= n)
+      fail(ErrorCode::BadUsage, "heat batch: neighbourhood entry is vertex " + std::to_string(v) + ", outside 0.." +
+                                    std::to_string(n - 1));
+    if (!b.mark_[v]) {
+      b.mark_[v] = 1;
+      b.kept[w++] = v;
+    }
+  }
+  b.kept.resize(w);
+  for (int32_t v : b.kept) b.mark_[v] = 0;
+}
+
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b) {
   const int32_t n = H.n;
   const int lanes = static_cast<int>(b.src_offsets.size()) - 1;
@@ -252,8 +269,7 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
       }
     }
     if (local) {
-      std::sort(hb.kept.begin(), hb.kept.end());
-      hb.kept.erase(std::unique(hb.kept.begin(), hb.kept.end()), hb.kept.end());
+      dedupe_kept(hb, n);  // first occurrences, in order: no sort needed by the plan
     }
     solve_heat_batch(H, hb);
     msg->full = !local;

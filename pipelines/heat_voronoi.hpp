@@ -86,7 +86,7 @@ HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mas
                                      const RunContext& ctx);
 
 // One batch of up to 8 heat sources, solved in full (kept empty) or by the
-// approximate selective solve on `kept` (sorted, unique vertex ids). Inputs:
+// approximate selective solve on `kept` (unique vertex ids, any order). Inputs:
 // lane l's source is src_vertex/src_weight[src_offsets[l] .. src_offsets[l+1]);
 // lanes beyond src_offsets.size()-1 are zero. Output: values[k * 8 + lane] at
 // vertex id(k), k < count(). The rest is reusable scratch (one HeatBatch per thread).
@@ -111,8 +111,12 @@ struct HeatBatch {
   SolveWorkspace ws_;
   std::vector<double> work_, rhs_;
   std::vector<int32_t> support_;
+  std::vector<uint8_t> mark_;  // n, zero between uses
 };
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b);
+// Removes repeated ids from b.kept, keeping first occurrences in order (O(|kept|),
+// no sort); throws BadUsage for ids outside 0..n-1.
+void dedupe_kept(HeatBatch& b, int32_t n);
 
 inline constexpr int kVoronoiTopK = 4;
 

@@ -2,6 +2,8 @@
 // (pipelines/voronoi_cell_partition.hpp; thesis eqs. 3.19-3.21, 3.9-3.11).
 #include "pipelines/voronoi_cell_partition.hpp"
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -137,8 +139,6 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
       fail(ErrorCode::BadUsage, "cell partition: vertex " + std::to_string(v) + " has label " +
                                     std::to_string(V.label[v]) + ", outside 0.." + std::to_string(cells - 1));
   CellPartition P;
-  std::vector<Entry> entries;
-  entries.reserve(3 * static_cast<size_t>(nf) + static_cast<size_t>(nf) / 2);
   auto heat = [&](int32_t v, int32_t s, bool& ok) {
     const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
     for (int i = 0; i < kVoronoiTopK; ++i)
@@ -146,62 +146,89 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
     ok = false;
     return 0.0;
   };
-  for (int32_t f = 0; f < nf; ++f) {
-    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
-    const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
-    const double A = face_area[f];
-    if (l[0] == l[1] && l[1] == l[2]) {
-      for (int k = 0; k < 3; ++k) entries.push_back({l[0], v[k], A / 3});
-      continue;
-    }
-    ++P.split_faces;
-    // Distinct labels and their heat at the three corners.
-    int32_t lab[3];
-    int nl = 0;
-    for (int k = 0; k < 3; ++k)
-      if (std::find(lab, lab + nl, l[k]) == lab + nl) lab[nl++] = l[k];
-    double u[3][3];
-    bool ok = true;
-    for (int a = 0; a < nl; ++a)
-      for (int k = 0; k < 3; ++k) u[a][k] = heat(v[k], lab[a], ok);
-    if (!ok) {
-      ++P.fallback_faces;
-      for (int k = 0; k < 3; ++k) entries.push_back({l[k], v[k], A / 3});
-      continue;
-    }
-    double frac[3], cen[3][3];
-    split_triangle(nl, lab, u, frac, cen);
-    for (int a = 0; a < nl; ++a)
+  // Faces in fixed chunks, processed in parallel and concatenated in chunk order:
+  // the result does not depend on the thread count.
+  constexpr int32_t kChunk = 4096;
+  const int32_t nchunks = (nf + kChunk - 1) / kChunk;
+  std::vector<std::vector<Entry>> chunk_entries(nchunks);
+  std::vector<int64_t> chunk_split(nchunks, 0), chunk_fallback(nchunks, 0);
+  tbb::parallel_for(0, nchunks, [&](int32_t ch) {
+    std::vector<Entry>& entries = chunk_entries[ch];
+    entries.reserve(4 * static_cast<size_t>(kChunk));
+    for (int32_t f = ch * kChunk; f < std::min(nf, (ch + 1) * kChunk); ++f) {
+      const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+      const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+      const double A = face_area[f];
+      if (l[0] == l[1] && l[1] == l[2]) {
+        for (int k = 0; k < 3; ++k) entries.push_back({l[0], v[k], A / 3});
+        continue;
+      }
+      ++chunk_split[ch];
+      // Distinct labels and their heat at the three corners.
+      int32_t lab[3];
+      int nl = 0;
       for (int k = 0; k < 3; ++k)
-        if (frac[a] > 0 && cen[a][k] > 0) entries.push_back({lab[a], v[k], A * frac[a] * cen[a][k]});
+        if (std::find(lab, lab + nl, l[k]) == lab + nl) lab[nl++] = l[k];
+      double u[3][3];
+      bool ok = true;
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k) u[a][k] = heat(v[k], lab[a], ok);
+      if (!ok) {
+        ++chunk_fallback[ch];
+        for (int k = 0; k < 3; ++k) entries.push_back({l[k], v[k], A / 3});
+        continue;
+      }
+      double frac[3], cen[3][3];
+      split_triangle(nl, lab, u, frac, cen);
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k)
+          if (frac[a] > 0 && cen[a][k] > 0) entries.push_back({lab[a], v[k], A * frac[a] * cen[a][k]});
+    }
+  });
+  for (int32_t ch = 0; ch < nchunks; ++ch) {
+    P.split_faces += chunk_split[ch];
+    P.fallback_faces += chunk_fallback[ch];
   }
-  // Counting sort by cell, then by vertex within each cell; merge equal vertices.
+  // Counting sort by cell (chunk order kept), then by vertex within each cell; merge equal vertices.
   std::vector<int64_t> start(static_cast<size_t>(cells) + 1, 0);
-  for (const Entry& e : entries) ++start[e.cell + 1];
+  for (const auto& entries : chunk_entries)
+    for (const Entry& e : entries) ++start[e.cell + 1];
   for (int32_t c = 0; c < cells; ++c) start[c + 1] += start[c];
-  std::vector<Entry> sorted(entries.size());
+  std::vector<Entry> sorted(start[cells]);
   {
     std::vector<int64_t> fill(start.begin(), start.end() - 1);
-    for (const Entry& e : entries) sorted[fill[e.cell]++] = e;
+    for (const auto& entries : chunk_entries)
+      for (const Entry& e : entries) sorted[fill[e.cell]++] = e;
   }
-  P.offsets.assign(static_cast<size_t>(cells) + 1, 0);
+  // Per cell: sort by vertex and merge in place (parallel over cells, each cell's
+  // arithmetic in a fixed order), then compact.
+  std::vector<int64_t> kept(cells, 0);
   P.area.assign(cells, 0.0);
-  P.vertex.reserve(sorted.size() / 2);
-  P.load.reserve(sorted.size() / 2);
-  for (int32_t c = 0; c < cells; ++c) {
+  tbb::parallel_for(0, cells, [&](int32_t c) {
     auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];
     std::stable_sort(first, last, [](const Entry& a, const Entry& b) { return a.vertex < b.vertex; });
+    int64_t w = start[c];
+    double area = 0;
     for (auto it = first; it != last; ++it) {
-      if (!P.vertex.empty() && static_cast<int64_t>(P.vertex.size()) > P.offsets[c] && P.vertex.back() == it->vertex) {
-        P.load.back() += it->w;
+      if (w > start[c] && sorted[w - 1].vertex == it->vertex) {
+        sorted[w - 1].w += it->w;
       } else {
-        P.vertex.push_back(it->vertex);
-        P.load.push_back(it->w);
+        sorted[w++] = *it;
       }
-      P.area[c] += it->w;
+      area += it->w;
     }
-    P.offsets[c + 1] = static_cast<int64_t>(P.vertex.size());
-  }
+    kept[c] = w - start[c];
+    P.area[c] = area;
+  });
+  P.offsets.assign(static_cast<size_t>(cells) + 1, 0);
+  for (int32_t c = 0; c < cells; ++c) P.offsets[c + 1] = P.offsets[c] + kept[c];
+  P.vertex.resize(P.offsets[cells]);
+  P.load.resize(P.offsets[cells]);
+  for (int32_t c = 0; c < cells; ++c)
+    for (int64_t k = 0; k < kept[c]; ++k) {
+      P.vertex[P.offsets[c] + k] = sorted[start[c] + k].vertex;
+      P.load[P.offsets[c] + k] = sorted[start[c] + k].w;
+    }
   return P;
 }
 

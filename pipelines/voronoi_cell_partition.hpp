@@ -20,8 +20,9 @@
 // nearby) is split by its vertex labels instead, and counted.
 // Ties (equal interpolants over a whole triangle) go to the smaller label.
 //
-// Deterministic (fixed face order, per-cell sorted output). Thread safety:
-// re-entrant; `face_area` is read only.
+// Deterministic (fixed face chunks concatenated in order, per-cell sorted output,
+// each cell's sums in a fixed order), parallel with oneTBB in the caller's arena.
+// Thread safety: re-entrant; `face_area` is read only.
 #pragma once
 #include <cstdint>
 #include <span>

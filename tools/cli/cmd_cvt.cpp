@@ -81,6 +81,8 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["factor_s"] = r.factor_s;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
+  j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighbourhood_s},
+                  {"centroids", r.centroids_s}};
   j["mean_kept_fraction"] = r.mean_kept_fraction;
   j["dual_triangles"] = q.dual_triangles;
   j["min_angle_deg"] = q.min_angle_deg;
