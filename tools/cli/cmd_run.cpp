@@ -32,7 +32,9 @@
 // Ctrl-C (SIGINT) or SIGTERM: no new item starts, running children get SIGINT
 // (they stop at their next cancellation check; SIGKILL after 10 s), finished
 // results stay, the summary is written with the unfinished items as
-// "cancelled" / "not_run", exit status 5. A second Ctrl-C kills the runner.
+// "cancelled" / "not_run", exit status 5. Children run in their own process
+// group, so a terminal Ctrl-C reaches them only through the runner, once. A
+// second Ctrl-C kills the running children and the runner.
 //
 // Exit status: 0 every input succeeded; 3 some input failed (bad file,
 // numerical failure or crash: each is reported and skipped, the run goes on);
@@ -76,9 +78,21 @@ namespace fs = std::filesystem;
 std::atomic<int> g_stop{0};  // signal number that asked the runner to stop, 0 = none
 static_assert(std::atomic<int>::is_always_lock_free);
 
+// Running children, one slot per job (0 = free): the signal handler may kill them.
+constexpr int kMaxJobs = 1024;
+std::atomic<pid_t> g_children[kMaxJobs];
+static_assert(std::atomic<pid_t>::is_always_lock_free);
+
+// First Ctrl-C: ask to stop (the loop forwards SIGINT to the children once).
+// Second: kill the children and die by the signal. Only async-signal-safe calls.
 extern "C" void on_stop_signal(int sig) {
-  g_stop.store(sig, std::memory_order_relaxed);
-  std::signal(sig, SIG_DFL);  // a second Ctrl-C kills
+  if (g_stop.exchange(sig, std::memory_order_relaxed) == 0) return;
+  for (auto& c : g_children) {
+    const pid_t pid = c.load(std::memory_order_relaxed);
+    if (pid > 0) ::kill(pid, SIGKILL);
+  }
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 struct RunOptions {
@@ -278,6 +292,10 @@ class Progress {
   explicit Progress(size_t total) : total_(total), on_(::isatty(STDERR_FILENO) == 1) {}
   void draw(size_t done, size_t running, size_t failed, double elapsed) {
     if (!on_) return;
+    // Redraw on every completed item, otherwise at most 4 times a second.
+    if (done == last_done_ && elapsed - last_draw_ < 0.25) return;
+    last_done_ = done;
+    last_draw_ = elapsed;
     constexpr int kWidth = 30;
     const int fill = total_ ? static_cast<int>(kWidth * done / total_) : kWidth;
     const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
@@ -302,6 +320,8 @@ class Progress {
   size_t total_;
   bool on_;
   bool drawn_ = false;
+  size_t last_done_ = static_cast<size_t>(-1);
+  double last_draw_ = 0;
 };
 
 std::string self_exe() {
@@ -343,7 +363,10 @@ pid_t spawn_item(const std::string& exe, const RunOptions& o, const Item& it, co
   sigaddset(&def, SIGINT);
   sigaddset(&def, SIGTERM);
   posix_spawnattr_setsigdefault(&attr, &def);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+  // Own process group: a terminal Ctrl-C reaches the runner only, which forwards
+  // exactly one SIGINT (a child's second SIGINT would kill it before it can stop cleanly).
+  posix_spawnattr_setpgroup(&attr, 0);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
   pid_t pid = -1;
   const int rc = posix_spawn(&pid, exe.c_str(), &fa, &attr, argv.data(), environ);
   posix_spawnattr_destroy(&attr);
@@ -417,6 +440,7 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
   const std::string exe = self_exe();
 
   g_stop.store(0);
+  for (auto& c : g_children) c.store(0);
   auto prev_int = std::signal(SIGINT, on_stop_signal);
   auto prev_term = std::signal(SIGTERM, on_stop_signal);
 
@@ -455,6 +479,10 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
       }
       it.start = std::chrono::steady_clock::now();
       it.pid = spawn_item(exe, o, it, out_dir, per_item);
+      for (auto& c : g_children) {
+        pid_t free_slot = 0;
+        if (c.compare_exchange_strong(free_slot, it.pid)) break;
+      }
       running.push_back(next++);
     }
     if (running.empty() && (stopping || next >= items.size())) break;
@@ -479,6 +507,10 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
         continue;
       }
       it.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - it.start).count();
+      for (auto& c : g_children) {
+        pid_t mine = it.pid;
+        if (c.compare_exchange_strong(mine, 0)) break;
+      }
       if (got > 0 && WIFEXITED(ws)) {
         it.exit_status = WEXITSTATUS(ws);
         it.status = it.exit_status == 0                                           ? "ok"
