@@ -5,6 +5,7 @@
 // names are refused.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <set>
 #include <string>
 
@@ -93,6 +94,20 @@ TEST_CASE("rasterize: a square facing the camera lands in the middle, background
   std::set<uint32_t> row;
   for (int x = 0; x < 120; ++x) row.insert(uint32_t(px(x, 50)[0]) << 16 | uint32_t(px(x, 50)[1]) << 8 | px(x, 50)[2]);
   CHECK(row.size() > 10);
+  // Labels (cvt cells): one flat colour per label, nearest corner; 4 quadrant labels give 4 hues (+ shading).
+  for (int32_t v = 0; v < m.num_vertices(); ++v) values[v] = (m.x[v] < 0.5 ? 0 : 1) + (m.y[v] < 0.5 ? 0 : 2);
+  ro.coloring = locus::Coloring::Labels;
+  const locus::RasterImage lab = locus::rasterize_mesh(m, values, ro);
+  std::set<uint32_t> hues;
+  for (size_t p = 0; p < lab.rgb.size(); p += 3) {
+    const uint8_t* q = &lab.rgb[p];
+    if (q[0] == 242 && q[1] == 242 && q[2] == 242) continue;
+    // Normalize out the (uniform, flat-plane) shading: compare colour ratios.
+    const int mx = std::max({q[0], q[1], q[2]});
+    hues.insert(uint32_t(q[0] * 8 / (mx + 1)) << 8 | uint32_t(q[1] * 8 / (mx + 1)) << 4 | uint32_t(q[2] * 8 / (mx + 1)));
+  }
+  CHECK(hues.size() >= 4);
+  CHECK(hues.size() <= 6);  // a flat plane: no shading variation, only the label colours (plus edge rounding)
   // Wrong sizes are usage errors.
   CHECK_THROWS_AS(locus::rasterize_mesh(m, std::span<const double>(values.data(), 3), ro), locus::Error);
   ro.coloring = locus::Coloring::Checker;
