@@ -335,6 +335,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + Hc_own.factor_s;
   r.h = H.h;
   r.t = H.t;
+  r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + Hc_own.factor.values.size()) * sizeof(double));
   const CentroidGeometry geo = prepare_centroid_geometry(m);
   const Edges edges = unique_edges(m);
   const std::vector<double> mass_r3 = lumped_mass(m);

@@ -60,6 +60,7 @@ struct LloydResult {
   std::vector<int32_t> label;     // per vertex, cell of the final sites
   double h = 0, t = 0;            // in the operator's metric
   double factor_s = 0;            // operator + ordering + symbolic + numeric
+  int64_t factor_bytes = 0;       // numeric factor values (both factors with t_centroid_factor)
   double init_s = 0;              // initial sites and first neighbourhoods
   std::vector<double> iter_s;     // per iteration (labels + centroids)
   double final_labels_s = 0;

@@ -97,6 +97,32 @@ TEST_CASE("cvt: Lloyd on an icosphere raises the mean dual angle and evens out c
   CHECK(q.dual_triangles == 2 * o.sites - 4);
 }
 
+TEST_CASE("cvt: split-triangle cell sources escape the vertex-quantized fixed point (sphere, 100 sites)") {
+  // With cells as unions of vertex stars Lloyd stops moving once no label changes,
+  // far from the CVT; splitting triangles along the bisectors keeps the sites moving.
+  // Reference: a CVT of 100 points on the sphere has a mean smallest dual angle of
+  // about 52-54 degrees and nearly equal cell areas.
+  const Mesh m = make_icosphere(4);
+  LloydOptions o;
+  o.sites = 100;
+  o.iterations = 40;
+  o.split_faces = false;
+  const LloydResult a = cvt_lloyd(m, o, {});
+  o.split_faces = true;
+  const LloydResult b = cvt_lloyd(m, o, {});
+  const CvtQuality qa = cvt_quality(m, a.label, a.sites), qb = cvt_quality(m, b.label, b.sites);
+  double cva = 0, cvb = 0, var = 0;
+  cell_area_spread(a.cell_area, cva, var);
+  cell_area_spread(b.cell_area, cvb, var);
+  INFO("vertex cells: mean " << qa.mean_angle_deg << " cv " << cva << "; split: mean " << qb.mean_angle_deg << " cv " << cvb);
+  CHECK(qb.mean_angle_deg > 50);
+  CHECK(qb.mean_angle_deg > qa.mean_angle_deg + 2);
+  CHECK(cvb < 0.6 * cva);
+  CHECK(b.fallback_faces < 40 * m.num_faces() / 100);  // localized solves: missing heat values are rare
+  // Lloyd does not raise the energy (up to the discretization): last <= first.
+  CHECK(b.energy.back() < b.energy.front());
+}
+
 TEST_CASE("cvt: localized and full solvers give close results; bit-identical with 1 and 2 threads") {
   const Mesh m = make_icosphere(4);
   const double h = mean_edge_length(m);
@@ -154,4 +180,44 @@ TEST_CASE("cvt: anisotropic lift runs on a torus; cancellation stops with Error(
   }
   o.sites = m.num_vertices() + 1;
   CHECK_THROWS_AS(cvt_lloyd(m, o, {}), Error);
+}
+
+namespace {
+
+Mesh scaled_to_unit_area(Mesh m) {
+  const std::vector<double> mass = lumped_mass(m);
+  double area = 0;
+  for (double a : mass) area += a;
+  const double s = 1.0 / std::sqrt(area);
+  for (auto* c : {&m.x, &m.y, &m.z})
+    for (double& x : *c) x *= s;
+  return m;
+}
+
+}  // namespace
+
+// Thesis §3.7.1: on a torus and a sphere of unit area (similar resolution), 20 and 500
+// sites, 100 iterations: cell-area variance ~1e-6 and ~1e-8; the issue's targets are
+// 2e-6 and 2e-8. Not met yet (measured with split-triangle areas, seed 1, 10k-vertex
+// sphere / 11.5k-vertex torus: sphere 2.8e-6 and 2.2e-8, torus 5.1e-6 and 2.4e-8),
+// hence may_fail: the figures are printed either way.
+TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 20 and 500 sites, 100 iterations" *
+          doctest::test_suite("stress") * doctest::may_fail()) {
+  const Mesh sphere = scaled_to_unit_area(make_icosphere(5));
+  const Mesh torus = scaled_to_unit_area(make_torus(160, 72));
+  for (const Mesh* m : {&sphere, &torus}) {
+    for (int32_t ns : {20, 500}) {
+      LloydOptions o;
+      o.sites = ns;
+      o.iterations = 100;
+      const LloydResult r = cvt_lloyd(*m, o, {});
+      double cv = 0, var = 0;
+      cell_area_spread(r.cell_area, cv, var);
+      double total = 0;
+      for (double a : r.cell_area) total += a;
+      CHECK(total == doctest::Approx(1.0).epsilon(1e-9));  // the partition covers the surface once
+      MESSAGE((m == &sphere ? "sphere " : "torus ") << ns << " sites: area variance " << var << ", cv " << cv);
+      CHECK(var <= (ns == 20 ? 2e-6 : 2e-8));
+    }
+  }
 }

@@ -79,6 +79,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["t"] = r.t;
   j["init_s"] = r.init_s;
   j["factor_s"] = r.factor_s;
+  j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
   j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighbourhood_s},
