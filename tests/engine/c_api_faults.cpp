@@ -132,10 +132,10 @@ TEST_CASE("C API faults: collapsed and needle triangles") {
     }
     REQUIRE(st == LOCUS_OK);
     std::vector<double> d(25);
+    // An angle of ~1e-9 rad: refused by name (pipelines/heat_geodesic.cpp, needles).
     const locus_status g = locus_geodesic_distance(s, 12, d.data());
-    CHECK((g == LOCUS_OK || g == LOCUS_NUMERICAL));
-    if (g == LOCUS_OK)
-      for (double x : d) CHECK(std::isfinite(x));
+    CHECK(g == LOCUS_BAD_INPUT);
+    CHECK(std::string(locus_last_error_message()).find("needle") != std::string::npos);
     locus_session_destroy(s);
   }
 }
