@@ -286,7 +286,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
 
   LloydResult r;
   BatchStopwatch sw;
-  HeatDiffusion H;
+  HeatDiffusion H_own;
   const std::vector<double> area_r3 = face_areas(m);
   std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
   // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
@@ -303,7 +303,12 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     fail(ErrorCode::BadUsage, "cvt: the diffusion time must be a finite positive number");
   if (!(opt.t_centroid_factor >= 0) || !std::isfinite(opt.t_centroid_factor))
     fail(ErrorCode::BadUsage, "cvt: the centroid diffusion time must be a finite number >= 0");
-  {
+  if (opt.prepared) {
+    if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
+    if (opt.prepared->n != n || opt.prepared->mass.size() != static_cast<size_t>(n))
+      fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
+    area_op = area_r3;
+  } else {
     std::vector<double> mass;
     double h = 0;
     if (opt.anisotropy > 0) {
@@ -315,9 +320,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     const CscMatrix A = build(t, mass, h);
     area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
     const double op_s = sw.lap();
-    H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
-    H.operator_s = op_s;
+    H_own = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
+    H_own.operator_s = op_s;
   }
+  const HeatDiffusion& H = opt.prepared ? *opt.prepared : H_own;
   // Centroids with their own diffusion time: same pattern, so the symbolic factor is shared.
   HeatDiffusion Hc_own;
   if (opt.t_centroid_factor > 0) {

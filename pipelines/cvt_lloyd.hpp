@@ -52,7 +52,10 @@ struct LloydOptions {
   // Cell sources from triangles split along the heat bisectors
   // (pipelines/voronoi_cell_partition.hpp) instead of whole vertex stars.
   bool split_faces = true;
-  bool track_quality = false;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
+  bool track_quality = false;
+  // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
+  // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
+  const HeatDiffusion* prepared = nullptr;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
 };
 
 struct LloydResult {

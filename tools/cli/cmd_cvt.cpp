@@ -13,6 +13,7 @@
 #include "pipelines/cvt_lloyd.hpp"
 #include "pipelines/cvt_quality.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/heat_factor_cache.hpp"
 
 namespace locus::cli {
 namespace {
@@ -27,12 +28,18 @@ struct CvtOptions {
   bool track = false;
   bool no_split = false;
   double t_centroid = 0.0;
+  FactorCacheOptions fc;
+  std::string preview;
 };
 
 int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
   if (o.solver != "local" && o.solver != "full")
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
+  validate_factor_cache_options(o.fc);
+  check_preview_path(o.preview);
+  if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
+    fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
   if (o.sites > mesh.num_vertices())
@@ -58,6 +65,13 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   run.progress = [json](double f, std::string_view phase) {
     if (!json) log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
   };
+  // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
+  Factors cache;
+  HeatDiffusion prepared;
+  if (o.anisotropy == 0) {
+    prepared = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
+    lo.prepared = &prepared;
+  }
   const LloydResult r = cvt_lloyd(mesh, lo, run);
   const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
 
@@ -67,6 +81,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
         {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
     write_mesh(opt.output, mesh, wo);
   }
+  write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, o.preview);
   Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
   j["n"] = mesh.num_vertices();
   j["sites"] = o.sites;
@@ -78,7 +93,8 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["h"] = r.h;
   j["t"] = r.t;
   j["init_s"] = r.init_s;
-  j["factor_s"] = r.factor_s;
+  j["factor_s"] = r.factor_s;  // includes the prepared operator's phases (0 when loaded)
+  j["factor_cache"] = factor_cache_json(o.fc, cache);
   j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
@@ -136,6 +152,8 @@ void register_cvt_command(CommandTable& table) {
       ->check(CLI::Range(0.0, 1e6));
   app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");
   app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2");
+  add_factor_cache_options(app, o->fc);
+  add_preview_option(app, o->preview);
   app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");
   app->add_option("--t-centroid", o->t_centroid, "Centroid diffusion time in units of h^2 (default: the cells' t)")
       ->check(CLI::Range(0.0, 1e12));

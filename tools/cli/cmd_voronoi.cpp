@@ -14,6 +14,7 @@
 #include "locus/error.hpp"
 #include "pipelines/heat_voronoi.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/heat_factor_cache.hpp"
 
 namespace locus::cli {
 namespace {
@@ -22,6 +23,8 @@ struct VoronoiOptions {
   std::string sites_text;
   int32_t random = 0;
   std::string t_text;
+  FactorCacheOptions fc;
+  std::string preview;
 };
 
 std::vector<int32_t> parse_ids(const std::string& text) {
@@ -64,6 +67,8 @@ void write_polylines(const std::string& path, const VoronoiDiagram& D) {
 int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunContext& ctx) {
   if (o.sites_text.empty() == (o.random <= 0)) fail(ErrorCode::BadUsage, "give either --sites or --random N (N > 0)");
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
+  validate_factor_cache_options(o.fc);
+  check_preview_path(o.preview);
   const std::vector<int32_t> ids = o.sites_text.empty() ? std::vector<int32_t>{} : parse_ids(o.sites_text);
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
@@ -77,8 +82,8 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   ctx.check_cancel();
   Stopwatch sw;
   // Requirements are checked inside; t as a multiple of h^2 needs h first.
-  const HeatDiffusion H = ts.times_h2 ? prepare_heat_diffusion(mesh, ts.value, 0.0, ctx)
-                                      : prepare_heat_diffusion(mesh, 1.0, ts.value, ctx);
+  Factors cache;
+  const HeatDiffusion H = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
   const double prepare_s = sw.seconds();
   if (o.random > 0) sites = random_surface_points(mesh, o.random, opt.seed);
   if (static_cast<int64_t>(sites.size()) > mesh.num_vertices())
@@ -100,6 +105,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   for (int32_t v = 0; v < mesh.num_vertices(); ++v) cold += !(V.top_value[static_cast<size_t>(v) * kVoronoiTopK] > 0);
 
   if (!opt.output.empty()) write_polylines(opt.output, D);
+  write_preview(mesh, std::vector<double>(V.label.begin(), V.label.end()), PreviewKind::Labels, o.preview);
   Json j{{"command", "voronoi"}, {"input", input_json(opt, in)}};
   j["n"] = mesh.num_vertices();
   j["sites"] = sites.size();
@@ -114,6 +120,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   j["empty_cells"] = empty;
   j["vertices_without_heat"] = cold;
   j["values_solved_again"] = D.resolved_missing;
+  j["factor_cache"] = factor_cache_json(o.fc, cache);
   j["timings"] = {{"load_s", in.load_s},      {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
                   {"order_s", H.order_s},     {"analyze_s", H.analyze_s},      {"factor_s", H.factor_s},
                   {"prepare_s", prepare_s},   {"solve_s", solve_s},            {"diagram_s", diagram_s}};
@@ -139,6 +146,8 @@ void register_voronoi_command(CommandTable& table) {
   app->add_option("--random", o->random, "Generators: N random surface points (seeded by --seed)")
       ->check(CLI::Range(1, 100000000));
   app->add_option("--t", o->t_text, "Diffusion time: absolute (0.001) or a multiple of h^2 (h2, 4h2); default h2");
+  add_factor_cache_options(app, o->fc);
+  add_preview_option(app, o->preview);
 }
 
 }  // namespace locus::cli

@@ -1,0 +1,41 @@
+// The heat operator M - t L_C of the diffusion-diagram commands (locus voronoi,
+// locus cvt) through the CLI factor cache (--save / --load, cli_common.hpp
+// factor_or_load): label "heat" with the resolved t, so a file saved by
+// `locus factor --operator heat`, `locus voronoi` or `locus cvt` with the same t
+// and mesh loads in any of them.
+#pragma once
+#include <span>
+#include <utility>
+
+#include "kernels/mesh_operators.hpp"
+#include "kernels/mesh_topology.hpp"
+#include "pipelines/heat_voronoi.hpp"
+#include "tools/cli/cli_common.hpp"
+
+namespace locus::cli {
+
+inline HeatDiffusion heat_diffusion_cached(const FactorCacheOptions& fc, const Mesh& mesh, const TimeSpec& ts,
+                                           const RunContext& ctx, Factors& info) {
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  check_requirements(mesh, req);
+  if (mesh.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(mesh) + ": the mesh has no vertices");
+  Stopwatch sw;
+  HeatDiffusion H;
+  H.n = mesh.num_vertices();
+  H.h = mean_edge_length(mesh);
+  H.t = ts.resolve(H.h);
+  const CscMatrix A = heat_operator(mesh, H.t);
+  H.mass = lumped_mass(mesh);
+  H.operator_s = sw.seconds();
+  const FactorRequest request{"heat", H.t, &A};
+  info = factor_or_load(fc, mesh, std::span<const FactorRequest>(&request, 1), ctx);
+  H.factor = std::move(info.factors[0]);
+  info.factors.clear();
+  H.order_s = info.order_s;
+  H.analyze_s = info.analyze_s;
+  H.factor_s = info.numeric_s;
+  return H;
+}
+
+}  // namespace locus::cli
