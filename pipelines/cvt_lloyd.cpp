@@ -282,6 +282,25 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
   for (int32_t s = 0; s < ns; ++s) check_surface_point(m, sites[s], "site", s);
+  // Heat never crosses components: a component without a site would have no
+  // cell (and labels of -1). Sites stay in their cell's component, so checking
+  // the initial sites is enough.
+  {
+    std::vector<int32_t> comp;
+    const int32_t nc = connected_components(m, comp);
+    if (nc > 1) {
+      std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
+      for (const SurfacePoint& p : sites) {
+        const int32_t v = p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])];
+        has_site[static_cast<size_t>(comp[v])] = 1;
+      }
+      for (int32_t v = 0; v < n; ++v)
+        if (comp[v] >= 0 && !has_site[static_cast<size_t>(comp[v])])
+          fail(ErrorCode::BadInput, "cvt: the connected component containing vertex " + std::to_string(v) +
+                                        " has no site (the mesh has " + std::to_string(nc) +
+                                        " components; every component needs at least one site)");
+    }
+  }
   const bool local = opt.solver == LloydOptions::Solver::Local;
 
   LloydResult r;
@@ -377,6 +396,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
                      order, ctx);
     r.unreached += V.unreached;
     r.labels_s += psw.lap();
+    for (int32_t v = 0; v < n; ++v)
+      if (V.label[v] < 0)
+        fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
     cells = build_cells(edges, V.label, ns);
     if (opt.split_faces) {
       arena.execute([&] { part = partition_cells(m, area_op, V, ns); });

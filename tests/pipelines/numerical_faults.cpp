@@ -564,9 +564,9 @@ TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refu
 // reaches it and the breadth-first fallback cannot cross components), and
 // pipelines/cvt_lloyd.cpp build_cells then indexes offsets[label + 1] and
 // fill[label] with label -1: a heap-buffer-overflow (ASan), silent memory
-// corruption in Release. Skipped until cvt_lloyd refuses or handles such
-// components (owner: CVT); the test states the contract then.
-TEST_CASE("faults: CVT on a mesh with a component that receives no site" * doctest::skip(true)) {
+// corruption in Release. cvt_lloyd now refuses such meshes up front (BadInput
+// naming a vertex of the siteless component).
+TEST_CASE("faults: CVT on a mesh with a component that receives no site") {
   // A tiny sphere next to a big one: sites are drawn by area, so all land on the big one.
   const Mesh big = make_icosphere(2);
   Mesh tiny = make_icosphere(1, 1e-3);
@@ -579,11 +579,8 @@ TEST_CASE("faults: CVT on a mesh with a component that receives no site" * docte
     LloydResult R;
     const Outcome out = attempt([&] { R = cvt_lloyd(m, o, {}); });
     INFO(out.message);
-    if (out.threw) {
-      CHECK(out.code == ErrorCode::BadInput);
-      CHECK(out.message.find("component") != std::string::npos);
-    } else {
-      for (int32_t l : R.label) CHECK((l >= 0 && l < o.sites));
-    }
+    REQUIRE(out.threw);
+    CHECK(out.code == ErrorCode::BadInput);
+    CHECK(out.message.find("component") != std::string::npos);
   }
 }

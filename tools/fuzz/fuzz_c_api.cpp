@@ -49,7 +49,7 @@ struct Reader {
 // offsets[-1 + 1] / fill[-1]: heap-buffer-overflow; input
 // tests/fuzz_corpus/c_api/regress_cvt_component_without_site). Set to false
 // once cvt_lloyd handles it; the regression input then runs again.
-constexpr bool kSkipCvtOnSeveralComponents = true;
+constexpr bool kSkipCvtOnSeveralComponents = false;  // cvt_lloyd refuses siteless components since the fix
 
 // Number of connected components of the vertices used by the triangles (union-find).
 int components(int64_t nv, const std::vector<int32_t>& tris) {
