@@ -355,8 +355,9 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
                                   " (the vertex count), got " + std::to_string(sites));
   if (iterations < 0)
     fail(ErrorCode::BadUsage, "cvt: the number of iterations must be >= 0, got " + std::to_string(iterations));
-  // cvt_lloyd cannot yet handle a component that receives no site (it indexes
-  // cells with label -1; fuzz_c_api finding 17fa79a): refuse until it can.
+  // Random initial sites can miss a small component, which cvt_lloyd refuses
+  // (every component needs a site); the Session asks for a connected mesh up
+  // front so the answer does not depend on the seed.
   if (impl_->components > 1)
     fail(ErrorCode::BadInput, "cvt: " + mesh_name(s->mesh) + " has " + std::to_string(impl_->components) +
                                   " connected components; cvt needs a connected mesh");
