@@ -30,6 +30,7 @@
 #include <string>
 
 #include "kernels/etree.hpp"
+#include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -48,8 +49,7 @@ void in_arena(const RunContext& ctx, F&& f) {
     f(1);
     return;
   }
-  tbb::task_arena arena(threads);
-  arena.execute([&] { f(threads); });
+  run_with_threads(threads, [&] { f(threads); });
 }
 
 // A_II from the local map (local[v] = position of v in I, -1 outside). The map

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "kernels/blas.hpp"
+#include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -143,7 +144,6 @@ SelectedInverse selected_inversion(const NumericFactor& F, const RunContext& ctx
   }
   const int64_t grain = std::max<int64_t>(1, static_cast<int64_t>(S.super_value_ptr[S.ns] / (16 * threads)));
   tbb::enumerable_thread_specific<Work> works;
-  tbb::task_arena arena(threads);
   std::function<void(int32_t)> down = [&](int32_t s) {
     ctx.check_cancel();
     Work& w = works.local();
@@ -165,7 +165,7 @@ SelectedInverse selected_inversion(const NumericFactor& F, const RunContext& ctx
     }
     tg.wait();
   };
-  arena.execute([&] {
+  run_with_threads(threads, [&] {
     tbb::task_group tg;
     for (int32_t s = 0; s < S.ns; ++s)
       if (S.super_parent[s] < 0) tg.run([&down, s] { down(s); });

@@ -24,6 +24,7 @@
 
 #include "kernels/blas.hpp"
 #include "kernels/memory_budget.hpp"
+#include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -79,20 +80,19 @@ class Factorizer {
 
     blas::SingleThreaded single;
     const int threads = ctx_.threads > 0 ? ctx_.threads : tbb::this_task_arena::max_concurrency();
-    // Always inside an arena of the requested size: the large-supernode path
-    // uses nested parallel loops, which must not spill onto other cores.
-    tbb::task_arena arena(std::max(1, threads));
+    // Always with the requested concurrency: the large-supernode path uses
+    // nested parallel loops, which must not spill onto other cores.
     // Below ~1 ms of work, waking workers costs more than they save: their
     // spin-waiting burned >90% of the CPU time of 1000 50-vertex factorizations.
     constexpr double kParallelMinWork = 2e6;
     if (threads <= 1 || total < kParallelMinWork) {
-      arena.execute([&] {
+      run_with_threads(1, [&] {
         for (int32_t s = 0; s < ns; ++s) factor_one(s);
       });
       return;
     }
     threshold_ = total / (16.0 * threads);
-    arena.execute([&] {
+    run_with_threads(threads, [&] {
       tbb::task_group tg;
       for (int32_t r : roots) tg.run([this, r] { process(r); });
       tg.wait();
@@ -183,13 +183,16 @@ class Factorizer {
         if (off >= static_cast<int64_t>(c0) * m && off < static_cast<int64_t>(c1) * m) Ls[off] = A_.values[S_.a_src[q]];
       }
       for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
-      for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u)
+      for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u) {
+        ctx_.check_cancel();  // a root supernode alone can take seconds: stay within ~100 ms of a cancel
         apply_update(S_.update_from[u], f + c0, c1 - c0, m, Ls + static_cast<int64_t>(c0) * m, w, f);
+      }
     });
     // Blocked right-looking Cholesky of the m x k panel.
     const char lo = 'L', nt = 'N', tr = 'T', right = 'R', nu = 'N';
     const double one = 1.0, mone = -1.0;
     for (int32_t j0 = 0; j0 < k; j0 += kBlock) {
+      ctx_.check_cancel();
       const int jb = std::min<int32_t>(kBlock, k - j0);
       double* Djj = Ls + static_cast<int64_t>(j0) * m + j0;
       int info = 0;

@@ -17,6 +17,7 @@
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "kernels/solve_full.hpp"
+#include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
 #include "pipelines/cvt_quality.hpp"
 #include "pipelines/heat_centroid.hpp"
@@ -366,7 +367,8 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   const std::vector<double> mass_r3 = lumped_mass(m);
   const double h_r3 = mean_edge_length(m);
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(std::max(1, threads));
+  // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
+  const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
 
   // First neighbourhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
@@ -376,7 +378,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
     nb.resize(ns);
     tbb::enumerable_thread_specific<DijkstraScratch> scratch;
-    arena.execute([&] {
+    in_arena([&] {
       tbb::parallel_for(0, ns, [&](int32_t s) { nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local()); });
     });
     ctx.check_cancel();
@@ -401,7 +403,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
         fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
     cells = build_cells(edges, V.label, ns);
     if (opt.split_faces) {
-      arena.execute([&] { part = partition_cells(m, area_op, V, ns); });
+      in_arena([&] { part = partition_cells(m, area_op, V, ns); });
       r.fallback_faces += part.fallback_faces;
     }
     r.partition_s += psw.lap();
@@ -409,7 +411,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   };
   auto refresh_neighborhoods = [&]() {  // per site: its cell and two rings of neighbour cells
     if (!local) return;
-    arena.execute([&] {
+    in_arena([&] {
       tbb::parallel_for(0, ns, [&](int32_t s) {
         std::vector<int32_t> cl;
         two_ring_cells(cells, s, cl);
@@ -543,7 +545,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   labels_of_sites();
   r.final_labels_s = fsw.lap();
   r.label = V.label;
-  arena.execute([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
+  in_arena([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
   r.sites = std::move(sites);
   r.mean_kept_fraction = kept_fraction.empty() ? 1.0
                                               : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /

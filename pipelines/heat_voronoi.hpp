@@ -41,6 +41,7 @@
 
 #include "kernels/solve_sparse.hpp"
 #include "kernels/supernodal_factor.hpp"
+#include "kernels/task_arenas.hpp"
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
@@ -181,8 +182,7 @@ void run_batch_graph(const RunContext& ctx, int32_t count, Solve&& solve, Reduce
     stop.store(true);
   };
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(std::max(1, threads));
-  arena.execute([&] {
+  run_with_threads(std::max(1, threads), [&] {  // reused arena: one per call leaks inside oneTBB
     tbb::flow::graph g;
     tbb::flow::function_node<int32_t, Item> work(g, tbb::flow::unlimited, [&](int32_t id) -> Item {
       if (stop.load() || ctx.cancelled()) {
