@@ -362,8 +362,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   r.h = H.h;
   r.t = H.t;
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + Hc_own.factor.values.size()) * sizeof(double));
+  ctx.check_cancel();
   const CentroidGeometry geo = prepare_centroid_geometry(m);
   const Edges edges = unique_edges(m);
+  ctx.check_cancel();
   const std::vector<double> mass_r3 = lumped_mass(m);
   const double h_r3 = mean_edge_length(m);
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
@@ -379,7 +381,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     nb.resize(ns);
     tbb::enumerable_thread_specific<DijkstraScratch> scratch;
     in_arena([&] {
-      tbb::parallel_for(0, ns, [&](int32_t s) { nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local()); });
+      tbb::parallel_for(0, ns, [&](int32_t s) {
+        if (!ctx.cancelled()) nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local());
+      });
     });
     ctx.check_cancel();
   }
