@@ -131,6 +131,12 @@ struct BuiltOperator {
   double t = 0;  // diffusion time used (0 for the Laplacian)
   double h = 0;  // mean edge length of the mesh
 };
+// Rejects an empty option value: `--t ''` would otherwise read as "not given"
+// and silently fall back to the default.
+inline CLI::Validator non_empty() {
+  return CLI::Validator([](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); },
+                        "NONEMPTY");
+}
 // Adds --operator and --t to a command.
 void add_operator_options(CLI::App* app, OperatorSpec& spec);
 // Checks the spec before any work (BadUsage: --t with the Laplacian, bad --t).

@@ -15,7 +15,7 @@ void register_adf_command(CommandTable& table) {
                               so->t_texts = {*t};
                               return run_heat_signature("adf", opt, *so, ctx);
                             });
-  app->add_option("--t", *t, "Diffusion time: absolute (1e-3) or a multiple of h^2 (500h2); default 1h2");
+  app->add_option("--t", *t, "Diffusion time: absolute (1e-3) or a multiple of h^2 (500h2); default 1h2")->check(non_empty());
   add_heat_signature_options(app, *so);
 }
 

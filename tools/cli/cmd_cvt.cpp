@@ -151,7 +151,7 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--anisotropy", o->anisotropy, "lambda of the R^6 lift (p, lambda n); 0 = isotropic (thesis: 0.05)")
       ->check(CLI::Range(0.0, 1e6));
   app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");
-  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2");
+  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
   add_factor_cache_options(app, o->fc);
   add_preview_option(app, o->preview);
   app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");

@@ -7,6 +7,7 @@
 // the maximum distance and the radius of the patch.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ostream>
 
 #include "locus/error.hpp"
@@ -68,10 +69,19 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     geo.query_full(source, distance, ws);
     query_s = sw.seconds();
   }
+  // +infinity = another connected component than the source (no path): written
+  // as -1 like the vertices outside the patch, and counted. NaN never is an answer.
   double dmax = 0;
-  for (double d : distance) dmax = std::max(dmax, d);
-  if (!std::isfinite(dmax))
-    fail(ErrorCode::Numerical, "the heat geodesic distance is not finite (t = " + format_number(geo.time()) + ")");
+  int64_t unreachable = 0;
+  for (double& d : distance) {
+    if (d == std::numeric_limits<double>::infinity()) {
+      d = -1;
+      ++unreachable;
+    }
+    if (!std::isfinite(d))
+      fail(ErrorCode::Numerical, "the heat geodesic distance is not finite (t = " + format_number(geo.time()) + ")");
+    dmax = std::max(dmax, d);
+  }
 
   if (!opt.output.empty()) {
     WriteOptions wo;
@@ -89,6 +99,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = patch_size;
   j["max_distance"] = dmax;
+  j["unreachable"] = unreachable;  // vertices in other connected components (written as -1)
   j["precompute_s"] = precompute_s;
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;

@@ -109,7 +109,7 @@ void register_heat_command(CommandTable& table) {
                             [ho](const CommonOptions& opt, const RunContext& ctx) { return run_heat(opt, *ho, ctx); });
   app->add_option("--source", ho->sources, "Comma-separated source vertex ids (unit heat each)")->required();
   app->add_option("--target", ho->targets, "Comma-separated target vertex ids")->required();
-  app->add_option("--t", ho->t_text, "Diffusion time: absolute (1e-3) or a multiple of h^2 (500h2); default 1h2");
+  app->add_option("--t", ho->t_text, "Diffusion time: absolute (1e-3) or a multiple of h^2 (500h2); default 1h2")->check(non_empty());
   app->add_option("--method", ho->method, "subset (separate subtrees, default), union (one subtree) or full")
       ->check(CLI::IsMember({"subset", "union", "full"}));
   app->add_option("--repeat", ho->repeat, "Repeat the query R times; median time (default 1)")

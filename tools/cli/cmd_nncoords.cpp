@@ -72,7 +72,7 @@ void register_nncoords_command(CommandTable& table) {
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_nncoords(opt, *o, ctx); });
   app->add_option("--sites", o->sites_text, "Sites: comma-separated vertex ids");
   app->add_option("--point", o->point_text, "Query point: FACE,B0,B1,B2 (barycentric weights summing to 1)");
-  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2");
+  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
 }
 
 }  // namespace locus::cli

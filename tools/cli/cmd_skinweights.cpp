@@ -70,7 +70,7 @@ void register_skinweights_command(CommandTable& table) {
   CLI::App* app = table.add("skinweights", "Per-vertex skinning weights of vertex handles (natural-neighbour coordinates)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_skinweights(opt, *o, ctx); });
   app->add_option("--handles", o->handles_text, "Handles: comma-separated vertex ids");
-  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2");
+  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
 }
 
 }  // namespace locus::cli

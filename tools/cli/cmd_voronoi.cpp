@@ -145,7 +145,7 @@ void register_voronoi_command(CommandTable& table) {
   app->add_option("--sites", o->sites_text, "Generators: comma-separated vertex ids");
   app->add_option("--random", o->random, "Generators: N random surface points (seeded by --seed)")
       ->check(CLI::Range(1, 100000000));
-  app->add_option("--t", o->t_text, "Diffusion time: absolute (0.001) or a multiple of h^2 (h2, 4h2); default h2");
+  app->add_option("--t", o->t_text, "Diffusion time: absolute (0.001) or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
   add_factor_cache_options(app, o->fc);
   add_preview_option(app, o->preview);
 }
