@@ -75,7 +75,8 @@ void check_needles(const Mesh& m) {
 
 }  // namespace
 
-HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
+void HeatGeodesic::prepare(const Mesh& m) {
+  const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
     fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
                                   std::to_string(opt.t_factor) + ")");
@@ -90,6 +91,18 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   grad_ = triangle_gradients(m);
   h_ = locus::mean_edge_length(m);
   t_ = opt.t_factor * h_ * h_;
+}
+
+double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, CscMatrix& heat, CscMatrix& poisson) {
+  const double h = locus::mean_edge_length(m);
+  const double t = opt.t_factor * h * h;
+  heat = heat_operator(m, t);
+  poisson = regularized_laplacian(m, opt.poisson_rel);
+  return t;
+}
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
+  prepare(m);
   const CscMatrix A = heat_operator(m, t_);
   const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
   ctx.check_cancel();
@@ -99,6 +112,17 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   heat_ = factorize(S, A, ctx);
   ctx.check_cancel();
   poisson_ = factorize(S, P, ctx);
+}
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors) : opt_(opt) {
+  prepare(m);
+  const CscMatrix A = heat_operator(m, t_);
+  for (const NumericFactor* F : {&factors.heat, &factors.poisson})
+    if (!F->symbolic || F->n() != m.num_vertices() || F->symbolic->a_pattern_hash != pattern_hash(A) ||
+        F->values.size() != static_cast<size_t>(F->symbolic->super_value_ptr[F->symbolic->ns]))
+      fail(ErrorCode::BadUsage, "heat geodesic: a given factor is not one of " + mesh_name(m) + "'s operators");
+  heat_ = std::move(factors.heat);
+  poisson_ = std::move(factors.poisson);
 }
 
 void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) const {

@@ -93,6 +93,13 @@ struct HeatGeodesicWorkspace {
   std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
 };
 
+// The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
+// cache): M - tL_C with t = t_factor h^2 and -L_C + eps M (poisson_rel), on one
+// symbolic factor of this mesh's pattern (HeatGeodesic::operators builds them).
+struct HeatGeodesicFactors {
+  NumericFactor heat, poisson;
+};
+
 class HeatGeodesic {
  public:
   // Needs a manifold triangle mesh without zero-area faces, needles (an angle
@@ -101,6 +108,12 @@ class HeatGeodesic {
   // otherwise); boundaries are
   // allowed (natural boundary conditions). Factorization runs on ctx's threads.
   explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {});
+  // The same with given factors instead of factoring (Error(BadUsage) when their
+  // size or pattern is not this mesh's; that they hold these t / eps values is the
+  // caller's to check, as the factor cache does with its labels).
+  HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors);
+  // The operators it factors: heat = M - t L_C, poisson = -L_C + eps M; returns t.
+  static double operators(const Mesh& m, const HeatGeodesicOptions& opt, CscMatrix& heat, CscMatrix& poisson);
 
   int32_t num_vertices() const { return grad_.nv; }
   double mean_edge_length() const { return h_; }
@@ -138,6 +151,8 @@ class HeatGeodesic {
                                HeatGeodesicWorkspace& ws) const;
 
  private:
+  void prepare(const Mesh& m);  // checks and per-mesh data shared by both constructors
+
   HeatGeodesicOptions opt_;
   TriangleGradients grad_;
   double h_ = 0, t_ = 0;

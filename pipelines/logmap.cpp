@@ -39,6 +39,15 @@ void check_same_component(const HeatGeodesic& geo, int32_t centre, std::span<con
 
 HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, const RunContext& ctx)
     : opt_(opt), geo_(m, opt.geodesic, ctx), x_(m.x), y_(m.y), z_(m.z) {
+  prepare(m);
+}
+
+HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, HeatGeodesicFactors factors)
+    : opt_(opt), geo_(m, opt.geodesic, std::move(factors)), x_(m.x), y_(m.y), z_(m.z) {
+  prepare(m);
+}
+
+void HeatLogMap::prepare(const Mesh& m) {
   const int32_t n = m.num_vertices();
   // Eq. 6.2: the mean-curvature normal where it is meaningful, the area normal
   // where it vanishes (planar regions) and at boundary vertices (where L_C p has

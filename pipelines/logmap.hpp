@@ -98,6 +98,8 @@ class HeatLogMap {
  public:
   // Needs what HeatGeodesic needs (manifold triangle mesh, no zero-area faces).
   explicit HeatLogMap(const Mesh& m, const LogMapOptions& opt = {}, const RunContext& ctx = {});
+  // With the heat geodesic's factors given (see HeatGeodesic).
+  HeatLogMap(const Mesh& m, const LogMapOptions& opt, HeatGeodesicFactors factors);
 
   const HeatGeodesic& geodesic() const { return geo_; }
   const LogMapOptions& options() const { return opt_; }
@@ -131,6 +133,8 @@ class HeatLogMap {
   void angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
               std::span<const int32_t> rows, const LogMapOutput& out, LogMapAngle angle, LogMapStats& st,
               LogMapWorkspace& ws) const;
+
+  void prepare(const Mesh& m);  // tangent frames (eq. 6.2)
 
   LogMapOptions opt_;
   HeatGeodesic geo_;

@@ -260,3 +260,18 @@ TEST_CASE("heat geodesic: queries from several threads give the single-thread an
   for (auto& t : threads) t.join();
   for (size_t q = 0; q < sources.size(); ++q) CHECK(parallel[q] == serial[q]);
 }
+
+TEST_CASE("heat geodesic: given factors (e.g. from a cache) give the same distances; another mesh's are refused") {
+  const Mesh m = make_icosphere(3);
+  const HeatGeodesic own(m);
+  HeatGeodesicWorkspace ws;
+  std::vector<double> a(static_cast<size_t>(m.num_vertices())), b(a.size());
+  own.query_full(5, a, ws);
+  const HeatGeodesic given(m, HeatGeodesicOptions{}, HeatGeodesicFactors{own.heat_factor(), own.poisson_factor()});
+  given.query_full(5, b, ws);
+  CHECK(a == b);
+  const Mesh other = make_icosphere(2);
+  const HeatGeodesic small(other);
+  CHECK_THROWS_AS(HeatGeodesic(m, HeatGeodesicOptions{}, HeatGeodesicFactors{small.heat_factor(), small.poisson_factor()}),
+                  Error);
+}

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <ostream>
 
 #include "locus/error.hpp"
@@ -15,6 +16,7 @@
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/heat_method_cache.hpp"
 
 namespace locus::cli {
 namespace {
@@ -24,6 +26,7 @@ struct GeodesicOptions {
   double fraction = 1.0;
   double t_factor = 1.0;
   std::string preview;  // --preview out.png: distance colour map
+  FactorCacheOptions cache;
 };
 
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
@@ -32,6 +35,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   if (!(go.t_factor > 0) || !std::isfinite(go.t_factor))
     fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(go.t_factor) + ")");
   check_preview_path(go.preview);
+  validate_factor_cache_options(go.cache);
   Input in = load_input(opt, ctx);
   const int32_t n = in.mesh.num_vertices();
   if (go.source < 0 || go.source >= n)
@@ -41,7 +45,9 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   Stopwatch sw;
   HeatGeodesicOptions ho;
   ho.t_factor = go.t_factor;
-  const HeatGeodesic geo(in.mesh, ho, ctx);
+  Factors cache_info;
+  std::optional<HeatGeodesicFactors> given = heat_method_factors(go.cache, in.mesh, ho, ctx, cache_info);
+  const HeatGeodesic geo = given ? HeatGeodesic(in.mesh, ho, std::move(*given)) : HeatGeodesic(in.mesh, ho, ctx);
   const double precompute_s = sw.seconds();
   ctx.check_cancel();
 
@@ -103,6 +109,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["precompute_s"] = precompute_s;
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;
+  if (!go.cache.save.empty() || !go.cache.load.empty()) j["factor_cache"] = factor_cache_json(go.cache, cache_info);
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat geodesic from vertex " << source << " (" << j["method"].get<std::string>()
@@ -126,6 +133,7 @@ void register_geodesic_commands(CommandTable& table) {
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
   app->add_option("--t-factor", go->t_factor, "Diffusion time t = c h^2 (default 1)");
   add_preview_option(app, go->preview);
+  add_factor_cache_options(app, go->cache);
 }
 
 }  // namespace locus::cli

@@ -9,6 +9,8 @@
 // precompute_s, query_s, patch_size, flipped_triangles, and the solve sizes.
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <ostream>
 
 #include "locus/error.hpp"
@@ -16,6 +18,7 @@
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/logmap.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/heat_method_cache.hpp"
 
 namespace locus::cli {
 namespace {
@@ -27,6 +30,7 @@ struct LogmapOptions {
   std::string method = "heat";
   std::string angle = "auto";
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
+  FactorCacheOptions cache;
 };
 
 int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunContext& ctx) {
@@ -42,6 +46,9 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
   check_preview_path(lo.preview);
+  validate_factor_cache_options(lo.cache);
+  if (lo.method == "dem" && (!lo.cache.save.empty() || !lo.cache.load.empty()))
+    fail(ErrorCode::BadUsage, "--save/--load: the dem method factors nothing");
   Input in = load_input(opt, ctx);
   const int32_t n = in.mesh.num_vertices();
   if (lo.center < 0 || lo.center >= n)
@@ -54,12 +61,15 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   const DemLogMap dem(in.mesh);
   double precompute_s = sw.seconds();
   std::unique_ptr<HeatLogMap> heat;
+  Factors cache_info;
   if (lo.method != "dem") {
     sw.restart();
     LogMapOptions mo;
     mo.geodesic.t_factor = lo.t_factor;
     mo.angle = angle;
-    heat = std::make_unique<HeatLogMap>(in.mesh, mo, ctx);
+    std::optional<HeatGeodesicFactors> given = heat_method_factors(lo.cache, in.mesh, mo.geodesic, ctx, cache_info);
+    heat = given ? std::make_unique<HeatLogMap>(in.mesh, mo, std::move(*given))
+                 : std::make_unique<HeatLogMap>(in.mesh, mo, ctx);
     precompute_s = sw.seconds();  // the heat map's own preparation (DEM's is reported apart)
   }
   ctx.check_cancel();
@@ -151,6 +161,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["max_distance"] = dmax;
   j["flipped_triangles"] = flipped;
   j["precompute_s"] = precompute_s;
+  if (!lo.cache.save.empty() || !lo.cache.load.empty()) j["factor_cache"] = factor_cache_json(lo.cache, cache_info);
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
@@ -174,6 +185,7 @@ void register_logmap_command(CommandTable& table) {
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
   add_preview_option(app, lo->preview);
+  add_factor_cache_options(app, lo->cache);
 }
 
 }  // namespace locus::cli
