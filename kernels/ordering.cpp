@@ -14,8 +14,13 @@
 
 #include <metis.h>
 
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <string>
+#include <thread>
 
 #include "locus/error.hpp"
 
@@ -43,9 +48,32 @@ void matrix_graph(const CscMatrix& A, std::vector<idx_t>& xadj, std::vector<idx_
     }
 }
 
+// Never destroyed: an abandoned call may still hold it while the process exits.
+std::mutex& metis_mutex() {
+  static std::mutex* m = new std::mutex;
+  return *m;
+}
+
+// Everything one METIS call touches, shared with a helper thread that may outlive the caller.
+struct MetisJob {
+  std::vector<idx_t> xadj, adjncy;
+  idx_t options[METIS_NOPTIONS];
+  idx_t nv = 0;
+  std::vector<int32_t> perm, iperm;
+  int rc = METIS_OK;
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+
+  void run() {
+    std::lock_guard<std::mutex> serial(metis_mutex());
+    rc = METIS_NodeND(&nv, xadj.data(), adjncy.data(), nullptr, options, perm.data(), iperm.data());
+  }
+};
+
 }  // namespace
 
-Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt) {
+Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunContext& ctx) {
   if (A.nrows != A.ncols) fail(ErrorCode::BadUsage, "order_matrix: matrix is not square");
   const int32_t n = A.ncols;
   Ordering o;
@@ -56,22 +84,49 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt) {
     o.iperm = o.perm;
     return o;
   }
-  std::vector<idx_t> xadj, adjncy;
-  matrix_graph(A, xadj, adjncy);
-  if (xadj[n] == 0) {  // no edges: any order has no fill
+  auto job = std::make_shared<MetisJob>();
+  matrix_graph(A, job->xadj, job->adjncy);
+  if (job->xadj[n] == 0) {  // no edges: any order has no fill
     std::iota(o.perm.begin(), o.perm.end(), 0);
     o.iperm = o.perm;
     return o;
   }
-  idx_t options[METIS_NOPTIONS];
-  METIS_SetDefaultOptions(options);
-  options[METIS_OPTION_NUMBERING] = 0;
-  options[METIS_OPTION_SEED] = opt.seed;
-  options[METIS_OPTION_COMPRESS] = 0;
-  idx_t nv = n;
+  METIS_SetDefaultOptions(job->options);
+  job->options[METIS_OPTION_NUMBERING] = 0;
+  job->options[METIS_OPTION_SEED] = opt.seed;
+  job->options[METIS_OPTION_COMPRESS] = 0;
+  job->nv = n;
   // METIS manual: row i of the permuted matrix is row perm[i] of the original,
   // which is our convention too.
-  const int rc = METIS_NodeND(&nv, xadj.data(), adjncy.data(), nullptr, options, o.perm.data(), o.iperm.data());
+  job->perm.resize(n);
+  job->iperm.resize(n);
+  ctx.check_cancel();
+  if (!ctx.cancel) {
+    job->run();
+  } else {
+    std::thread worker([job] {
+      job->run();
+      {
+        std::lock_guard<std::mutex> lk(job->m);
+        job->done = true;
+      }
+      job->cv.notify_all();
+    });
+    std::unique_lock<std::mutex> lk(job->m);
+    while (!job->done) {
+      if (ctx.cancelled()) {
+        lk.unlock();
+        worker.detach();  // finishes on its own; `job` lives until then
+        fail(ErrorCode::Cancelled, "cancelled (during the METIS ordering)");
+      }
+      job->cv.wait_for(lk, std::chrono::milliseconds(5));
+    }
+    lk.unlock();
+    worker.join();
+  }
+  const int rc = job->rc;
+  o.perm = std::move(job->perm);
+  o.iperm = std::move(job->iperm);
   if (rc != METIS_OK)
     fail(rc == METIS_ERROR_MEMORY ? ErrorCode::ResourceLimit : ErrorCode::Internal,
          "METIS_NodeND failed with status " + std::to_string(rc) + " on a graph of " + std::to_string(n) + " vertices");

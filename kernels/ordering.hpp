@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus {
@@ -20,6 +21,13 @@ struct OrderingOptions {
 };
 
 // Orders the graph of a lower-stored symmetric matrix.
-Ordering order_matrix(const CscMatrix& lower, const OrderingOptions& opt = {});
+//
+// METIS calls are serialized process-wide: Debian's METIS draws its random
+// numbers from glibc rand(), so two concurrent calls (two Sessions, two CLI
+// jobs in one process) would interleave draws and order nondeterministically.
+// METIS cannot be interrupted; with a cancel flag in ctx it runs on a helper
+// thread and a cancel returns at once (Error Cancelled) while the abandoned
+// call finishes in the background.
+Ordering order_matrix(const CscMatrix& lower, const OrderingOptions& opt = {}, const RunContext& ctx = {});
 
 }  // namespace locus

@@ -107,7 +107,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
   ctx.check_cancel();
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
-  const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A));
+  const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A, {}, ctx));
   ctx.check_cancel();
   heat_ = factorize(S, A, ctx);
   ctx.check_cancel();

@@ -118,7 +118,7 @@ HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mas
   H.t = t;
   H.mass = std::move(mass);
   BatchStopwatch sw;
-  const Ordering ord = order_matrix(A);
+  const Ordering ord = order_matrix(A, {}, ctx);
   H.order_s = sw.lap();
   ctx.check_cancel();
   auto S = analyze(A, ord);

@@ -174,7 +174,7 @@ std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const Run
 
 std::shared_ptr<const SymbolicFactor> symbolic_for(State& s, const CscMatrix& A, const RunContext& ctx) {
   return s.symbolic->by_pattern.get({pattern_hash(A), A.nnz()}, ctx, [&] {
-    auto S = analyze(A, order_matrix(A));  // the ordering HeatGeodesic uses: the same factor, bit for bit
+    auto S = analyze(A, order_matrix(A, {}, ctx));  // the ordering HeatGeodesic uses: the same factor, bit for bit
     s.counters->symbolic.fetch_add(1);
     return S;
   });

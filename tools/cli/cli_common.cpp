@@ -349,7 +349,7 @@ Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<co
   for (const FactorRequest& r : ops)
     if (!r.A || r.A->ncols != A0.ncols || r.A->nnz() != A0.nnz())
       fail(ErrorCode::Internal, "factor_or_load: the operators do not share one pattern");
-  const Ordering ord = order_matrix(A0);
+  const Ordering ord = order_matrix(A0, {}, ctx);
   F.order_s = sw.seconds();
   ctx.check_cancel();
   sw.restart();
