@@ -31,6 +31,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "factor_cache_generated.h"
+#include "io/atomic_file_write.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -180,11 +181,7 @@ void save_factors(const std::string& path, uint64_t mesh_hash, std::span<const F
   }
   const std::vector<uint8_t> meta = build_meta(S, mesh_hash, entries, value_names, arrays, offsets, sums);
   if (meta.size() != meta_size) fail(ErrorCode::Internal, "factor cache metadata changed size between passes");
-  // Write to a temporary name and rename: a crash never leaves a half-written cache under the real name.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(ErrorCode::BadInput, path + ": cannot open for writing");
+  io::write_file_atomically(path, [&](std::ofstream& out) {
     const uint32_t fmt = kFactorCacheFormat, reserved = 0;
     out.write(kMagic, 8);
     out.write(reinterpret_cast<const char*>(&fmt), 4);
@@ -198,17 +195,7 @@ void save_factors(const std::string& path, uint64_t mesh_hash, std::span<const F
       out.write(static_cast<const char*>(arrays[k].data), static_cast<std::streamsize>(arrays[k].count * arrays[k].elem));
       at = offsets[k] + arrays[k].count * arrays[k].elem;
     }
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      fail(ErrorCode::BadInput, path + ": write failed (disk full?)");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    fail(ErrorCode::BadInput, path + ": cannot rename " + tmp + " to it");
-  }
+  });
 }
 
 void save_factor(const std::string& path, const NumericFactor& f, const FactorCacheInfo& info) {

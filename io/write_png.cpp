@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/atomic_file_write.hpp"
 #include "locus/error.hpp"
 
 #pragma GCC diagnostic push
@@ -39,22 +40,9 @@ void write_png(const std::string& path, int width, int height, std::span<const u
   std::vector<uint8_t> encoded;
   if (!stbi_write_png_to_func(append, &encoded, width, height, 3, rgb.data(), width * 3))
     fail(ErrorCode::Internal, path + ": PNG encoding failed");
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(ErrorCode::BadInput, path + ": cannot open for writing");
+  io::write_file_atomically(path, [&](std::ofstream& out) {
     out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      fail(ErrorCode::BadInput, path + ": write failed (disk full?)");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    fail(ErrorCode::BadInput, path + ": cannot rename " + tmp + " to it");
-  }
+  });
 }
 
 }  // namespace locus
