@@ -4,16 +4,18 @@
 // O(nnz) by counting. METIS runs with a fixed seed so the ordering, and with
 // it every factor and every result downstream, is reproducible.
 //
-// METIS runs on one thread: its random generator is process-global (GKlib),
-// so concurrent METIS calls on the two halves of a top-level separator gave
-// orderings that changed with the thread count (measured: nnz(L) 851,988 vs
-// 854,139 on a 160x160 grid) — determinism wins over the ~1.8x it would save.
-// Graph compression is off: mesh graphs have no vertices with identical
+// Large graphs are dissected once here: METIS finds the top separator, and
+// the two halves are ordered by METIS_NodeND at the same time on two threads
+// (each half's random numbers come from its own thread's generator, see
+// kernels/metis_random.hpp). The split depends on the graph only, never on the
+// thread count, so one thread gives the same ordering, one half after the
+// other. Graph compression is off: mesh graphs have no vertices with identical
 // neighbourhoods, so METIS' detection pass only costs time.
 #include "kernels/ordering.hpp"
 
 #include <metis.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <memory>
@@ -22,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "kernels/metis_random.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -48,26 +51,106 @@ void matrix_graph(const CscMatrix& A, std::vector<idx_t>& xadj, std::vector<idx_
     }
 }
 
-// Never destroyed: an abandoned call may still hold it while the process exits.
-std::mutex& metis_mutex() {
-  static std::mutex* m = new std::mutex;
-  return *m;
+// Below this size one METIS_NodeND call is cheaper than a split and a thread.
+constexpr idx_t kSplitMinVertices = 4000;
+
+struct Graph {
+  std::vector<idx_t> xadj, adjncy;
+  idx_t n() const { return static_cast<idx_t>(xadj.size()) - 1; }
+};
+
+// Nested dissection of g into perm (perm[k] = vertex of g eliminated k-th).
+int node_nd(Graph& g, const idx_t* base_options, idx_t* perm) {
+  idx_t nv = g.n();
+  if (nv == 0) return METIS_OK;
+  if (g.xadj[nv] == 0) {  // no edges: any order has no fill (and METIS rejects it)
+    std::iota(perm, perm + nv, idx_t{0});
+    return METIS_OK;
+  }
+  idx_t options[METIS_NOPTIONS];
+  std::copy(base_options, base_options + METIS_NOPTIONS, options);
+  std::vector<idx_t> iperm(static_cast<size_t>(nv));
+  MetisRandomScope rng;
+  return METIS_NodeND(&nv, g.xadj.data(), g.adjncy.data(), nullptr, options, perm, iperm.data());
 }
 
-// Everything one METIS call touches, shared with a helper thread that may outlive the caller.
+// The subgraph induced by the vertices with part[v] == which; local[v] is v's index in it.
+Graph induced(const Graph& g, const std::vector<idx_t>& part, idx_t which, const std::vector<idx_t>& local,
+              std::vector<idx_t>& global) {
+  Graph h;
+  h.xadj.push_back(0);
+  for (idx_t v = 0; v < g.n(); ++v) {
+    if (part[v] != which) continue;
+    global.push_back(v);
+    for (idx_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
+      if (part[g.adjncy[p]] == which) h.adjncy.push_back(local[g.adjncy[p]]);
+    h.xadj.push_back(static_cast<idx_t>(h.adjncy.size()));
+  }
+  return h;
+}
+
+// Everything one ordering touches, shared with a helper thread that may outlive the caller.
 struct MetisJob {
-  std::vector<idx_t> xadj, adjncy;
+  Graph g;
   idx_t options[METIS_NOPTIONS];
-  idx_t nv = 0;
-  std::vector<int32_t> perm, iperm;
+  bool parallel = false;  // may order the two halves on two threads
+  std::vector<int32_t> perm;
   int rc = METIS_OK;
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
 
   void run() {
-    std::lock_guard<std::mutex> serial(metis_mutex());
-    rc = METIS_NodeND(&nv, xadj.data(), adjncy.data(), nullptr, options, perm.data(), iperm.data());
+    std::unique_lock<std::mutex> serial(metis_serial_mutex(), std::defer_lock);
+    const bool is_private = metis_random_is_private();
+    if (!is_private) serial.lock();
+    const idx_t n = g.n();
+    std::vector<idx_t> order(static_cast<size_t>(n));
+    if (n < kSplitMinVertices) {
+      rc = node_nd(g, options, order.data());
+    } else {
+      rc = split_and_order(is_private && parallel, order);
+    }
+    perm.assign(order.begin(), order.end());
+  }
+
+  // Top separator, then the halves (at once when allowed); separator last.
+  int split_and_order(bool two_threads, std::vector<idx_t>& order) {
+    idx_t nv = g.n();
+    std::vector<idx_t> part(static_cast<size_t>(nv));
+    idx_t sepsize = 0;
+    idx_t sep_options[METIS_NOPTIONS];
+    std::copy(options, options + METIS_NOPTIONS, sep_options);
+    int r;
+    {
+      MetisRandomScope rng;
+      r = METIS_ComputeVertexSeparator(&nv, g.xadj.data(), g.adjncy.data(), nullptr, sep_options, &sepsize, part.data());
+    }
+    if (r != METIS_OK) return r;
+    std::vector<idx_t> local(static_cast<size_t>(nv));
+    idx_t count[3] = {0, 0, 0};
+    for (idx_t v = 0; v < nv; ++v) local[v] = count[part[v]]++;
+    std::vector<idx_t> global0, global1;
+    Graph h0 = induced(g, part, 0, local, global0);
+    Graph h1 = induced(g, part, 1, local, global1);
+    std::vector<idx_t> p0(global0.size()), p1(global1.size());
+    int r1 = METIS_OK;
+    if (two_threads && !global0.empty() && !global1.empty()) {
+      std::thread other([&] { r1 = node_nd(h1, options, p1.data()); });
+      r = node_nd(h0, options, p0.data());
+      other.join();
+    } else {
+      r = node_nd(h0, options, p0.data());
+      if (r == METIS_OK) r1 = node_nd(h1, options, p1.data());
+    }
+    if (r != METIS_OK) return r;
+    if (r1 != METIS_OK) return r1;
+    size_t k = 0;
+    for (const idx_t v : p0) order[k++] = global0[v];
+    for (const idx_t v : p1) order[k++] = global1[v];
+    for (idx_t v = 0; v < nv; ++v)
+      if (part[v] == 2) order[k++] = v;
+    return METIS_OK;
   }
 };
 
@@ -85,21 +168,12 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
     return o;
   }
   auto job = std::make_shared<MetisJob>();
-  matrix_graph(A, job->xadj, job->adjncy);
-  if (job->xadj[n] == 0) {  // no edges: any order has no fill
-    std::iota(o.perm.begin(), o.perm.end(), 0);
-    o.iperm = o.perm;
-    return o;
-  }
+  matrix_graph(A, job->g.xadj, job->g.adjncy);
   METIS_SetDefaultOptions(job->options);
   job->options[METIS_OPTION_NUMBERING] = 0;
   job->options[METIS_OPTION_SEED] = opt.seed;
   job->options[METIS_OPTION_COMPRESS] = 0;
-  job->nv = n;
-  // METIS manual: row i of the permuted matrix is row perm[i] of the original,
-  // which is our convention too.
-  job->perm.resize(n);
-  job->iperm.resize(n);
+  job->parallel = ctx.threads != 1 && (ctx.threads > 1 || std::thread::hardware_concurrency() > 1);
   ctx.check_cancel();
   if (!ctx.cancel) {
     job->run();
@@ -125,11 +199,13 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
     worker.join();
   }
   const int rc = job->rc;
-  o.perm = std::move(job->perm);
-  o.iperm = std::move(job->iperm);
   if (rc != METIS_OK)
     fail(rc == METIS_ERROR_MEMORY ? ErrorCode::ResourceLimit : ErrorCode::Internal,
          "METIS_NodeND failed with status " + std::to_string(rc) + " on a graph of " + std::to_string(n) + " vertices");
+  // METIS manual: row i of the permuted matrix is row perm[i] of the original,
+  // which is our convention too.
+  o.perm = std::move(job->perm);
+  for (int32_t k = 0; k < n; ++k) o.iperm[o.perm[k]] = k;
   return o;
 }
 

@@ -1,6 +1,7 @@
-// Fill-reducing ordering: METIS nested dissection (METIS_NodeND) on the graph
-// of a symmetric matrix (thesis §4.2: the etree height it produces decides the
-// cost of local solves). Deterministic: METIS runs with a fixed seed.
+// Fill-reducing ordering: METIS nested dissection on the graph of a symmetric
+// matrix (thesis §4.2: the etree height it produces decides the cost of local
+// solves). Deterministic: METIS runs with a fixed seed and its own random
+// generator per call; the result does not depend on the thread count.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -22,9 +23,10 @@ struct OrderingOptions {
 
 // Orders the graph of a lower-stored symmetric matrix.
 //
-// METIS calls are serialized process-wide: Debian's METIS draws its random
-// numbers from glibc rand(), so two concurrent calls (two Sessions, two CLI
-// jobs in one process) would interleave draws and order nondeterministically.
+// Graphs of 4000 vertices or more are split by a METIS vertex separator and
+// the two halves ordered at once on two threads when ctx.threads allows.
+// Concurrent calls are safe and reproducible (kernels/metis_random.hpp); if
+// the private generator is not in effect they are serialized instead.
 // METIS cannot be interrupted; with a cancel flag in ctx it runs on a helper
 // thread and a cancel returns at once (Error Cancelled) while the abandoned
 // call finishes in the background.

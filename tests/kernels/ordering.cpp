@@ -1,12 +1,16 @@
 // METIS ordering (kernels/ordering): concurrent calls from several threads give
-// the orderings of sequential calls (METIS' random numbers come from a
-// process-global generator, so the calls must be serialized), and a cancel flag
-// stops a caller during METIS without disturbing later orderings.
+// the orderings of sequential calls (each METIS call draws from a generator of
+// its own thread), the split ordering does not depend on the thread count, and a
+// cancel flag stops a caller during METIS without disturbing later orderings.
 #include "kernels/ordering.hpp"
+
+#include "kernels/metis_random.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <thread>
 #include <vector>
 
@@ -61,4 +65,25 @@ TEST_CASE("ordering: a cancel flag stops the caller; later orderings are unchang
   CHECK(order_matrix(a).perm == ref.perm);
   cancel = false;
   CHECK(order_matrix(a, {}, ctx).perm == ref.perm);  // the helper-thread path gives the same ordering
+}
+
+TEST_CASE("ordering: the same permutation with 1 and 2 threads; the host's rand() is untouched") {
+  CHECK(metis_random_is_private());  // locus' rand()/srand() are the ones libmetis calls
+  const CscMatrix a = test::grid_laplacian(150, 140, 0.01);  // above the split size
+  RunContext one, two;
+  one.threads = 1;
+  two.threads = 2;
+  std::srand(42);
+  const int first = std::rand();
+  std::srand(42);
+  const Ordering o1 = order_matrix(a, {}, one);
+  const Ordering o2 = order_matrix(a, {}, two);
+  CHECK(std::rand() == first);  // METIS drew from its own generator, not the program's
+  CHECK(o1.perm == o2.perm);
+  std::vector<int32_t> seen(o1.perm.size(), 0);
+  for (size_t k = 0; k < o1.perm.size(); ++k) {
+    ++seen[o1.perm[k]];
+    CHECK(o1.iperm[o1.perm[k]] == static_cast<int32_t>(k));
+  }
+  CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(seen.size()));
 }

@@ -92,7 +92,7 @@ double rel_diff(const std::vector<double>& a, const std::vector<double>& ref) {
 void run_locus(const CscMatrix& A, const Rhs& rhs, const RunContext& ctx, PeerRun& out) {
   const size_t n = static_cast<size_t>(rhs.n);
   Stopwatch sw;
-  const Ordering ord = order_matrix(A);
+  const Ordering ord = order_matrix(A, {}, ctx);
   const double order_s = sw.seconds();
   std::shared_ptr<const SymbolicFactor> sym = analyze(A, ord);
   out.analyze_s.push_back(sw.seconds());
