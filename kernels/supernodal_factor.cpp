@@ -23,6 +23,7 @@
 #include <string>
 
 #include "kernels/blas.hpp"
+#include "kernels/dense_small.hpp"
 #include "kernels/memory_budget.hpp"
 #include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
@@ -140,7 +141,11 @@ class Factorizer {
 
     const char lo = 'L';
     int info = 0;
-    dpotrf_(&lo, &k, Ls, &m, &info);
+    if (k <= kSmallPanelCols) {
+      info = dense::panel_cholesky(m, k, Ls);  // potrf and trsm in one pass
+    } else {
+      dpotrf_(&lo, &k, Ls, &m, &info);
+    }
     if (info != 0) {
       const int32_t col = f + info - 1;
       fail(ErrorCode::Numerical,
@@ -148,7 +153,7 @@ class Factorizer {
                std::to_string(col) + ")",
            ErrorLocation{S_.perm[col], col});
     }
-    if (m > k) {
+    if (m > k && k > kSmallPanelCols) {
       const int mk = m - k;
       const double one = 1.0;
       const char r = 'R', t = 'T', nu = 'N';
@@ -162,6 +167,10 @@ class Factorizer {
   // size, never on the thread count, so the arithmetic is the same for any
   // number of threads.
   static constexpr int kBlock = 96;
+  // Below these sizes the blocks go to kernels/dense_small.hpp instead of
+  // OpenBLAS, whose per-call buffer lock serializes threads on small calls.
+  static constexpr int kSmallPanelCols = 16;
+  static constexpr int64_t kSmallUpdateFlops = 131072;
   bool is_large(int32_t s) const {
     const double k = S_.ncols(s), m = S_.nrows(s);
     return k >= 2 * kBlock && k * k * m >= 2.0e7;
@@ -242,13 +251,17 @@ class Factorizer {
     const int mm = md - p1, kk = p2 - p1;
     if (kk == 0) return;  // d has no row in this column range
     double* C = w.update.data();
-    const double one = 1.0, zero = 0.0;
-    const char lo = 'L', nt = 'N', tr = 'T';
     // C(mm x kk) = Ld[p1:md, :] * Ld[p1:p2, :]^T: lower triangle of the top square by dsyrk, the rest by dgemm.
-    dsyrk_(&lo, &nt, &kk, &kd, &one, Ld + p1, &md, &zero, C, &mm);
-    if (mm > kk) {
-      const int rest = mm - kk;
-      dgemm_(&nt, &tr, &rest, &kk, &kd, &one, Ld + p2, &md, Ld + p1, &md, &zero, C + kk, &mm);
+    if (static_cast<int64_t>(mm) * kk * kd <= kSmallUpdateFlops) {
+      dense::syrk_gemm_lower(mm, kk, kd, Ld + p1, md, C);
+    } else {
+      const double one = 1.0, zero = 0.0;
+      const char lo = 'L', nt = 'N', tr = 'T';
+      dsyrk_(&lo, &nt, &kk, &kd, &one, Ld + p1, &md, &zero, C, &mm);
+      if (mm > kk) {
+        const int rest = mm - kk;
+        dgemm_(&nt, &tr, &rest, &kk, &kd, &one, Ld + p2, &md, Ld + p1, &md, &zero, C + kk, &mm);
+      }
     }
     // Scatter-subtract into s. When d's rows p1.. map to consecutive rows of s the
     // target columns are contiguous runs; the general path uses the row map.
