@@ -240,9 +240,8 @@ CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> verti
 
 Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
 
-FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
-                           const RunContext& ctx, const FactorUpdateOptions& opt) {
-  using clock = std::chrono::steady_clock;
+FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt)
+    : L_(L), A_(A), opt_(opt) {
   if (!L.symbolic) fail(ErrorCode::BadUsage, "update_factor: factor has no symbolic part");
   const SymbolicFactor& S = *L.symbolic;
   const int32_t n = S.n;
@@ -253,12 +252,57 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
   if (!opt.vertex_ids.empty() && static_cast<int32_t>(opt.vertex_ids.size()) != n)
     fail(ErrorCode::BadUsage, "update_factor: vertex_ids has " + std::to_string(opt.vertex_ids.size()) +
                                   " entries for a matrix of " + std::to_string(n) + " columns");
+  local_.assign(n, -1);
+  col_new_.assign(n, -1);
+  in_super_.assign(S.ns, 0);
+  // Row -> supernodes holding it below their diagonal block (the transpose of
+  // the supernodal row structure), for marking from the I side.
+  below_ptr_.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t d = 0; d < S.ns; ++d)
+    for (int64_t t = S.super_row_ptr[d] + S.ncols(d); t < S.super_row_ptr[d + 1]; ++t) ++below_ptr_[S.super_rows[t] + 1];
+  for (int32_t r = 0; r < n; ++r) below_ptr_[r + 1] += below_ptr_[r];
+  below_super_.resize(static_cast<size_t>(below_ptr_[n]));
+  std::vector<int64_t> next(below_ptr_.begin(), below_ptr_.end() - 1);
+  for (int32_t d = 0; d < S.ns; ++d)
+    for (int64_t t = S.super_row_ptr[d] + S.ncols(d); t < S.super_row_ptr[d + 1]; ++t) below_super_[next[S.super_rows[t]]++] = d;
+}
+
+FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
+                           const RunContext& ctx, const FactorUpdateOptions& opt) {
+  return FactorUpdater(L, A, opt).update(I, ctx);
+}
+
+FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext& ctx) {
+  using clock = std::chrono::steady_clock;
+  const NumericFactor& L = L_;
+  const CscMatrix& A = A_;
+  const FactorUpdateOptions& opt = opt_;
+  const SymbolicFactor& S = *L.symbolic;
+  const int32_t n = S.n;
   if (I.empty()) fail(ErrorCode::BadUsage, "update_factor: the vertex set is empty");
   auto name = [&](int32_t v) { return std::to_string(opt.vertex_ids.empty() ? v : opt.vertex_ids[v]); };
 
   const auto t0 = clock::now();
-  // local[v]: position of v in sorted I (-1 outside); sorted by one scan.
-  std::vector<int32_t> local(n, -1);
+  std::vector<int32_t>& local = local_;
+  std::vector<int32_t>& col_new = col_new_;
+  FactorUpdate out;
+  std::vector<int32_t> gcol;  // I's factor columns, ascending
+  // Leave the maps all -1 / 0 again however this call ends.
+  struct Reset {
+    FactorUpdater& u;
+    std::span<const int32_t> I;
+    const std::vector<int32_t>& gcol;
+    const SymbolicFactor& S;
+    ~Reset() {
+      const int32_t n = static_cast<int32_t>(u.local_.size());
+      for (const int32_t v : I)
+        if (v >= 0 && v < n) u.local_[v] = -1;
+      for (const int32_t c : gcol) {
+        u.col_new_[c] = -1;
+        u.in_super_[S.col_to_super[c]] = 0;
+      }
+    }
+  } reset{*this, I, gcol, S};
   for (size_t a = 0; a < I.size(); ++a) {
     const int32_t v = I[a];
     if (v < 0 || v >= n)
@@ -267,14 +311,20 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
     if (local[v] >= 0) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
     local[v] = 0;
   }
-  FactorUpdate out;
   const int32_t m = static_cast<int32_t>(I.size());
-  out.vertices.reserve(m);
-  for (int32_t v = 0; v < n; ++v)
-    if (local[v] >= 0) {
-      local[v] = static_cast<int32_t>(out.vertices.size());
-      out.vertices.push_back(v);
-    }
+  // Sorted I: by sorting when I is small, by one scan of the map otherwise.
+  if (static_cast<int64_t>(m) * 16 < n) {
+    out.vertices.assign(I.begin(), I.end());
+    std::sort(out.vertices.begin(), out.vertices.end());
+    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
+  } else {
+    out.vertices.reserve(m);
+    for (int32_t v = 0; v < n; ++v)
+      if (local[v] >= 0) {
+        local[v] = static_cast<int32_t>(out.vertices.size());
+        out.vertices.push_back(v);
+      }
+  }
   FactorUpdateStats& st = out.stats;
   st.n = n;
   st.n_sub = m;
@@ -293,14 +343,19 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
 
   // (1) Restricted structure, in L's order.
   out.A_sub = submatrix_from_map(A, out.vertices, local);
-  std::vector<int32_t> col_new(n, -1), gcol;
   gcol.reserve(m);
-  for (int32_t k = 0; k < n; ++k)
-    if (local[S.perm[k]] >= 0) {
-      col_new[k] = static_cast<int32_t>(gcol.size());
-      gcol.push_back(k);
-    }
-  Restricted R = restrict_structure(S, col_new, std::move(gcol));
+  if (static_cast<int64_t>(m) * 16 < n) {
+    for (const int32_t v : out.vertices) gcol.push_back(S.iperm[v]);
+    std::sort(gcol.begin(), gcol.end());
+  } else {  // a scan of the permutation beats sorting
+    for (int32_t k = 0; k < n; ++k)
+      if (local[S.perm[k]] >= 0) gcol.push_back(k);
+  }
+  for (int32_t c = 0; c < m; ++c) {
+    col_new[gcol[c]] = c;
+    ++in_super_[S.col_to_super[gcol[c]]];
+  }
+  Restricted R = restrict_structure(S, col_new, gcol);
   st.reordered = postorder_in_place(R);
   if (st.reordered)
     for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
@@ -328,37 +383,44 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
   st.structure_s = seconds_since(t0);
   ctx.check_cancel();
 
-  // (2) Marking: one start per global supernode with a column in B (§5.5,
-  // "first nonzero in all columns of L_IB"), then the etree walks.
+  // (2) Marking (§5.5): the changed columns are the ancestors, in the
+  // restricted etree, of the first I-row of every column of L_IB. All I-rows of
+  // a column lie on one etree path, so starting from every I-row of a B column
+  // marks the same set, and those rows are found from the I side in time that
+  // depends on I: an I column is such a row when a B column precedes it in its
+  // own supernode, or when a supernode with a B column has it among its rows
+  // below the diagonal block (below_super_ lists those per row).
   const auto t1 = clock::now();
-  // Sequential on purpose: a memory-bound scan of the row lists, cheaper than
-  // waking a thread arena for it (measured on the shared 2-core machines).
-  std::vector<int32_t> start(S.ns, -1);
-  for (int32_t s = 0; s < S.ns; ++s) {
-    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-    int32_t c0 = f;
-    while (c0 < l && col_new[c0] >= 0) ++c0;
-    if (c0 == l) continue;  // no column of s is in B
-    int32_t c1 = c0 + 1;
-    while (c1 < l && col_new[c1] < 0) ++c1;
-    if (c1 < l) {
-      start[s] = col_new[c1];
-      continue;
-    }
-    const int64_t r0 = S.super_row_ptr[s];
-    for (int64_t t = r0 + (l - f); t < S.super_row_ptr[s + 1]; ++t)
-      if (col_new[S.super_rows[t]] >= 0) {
-        start[s] = col_new[S.super_rows[t]];
-        break;
-      }
-  }
   std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
-  for (int32_t s = 0; s < S.ns; ++s)
-    for (int32_t c = start[s]; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
+  auto walk = [&](int32_t c) {
+    for (; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
       cmark[c] = 1;
       ++st.columns_marked;
       smark[Sp->col_to_super[c]] = 1;
     }
+  };
+  for (size_t q = 0; q < gcol.size();) {
+    const int32_t s = S.col_to_super[gcol[q]];
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    size_t q2 = q;
+    while (q2 < gcol.size() && gcol[q2] < l) ++q2;
+    for (size_t t = q; t < q2; ++t)
+      if (gcol[t] - f > static_cast<int32_t>(t - q)) {  // fewer I columns than positions before it: a B column
+        walk(col_new[gcol[t]]);
+        break;  // the later columns of s are its ancestors
+      }
+    q = q2;
+  }
+  for (const int32_t c : gcol) {
+    if (cmark[col_new[c]]) continue;
+    for (int64_t p = below_ptr_[c]; p < below_ptr_[c + 1]; ++p) {
+      const int32_t d = below_super_[p];
+      if (in_super_[d] < S.ncols(d)) {
+        walk(col_new[c]);
+        break;
+      }
+    }
+  }
   for (int32_t s = 0; s < Sp->ns; ++s)
     if (smark[s]) {
       ++st.supernodes_recomputed;

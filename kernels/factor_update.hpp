@@ -66,11 +66,33 @@ struct FactorUpdate {
   FactorUpdateStats stats;
 };
 
-// Factor of A_II from the factor L of A (same pattern as the one L was analyzed
-// with; checked by its hash). I: indices of A in any order. Throws
-// Error(BadUsage) for an empty I, an index out of range or a repeated index,
-// and Error(Numerical) naming the vertex (A's index, or vertex_ids of it) when
-// A_II is not positive definite. Deterministic for any thread count.
+// Updates of one factor L of A, for many vertex sets. The constructor checks
+// A against L once (sizes, pattern hash: O(nnz(A))); update(I) then costs what
+// I and the columns it touches cost, not O(n): its maps of size n are kept and
+// reset entry by entry after each call. L, A and opt.vertex_ids must outlive
+// the updater. One updater serves one thread at a time (its maps are shared
+// between calls); use one per thread for concurrent updates.
+class FactorUpdater {
+ public:
+  FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt = {});
+  // Factor of A_II. I: indices of A in any order. Throws Error(BadUsage) for an
+  // empty I, an index out of range or a repeated index, and Error(Numerical)
+  // naming the vertex (A's index, or vertex_ids of it) when A_II is not positive
+  // definite. Deterministic for any thread count.
+  FactorUpdate update(std::span<const int32_t> I, const RunContext& ctx = {});
+
+ private:
+  const NumericFactor& L_;
+  const CscMatrix& A_;
+  FactorUpdateOptions opt_;
+  std::vector<int32_t> local_;    // n: position of a vertex in sorted I, -1 outside (between calls: all -1)
+  std::vector<int32_t> col_new_;  // n: restricted column of a factor column, -1 outside (between calls: all -1)
+  std::vector<int32_t> in_super_;  // ns: columns of I in each global supernode (between calls: all 0)
+  std::vector<int64_t> below_ptr_;   // n + 1: per factor row, the supernodes holding it below their diagonal
+  std::vector<int32_t> below_super_;
+};
+
+// One-shot form: FactorUpdater(L, A, opt).update(I, ctx).
 FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
                            const RunContext& ctx = {}, const FactorUpdateOptions& opt = {});
 

@@ -123,11 +123,12 @@ struct Checked {
 };
 
 // Runs the update and checks it against the oracles; returns it for further checks.
-Checked check_update(const NumericFactor& L, const CscMatrix& A, const std::vector<int32_t>& I, int threads = 0) {
+Checked check_update(const NumericFactor& L, const CscMatrix& A, const std::vector<int32_t>& I, int threads = 0,
+                     FactorUpdater* updater = nullptr) {
   RunContext ctx;
   ctx.threads = threads;
   Checked c;
-  c.up = update_factor(L, A, I, ctx);
+  c.up = updater ? updater->update(I, ctx) : update_factor(L, A, I, ctx);
   const FactorUpdate& up = c.up;
   std::vector<int32_t> sorted = I;
   std::sort(sorted.begin(), sorted.end());
@@ -285,6 +286,35 @@ TEST_CASE("cascade: the updated factor is updated again for a subset") {
   // Same result as updating the global factor directly to `inner` (up to rounding).
   const FactorUpdate direct = update_factor(P.L, P.A, inner);
   CHECK(max_factor_difference(second.up.factor, direct.factor) <= 1e-10);
+}
+
+TEST_CASE("one FactorUpdater serves many vertex sets, also after refused ones") {
+  for (const bool bilap : {false, true}) {
+    CAPTURE(bilap);
+    const Problem P = make_problem(make_icosphere(4), bilap);
+    const int32_t n = P.A.ncols;
+    FactorUpdater updater(P.L, P.A);
+    std::mt19937 rng(5);
+    for (int round = 0; round < 6; ++round) {
+      CAPTURE(round);
+      std::vector<int32_t> I;
+      if (round % 3 == 2) {  // scattered
+        for (int32_t v = 0; v < n; ++v)
+          if (rng() % 7 == 0) I.push_back(v);
+        std::shuffle(I.begin(), I.end(), rng);
+      } else {
+        I = bfs_patch(P.adj, static_cast<int32_t>(rng() % n), n / (round % 3 == 0 ? 10 : 2));
+      }
+      const Checked c = check_update(P.L, P.A, I, 2, &updater);
+      CHECK(c.residual <= 1e-10);
+      CHECK(c.vs_scratch <= 1e-10);
+      // A refused set in between must leave the updater's maps clean.
+      CHECK_THROWS_AS(updater.update(std::vector<int32_t>{I[0], 1, I[0]}), Error);
+      CHECK_THROWS_AS(updater.update(std::vector<int32_t>{I[0], n}), Error);
+    }
+    const Checked single = check_update(P.L, P.A, {17}, 1, &updater);
+    CHECK(single.residual <= 1e-10);
+  }
 }
 
 TEST_CASE("the update is bit-identical for 1 and 2 threads") {

@@ -236,6 +236,80 @@ Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, cons
 #endif
   j["pairs"] = pairs;
 
+  // Lanes: one 8-lane subset solve against 8 one-lane solves with the same plan
+  // (support = 8 random sources, wanted = 8 random targets; lane k is e_{s_k}).
+  {
+    std::vector<double> one_s, eight_s, r8;
+    double worst8 = 0;
+    SolveWorkspace lws;
+    for (int p = 0; p < std::max(5, bo.pairs / 10); ++p) {
+      ctx.check_cancel();
+      std::vector<int32_t> src(kLanes), tgt(kLanes);
+      for (auto& v : src) v = pick(rng);
+      for (auto& v : tgt) v = pick(rng);
+      std::sort(src.begin(), src.end());
+      src.erase(std::unique(src.begin(), src.end()), src.end());
+      const SolvePlan plan = plan_subset_solve(*H.symbolic, src, tgt);
+      const size_t ns = src.size(), nt = tgt.size();
+      std::vector<double> rhs8(ns * kLanes, 0.0), out8(nt * kLanes), out1(nt * kLanes), rhs1(ns), o1(nt);
+      for (size_t k = 0; k < ns; ++k) rhs8[k * kLanes + k] = 1.0;
+      Stopwatch sw;
+      for (size_t lane = 0; lane < ns; ++lane) {
+        std::fill(rhs1.begin(), rhs1.end(), 0.0);
+        rhs1[lane] = 1.0;
+        solve_planned(F, plan, rhs1, o1, lws);
+        for (size_t q = 0; q < nt; ++q) out1[q * kLanes + lane] = o1[q];
+      }
+      const double t1 = sw.seconds();
+      sw.restart();
+      solve_planned8(F, plan, rhs8, out8, lws);
+      const double t8 = sw.seconds();
+      for (size_t q = 0; q < nt; ++q)
+        for (size_t lane = 0; lane < ns; ++lane)
+          worst8 = std::max(worst8, rel(out8[q * kLanes + lane], out1[q * kLanes + lane]));
+      // Scale to 8 lanes when duplicate sources left fewer.
+      one_s.push_back(t1 * kLanes / static_cast<double>(ns));
+      eight_s.push_back(t8);
+      r8.push_back(ratio(one_s.back(), t8));
+    }
+    j["lanes"] = {{"one_lane_x8_s", cli::median(one_s)},
+                  {"eight_lane_s", cli::median(eight_s)},
+                  {"speedup_eight_lane_over_one_lane_x8", cli::median(r8)},
+                  {"max_rel_diff", worst8}};
+  }
+
+  // "Everything": a subset plan whose support and wanted set are all vertices
+  // degrades to the full solve; its time against solve() on the same rhs.
+  {
+    std::vector<int32_t> all(n);
+    for (int32_t v = 0; v < n; ++v) all[v] = v;
+    Stopwatch sw;
+    const SolvePlan plan = plan_subset_solve(*H.symbolic, all, all);
+    const double plan_s = sw.seconds();
+    std::vector<double> b(n), x(n), xf(n), work(solve_work_size(F, 1));
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (double& v : b) v = u(rng);
+    SolveWorkspace ews;
+    std::vector<double> sub_t, full_t, re;
+    double worst = 0;
+    for (int rep = 0; rep < 5; ++rep) {
+      sw.restart();
+      solve_planned(F, plan, b, x, ews);
+      sub_t.push_back(sw.seconds());
+      xf = b;
+      sw.restart();
+      solve(F, xf, work);
+      full_t.push_back(sw.seconds());
+      re.push_back(ratio(sub_t.back(), full_t.back()));
+    }
+    for (int32_t v = 0; v < n; ++v) worst = std::max(worst, rel(x[v], xf[v]));
+    j["everything"] = {{"plan_s", plan_s},
+                       {"subset_solve_s", cli::median(sub_t)},
+                       {"full_solve_s", cli::median(full_t)},
+                       {"ratio_subset_over_full", cli::median(re)},
+                       {"max_rel_diff", worst}};
+  }
+
   // Single entries (A^{-1})_ii.
   std::vector<double> walk_s, plan_s, dfull_s, dch_s, r_plan, r_full2, r_ch2;
   double worst_walk = 0, worst_plan = 0, worst_dch = 0;
