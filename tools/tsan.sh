@@ -105,6 +105,7 @@ run() {  # run NAME DOCTEST-ARGS...: one group of test cases
     status=1
   fi
 }
+run "ordering (halves on two threads, per-thread METIS random numbers)" --source-file='*tests/kernels/ordering*'
 run "factorization" --source-file='*tests/kernels/supernodal_factor*'
 run "solves" --source-file='*tests/kernels/solve_*'
 run "selected inversion" --source-file='*tests/kernels/selected_inversion*'
