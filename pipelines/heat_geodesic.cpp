@@ -73,6 +73,37 @@ void check_needles(const Mesh& m) {
   }
 }
 
+// A += beta (M_consistent - M_lumped) on A's pattern (lower CSC, diagonal first
+// in each column). Per triangle of area a: consistent mass a/6 on each corner's
+// diagonal and a/12 per edge, lumped a/3 on the diagonal; rows sums agree, so
+// the total mass is unchanged. Why: on a lattice of spacing h the plane waves
+// exp(k . x) of (M - t L_C) have |k|^2 = (1 - c h^2 / t) / t with lumped mass and
+// (1 + c h^2 / t) / t with the consistent one (1-D: c = 1/12). At t = h^2 that
+// term is a few percent and varies with the local edge length and shape, so the
+// decay rate per unit length varies over the mesh and the heat's paths bend
+// (icosphere: angle errors that grow with the distance, harmonic 2 at the
+// midpoints of the icosahedron's edges); the half-and-half blend cancels it.
+void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
+  if (beta == 0.0) return;
+  auto at = [&](int32_t r, int32_t c) -> double& {
+    if (r < c) std::swap(r, c);
+    for (int64_t q = A.colptr[c]; q < A.colptr[c + 1]; ++q)
+      if (A.rowind[q] == r) return A.values[q];
+    fail(ErrorCode::Internal, "blend_mass: edge (" + std::to_string(r) + ", " + std::to_string(c) + ") not in the pattern");
+  };
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const double ux = m.x[v[1]] - m.x[v[0]], uy = m.y[v[1]] - m.y[v[0]], uz = m.z[v[1]] - m.z[v[0]];
+    const double wx = m.x[v[2]] - m.x[v[0]], wy = m.y[v[2]] - m.y[v[0]], wz = m.z[v[2]] - m.z[v[0]];
+    const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
+    const double area = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+    for (int s = 0; s < 3; ++s) {
+      at(v[s], v[s]) -= beta * area / 6;
+      at(v[s], v[(s + 1) % 3]) += beta * area / 12;
+    }
+  }
+}
+
 }  // namespace
 
 void HeatGeodesic::prepare(const Mesh& m) {
@@ -82,6 +113,8 @@ void HeatGeodesic::prepare(const Mesh& m) {
                                   std::to_string(opt.t_factor) + ")");
   if (!(opt.poisson_rel > 0) || !std::isfinite(opt.poisson_rel))
     fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
+  if (!(opt.mass_blend >= 0 && opt.mass_blend <= 1))
+    fail(ErrorCode::BadUsage, "heat geodesic: mass_blend must be in [0, 1] (got " + std::to_string(opt.mass_blend) + ")");
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
@@ -97,13 +130,15 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
   const double h = locus::mean_edge_length(m);
   const double t = opt.t_factor * h * h;
   heat = heat_operator(m, t);
+  blend_mass(m, opt.mass_blend, heat);
   poisson = regularized_laplacian(m, opt.poisson_rel);
   return t;
 }
 
 HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
   prepare(m);
-  const CscMatrix A = heat_operator(m, t_);
+  CscMatrix A = heat_operator(m, t_);
+  blend_mass(m, opt.mass_blend, A);
   const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
   ctx.check_cancel();
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
@@ -131,6 +166,7 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
   if (r.face_mark.size() != static_cast<size_t>(grad_.nf)) r.face_mark.assign(grad_.nf, 0);
   r.verts.clear();
   r.faces.clear();
+  r.face_local.clear();
   if (patch.empty()) fail(ErrorCode::BadUsage, "the patch is empty");
   for (size_t k = 0; k < patch.size(); ++k) {
     const int32_t v = patch[k];
@@ -157,6 +193,7 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
           r.local[w] = static_cast<int32_t>(r.verts.size());
           r.verts.push_back(w);
         }
+        r.face_local.push_back(r.local[w]);
       }
     }
   }
@@ -167,6 +204,7 @@ void HeatGeodesic::release_region(PatchRegion& r) const {
   for (int32_t f : r.faces) r.face_mark[f] = 0;
   r.verts.clear();
   r.faces.clear();
+  r.face_local.clear();
   r.patch_size = 0;
 }
 
@@ -181,9 +219,9 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
     ws.logh.resize(static_cast<size_t>(nloc));
     for (int32_t v = 0; v < nloc; ++v) ws.logh[v] = h[v] > 0 ? std::log(h[v]) : std::numeric_limits<double>::quiet_NaN();
   }
-  for (int32_t f : r.faces) {
-    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
-    const int32_t l0 = r.local[t[0]], l1 = r.local[t[1]], l2 = r.local[t[2]];
+  for (size_t q = 0; q < r.faces.size(); ++q) {
+    const int32_t f = r.faces[q];
+    const int32_t l0 = r.face_local[3 * q], l1 = r.face_local[3 * q + 1], l2 = r.face_local[3 * q + 2];
     double X[3], d[3];
     const double lh[3] = {lg ? ws.logh[l0] : 0.0, lg ? ws.logh[l1] : 0.0, lg ? ws.logh[l2] : 0.0};
     unit_direction(grad_, f, h[l0], h[l1], h[l2], lg ? lh : nullptr, X);
@@ -194,9 +232,9 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   }
   const std::span<const int32_t> support(r.verts.data(), ws.b.size());
   const std::span<const int32_t> wanted(r.verts.data(), static_cast<size_t>(np));
-  const SolvePlan plan = plan_subset_solve(*poisson_.symbolic, support, wanted);
+  plan_subset_solve(*poisson_.symbolic, support, wanted, ws.poisson_plan, ws.plan_ws);
   ws.x.resize(static_cast<size_t>(np));
-  solve_planned(poisson_, plan, ws.b, ws.x, ws.poisson);
+  solve_planned(poisson_, ws.poisson_plan, ws.b, ws.x, ws.poisson);
   const double d0 = ws.x[source_local];
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)
@@ -244,9 +282,9 @@ void HeatGeodesic::query(int32_t source, std::span<const int32_t> patch, std::sp
   try {
     const int32_t src[1] = {source};
     const double one[1] = {1.0};
-    const SolvePlan plan = plan_subset_solve(*heat_.symbolic, src, r.verts);
+    plan_subset_solve(*heat_.symbolic, src, r.verts, ws.heat_plan, ws.plan_ws);
     ws.h.resize(r.verts.size());
-    solve_planned(heat_, plan, one, ws.h, ws.heat);
+    solve_planned(heat_, ws.heat_plan, one, ws.h, ws.heat);
     distance_from_heat(r, ws.h, sl, distance, ws, rhs);
   } catch (...) {
     release_region(r);

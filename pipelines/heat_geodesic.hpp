@@ -74,6 +74,10 @@ struct HeatGeodesicOptions {
   enum class PoissonRhs { BoundaryFlux, Truncated };
   PoissonRhs poisson_rhs = PoissonRhs::BoundaryFlux;  // localized queries only, see above
   bool log_heat_gradient = true;  // direction of grad log h instead of grad h per triangle, see above
+  // Mass matrix of the heat operator: (1 - mass_blend) lumped + mass_blend consistent
+  // (see heat_geodesic.cpp, blend_mass: the blend cancels the leading h^2 / t
+  // term of the discrete decay rate). 0 = the lumped mass of Crane et al.
+  double mass_blend = 0.0;
 };
 
 // The vertices and triangles a localized query works on. Built by
@@ -83,12 +87,15 @@ struct PatchRegion {
   int32_t patch_size = 0;
   std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
   std::vector<int32_t> faces;      // faces with at least one patch vertex
+  std::vector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
   std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
   std::vector<uint8_t> face_mark;  // nf
 };
 
 struct HeatGeodesicWorkspace {
   SolveWorkspace heat, poisson;
+  SolvePlan heat_plan, poisson_plan;  // reused across queries: planning allocates nothing once warm
+  PlanWorkspace plan_ws;
   PatchRegion region;
   std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
 };

@@ -37,16 +37,51 @@
 //    the one-ring estimator.
 //  * Auto (default): LogHeatTwoRing where the star of i is irregular (a corner
 //    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6), LogHeat elsewhere.
+//    Defaults: LatticeCorrection::Ring (at regular stars) and recentre.
 // Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
 // estimators fall back to HeatAverage for that vertex, counted in the stats.
-// Measured E_a (mean angle error after the best global rotation, geodesic disk
-// of radius 0.5, t = h^2; `locus-bench logmap-accuracy`):
-//   icosphere level 6: HeatAverage 5.5e-3, LogHeat 4.5e-3, TwoRing 4.6e-3;
-//   random sphere 40k (h = 0.02): HeatAverage 6.1e-2, LogHeat 4.7e-2, TwoRing 2.4e-2.
-// On icospheres the remaining error is not the estimator's (all agree) but the
-// heat kernel's: at t = h^2 its decay rate per unit length depends on the local
-// edge length (h / sqrt(t) ~ 1), which bends the level sets; it falls as
-// t_factor grows (level 6: 2.7e-3 at 2 h^2, 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
+// Corrections after the gradient estimate (LogMapEstimator; defaults in LogMapOptions):
+//  * lattice (LatticeCorrection::Star / Ring): map the gradient direction to the
+//    normal of the heat kernel's dispersion set (see below; logmap.cpp,
+//    prepare_lattice), from the centre's star or from the stars of the centre
+//    and its ring; applied at regular stars only.
+//  * recentre: on irregular meshes each vertex's heat carries a factor that does
+//    not depend on the source (its mass and weights), whose gradient adds the
+//    same vector b to every grad log h_j: an angle error of harmonic 1. b is
+//    the centre of a least-squares circle through the gradients of the patch
+//    vertices beyond the near field (they lie on the boundary of the
+//    dispersion set, centrally symmetric), used only when the patch surrounds
+//    the centre.
+//
+// Measured (mean over centres of the per-centre mean error, after the best
+// global rotation; geodesic disk of radius 0.5, t = h^2; worst centre in
+// brackets; `locus-bench logmap-accuracy SURFACE --centers 10`):
+//   icosphere level 7 (h = 0.0094), 10 random centres, E_d 1.4e-3:
+//     E_a LogHeat 3.9e-3 (5.9e-3), TwoRing 3.9e-3 (5.7e-3), LogHeat + Ring 3.1e-3 (4.4e-3),
+//     LogHeat + Star 2.9e-3 (4.4e-3); DEM 2.9e-3 (4.0e-3);
+//     vertex 0 (icosahedron corner) 3.2e-3, vertex 13 (edge midpoint) 1.2e-2, with Ring 8.3e-3.
+//   random-point sphere 160k (h = 0.010), 10 centres, E_d 3.7e-3 (4.4e-3):
+//     E_a LogHeat 4.2e-2 (8.0e-2), TwoRing 2.0e-2 (4.5e-2), TwoRing + recentre 1.7e-2 (2.9e-2),
+//     TwoRing + Ring 5.1e-2 (the lattice correction at irregular stars: worse, hence not applied there).
+// Why generic centres are worse than the corners (per-centre harmonics of the
+// error against the azimuth, --dump): at vertex 0 the error is a pure
+// harmonic 5 (5e-3), at vertex 13 a harmonic 2 (1.9e-2) that grows with the
+// distance, at generic vertices harmonics 1-4. Every estimator shares them
+// (one-ring, two-ring, full solves alike): they are in the heat values, not in
+// the gradient estimate, the tangent frame or the rotation fit. The discrete
+// heat kernel is anisotropic: far from j, h_j is locally a plane wave
+// exp(k . x) whose k solves the lattice's dispersion relation; at t = h^2 the
+// star spans one decay length, so the set of admissible k is not a disk where
+// the triangles are sheared, and the gradient (k) is not parallel to the
+// direction of j (the normal of that set at k). Mapping the direction through
+// the dispersion relation of the centre's ring removes the local part (sheared
+// planar lattice: E_a 1.0e-2 -> 3.5e-3, tests/pipelines/logmap.cpp); what
+// remains on icospheres grows with the distance: the lattice changes along the
+// path and the heat's rays bend, which a correction at the centre cannot undo.
+// A half lumped, half consistent mass (HeatGeodesicOptions::mass_blend, meant
+// to cancel the h^2 / t term of the decay rate) did not help (vertex 13:
+// 1.29e-2 against 1.23e-2). The error falls with t (level 6: 2.7e-3 at 2 h^2,
+// 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
@@ -60,15 +95,32 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
+#include "kernels/solve_plan.hpp"
 #include "pipelines/heat_geodesic.hpp"
 
 namespace locus {
 
 enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 
+// Plane-wave (dispersion) correction of the log estimators' direction, see above.
+// None: the gradient direction itself. Star: dispersion relation of the centre's
+// own star. Ring: the stars of the centre and its one ring summed (an average
+// lattice for irregular meshes).
+enum class LatticeCorrection { None, Star, Ring };
+
+// How a query turns heat values into angles (see above).
+struct LogMapEstimator {
+  LogMapAngle angle = LogMapAngle::Auto;
+  LatticeCorrection lattice = LatticeCorrection::None;
+  bool recentre = false;  // remove the direction-independent part of grad log h_j (see above)
+};
+
 struct LogMapOptions {
   HeatGeodesicOptions geodesic;  // t = geodesic.t_factor * h^2, Poisson options
   LogMapAngle angle = LogMapAngle::Auto;
+  LatticeCorrection lattice = LatticeCorrection::Ring;  // Auto applies it at regular stars only
+  bool recentre = true;
+  LogMapEstimator estimator() const { return {angle, lattice, recentre}; }
 };
 
 // Caller memory for one query: each span has one entry per patch vertex.
@@ -82,6 +134,7 @@ struct LogMapStats {
   int32_t region_size = 0;      // |P ∪ ring(P)|
   int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
   bool two_ring = false;        // the two-ring estimator was used at this centre
+  bool recentred = false;       // recentre asked and applied (enough directions around the centre)
 };
 
 struct LogMapWorkspace {
@@ -89,9 +142,17 @@ struct LogMapWorkspace {
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
   std::vector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
+  std::vector<double> star;       // lattice correction: (ex, ey, w) per star edge in the centre's frame
+  std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
+  std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
+  std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
+  std::vector<double> logheat;    // log of the heat rows of the patch
+  SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
+  PlanWorkspace plan_ws;
   std::vector<double> rhs8, out8;  // one batch
   std::vector<double> heat;        // region (or n) x |S|, row-major
   std::vector<double> dist_full;   // n, full variant
+  std::vector<double> work_full;   // full variant: solve8's work array, kept across queries
 };
 
 class HeatLogMap {
@@ -110,28 +171,43 @@ class HeatLogMap {
   // otherwise; the other components receive no heat from the centre).
   LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
                     LogMapWorkspace& ws) const {
-    return query(centre, patch, out, ws, opt_.angle);
+    return query(centre, patch, out, ws, opt_.estimator());
   }
   // The same with the angle estimator chosen per query (for measuring both).
   LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out, LogMapWorkspace& ws,
-                    LogMapAngle angle) const;
+                    LogMapAngle angle) const {
+    LogMapEstimator e = opt_.estimator();
+    e.angle = angle;
+    return query(centre, patch, out, ws, e);
+  }
+  LogMapStats query(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out, LogMapWorkspace& ws,
+                    const LogMapEstimator& estimator) const;
   // Same map with full solves and the whole-mesh Poisson problem (the baseline
   // of the thesis without localization); results at the patch vertices.
   LogMapStats query_full(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
                          LogMapWorkspace& ws) const {
-    return query_full(centre, patch, out, ws, opt_.angle);
+    return query_full(centre, patch, out, ws, opt_.estimator());
   }
   LogMapStats query_full(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
-                         LogMapWorkspace& ws, LogMapAngle angle) const;
+                         LogMapWorkspace& ws, LogMapAngle angle) const {
+    LogMapEstimator e = opt_.estimator();
+    e.angle = angle;
+    return query_full(centre, patch, out, ws, e);
+  }
+  LogMapStats query_full(int32_t centre, std::span<const int32_t> patch, const LogMapOutput& out,
+                         LogMapWorkspace& ws, const LogMapEstimator& estimator) const;
 
   // Unit tangent frame at vertex i: normal n, reference e1, e2 = n x e1 (3 each).
   void frame(int32_t i, double n[3], double e1[3], double e2[3]) const;
 
  private:
-  void prepare_centre(int32_t centre, LogMapAngle angle, LogMapWorkspace& ws) const;
+  // Returns the resolved estimator (Auto replaced by its choice for this centre).
+  LogMapEstimator prepare_centre(int32_t centre, LogMapEstimator e, LogMapWorkspace& ws) const;
+  void prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
+                       LogMapWorkspace& ws) const;
   bool irregular_star(int32_t i) const;
   void angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
-              std::span<const int32_t> rows, const LogMapOutput& out, LogMapAngle angle, LogMapStats& st,
+              std::span<const int32_t> rows, const LogMapOutput& out, const LogMapEstimator& e, LogMapStats& st,
               LogMapWorkspace& ws) const;
 
   void prepare(const Mesh& m);  // tangent frames (eq. 6.2)

@@ -8,6 +8,7 @@
 // right-hand side is the only approximation, measured for both variants).
 #include <doctest/doctest.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -274,4 +275,29 @@ TEST_CASE("heat geodesic: given factors (e.g. from a cache) give the same distan
   const HeatGeodesic small(other);
   CHECK_THROWS_AS(HeatGeodesic(m, HeatGeodesicOptions{}, HeatGeodesicFactors{small.heat_factor(), small.poisson_factor()}),
                   Error);
+}
+
+TEST_CASE("heat geodesic: mass_blend gives M = (1 - b) lumped + b consistent in the heat operator") {
+  const Mesh m = make_icosphere(2);
+  HeatGeodesicOptions o;
+  o.mass_blend = 0.5;
+  CscMatrix H, P;
+  const double t = HeatGeodesic::operators(m, o, H, P);
+  // Oracle: the consistent mass matrix integrated in the test, int phi_i phi_j = area (1 + [i = j]) / 12.
+  std::vector<Eigen::Triplet<double>> tr;
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const Eigen::Vector3d a(m.x[v[0]], m.y[v[0]], m.z[v[0]]), b(m.x[v[1]], m.y[v[1]], m.z[v[1]]),
+        c(m.x[v[2]], m.y[v[2]], m.z[v[2]]);
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s) tr.emplace_back(v[r], v[s], area * (r == s ? 2.0 : 1.0) / 12);
+  }
+  SpMat Mc(m.num_vertices(), m.num_vertices());
+  Mc.setFromTriplets(tr.begin(), tr.end());
+  const SpMat want = 0.5 * to_eigen(mass_matrix_as_csc(m)) + 0.5 * Mc - t * to_eigen(cotan_laplacian(m));
+  CHECK((to_eigen(H) - want).norm() < 1e-12 * want.norm());
+  HeatGeodesicOptions bad;
+  bad.mass_blend = 1.5;
+  CHECK_THROWS_AS(HeatGeodesic(m, bad), Error);
 }

@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <numeric>
 #include <sstream>
+#include <ctime>
 
 #include "kernels/mesh_generators.hpp"
 #include "locus/error.hpp"
@@ -58,6 +59,25 @@ std::vector<double> parse_list(const std::string& text) {
   if (out.empty()) fail(ErrorCode::BadUsage, "--fractions is empty");
   std::sort(out.begin(), out.end());
   return out;
+}
+
+LatticeCorrection parse_lattice(const std::string& s) {
+  if (s == "none") return LatticeCorrection::None;
+  if (s == "star") return LatticeCorrection::Star;
+  if (s == "ring") return LatticeCorrection::Ring;
+  fail(ErrorCode::BadUsage, "--lattice must be none, star or ring (got '" + s + "')");
+}
+
+// "default" keeps the library's default.
+void parse_lattice(const std::string& s, LatticeCorrection& out) {
+  if (s != "default") out = parse_lattice(s);
+}
+
+// Thread CPU time: robust against other processes on a loaded machine.
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 // Distinct seeded centres (splitmix64 through cli::random_vector).
@@ -97,6 +117,8 @@ struct TimingOptions {
   double t_factor = 1.0;
   bool no_full = false;
   std::string angle = "auto";
+  std::string lattice = "default";
+  std::string recentre = "default";
 };
 
 int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const RunContext& ctx) {
@@ -111,6 +133,8 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   else if (to.angle == "two-ring") lo.angle = LogMapAngle::LogHeatTwoRing;
   else if (to.angle == "average") lo.angle = LogMapAngle::HeatAverage;
   else if (to.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average");
+  parse_lattice(to.lattice, lo.lattice);
+  if (to.recentre != "default") lo.recentre = to.recentre == "on";
   const HeatLogMap heat(in.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   sw.restart();
@@ -125,10 +149,10 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   std::vector<double> du(n), dv(n);
   Json rows = Json::array();
   double crossover = -1;
-  std::vector<double> local_wins;
+  std::vector<double> local_wins, local_wins_cpu;
   for (double f : fractions) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
-    std::vector<double> t_local, t_full, t_dem, t_patch;
+    std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
     int32_t max_sources = 0, two_ring_centres = 0;
@@ -140,19 +164,25 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       const std::span<const int32_t> P(patch.data(), k);
       local.resize(k);
       full.resize(k);
+      double c0 = thread_cpu_s();
       sw.restart();
       const LogMapStats st = heat.query(c, P, local.out(), lws);
       t_local.push_back(sw.seconds());
+      c_local.push_back(thread_cpu_s() - c0);
       max_sources = std::max(max_sources, st.sources);
       two_ring_centres += st.two_ring;
       if (!to.no_full) {
+        c0 = thread_cpu_s();
         sw.restart();
         heat.query_full(c, P, full.out(), lws);
         t_full.push_back(sw.seconds());
+        c_full.push_back(thread_cpu_s() - c0);
       }
+      c0 = thread_cpu_s();
       sw.restart();
       const int32_t kd = dem.query(c, count, std::numeric_limits<double>::infinity(), dem_patch, du, dv, dws);
       t_dem.push_back(sw.seconds());
+      c_dem.push_back(thread_cpu_s() - c0);
       flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), P, local.u, local.v, scratch);
       flipped_dem += count_flipped_triangles(heat.geodesic().gradients(), std::span<const int32_t>(dem_patch.data(), kd),
                                              std::span<const double>(du.data(), kd),
@@ -178,6 +208,14 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     }
     row["dem_s"] = md;
     row["dem_over_local"] = md / ml;
+    // Thread CPU time medians (the machine may be loaded by other processes).
+    row["heat_local_cpu_s"] = cli::median(c_local);
+    row["dem_cpu_s"] = cli::median(c_dem);
+    row["dem_over_local_cpu"] = cli::median(c_dem) / cli::median(c_local);
+    if (!to.no_full) {
+      row["heat_full_cpu_s"] = cli::median(c_full);
+      row["full_over_local_cpu"] = cli::median(c_full) / cli::median(c_local);
+    }
     row["patch_select_s"] = cli::median(t_patch);
     row["max_sources"] = max_sources;
     row["two_ring_centres"] = two_ring_centres;
@@ -191,6 +229,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     }
     rows.push_back(row);
     local_wins.push_back(ml < md ? 1.0 : 0.0);
+    local_wins_cpu.push_back(cli::median(c_local) < cli::median(c_dem) ? 1.0 : 0.0);
     cli::log("logmap: fraction " + cli::format_number(f) + ": local " + cli::format_number(ml) + " s, DEM " +
              cli::format_number(md) + " s" +
              (to.no_full ? std::string() : ", full " + cli::format_number(cli::median(t_full)) + " s"));
@@ -199,16 +238,24 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     if (local_wins[q] == 0) break;
     crossover = fractions[q];
   }
+  double crossover_cpu = -1;
+  for (size_t q = fractions.size(); q-- > 0;) {
+    if (local_wins_cpu[q] == 0) break;
+    crossover_cpu = fractions[q];
+  }
   Json j{{"command", "logmap"}, {"input", cli::input_json(opt, in)}};
   j["n"] = n;
   j["t_factor"] = to.t_factor;
   j["angle"] = to.angle;
+  j["lattice"] = to.lattice;
+  j["recentre"] = to.recentre;
   j["h"] = heat.geodesic().mean_edge_length();
   j["precompute_s"] = precompute_s;
   j["dem_prepare_s"] = dem_prepare_s;
   j["queries"] = centres.size();
   j["rows"] = rows;
   j["crossover_fraction"] = crossover < 0 ? Json(nullptr) : Json(crossover);
+  j["crossover_fraction_cpu"] = crossover_cpu < 0 ? Json(nullptr) : Json(crossover_cpu);
   cli::emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": n " << n << ", precompute " << precompute_s << " s, " << centres.size()
        << " centres, medians\n";
@@ -345,7 +392,12 @@ struct AccuracyOptions {
   double t_factor = 1.0;
   bool no_full = false;
   bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
-  std::string dump;  // CSV of per-vertex errors of the localized LogHeat map
+  std::string dump;  // CSV of per-vertex exact and computed values of one variant
+  std::string dump_variant = "log_none";
+  std::string centre_ids;  // explicit centres instead of random ones
+  std::string lattice = "default";  // the correction of the default (Auto) rows
+  std::string recentre = "default";
+  double mass_blend = 0.0;
 };
 
 int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
@@ -357,20 +409,53 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   LogMapOptions lo;
   lo.geodesic.t_factor = ao.t_factor;
   lo.geodesic.log_heat_gradient = !ao.plain_gradient;
+  parse_lattice(ao.lattice, lo.lattice);
+  if (ao.recentre != "default") lo.recentre = ao.recentre == "on";
+  lo.geodesic.mass_blend = ao.mass_blend;
   const HeatLogMap heat(s.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   const DemLogMap dem(s.mesh);
-  const std::vector<int32_t> centres =
+  std::vector<int32_t> centres =
       s.kind == "bump" ? std::vector<int32_t>{0} : pick_centres(n, ao.centres, opt.seed);
+  if (!ao.centre_ids.empty()) {
+    centres.clear();
+    std::stringstream ss(ao.centre_ids);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      char* end = nullptr;
+      const long v = std::strtol(item.c_str(), &end, 10);
+      if (end == item.c_str() || *end != '\0' || v < 0 || v >= n)
+        fail(ErrorCode::BadUsage, "--center-ids: '" + item + "' is not a vertex id (0.." + std::to_string(n - 1) + ")");
+      centres.push_back(static_cast<int32_t>(v));
+    }
+  }
 
-  // Accumulated means over centres (each centre's mean weighs the same).
+  // Accumulated means over centres (each centre's mean weighs the same) and the worst centre.
   struct Acc {
-    double ed = 0, ea = 0;
-    void add(const Errors& e, double w) {
+    double ed = 0, ea = 0, ed_worst = 0, ea_worst = 0;
+    int32_t worst_centre = -1;
+    void add(const Errors& e, double w, int32_t c = -1) {
       ed += e.ed * w;
       ea += e.ea * w;
+      ed_worst = std::max(ed_worst, e.ed);
+      if (e.ea > ea_worst) ea_worst = e.ea, worst_centre = c;
     }
   } log_flux, plain_flux, two_ring, auto_acc, log_trunc, full_log, full_plain, dem_acc;
+  // Every estimator with and without the lattice correction (pipelines/logmap.hpp).
+  struct Variant {
+    std::string name;
+    LogMapEstimator est;
+    Acc acc;
+    int64_t flipped = 0;
+    Json per_centre = Json::array();
+  };
+  std::vector<Variant> variants;
+  for (auto [an, a] : {std::pair{"log", LogMapAngle::LogHeat}, std::pair{"two_ring", LogMapAngle::LogHeatTwoRing},
+                       std::pair{"auto", LogMapAngle::Auto}})
+    for (auto [ln, l] : {std::pair{"none", LatticeCorrection::None}, std::pair{"star", LatticeCorrection::Star},
+                         std::pair{"ring", LatticeCorrection::Ring}})
+      for (bool rc : {false, true})
+        variants.push_back({std::string(an) + "_" + ln + (rc ? "_recentre" : ""), {a, l, rc}, {}, 0, Json::array()});
   int64_t flipped_heat = 0, flipped_two_ring = 0, flipped_auto = 0, auto_two_ring = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
   double local_vs_full_d = 0;
   LogMapWorkspace lws;
@@ -386,26 +471,33 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     patch_total += static_cast<int64_t>(patch.size());
     Maps m;
     m.resize(patch.size());
-    LogMapStats st = heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeat);
-    fallbacks += st.angle_fallbacks;
-    log_flux.add(errors_of(s, c, patch, m.d, m.a), w);
-    if (!ao.dump.empty()) {
-      std::FILE* fp = std::fopen(ao.dump.c_str(), c == centres.front() ? "w" : "a");
-      if (!fp) fail(ErrorCode::BadUsage, "cannot write " + ao.dump);
-      for (size_t p = 0; p < patch.size(); ++p)
-        std::fprintf(fp, "%d,%d,%.9g,%.9g,%.9g,%.9g\n", c, patch[p], s.exact_distance(c, patch[p]),
-                     exact_angle(s, c, patch[p]), m.d[p], m.a[p]);
-      std::fclose(fp);
+    for (Variant& v : variants) {
+      heat.query(c, patch, m.out(), lws, v.est);
+      const Errors e = errors_of(s, c, patch, m.d, m.a);
+      v.acc.add(e, w, c);
+      v.per_centre.push_back(e.ea);
+      v.flipped += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
+      if (!ao.dump.empty() && v.name == ao.dump_variant) {
+        std::FILE* fp = std::fopen(ao.dump.c_str(), c == centres.front() ? "w" : "a");
+        if (!fp) fail(ErrorCode::BadUsage, "cannot write " + ao.dump);
+        for (size_t p = 0; p < patch.size(); ++p)
+          std::fprintf(fp, "%d,%d,%.9g,%.9g,%.9g,%.9g\n", c, patch[p], s.exact_distance(c, patch[p]),
+                       exact_angle(s, c, patch[p]), m.d[p], m.a[p]);
+        std::fclose(fp);
+      }
     }
+    LogMapStats st = heat.query(c, patch, m.out(), lws, LogMapEstimator{LogMapAngle::LogHeat, LatticeCorrection::None, false});
+    fallbacks += st.angle_fallbacks;
+    log_flux.add(errors_of(s, c, patch, m.d, m.a), w, c);
     flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     heat.query(c, patch, m.out(), lws, LogMapAngle::HeatAverage);
-    plain_flux.add(errors_of(s, c, patch, m.d, m.a), w);
+    plain_flux.add(errors_of(s, c, patch, m.d, m.a), w, c);
     st = heat.query(c, patch, m.out(), lws, LogMapAngle::Auto);
-    auto_acc.add(errors_of(s, c, patch, m.d, m.a), w);
+    auto_acc.add(errors_of(s, c, patch, m.d, m.a), w, c);
     auto_two_ring += st.two_ring;
     flipped_auto += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeatTwoRing);
-    two_ring.add(errors_of(s, c, patch, m.d, m.a), w);
+    two_ring.add(errors_of(s, c, patch, m.d, m.a), w, c);
     flipped_two_ring += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     // Truncated Poisson right-hand side (distance only; the angle does not depend on it).
     HeatGeodesicWorkspace gws;
@@ -416,13 +508,13 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
       Maps f;
       f.resize(patch.size());
       heat.query_full(c, patch, f.out(), lws, LogMapAngle::HeatAverage);
-      full_plain.add(errors_of(s, c, patch, f.d, f.a), w);
-      heat.query_full(c, patch, f.out(), lws, LogMapAngle::LogHeat);
-      full_log.add(errors_of(s, c, patch, f.d, f.a), w);
+      full_plain.add(errors_of(s, c, patch, f.d, f.a), w, c);
+      heat.query_full(c, patch, f.out(), lws, LogMapEstimator{LogMapAngle::LogHeat, LatticeCorrection::None, false});
+      full_log.add(errors_of(s, c, patch, f.d, f.a), w, c);
       flipped_full += count_flipped_triangles(heat.geodesic().gradients(), patch, f.u, f.v, scratch);
       Maps l2;
       l2.resize(patch.size());
-      heat.query(c, patch, l2.out(), lws, LogMapAngle::LogHeat);
+      heat.query(c, patch, l2.out(), lws, LogMapEstimator{LogMapAngle::LogHeat, LatticeCorrection::None, false});
       double md = 0;
       for (size_t p = 0; p < patch.size(); ++p) md = std::max(md, std::abs(l2.d[p] - f.d[p]));
       local_vs_full_d = std::max(local_vs_full_d, md);
@@ -439,17 +531,21 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
       dd[p] = std::hypot(du[q], dv[q]);
       da[p] = std::atan2(dv[q], du[q]);
     }
-    dem_acc.add(errors_of(s, c, patch, dd, da, &mapped), w);
+    dem_acc.add(errors_of(s, c, patch, dd, da, &mapped), w, c);
     flipped_dem += count_flipped_triangles(heat.geodesic().gradients(), std::span<const int32_t>(dem_patch.data(), kd),
                                            std::span<const double>(du.data(), kd),
                                            std::span<const double>(dv.data(), kd), scratch);
     for (int32_t p = 0; p < kd; ++p) dem_pos[dem_patch[p]] = -1;
   }
-  auto pair = [](const Acc& a) { return Json{{"E_d", a.ed}, {"E_a", a.ea}}; };
+  auto pair = [](const Acc& a) {
+    return Json{{"E_d", a.ed}, {"E_a", a.ea}, {"E_d_worst", a.ed_worst}, {"E_a_worst", a.ea_worst},
+                {"worst_centre", a.worst_centre}};
+  };
   Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}};
   j["n"] = n;
   j["h"] = heat.geodesic().mean_edge_length();
   j["t_factor"] = ao.t_factor;
+  j["mass_blend"] = ao.mass_blend;
   j["distance_gradient"] = ao.plain_gradient ? "heat" : "log_heat";
   j["radius"] = ao.radius;
   j["centres"] = centres;
@@ -471,6 +567,15 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     j["flipped_triangles_heat_full"] = flipped_full;
   }
   j["dem"] = pair(dem_acc);
+  j["lattice_correction"] = ao.lattice;
+  Json var = Json::object();
+  for (const Variant& v : variants) {
+    Json e = pair(v.acc);
+    e["flipped_triangles"] = v.flipped;
+    e["E_a_per_centre"] = v.per_centre;
+    var[v.name] = e;
+  }
+  j["variants"] = var;
   j["flipped_triangles_heat"] = flipped_heat;
   j["flipped_triangles_dem"] = flipped_dem;
   j["angle_fallbacks"] = fallbacks;
@@ -489,6 +594,8 @@ void register_logmap_bench(cli::CommandTable& table) {
   app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
+  app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring (default: the library's)");
+  app->add_option("--recentre", to->recentre, "Recentre the gradients: on, off (default: the library's)");
 
   auto ao = std::make_shared<AccuracyOptions>();
   CLI::App* acc = table.add(
@@ -500,7 +607,12 @@ void register_logmap_bench(cli::CommandTable& table) {
   acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
-  acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle), localized LogHeat map");
+  acc->add_option("--center-ids", ao->centre_ids, "Comma-separated centre vertices instead of random ones");
+  acc->add_option("--lattice", ao->lattice, "Lattice correction of the unnamed rows: none, star, ring (default: the library's)");
+  acc->add_option("--recentre", ao->recentre, "Recentre the gradients in the unnamed rows: on, off (default: the library's)");
+  acc->add_option("--mass-blend", ao->mass_blend, "Heat operator mass: (1 - b) lumped + b consistent (default 0)");
+  acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle) of --dump-variant");
+  acc->add_option("--dump-variant", ao->dump_variant, "Variant written by --dump (default log_none; see 'variants')");
 }
 
 }  // namespace locus::bench

@@ -1,5 +1,5 @@
 // `locus logmap MESH --center V --fraction f [--t-factor c] [--method heat|dem|heat-full]
-//  [--angle auto|log|two-ring|average] -o map.ply`: a log map (local polar /
+//  [--angle auto|log|two-ring|average] [--lattice none|star|ring] [--recentre on|off] -o map.ply`: a log map (local polar /
 // Cartesian coordinates) of the geodesic disk of round(f * n) vertices around
 // the centre. heat: thesis §6.5-6.6 with exact subset solves
 // (pipelines/logmap.hpp); heat-full: the same with full solves; dem: the
@@ -29,6 +29,8 @@ struct LogmapOptions {
   double t_factor = 1.0;
   std::string method = "heat";
   std::string angle = "auto";
+  std::string lattice = "default";  // library default (LogMapOptions::lattice)
+  std::string recentre = "default";  // on, off or the library default (LogMapOptions::recentre)
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
   FactorCacheOptions cache;
 };
@@ -43,6 +45,14 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   else if (lo.angle == "two-ring") angle = LogMapAngle::LogHeatTwoRing;
   else if (lo.angle == "average") angle = LogMapAngle::HeatAverage;
   else if (lo.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average (got '" + lo.angle + "')");
+  std::optional<LatticeCorrection> lattice;
+  if (lo.lattice == "none") lattice = LatticeCorrection::None;
+  else if (lo.lattice == "star") lattice = LatticeCorrection::Star;
+  else if (lo.lattice == "ring") lattice = LatticeCorrection::Ring;
+  else if (lo.lattice != "default")
+    fail(ErrorCode::BadUsage, "--lattice must be none, star or ring (got '" + lo.lattice + "')");
+  if (lo.recentre != "default" && lo.recentre != "on" && lo.recentre != "off")
+    fail(ErrorCode::BadUsage, "--recentre must be on or off (got '" + lo.recentre + "')");
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
   check_preview_path(lo.preview);
@@ -67,6 +77,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     LogMapOptions mo;
     mo.geodesic.t_factor = lo.t_factor;
     mo.angle = angle;
+    if (lattice) mo.lattice = *lattice;
+    if (lo.recentre != "default") mo.recentre = lo.recentre == "on";
     std::optional<HeatGeodesicFactors> given = heat_method_factors(lo.cache, in.mesh, mo.geodesic, ctx, cache_info);
     heat = given ? std::make_unique<HeatLogMap>(in.mesh, mo, std::move(*given))
                  : std::make_unique<HeatLogMap>(in.mesh, mo, ctx);
@@ -155,6 +167,9 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     j["sources"] = st.sources;
     j["batches"] = st.batches;
     j["two_ring"] = st.two_ring;
+    j["lattice"] = lo.lattice;
+    j["recentre"] = lo.recentre;
+    j["recentred"] = st.recentred;
     j["angle_fallbacks"] = st.angle_fallbacks;
   }
   j["patch_size"] = k;
@@ -184,6 +199,10 @@ void register_logmap_command(CommandTable& table) {
   app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
+  app->add_option("--lattice", lo->lattice,
+                  "Lattice (dispersion) correction of the heat map's angles: none, star or ring (default: the library's)");
+  app->add_option("--recentre", lo->recentre,
+                  "Recentre the heat map's gradients: on or off (default: the library's)");
   add_preview_option(app, lo->preview);
   add_factor_cache_options(app, lo->cache);
 }
