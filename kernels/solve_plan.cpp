@@ -1,6 +1,8 @@
 // Reach and ancestor sets of the supernodal etree (kernels/solve_plan.hpp).
 // Marking uses a small hash-free trick: walk parents until an already-visited
 // supernode, so each supernode of the result is visited once; then sort.
+// Approximate plans mark kept columns instead of sorting them (only their
+// supernodes are sorted) and derive the pruned forward list in one downward walk.
 #include "kernels/solve_plan.hpp"
 
 #include <algorithm>
@@ -47,6 +49,7 @@ void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<
   p.n = S.n;
   p.approximate = false;
   p.kept_cols.clear();
+  p.forward_pruned.clear();
   p.rhs.assign(rhs.begin(), rhs.end());
   p.outputs.assign(out.begin(), out.end());
   ancestors_of(S, rhs, ws.seen, p.forward);
@@ -83,15 +86,43 @@ void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_
                           SolvePlan& p, PlanWorkspace& ws) {
   base_plan(S, rhs_support, kept, p, ws);
   p.approximate = true;
-  p.kept_cols.reserve(kept.size());
-  for (int32_t v : kept) p.kept_cols.push_back(S.iperm[v]);
-  std::sort(p.kept_cols.begin(), p.kept_cols.end());
-  p.kept_cols.erase(std::unique(p.kept_cols.begin(), p.kept_cols.end()), p.kept_cols.end());
+  if (ws.col_seen.size() != static_cast<size_t>(S.n)) ws.col_seen.assign(static_cast<size_t>(S.n), 0);
+  // Kept columns and their supernodes by marks; only the (fewer) supernodes are
+  // sorted, then each one's columns are read in order: kept_cols comes out
+  // ascending without sorting the columns (CVT batches keep thousands).
   p.backward.clear();
-  for (int32_t c : p.kept_cols) {
+  for (int32_t v : kept) {
+    const int32_t c = S.iperm[v];
+    if (ws.col_seen[c]) continue;
+    ws.col_seen[c] = 1;
     const int32_t s = S.col_to_super[c];
-    if (p.backward.empty() || p.backward.back() != s) p.backward.push_back(s);
+    if (!ws.seen[s]) {
+      ws.seen[s] = 1;
+      p.backward.push_back(s);
+    }
   }
+  std::sort(p.backward.begin(), p.backward.end());
+  p.kept_cols.clear();
+  for (int32_t s : p.backward)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c)
+      if (ws.col_seen[c]) {
+        p.kept_cols.push_back(c);
+        ws.col_seen[c] = 0;
+      }
+  // Pruned forward: walking the reach downwards (parents have larger ids), a
+  // supernode is needed when it is kept (mark 1) or its parent is needed (mark 2);
+  // the reach is closed under parents, so the parent's mark is already final.
+  p.forward_pruned.clear();
+  for (auto it = p.forward.rbegin(); it != p.forward.rend(); ++it) {
+    const int32_t s = *it, par = S.super_parent[s];
+    if ((ws.seen[s] & 1) || (par >= 0 && (ws.seen[par] & 2))) {
+      ws.seen[s] |= 2;
+      p.forward_pruned.push_back(s);
+    }
+  }
+  std::reverse(p.forward_pruned.begin(), p.forward_pruned.end());
+  for (int32_t s : p.forward) ws.seen[s] = 0;
+  for (int32_t s : p.backward) ws.seen[s] = 0;
   std::reverse(p.backward.begin(), p.backward.end());
   finish(S, p);
 }

@@ -28,6 +28,11 @@ struct SolvePlan {
   bool approximate = false;
   // Approximate plans: kept factor columns, ascending (entries elsewhere are zero).
   std::vector<int32_t> kept_cols;
+  // Approximate plans: the forward supernodes that are kept or have a kept
+  // ancestor, ascending. The others only feed entries that Algorithm 2 sets to
+  // zero, so a solver may skip them and still return the same kept values
+  // (kernels/solve_selective.hpp); it must then read unkept entries as zero.
+  std::vector<int32_t> forward_pruned;
   int64_t forward_columns = 0, backward_columns = 0;  // sizes, for reporting
 
   std::size_t num_outputs() const { return outputs.size(); }
@@ -46,6 +51,7 @@ SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t>
 // mesh (single heat values, log-map patches, CVT cells) plan many times.
 struct PlanWorkspace {
   std::vector<uint8_t> seen;
+  std::vector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
 };
 
 // The same plans written into a caller-owned plan (its vectors' capacity is

@@ -205,21 +205,37 @@ Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns
   c.verts.resize(label.size());
   std::vector<int64_t> fill(c.offsets.begin(), c.offsets.end() - 1);
   for (size_t v = 0; v < label.size(); ++v) c.verts[fill[label[v]]++] = static_cast<int32_t>(v);
-  std::vector<std::pair<int32_t, int32_t>> pairs;
+  // Cell adjacency: the labels across every edge between two cells, bucketed by
+  // cell (CSR with repeats), then sorted and deduplicated per cell in parallel.
+  std::vector<int64_t> raw_off(static_cast<size_t>(ns) + 1, 0);
   for (size_t k = 0; k < edges.e0.size(); ++k) {
     const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
     if (a != b) {
-      pairs.push_back({a, b});
-      pairs.push_back({b, a});
+      ++raw_off[a + 1];
+      ++raw_off[b + 1];
     }
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  for (int32_t s = 0; s < ns; ++s) raw_off[s + 1] += raw_off[s];
+  std::vector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
+  fill.assign(raw_off.begin(), raw_off.end() - 1);
+  for (size_t k = 0; k < edges.e0.size(); ++k) {
+    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+    if (a != b) {
+      raw[fill[a]++] = b;
+      raw[fill[b]++] = a;
+    }
+  }
+  std::vector<int64_t> count(ns);
+  tbb::parallel_for(0, ns, [&](int32_t s) {
+    auto first = raw.begin() + raw_off[s], last = raw.begin() + raw_off[s + 1];
+    std::sort(first, last);
+    count[s] = std::unique(first, last) - first;
+  });
   c.adj_offsets.assign(static_cast<size_t>(ns) + 1, 0);
-  for (const auto& pr : pairs) ++c.adj_offsets[pr.first + 1];
-  for (int32_t s = 0; s < ns; ++s) c.adj_offsets[s + 1] += c.adj_offsets[s];
-  c.adj.resize(pairs.size());
-  for (size_t k = 0; k < pairs.size(); ++k) c.adj[k] = pairs[k].second;
+  for (int32_t s = 0; s < ns; ++s) c.adj_offsets[s + 1] = c.adj_offsets[s] + count[s];
+  c.adj.resize(static_cast<size_t>(c.adj_offsets[ns]));
+  for (int32_t s = 0; s < ns; ++s)
+    std::copy(raw.begin() + raw_off[s], raw.begin() + raw_off[s] + count[s], c.adj.begin() + c.adj_offsets[s]);
   return c;
 }
 
@@ -279,6 +295,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
     fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
   if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
+  if (opt.fit_rings < 1 || opt.fit_rings > 4) fail(ErrorCode::BadUsage, "cvt: fit_rings must be 1 to 4");
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
@@ -405,7 +422,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     for (int32_t v = 0; v < n; ++v)
       if (V.label[v] < 0)
         fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
-    cells = build_cells(edges, V.label, ns);
+    in_arena([&] { cells = build_cells(edges, V.label, ns); });
     if (opt.split_faces) {
       in_arena([&] { part = partition_cells(m, area_op, V, ns); });
       r.fallback_faces += part.fallback_faces;
@@ -507,7 +524,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
           continue;
         }
         for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = hb.values[static_cast<size_t>(k) * kLanes + l];
-        msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best);
+        msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best, opt.fit_rings);
         if (local) {
           for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = 0.0;
         } else {

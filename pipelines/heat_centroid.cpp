@@ -66,23 +66,25 @@ Eigen::Vector3d closest_barycentric(const Eigen::Vector2d& q, const Eigen::Vecto
 }  // namespace
 
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
-                                 int32_t c) {
+                                 int32_t c, int rings) {
   HeatCentroid r;
   r.hottest = c;
   r.point = vertex_point(c);
   if (c < 0 || c >= g.n || heat.size() != static_cast<size_t>(g.n))
     fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex or heat vector size");
-  // Fit points: c and its one ring; the two ring when that gives fewer than 6 values
-  // (six coefficients; boundary corners can have tiny rings).
+  if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
+  // Fit points: c and its `rings` rings; one ring more while that gives fewer than 6
+  // values (six coefficients; boundary corners can have tiny rings).
   std::vector<int32_t> pts{c};
-  for (int64_t p = g.adj.offsets[c]; p < g.adj.offsets[c + 1]; ++p) pts.push_back(g.adj.neighbors[p]);
-  if (pts.size() < 7) {
-    const size_t one = pts.size();
-    for (size_t k = 1; k < one; ++k)
-      for (int64_t p = g.adj.offsets[pts[k]]; p < g.adj.offsets[pts[k] + 1]; ++p) pts.push_back(g.adj.neighbors[p]);
-    std::sort(pts.begin() + 1, pts.end());
-    pts.erase(std::unique(pts.begin() + 1, pts.end()), pts.end());
-    pts.erase(std::remove(pts.begin() + 1, pts.end(), c), pts.end());
+  size_t ring_begin = 0;
+  for (int ring = 0; ring < rings || (pts.size() < 7 && ring < rings + 1); ++ring) {
+    const size_t ring_end = pts.size();
+    for (size_t k = ring_begin; k < ring_end; ++k)
+      for (int64_t p = g.adj.offsets[pts[k]]; p < g.adj.offsets[pts[k] + 1]; ++p) {
+        const int32_t w = g.adj.neighbors[p];
+        if (std::find(pts.begin(), pts.end(), w) == pts.end()) pts.push_back(w);
+      }
+    ring_begin = ring_end;
   }
   r.fit_points = static_cast<int32_t>(pts.size());
   if (pts.size() < 6) return r;

@@ -42,9 +42,11 @@ struct HeatCentroid {
 
 // Quadratic refinement around `hottest`, with heat values given at every vertex
 // the fit may read (heat[v]; localized callers scatter their kept values and leave
-// zeros elsewhere).
+// zeros elsewhere). `rings` (1..4): fit to the hottest vertex and its rings up to
+// that graph distance (the thesis fits the one ring; more rings average the
+// piecewise-linear heat over a wider patch).
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
-                                 int32_t hottest);
+                                 int32_t hottest, int rings = 1);
 
 // One-shot: full solve of the cell indicator, hottest vertex, refinement (if `refine`).
 // `cell` lists vertex ids (non-empty, valid).

@@ -17,6 +17,7 @@
 #include "kernels/ordering.hpp"
 #include "kernels/solve_full.hpp"
 #include "kernels/solve_plan.hpp"
+#include "kernels/solve_selective.hpp"
 #include "kernels/symbolic_factor.hpp"
 #include "locus/error.hpp"
 
@@ -190,9 +191,9 @@ void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b) {
       const size_t pos = std::lower_bound(b.support_.begin(), b.support_.end(), b.src_vertex[k]) - b.support_.begin();
       b.rhs_[pos * kLanes + l] += b.src_weight[k];
     }
-  const SolvePlan plan = plan_selective_solve(*H.factor.symbolic, b.support_, b.kept);
-  b.values.assign(b.kept.size() * kLanes, 0.0);
-  solve_planned8(H.factor, plan, b.rhs_, b.values, b.ws_);
+  plan_selective_solve(*H.factor.symbolic, b.support_, b.kept, b.plan_, b.pws_);
+  b.values.resize(b.kept.size() * kLanes);
+  solve_selective8(H.factor, b.plan_, b.rhs_, b.values, b.ws_);
 }
 
 namespace {
@@ -202,8 +203,9 @@ inline bool hotter(double v, int32_t s, double tv, int32_t ts) {
   return ts < 0 || v > tv || (v == tv && s < ts);
 }
 
-inline void insert_top(int32_t* ts, double* tv, int32_t s, double v) {
-  if (!hotter(v, s, tv[kVoronoiTopK - 1], ts[kVoronoiTopK - 1])) return;
+// Returns false (and changes nothing) when (s, v) is not hotter than the K-th entry.
+inline bool insert_top(int32_t* ts, double* tv, int32_t s, double v) {
+  if (!hotter(v, s, tv[kVoronoiTopK - 1], ts[kVoronoiTopK - 1])) return false;
   int i = kVoronoiTopK - 1;
   while (i > 0 && hotter(v, s, tv[i - 1], ts[i - 1])) {
     ts[i] = ts[i - 1];
@@ -212,14 +214,20 @@ inline void insert_top(int32_t* ts, double* tv, int32_t s, double v) {
   }
   ts[i] = s;
   tv[i] = v;
+  return true;
 }
 
+// One batch's contribution: per vertex its hottest min(lanes, K) (site, heat)
+// pairs in the total order, so the serial merge stops at the first pair that
+// does not enter a vertex's list (the rest are colder). Sorting the lanes happens
+// in the parallel solve node.
 struct VoronoiMsg {
-  int32_t sites[kLanes];
   int lanes = 0;
+  int per_vertex = 0;  // candidates per vertex: min(lanes, kVoronoiTopK)
   bool full = true;
-  std::vector<int32_t> ids;  // local mode: vertex ids of the values
-  std::vector<double> values;
+  std::vector<int32_t> ids;  // local mode: vertex ids of the candidates
+  std::vector<int32_t> cand_site;
+  std::vector<double> cand_value;
 };
 
 }  // namespace
@@ -256,9 +264,10 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
     hb.kept.clear();
     const int32_t first = b * kLanes;
     msg->lanes = std::min<int32_t>(kLanes, static_cast<int32_t>(sites.size()) - first);
+    int32_t sites_of[kLanes];
     for (int l = 0; l < msg->lanes; ++l) {
       const int32_t s = order[first + l];
-      msg->sites[l] = s;
+      sites_of[l] = s;
       int32_t v[3];
       double w[3];
       const int c = surface_point_support(m, sites[s], v, w);
@@ -274,17 +283,34 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
     solve_heat_batch(H, hb);
     msg->full = !local;
     if (local) msg->ids = hb.kept;
-    msg->values.swap(hb.values);
+    const int32_t cnt = hb.count();
+    const int pv = std::min(msg->lanes, kVoronoiTopK);
+    msg->per_vertex = pv;
+    msg->cand_site.resize(static_cast<size_t>(cnt) * pv);
+    msg->cand_value.resize(static_cast<size_t>(cnt) * pv);
+    for (int32_t k = 0; k < cnt; ++k) {  // this batch's top pv per vertex (same total order)
+      int32_t ts[kVoronoiTopK];
+      double tv[kVoronoiTopK];
+      std::fill(ts, ts + kVoronoiTopK, -1);
+      std::fill(tv, tv + kVoronoiTopK, 0.0);
+      for (int l = 0; l < msg->lanes; ++l) insert_top(ts, tv, sites_of[l], hb.values[static_cast<size_t>(k) * kLanes + l]);
+      std::copy(ts, ts + pv, msg->cand_site.begin() + static_cast<size_t>(k) * pv);
+      std::copy(tv, tv + pv, msg->cand_value.begin() + static_cast<size_t>(k) * pv);
+    }
     return msg;
   };
   auto reduce = [&](const std::shared_ptr<VoronoiMsg>& msg) {
-    const int32_t cnt = msg->full ? n : static_cast<int32_t>(msg->ids.size());
+    const int pv = msg->per_vertex;
+    const int32_t cnt = pv > 0 ? static_cast<int32_t>(msg->cand_site.size() / pv) : 0;
     V.solved_entries += cnt;
     for (int32_t k = 0; k < cnt; ++k) {
       const int32_t v = msg->full ? k : msg->ids[k];
       int32_t* ts = V.top_site.data() + static_cast<size_t>(v) * kVoronoiTopK;
       double* tv = V.top_value.data() + static_cast<size_t>(v) * kVoronoiTopK;
-      for (int l = 0; l < msg->lanes; ++l) insert_top(ts, tv, msg->sites[l], msg->values[static_cast<size_t>(k) * kLanes + l]);
+      for (int i = 0; i < pv; ++i)
+        if (!insert_top(ts, tv, msg->cand_site[static_cast<size_t>(k) * pv + i],
+                        msg->cand_value[static_cast<size_t>(k) * pv + i]))
+          break;  // the remaining candidates are colder
     }
   };
   run_batch_graph<VoronoiMsg>(ctx, nb, solve_batch, reduce, "heat voronoi");

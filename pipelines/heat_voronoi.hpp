@@ -15,8 +15,10 @@
 //
 // Localized mode (thesis §3.6, §3.7.1): with a neighbourhood per generator, each
 // batch of 8 is solved by the approximate selective solve (Algorithm 2) on the union
-// of the 8 neighbourhoods; a vertex outside a batch's kept set takes no value from
-// that batch. Vertices no batch reached get the label of the nearest labelled
+// of the 8 neighbourhoods (kernels/solve_selective: the forward substitution skips
+// the part of the etree that only feeds zeroed entries); a vertex outside a batch's
+// kept set takes no value from that batch. Each batch sends its hottest K sites per
+// vertex, so the serial merge usually stops after one comparison. Vertices no batch reached get the label of the nearest labelled
 // vertex (breadth-first, deterministic) and are counted.
 //
 // Determinism: argmax and top-K use the total order (heat descending, generator id
@@ -39,6 +41,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/solve_plan.hpp"
 #include "kernels/solve_sparse.hpp"
 #include "kernels/supernodal_factor.hpp"
 #include "kernels/task_arenas.hpp"
@@ -110,6 +113,8 @@ struct HeatBatch {
   bool full_ = true;
   int32_t n_ = 0;
   SolveWorkspace ws_;
+  SolvePlan plan_;      // reused: planning does not allocate once warm
+  PlanWorkspace pws_;
   std::vector<double> work_, rhs_;
   std::vector<int32_t> support_;
   std::vector<uint8_t> mark_;  // n, zero between uses

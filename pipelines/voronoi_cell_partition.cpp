@@ -200,13 +200,15 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
     for (const auto& entries : chunk_entries)
       for (const Entry& e : entries) sorted[fill[e.cell]++] = e;
   }
-  // Per cell: sort by vertex and merge in place (parallel over cells, each cell's
+  // Per cell: sort by vertex (then weight) and merge in place (parallel over cells, each cell's
   // arithmetic in a fixed order), then compact.
   std::vector<int64_t> kept(cells, 0);
   P.area.assign(cells, 0.0);
   tbb::parallel_for(0, cells, [&](int32_t c) {
     auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];
-    std::stable_sort(first, last, [](const Entry& a, const Entry& b) { return a.vertex < b.vertex; });
+    // (vertex, weight) is a total order up to identical entries, so the merged sums
+    // do not depend on how the unstable sort permutes ties.
+    std::sort(first, last, [](const Entry& a, const Entry& b) { return a.vertex != b.vertex ? a.vertex < b.vertex : a.w < b.w; });
     int64_t w = start[c];
     double area = 0;
     for (auto it = first; it != last; ++it) {

@@ -95,6 +95,20 @@ TEST_CASE("heat centroid: the quadratic fit recovers an exact quadratic's maximi
   CHECK(r.point.bary[0] >= -1e-12);
   CHECK(r.point.bary[1] >= -1e-12);
   CHECK(r.point.bary[2] >= -1e-12);
+  // Wider fits (two and three rings, least squares) reproduce it too. This vertex
+  // has valence 4, so the one-ring fit already extends to the two ring.
+  int previous = r.fit_points;
+  for (int rings : {2, 3}) {
+    const HeatCentroid w = refine_heat_maximum(m, g, heat, hottest, rings);
+    REQUIRE(w.refined);
+    CHECK(w.fit_points >= previous);
+    if (rings == 3) CHECK(w.fit_points > r.fit_points);
+    previous = w.fit_points;
+    const auto pw = surface_point_position(m, w.point);
+    CHECK(pw[0] == doctest::Approx(cx).epsilon(1e-10));
+    CHECK(pw[1] == doctest::Approx(cy).epsilon(1e-10));
+  }
+  CHECK_THROWS_AS(refine_heat_maximum(m, g, heat, hottest, 0), Error);
   // A maximizer far outside the one ring lands on the ring's closest point.
   for (int32_t v = 0; v < m.num_vertices(); ++v) {
     const double dx = m.x[v] - 0.9, dy = m.y[v] - 0.5;

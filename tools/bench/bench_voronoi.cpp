@@ -6,7 +6,17 @@
 // (all bisectors of the sphere lie in planes through the origin). Reports h, RMS
 // per size and t, and the least-squares slope of log RMS against log h (quadratic
 // convergence: 2). The test suite runs two sizes; this runs as many as given.
+//
+// `locus-bench cvt-speed MESH --sites N --iters K`: Lloyd CVT (thesis §3.7.1) with
+// localized and with full solves in the same process, on one prepared factor of
+// M - h^2 L and the same random initial sites (--seed); per-iteration wall time
+// and process CPU time (between consecutive iteration reports; the first
+// iteration, whose neighbourhoods are Dijkstra balls, is left out), medians and
+// the full/local ratios, and the load average before and after.
+#include <time.h>
+
 #include <cmath>
+#include <fstream>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -15,6 +25,8 @@
 #include "kernels/mesh_generators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "pipelines/cvt_lloyd.hpp"
+#include "pipelines/cvt_quality.hpp"
 #include "pipelines/heat_voronoi.hpp"
 #include "tools/bench/bench_commands.hpp"
 
@@ -141,6 +153,78 @@ int run_convergence(const cli::CommonOptions& opt, const ConvergenceOptions& o, 
   return 0;
 }
 
+struct CvtSpeedOptions {
+  int32_t sites = 1000;
+  int32_t iterations = 6;
+  std::string solvers = "local,full";
+};
+
+double process_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  f >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const RunContext& ctx) {
+  if (o.iterations < 2) fail(ErrorCode::BadUsage, "cvt-speed: --iters must be at least 2 (the first iteration is not timed)");
+  if (o.solvers != "local,full" && o.solvers != "local" && o.solvers != "full")
+    fail(ErrorCode::BadUsage, "cvt-speed: --solvers is local, full or local,full");
+  const cli::Input in = cli::load_input(opt, ctx);
+  const Mesh& m = in.mesh;
+  if (o.sites < 1 || o.sites > m.num_vertices()) fail(ErrorCode::BadUsage, "cvt-speed: --sites out of range");
+  Json j{{"command", "cvt-speed"}, {"n", m.num_vertices()}, {"sites", o.sites}, {"iterations", o.iterations},
+         {"seed", opt.seed}, {"threads", ctx.threads}, {"load_before", load_average()}};
+  const double f0 = process_cpu_s();
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, ctx);
+  j["factor_cpu_s"] = process_cpu_s() - f0;
+  const std::vector<SurfacePoint> init = random_surface_points(m, o.sites, opt.seed);
+  std::vector<std::string> solvers;
+  if (o.solvers != "full") solvers.push_back("local");
+  if (o.solvers != "local") solvers.push_back("full");
+  double wall[2] = {0, 0}, cpu[2] = {0, 0};
+  for (size_t k = 0; k < solvers.size(); ++k) {
+    LloydOptions lo;
+    lo.iterations = o.iterations;
+    lo.prepared = &H;
+    lo.solver = solvers[k] == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
+    std::vector<double> marks;  // process CPU time at the end of each iteration (reported on this thread)
+    RunContext run = ctx;
+    run.progress = [&marks](double, std::string_view phase) {
+      if (phase == "lloyd") marks.push_back(process_cpu_s());
+    };
+    const LloydResult r = cvt_lloyd(m, init, lo, run);
+    std::vector<double> cpu_it, wall_it(r.iter_s.begin() + 1, r.iter_s.end());
+    for (size_t i = 1; i < marks.size(); ++i) cpu_it.push_back(marks[i] - marks[i - 1]);
+    const CvtQuality q = cvt_quality(m, r.label, r.sites);
+    const int slot = solvers[k] == "full" ? 1 : 0;
+    wall[slot] = cli::median(wall_it);
+    cpu[slot] = cli::median(cpu_it);
+    j[solvers[k]] = {{"iter_s", wall[slot]},
+                     {"iter_cpu_s", cpu[slot]},
+                     {"iter_s_all", r.iter_s},
+                     {"iter_cpu_s_all", cpu_it},
+                     {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
+                                  {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
+                     {"mean_kept_fraction", r.mean_kept_fraction},
+                     {"mean_angle_deg", q.mean_angle_deg},
+                     {"min_angle_deg", q.min_angle_deg}};
+  }
+  if (solvers.size() == 2) {
+    j["ratio_wall"] = wall[0] > 0 ? wall[1] / wall[0] : 0.0;
+    j["ratio_cpu"] = cpu[0] > 0 ? cpu[1] / cpu[0] : 0.0;
+  }
+  j["load_after"] = load_average();
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
 }  // namespace
 
 void register_voronoi_bench(cli::CommandTable& table) {
@@ -150,6 +234,14 @@ void register_voronoi_bench(cli::CommandTable& table) {
       [o](const cli::CommonOptions& opt, const RunContext& ctx) { return run_convergence(opt, *o, ctx); });
   app->add_option("--sizes", o->sizes, "Vertex counts of the random spheres (default 1000,4000,16000,64000)");
   app->add_option("--t", o->times, "Absolute diffusion times (default 1,0.0078125 = 2^0, 2^-7)");
+  // Registered here so that the bench's registration list does not change.
+  auto c = std::make_shared<CvtSpeedOptions>();
+  CLI::App* capp = table.add(
+      "cvt-speed", "Lloyd CVT per-iteration time, localized vs full solves in one process (thesis 3.7.1)",
+      [c](const cli::CommonOptions& opt, const RunContext& ctx) { return run_cvt_speed(opt, *c, ctx); });
+  capp->add_option("--sites", c->sites, "Number of sites (default 1000)");
+  capp->add_option("--iters", c->iterations, "Lloyd iterations per solver (default 6; the first is not timed)");
+  capp->add_option("--solvers", c->solvers, "local,full (default), local or full");
 }
 
 }  // namespace locus::bench

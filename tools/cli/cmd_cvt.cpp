@@ -28,6 +28,7 @@ struct CvtOptions {
   bool track = false;
   bool no_split = false;
   double t_centroid = 0.0;
+  int fit_rings = 1;
   FactorCacheOptions fc;
   std::string preview;
 };
@@ -55,6 +56,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   lo.track_quality = o.track;
   lo.split_faces = !o.no_split;
   lo.t_centroid_factor = o.t_centroid;
+  lo.fit_rings = o.fit_rings;
   if (ts.times_h2) {
     lo.t_factor = ts.value;
   } else {
@@ -157,6 +159,8 @@ void register_cvt_command(CommandTable& table) {
   app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");
   app->add_option("--t-centroid", o->t_centroid, "Centroid diffusion time in units of h^2 (default: the cells' t)")
       ->check(CLI::Range(0.0, 1e12));
+  app->add_option("--fit-rings", o->fit_rings, "Vertex rings of the centroid's quadratic fit (default 1, as the thesis)")
+      ->check(CLI::Range(1, 4));
   app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
   app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }

@@ -1,0 +1,30 @@
+// The approximate selective solve of thesis Algorithm 2 (§3.6) with a pruned
+// forward substitution, eight right-hand sides at once.
+//
+// Algorithm 2 keeps x only at a kept set K: y = L^{-1} b, y set to zero outside K,
+// then L^T x = y restricted to K. Values of y outside K are never used, so the
+// forward substitution only needs the supernodes of the reach that are kept or
+// have a kept ancestor (SolvePlan::forward_pruned); the rest of the reach (the
+// top separators of a nested-dissection factor, far from a local K) is skipped.
+// Entries outside K are read as zero wherever the backward step reads them, so
+// the kept values equal those of solve_planned8 (kernels/solve_sparse.hpp) up to
+// rounding in a different BLAS/loop split, and the work scales with |K| and the
+// kept part of the etree, not with the height of the whole factor.
+//
+// Uses the SolveWorkspace of solve_sparse (x zero between calls, keep zero
+// between calls); cleans what it touched. Re-entrant with one workspace per thread.
+#pragma once
+#include <span>
+
+#include "kernels/solve_plan.hpp"
+#include "kernels/solve_sparse.hpp"
+#include "kernels/supernodal_factor.hpp"
+
+namespace locus {
+
+// plan: from plan_selective_solve. rhs[k * 8 + lane] is b at plan.rhs[k];
+// out[k * 8 + lane] receives x at plan.outputs[k].
+void solve_selective8(const NumericFactor& f, const SolvePlan& plan, std::span<const double> rhs,
+                      std::span<double> out, SolveWorkspace& ws);
+
+}  // namespace locus
