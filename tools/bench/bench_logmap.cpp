@@ -9,7 +9,9 @@
 // map is from the full one (distance: the effect of the Poisson right-hand side
 // on the patch only; angle: must be ~0, the heat values are the same), and the
 // crossover: the smallest listed fraction from which on the localized heat map
-// is faster than DEM.
+// is faster than DEM. Times are wall-clock medians; the *_cpu_s fields are
+// medians of the thread CPU time (robust when other processes load the
+// machine), with their own crossover (crossover_fraction_cpu).
 //
 // `locus-bench logmap-accuracy SPEC`: the accuracy experiment of thesis §6.7
 // (Table 6.8.1) on analytic surfaces, SPEC one of
@@ -24,7 +26,11 @@
 // sphere d = acos(p_c . p_j) and the azimuth of p_j in the tangent plane of p_c;
 // on the bump the azimuth atan2(y, x) and the arc length of the radial profile
 // by Simpson quadrature. Heat (localized, both angle estimators and both
-// Poisson right-hand sides), heat with full solves, and DEM.
+// Poisson right-hand sides), heat with full solves, and DEM; under "variants"
+// every angle estimator x lattice correction x recentre (pipelines/logmap.hpp)
+// with the mean, the worst centre and the per-centre E_a. --center-ids picks
+// the centres (e.g. 0,13: an icosahedron corner and an edge midpoint), --dump
+// writes per-vertex values of one variant (--dump-variant).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
