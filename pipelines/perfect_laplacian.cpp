@@ -7,12 +7,15 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "pipelines/anderson_acceleration.hpp"
+#include "pipelines/weight_active_set.hpp"
 
 namespace locus {
 
@@ -48,90 +51,6 @@ double edge_length(int dims, const Coords& p, int32_t a, int32_t b) {
   return std::sqrt(s);
 }
 
-// Divides w by its 2-norm and returns the norm (0 if w is all zero).
-double normalize(std::vector<double>& w) {
-  double s = 0;
-  for (double x : w) s += x * x;
-  const double n = std::sqrt(s);
-  if (n > 0)
-    for (double& x : w) x /= n;
-  return n;
-}
-
-// Anderson acceleration (type II, Walker & Ni 2011) of a fixed-point iteration
-// u <- u + f(u): keeps the last `depth` differences of u and f and extrapolates
-// u_next = u + f - (ΔU + ΔF) γ with γ = argmin ||f - ΔF γ|| (small normal
-// equations, Tikhonov-regularized). depth 0 is the plain iteration.
-class Anderson {
- public:
-  Anderson(int depth, size_t n) : depth_(depth), n_(n) {}
-  void clear() {
-    dU_.clear();
-    dF_.clear();
-    have_last_ = false;
-  }
-  void step(const std::vector<double>& u, const std::vector<double>& f, std::vector<double>& out) {
-    if (have_last_) {
-      std::vector<double> du(n_), df(n_);
-      for (size_t i = 0; i < n_; ++i) {
-        du[i] = u[i] - last_u_[i];
-        df[i] = f[i] - last_f_[i];
-      }
-      dU_.push_back(std::move(du));
-      dF_.push_back(std::move(df));
-      if (static_cast<int>(dU_.size()) > depth_) {
-        dU_.erase(dU_.begin());
-        dF_.erase(dF_.begin());
-      }
-    }
-    last_u_ = u;
-    last_f_ = f;
-    have_last_ = true;
-    const int m = static_cast<int>(dF_.size());
-    out.resize(n_);
-    for (size_t i = 0; i < n_; ++i) out[i] = u[i] + f[i];
-    if (m == 0) return;
-    // Normal equations (ΔF^T ΔF + λ I) γ = ΔF^T f, solved by Gaussian elimination.
-    std::vector<double> G(static_cast<size_t>(m * m)), r(static_cast<size_t>(m));
-    double trace = 0;
-    for (int a = 0; a < m; ++a) {
-      for (int b = 0; b <= a; ++b) {
-        double s = 0;
-        for (size_t i = 0; i < n_; ++i) s += dF_[a][i] * dF_[b][i];
-        G[a * m + b] = G[b * m + a] = s;
-      }
-      trace += G[a * m + a];
-      double s = 0;
-      for (size_t i = 0; i < n_; ++i) s += dF_[a][i] * f[i];
-      r[a] = s;
-    }
-    if (!(trace > 0)) return;
-    for (int a = 0; a < m; ++a) G[a * m + a] += 1e-10 * trace;
-    for (int c = 0; c < m; ++c) {  // SPD: no pivoting needed
-      for (int a = c + 1; a < m; ++a) {
-        const double l = G[a * m + c] / G[c * m + c];
-        for (int b = c; b < m; ++b) G[a * m + b] -= l * G[c * m + b];
-        r[a] -= l * r[c];
-      }
-    }
-    std::vector<double> g(static_cast<size_t>(m));
-    for (int a = m - 1; a >= 0; --a) {
-      double s = r[a];
-      for (int b = a + 1; b < m; ++b) s -= G[a * m + b] * g[b];
-      g[a] = s / G[a * m + a];
-    }
-    for (int a = 0; a < m; ++a)
-      for (size_t i = 0; i < n_; ++i) out[i] -= g[a] * (dU_[a][i] + dF_[a][i]);
-  }
-
- private:
-  int depth_;
-  size_t n_;
-  std::vector<std::vector<double>> dU_, dF_;
-  std::vector<double> last_u_, last_f_;
-  bool have_last_ = false;
-};
-
 }  // namespace
 
 PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, const PerfectLaplacianOptions& opt,
@@ -158,9 +77,22 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   R.order_s = sys.order_s();
   R.analyze_s = sys.analyze_s();
 
+  // With b = 0 the embedding does not change when all weights are scaled: the
+  // steady state fixes ω only up to scale and the active edges' length ratios to
+  // a common μ^-1 that need not be 1 (§2.3.3). The residual is then the log
+  // ratio minus its ω²-weighted mean c (the first-order shift of the
+  // normalization), so that it vanishes at the steady state instead of drifting
+  // by log μ^-1 per iteration. With b != 0 the raw weights carry the scale (see
+  // the header) and the residual is the plain log ratio.
+  bool scale_free = true;
+  for (int k = 0; k < dims; ++k)
+    for (double x : P.b[k])
+      if (x != 0.0) scale_free = false;
+  R.scale_free = scale_free;
+
   // ω^(0) = 1 (or the caller's). The state is the vector U of log raw weights;
-  // the system is assembled with the normalized weights ω = exp(U - c),
-  // c = log ||exp U||, and b scaled by rhs_scale = exp(-c) (see the header).
+  // the system is assembled with the normalized weights ω = exp(U - C),
+  // C = log ||exp U|| over the edges not dropped, and b scaled by exp(-C).
   std::vector<double> U(ne, 0.0);
   if (!P.initial_weights.empty())
     for (size_t e = 0; e < ne; ++e) {
@@ -168,23 +100,45 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
         fail(ErrorCode::BadInput, "perfect Laplacian: initial weight of edge " + std::to_string(e) + " is not positive");
       U[e] = std::log(P.initial_weights[e]);
     }
+  WeightActiveSet aset(nv, P.e0, P.e1, P.fixed, opt.active_set);
   std::vector<double> w(ne);
   double rhs_scale = 1.0;
   const double log_floor = std::log(opt.floor_rel);
-  // Normalized weights from U; entries at or below the floor become exactly 0.
-  auto weights_from = [&](const std::vector<double>& u) {
-    const double umax = ne ? *std::max_element(u.begin(), u.end()) : 0.0;
+  auto max_active_u = [&]() {
+    double umax = -std::numeric_limits<double>::infinity();
+    for (int32_t e : aset.active()) umax = std::max(umax, U[e]);
+    return umax;
+  };
+  // Normalized weights from U: dropped edges exactly 0.
+  auto weights_from = [&]() {
+    double umax = -std::numeric_limits<double>::infinity();
+    for (size_t e = 0; e < ne; ++e)
+      if (aset.state(e) != WeightState::dropped) umax = std::max(umax, U[e]);
     double s = 0;
-    for (size_t e = 0; e < ne; ++e) s += std::exp(2 * (u[e] - umax));
+    for (size_t e = 0; e < ne; ++e)
+      if (aset.state(e) != WeightState::dropped) s += std::exp(2 * (U[e] - umax));
     const double c = umax + 0.5 * std::log(s);
-    for (size_t e = 0; e < ne; ++e) w[e] = u[e] - umax <= log_floor ? 0.0 : std::exp(u[e] - c);
+    for (size_t e = 0; e < ne; ++e) w[e] = aset.state(e) == WeightState::dropped ? 0.0 : std::exp(U[e] - c);
     rhs_scale = std::exp(-c);
   };
-  weights_from(U);
+  // In the scale-free case the level of the active U is arbitrary; it is kept at
+  // its initial log-sum-exp so that passive edges (not iterated) stay comparable.
+  auto active_lse = [&]() {
+    const double umax = max_active_u();
+    double s = 0;
+    for (int32_t e : aset.active()) s += std::exp(U[e] - umax);
+    return umax + std::log(s);
+  };
+  const double lse_ref = aset.active().empty() ? 0.0 : active_lse();
+  weights_from();
 
-  Anderson aa(opt.anderson_depth, ne);
-  std::vector<double> f(ne), Unext(ne);
+  auto aa = std::make_unique<AndersonAcceleration>(opt.anderson_depth, aset.active().size());
+  std::vector<double> f(ne), g(ne), x, r, xn;
   double best_f = std::numeric_limits<double>::infinity();
+  auto restart_acceleration = [&]() {
+    aa = std::make_unique<AndersonAcceleration>(opt.anderson_depth, aset.active().size());
+    best_f = std::numeric_limits<double>::infinity();
+  };
 
   Coords V, Vprev;
   std::vector<double> later_s;
@@ -199,6 +153,9 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   for (int k = 1; k <= opt.max_iterations; ++k) {
     ctx.check_cancel();
     const auto t_iter = Clock::now();
+    // Dropped weights are exact zeros; the positivity floor is needed only when
+    // they leave some free vertex without a positive path to a fixed one.
+    sys.set_weight_floor_rel(aset.anchored() ? 0.0 : opt.system.weight_floor_rel);
     sys.factor(w, ctx);
     sys.solve(dims, P.fixed_pos, P.b, rhs_scale, V);
     R.iterations = k;
@@ -216,43 +173,83 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
     const double change_rel = diag > 0 ? change / diag : 0.0;
     if (have_prev) R.change_history.push_back(change_rel);
     R.last_change_rel = have_prev ? change_rel : 0.0;
-    if ((have_prev && change_rel < opt.eps) || k == opt.max_iterations) {
-      R.converged = have_prev && change_rel < opt.eps;
+
+    // The plain step of eq. 2.8 in log form is U += f, f = log(||e|| / ||ê||); g is
+    // the residual (f minus the normalization shift in the scale-free case).
+    double c = 0, cw = 0;
+    for (size_t e = 0; e < ne; ++e) {
+      double len = edge_length(dims, V, P.e0[e], P.e1[e]);
+      if (!(len > 0.0)) len = 1e-300;  // collapsed edge: its weight shrinks as fast as allowed
+      f[e] = std::log(len / P.target_length[e]);
+    }
+    if (scale_free && opt.center_residual) {
+      for (int32_t e : aset.active()) {
+        c += w[e] * w[e] * f[e];
+        cw += w[e] * w[e];
+      }
+      c = cw > 0 ? c / cw : 0.0;
+    }
+    for (size_t e = 0; e < ne; ++e) g[e] = f[e] - c;
+
+    const bool converged_now = have_prev && change_rel < opt.eps;
+    if (converged_now && opt.drop_decaying && R.kkt_rounds < opt.max_kkt_rounds &&
+        aset.revive_violators(g, U) > 0) {
+      // Steady state reached with this active set, but some dropped edges would
+      // grow back (KKT): they return at their pre-decay weight; iterate on.
+      ++R.kkt_rounds;
+      restart_acceleration();
+      weights_from();
+      Vprev.swap(V);
+      record_time(k, t_iter);
+      continue;
+    }
+    if (converged_now || k == opt.max_iterations) {
+      R.converged = converged_now;
       record_time(k, t_iter);
       break;  // keep ω^(k): V is the equilibrium of exactly these weights
     }
 
-    // The plain step of eq. 2.8 in log form: U += log(||e|| / ||ê||) (the
-    // normalization is a shift of U, applied in weights_from). Weights at the floor
-    // that still want to shrink have reached their limit 0: their step is 0.
-    const double umax = *std::max_element(U.begin(), U.end());
+    // Established decays are pushed, vanished ones dropped (weight_active_set.hpp).
+    if (opt.drop_decaying && aset.observe(g, w, U) > 0) restart_acceleration();
+
+    const auto& A = aset.active();
+    const size_t na = A.size();
+    x.resize(na);
+    r.resize(na);
     double fnorm = 0;
-    for (size_t e = 0; e < ne; ++e) {
-      double len = edge_length(dims, V, P.e0[e], P.e1[e]);
-      if (!(len > 0.0)) len = 1e-300;  // collapsed edge: shrink its weight as far as allowed
-      f[e] = std::log(len / P.target_length[e]);
-      if (U[e] - umax <= log_floor && f[e] < 0) f[e] = 0.0;
-      fnorm += f[e] * f[e];
+    for (size_t i = 0; i < na; ++i) {
+      x[i] = U[A[i]];
+      r[i] = aset.pushed(A[i]) ? 0.0 : opt.relaxation * g[A[i]];  // converged as far as the acceleration is concerned
+      fnorm += r[i] * r[i];
     }
     fnorm = std::sqrt(fnorm);
-    if (opt.anderson_depth > 0) {
-      // Restart the extrapolation when it made things clearly worse.
-      if (fnorm > opt.anderson_restart * best_f) aa.clear();
-      best_f = std::min(best_f, fnorm);
-      aa.step(U, f, Unext);
-      // Safeguard: no weight changes by more than a factor exp(max_log_step) at once.
-      double big = 0;
-      for (size_t e = 0; e < ne; ++e) big = std::max(big, std::abs(Unext[e] - U[e]));
-      const double t = big > opt.max_log_step ? opt.max_log_step / big : 1.0;
-      for (size_t e = 0; e < ne; ++e) Unext[e] = U[e] + t * (Unext[e] - U[e]);
-    } else {
-      for (size_t e = 0; e < ne; ++e) Unext[e] = U[e] + f[e];
+    if (opt.anderson_depth > 0 && fnorm > opt.anderson_restart * best_f) aa->clear();  // extrapolation made it worse
+    best_f = std::min(best_f, fnorm);
+    aa->step(x, r, xn);
+    // Safeguard: no weight changes by more than a factor exp(max_log_step) at once.
+    double big = 0;
+    for (size_t i = 0; i < na; ++i) big = std::max(big, std::abs(xn[i] - x[i]));
+    const double t = big > opt.max_log_step ? opt.max_log_step / big : 1.0;
+    for (size_t i = 0; i < na; ++i)
+      U[A[i]] = aset.pushed(A[i]) ? x[i] + aset.push_step(A[i], g[A[i]]) : x[i] + t * (xn[i] - x[i]);
+    if (scale_free && na > 0) {
+      const double shift = active_lse() - lse_ref;
+      for (int32_t e : A) U[e] -= shift;
     }
-    // Below the floor nothing changes any more: hold there (exactly 0 in ω).
-    const double umax_next = *std::max_element(Unext.begin(), Unext.end());
-    for (size_t e = 0; e < ne; ++e) Unext[e] = std::max(Unext[e], umax_next + log_floor - 1.0);
-    U.swap(Unext);
-    weights_from(U);
+    // Backstop: a weight below floor_rel · max has reached its limit 0 whatever its
+    // history; one that may not be dropped any more is held at the floor.
+    const double umax = max_active_u();
+    bool dropped = false;
+    const std::vector<int32_t> Acopy = A;  // drop() rebuilds the active list
+    for (int32_t e : Acopy)
+      if (U[e] - umax <= log_floor) {
+        if (opt.drop_decaying && aset.drop(static_cast<size_t>(e)))
+          dropped = true;
+        else
+          U[e] = umax + log_floor;
+      }
+    if (dropped) restart_acceleration();
+    weights_from();
     Vprev.swap(V);
     have_prev = true;
     record_time(k, t_iter);
@@ -263,17 +260,19 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   R.weights = std::move(w);
   R.rhs_scale = rhs_scale;
   R.iter_s = median_of(later_s);
+  R.revived = aset.num_revived();
+  R.kkt_violation = aset.num_dropped() > 0 ? aset.max_violation(g) : 0.0;
   double wmax = 0;
   R.min_weight = ne ? R.weights[0] : 0.0;
   R.min_positive_weight = 0;
-  for (double x : R.weights) {
-    wmax = std::max(wmax, x);
-    R.min_weight = std::min(R.min_weight, x);
-    if (x > 0 && (R.min_positive_weight == 0 || x < R.min_positive_weight)) R.min_positive_weight = x;
+  for (double x_ : R.weights) {
+    wmax = std::max(wmax, x_);
+    R.min_weight = std::min(R.min_weight, x_);
+    if (x_ > 0 && (R.min_positive_weight == 0 || x_ < R.min_positive_weight)) R.min_positive_weight = x_;
   }
-  for (double x : R.weights) {
-    if (x <= opt.zero_weight_rel * wmax) ++R.zero_weights;
-    if (x == 0.0) ++R.at_floor;
+  for (double x_ : R.weights) {
+    if (x_ <= opt.zero_weight_rel * wmax) ++R.zero_weights;
+    if (x_ == 0.0) ++R.at_floor;
   }
   return R;
 }

@@ -80,6 +80,12 @@ EmbeddingSystem::EmbeddingSystem(int32_t nv, std::span<const int32_t> e0, std::s
   analyze_s_ = seconds_since(t0);
 }
 
+void EmbeddingSystem::set_weight_floor_rel(double floor_rel) {
+  if (!(floor_rel >= 0.0) || !std::isfinite(floor_rel))
+    fail(ErrorCode::BadUsage, "embedding system: the weight floor must be finite and >= 0");
+  opt_.weight_floor_rel = floor_rel;
+}
+
 void EmbeddingSystem::factor(std::span<const double> weights, const RunContext& ctx) {
   const size_t ne = e0_.size();
   if (weights.size() != ne) fail(ErrorCode::BadInput, "embedding system: one weight per edge expected");

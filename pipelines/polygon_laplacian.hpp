@@ -14,11 +14,13 @@
 // never changes, so it is ordered and analyzed ONCE (METIS + symbolic), and each
 // new set of weights costs one numeric refactorization (DESIGN.md "Numeric core" 4).
 //
-// Weights that are exactly zero (Algorithm 1's steady state, §2.3.3) would leave a
-// vertex whose edges all vanish undetermined; the system therefore assembles
-// max(ω_e, floor) with floor = weight_floor_rel · max_e ω_e, a spring so weak it
-// only decides what the exact problem leaves open (such a vertex goes to the
-// average of its neighbours) and keeps K positive definite.
+// Weights that are exactly zero (Algorithm 1's steady state, §2.3.3) stay in the
+// pattern as stored zeros. They would leave a vertex whose edges all vanish
+// undetermined; unless the caller knows better (set_weight_floor_rel(0) when the
+// positive weights tie every free vertex to a fixed one) the system therefore
+// assembles max(ω_e, floor) with floor = weight_floor_rel · max_e ω_e, a spring so
+// weak it only decides what the exact problem leaves open (such a vertex goes to
+// the average of its neighbours) and keeps K positive definite.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -70,6 +72,9 @@ class EmbeddingSystem {
   // `b` may hold empty vectors (zero right-hand side). Uses the weights of the
   // last factor().
   void solve(int dims, const Coords& fixed_pos, const Coords& b, double rhs_scale, Coords& out) const;
+
+  // The floor of the next factor() calls (>= 0; 0 assembles the weights as given).
+  void set_weight_floor_rel(double floor_rel);
 
   // The weights actually assembled by the last factor() (after the floor).
   const std::vector<double>& assembled_weights() const { return wa_; }

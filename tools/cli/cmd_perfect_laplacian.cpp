@@ -1,5 +1,11 @@
-// `locus perfect-laplacian MESH [--planar] [--iters K] [--eps E] [--anderson M] -o out.obj --json`:
+// `locus perfect-laplacian MESH [--planar] [--iters K] [--eps E] [--anderson M] [--no-active-set]
+//  [--noise A] -o out.obj --json`:
 // Algorithm 1 of thesis chapter 2 (pipelines/perfect_laplacian) on a polygon mesh.
+//
+// --noise A displaces every vertex by a seeded (--seed) random offset, uniform in
+// [-A h, A h] per coordinate (h the mean edge length), before Algorithm 1: the
+// robustness test of thesis §2.5 ("added artificial noise"). The noisy mesh is
+// then the input (displacements are measured against it).
 //
 // Output: -o FILE gets the moved mesh — in planar mode the embedding itself (its
 // boundary is the fixed one), in space the embedding after the best similarity
@@ -10,12 +16,18 @@
 // limit). JSON keys: converged, iterations, min_weight, zero_weights,
 // max_displacement_rel, mean_displacement_rel (after alignment, / bbox diagonal),
 // first_iter_s (ordering + analysis + factorization + solve + update), iter_s
-// (median of the later iterations), iter_ratio = iter_s / first_iter_s.
+// (median of the later iterations), iter_ratio = iter_s / first_iter_s; the
+// active set of §2.3.3 (pipelines/weight_active_set.hpp): weights_at_floor
+// (exactly 0), weights_revived, kkt_rounds, kkt_violation (max log-length
+// excess of a zero-weight edge over the common ratio; <= 1e-4 when steady).
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
 
+#include "kernels/mesh_topology.hpp"
 #include "pipelines/perfect_laplacian.hpp"
 #include "tools/cli/cli_common.hpp"
 
@@ -27,7 +39,34 @@ struct PerfectLaplacianCliOptions {
   int iters = 1000;
   double eps = 1e-6;
   int anderson = 6;
+  bool no_active_set = false;
+  double noise = 0;
 };
+
+// Seeded uniform offsets in [-a h, a h] per coordinate (splitmix64: the same on every platform).
+void add_noise(Mesh& m, double a, uint64_t seed) {
+  const Edges E = unique_edges(m);
+  double h = 0;
+  for (size_t e = 0; e < E.e0.size(); ++e) {
+    const int32_t p = E.e0[e], q = E.e1[e];
+    h += std::sqrt((m.x[q] - m.x[p]) * (m.x[q] - m.x[p]) + (m.y[q] - m.y[p]) * (m.y[q] - m.y[p]) +
+                   (m.z[q] - m.z[p]) * (m.z[q] - m.z[p]));
+  }
+  if (!E.e0.empty()) h /= static_cast<double>(E.e0.size());
+  uint64_t s = seed * 0x2545f4914f6cdd1dULL + 0x6a09e667f3bcc909ULL;
+  auto uniform = [&s]() {
+    uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-53;
+  };
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    m.x[v] += a * h * (2 * uniform() - 1);
+    m.y[v] += a * h * (2 * uniform() - 1);
+    m.z[v] += a * h * (2 * uniform() - 1);
+  }
+}
 
 void write_weights(const std::string& path, const MeshPerfectLaplacianResult& R) {
   std::ofstream os(path);
@@ -39,11 +78,13 @@ void write_weights(const std::string& path, const MeshPerfectLaplacianResult& R)
 
 int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const RunContext& ctx) {
   Input in = load_input(opt, ctx);
+  if (po.noise > 0) add_noise(in.mesh, po.noise, opt.seed);
   MeshPerfectLaplacianOptions mo;
   mo.planar = po.planar;
   mo.iteration.max_iterations = po.iters;
   mo.iteration.eps = po.eps;
   mo.iteration.anderson_depth = po.anderson;
+  mo.iteration.drop_decaying = !po.no_active_set;
   Stopwatch sw;
   const MeshPerfectLaplacianResult R = perfect_laplacian(in.mesh, mo, ctx);
   const double total_s = sw.seconds();
@@ -71,6 +112,11 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
   j["min_positive_weight"] = r.min_positive_weight;
   j["zero_weights"] = r.zero_weights;
   j["weights_at_floor"] = r.at_floor;
+  j["weights_revived"] = r.revived;
+  j["kkt_rounds"] = r.kkt_rounds;
+  j["kkt_violation"] = r.kkt_violation;
+  j["active_set"] = !po.no_active_set;
+  j["noise"] = po.noise;
   j["max_displacement_rel"] = R.max_displacement_rel;
   j["mean_displacement_rel"] = R.mean_displacement_rel;
   j["align_scale"] = R.align_scale;
@@ -120,6 +166,11 @@ void register_perfect_laplacian_command(CommandTable& table) {
       ->check(CLI::PositiveNumber);
   app->add_option("--anderson", po->anderson, "Anderson acceleration depth, 0 = plain update (default 6)")
       ->check(CLI::Range(0, 50));
+  app->add_option("--noise", po->noise,
+                  "Displace vertices by seeded uniform noise of up to A * mean edge length per coordinate first")
+      ->check(CLI::NonNegativeNumber);
+  app->add_flag("--no-active-set", po->no_active_set,
+                "Keep iterating every weight (no dropping of geometrically decaying weights, thesis 2.3.3)");
 }
 
 }  // namespace locus::cli
