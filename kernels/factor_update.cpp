@@ -240,7 +240,8 @@ CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> verti
 
 Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
 
-FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt)
+FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt,
+                             bool index_rows)
     : L_(L), A_(A), opt_(opt) {
   if (!L.symbolic) fail(ErrorCode::BadUsage, "update_factor: factor has no symbolic part");
   const SymbolicFactor& S = *L.symbolic;
@@ -255,6 +256,7 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
   local_.assign(n, -1);
   col_new_.assign(n, -1);
   in_super_.assign(S.ns, 0);
+  if (!index_rows) return;
   // Row -> supernodes holding it below their diagonal block (the transpose of
   // the supernodal row structure), for marking from the I side.
   below_ptr_.assign(static_cast<size_t>(n) + 1, 0);
@@ -269,7 +271,7 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
 
 FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span<const int32_t> I,
                            const RunContext& ctx, const FactorUpdateOptions& opt) {
-  return FactorUpdater(L, A, opt).update(I, ctx);
+  return FactorUpdater(L, A, opt, /*index_rows=*/false).update(I, ctx);
 }
 
 FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext& ctx) {
@@ -411,8 +413,22 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
       }
     q = q2;
   }
+  if (below_ptr_.empty()) {
+    // Without the row index (one-shot updates): scan the rows of every global
+    // supernode with a B column for its first I-row — O(structure of L), still
+    // cheaper than building the index for a single update.
+    for (int32_t s = 0; s < S.ns; ++s) {
+      if (in_super_[s] == S.ncols(s)) continue;  // no column of s is in B
+      const int64_t r0 = S.super_row_ptr[s] + S.ncols(s);
+      for (int64_t t = r0; t < S.super_row_ptr[s + 1]; ++t)
+        if (col_new[S.super_rows[t]] >= 0) {
+          walk(col_new[S.super_rows[t]]);
+          break;  // its later I-rows are ancestors of this one
+        }
+    }
+  }
   for (const int32_t c : gcol) {
-    if (cmark[col_new[c]]) continue;
+    if (below_ptr_.empty() || cmark[col_new[c]]) continue;
     for (int64_t p = below_ptr_[c]; p < below_ptr_[c + 1]; ++p) {
       const int32_t d = below_super_[p];
       if (in_super_[d] < S.ncols(d)) {

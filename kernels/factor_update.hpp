@@ -74,7 +74,11 @@ struct FactorUpdate {
 // between calls); use one per thread for concurrent updates.
 class FactorUpdater {
  public:
-  FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt = {});
+  // index_rows: build the row -> supernode index (O(structure of L), once) that
+  // makes marking cost depend on I; without it each update scans L's rows,
+  // which is cheaper for a single update (update_factor uses false).
+  FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt = {},
+                bool index_rows = true);
   // Factor of A_II. I: indices of A in any order. Throws Error(BadUsage) for an
   // empty I, an index out of range or a repeated index, and Error(Numerical)
   // naming the vertex (A's index, or vertex_ids of it) when A_II is not positive
