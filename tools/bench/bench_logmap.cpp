@@ -43,6 +43,7 @@
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
+#include "tools/cli/logmap_choices.hpp"
 
 namespace locus::bench {
 namespace {
@@ -65,18 +66,6 @@ std::vector<double> parse_list(const std::string& text) {
   if (out.empty()) fail(ErrorCode::BadUsage, "--fractions is empty");
   std::sort(out.begin(), out.end());
   return out;
-}
-
-LatticeCorrection parse_lattice(const std::string& s) {
-  if (s == "none") return LatticeCorrection::None;
-  if (s == "star") return LatticeCorrection::Star;
-  if (s == "ring") return LatticeCorrection::Ring;
-  fail(ErrorCode::BadUsage, "--lattice must be none, star or ring (got '" + s + "')");
-}
-
-// "default" keeps the library's default.
-void parse_lattice(const std::string& s, LatticeCorrection& out) {
-  if (s != "default") out = parse_lattice(s);
 }
 
 // Thread CPU time: robust against other processes on a loaded machine.
@@ -135,12 +124,9 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   Stopwatch sw;
   LogMapOptions lo;
   lo.geodesic.t_factor = to.t_factor;
-  if (to.angle == "log") lo.angle = LogMapAngle::LogHeat;
-  else if (to.angle == "two-ring") lo.angle = LogMapAngle::LogHeatTwoRing;
-  else if (to.angle == "average") lo.angle = LogMapAngle::HeatAverage;
-  else if (to.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average");
-  parse_lattice(to.lattice, lo.lattice);
-  if (to.recentre != "default") lo.recentre = to.recentre == "on";
+  lo.angle = cli::parse_logmap_angle(to.angle);
+  if (const auto l = cli::parse_logmap_lattice(to.lattice)) lo.lattice = *l;
+  if (const auto r = cli::parse_logmap_recentre(to.recentre)) lo.recentre = *r;
   const HeatLogMap heat(in.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   sw.restart();
@@ -415,8 +401,8 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   LogMapOptions lo;
   lo.geodesic.t_factor = ao.t_factor;
   lo.geodesic.log_heat_gradient = !ao.plain_gradient;
-  parse_lattice(ao.lattice, lo.lattice);
-  if (ao.recentre != "default") lo.recentre = ao.recentre == "on";
+  if (const auto l = cli::parse_logmap_lattice(ao.lattice)) lo.lattice = *l;
+  if (const auto r = cli::parse_logmap_recentre(ao.recentre)) lo.recentre = *r;
   lo.geodesic.mass_blend = ao.mass_blend;
   const HeatLogMap heat(s.mesh, lo, ctx);
   const double precompute_s = sw.seconds();

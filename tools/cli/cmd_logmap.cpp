@@ -19,6 +19,7 @@
 #include "pipelines/logmap.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
+#include "tools/cli/logmap_choices.hpp"
 
 namespace locus::cli {
 namespace {
@@ -40,19 +41,9 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(lo.fraction) + ")");
   if (!(lo.t_factor > 0) || !std::isfinite(lo.t_factor))
     fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(lo.t_factor) + ")");
-  LogMapAngle angle = LogMapAngle::Auto;
-  if (lo.angle == "log") angle = LogMapAngle::LogHeat;
-  else if (lo.angle == "two-ring") angle = LogMapAngle::LogHeatTwoRing;
-  else if (lo.angle == "average") angle = LogMapAngle::HeatAverage;
-  else if (lo.angle != "auto") fail(ErrorCode::BadUsage, "--angle must be auto, log, two-ring or average (got '" + lo.angle + "')");
-  std::optional<LatticeCorrection> lattice;
-  if (lo.lattice == "none") lattice = LatticeCorrection::None;
-  else if (lo.lattice == "star") lattice = LatticeCorrection::Star;
-  else if (lo.lattice == "ring") lattice = LatticeCorrection::Ring;
-  else if (lo.lattice != "default")
-    fail(ErrorCode::BadUsage, "--lattice must be none, star or ring (got '" + lo.lattice + "')");
-  if (lo.recentre != "default" && lo.recentre != "on" && lo.recentre != "off")
-    fail(ErrorCode::BadUsage, "--recentre must be on or off (got '" + lo.recentre + "')");
+  const LogMapAngle angle = parse_logmap_angle(lo.angle);
+  const std::optional<LatticeCorrection> lattice = parse_logmap_lattice(lo.lattice);
+  const std::optional<bool> recentre = parse_logmap_recentre(lo.recentre);
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
   check_preview_path(lo.preview);
@@ -78,7 +69,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     mo.geodesic.t_factor = lo.t_factor;
     mo.angle = angle;
     if (lattice) mo.lattice = *lattice;
-    if (lo.recentre != "default") mo.recentre = lo.recentre == "on";
+    if (recentre) mo.recentre = *recentre;
     std::optional<HeatGeodesicFactors> given = heat_method_factors(lo.cache, in.mesh, mo.geodesic, ctx, cache_info);
     heat = given ? std::make_unique<HeatLogMap>(in.mesh, mo, std::move(*given))
                  : std::make_unique<HeatLogMap>(in.mesh, mo, ctx);
