@@ -13,6 +13,7 @@
 #include "kernels/mesh_topology.hpp"
 #include "kernels/solve_full.hpp"
 #include "kernels/solve_plan.hpp"
+#include "kernels/solve_wide.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -418,9 +419,10 @@ void HeatLogMap::angles(int32_t centre, std::span<const int32_t> patch, const do
   // Logarithms of the rows, in bulk (log_array) when the rows are contiguous.
   if (use_log) {
     ws.logheat.resize(patch.size() * d);
-    if (rows.empty()) log_array(heat, ws.logheat.data(), patch.size() * d);
+    if (rows.empty() && row_stride == static_cast<int64_t>(d)) log_array(heat, ws.logheat.data(), patch.size() * d);
     else
-      for (size_t p = 0; p < patch.size(); ++p) log_array(heat + rows[p] * row_stride, ws.logheat.data() + p * d, d);
+      for (size_t p = 0; p < patch.size(); ++p)
+        log_array(heat + (rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride, ws.logheat.data() + p * d, d);
   }
   for (size_t p = 0; p < patch.size(); ++p) {
     double gx = 0, gy = 0;
@@ -565,24 +567,32 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     st.region_size = static_cast<int32_t>(nloc);
     const NumericFactor& F = geo_.heat_factor();
     plan_subset_solve(*F.symbolic, S, r.verts, ws.plan, ws.plan_ws);
-    const SolvePlan& plan = ws.plan;
-    ws.heat.resize(nloc * d);
-    ws.out8.resize(nloc * kLanes);
-    ws.rhs8.resize(static_cast<size_t>(d) * kLanes);
-    for (int32_t bt = 0; bt < st.batches; ++bt) {
-      std::fill(ws.rhs8.begin(), ws.rhs8.end(), 0.0);
-      const int32_t k0 = bt * kLanes, lanes = std::min(kLanes, d - k0);
-      for (int32_t l = 0; l < lanes; ++l) ws.rhs8[static_cast<size_t>(k0 + l) * kLanes + l] = 1.0;
-      solve_planned8(F, plan, ws.rhs8, ws.out8, ws.geo.heat);
-      for (size_t v = 0; v < nloc; ++v)
-        for (int32_t l = 0; l < lanes; ++l) ws.heat[v * d + k0 + l] = ws.out8[v * kLanes + l];
+    // All sources in one pass over the plan's supernodes (kernels/solve_wide.hpp),
+    // lanes rounded up to a multiple of 8; more than kMaxWideLanes sources
+    // (valence > 31) take further passes into the same rows.
+    const int32_t W = std::min(kMaxWideLanes, (d + kLanes - 1) / kLanes * kLanes);
+    st.passes = (d + W - 1) / W;
+    ws.heat.resize(nloc * static_cast<size_t>(W) * st.passes);
+    const int64_t stride = static_cast<int64_t>(W) * st.passes;
+    for (int32_t ps = 0; ps < st.passes; ++ps) {
+      const int32_t k0 = ps * W, lanes = std::min(W, d - k0);
+      ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
+      for (int32_t l = 0; l < lanes; ++l) ws.rhs_wide[static_cast<size_t>(k0 + l) * W + l] = 1.0;
+      if (st.passes == 1) {
+        solve_planned_wide(F, ws.plan, W, ws.rhs_wide, ws.heat, ws.wide);
+      } else {
+        ws.out_wide.resize(nloc * static_cast<size_t>(W));
+        solve_planned_wide(F, ws.plan, W, ws.rhs_wide, ws.out_wide, ws.wide);
+        for (size_t v = 0; v < nloc; ++v)
+          std::copy_n(ws.out_wide.begin() + static_cast<int64_t>(v) * W, W, ws.heat.begin() + static_cast<int64_t>(v) * stride + k0);
+      }
     }
     // Distance from lane 0 (the heat from the centre).
     ws.geo.h.resize(nloc);
-    for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * d];
+    for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
     geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs);
     // Patch vertex p is region row p (empty `rows`).
-    angles(centre, patch, ws.heat.data(), d, {}, out, est, st, ws);
+    angles(centre, patch, ws.heat.data(), stride, {}, out, est, st, ws);
   } catch (...) {
     geo_.release_region(r);
     throw;

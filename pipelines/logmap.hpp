@@ -96,6 +96,7 @@
 
 #include "locus/mesh.hpp"
 #include "kernels/solve_plan.hpp"
+#include "kernels/solve_wide.hpp"
 #include "pipelines/heat_geodesic.hpp"
 
 namespace locus {
@@ -130,7 +131,8 @@ struct LogMapOutput {
 
 struct LogMapStats {
   int32_t sources = 0;          // |S| = |N(i) ∪ {i}|
-  int32_t batches = 0;          // 8-lane solves
+  int32_t batches = 0;          // groups of 8 lanes (ceil(|S| / 8))
+  int32_t passes = 0;           // wide solves over the plan (1 up to 32 sources; localized queries only)
   int32_t region_size = 0;      // |P ∪ ring(P)|
   int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
   bool two_ring = false;        // the two-ring estimator was used at this centre
@@ -149,8 +151,10 @@ struct LogMapWorkspace {
   std::vector<double> logheat;    // log of the heat rows of the patch
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
-  std::vector<double> rhs8, out8;  // one batch
-  std::vector<double> heat;        // region (or n) x |S|, row-major
+  WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/solve_wide.hpp)
+  std::vector<double> rhs_wide, out_wide;
+  std::vector<double> out8;        // full variant: one 8-lane batch
+  std::vector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
   std::vector<double> dist_full;   // n, full variant
   std::vector<double> work_full;   // full variant: solve8's work array, kept across queries
 };

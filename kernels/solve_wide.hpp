@@ -1,0 +1,41 @@
+// Exact subset solve with many right-hand sides in one pass over the factor
+// (thesis §4.3; used by the log map, whose 7-22 heat sources share one plan).
+//
+// solve_planned8 (kernels/solve_sparse.hpp) handles 8 lanes; d sources then
+// take ceil(d / 8) calls, and each call reads every supernode of the plan
+// again. The backward columns of a log-map patch are hundreds of thousands of
+// factor entries (megabytes, outside the caches), so those repeated reads are
+// what the batches cost. Here one call carries up to kMaxWideLanes lanes: each
+// supernode block is read once and applied to all lanes (register-blocked over
+// four factor columns, no BLAS, so no per-call packing of the block).
+//
+// Rows are interleaved: rhs[k * lanes + l], out[k * lanes + l], lanes a
+// multiple of 8 (pad unused lanes with zeros). Only exact plans
+// (plan_subset_solve): out[k * lanes + l] equals the full solve of lane l at
+// plan.outputs[k] up to rounding (the summation order differs from solve8).
+//
+// Working storage is compact: the plan's touched columns get local rows in
+// ascending order (an n-sized index map plus touched x lanes doubles), so the
+// cost and memory depend on the plan, not on n x lanes.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/solve_plan.hpp"
+#include "kernels/supernodal_factor.hpp"
+
+namespace locus {
+
+constexpr int kMaxWideLanes = 32;
+
+struct WideSolveWorkspace {
+  std::vector<int32_t> local;  // n: local row of a touched factor column (stale elsewhere, never read)
+  std::vector<double> x;       // touched columns x lanes
+  std::vector<int32_t> rows;   // local rows below one supernode's diagonal block
+};
+
+void solve_planned_wide(const NumericFactor& f, const SolvePlan& plan, int lanes, std::span<const double> rhs,
+                        std::span<double> out, WideSolveWorkspace& ws);
+
+}  // namespace locus
