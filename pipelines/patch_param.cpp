@@ -24,15 +24,15 @@ double dist(const Mesh& m, int32_t a, int32_t b) {
                    (m.z[a] - m.z[b]) * (m.z[a] - m.z[b]));
 }
 
+}  // namespace
+
 double loop_length(const Mesh& m, std::span<const int32_t> loop) {
   double s = 0;
   for (size_t j = 0; j < loop.size(); ++j) s += dist(m, loop[j], loop[(j + 1) % loop.size()]);
   return s;
 }
 
-}  // namespace
-
-std::vector<double> circle_neumann_rhs(const Mesh& m, std::span<const int32_t> loop) {
+std::vector<double> circle_layout(const Mesh& m, std::span<const int32_t> loop) {
   const size_t nb = loop.size();
   if (nb < 3) fail(ErrorCode::BadInput, "patch boundary loop has " + std::to_string(nb) + " vertices, need >= 3");
   for (size_t j = 0; j < nb; ++j)
@@ -44,18 +44,24 @@ std::vector<double> circle_neumann_rhs(const Mesh& m, std::span<const int32_t> l
     fail(ErrorCode::BadInput, "patch boundary loop has length " + std::to_string(total));
   // Arc-length angles on a circle of the loop's own circumference.
   const double r = total / (2.0 * std::numbers::pi);
-  std::vector<double> px(nb), py(nb);
+  std::vector<double> xy(2 * nb);
   double s = 0;
   for (size_t j = 0; j < nb; ++j) {
     const double a = 2.0 * std::numbers::pi * s / total;
-    px[j] = r * std::cos(a);
-    py[j] = r * std::sin(a);
+    xy[2 * j] = r * std::cos(a);
+    xy[2 * j + 1] = r * std::sin(a);
     s += dist(m, loop[j], loop[(j + 1) % nb]);
   }
+  return xy;
+}
+
+std::vector<double> circle_neumann_rhs(const Mesh& m, std::span<const int32_t> loop) {
+  const size_t nb = loop.size();
+  const std::vector<double> xy = circle_layout(m, loop);
   std::vector<double> b(2 * nb);
   for (size_t j = 0; j < nb; ++j) {
     const size_t next = (j + 1) % nb, prev = (j + nb - 1) % nb;
-    const double dx = px[next] - px[prev], dy = py[next] - py[prev];
+    const double dx = xy[2 * next] - xy[2 * prev], dy = xy[2 * next + 1] - xy[2 * prev + 1];
     b[2 * j] = 0.5 * dy;  // 1/2 (dx, dy)^perp, perp = clockwise rotation (outward normal)
     b[2 * j + 1] = -0.5 * dx;
   }

@@ -38,6 +38,13 @@
 
 namespace locus {
 
+// Length in space of a closed loop of vertices of m.
+double loop_length(const Mesh& m, std::span<const int32_t> loop);
+// Arc-length layout of a closed loop on a circle whose circumference is the
+// loop's length: xy[2j], xy[2j+1] for loop[j], counter-clockwise in loop order.
+// BadInput for < 3 vertices or a loop of zero / non-finite length.
+std::vector<double> circle_layout(const Mesh& m, std::span<const int32_t> loop);
+
 // Eq. 4.6 for a closed loop of vertices of m (loop order, >= 3 distinct
 // vertices): b[2j], b[2j+1] = Neumann data (u, v) at loop[j].
 std::vector<double> circle_neumann_rhs(const Mesh& m, std::span<const int32_t> loop);

@@ -32,6 +32,10 @@
 //                factorization, eq. 4.6 data and an 8-lane full solve (the
 //                classical approach; BFS growing is common to both and timed
 //                in both).
+// 4. Circle-boundary patch map (pipelines/patch_param_circle): the same
+//    patches with holes filled and the boundary fixed on a circle; the local
+//    route updates the global factor to K_II (factor once, chapter 5), the
+//    peer orders and factors K_II from scratch; both solve the same system.
 // Ratios are peer / locus-local (> 1: the local solve is faster).
 #include <oneapi/tbb/info.h>
 
@@ -54,6 +58,7 @@
 #include "pipelines/adf.hpp"
 #include "pipelines/heat_exchange.hpp"
 #include "pipelines/patch_param.hpp"
+#include "pipelines/patch_param_circle.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/cli/vertex_list.hpp"
 
@@ -412,13 +417,12 @@ Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, cons
 
 // ------------------------------------------------ 3. patch parameterization ----
 
-Json bench_patches(const Mesh& m, const Options& bo, uint64_t seed, const RunContext& ctx) {
+// K, F: the regularized Laplacian of m and its factor (shared with section 4).
+Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, const Options& bo, uint64_t seed,
+                   const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   Json j;
   Stopwatch sw;
-  const CscMatrix K = regularized_laplacian(m);
-  const NumericFactor F = factorize(analyze(K, order_matrix(K)), K, ctx);
-  j["global_factor_s"] = sw.seconds();
   j["etree_height"] = F.symbolic->etree_height;
   const PatchGrower g = prepare_patch_grower(m);
   PatchWorkspace pws;
@@ -496,6 +500,107 @@ Json bench_patches(const Mesh& m, const Options& bo, uint64_t seed, const RunCon
   return j;
 }
 
+// ------------------------------ 4. circle-boundary patch map (factor once) ----
+// The same BFS patches (holes filled) with the boundary fixed on a circle:
+//   local — pipelines/patch_param_circle: K_II's factor by the factor-once
+//           update of the global factor (updater built once per mesh, reported
+//           as updater_setup_s), Dirichlet data, refinement, flips;
+//   patch system — the same patch and data, K_II extracted and factored from
+//           scratch (METIS ordering + symbolic + numeric), the same solve.
+// Both time patch growing, the system, the factorization and the solve; the
+// two maps must agree (max_uv_difference, relative to the map's radius).
+Json bench_circle_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, const Options& bo,
+                          uint64_t seed, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  Json j;
+  Stopwatch sw;
+  const PatchGrower g = prepare_patch_grower(m);
+  sw.restart();
+  CirclePatchParameterizer cp(F, K, g);
+  j["updater_setup_s"] = sw.seconds();
+  DiskPatchWorkspace dws;
+  std::mt19937_64 rng(seed ^ 0x5bd1e995ULL);
+  std::uniform_int_distribution<int32_t> pick(0, n - 1);
+  Json rows = Json::array();
+  for (const std::string& item : cli::split_list(bo.patch_sizes, "--patch-sizes")) {
+    const int32_t size = static_cast<int32_t>(std::stol(item));
+    if (size < 10 || size > n / 2) continue;
+    std::vector<double> local_s, sys_s, r, np, holes, flips_local, flips_sys, upd_s, fac_s, diff, steps;
+    std::vector<double> grow_s, system_s, solve_s, check_s;
+    int refused = 0;
+    for (int c = 0, tries = 0; c < bo.patch_centres && tries < 20 * bo.patch_centres; ++tries) {
+      ctx.check_cancel();
+      const int32_t center = pick(rng);
+      sw.restart();
+      CirclePatchParam P;
+      try {
+        P = cp.parameterize(center, size, ctx);
+      } catch (const Error& e) {
+        if (e.code() != ErrorCode::BadInput) throw;
+        ++refused;  // not disk-like: the Neumann method's territory
+        continue;
+      }
+      local_s.push_back(sw.seconds());
+      ++c;
+      // (patch system) the same patch, data and solve; K_II factored from scratch.
+      sw.restart();
+      const DiskPatch d = grow_disk_patch(g, center, size, dws);
+      const CircleDirichletSystem sys = circle_dirichlet_system(K, d, dws);
+      Stopwatch fsw;
+      const CscMatrix Kii = principal_submatrix(K, sys.interior);
+      const NumericFactor Fp = factorize(analyze(Kii, order_matrix(Kii)), Kii);
+      const double fs = fsw.seconds();
+      std::vector<double> uv_int(2 * sys.interior.size());
+      const int st = solve_circle_dirichlet(Fp, Kii, sys, uv_int);
+      std::vector<double> uv = assemble_patch_uv(d, sys, uv_int);
+      normalize_uv(uv);
+      const UvFlips fl = count_uv_flips(d.patch.mesh, uv);
+      sys_s.push_back(sw.seconds());
+      r.push_back(ratio(sys_s.back(), local_s.back()));
+      double dmax = 0;
+      for (size_t k = 0; k < uv.size() && k < P.uv.size(); ++k) dmax = std::max(dmax, std::abs(uv[k] - P.uv[k]));
+      diff.push_back(uv.size() == P.uv.size() ? dmax : 1.0);
+      np.push_back(static_cast<double>(P.disk.patch.vertices.size()));
+      holes.push_back(static_cast<double>(P.disk.holes_filled));
+      flips_local.push_back(static_cast<double>(P.flips.flipped + P.flips.degenerate));
+      flips_sys.push_back(static_cast<double>(fl.flipped + fl.degenerate));
+      upd_s.push_back(P.update_s);
+      grow_s.push_back(P.grow_s);
+      system_s.push_back(P.system_s);
+      solve_s.push_back(P.solve_s);
+      check_s.push_back(P.check_s);
+      fac_s.push_back(fs);
+      steps.push_back(std::max(P.refinement_steps, st));
+    }
+    if (local_s.empty()) {
+      rows.push_back({{"patch_size", size}, {"refused_not_disk", refused}});
+      continue;
+    }
+    rows.push_back({{"patch_size", size},
+                    {"patch_vertices", cli::median(np)},
+                    {"centres", local_s.size()},
+                    {"refused_not_disk", refused},
+                    {"holes_filled_median", cli::median(holes)},
+                    {"local_s", cli::median(local_s)},
+                    {"local_grow_s", cli::median(grow_s)},
+                    {"local_system_s", cli::median(system_s)},
+                    {"local_update_s", cli::median(upd_s)},
+                    {"local_solve_s", cli::median(solve_s)},
+                    {"local_check_s", cli::median(check_s)},
+                    {"patch_system_s", cli::median(sys_s)},
+                    {"patch_system_factor_s", cli::median(fac_s)},
+                    {"speedup_patch_system_over_local", cli::median(r)},
+                    {"min_speedup", *std::min_element(r.begin(), r.end())},
+                    {"max_uv_difference", *std::max_element(diff.begin(), diff.end())},
+                    {"max_refinement_steps", *std::max_element(steps.begin(), steps.end())},
+                    {"max_flips_local", *std::max_element(flips_local.begin(), flips_local.end())},
+                    {"max_flips_patch_system", *std::max_element(flips_sys.begin(), flips_sys.end())}});
+    cli::log("bench local: circle patches of " + item + " done");
+  }
+  j["sizes"] = rows;
+  return j;
+}
+
 int run_bench_local(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
   const cli::TimeSpec spec = cli::parse_time_spec(bo.t_text);
   cli::Input in = cli::load_input(opt, ctx);
@@ -512,7 +617,14 @@ int run_bench_local(const cli::CommonOptions& opt, const Options& bo, const RunC
   j["heat"] = bench_pairs(m, spec.resolve(h), bo, opt.seed, ctx);
   if (!bo.skip_patch) {
     cli::log("bench local: patch parameterization");
-    j["patch"] = bench_patches(m, bo, opt.seed, ctx);
+    Stopwatch fsw;
+    const CscMatrix K = regularized_laplacian(m);
+    const NumericFactor F = factorize(analyze(K, order_matrix(K)), K, ctx);
+    const double global_factor_s = fsw.seconds();
+    j["patch"] = bench_patches(m, K, F, bo, opt.seed, ctx);
+    j["patch"]["global_factor_s"] = global_factor_s;
+    cli::log("bench local: circle-boundary patch map (factor-once update)");
+    j["patch_circle"] = bench_circle_patches(m, K, F, bo, opt.seed, ctx);
   }
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
   std::cerr << j.dump(1) << "\n";
