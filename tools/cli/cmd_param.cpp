@@ -29,6 +29,7 @@ struct ParamCliOptions {
   double eps = 1e-6;
   int center = -1;        // --center V: patch mode (tools/cli/param_patch.hpp)
   double fraction = 0.1;  // --fraction f of the vertices in the patch
+  std::string boundary = "neumann";  // --boundary: patch mode's boundary data (param_patch.hpp)
   FactorCacheOptions cache;  // --save / --load: patch mode only (the disk methods refactor per iteration)
 };
 
@@ -52,7 +53,9 @@ ParamRun parameterize(const Mesh& mesh, const ParamCliOptions& po, const RunCont
 }
 
 int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunContext& ctx) {
-  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, po.cache, ctx);
+  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, po.boundary, po.cache, ctx);
+  if (po.boundary != "neumann")
+    fail(ErrorCode::BadUsage, "param: --boundary applies to the patch mode (--center V)");
   if (!po.cache.save.empty() || !po.cache.load.empty())
     fail(ErrorCode::BadUsage, "param: --save / --load apply to the patch mode (--center V); the disk methods "
                               "factor a new matrix per iteration");
@@ -104,6 +107,10 @@ void register_param_command(CommandTable& table) {
   app->add_option("--center", po->center, "Patch mode: BFS patch around vertex V, parameterized from the global factor (thesis 4.4)")
       ->check(CLI::Range(0, 2147483647));
   app->add_option("--fraction", po->fraction, "Patch mode: fraction of the vertices in the patch (default 0.1)");
+  app->add_option("--boundary", po->boundary,
+                  "Patch mode: neumann (eq. 4.6 on the global factor, default) or circle (boundary fixed on a "
+                  "circle, factor of the patch by the factor-once update; flip-free on disk patches with "
+                  "positive weights)");
   add_factor_cache_options(app, po->cache);
 }
 
