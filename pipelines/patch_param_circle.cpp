@@ -281,7 +281,7 @@ int solve_circle_dirichlet(const NumericFactor& F, const CscMatrix& K_II, const 
         step = std::max(step, std::abs(alpha[l] * p[k]));
         size = std::max(size, std::abs(x[k]));
       }
-    if (!(step > 1e-12 * size)) {
+    if (!(step > 1e-10 * size)) {
       ++steps;
       break;
     }
