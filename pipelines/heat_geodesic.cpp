@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "kernels/log_array.hpp"
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "kernels/ordering.hpp"
@@ -122,6 +123,10 @@ void HeatGeodesic::prepare(const Mesh& m) {
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   num_components_ = connected_components(m, component_);
   grad_ = triangle_gradients(m);
+  // Corner records in vertex-face order (see build_region).
+  vf_corners_.resize(3 * grad_.vf_faces.size());
+  for (size_t q = 0; q < grad_.vf_faces.size(); ++q)
+    for (int s = 0; s < 3; ++s) vf_corners_[3 * q + s] = grad_.tri[3 * static_cast<int64_t>(grad_.vf_faces[q]) + s];
   h_ = locus::mean_edge_length(m);
   t_ = opt.t_factor * h_ * h_;
 }
@@ -160,16 +165,20 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGe
   poisson_ = std::move(factors.poisson);
 }
 
+// How many patch vertices (or faces) ahead the region walks prefetch.
+constexpr int32_t kAhead = 8;
+
 void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) const {
   const int32_t n = grad_.nv;
   if (r.local.size() != static_cast<size_t>(n)) r.local.assign(n, -1);
-  if (r.face_mark.size() != static_cast<size_t>(grad_.nf)) r.face_mark.assign(grad_.nf, 0);
   r.verts.clear();
   r.faces.clear();
   r.face_local.clear();
   if (patch.empty()) fail(ErrorCode::BadUsage, "the patch is empty");
   for (size_t k = 0; k < patch.size(); ++k) {
     const int32_t v = patch[k];
+    if (k + static_cast<size_t>(kAhead) < patch.size() && static_cast<uint32_t>(patch[k + static_cast<size_t>(kAhead)]) < static_cast<uint32_t>(n))
+      __builtin_prefetch(r.local.data() + patch[k + static_cast<size_t>(kAhead)], 1);
     if (v < 0 || v >= n || r.local[v] >= 0) {
       const bool dup = v >= 0 && v < n;
       release_region(r);
@@ -179,16 +188,25 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
     r.local[v] = static_cast<int32_t>(r.verts.size());
     r.verts.push_back(v);
   }
-  r.patch_size = static_cast<int32_t>(patch.size());
-  for (int32_t k = 0; k < r.patch_size; ++k) {
+  const int32_t np = static_cast<int32_t>(patch.size());
+  r.patch_size = np;
+  // A face is listed once, by its owner: the patch corner in the lowest corner
+  // slot. The patch is fully marked above, so ownership is decided from the
+  // corner records alone (no per-face marks to set and reset: random writes).
+  auto in_patch = [&](int32_t w) { return static_cast<uint32_t>(r.local[w]) < static_cast<uint32_t>(np); };
+  // Patch vertices lie scattered in memory (a subdivided mesh numbers the new
+  // vertices after the old ones), so each one's records are a cache miss; they
+  // are known in advance and fetched ahead in two stages (offsets, then records).
+  for (int32_t k = 0; k < np; ++k) {
+    if (k + 2 * kAhead < np) __builtin_prefetch(grad_.vf_offsets.data() + r.verts[k + 2 * kAhead]);
+    if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 3 * grad_.vf_offsets[r.verts[k + kAhead]]);
     const int32_t v = r.verts[k];
     for (int64_t q = grad_.vf_offsets[v]; q < grad_.vf_offsets[v + 1]; ++q) {
-      const int32_t f = grad_.vf_faces[q];
-      if (r.face_mark[f]) continue;
-      r.face_mark[f] = 1;
-      r.faces.push_back(f);
+      const int32_t* c = vf_corners_.data() + 3 * q;  // the face's corners in slot order
+      if (c[0] != v && (in_patch(c[0]) || (c[1] != v && in_patch(c[1])))) continue;
+      r.faces.push_back(grad_.vf_faces[q]);
       for (int s = 0; s < 3; ++s) {
-        const int32_t w = grad_.tri[3 * static_cast<int64_t>(f) + s];
+        const int32_t w = c[s];
         if (r.local[w] < 0) {
           r.local[w] = static_cast<int32_t>(r.verts.size());
           r.verts.push_back(w);
@@ -201,7 +219,6 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
 
 void HeatGeodesic::release_region(PatchRegion& r) const {
   for (int32_t v : r.verts) r.local[v] = -1;
-  for (int32_t f : r.faces) r.face_mark[f] = 0;
   r.verts.clear();
   r.faces.clear();
   r.face_local.clear();
@@ -217,9 +234,16 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   const bool lg = opt_.log_heat_gradient;
   if (lg) {
     ws.logh.resize(static_cast<size_t>(nloc));
-    for (int32_t v = 0; v < nloc; ++v) ws.logh[v] = h[v] > 0 ? std::log(h[v]) : std::numeric_limits<double>::quiet_NaN();
+    log_array(h.data(), ws.logh.data(), static_cast<size_t>(nloc));  // NaN where h <= 0
   }
-  for (size_t q = 0; q < r.faces.size(); ++q) {
+  const size_t nfl = r.faces.size();
+  for (size_t q = 0; q < nfl; ++q) {
+    if (q + kAhead < nfl) {  // scattered faces: fetch their basis gradients and area ahead
+      const int32_t fa = r.faces[q + kAhead];
+      __builtin_prefetch(grad_.basis.data() + 9 * static_cast<int64_t>(fa));
+      __builtin_prefetch(grad_.basis.data() + 9 * static_cast<int64_t>(fa) + 8);
+      __builtin_prefetch(grad_.area.data() + fa);
+    }
     const int32_t f = r.faces[q];
     const int32_t l0 = r.face_local[3 * q], l1 = r.face_local[3 * q + 1], l2 = r.face_local[3 * q + 2];
     double X[3], d[3];
@@ -248,7 +272,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   const bool lg = opt_.log_heat_gradient;
   if (lg) {
     ws.logh.resize(static_cast<size_t>(n));
-    for (int32_t v = 0; v < n; ++v) ws.logh[v] = h[v] > 0 ? std::log(h[v]) : std::numeric_limits<double>::quiet_NaN();
+    log_array(h.data(), ws.logh.data(), static_cast<size_t>(n));  // NaN where h <= 0
   }
   for (int32_t f = 0; f < grad_.nf; ++f) {
     const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);

@@ -84,15 +84,14 @@ struct HeatGeodesicOptions {
 };
 
 // The vertices and triangles a localized query works on. Built by
-// HeatGeodesic::build_region, reset by release_region (the n- and nf-sized mark
-// arrays are all -1 / 0 between queries, so a query touches only its region).
+// HeatGeodesic::build_region, reset by release_region (the n-sized index array
+// is all -1 between queries, so a query touches only its region).
 struct PatchRegion {
   int32_t patch_size = 0;
   std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
   std::vector<int32_t> faces;      // faces with at least one patch vertex
   std::vector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
   std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
-  std::vector<uint8_t> face_mark;  // nf
 };
 
 struct HeatGeodesicWorkspace {
@@ -169,6 +168,9 @@ class HeatGeodesic {
   NumericFactor heat_, poisson_;
   std::vector<int32_t> component_;
   int32_t num_components_ = 0;
+  // 3 per vertex-face entry (grad_.vf_faces order): that face's corners, so a
+  // region walks each patch vertex's faces in one contiguous read.
+  std::vector<int32_t> vf_corners_;
 };
 
 }  // namespace locus
