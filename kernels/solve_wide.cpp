@@ -4,8 +4,9 @@
 // lanes in NB groups of 8 (Lane8), x rows in local numbering:
 //   forward : x_s = L11^{-1} x_s;  x[R[k..m)] -= L21 x_s
 //   backward: x_s = L11^{-T} (x_s - L21^T x[R[k..m)])
-// The L21 products take four factor columns at a time, so each x row below the
-// diagonal block is loaded once per four columns and each factor entry once.
+// Both go through the block four factor columns at a time, each column read
+// top to bottom (the order it is stored in): every factor entry is loaded once
+// and every x row once per four columns.
 #include "kernels/solve_wide.hpp"
 
 #include <algorithm>
@@ -44,84 +45,86 @@ struct Super {
   const int32_t* rl;  // local rows of R[k..m)
 };
 
-// x[R[k + i]] -= sum_q L[k + i, j0 + q] x_s[j0 + q], q < NJ.
-template <int NB, int NJ>
-void forward_below(const Super& s, int32_t j0, double* x) {
-  constexpr int W = 8 * NB;
-  Row<NB> xj[NJ];
-  const double* Lc[NJ];
-  for (int q = 0; q < NJ; ++q) {
-    xj[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
-    Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
-  }
-  for (int32_t i = s.k; i < s.m; ++i) {
-    double* r = x + static_cast<int64_t>(s.rl[i - s.k]) * W;
+// Rows i of x (at row_at(i)) -= sum_q Lc[q][i] xj[q], for i in [i0, i1).
+template <int NB, int NJ, class RowAt>
+void update_rows(const double* const* Lc, int32_t i0, int32_t i1, const Row<NB>* xj, RowAt row_at) {
+  for (int32_t i = i0; i < i1; ++i) {
+    double* r = row_at(i);
     Row<NB> acc = Row<NB>::load(r);
     for (int q = 0; q < NJ; ++q) acc.fnma(Lc[q][i], xj[q]);
     acc.store(r);
   }
 }
 
-// x_s[j0 + q] -= sum_i L[k + i, j0 + q] x[R[k + i]], q < NJ.
-template <int NB, int NJ>
-void backward_below(const Super& s, int32_t j0, const double* x) {
-  constexpr int W = 8 * NB;
-  Row<NB> acc[NJ];
-  const double* Lc[NJ];
-  for (int q = 0; q < NJ; ++q) {
-    acc[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
-    Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
-  }
-  for (int32_t i = s.k; i < s.m; ++i) {
-    const Row<NB> t = Row<NB>::load(x + static_cast<int64_t>(s.rl[i - s.k]) * W);
+// acc[q] -= sum_i Lc[q][i] (row i of x, at row_at(i)), for i in [i0, i1).
+template <int NB, int NJ, class RowAt>
+void gather_rows(const double* const* Lc, int32_t i0, int32_t i1, Row<NB>* acc, RowAt row_at) {
+  for (int32_t i = i0; i < i1; ++i) {
+    const Row<NB> t = Row<NB>::load(row_at(i));
     for (int q = 0; q < NJ; ++q) acc[q].fnma(Lc[q][i], t);
   }
-  for (int q = 0; q < NJ; ++q) acc[q].store(s.xs + static_cast<int64_t>(j0 + q) * W);
+}
+
+// Forward on the NJ columns j0.. of s: their own NJ x NJ triangle, then the
+// rest of the diagonal block and the rows below, four columns per sweep so
+// each factor entry is read once and each x row once per four columns.
+template <int NB, int NJ>
+void forward_columns(const Super& s, int32_t j0, double* x) {
+  constexpr int W = 8 * NB;
+  const double* Lc[NJ];
+  for (int q = 0; q < NJ; ++q) Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
+  Row<NB> xj[NJ];
+  for (int q = 0; q < NJ; ++q) {
+    xj[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
+    for (int p = 0; p < q; ++p) xj[q].fnma(Lc[p][j0 + q], xj[p]);
+    xj[q].scale(1.0 / Lc[q][j0 + q]);
+    xj[q].store(s.xs + static_cast<int64_t>(j0 + q) * W);
+  }
+  update_rows<NB, NJ>(Lc, j0 + NJ, s.k, xj, [&](int32_t i) { return s.xs + static_cast<int64_t>(i) * W; });
+  update_rows<NB, NJ>(Lc, s.k, s.m, xj, [&](int32_t i) { return x + static_cast<int64_t>(s.rl[i - s.k]) * W; });
+}
+
+// Backward on the NJ columns j0.. of s, whose later columns are final:
+// subtract the rows below and the later own rows, then the NJ x NJ triangle.
+template <int NB, int NJ>
+void backward_columns(const Super& s, int32_t j0, const double* x) {
+  constexpr int W = 8 * NB;
+  const double* Lc[NJ];
+  for (int q = 0; q < NJ; ++q) Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
+  Row<NB> acc[NJ];
+  for (int q = 0; q < NJ; ++q) acc[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
+  gather_rows<NB, NJ>(Lc, s.k, s.m, acc, [&](int32_t i) { return x + static_cast<int64_t>(s.rl[i - s.k]) * W; });
+  gather_rows<NB, NJ>(Lc, j0 + NJ, s.k, acc, [&](int32_t i) { return s.xs + static_cast<int64_t>(i) * W; });
+  for (int q = NJ - 1; q >= 0; --q) {
+    for (int p = q + 1; p < NJ; ++p) acc[q].fnma(Lc[q][j0 + p], acc[p]);
+    acc[q].scale(1.0 / Lc[q][j0 + q]);
+    acc[q].store(s.xs + static_cast<int64_t>(j0 + q) * W);
+  }
 }
 
 template <int NB>
 void forward_super(const Super& s, double* x) {
-  constexpr int W = 8 * NB;
-  // Diagonal block, row by row: x_i = (x_i - sum_{j<i} L_ij x_j) / L_ii.
-  for (int32_t i = 0; i < s.k; ++i) {
-    Row<NB> acc = Row<NB>::load(s.xs + static_cast<int64_t>(i) * W);
-    for (int32_t j = 0; j < i; ++j)
-      acc.fnma(s.L[i + static_cast<int64_t>(j) * s.m], Row<NB>::load(s.xs + static_cast<int64_t>(j) * W));
-    acc.scale(1.0 / s.L[i + static_cast<int64_t>(i) * s.m]);
-    acc.store(s.xs + static_cast<int64_t>(i) * W);
-  }
-  if (s.m == s.k) return;
   int32_t j0 = 0;
-  for (; j0 + 4 <= s.k; j0 += 4) forward_below<NB, 4>(s, j0, x);
+  for (; j0 + 4 <= s.k; j0 += 4) forward_columns<NB, 4>(s, j0, x);
   switch (s.k - j0) {
-    case 3: forward_below<NB, 3>(s, j0, x); break;
-    case 2: forward_below<NB, 2>(s, j0, x); break;
-    case 1: forward_below<NB, 1>(s, j0, x); break;
+    case 3: forward_columns<NB, 3>(s, j0, x); break;
+    case 2: forward_columns<NB, 2>(s, j0, x); break;
+    case 1: forward_columns<NB, 1>(s, j0, x); break;
     default: break;
   }
 }
 
 template <int NB>
-void backward_super(const Super& s, double* x) {
-  constexpr int W = 8 * NB;
-  if (s.m > s.k) {
-    int32_t j0 = 0;
-    for (; j0 + 4 <= s.k; j0 += 4) backward_below<NB, 4>(s, j0, x);
-    switch (s.k - j0) {
-      case 3: backward_below<NB, 3>(s, j0, x); break;
-      case 2: backward_below<NB, 2>(s, j0, x); break;
-      case 1: backward_below<NB, 1>(s, j0, x); break;
-      default: break;
-    }
+void backward_super(const Super& s, const double* x) {
+  // The last (partial) group first, then full groups of four downwards.
+  int32_t j0 = s.k - s.k % 4;
+  switch (s.k % 4) {
+    case 3: backward_columns<NB, 3>(s, j0, x); break;
+    case 2: backward_columns<NB, 2>(s, j0, x); break;
+    case 1: backward_columns<NB, 1>(s, j0, x); break;
+    default: break;
   }
-  // Diagonal block transposed, last row first: x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj.
-  for (int32_t j = s.k - 1; j >= 0; --j) {
-    const double* Lj = s.L + static_cast<int64_t>(j) * s.m;
-    Row<NB> acc = Row<NB>::load(s.xs + static_cast<int64_t>(j) * W);
-    for (int32_t i = j + 1; i < s.k; ++i) acc.fnma(Lj[i], Row<NB>::load(s.xs + static_cast<int64_t>(i) * W));
-    acc.scale(1.0 / Lj[j]);
-    acc.store(s.xs + static_cast<int64_t>(j) * W);
-  }
+  for (j0 -= 4; j0 >= 0; j0 -= 4) backward_columns<NB, 4>(s, j0, x);
 }
 
 template <int NB>
