@@ -32,6 +32,19 @@ double loop_length(const Mesh& m, std::span<const int32_t> loop) {
   return s;
 }
 
+size_t longest_loop(const Mesh& m, const std::vector<std::vector<int32_t>>& loops) {
+  size_t best = 0;
+  double best_len = -1;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const double len = loop_length(m, loops[l]);
+    if (len > best_len) {
+      best_len = len;
+      best = l;
+    }
+  }
+  return best;
+}
+
 std::vector<double> circle_layout(const Mesh& m, std::span<const int32_t> loop) {
   const size_t nb = loop.size();
   if (nb < 3) fail(ErrorCode::BadInput, "patch boundary loop has " + std::to_string(nb) + " vertices, need >= 3");
@@ -160,15 +173,7 @@ PatchParam parameterize_patch(const NumericFactor& F, const PatchGrower& g, int3
     fail(ErrorCode::BadInput, mesh_name(m) + ": the patch around vertex " + std::to_string(center) + " with " +
                                   std::to_string(pm.num_vertices()) +
                                   " vertices has no boundary (it is a whole closed component); use a smaller fraction");
-  size_t best = 0;
-  double best_len = -1;
-  for (size_t l = 0; l < loops.size(); ++l) {
-    const double len = loop_length(pm, loops[l]);
-    if (len > best_len) {
-      best_len = len;
-      best = l;
-    }
-  }
+  const size_t best = longest_loop(pm, loops);
   P.boundary.reserve(loops[best].size());
   for (int32_t v : loops[best]) P.boundary.push_back(P.patch.vertices[v]);
   const std::vector<double> b = circle_neumann_rhs(m, P.boundary);

@@ -40,6 +40,9 @@ namespace locus {
 
 // Length in space of a closed loop of vertices of m.
 double loop_length(const Mesh& m, std::span<const int32_t> loop);
+// Index of the longest of the loops (length in space; ties keep the first):
+// the loop that carries the boundary data of a patch.
+size_t longest_loop(const Mesh& m, const std::vector<std::vector<int32_t>>& loops);
 // Arc-length layout of a closed loop on a circle whose circumference is the
 // loop's length: xy[2j], xy[2j+1] for loop[j], counter-clockwise in loop order.
 // BadInput for < 3 vertices or a loop of zero / non-finite length.

@@ -30,20 +30,6 @@ int64_t euler_characteristic(const Mesh& pm, const std::vector<std::vector<int32
   return static_cast<int64_t>(pm.num_vertices()) - (3 * f + boundary_edges) / 2 + f;
 }
 
-// Index of the longest loop (arc length in space); ties keep the first.
-size_t outer_loop(const Mesh& pm, const std::vector<std::vector<int32_t>>& loops) {
-  size_t best = 0;
-  double best_len = -1;
-  for (size_t l = 0; l < loops.size(); ++l) {
-    const double len = loop_length(pm, loops[l]);
-    if (len > best_len) {
-      best_len = len;
-      best = l;
-    }
-  }
-  return best;
-}
-
 std::string patch_name(const Mesh& m, int32_t center, size_t nv) {
   return mesh_name(m) + ": the patch of " + std::to_string(nv) + " vertices around vertex " + std::to_string(center);
 }
@@ -62,7 +48,7 @@ DiskPatch grow_disk_patch(const PatchGrower& g, int32_t center, int32_t count, D
   if (loops.empty())
     fail(ErrorCode::BadInput, patch_name(m, center, d.patch.vertices.size()) +
                                   " has no boundary (it is a whole closed component); use a smaller fraction");
-  size_t outer = outer_loop(d.patch.mesh, loops);
+  size_t outer = longest_loop(d.patch.mesh, loops);
 
   if (loops.size() > 1) {
     // Fill the holes: BFS in the complement from every non-outer loop, never

@@ -417,6 +417,17 @@ Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, cons
 
 // ------------------------------------------------ 3. patch parameterization ----
 
+// The --patch-sizes that fit a mesh of n vertices (10 .. n/2), logged when skipped.
+std::vector<int32_t> patch_sizes(const Options& bo, int32_t n) {
+  std::vector<int32_t> sizes;
+  for (const std::string& item : cli::split_list(bo.patch_sizes, "--patch-sizes")) {
+    const int32_t size = static_cast<int32_t>(std::stol(item));
+    if (size < 10 || size > n / 2) cli::log("bench local: patch size " + item + " skipped (n = " + std::to_string(n) + ")");
+    else sizes.push_back(size);
+  }
+  return sizes;
+}
+
 // K, F: the regularized Laplacian of m and its factor (shared with section 4).
 Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, const Options& bo, uint64_t seed,
                    const RunContext& ctx) {
@@ -430,12 +441,7 @@ Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, co
   std::mt19937_64 rng(seed ^ 0x5bd1e995ULL);
   std::uniform_int_distribution<int32_t> pick(0, n - 1);
   Json rows = Json::array();
-  for (const std::string& item : cli::split_list(bo.patch_sizes, "--patch-sizes")) {
-    const int32_t size = static_cast<int32_t>(std::stol(item));
-    if (size < 10 || size > n / 2) {
-      cli::log("bench local: patch size " + item + " skipped (n = " + std::to_string(n) + ")");
-      continue;
-    }
+  for (const int32_t size : patch_sizes(bo, n)) {
     std::vector<double> local_s, sys_s, sys_factor_s, r, np, flips_local, flips_sys, fw, bw, grow_s, solve_s;
     for (int c = 0; c < bo.patch_centres; ++c) {
       ctx.check_cancel();
@@ -494,7 +500,7 @@ Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, co
                     {"backward_columns", cli::median(bw)},
                     {"max_flips_local", *std::max_element(flips_local.begin(), flips_local.end())},
                     {"max_flips_patch_system", *std::max_element(flips_sys.begin(), flips_sys.end())}});
-    cli::log("bench local: patches of " + item + " done");
+    cli::log("bench local: patches of " + std::to_string(size) + " done");
   }
   j["sizes"] = rows;
   return j;
@@ -522,9 +528,7 @@ Json bench_circle_patches(const Mesh& m, const CscMatrix& K, const NumericFactor
   std::mt19937_64 rng(seed ^ 0x5bd1e995ULL);
   std::uniform_int_distribution<int32_t> pick(0, n - 1);
   Json rows = Json::array();
-  for (const std::string& item : cli::split_list(bo.patch_sizes, "--patch-sizes")) {
-    const int32_t size = static_cast<int32_t>(std::stol(item));
-    if (size < 10 || size > n / 2) continue;
+  for (const int32_t size : patch_sizes(bo, n)) {
     std::vector<double> local_s, sys_s, r, np, holes, flips_local, flips_sys, upd_s, fac_s, diff, steps;
     std::vector<double> grow_s, system_s, solve_s, check_s;
     int refused = 0;
@@ -595,7 +599,7 @@ Json bench_circle_patches(const Mesh& m, const CscMatrix& K, const NumericFactor
                     {"max_refinement_steps", *std::max_element(steps.begin(), steps.end())},
                     {"max_flips_local", *std::max_element(flips_local.begin(), flips_local.end())},
                     {"max_flips_patch_system", *std::max_element(flips_sys.begin(), flips_sys.end())}});
-    cli::log("bench local: circle patches of " + item + " done");
+    cli::log("bench local: circle patches of " + std::to_string(size) + " done");
   }
   j["sizes"] = rows;
   return j;
