@@ -257,18 +257,57 @@ void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<
   for (int32_t a : cells) verts.insert(verts.end(), c.verts.begin() + c.offsets[a], c.verts.begin() + c.offsets[a + 1]);
 }
 
+// Batches of 8 cells that are neighbours in the cell adjacency graph, grown
+// breadth-first from the first unassigned cell in Morton order: the union of a
+// batch's two-ring neighbourhoods (its kept set) is then close to the two rings
+// around one compact patch of 8 cells rather than around 8 scattered ones.
+std::vector<int32_t> cluster_order(const Cells& c, std::span<const int32_t> morton) {
+  const int32_t ns = static_cast<int32_t>(morton.size());
+  std::vector<int32_t> out, queue;
+  out.reserve(ns);
+  std::vector<uint8_t> taken(ns, 0), queued(ns, 0);
+  size_t next = 0;
+  while (static_cast<int32_t>(out.size()) < ns) {
+    const size_t batch_start = out.size();
+    queue.clear();
+    size_t head = 0;
+    while (out.size() - batch_start < static_cast<size_t>(kLanes) && static_cast<int32_t>(out.size()) < ns) {
+      if (head == queue.size()) {  // patch exhausted: the next unassigned cell in Morton order
+        while (taken[morton[next]]) ++next;
+        queue.push_back(morton[next]);
+        queued[morton[next]] = 1;
+      }
+      const int32_t s = queue[head++];
+      taken[s] = 1;
+      out.push_back(s);
+      for (int64_t p = c.adj_offsets[s]; p < c.adj_offsets[s + 1]; ++p) {
+        const int32_t a = c.adj[p];
+        if (!taken[a] && !queued[a]) {
+          queued[a] = 1;
+          queue.push_back(a);
+        }
+      }
+    }
+    for (int32_t q : queue) queued[q] = 0;
+  }
+  return out;
+}
+
 struct CentroidMsg {
   int32_t cells[kLanes];
   HeatCentroid result[kLanes];
   int lanes = 0;
   int32_t batch = 0;
   int64_t kept = 0;
+  double energy[kLanes] = {};
+  int64_t fallback = 0;
 };
 
 struct CentroidScratch {
   HeatBatch batch;
   std::vector<double> dense;  // n, zero between uses
-  std::vector<int32_t> cells;
+  std::vector<int32_t> cells, touched;
+  std::vector<double> weights;
 };
 
 }  // namespace
@@ -382,6 +421,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   ctx.check_cancel();
   const CentroidGeometry geo = prepare_centroid_geometry(m);
   const Edges edges = unique_edges(m);
+  const VertexStars stars = vertex_stars(m, area_op);
   ctx.check_cancel();
   const std::vector<double> mass_r3 = lumped_mass(m);
   const double h_r3 = mean_edge_length(m);
@@ -408,68 +448,55 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
 
   HeatVoronoi V;
   Cells cells;
-  CellPartition part;
   tbb::enumerable_thread_specific<CentroidScratch> cscratch;
   std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
+  // Batches (runs of 8 in `order`) and, localized, each batch's kept set: the union of
+  // its cells and their two rings of neighbour cells. Built by the centroid step from
+  // the labels of this iteration and reused by the next labels (same batches: the
+  // sites are the centroids of these cells), so no neighbourhood is built twice.
+  std::vector<int32_t> order;
+  std::vector<std::vector<int32_t>> batch_kept;
   auto labels_of_sites = [&]() {
     BatchStopwatch psw;
-    const std::vector<int32_t> order = spatial_order(m, sites);
-    V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
-                                        : std::span<const std::vector<int32_t>>(),
-                     order, ctx);
+    if (order.empty()) order = spatial_order(m, sites);
+    if (local && !batch_kept.empty()) {
+      V = heat_voronoi_batched(H, m, sites, order, batch_kept, ctx);
+    } else {  // first labels: per-site Dijkstra balls (localized) or full solves
+      V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
+                                          : std::span<const std::vector<int32_t>>(),
+                       order, ctx);
+      nb = {};
+    }
     r.unreached += V.unreached;
     r.labels_s += psw.lap();
     for (int32_t v = 0; v < n; ++v)
       if (V.label[v] < 0)
         fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
     in_arena([&] { cells = build_cells(edges, V.label, ns); });
-    if (opt.split_faces) {
-      in_arena([&] { part = partition_cells(m, area_op, V, ns); });
-      r.fallback_faces += part.fallback_faces;
-    }
     r.partition_s += psw.lap();
-    return order;
-  };
-  auto refresh_neighborhoods = [&]() {  // per site: its cell and two rings of neighbour cells
-    if (!local) return;
-    in_arena([&] {
-      tbb::parallel_for(0, ns, [&](int32_t s) {
-        std::vector<int32_t> cl;
-        two_ring_cells(cells, s, cl);
-        cells_to_vertices(cells, cl, nb[s]);
-      });
-    });
   };
 
   for (int32_t it = 0; it < opt.iterations; ++it) {
     ctx.check_cancel();
     BatchStopwatch isw;
-    const std::vector<int32_t> order = labels_of_sites();
+    labels_of_sites();
     BatchStopwatch psw;
-    refresh_neighborhoods();
+    // New batches from the new cells (compact patches of the cell graph).
+    order = cluster_order(cells, spatial_order(m, sites));
     r.neighbourhood_s += psw.lap();
-    {  // diagnostics of this iteration's labels and sites (sequential: fixed order)
-      std::vector<std::array<double, 3>> pos(ns);
-      for (int32_t s = 0; s < ns; ++s) pos[s] = surface_point_position(m, sites[s]);
-      double e = 0;
-      for (int32_t v = 0; v < n; ++v) {
-        const auto& p = pos[V.label[v]];
-        e += mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
-                           (m.z[v] - p[2]) * (m.z[v] - p[2]));
-      }
-      r.energy.push_back(e);
-      if (opt.track_quality) {
-        const CvtQuality q = cvt_quality(m, V.label, sites);
-        r.mean_angle.push_back(q.mean_angle_deg);
-        r.min_angle.push_back(q.min_angle_deg);
-      }
+    if (opt.track_quality) {
+      const CvtQuality q = cvt_quality(m, V.label, sites);
+      r.mean_angle.push_back(q.mean_angle_deg);
+      r.min_angle.push_back(q.min_angle_deg);
     }
     std::vector<std::array<double, 3>> before(ns);
     for (int32_t s = 0; s < ns; ++s) before[s] = surface_point_position(m, sites[s]);
     // Centroids: batches of 8 cells in the sites' spatial order.
     std::vector<HeatCentroid> cent(ns);
+    std::vector<double> cell_energy(ns, 0.0);
     std::vector<uint8_t> has(ns, 0);
     const int32_t nbatch = (ns + kLanes - 1) / kLanes;
+    if (local) batch_kept.assign(nbatch, {});
     const size_t kept_base = kept_fraction.size();
     kept_fraction.resize(kept_base + nbatch, 0.0);
     auto solve = [&](int32_t b) {
@@ -482,23 +509,39 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       cs.cells.clear();
       msg->lanes = std::min(kLanes, ns - b * kLanes);
       msg->batch = b;
-      std::vector<int32_t> sv;
-      std::vector<double> sw8;
       for (int l = 0; l < msg->lanes; ++l) {
         const int32_t c = order[b * kLanes + l];
         msg->cells[l] = c;
-        if (opt.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11)
-          hb.add_source({part.vertex.data() + part.offsets[c], static_cast<size_t>(part.offsets[c + 1] - part.offsets[c])},
-                        {part.load.data() + part.offsets[c], static_cast<size_t>(part.offsets[c + 1] - part.offsets[c])});
+        const std::span<const int32_t> cv(cells.verts.data() + cells.offsets[c],
+                                          static_cast<size_t>(cells.offsets[c + 1] - cells.offsets[c]));
+        {  // Euclidean CVT energy of the cell w.r.t. its current site (diagnostic)
+          const auto p = before[c];
+          double e = 0;
+          for (int32_t v : cv)
+            e += mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
+                               (m.z[v] - p[2]) * (m.z[v] - p[2]));
+          msg->energy[l] = e;
+        }
+        cs.touched.clear();
+        cs.weights.clear();
+        if (opt.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
+          accumulate_cell_load(stars, V, c, cv, cs.dense, cs.touched,
+                               msg->fallback);
+          for (int32_t v : cs.touched) {
+            cs.weights.push_back(cs.dense[v]);
+            cs.dense[v] = 0.0;
+          }
+          hb.add_source(cs.touched, cs.weights);
         } else {
-          sv.assign(cells.verts.begin() + cells.offsets[c], cells.verts.begin() + cells.offsets[c + 1]);
-          sw8.resize(sv.size());
-          for (size_t k = 0; k < sv.size(); ++k) sw8[k] = Hc.mass[sv[k]];  // M chi_C (eqs. 3.7, 3.10)
-          hb.add_source(sv, sw8);
+          for (int32_t v : cv) cs.weights.push_back(Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
+          hb.add_source(cv, cs.weights);
         }
         if (local) two_ring_cells(cells, c, cs.cells);
       }
-      if (local) cells_to_vertices(cells, cs.cells, hb.kept);
+      if (local) {
+        cells_to_vertices(cells, cs.cells, hb.kept);
+        batch_kept[b] = hb.kept;  // this batch's slot: the next labels solve on it
+      }
       solve_heat_batch(Hc, hb);
       msg->kept = hb.count();
       const int32_t cnt = hb.count();
@@ -513,7 +556,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
         double bv = -INFINITY;
         for (int32_t k = 0; k < cnt; ++k) {
           const double val = hb.values[static_cast<size_t>(k) * kLanes + l];
-          if (val > bv) {
+          if (val > bv || (val == bv && hb.id(k) < best)) {
             bv = val;
             best = hb.id(k);
           }
@@ -533,16 +576,21 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       }
       return msg;
     };
+    int64_t fallback = 0;
     auto store = [&](const std::shared_ptr<CentroidMsg>& msg) {  // one slot per cell: arrival order is irrelevant
       for (int l = 0; l < msg->lanes; ++l) {
         cent[msg->cells[l]] = msg->result[l];
+        cell_energy[msg->cells[l]] = msg->energy[l];
         has[msg->cells[l]] = 1;
       }
+      fallback += msg->fallback;  // integer: order-independent
       kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
     };
     psw.lap();
     run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
     r.centroids_s += psw.lap();
+    r.fallback_faces += fallback;
+    r.energy.push_back(std::accumulate(cell_energy.begin(), cell_energy.end(), 0.0));  // fixed cell order
     for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
       if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
       if (cent[s].hottest < 0) {

@@ -232,16 +232,22 @@ struct VoronoiMsg {
 
 }  // namespace
 
-HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
-                         std::span<const std::vector<int32_t>> neighborhoods, std::span<const int32_t> batch_order,
-                         const RunContext& ctx) {
+namespace {
+
+// neighborhoods (per generator) or batch_kept (per batch) or neither (full solves).
+HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                              std::span<const std::vector<int32_t>> neighborhoods,
+                              std::span<const std::vector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
+                              const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
   if (sites.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no generators");
   for (size_t i = 0; i < sites.size(); ++i) check_surface_point(m, sites[i], "generator", i);
-  const bool local = !neighborhoods.empty();
-  if (local && neighborhoods.size() != sites.size())
+  const bool local = !neighborhoods.empty() || !batch_kept.empty();
+  if (!neighborhoods.empty() && neighborhoods.size() != sites.size())
     fail(ErrorCode::BadUsage, "heat voronoi: one neighbourhood per generator expected");
+  if (!batch_kept.empty() && batch_kept.size() != (sites.size() + kLanes - 1) / kLanes)
+    fail(ErrorCode::BadUsage, "heat voronoi: one kept set per batch of 8 generators expected");
   std::vector<int32_t> order(sites.size());
   if (batch_order.empty()) {
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int32_t>(i);
@@ -272,11 +278,10 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
       double w[3];
       const int c = surface_point_support(m, sites[s], v, w);
       hb.add_source({v, static_cast<size_t>(c)}, {w, static_cast<size_t>(c)});
-      if (local) {
-        hb.kept.insert(hb.kept.end(), neighborhoods[s].begin(), neighborhoods[s].end());
-        hb.kept.insert(hb.kept.end(), v, v + c);
-      }
+      if (!neighborhoods.empty()) hb.kept.insert(hb.kept.end(), neighborhoods[s].begin(), neighborhoods[s].end());
+      if (local) hb.kept.insert(hb.kept.end(), v, v + c);
     }
+    if (!batch_kept.empty()) hb.kept.insert(hb.kept.end(), batch_kept[b].begin(), batch_kept[b].end());
     if (local) {
       dedupe_kept(hb, n);  // first occurrences, in order: no sort needed by the plan
     }
@@ -336,6 +341,21 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
     }
   }
   return V;
+}
+
+}  // namespace
+
+HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                         std::span<const std::vector<int32_t>> neighborhoods, std::span<const int32_t> batch_order,
+                         const RunContext& ctx) {
+  return heat_voronoi_impl(H, m, sites, neighborhoods, {}, batch_order, ctx);
+}
+
+HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                                 std::span<const int32_t> batch_order,
+                                 std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx) {
+  if (batch_kept.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no kept sets given");
+  return heat_voronoi_impl(H, m, sites, {}, batch_kept, batch_order, ctx);
 }
 
 namespace {

@@ -143,6 +143,14 @@ struct HeatVoronoi {
 HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                          std::span<const std::vector<int32_t>> neighborhoods, std::span<const int32_t> batch_order,
                          const RunContext& ctx);
+// The same with one kept set per batch instead of per generator: batch b (the
+// generators batch_order[8b .. 8b+7]) is solved on batch_kept[b] (vertex ids, any
+// order; repeats allowed) plus its generators' supports. Lloyd's method passes the
+// union of the batch's cells and their two rings of neighbour cells, built once per
+// batch and shared with its centroid solves.
+HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                                 std::span<const int32_t> batch_order,
+                                 std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx);
 
 // The diagram as line segments (eqs. 3.19-3.21). Points on mesh edges are shared
 // by the two triangles of the edge; Voronoi corners (triangles with three labels,

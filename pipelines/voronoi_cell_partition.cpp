@@ -76,25 +76,116 @@ double heron(double l2a, double l2b, double l2c) {
 
 }  // namespace
 
-void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]) {
-  for (int a = 0; a < nl; ++a) {
-    Polygon poly;
-    poly.p[0] = {0, 0};
-    poly.p[1] = {1, 0};
-    poly.p[2] = {0, 1};
-    poly.size = 3;
-    for (int b = 0; b < nl && poly.size >= 3; ++b) {
-      if (b == a) continue;
-      const double g[3] = {u[a][0] - u[b][0], u[a][1] - u[b][1], u[a][2] - u[b][2]};
-      poly = clip(poly, g, lab[a] < lab[b]);
-    }
-    double frac = 0, c1 = 1.0 / 3, c2 = 1.0 / 3;
-    if (poly.size >= 3) moments(poly, frac, c1, c2);
-    fraction[a] = frac;
-    centroid[a][0] = 1 - c1 - c2;
-    centroid[a][1] = c1;
-    centroid[a][2] = c2;
+namespace {
+
+// Label a's part of the triangle (see split_triangle).
+void split_part(int nl, const int32_t* lab, const double (*u)[3], int a, double& fraction, double* centroid) {
+  Polygon poly;
+  poly.p[0] = {0, 0};
+  poly.p[1] = {1, 0};
+  poly.p[2] = {0, 1};
+  poly.size = 3;
+  for (int b = 0; b < nl && poly.size >= 3; ++b) {
+    if (b == a) continue;
+    const double g[3] = {u[a][0] - u[b][0], u[a][1] - u[b][1], u[a][2] - u[b][2]};
+    poly = clip(poly, g, lab[a] < lab[b]);
   }
+  double frac = 0, c1 = 1.0 / 3, c2 = 1.0 / 3;
+  if (poly.size >= 3) moments(poly, frac, c1, c2);
+  fraction = frac;
+  centroid[0] = 1 - c1 - c2;
+  centroid[1] = c1;
+  centroid[2] = c2;
+}
+
+// Heat of site s at vertex v from the top-K lists; ok = false when it is not there.
+inline double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
+  const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
+  for (int i = 0; i < kVoronoiTopK; ++i)
+    if (V.top_site[base + i] == s) return V.top_value[base + i];
+  ok = false;
+  return 0.0;
+}
+
+}  // namespace
+
+void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]) {
+  for (int a = 0; a < nl; ++a) split_part(nl, lab, u, a, fraction[a], centroid[a]);
+}
+
+VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": vertex stars need a triangle mesh");
+  if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+  VertexStars st;
+  st.offsets.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++st.offsets[v + 1];
+  for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
+  st.faces.resize(st.offsets[n]);
+  std::vector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
+  return st;
+}
+
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback) {
+  double area = 0;
+  auto add = [&](int32_t v, double w) {
+    if (acc[v] == 0.0) touched.push_back(v);
+    acc[v] += w;
+    area += w;
+  };
+  const size_t nc = cell.size();
+  for (size_t i = 0; i < nc; ++i) {
+    // The cell's vertices are scattered in memory: fetch ahead (offsets 8 vertices
+    // ahead, the star blocks 4 ahead) so the misses overlap instead of stalling.
+    if (i + 8 < nc) __builtin_prefetch(stars.offsets.data() + cell[i + 8]);
+    if (i + 4 < nc) {
+      const StarFace* ahead = stars.faces.data() + stars.offsets[cell[i + 4]];
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 64);
+      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 128);
+    }
+    const int32_t cv = cell[i];
+    for (int64_t p = stars.offsets[cv]; p < stars.offsets[cv + 1]; ++p) {
+      const StarFace& sf = stars.faces[p];
+      const int32_t* v = sf.v;
+      const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+      int first = 0;
+      while (l[first] != c) ++first;  // cv is a corner labelled c
+      if (v[first] != cv) continue;   // visited from its first corner labelled c
+      const double A = sf.area;
+      if (l[0] == l[1] && l[1] == l[2]) {
+        for (int k = 0; k < 3; ++k) add(v[k], A / 3);
+        continue;
+      }
+      int32_t lab[3];
+      int nl = 0, mine = 0;
+      for (int k = 0; k < 3; ++k)
+        if (std::find(lab, lab + nl, l[k]) == lab + nl) {
+          if (l[k] == c) mine = nl;
+          lab[nl++] = l[k];
+        }
+      double u[3][3];
+      bool ok = true;
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k) u[a][k] = top_heat(V, v[k], lab[a], ok);
+      if (!ok) {  // split by vertex labels: the corners labelled c keep their third
+        if (c == *std::min_element(lab, lab + nl)) ++fallback;
+        for (int k = 0; k < 3; ++k)
+          if (l[k] == c) add(v[k], A / 3);
+        continue;
+      }
+      double frac = 0, cen[3];
+      split_part(nl, lab, u, mine, frac, cen);
+      if (frac > 0)
+        for (int k = 0; k < 3; ++k)
+          if (cen[k] > 0) add(v[k], A * frac * cen[k]);
+    }
+  }
+  return area;
 }
 
 std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
@@ -139,13 +230,6 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
       fail(ErrorCode::BadUsage, "cell partition: vertex " + std::to_string(v) + " has label " +
                                     std::to_string(V.label[v]) + ", outside 0.." + std::to_string(cells - 1));
   CellPartition P;
-  auto heat = [&](int32_t v, int32_t s, bool& ok) {
-    const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
-    for (int i = 0; i < kVoronoiTopK; ++i)
-      if (V.top_site[base + i] == s) return V.top_value[base + i];
-    ok = false;
-    return 0.0;
-  };
   // Faces in fixed chunks, processed in parallel and concatenated in chunk order:
   // the result does not depend on the thread count.
   constexpr int32_t kChunk = 4096;
@@ -172,7 +256,7 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
       double u[3][3];
       bool ok = true;
       for (int a = 0; a < nl; ++a)
-        for (int k = 0; k < 3; ++k) u[a][k] = heat(v[k], lab[a], ok);
+        for (int k = 0; k < 3; ++k) u[a][k] = top_heat(V, v[k], lab[a], ok);
       if (!ok) {
         ++chunk_fallback[ch];
         for (int k = 0; k < 3; ++k) entries.push_back({l[k], v[k], A / 3});

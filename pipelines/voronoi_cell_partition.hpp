@@ -47,6 +47,34 @@ struct CellPartition {
 CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, const HeatVoronoi& V,
                               int32_t cells);
 
+// A triangle as seen from one of its corners, for cell-by-cell work: its three
+// vertices in face order and its area (in the operator's metric). Stored per vertex
+// (CSR over the incident triangles) so that visiting a cell's stars reads one
+// contiguous block per vertex instead of scattered face and area arrays.
+struct StarFace {
+  int32_t v[3];
+  double area;
+};
+struct VertexStars {
+  std::vector<int64_t> offsets;  // n + 1
+  std::vector<StarFace> faces;   // incident triangles of each vertex, ascending face id
+};
+VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area);
+
+// The same loads for one cell c only, for callers that work cell by cell (Lloyd's
+// centroid step computes each cell's source inside its own solve task, so no pass
+// over the whole mesh is needed): every triangle incident to a vertex of `cell`
+// (the vertices labelled c, ascending) is visited once, from its first corner
+// labelled c, and its part of cell c is split off as above. The loads are added to
+// acc[i] (all zero on entry at untouched vertices; loads are positive), and each
+// vertex that becomes nonzero is appended to `touched` (vertices of the cell and
+// across its boundary). Same values as partition_cells up to the order of the
+// additions. Returns the cell's area; `fallback` counts the split triangles split by
+// vertex labels whose smallest label is c (so that summing over all cells counts
+// each triangle once).
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback);
+
 // One triangle: nl (1..3) distinct labels lab[a] with heat u[a][k] at corner k.
 // fraction[a]: the share of the triangle's area of label a's part (the shares sum
 // to 1); centroid[a]: barycentric coordinates of that part's centroid.

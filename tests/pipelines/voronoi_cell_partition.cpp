@@ -96,3 +96,43 @@ TEST_CASE("cell partition: single cell gives the lumped mass; missing heat value
   CHECK_THROWS_AS(partition_cells(m, fa, V, 1), Error);                       // label 1 out of range
   CHECK_THROWS_AS(partition_cells(m, std::vector<double>(3, 1.0), V, 2), Error);  // face areas
 }
+
+TEST_CASE("cell partition: cell-by-cell loads give the exact areas and moments of the split cells") {
+  // The grid and linear heat of the first test: cells 0 and 1 have area 0.32, cell 2
+  // (the square [0,0.6]^2) 0.36 and first moment int x = 0.108.
+  const Mesh m = make_grid(17, 0.3, 4);
+  const HeatVoronoi V = linear_heat(m, {[](double x, double) { return x; }, [](double, double y) { return y; },
+                                        [](double, double) { return 0.6; }});
+  const std::vector<double> fa = face_areas(m);
+  const VertexStars st = vertex_stars(m, fa);
+  const int32_t n = m.num_vertices();
+  std::vector<double> acc(n, 0.0);
+  const double exact_area[3] = {0.32, 0.32, 0.36};
+  int64_t fallback = 0;
+  double total = 0;
+  for (int32_t c = 0; c < 3; ++c) {
+    std::vector<int32_t> cell, touched;
+    for (int32_t v = 0; v < n; ++v)
+      if (V.label[v] == c) cell.push_back(v);
+    const double area = accumulate_cell_load(st, V, c, cell, acc, touched, fallback);
+    CHECK(area == doctest::Approx(exact_area[c]).epsilon(1e-12));
+    double sum = 0, mx = 0;
+    for (int32_t v : touched) {
+      CHECK(acc[v] > 0);
+      sum += acc[v];
+      mx += acc[v] * m.x[v];
+      acc[v] = 0.0;
+    }
+    CHECK(sum == doctest::Approx(exact_area[c]).epsilon(1e-12));
+    if (c == 2) CHECK(mx == doctest::Approx(0.108).epsilon(1e-12));
+    if (c == 0) CHECK(mx == doctest::Approx((1 - 0.216) / 3).epsilon(1e-12));
+    // Loads reach across the cell's boundary (split triangles give their corners a share).
+    bool outside = false;
+    for (int32_t v : touched) outside = outside || V.label[v] != c;
+    CHECK(outside);
+    total += area;
+  }
+  CHECK(total == doctest::Approx(1.0).epsilon(1e-12));
+  CHECK(fallback == 0);
+  for (double a : acc) CHECK(a == 0.0);
+}
