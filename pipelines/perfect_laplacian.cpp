@@ -15,6 +15,7 @@
 #include "kernels/mesh_topology.hpp"
 #include "locus/error.hpp"
 #include "pipelines/anderson_acceleration.hpp"
+#include "pipelines/perfect_laplacian_newton.hpp"
 #include "pipelines/weight_active_set.hpp"
 
 namespace locus {
@@ -51,6 +52,22 @@ double edge_length(int dims, const Coords& p, int32_t a, int32_t b) {
   return std::sqrt(s);
 }
 
+// min_weight, min_positive_weight, zero_weights, at_floor from R.weights.
+void weight_statistics(const PerfectLaplacianOptions& opt, PerfectLaplacianResult& R) {
+  double wmax = 0;
+  R.min_weight = R.weights.empty() ? 0.0 : R.weights[0];
+  R.min_positive_weight = 0;
+  for (double x_ : R.weights) {
+    wmax = std::max(wmax, x_);
+    R.min_weight = std::min(R.min_weight, x_);
+    if (x_ > 0 && (R.min_positive_weight == 0 || x_ < R.min_positive_weight)) R.min_positive_weight = x_;
+  }
+  for (double x_ : R.weights) {
+    if (x_ <= opt.zero_weight_rel * wmax) ++R.zero_weights;
+    if (x_ == 0.0) ++R.at_floor;
+  }
+}
+
 }  // namespace
 
 PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, const PerfectLaplacianOptions& opt,
@@ -70,6 +87,12 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
                                     std::to_string(P.target_length[e]) + "; lengths must be positive");
   if (!P.initial_weights.empty() && P.initial_weights.size() != ne)
     fail(ErrorCode::BadInput, "perfect Laplacian: one initial weight per edge expected");
+
+  if (opt.method == PerfectLaplacianMethod::newton) {
+    PerfectLaplacianResult N = run_perfect_laplacian_newton(P, opt, ctx);
+    weight_statistics(opt, N);
+    return N;
+  }
 
   PerfectLaplacianResult R;
   const auto t_first = Clock::now();
@@ -158,6 +181,7 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
     sys.set_weight_floor_rel(aset.anchored() ? 0.0 : opt.system.weight_floor_rel);
     sys.factor(w, ctx);
     sys.solve(dims, P.fixed_pos, P.b, rhs_scale, V);
+    ++R.factorizations;
     R.iterations = k;
 
     // Convergence: the largest vertex change of this iteration against the diagonal.
@@ -262,18 +286,7 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   R.iter_s = median_of(later_s);
   R.revived = aset.num_revived();
   R.kkt_violation = aset.num_dropped() > 0 ? aset.max_violation(g) : 0.0;
-  double wmax = 0;
-  R.min_weight = ne ? R.weights[0] : 0.0;
-  R.min_positive_weight = 0;
-  for (double x_ : R.weights) {
-    wmax = std::max(wmax, x_);
-    R.min_weight = std::min(R.min_weight, x_);
-    if (x_ > 0 && (R.min_positive_weight == 0 || x_ < R.min_positive_weight)) R.min_positive_weight = x_;
-  }
-  for (double x_ : R.weights) {
-    if (x_ <= opt.zero_weight_rel * wmax) ++R.zero_weights;
-    if (x_ == 0.0) ++R.at_floor;
-  }
+  weight_statistics(opt, R);
   return R;
 }
 

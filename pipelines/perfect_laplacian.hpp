@@ -67,7 +67,14 @@ struct PerfectLaplacianProblem {
   std::vector<double> initial_weights; // empty = all 1 (Algorithm 1)
 };
 
+// How the steady state is reached: `newton` (default) maximizes the concave
+// function whose KKT conditions are eq. 2.11 by projected Newton-CG
+// (pipelines/perfect_laplacian_newton.hpp); `multiplicative` is the update of
+// eq. 2.8 with Anderson acceleration and the active set below.
+enum class PerfectLaplacianMethod : uint8_t { newton, multiplicative };
+
 struct PerfectLaplacianOptions {
+  PerfectLaplacianMethod method = PerfectLaplacianMethod::newton;
   int max_iterations = 1000;
   double eps = 1e-6;            // stop when max vertex change < eps · bbox diagonal of the embedding
   int anderson_depth = 6;       // 0 = the plain update of eq. 2.8
@@ -86,6 +93,18 @@ struct PerfectLaplacianOptions {
   WeightActiveSetOptions active_set;
   int max_kkt_rounds = 10;      // convergence checks that may revive dropped edges
   EmbeddingSystemOptions system;
+  // Newton (interior point): maximizes Ψ + τ Σ log ω with τ = mu · (typical
+  // ω_e ||ê_e||² scale), mu from newton_barrier_start down to newton_barrier_end by
+  // newton_barrier_factor after each full Newton step; converged needs the end value.
+  double newton_barrier_start = 0.1;
+  double newton_barrier_end = 1e-14;
+  double newton_barrier_factor = 0.1;
+  double newton_zero_rel = 1e-10;  // weights <= this · max at the end are exactly 0
+  int newton_cg_max = 100;         // CG steps (one solve each, no factorization) per iteration
+  double newton_forcing = 0.5;     // CG stops at relative residual min(this, sqrt(||g|| / ||g_1||))
+  double newton_min_ratio = 0.05;  // a step shrinks no weight below this fraction of itself
+  // Newton: halvings of the step tried before falling back to the plain step.
+  int newton_line_search = 30;
 };
 
 struct PerfectLaplacianResult {
@@ -107,6 +126,8 @@ struct PerfectLaplacianResult {
   double first_iter_s = 0;       // the first iteration including order + analyze + factorize
   double iter_s = 0;             // median of the later iterations (refactorize, solve, update)
   std::vector<double> change_history;  // max vertex change / diagonal per iteration
+  int64_t factorizations = 0;    // numeric factorizations (Newton: line-search trials included)
+  int64_t hessian_products = 0;  // Newton: CG steps (one solve each)
 };
 
 PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& problem,
