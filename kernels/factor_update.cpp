@@ -25,7 +25,9 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <string>
 
@@ -146,16 +148,31 @@ Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t
   return R;
 }
 
+// True when every subtree of the topologically ordered tree (parent > child)
+// is the contiguous range ending at its root, i.e. the order is a postorder.
+bool is_postorder(const std::vector<int32_t>& parent) {
+  const int32_t ns = static_cast<int32_t>(parent.size());
+  std::vector<int32_t> size(ns, 1), first(ns);
+  for (int32_t s = 0; s < ns; ++s) first[s] = s;
+  for (int32_t s = 0; s < ns; ++s) {
+    if (s - first[s] + 1 != size[s]) return false;
+    const int32_t p = parent[s];
+    if (p >= 0) {
+      size[p] += size[s];
+      first[p] = std::min(first[p], first[s]);
+    }
+  }
+  return true;
+}
+
 // Renumbers the restricted supernodes in postorder of their tree (children in
 // ascending order, so an order that is already a postorder is kept). Needed
 // when I splits a global subtree: a restricted node can then become a root (or
 // hang elsewhere) in the middle of another node's range, and the parallel
 // factorization relies on contiguous subtrees.
 bool postorder_in_place(Restricted& R) {
+  if (is_postorder(R.parent)) return false;
   const std::vector<int32_t> post = tree_postorder(R.parent);
-  bool identity = true;
-  for (int32_t k = 0; k < R.ns; ++k) identity = identity && post[k] == k;
-  if (identity) return false;
   const int32_t m = static_cast<int32_t>(R.gcol.size());
   std::vector<int32_t> new_of_old(R.ns);
   for (int32_t k = 0; k < R.ns; ++k) new_of_old[post[k]] = k;
@@ -188,19 +205,163 @@ bool postorder_in_place(Restricted& R) {
   std::vector<std::pair<int32_t, int32_t>> tmp;
   for (int32_t k = 0; k < R.ns; ++k) {
     const int32_t s = post[k];
-    tmp.clear();
-    for (int64_t p = R.row_ptr[s]; p < R.row_ptr[s + 1]; ++p) tmp.emplace_back(colmap[R.rows[p]], R.rowpos[p]);
-    // Own columns stay first: the rows below are ancestors, after them in any postorder.
-    std::sort(tmp.begin(), tmp.end());
-    const int64_t q0 = Q.row_ptr[k];
-    for (size_t t = 0; t < tmp.size(); ++t) {
-      Q.rows[q0 + static_cast<int64_t>(t)] = tmp[t].first;
-      Q.rowpos[q0 + static_cast<int64_t>(t)] = tmp[t].second;
+    const int64_t q0 = Q.row_ptr[k], len = R.row_ptr[s + 1] - R.row_ptr[s];
+    // The rows of a closed structure lie on the supernode's path to the root,
+    // and both orders number a path increasingly: mapping keeps them sorted.
+    bool sorted = true;
+    for (int64_t t = 0; t < len; ++t) {
+      Q.rows[q0 + t] = colmap[R.rows[R.row_ptr[s] + t]];
+      Q.rowpos[q0 + t] = R.rowpos[R.row_ptr[s] + t];
+      sorted = sorted && (t == 0 || Q.rows[q0 + t] > Q.rows[q0 + t - 1]);
     }
-    Q.row_ptr[k + 1] = q0 + static_cast<int64_t>(tmp.size());
+    if (!sorted) {  // not expected; sorting keeps the result correct regardless
+      tmp.clear();
+      for (int64_t t = 0; t < len; ++t) tmp.emplace_back(Q.rows[q0 + t], Q.rowpos[q0 + t]);
+      std::sort(tmp.begin(), tmp.end());
+      for (int64_t t = 0; t < len; ++t) {
+        Q.rows[q0 + t] = tmp[static_cast<size_t>(t)].first;
+        Q.rowpos[q0 + t] = tmp[static_cast<size_t>(t)].second;
+      }
+    }
+    Q.row_ptr[k + 1] = q0 + len;
   }
   R = std::move(Q);
   return true;
+}
+
+// The parts of the restricted symbolic factor that do not involve A (what
+// complete_symbolic derives, in single passes): value offsets, column etree and
+// counts, heights, workspace sizes and the update lists (for each s, the
+// supernodes d < s with a row in s's columns, ascending).
+void complete_structure(SymbolicFactor& S) {
+  const int32_t n = S.n, ns = S.ns;
+  S.super_etree_height = tree_height(S.super_parent);
+  S.parent.assign(n, -1);
+  S.col_count.assign(n, 0);
+  S.nnz_exact = 0;
+  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  S.nnz_L = 0;
+  S.max_super_rows = 0;
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    const int64_t r = S.nrows(s), c = l - f;
+    for (int32_t j = f; j < l; ++j) {
+      S.col_count[j] = static_cast<int32_t>(r - (j - f));
+      S.nnz_exact += S.col_count[j];
+      if (j + 1 < l) S.parent[j] = j + 1;
+      else if (r > c) S.parent[j] = S.super_rows[S.super_row_ptr[s] + c];
+    }
+    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
+    S.nnz_L += r * c - c * (c - 1) / 2;
+    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
+  }
+  S.etree_height = tree_height(S.parent);
+  // Update lists: (target, source) pairs in ascending source order, then a
+  // stable counting sort by target.
+  std::vector<std::pair<int32_t, int32_t>> pairs;
+  S.max_update_entries = 0;
+  for (int32_t d = 0; d < ns; ++d) {
+    const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
+    const int64_t nr = S.nrows(d);
+    int64_t t = S.ncols(d);
+    while (t < nr) {
+      const int32_t s = S.col_to_super[rd[t]];
+      const int32_t send = S.super_first_col[s + 1];
+      int64_t t2 = t + 1;
+      while (t2 < nr && rd[t2] < send) ++t2;
+      pairs.emplace_back(s, d);
+      S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+      t = t2;
+    }
+  }
+  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  for (const auto& pr : pairs) ++S.update_ptr[pr.first + 1];
+  for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
+  S.update_from.resize(pairs.size());
+  std::vector<int64_t> next(S.update_ptr.begin(), S.update_ptr.end() - 1);
+  for (const auto& pr : pairs) S.update_from[next[pr.first]++] = pr.second;
+}
+
+// A_II (lower CSC, local numbering) and the assembly map of the restricted
+// factor Sp, read from A stored in L's column order (ap: column c = rows r >= c).
+// The columns of a patch are a few contiguous ranges of L's order, so this
+// reads A with the factor's locality. gcol: restricted column -> L's column;
+// col_new: L's column -> restricted column (-1 outside I). The entries are
+// visited supernode by supernode (which groups the assembly map), then put in
+// A_II's column order, rows ascending, by two stable counting sorts.
+void assemble_from_factor_order(SymbolicFactor& Sp, const std::vector<int32_t>& gcol, const std::vector<int32_t>& col_new,
+                                const std::vector<int64_t>& ap_ptr, const std::vector<int32_t>& ap_row,
+                                const std::vector<double>& ap_val, const std::vector<int32_t>& vertices,
+                                std::span<const int32_t> ids, CscMatrix& B) {
+  const int32_t m = Sp.n, ns = Sp.ns;
+  int64_t bound = 0;
+  for (int32_t c = 0; c < m; ++c) bound += ap_ptr[gcol[c] + 1] - ap_ptr[gcol[c]];
+  std::vector<int32_t> e_col(static_cast<size_t>(bound)), e_row(static_cast<size_t>(bound));  // local (A_II) column and row, row >= column
+  std::vector<double> e_val(static_cast<size_t>(bound));
+  Sp.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  Sp.a_dst.resize(static_cast<size_t>(bound));
+  std::vector<int32_t> rowpos(m);
+  bool finite = true;
+  int64_t k = 0;
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t f = Sp.super_first_col[s], l = Sp.super_first_col[s + 1], nr = Sp.nrows(s);
+    const int32_t* rows = Sp.super_rows.data() + Sp.super_row_ptr[s];
+    for (int32_t t = 0; t < nr; ++t) rowpos[rows[t]] = t;
+    for (int32_t c = f; c < l; ++c) {
+      const int32_t gc = gcol[c], b = Sp.perm[c];
+      const int64_t col_off = Sp.super_value_ptr[s] + static_cast<int64_t>(c - f) * nr;
+      for (int64_t p = ap_ptr[gc]; p < ap_ptr[gc + 1]; ++p) {
+        const int32_t r = col_new[ap_row[p]];
+        if (r < 0) continue;
+        const int32_t t = rowpos[r];
+        if (r < c || t < 0 || t >= nr || rows[t] != r)
+          fail(ErrorCode::Internal, "factor update: restricted structure misses entry (" + std::to_string(r) + ", " +
+                                        std::to_string(c) + ") of the submatrix");
+        const int32_t a = Sp.perm[r];
+        const double v = ap_val[p];
+        Sp.a_dst[static_cast<size_t>(k)] = col_off + t;
+        e_col[static_cast<size_t>(k)] = std::min(a, b);
+        e_row[static_cast<size_t>(k)] = std::max(a, b);
+        e_val[static_cast<size_t>(k)] = v;
+        finite = finite && std::isfinite(v);
+        ++k;
+      }
+    }
+    Sp.a_super_ptr[s + 1] = k;
+  }
+  Sp.a_dst.resize(static_cast<size_t>(k));
+  if (!finite)  // a NaN or infinity would pass the pivots silently and poison every solve
+    for (int64_t q = 0; q < k; ++q)
+      if (!std::isfinite(e_val[q])) {
+        auto nm = [&](int32_t a) { return std::to_string(ids.empty() ? vertices[a] : ids[vertices[a]]); };
+        fail(ErrorCode::Numerical, "submatrix entry of vertices " + nm(e_row[q]) + " and " + nm(e_col[q]) +
+                                       " is not finite");
+      }
+  // A_II's columns, rows ascending: a counting sort by row, then a stable one
+  // by column; a_src follows the entries.
+  std::vector<int32_t> by_row(static_cast<size_t>(k));
+  {
+    std::vector<int32_t> cnt(static_cast<size_t>(m) + 1, 0);
+    for (int64_t q = 0; q < k; ++q) ++cnt[e_row[q] + 1];
+    for (int32_t a = 0; a < m; ++a) cnt[a + 1] += cnt[a];
+    for (int64_t q = 0; q < k; ++q) by_row[cnt[e_row[q]]++] = static_cast<int32_t>(q);
+  }
+  B.nrows = B.ncols = m;
+  B.colptr.assign(static_cast<size_t>(m) + 1, 0);
+  for (int64_t q = 0; q < k; ++q) ++B.colptr[e_col[q] + 1];
+  for (int32_t a = 0; a < m; ++a) B.colptr[a + 1] += B.colptr[a];
+  B.rowind.resize(static_cast<size_t>(k));
+  B.values.resize(static_cast<size_t>(k));
+  Sp.a_src.resize(static_cast<size_t>(k));
+  std::vector<int64_t> next(B.colptr.begin(), B.colptr.end() - 1);
+  for (const int32_t q : by_row) {
+    const int64_t dst = next[e_col[q]]++;
+    B.rowind[dst] = e_row[q];
+    B.values[dst] = e_val[q];
+    Sp.a_src[q] = dst;
+  }
+  Sp.a_nnz = k;
+  Sp.a_pattern_hash = pattern_hash(B);
 }
 
 // Re-raises a not-positive-definite error of the submatrix factorization with
@@ -256,7 +417,26 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
   local_.assign(n, -1);
   col_new_.assign(n, -1);
   in_super_.assign(S.ns, 0);
+  vbits_.assign((static_cast<size_t>(n) + 63) / 64, 0);
+  cbits_.assign(vbits_.size(), 0);
   if (!index_rows) return;
+  // A in factor numbering, lower: each entry goes to column min(iperm) (counting sort).
+  ap_ptr_.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) ++ap_ptr_[std::min(S.iperm[A.rowind[p]], S.iperm[j]) + 1];
+  for (int32_t c = 0; c < n; ++c) ap_ptr_[c + 1] += ap_ptr_[c];
+  ap_row_.resize(static_cast<size_t>(ap_ptr_[n]));
+  ap_val_.resize(static_cast<size_t>(ap_ptr_[n]));
+  {
+    std::vector<int64_t> next(ap_ptr_.begin(), ap_ptr_.end() - 1);
+    for (int32_t j = 0; j < n; ++j)
+      for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+        const int32_t a = S.iperm[A.rowind[p]], b = S.iperm[j];
+        const int64_t q = next[std::min(a, b)]++;
+        ap_row_[q] = std::max(a, b);
+        ap_val_[q] = A.values[p];
+      }
+  }
   // Row -> supernodes holding it below their diagonal block (the transpose of
   // the supernodal row structure), for marking from the I side.
   below_ptr_.assign(static_cast<size_t>(n) + 1, 0);
@@ -295,38 +475,41 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
     std::span<const int32_t> I;
     const std::vector<int32_t>& gcol;
     const SymbolicFactor& S;
+    bool cbits_clear = false;  // cleared from gcol already (sequential, unlike iperm of I)
     ~Reset() {
       const int32_t n = static_cast<int32_t>(u.local_.size());
       for (const int32_t v : I)
-        if (v >= 0 && v < n) u.local_[v] = -1;
+        if (v >= 0 && v < n) {
+          u.local_[v] = -1;
+          u.vbits_[static_cast<size_t>(v) >> 6] = 0;
+          if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
+        }
       for (const int32_t c : gcol) {
         u.col_new_[c] = -1;
         u.in_super_[S.col_to_super[c]] = 0;
       }
     }
   } reset{*this, I, gcol, S};
+  // Sorted I and its sorted factor columns, from bit sets: O(m + n/64).
   for (size_t a = 0; a < I.size(); ++a) {
     const int32_t v = I[a];
     if (v < 0 || v >= n)
       fail(ErrorCode::BadUsage, "update_factor: vertex " + std::to_string(v) + " (entry " + std::to_string(a) +
                                     ") is out of range [0, " + std::to_string(n) + ")");
-    if (local[v] >= 0) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
-    local[v] = 0;
+    uint64_t& w = vbits_[static_cast<size_t>(v) >> 6];
+    const uint64_t bit = uint64_t{1} << (v & 63);
+    if (w & bit) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
+    w |= bit;
+    cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
   }
   const int32_t m = static_cast<int32_t>(I.size());
-  // Sorted I: by sorting when I is small, by one scan of the map otherwise.
-  if (static_cast<int64_t>(m) * 16 < n) {
-    out.vertices.assign(I.begin(), I.end());
-    std::sort(out.vertices.begin(), out.vertices.end());
-    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
-  } else {
-    out.vertices.reserve(m);
-    for (int32_t v = 0; v < n; ++v)
-      if (local[v] >= 0) {
-        local[v] = static_cast<int32_t>(out.vertices.size());
-        out.vertices.push_back(v);
-      }
-  }
+  auto scan_bits = [](const std::vector<uint64_t>& bits, std::vector<int32_t>& outv) {
+    for (size_t wi = 0; wi < bits.size(); ++wi)
+      for (uint64_t w = bits[wi]; w; w &= w - 1) outv.push_back(static_cast<int32_t>(wi * 64 + std::countr_zero(w)));
+  };
+  out.vertices.reserve(m);
+  scan_bits(vbits_, out.vertices);
+  for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
   FactorUpdateStats& st = out.stats;
   st.n = n;
   st.n_sub = m;
@@ -344,15 +527,10 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   }
 
   // (1) Restricted structure, in L's order.
-  out.A_sub = submatrix_from_map(A, out.vertices, local);
   gcol.reserve(m);
-  if (static_cast<int64_t>(m) * 16 < n) {
-    for (const int32_t v : out.vertices) gcol.push_back(S.iperm[v]);
-    std::sort(gcol.begin(), gcol.end());
-  } else {  // a scan of the permutation beats sorting
-    for (int32_t k = 0; k < n; ++k)
-      if (local[S.perm[k]] >= 0) gcol.push_back(k);
-  }
+  scan_bits(cbits_, gcol);
+  for (const int32_t c : gcol) cbits_[static_cast<size_t>(c) >> 6] = 0;
+  reset.cbits_clear = true;
   for (int32_t c = 0; c < m; ++c) {
     col_new[gcol[c]] = c;
     ++in_super_[S.col_to_super[gcol[c]]];
@@ -378,7 +556,13 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   Sp->super_parent = R.parent;
   Sp->super_row_ptr = R.row_ptr;
   Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
-  complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
+  if (ap_ptr_.empty()) {
+    out.A_sub = submatrix_from_map(A, out.vertices, local);
+    complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
+  } else {
+    complete_structure(*Sp);
+    assemble_from_factor_order(*Sp, R.gcol, col_new, ap_ptr_, ap_row_, ap_val_, out.vertices, opt.vertex_ids, out.A_sub);
+  }
   st.supernodes = Sp->ns;
   st.nnz_stored = Sp->nnz_L;
   st.values_stored = Sp->super_value_ptr[Sp->ns];
@@ -485,7 +669,11 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   const auto t3 = clock::now();
   if (st.supernodes_recomputed > 0) {
     try {
-      factorize_supernodes(F, out.A_sub, smark, ctx);
+      if (ap_ptr_.empty()) {
+        factorize_supernodes(F, out.A_sub, smark, ctx);
+      } else {  // Sp was built here from A_sub, whose entries were checked finite on the way
+        factorize_supernodes_unchecked(F, out.A_sub, smark, ctx);
+      }
     } catch (const Error& e) {
       if (e.code() != ErrorCode::Numerical) throw;
       rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);

@@ -74,9 +74,14 @@ struct FactorUpdate {
 // between calls); use one per thread for concurrent updates.
 class FactorUpdater {
  public:
-  // index_rows: build the row -> supernode index (O(structure of L), once) that
-  // makes marking cost depend on I; without it each update scans L's rows,
-  // which is cheaper for a single update (update_factor uses false).
+  // index_rows: prepare for many updates (O(nnz(A) + structure of L), once):
+  // the row -> supernode index that makes marking cost depend on I, and a copy
+  // of A in L's column order, from which A_II and its assembly map are read
+  // with the locality of the factor (a patch is a few contiguous subtrees)
+  // instead of gathering I's columns all over A. A's values are then copied
+  // here, once: later changes to A are not seen. Without it each update scans
+  // L's rows and gathers A_II from A, which is cheaper for a single update
+  // (update_factor uses false).
   FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt = {},
                 bool index_rows = true);
   // Factor of A_II. I: indices of A in any order. Throws Error(BadUsage) for an
@@ -94,6 +99,12 @@ class FactorUpdater {
   std::vector<int32_t> in_super_;  // ns: columns of I in each global supernode (between calls: all 0)
   std::vector<int64_t> below_ptr_;   // n + 1: per factor row, the supernodes holding it below their diagonal
   std::vector<int32_t> below_super_;
+  std::vector<uint64_t> vbits_, cbits_;  // n bits: I's vertices / factor columns, to sort I in O(m + n/64) (between calls: 0)
+  // A in factor numbering, lower (index_rows only): column c holds rows r >= c
+  // with their values; entry (r, c) is A(perm[r], perm[c]).
+  std::vector<int64_t> ap_ptr_;
+  std::vector<int32_t> ap_row_;
+  std::vector<double> ap_val_;
 };
 
 // One-shot form: FactorUpdater(L, A, opt).update(I, ctx).

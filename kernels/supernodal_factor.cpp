@@ -32,9 +32,12 @@ namespace locus {
 
 namespace {
 
+// Neither buffer needs zeros: rowmap is written for a supernode's rows before
+// they are read, and C is overwritten by each update (no zero-fill of sizes
+// that can reach megabytes per thread and per call).
 struct Workspace {
-  std::vector<int32_t> rowmap;  // global row -> local row in the current supernode
-  std::vector<double> update;   // dense update block C
+  std::vector<int32_t, DefaultInitAllocator<int32_t>> rowmap;  // global row -> local row in the current supernode
+  std::vector<double, DefaultInitAllocator<double>> update;    // dense update block C
 };
 
 class Factorizer {
@@ -320,6 +323,14 @@ void refactorize(NumericFactor& f, const CscMatrix& A, const RunContext& ctx) {
 void factorize_supernodes(NumericFactor& f, const CscMatrix& A, std::span<const uint8_t> refactor, const RunContext& ctx) {
   if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
   check_pattern(*f.symbolic, A);
+  factorize_supernodes_unchecked(f, A, refactor, ctx);
+}
+
+void factorize_supernodes_unchecked(NumericFactor& f, const CscMatrix& A, std::span<const uint8_t> refactor,
+                                    const RunContext& ctx) {
+  if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
+  if (A.ncols != f.symbolic->n || A.nnz() != f.symbolic->a_nnz || static_cast<int64_t>(A.values.size()) != A.nnz())
+    fail(ErrorCode::BadUsage, "factorize_supernodes: matrix size differs from the symbolic factor's");
   if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
     fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
                                   std::to_string(f.symbolic->ns) + " supernodes");

@@ -47,5 +47,11 @@ void refactorize(NumericFactor& f, const CscMatrix& lower, const RunContext& ctx
 // (complete_symbolic) must keep that order.
 void factorize_supernodes(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
                           const RunContext& ctx = {});
+// factorize_supernodes without the O(nnz(A)) checks of A against the symbolic
+// factor (pattern hash, finite values): for a caller that has just built the
+// symbolic factor from this very A and checked its values (the factor-once
+// update). Sizes are still checked.
+void factorize_supernodes_unchecked(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
+                                    const RunContext& ctx = {});
 
 }  // namespace locus
