@@ -21,6 +21,7 @@
 #include "kernels/factor_update.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -556,12 +557,12 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   Sp->super_parent = R.parent;
   Sp->super_row_ptr = R.row_ptr;
   Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
-  if (ap_ptr_.empty()) {
+  const bool prepared = !ap_ptr_.empty();
+  if (prepared) {
+    complete_structure(*Sp);  // A_II and its assembly map come below, next to marking and copying
+  } else {
     out.A_sub = submatrix_from_map(A, out.vertices, local);
     complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
-  } else {
-    complete_structure(*Sp);
-    assemble_from_factor_order(*Sp, R.gcol, col_new, ap_ptr_, ap_row_, ap_val_, out.vertices, opt.vertex_ids, out.A_sub);
   }
   st.supernodes = Sp->ns;
   st.nnz_stored = Sp->nnz_L;
@@ -569,100 +570,122 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   st.structure_s = seconds_since(t0);
   ctx.check_cancel();
 
-  // (2) Marking (§5.5): the changed columns are the ancestors, in the
-  // restricted etree, of the first I-row of every column of L_IB. All I-rows of
-  // a column lie on one etree path, so starting from every I-row of a B column
-  // marks the same set, and those rows are found from the I side in time that
-  // depends on I: an I column is such a row when a B column precedes it in its
-  // own supernode, or when a supernode with a B column has it among its rows
-  // below the diagonal block (below_super_ lists those per row).
-  const auto t1 = clock::now();
+  // Marking and copying do not read A_II: with the prepared updater they run
+  // beside its extraction (two independent outputs, so the result does not
+  // depend on the threads).
   std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
-  auto walk = [&](int32_t c) {
-    for (; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
-      cmark[c] = 1;
-      ++st.columns_marked;
-      smark[Sp->col_to_super[c]] = 1;
-    }
-  };
-  for (size_t q = 0; q < gcol.size();) {
-    const int32_t s = S.col_to_super[gcol[q]];
-    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-    size_t q2 = q;
-    while (q2 < gcol.size() && gcol[q2] < l) ++q2;
-    for (size_t t = q; t < q2; ++t)
-      if (gcol[t] - f > static_cast<int32_t>(t - q)) {  // fewer I columns than positions before it: a B column
-        walk(col_new[gcol[t]]);
-        break;  // the later columns of s are its ancestors
-      }
-    q = q2;
-  }
-  if (below_ptr_.empty()) {
-    // Without the row index (one-shot updates): scan the rows of every global
-    // supernode with a B column for its first I-row — O(structure of L), still
-    // cheaper than building the index for a single update.
-    for (int32_t s = 0; s < S.ns; ++s) {
-      if (in_super_[s] == S.ncols(s)) continue;  // no column of s is in B
-      const int64_t r0 = S.super_row_ptr[s] + S.ncols(s);
-      for (int64_t t = r0; t < S.super_row_ptr[s + 1]; ++t)
-        if (col_new[S.super_rows[t]] >= 0) {
-          walk(col_new[S.super_rows[t]]);
-          break;  // its later I-rows are ancestors of this one
-        }
-    }
-  }
-  for (const int32_t c : gcol) {
-    if (below_ptr_.empty() || cmark[col_new[c]]) continue;
-    for (int64_t p = below_ptr_[c]; p < below_ptr_[c + 1]; ++p) {
-      const int32_t d = below_super_[p];
-      if (in_super_[d] < S.ncols(d)) {
-        walk(col_new[c]);
-        break;
-      }
-    }
-  }
-  for (int32_t s = 0; s < Sp->ns; ++s)
-    if (smark[s]) {
-      ++st.supernodes_recomputed;
-      st.columns_recomputed += Sp->ncols(s);
-      st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
-    }
-  st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
-  st.mark_s = seconds_since(t1);
-  ctx.check_cancel();
-
-  // (3) Copy the unmarked supernodes' restricted blocks from L.
-  const auto t2 = clock::now();
   NumericFactor& F = out.factor;
-  F.symbolic = Sp;
-  F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
-  auto copy_range = [&](int32_t s0, int32_t s1) {
-    for (int32_t s = s0; s < s1; ++s) {
-      if (smark[s]) continue;
-      const int32_t gs = R.gsuper[s];
-      const int64_t gm = S.nrows(gs);
-      const double* src = L.block(gs);
-      double* dst = F.block(s);
-      const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
-      const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
-      for (int32_t j = 0; j < k; ++j) {
-        const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
-        double* dc = dst + static_cast<int64_t>(j) * mr;
-        for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
-        for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+  auto mark_and_copy = [&] {
+    // (2) Marking (§5.5): the changed columns are the ancestors, in the
+    // restricted etree, of the first I-row of every column of L_IB. All I-rows of
+    // a column lie on one etree path, so starting from every I-row of a B column
+    // marks the same set, and those rows are found from the I side in time that
+    // depends on I: an I column is such a row when a B column precedes it in its
+    // own supernode, or when a supernode with a B column has it among its rows
+    // below the diagonal block (below_super_ lists those per row).
+    const auto t1 = clock::now();
+    auto walk = [&](int32_t c) {
+      for (; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
+        cmark[c] = 1;
+        ++st.columns_marked;
+        smark[Sp->col_to_super[c]] = 1;
+      }
+    };
+    for (size_t q = 0; q < gcol.size();) {
+      const int32_t s = S.col_to_super[gcol[q]];
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      size_t q2 = q;
+      while (q2 < gcol.size() && gcol[q2] < l) ++q2;
+      for (size_t t = q; t < q2; ++t)
+        if (gcol[t] - f > static_cast<int32_t>(t - q)) {  // fewer I columns than positions before it: a B column
+          walk(col_new[gcol[t]]);
+          break;  // the later columns of s are its ancestors
+        }
+      q = q2;
+    }
+    if (below_ptr_.empty()) {
+      // Without the row index (one-shot updates): scan the rows of every global
+      // supernode with a B column for its first I-row — O(structure of L), still
+      // cheaper than building the index for a single update.
+      for (int32_t s = 0; s < S.ns; ++s) {
+        if (in_super_[s] == S.ncols(s)) continue;  // no column of s is in B
+        const int64_t r0 = S.super_row_ptr[s] + S.ncols(s);
+        for (int64_t t = r0; t < S.super_row_ptr[s + 1]; ++t)
+          if (col_new[S.super_rows[t]] >= 0) {
+            walk(col_new[S.super_rows[t]]);
+            break;  // its later I-rows are ancestors of this one
+          }
       }
     }
+    for (const int32_t c : gcol) {
+      if (below_ptr_.empty() || cmark[col_new[c]]) continue;
+      for (int64_t p = below_ptr_[c]; p < below_ptr_[c + 1]; ++p) {
+        const int32_t d = below_super_[p];
+        if (in_super_[d] < S.ncols(d)) {
+          walk(col_new[c]);
+          break;
+        }
+      }
+    }
+    for (int32_t s = 0; s < Sp->ns; ++s)
+      if (smark[s]) {
+        ++st.supernodes_recomputed;
+        st.columns_recomputed += Sp->ncols(s);
+        st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+      }
+    st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
+    st.mark_s = seconds_since(t1);
+    ctx.check_cancel();
+
+    // (3) Copy the unmarked supernodes' restricted blocks from L.
+    const auto t2 = clock::now();
+    F.symbolic = Sp;
+    F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
+    auto copy_range = [&](int32_t s0, int32_t s1) {
+      for (int32_t s = s0; s < s1; ++s) {
+        if (smark[s]) continue;
+        const int32_t gs = R.gsuper[s];
+        const int64_t gm = S.nrows(gs);
+        const double* src = L.block(gs);
+        double* dst = F.block(s);
+        const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
+        const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
+        for (int32_t j = 0; j < k; ++j) {
+          const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
+          double* dc = dst + static_cast<int64_t>(j) * mr;
+          for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
+          for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+        }
+      }
+    };
+    // Threads only pay off for large copies (a gather, memory-bound).
+    if (st.values_stored - st.values_recomputed < (int64_t{1} << 22)) {
+      copy_range(0, Sp->ns);
+    } else {
+      in_arena(ctx, [&](int) {
+        tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64),
+                          [&](const tbb::blocked_range<int32_t>& rg) { copy_range(rg.begin(), rg.end()); });
+      });
+    }
+    st.copy_s = seconds_since(t2);
   };
-  // Threads only pay off for large copies (a gather, memory-bound).
-  if (st.values_stored - st.values_recomputed < (int64_t{1} << 22)) {
-    copy_range(0, Sp->ns);
+  if (prepared) {
+    auto assemble = [&] {
+      const auto ta = clock::now();
+      assemble_from_factor_order(*Sp, R.gcol, col_new, ap_ptr_, ap_row_, ap_val_, out.vertices, opt.vertex_ids,
+                                 out.A_sub);
+      st.structure_s += seconds_since(ta);
+    };
+    const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+    if (threads >= 2) {
+      in_arena(ctx, [&](int) { tbb::parallel_invoke(assemble, mark_and_copy); });
+    } else {
+      assemble();
+      mark_and_copy();
+    }
   } else {
-    in_arena(ctx, [&](int) {
-      tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64),
-                        [&](const tbb::blocked_range<int32_t>& rg) { copy_range(rg.begin(), rg.end()); });
-    });
+    mark_and_copy();
   }
-  st.copy_s = seconds_since(t2);
   ctx.check_cancel();
 
   // (4) Recompute the marked supernodes (left-looking, skipping the others).

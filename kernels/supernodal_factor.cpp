@@ -270,6 +270,15 @@ class Factorizer {
     // target columns are contiguous runs; the general path uses the row map.
     const int32_t* rmap = w.rowmap.data();
     double* base = Ls - static_cast<int64_t>(f - sf) * m;  // column sf of the supernode
+    const int32_t r0 = rmap[rd[p1]];
+    if (rmap[rd[md - 1]] - r0 == mm - 1) {  // d's rows are consecutive rows of s: same subtractions, vectorizable
+      for (int jj = 0; jj < kk; ++jj) {
+        double* dst = base + static_cast<int64_t>(rd[p1 + jj] - sf) * m + r0;
+        const double* src = C + static_cast<int64_t>(jj) * mm;
+        for (int ii = jj; ii < mm; ++ii) dst[ii] -= src[ii];
+      }
+      return;
+    }
     for (int jj = 0; jj < kk; ++jj) {
       double* dst = base + static_cast<int64_t>(rd[p1 + jj] - sf) * m;
       const double* src = C + static_cast<int64_t>(jj) * mm;
