@@ -307,6 +307,7 @@ struct CentroidScratch {
   HeatBatch batch;
   std::vector<double> dense;  // n, zero between uses
   std::vector<int32_t> cells, touched;
+  std::vector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
   std::vector<double> weights;
 };
 
@@ -545,35 +546,45 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       solve_heat_batch(Hc, hb);
       msg->kept = hb.count();
       const int32_t cnt = hb.count();
+      // Hottest vertex of every lane in one pass: largest heat, smallest id on ties (deterministic).
+      int32_t best[kLanes];
+      double bv[kLanes];
+      std::fill(best, best + kLanes, -1);
+      std::fill(bv, bv + kLanes, -INFINITY);
+      for (int32_t k = 0; k < cnt; ++k) {
+        const double* row = hb.values.data() + static_cast<size_t>(k) * kLanes;
+        const int32_t id = hb.id(k);
+        for (int l = 0; l < kLanes; ++l)
+          if (row[l] > bv[l] || (row[l] == bv[l] && id < best[l])) {
+            bv[l] = row[l];
+            best[l] = id;
+          }
+      }
+      // Positions of the kept vertices in the solution (localized): the fits read
+      // their rings through it (-1 = not kept, heat zero).
+      if (local && opt.refine) {
+        if (cs.pos.size() != static_cast<size_t>(n)) cs.pos.assign(n, -1);
+        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = k;
+      }
       for (int l = 0; l < msg->lanes; ++l) {
         const int32_t c = msg->cells[l];
         if (cells.offsets[c + 1] == cells.offsets[c]) {
           msg->result[l].hottest = -1;  // empty cell: the site stays
           continue;
         }
-        // Hottest vertex: largest heat, smallest id on ties (deterministic).
-        int32_t best = -1;
-        double bv = -INFINITY;
-        for (int32_t k = 0; k < cnt; ++k) {
-          const double val = hb.values[static_cast<size_t>(k) * kLanes + l];
-          if (val > bv || (val == bv && hb.id(k) < best)) {
-            bv = val;
-            best = hb.id(k);
-          }
-        }
         if (!opt.refine) {
-          msg->result[l].hottest = best;
-          msg->result[l].point = vertex_point(best);
-          continue;
-        }
-        for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = hb.values[static_cast<size_t>(k) * kLanes + l];
-        msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best, opt.fit_rings);
-        if (local) {
-          for (int32_t k = 0; k < cnt; ++k) cs.dense[hb.id(k)] = 0.0;
+          msg->result[l].hottest = best[l];
+          msg->result[l].point = vertex_point(best[l]);
+        } else if (local) {
+          msg->result[l] = refine_heat_maximum(m, geo, hb.values, cs.pos, l, best[l], opt.fit_rings);
         } else {
-          std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
+          for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
+          msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best[l], opt.fit_rings);
         }
       }
+      if (local && opt.refine)
+        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = -1;
+      if (!local) std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
       return msg;
     };
     int64_t fallback = 0;

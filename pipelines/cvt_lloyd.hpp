@@ -8,11 +8,18 @@
 // cotan weights, lumped masses and h of the lifted mesh come from its 6-D edge
 // lengths (cotan_from_lengths below), so cells and centroids follow the metric
 // that also measures normal variation (thesis: lambda = 0.05).
-// iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve,
-// sites batched in Morton order of their positions; (2) per cell, the heat of the
-// cell's indicator and its hottest point, refined by the quadratic fit (a oneTBB
-// flow graph: an unlimited function_node solves batches of 8 cells, a serial node
-// stores each centroid in its cell's slot; the new sites are read in cell order).
+// iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve;
+// (2) batches of 8 neighbouring cells (breadth-first patches of the cell adjacency
+// graph, seeded in Morton order of the sites); per cell, its source (the split
+// triangles of the cell, computed inside the cell's own task from its vertex stars:
+// voronoi_cell_partition.hpp accumulate_cell_load), the heat of that source and its
+// hottest point, refined by the quadratic fit (a oneTBB flow graph: an unlimited
+// function_node solves batches of 8 cells, a serial node stores each centroid in its
+// cell's slot; the new sites are read in cell order). The next labels use the same
+// batches and kept sets (the sites are these cells' centroids).
+// Per-iteration work outside the per-cell tasks, all O(n) but single cheap passes:
+// the labels' top-K arrays and argmax, the cell lists and cell adjacency (one pass
+// over the edges), the Morton order and the batch patches (O(sites)).
 // Centroid refinement: the quadratic is fitted on fit_rings rings of the hottest
 // vertex (1 as in the thesis; 2 averages the piecewise-linear heat and makes the
 // centroid jump less when the hottest vertex changes). Measured on armadillo (26k
@@ -20,9 +27,9 @@
 // dual angle 48.6 deg with t = h^2 and one ring, 49.8 with t = 4h^2 and two rings,
 // 50.0 with centroids at t = 2h^2 on top (t_centroid_factor); defaults stay the thesis's.
 // Localized solver (default): every solve is the approximate selective solve
-// restricted to the union of the cell, its neighbour cells and their neighbours
-// (from the previous labels; before the first labels, the vertices within a
-// Dijkstra radius of init_radius * sqrt(area / (pi N)) of the site). The full
+// restricted to the union over the batch of the cells, their neighbour cells and
+// their neighbours (from the latest labels; before the first labels, the vertices
+// within a Dijkstra radius of init_radius * sqrt(area / (pi N)) of each site). The full
 // solver does the same arithmetic with full solves, for comparison.
 // After the last iteration the labels of the final sites are computed once more,
 // so `label` and `sites` belong together.

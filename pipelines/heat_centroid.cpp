@@ -65,14 +65,14 @@ Eigen::Vector3d closest_barycentric(const Eigen::Vector2d& q, const Eigen::Vecto
 
 }  // namespace
 
-HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
-                                 int32_t c, int rings) {
+namespace {
+
+// heat(v): the heat at vertex v (any vertex the fit may read).
+template <class Heat>
+HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& heat, int32_t c, int rings) {
   HeatCentroid r;
   r.hottest = c;
   r.point = vertex_point(c);
-  if (c < 0 || c >= g.n || heat.size() != static_cast<size_t>(g.n))
-    fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex or heat vector size");
-  if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
   // Fit points: c and its `rings` rings; one ring more while that gives fewer than 6
   // values (six coefficients; boundary corners can have tiny rings).
   std::vector<int32_t> pts{c};
@@ -103,13 +103,13 @@ HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::
   double radius = 0;
   for (int32_t v : pts) radius = std::max(radius, project(v).norm());
   if (!(radius > 0)) return r;
-  const double hc = heat[c];
+  const double hc = heat(c);
   Eigen::MatrixXd A(pts.size(), 6);
   Eigen::VectorXd b(pts.size());
   for (size_t k = 0; k < pts.size(); ++k) {
     const Eigen::Vector2d q = project(pts[k]) / radius;
     A.row(k) << 1, q[0], q[1], q[0] * q[0], q[0] * q[1], q[1] * q[1];
-    b[k] = heat[pts[k]] - hc;
+    b[k] = heat(pts[k]) - hc;
   }
   const Eigen::VectorXd co = A.colPivHouseholderQr().solve(b);
   if (!co.allFinite()) return r;
@@ -133,6 +133,28 @@ HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::
   }
   r.refined = r.point.face >= 0;
   return r;
+}
+
+}  // namespace
+
+HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
+                                 int32_t c, int rings) {
+  if (c < 0 || c >= g.n || heat.size() != static_cast<size_t>(g.n))
+    fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex or heat vector size");
+  if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
+  return refine_impl(m, g, [&](int32_t v) { return heat[v]; }, c, rings);
+}
+
+HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> values8,
+                                 std::span<const int32_t> pos, int lane, int32_t c, int rings) {
+  if (c < 0 || c >= g.n || pos.size() != static_cast<size_t>(g.n) || lane < 0 || lane >= kLanes ||
+      pos[c] < 0 || values8.size() % kLanes != 0)
+    fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex, lane or position map");
+  if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
+  return refine_impl(
+      m, g,
+      [&](int32_t v) { return pos[v] >= 0 ? values8[static_cast<size_t>(pos[v]) * kLanes + lane] : 0.0; }, c,
+      rings);
 }
 
 HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const CentroidGeometry& g,

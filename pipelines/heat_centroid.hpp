@@ -47,6 +47,12 @@ struct HeatCentroid {
 // piecewise-linear heat over a wider patch).
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
                                  int32_t hottest, int rings = 1);
+// The same reading lane `lane` of an 8-lane solution kept at some vertices:
+// heat(v) = values8[pos[v] * 8 + lane] where pos[v] >= 0, zero elsewhere (pos has
+// one entry per vertex; the hottest vertex must be kept). Lets a localized caller
+// refine all 8 lanes of a batch without scattering each lane into a dense vector.
+HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> values8,
+                                 std::span<const int32_t> pos, int lane, int32_t hottest, int rings = 1);
 
 // One-shot: full solve of the cell indicator, hottest vertex, refinement (if `refine`).
 // `cell` lists vertex ids (non-empty, valid).

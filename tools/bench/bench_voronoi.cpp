@@ -12,7 +12,8 @@
 // M - h^2 L and the same random initial sites (--seed); per-iteration wall time
 // and process CPU time (between consecutive iteration reports; the first
 // iteration, whose neighbourhoods are Dijkstra balls, is left out), medians and
-// the full/local ratios, and the load average before and after.
+// the full/local ratios, and the load average before and after. --rounds R
+// alternates the solvers R times and takes the medians over all rounds.
 #include <time.h>
 
 #include <cmath>
@@ -157,6 +158,7 @@ struct CvtSpeedOptions {
   int32_t sites = 1000;
   int32_t iterations = 6;
   std::string solvers = "local,full";
+  int32_t rounds = 1;
 };
 
 double process_cpu_s() {
@@ -188,8 +190,13 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
   std::vector<std::string> solvers;
   if (o.solvers != "full") solvers.push_back("local");
   if (o.solvers != "local") solvers.push_back("full");
+  if (o.rounds < 1) fail(ErrorCode::BadUsage, "cvt-speed: --rounds must be at least 1");
   double wall[2] = {0, 0}, cpu[2] = {0, 0};
-  for (size_t k = 0; k < solvers.size(); ++k) {
+  // Per solver, the iteration times of every round (rounds alternate local and full,
+  // so a change in the machine's load hits both alike).
+  std::vector<double> wall_all[2], cpu_all[2];
+  for (int32_t round = 0; round < o.rounds; ++round) {
+    for (size_t k = 0; k < solvers.size(); ++k) {
     LloydOptions lo;
     lo.iterations = o.iterations;
     lo.prepared = &H;
@@ -204,17 +211,20 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
     for (size_t i = 1; i < marks.size(); ++i) cpu_it.push_back(marks[i] - marks[i - 1]);
     const CvtQuality q = cvt_quality(m, r.label, r.sites);
     const int slot = solvers[k] == "full" ? 1 : 0;
-    wall[slot] = cli::median(wall_it);
-    cpu[slot] = cli::median(cpu_it);
+    wall_all[slot].insert(wall_all[slot].end(), wall_it.begin(), wall_it.end());
+    cpu_all[slot].insert(cpu_all[slot].end(), cpu_it.begin(), cpu_it.end());
+    wall[slot] = cli::median(wall_all[slot]);
+    cpu[slot] = cli::median(cpu_all[slot]);
     j[solvers[k]] = {{"iter_s", wall[slot]},
                      {"iter_cpu_s", cpu[slot]},
-                     {"iter_s_all", r.iter_s},
-                     {"iter_cpu_s_all", cpu_it},
+                     {"iter_s_all", wall_all[slot]},
+                     {"iter_cpu_s_all", cpu_all[slot]},
                      {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
                                   {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
                      {"mean_kept_fraction", r.mean_kept_fraction},
                      {"mean_angle_deg", q.mean_angle_deg},
                      {"min_angle_deg", q.min_angle_deg}};
+    }
   }
   if (solvers.size() == 2) {
     j["ratio_wall"] = wall[0] > 0 ? wall[1] / wall[0] : 0.0;
@@ -242,6 +252,8 @@ void register_voronoi_bench(cli::CommandTable& table) {
   capp->add_option("--sites", c->sites, "Number of sites (default 1000)");
   capp->add_option("--iters", c->iterations, "Lloyd iterations per solver (default 6; the first is not timed)");
   capp->add_option("--solvers", c->solvers, "local,full (default), local or full");
+  capp->add_option("--rounds", c->rounds,
+                   "Alternating rounds of the solvers (default 1); medians over the timed iterations of all rounds");
 }
 
 }  // namespace locus::bench
