@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -221,4 +222,86 @@ TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 20 an
       CHECK(var <= (ns == 20 ? 2e-6 : 2e-8));
     }
   }
+}
+
+namespace {
+
+// Oracle for the sphere: the geodesic CVT of the sphere by Lloyd on a Fibonacci
+// lattice of `points` equal-weight quadrature points (the geodesic Voronoi cell of a
+// point is its nearest site in R^3; the centroid is the normalized mean of the cell's
+// points). Sites are unit vectors (updated in place); returns the cell areas as
+// fractions of the sphere.
+std::vector<double> exact_sphere_lloyd(std::vector<std::array<double, 3>>& site, int iterations, int32_t points) {
+  const size_t ns = site.size();
+  std::vector<std::array<double, 3>> p(points);
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  for (int32_t i = 0; i < points; ++i) {
+    const double z = 1 - (2.0 * i + 1) / points, r = std::sqrt(1 - z * z);
+    p[i] = {r * std::cos(golden * i), r * std::sin(golden * i), z};
+  }
+  std::vector<double> area(ns);
+  for (int it = 0; it <= iterations; ++it) {
+    std::vector<std::array<double, 3>> sum(ns, {0, 0, 0});
+    std::vector<int64_t> count(ns, 0);
+    for (const auto& q : p) {
+      size_t best = 0;
+      double bd = -2;
+      for (size_t s = 0; s < ns; ++s) {
+        const double d = q[0] * site[s][0] + q[1] * site[s][1] + q[2] * site[s][2];
+        if (d > bd) {
+          bd = d;
+          best = s;
+        }
+      }
+      for (int c = 0; c < 3; ++c) sum[best][c] += q[c];
+      ++count[best];
+    }
+    for (size_t s = 0; s < ns; ++s) area[s] = static_cast<double>(count[s]) / points;
+    if (it == iterations) break;  // areas of the cells of the final sites
+    for (size_t s = 0; s < ns; ++s) {
+      const double l = std::sqrt(sum[s][0] * sum[s][0] + sum[s][1] * sum[s][1] + sum[s][2] * sum[s][2]);
+      if (l > 0) site[s] = {sum[s][0] / l, sum[s][1] / l, sum[s][2] / l};
+    }
+  }
+  return area;
+}
+
+}  // namespace
+
+// Why the 20-site target of the stress test above is not met: the exact geodesic CVT
+// of the sphere with 20 sites does not have equal cells (pentagons and hexagons), and
+// its own area variance is above 2e-6. Same initial sites, 100 Lloyd iterations each;
+// the heat CVT's variance is checked against the exact CVT's (not against a fixed
+// number), and both are printed. Takes a few seconds (quadrature), hence skipped.
+TEST_CASE("cvt study: sphere, 20 sites: heat-CVT cell-area variance vs the exact geodesic CVT" *
+          doctest::test_suite("stress") * doctest::skip()) {
+  const Mesh m = scaled_to_unit_area(make_icosphere(5));
+  LloydOptions o;
+  o.sites = 20;
+  o.iterations = 100;
+  const std::vector<SurfacePoint> init = random_surface_points(m, o.sites, 1);
+  const LloydResult r = cvt_lloyd(m, init, o, {});
+  double cv = 0, var = 0;
+  cell_area_spread(r.cell_area, cv, var);
+  std::vector<std::array<double, 3>> site;
+  for (const SurfacePoint& p : init) {
+    const auto x = surface_point_position(m, p);
+    const double l = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    site.push_back({x[0] / l, x[1] / l, x[2] / l});
+  }
+  const std::vector<double> exact = exact_sphere_lloyd(site, 100, 400000);
+  double ecv = 0, evar = 0;
+  cell_area_spread(exact, ecv, evar);
+  MESSAGE("sphere 20 sites: heat CVT area variance " << var << " (cv " << cv << "), exact geodesic CVT " << evar
+                                                     << " (cv " << ecv << ")");
+  CHECK(evar > 2e-6);            // the issue's bound is below the exact CVT's own spread
+  CHECK(var < 1.5 * evar);       // the heat CVT is as even as the exact one
+  // Same configuration: the sorted cell areas agree within a few percent of the mean area.
+  std::vector<double> a = r.cell_area, b = exact;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  double worst = 0;
+  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]) / (1.0 / o.sites));
+  MESSAGE("largest difference of sorted cell areas: " << worst << " of the mean area");
+  CHECK(worst < 0.05);
 }
