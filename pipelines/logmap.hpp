@@ -3,8 +3,9 @@
 //
 // For a centre i and a patch P: the heat h_k = A^{-1} e_k from i and from each
 // one-ring neighbour k of i, all in one exact subset solve (support
-// S = {i} ∪ N(i), wanted P ∪ ring(P)) processed 8 lanes at a time
-// (solve_planned8; valence > 7 runs more batches over the same plan). By
+// S = {i} ∪ N(i), wanted P ∪ ring(P)) whose lanes (|S| rounded up to a
+// multiple of 8, at most 32 per pass: kernels/solve_wide.hpp) share one read
+// of every supernode of the plan; more sources take further passes. By
 // symmetry of A, (h_k)_j = (h_j)_k: these |S| solves give, for every j in P,
 // the heat from j at i and at i's neighbours, i.e. everything the gradient of
 // h_j at i needs. That gradient, taken in the triangles around i, projected
@@ -82,6 +83,20 @@
 // to cancel the h^2 / t term of the decay rate) did not help (vertex 13:
 // 1.29e-2 against 1.23e-2). The error falls with t (level 6: 2.7e-3 at 2 h^2,
 // 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
+//
+// Where the "plain §6.5 implementation, E_a 1.1e-3 on icospheres" comes
+// from (session 4, full solves, no corrections, radius 0.5, t = h^2): it is the
+// thesis estimator (HeatAverage) at vertex 0, an icosahedron corner (valence 5,
+// a symmetric star): 1.10e-3 at level 6 (h = 0.019), 1.08e-3 at level 7. At
+// generic vertices the same estimator gives 3.3e-3 to 6.4e-3 (level 6: mean of
+// 5 centres 5.3e-3; level 7: 4.5e-3), and over the 10 random centres of
+// `logmap-accuracy icosphere:7` 4.28e-3. The error hardly falls from level 6
+// to level 7 (t = h^2 keeps h^2 / t fixed, so the lattice anisotropy stays),
+// and at the corner the log estimators are worse than the plain one (3.2e-3:
+// the convexity bias of grad h there happens to cancel part of the
+// anisotropy). No estimator we have reaches 2e-3 over random centres at
+// t = h^2 (best: two-ring + Star 2.87e-3, default 3.04e-3); the default stays
+// Auto + Ring + recentre, which meets the random-point sphere target.
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
