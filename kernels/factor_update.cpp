@@ -419,6 +419,7 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
   col_new_.assign(n, -1);
   in_super_.assign(S.ns, 0);
   vbits_.assign((static_cast<size_t>(n) + 63) / 64, 0);
+  vrank_.assign(vbits_.size(), 0);
   cbits_.assign(vbits_.size(), 0);
   if (!index_rows) return;
   // A in factor numbering, lower: each entry goes to column min(iperm) (counting sort).
@@ -481,7 +482,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
       const int32_t n = static_cast<int32_t>(u.local_.size());
       for (const int32_t v : I)
         if (v >= 0 && v < n) {
-          u.local_[v] = -1;
+          if (u.ap_ptr_.empty()) u.local_[v] = -1;  // only the one-shot path fills the map
           u.vbits_[static_cast<size_t>(v) >> 6] = 0;
           if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
         }
@@ -510,7 +511,21 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   };
   out.vertices.reserve(m);
   scan_bits(vbits_, out.vertices);
-  for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
+  const bool prepared = !ap_ptr_.empty();
+  // Local index of a vertex of I = its rank in the bit set: a popcount over a
+  // prefix table of n/64 entries, which stays in cache where the n-sized map
+  // (random in vertex order) does not. The gather of A_II from A (one-shot
+  // path) still uses the map.
+  for (size_t wi = 0, r = 0; wi < vbits_.size(); ++wi) {
+    vrank_[wi] = static_cast<int32_t>(r);
+    r += static_cast<size_t>(std::popcount(vbits_[wi]));
+  }
+  auto local_of = [&](int32_t v) {
+    const size_t wi = static_cast<size_t>(v) >> 6;
+    return vrank_[wi] + std::popcount(vbits_[wi] & ((uint64_t{1} << (v & 63)) - 1));
+  };
+  if (!prepared)
+    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
   FactorUpdateStats& st = out.stats;
   st.n = n;
   st.n_sub = m;
@@ -546,7 +561,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   Sp->perm.resize(m);
   Sp->iperm.resize(m);
   for (int32_t c = 0; c < m; ++c) {
-    Sp->perm[c] = local[S.perm[R.gcol[c]]];
+    Sp->perm[c] = local_of(S.perm[R.gcol[c]]);
     Sp->iperm[Sp->perm[c]] = c;
   }
   Sp->ns = R.ns;
@@ -557,7 +572,6 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   Sp->super_parent = R.parent;
   Sp->super_row_ptr = R.row_ptr;
   Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
-  const bool prepared = !ap_ptr_.empty();
   if (prepared) {
     complete_structure(*Sp);  // A_II and its assembly map come below, next to marking and copying
   } else {

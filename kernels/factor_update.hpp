@@ -100,6 +100,7 @@ class FactorUpdater {
   std::vector<int64_t> below_ptr_;   // n + 1: per factor row, the supernodes holding it below their diagonal
   std::vector<int32_t> below_super_;
   std::vector<uint64_t> vbits_, cbits_;  // n bits: I's vertices / factor columns, to sort I in O(m + n/64) (between calls: 0)
+  std::vector<int32_t> vrank_;           // n/64: set bits of vbits_ before each word (local index by rank)
   // A in factor numbering, lower (index_rows only): column c holds rows r >= c
   // with their values; entry (r, c) is A(perm[r], perm[c]).
   std::vector<int64_t> ap_ptr_;
