@@ -197,33 +197,33 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
   std::vector<double> wall_all[2], cpu_all[2];
   for (int32_t round = 0; round < o.rounds; ++round) {
     for (size_t k = 0; k < solvers.size(); ++k) {
-    LloydOptions lo;
-    lo.iterations = o.iterations;
-    lo.prepared = &H;
-    lo.solver = solvers[k] == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
-    std::vector<double> marks;  // process CPU time at the end of each iteration (reported on this thread)
-    RunContext run = ctx;
-    run.progress = [&marks](double, std::string_view phase) {
-      if (phase == "lloyd") marks.push_back(process_cpu_s());
-    };
-    const LloydResult r = cvt_lloyd(m, init, lo, run);
-    std::vector<double> cpu_it, wall_it(r.iter_s.begin() + 1, r.iter_s.end());
-    for (size_t i = 1; i < marks.size(); ++i) cpu_it.push_back(marks[i] - marks[i - 1]);
-    const CvtQuality q = cvt_quality(m, r.label, r.sites);
-    const int slot = solvers[k] == "full" ? 1 : 0;
-    wall_all[slot].insert(wall_all[slot].end(), wall_it.begin(), wall_it.end());
-    cpu_all[slot].insert(cpu_all[slot].end(), cpu_it.begin(), cpu_it.end());
-    wall[slot] = cli::median(wall_all[slot]);
-    cpu[slot] = cli::median(cpu_all[slot]);
-    j[solvers[k]] = {{"iter_s", wall[slot]},
-                     {"iter_cpu_s", cpu[slot]},
-                     {"iter_s_all", wall_all[slot]},
-                     {"iter_cpu_s_all", cpu_all[slot]},
-                     {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
-                                  {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
-                     {"mean_kept_fraction", r.mean_kept_fraction},
-                     {"mean_angle_deg", q.mean_angle_deg},
-                     {"min_angle_deg", q.min_angle_deg}};
+      LloydOptions lo;
+      lo.iterations = o.iterations;
+      lo.prepared = &H;
+      lo.solver = solvers[k] == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
+      std::vector<double> marks;  // process CPU time at the end of each iteration (reported on this thread)
+      RunContext run = ctx;
+      run.progress = [&marks](double, std::string_view phase) {
+        if (phase == "lloyd") marks.push_back(process_cpu_s());
+      };
+      const LloydResult r = cvt_lloyd(m, init, lo, run);
+      std::vector<double> cpu_it, wall_it(r.iter_s.begin() + 1, r.iter_s.end());
+      for (size_t i = 1; i < marks.size(); ++i) cpu_it.push_back(marks[i] - marks[i - 1]);
+      const CvtQuality q = cvt_quality(m, r.label, r.sites);
+      const int slot = solvers[k] == "full" ? 1 : 0;
+      wall_all[slot].insert(wall_all[slot].end(), wall_it.begin(), wall_it.end());
+      cpu_all[slot].insert(cpu_all[slot].end(), cpu_it.begin(), cpu_it.end());
+      wall[slot] = cli::median(wall_all[slot]);
+      cpu[slot] = cli::median(cpu_all[slot]);
+      j[solvers[k]] = {{"iter_s", wall[slot]},
+                       {"iter_cpu_s", cpu[slot]},
+                       {"iter_s_all", wall_all[slot]},
+                       {"iter_cpu_s_all", cpu_all[slot]},
+                       {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
+                                    {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
+                       {"mean_kept_fraction", r.mean_kept_fraction},
+                       {"mean_angle_deg", q.mean_angle_deg},
+                       {"min_angle_deg", q.min_angle_deg}};
     }
   }
   if (solvers.size() == 2) {
