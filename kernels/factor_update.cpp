@@ -664,11 +664,19 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
         double* dst = F.block(s);
         const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
         const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
+        // Kept rows that are one run of the global rows (a supernode inside the
+        // patch) are copied as runs, the others gathered.
+        const bool run = rp[mr - 1] - rp[0] == mr - 1;
         for (int32_t j = 0; j < k; ++j) {
           const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
           double* dc = dst + static_cast<int64_t>(j) * mr;
           for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
-          for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+          if (run) {
+            const double* sr = sc + rp[0];
+            for (int32_t t = j; t < mr; ++t) dc[t] = sr[t];
+          } else {
+            for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+          }
         }
       }
     };
