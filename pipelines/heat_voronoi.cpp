@@ -323,10 +323,11 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
   V.label.assign(n, -1);
   for (int32_t v = 0; v < n; ++v) V.label[v] = V.top_site[static_cast<size_t>(v) * kVoronoiTopK];
   // Breadth-first fallback for vertices no batch reached (localized mode only).
-  std::vector<int32_t> queue;
-  for (int32_t v = 0; v < n; ++v)
-    if (V.label[v] >= 0) queue.push_back(v);
-  if (static_cast<int32_t>(queue.size()) < n) {
+  const bool all_reached = std::find(V.label.begin(), V.label.end(), -1) == V.label.end();
+  if (!all_reached) {
+    std::vector<int32_t> queue;
+    for (int32_t v = 0; v < n; ++v)
+      if (V.label[v] >= 0) queue.push_back(v);
     const Adjacency adj = vertex_adjacency(m);
     for (size_t q = 0; q < queue.size(); ++q) {
       const int32_t v = queue[q];
