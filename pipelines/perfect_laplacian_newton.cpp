@@ -148,7 +148,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   rescale(0.0);
 
   // Per iterated edge (index into act): gradient, preconditioner, CG vectors.
-  std::vector<double> g(na), Minv(na), bar(na), x(na), r(na), zr(na), p(na), Ap(na), d(na), wt(ne);
+  std::vector<double> lam(na, -1.0), g(na), Minv(na), bar(na), x(na), r(na), zr(na), p(na), Ap(na), d(na), wt(ne);
   Coords y, z;
   for (int k = 0; k < dims; ++k) y[k].assign(static_cast<size_t>(nv), 0.0);
   // Ap = -∇²Ψ_τ p: one solve with the current factor, plus the barrier's τ / ω².
@@ -178,6 +178,11 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   std::vector<double> later_s;
   double gnorm_first = -1;
   double mu = opt.newton_barrier_start;
+  // CG steps per iteration: newton_cg_max, fewer on large problems so that an
+  // iteration's solves stay within a few factorizations' cost.
+  const int cg_max = static_cast<int>(std::clamp<int64_t>(
+      opt.newton_cg_work / static_cast<int64_t>(std::max<size_t>(na, 1)), opt.newton_cg_min, opt.newton_cg_max));
+  const double mu_end = opt.newton_barrier_end;
   for (int k = 1; k <= opt.max_iterations; ++k) {
     ctx.check_cancel();
     const auto t_iter = Clock::now();
@@ -192,7 +197,14 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
     for (size_t i = 0; i < na; ++i) {
       const int32_t e = act[i];
       g[i] = 0.5 * l2[e] - h * c[e] + tau / om[e];
-      bar[i] = tau / (om[e] * om[e]);
+      // Primal-dual: the barrier's curvature is λ_e / ω_e with the multiplier λ_e
+      // of ω_e >= 0 kept as its own variable (λ ω = τ on the central path). After
+      // τ drops, λ still carries the old multiplier and the step takes a vanishing
+      // weight straight to its new central value (the primal τ / ω² would
+      // overshoot below 0 and the step would be cut short).
+      if (lam[i] < 0) lam[i] = tau / om[e];
+      lam[i] = std::clamp(lam[i], 1e-2 * tau / om[e], 1e2 * tau / om[e]);
+      bar[i] = lam[i] / om[e];
       // M = diag(||e||² / ω) bounds -∇²E (and is the plain update's scaling).
       Minv[i] = 1.0 / (std::max(l2[e], 1e-12 * c[e]) / om[e] + bar[i]);
       gnorm += Minv[i] * g[i] * g[i];
@@ -211,7 +223,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
       rz += r[i] * zr[i];
     }
     const double rz_stop = eta * eta * rz;
-    for (int it = 0; it < opt.newton_cg_max && rz > 0; ++it) {
+    for (int it = 0; it < cg_max && rz > 0; ++it) {
       hessian_product(p, Ap);
       double pAp = 0;
       for (size_t i = 0; i < na; ++i) pAp += p[i] * Ap[i];
@@ -236,7 +248,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
     // Line search on Ψ_τ from the longest step that keeps every weight above
     // newton_min_ratio of itself; should the Newton direction fail, the
     // M-preconditioned gradient step (the plain update plus the barrier).
-    bool accepted = false, first_trial = false;
+    bool accepted = false, first_trial = false, first_pass = false;
     double Et = 0, St = 0, t_taken = 0;
     const double psi = (scale_free ? E - 0.5 * S * S : E - 0.5 * S) + tau * log_barrier(om);
     const double psi_tol = 1e-12 * (std::abs(E) + (scale_free ? 0.5 * S * S : 0.5 * S) + std::abs(psi));
@@ -263,14 +275,26 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
           accepted = true;
           fscale = 1.0;
           first_trial = pass == 0 && trial == 0 && tmax >= 0.5;
+          first_pass = pass == 0;
           t_taken = t;
         }
       }
     }
     if (!accepted) {  // no ascent at all: rounding level; keep ω^(k-1)
-      R.converged = R.last_change_rel < opt.eps && mu <= opt.newton_barrier_end;
+      R.converged = R.last_change_rel < opt.eps && mu <= mu_end;
       if (k == 1) R.first_iter_s = seconds_since(t_first);
       break;
+    }
+    // Dual step: λ + dλ with dλ = τ / ω - λ - (λ / ω) dω (linearized λ ω = τ),
+    // as far as it stays positive.
+    {
+      const bool newton_dir = t_taken > 0 && first_pass;
+      for (size_t i = 0; i < na; ++i) {
+        const int32_t e = act[i];
+        const double dw = wt[e] - om[e];
+        const double target = newton_dir ? tau / om[e] - bar[i] * dw : tau / wt[e];
+        lam[i] = target > 0 ? target : 0.5 * lam[i];
+      }
     }
     om.swap(wt);
     E = Et;
@@ -294,13 +318,13 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
     else
       later_s.push_back(seconds_since(t_iter));
     ctx.report(static_cast<double>(k) / opt.max_iterations, "perfect Laplacian iterations");
-    const bool at_end = mu <= opt.newton_barrier_end;
+    const bool at_end = mu <= mu_end;
     if (first_trial && at_end && change_rel < opt.eps) {
       R.converged = true;
       break;
     }
     // Follow the central path: a full Newton step lowers the barrier.
-    if (first_trial) mu = std::max(opt.newton_barrier_end, mu * opt.newton_barrier_factor);
+    if (first_trial) mu = std::max(mu_end, mu * opt.newton_barrier_factor);
   }
 
   // Weights that vanished along the central path (<= newton_zero_rel · max) are
