@@ -584,9 +584,9 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   st.structure_s = seconds_since(t0);
   ctx.check_cancel();
 
-  // Marking and copying do not read A_II: with the prepared updater they run
-  // beside its extraction (two independent outputs, so the result does not
-  // depend on the threads).
+  // Marking, copying and (with the prepared updater) the recomputation do not
+  // read A_II: they run beside its extraction (independent outputs, so the
+  // result does not depend on the threads).
   std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
   NumericFactor& F = out.factor;
   auto mark_and_copy = [&] {
@@ -698,27 +698,61 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
                                  out.A_sub);
       st.structure_s += seconds_since(ta);
     };
+    // The recomputed supernodes are assembled straight from the copy of A in
+    // factor order (the same entries A_II's map would place), so that they
+    // need not wait for A_II.
+    const SupernodeAssembler direct = [&](int32_t s, int32_t c0, int32_t c1, double* block, const int32_t* rowmap) {
+      const int32_t f = Sp->super_first_col[s], nr = Sp->nrows(s);
+      for (int32_t c = f + c0; c < f + c1; ++c) {
+        const int32_t gc = R.gcol[c];
+        double* col = block + static_cast<int64_t>(c - f) * nr;
+        for (int64_t p = ap_ptr_[gc]; p < ap_ptr_[gc + 1]; ++p) {
+          const int32_t r = col_new[ap_row_[p]];
+          if (r < 0) continue;
+          const double v = ap_val_[p];
+          if (!std::isfinite(v)) {  // as A_II's extraction reports it (whichever comes first)
+            auto nm = [&](int32_t x) {
+              const int32_t a = Sp->perm[x];
+              return std::to_string(opt.vertex_ids.empty() ? out.vertices[a] : opt.vertex_ids[out.vertices[a]]);
+            };
+            const bool r_after = Sp->perm[r] > Sp->perm[c];
+            fail(ErrorCode::Numerical, "submatrix entry of vertices " + nm(r_after ? r : c) + " and " +
+                                           nm(r_after ? c : r) + " is not finite");
+          }
+          col[rowmap[r]] = v;
+        }
+      }
+    };
+    auto mark_copy_factor = [&] {
+      mark_and_copy();
+      const auto t3 = clock::now();
+      if (st.supernodes_recomputed > 0) {
+        try {
+          factorize_supernodes_assembled(F, smark, direct, ctx);
+        } catch (const Error& e) {
+          if (e.code() != ErrorCode::Numerical || std::string(e.what()).find("not finite") != std::string::npos) throw;
+          rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);
+        }
+      }
+      st.factor_s = seconds_since(t3);
+    };
     const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
     if (threads >= 2) {
-      in_arena(ctx, [&](int) { tbb::parallel_invoke(assemble, mark_and_copy); });
+      in_arena(ctx, [&](int) { tbb::parallel_invoke(assemble, mark_copy_factor); });
     } else {
+      mark_copy_factor();
       assemble();
-      mark_and_copy();
     }
-  } else {
-    mark_and_copy();
+    return out;
   }
+  mark_and_copy();
   ctx.check_cancel();
 
   // (4) Recompute the marked supernodes (left-looking, skipping the others).
   const auto t3 = clock::now();
   if (st.supernodes_recomputed > 0) {
     try {
-      if (ap_ptr_.empty()) {
-        factorize_supernodes(F, out.A_sub, smark, ctx);
-      } else {  // Sp was built here from A_sub, whose entries were checked finite on the way
-        factorize_supernodes_unchecked(F, out.A_sub, smark, ctx);
-      }
+      factorize_supernodes(F, out.A_sub, smark, ctx);
     } catch (const Error& e) {
       if (e.code() != ErrorCode::Numerical) throw;
       rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);

@@ -42,8 +42,9 @@ struct Workspace {
 
 class Factorizer {
  public:
-  Factorizer(NumericFactor& f, const CscMatrix& A, const RunContext& ctx, const uint8_t* only = nullptr)
-      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx), only_(only),
+  Factorizer(NumericFactor& f, const CscMatrix* A, const RunContext& ctx, const uint8_t* only = nullptr,
+             const SupernodeAssembler* assemble = nullptr)
+      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx), only_(only), assemble_(assemble),
         ws_([this] {
           Workspace w;
           w.rowmap.resize(S_.n);
@@ -137,8 +138,13 @@ class Factorizer {
     const int32_t* rows = S_.super_rows.data() + S_.super_row_ptr[s];
     double* Ls = F_.values.data() + S_.super_value_ptr[s];
     std::memset(Ls, 0, sizeof(double) * static_cast<size_t>(m) * k);
-    for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q) Ls[S_.a_dst[q] - S_.super_value_ptr[s]] = A_.values[S_.a_src[q]];
     for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
+    if (assemble_) {
+      (*assemble_)(s, 0, k, Ls, w.rowmap.data());
+    } else {
+      for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q)
+        Ls[S_.a_dst[q] - S_.super_value_ptr[s]] = A_->values[S_.a_src[q]];
+    }
 
     for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u) apply_update(S_.update_from[u], f, k, m, Ls, w);
 
@@ -190,11 +196,15 @@ class Factorizer {
       Workspace& w = ws_.local();
       const int32_t c0 = b * kBlock, c1 = std::min(k, c0 + kBlock);
       std::memset(Ls + static_cast<int64_t>(c0) * m, 0, sizeof(double) * static_cast<size_t>(m) * (c1 - c0));
-      for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q) {
-        const int64_t off = S_.a_dst[q] - S_.super_value_ptr[s];
-        if (off >= static_cast<int64_t>(c0) * m && off < static_cast<int64_t>(c1) * m) Ls[off] = A_.values[S_.a_src[q]];
-      }
       for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
+      if (assemble_) {
+        (*assemble_)(s, c0, c1, Ls, w.rowmap.data());
+      } else {
+        for (int64_t q = S_.a_super_ptr[s]; q < S_.a_super_ptr[s + 1]; ++q) {
+          const int64_t off = S_.a_dst[q] - S_.super_value_ptr[s];
+          if (off >= static_cast<int64_t>(c0) * m && off < static_cast<int64_t>(c1) * m) Ls[off] = A_->values[S_.a_src[q]];
+        }
+      }
       for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u) {
         ctx_.check_cancel();  // a root supernode alone can take seconds: stay within ~100 ms of a cancel
         apply_update(S_.update_from[u], f + c0, c1 - c0, m, Ls + static_cast<int64_t>(c0) * m, w, f);
@@ -288,9 +298,10 @@ class Factorizer {
 
   NumericFactor& F_;
   const SymbolicFactor& S_;
-  const CscMatrix& A_;
+  const CscMatrix* A_;  // assembled through the symbolic factor's map unless assemble_ is set
   const RunContext& ctx_;
   const uint8_t* only_;  // if set, factor only supernodes with only_[s] != 0
+  const SupernodeAssembler* assemble_;
   tbb::enumerable_thread_specific<Workspace> ws_;
   std::vector<double> work_;
   std::vector<int32_t> first_desc_, child_ptr_, children_;
@@ -318,7 +329,7 @@ NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const Cs
   NumericFactor f;
   f.symbolic = std::move(symbolic);
   f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
-  Factorizer(f, A, ctx).run();
+  Factorizer(f, &A, ctx).run();
   return f;
 }
 
@@ -326,26 +337,29 @@ void refactorize(NumericFactor& f, const CscMatrix& A, const RunContext& ctx) {
   if (!f.symbolic) fail(ErrorCode::BadUsage, "refactorize: factor has no symbolic part");
   check_pattern(*f.symbolic, A);
   f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
-  Factorizer(f, A, ctx).run();
+  Factorizer(f, &A, ctx).run();
 }
 
 void factorize_supernodes(NumericFactor& f, const CscMatrix& A, std::span<const uint8_t> refactor, const RunContext& ctx) {
   if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
   check_pattern(*f.symbolic, A);
-  factorize_supernodes_unchecked(f, A, refactor, ctx);
-}
-
-void factorize_supernodes_unchecked(NumericFactor& f, const CscMatrix& A, std::span<const uint8_t> refactor,
-                                    const RunContext& ctx) {
-  if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
-  if (A.ncols != f.symbolic->n || A.nnz() != f.symbolic->a_nnz || static_cast<int64_t>(A.values.size()) != A.nnz())
-    fail(ErrorCode::BadUsage, "factorize_supernodes: matrix size differs from the symbolic factor's");
   if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
     fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
                                   std::to_string(f.symbolic->ns) + " supernodes");
   if (static_cast<int64_t>(f.values.size()) != f.symbolic->super_value_ptr[f.symbolic->ns])
     fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
-  Factorizer(f, A, ctx, refactor.data()).run();
+  Factorizer(f, &A, ctx, refactor.data()).run();
+}
+
+void factorize_supernodes_assembled(NumericFactor& f, std::span<const uint8_t> refactor,
+                                    const SupernodeAssembler& assemble, const RunContext& ctx) {
+  if (!f.symbolic) fail(ErrorCode::BadUsage, "factorize_supernodes: factor has no symbolic part");
+  if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
+    fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
+                                  std::to_string(f.symbolic->ns) + " supernodes");
+  if (static_cast<int64_t>(f.values.size()) != f.symbolic->super_value_ptr[f.symbolic->ns])
+    fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+  Factorizer(f, nullptr, ctx, refactor.data(), &assemble).run();
 }
 
 }  // namespace locus

@@ -7,6 +7,7 @@
 // are summed is fixed, so the factor is bit-identical for any thread count.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -47,11 +48,17 @@ void refactorize(NumericFactor& f, const CscMatrix& lower, const RunContext& ctx
 // (complete_symbolic) must keep that order.
 void factorize_supernodes(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
                           const RunContext& ctx = {});
-// factorize_supernodes without the O(nnz(A)) checks of A against the symbolic
-// factor (pattern hash, finite values): for a caller that has just built the
-// symbolic factor from this very A and checked its values (the factor-once
-// update). Sizes are still checked.
-void factorize_supernodes_unchecked(NumericFactor& f, const CscMatrix& lower, std::span<const uint8_t> refactor,
-                                    const RunContext& ctx = {});
+// Fills columns [c0, c1) of supernode s's block (zeroed, column-major, ld
+// nrows(s); `block` points at its column 0) with the entries of A that the
+// symbolic factor's assembly map would place there; rowmap[r] is the position
+// of factor row r in s. May be called from several threads at once.
+using SupernodeAssembler = std::function<void(int32_t s, int32_t c0, int32_t c1, double* block, const int32_t* rowmap)>;
+// factorize_supernodes with A's entries supplied by `assemble` instead of a
+// matrix and the symbolic factor's assembly map: the factor-once update
+// assembles the recomputed supernodes from its own copy of A while it builds
+// A_II beside them. The arithmetic is the same as factorize_supernodes' for
+// the same entries.
+void factorize_supernodes_assembled(NumericFactor& f, std::span<const uint8_t> refactor,
+                                    const SupernodeAssembler& assemble, const RunContext& ctx = {});
 
 }  // namespace locus
