@@ -182,15 +182,27 @@ void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b) {
     return;
   }
   // Localized: the union support, one row of 8 right-hand side values per support vertex.
-  b.support_.assign(b.src_vertex.begin(), b.src_vertex.end());
-  std::sort(b.support_.begin(), b.support_.end());
-  b.support_.erase(std::unique(b.support_.begin(), b.support_.end()), b.support_.end());
-  b.rhs_.assign(b.support_.size() * kLanes, 0.0);
+  // Support in order of first occurrence (the plan takes any order), found through a
+  // position map instead of a sort: CVT centroid batches bring hundreds of sources.
+  if (b.spos_.size() != static_cast<size_t>(n)) b.spos_.assign(n, -1);
+  b.support_.clear();
+  b.rhs_.clear();
   for (int l = 0; l < lanes; ++l)
     for (int32_t k = b.src_offsets[l]; k < b.src_offsets[l + 1]; ++k) {
-      const size_t pos = std::lower_bound(b.support_.begin(), b.support_.end(), b.src_vertex[k]) - b.support_.begin();
-      b.rhs_[pos * kLanes + l] += b.src_weight[k];
+      const int32_t v = b.src_vertex[k];
+      if (v < 0 || v >= n) {
+        for (int32_t u : b.support_) b.spos_[u] = -1;
+        fail(ErrorCode::BadUsage, "heat batch: source vertex " + std::to_string(v) + " outside 0.." +
+                                      std::to_string(n - 1));
+      }
+      if (b.spos_[v] < 0) {
+        b.spos_[v] = static_cast<int32_t>(b.support_.size());
+        b.support_.push_back(v);
+        b.rhs_.resize(b.rhs_.size() + kLanes, 0.0);
+      }
+      b.rhs_[static_cast<size_t>(b.spos_[v]) * kLanes + l] += b.src_weight[k];
     }
+  for (int32_t u : b.support_) b.spos_[u] = -1;
   plan_selective_solve(*H.factor.symbolic, b.support_, b.kept, b.plan_, b.pws_);
   b.values.resize(b.kept.size() * kLanes);
   solve_selective8(H.factor, b.plan_, b.rhs_, b.values, b.ws_);

@@ -118,6 +118,7 @@ struct HeatBatch {
   std::vector<double> work_, rhs_;
   std::vector<int32_t> support_;
   std::vector<uint8_t> mark_;  // n, zero between uses
+  std::vector<int32_t> spos_;  // n, -1 between uses: position of a source vertex in support_
 };
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b);
 // Removes repeated ids from b.kept, keeping first occurrences in order (O(|kept|),
