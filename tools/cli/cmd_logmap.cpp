@@ -156,7 +156,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     j["t"] = heat->geodesic().time();
     j["h"] = heat->geodesic().mean_edge_length();
     j["sources"] = st.sources;
-    j["batches"] = st.batches;
+    j["batches"] = st.batches;  // groups of 8 lanes
+    j["passes"] = st.passes;    // wide solves over the plan (0 for heat-full)
     j["two_ring"] = st.two_ring;
     j["lattice"] = lo.lattice;
     j["recentre"] = lo.recentre;
