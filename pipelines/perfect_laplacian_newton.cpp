@@ -182,7 +182,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   // iteration's solves stay within a few factorizations' cost.
   const int cg_max = static_cast<int>(std::clamp<int64_t>(
       opt.newton_cg_work / static_cast<int64_t>(std::max<size_t>(na, 1)), opt.newton_cg_min, opt.newton_cg_max));
-  const double mu_end = opt.newton_barrier_end;
+  const double mu_end = scale_free ? opt.newton_barrier_end : opt.newton_barrier_end_rhs;
   for (int k = 1; k <= opt.max_iterations; ++k) {
     ctx.check_cancel();
     const auto t_iter = Clock::now();

@@ -1,6 +1,10 @@
-// `locus perfect-laplacian MESH [--planar] [--iters K] [--eps E] [--anderson M] [--no-active-set]
-//  [--noise A] -o out.obj --json`:
+// `locus perfect-laplacian MESH [--planar] [--iters K] [--eps E] [--method newton|multiplicative]
+//  [--anderson M] [--no-active-set] [--noise A] -o out.obj --json`:
 // Algorithm 1 of thesis chapter 2 (pipelines/perfect_laplacian) on a polygon mesh.
+// --method newton (default) reaches its steady state by the interior-point Newton
+// method of pipelines/perfect_laplacian_newton.hpp; multiplicative is the update
+// of eq. 2.8 with Anderson acceleration (--anderson) and the active set
+// (--no-active-set turns it off); those two options act on that method only.
 //
 // --noise A displaces every vertex by a seeded (--seed) random offset, uniform in
 // [-A h, A h] per coordinate (h the mean edge length), before Algorithm 1: the
@@ -19,13 +23,16 @@
 // (median of the later iterations), iter_ratio = iter_s / first_iter_s; the
 // active set of §2.3.3 (pipelines/weight_active_set.hpp): weights_at_floor
 // (exactly 0), weights_revived, kkt_rounds, kkt_violation (max log-length
-// excess of a zero-weight edge over the common ratio; <= 1e-4 when steady).
+// excess of a zero-weight edge over the common ratio; <= 1e-4 when steady);
+// method, factorizations (line-search trials included), hessian_products (Newton:
+// CG steps, one solve each).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
+#include <string>
 
 #include "kernels/mesh_topology.hpp"
 #include "pipelines/perfect_laplacian.hpp"
@@ -38,6 +45,7 @@ struct PerfectLaplacianCliOptions {
   bool planar = false;
   int iters = 1000;
   double eps = 1e-6;
+  std::string method = "newton";
   int anderson = 6;
   bool no_active_set = false;
   double noise = 0;
@@ -85,6 +93,8 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
   mo.iteration.eps = po.eps;
   mo.iteration.anderson_depth = po.anderson;
   mo.iteration.drop_decaying = !po.no_active_set;
+  mo.iteration.method =
+      po.method == "multiplicative" ? PerfectLaplacianMethod::multiplicative : PerfectLaplacianMethod::newton;
   Stopwatch sw;
   const MeshPerfectLaplacianResult R = perfect_laplacian(in.mesh, mo, ctx);
   const double total_s = sw.seconds();
@@ -121,6 +131,9 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
   j["mean_displacement_rel"] = R.mean_displacement_rel;
   j["align_scale"] = R.align_scale;
   j["anderson_depth"] = po.anderson;
+  j["method"] = po.method;
+  j["factorizations"] = r.factorizations;
+  j["hessian_products"] = r.hessian_products;
   j["order_s"] = r.order_s;
   j["analyze_s"] = r.analyze_s;
   j["first_iter_s"] = r.first_iter_s;
@@ -164,6 +177,9 @@ void register_perfect_laplacian_command(CommandTable& table) {
   app->add_option("--iters", po->iters, "Iteration cap (default 1000)")->check(CLI::Range(1, 1000000));
   app->add_option("--eps", po->eps, "Stop when no vertex moves more than eps * bbox diagonal (default 1e-6)")
       ->check(CLI::PositiveNumber);
+  app->add_option("--method", po->method,
+                  "newton (default: interior-point Newton on the concave dual) or multiplicative (eq. 2.8)")
+      ->check(CLI::IsMember({"newton", "multiplicative"}));
   app->add_option("--anderson", po->anderson, "Anderson acceleration depth, 0 = plain update (default 6)")
       ->check(CLI::Range(0, 50));
   app->add_option("--noise", po->noise,
