@@ -29,9 +29,6 @@
 // recomputation, which assembles its supernodes from the same copy of A.
 #include "kernels/factor_update.hpp"
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
@@ -55,23 +52,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// A large factor is a fresh mapping every update (glibc maps blocks over 32 MB
-// anew): its first touch costs one page fault per 4 KB page, tens of ms at
-// 416k vertices. Transparent huge pages (where the system leaves them to
-// madvise) cut the faults 512-fold; values and results are unaffected.
-void advise_huge_pages(void* p, size_t bytes) {
-#ifdef __linux__
-  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
-  if (bytes < 2 * kHuge) return;
-  const uintptr_t a = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
-  const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
-  if (b > a) madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);  // advice only: failure is harmless
-#else
-  (void)p;
-  (void)bytes;
-#endif
 }
 
 // Runs f inside an arena of the context's thread budget (TBB owns the threads).
@@ -685,7 +665,6 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
     const auto t2 = clock::now();
     F.symbolic = Sp;
     F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
-    advise_huge_pages(F.values.data(), F.values.size() * sizeof(double));
     auto copy_range = [&](int32_t s0, int32_t s1) {
       for (int32_t s = s0; s < s1; ++s) {
         if (smark[s]) continue;
