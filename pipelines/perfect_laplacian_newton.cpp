@@ -89,7 +89,13 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   std::vector<double> c(ne);  // ||ê_e||²
   for (size_t e = 0; e < ne; ++e) c[e] = P.target_length[e] * P.target_length[e];
   std::vector<double> om(ne, 1.0);  // raw weights ω (Algorithm 1 starts at 1)
-  if (!P.initial_weights.empty()) om = P.initial_weights;
+  if (!P.initial_weights.empty()) {
+    om = P.initial_weights;
+    for (size_t e = 0; e < ne; ++e)
+      if (!(om[e] > 0.0) || !std::isfinite(om[e]))
+        fail(ErrorCode::BadInput, "perfect Laplacian: initial weight of edge " + std::to_string(e) + " (" +
+                                      std::to_string(P.e0[e]) + ", " + std::to_string(P.e1[e]) + ") is not positive");
+  }
 
   std::vector<int32_t> uf;
   Coords zero_pos;

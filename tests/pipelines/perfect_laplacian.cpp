@@ -196,7 +196,14 @@ TEST_CASE("1000 random regular planar meshes reach a perfect Laplacian without m
                                          << worst_iters << ", max displacement " << worst_disp << ", equilibrium "
                                          << worst_eq << ", min weight " << min_w << ", displacement >= 1e-4: " << far);
   CHECK(far == 0);
+  // Issue #8's budget (30 s) is for the default (Release) suite: measured 1.6 s.
+  // The ASan+UBSan build runs the same arithmetic ~16x slower (measured 26 s), so
+  // it gets a proportionate bound instead of failing on instrumentation cost.
+#if defined(__SANITIZE_ADDRESS__)
+  CHECK(secs < 120.0);
+#else
   CHECK(secs < 30.0);
+#endif
 }
 
 TEST_CASE("randomly flipped triangulations: embeddings all the way, unmoved when regular") {
@@ -342,8 +349,8 @@ TEST_CASE("noisy closed icosphere converges") {
 }
 
 // Measurement, not a check (skipped by default; run with -tc='*study*' --no-skip):
-// planar polygon meshes with non-convex faces, Algorithm 1 with and without the
-// active set of §2.3.3. Environment variables override the active-set options
+// planar polygon meshes with non-convex faces, the multiplicative Algorithm 1
+// with and without the active set of §2.3.3, and the Newton method. Environment variables override the active-set options
 // (PL_WINDOW, PL_RATE, PL_FADE; PL_N meshes, PL_ITERS cap,
 // PL_ANDERSON depth).
 TEST_CASE("perfect Laplacian polygon-mesh convergence study" * doctest::skip()) {
@@ -366,6 +373,7 @@ TEST_CASE("perfect Laplacian polygon-mesh convergence study" * doctest::skip()) 
     for (int cap : caps) {
       MeshPerfectLaplacianOptions o;
       o.iteration.max_iterations = cap;
+      o.iteration.method = PerfectLaplacianMethod::multiplicative;
       o.iteration.eps = 1e-300;
       o.iteration.anderson_depth = static_cast<int>(env("PL_ANDERSON", 0));
       o.iteration.drop_decaying = env("PL_DROP", 0) > 0;
@@ -399,8 +407,9 @@ TEST_CASE("perfect Laplacian polygon-mesh convergence study" * doctest::skip()) 
     }
     return;
   }
-  for (int variant = 0; variant < 3; ++variant) {
+  for (int variant = 0; variant < 4; ++variant) {
     MeshPerfectLaplacianOptions o;
+    o.iteration.method = variant == 3 ? PerfectLaplacianMethod::newton : PerfectLaplacianMethod::multiplicative;
     o.iteration.max_iterations = static_cast<int>(env("PL_ITERS", 1000));
     o.iteration.anderson_depth = variant == 0 ? 0 : static_cast<int>(env("PL_ANDERSON", 6));
     o.iteration.drop_decaying = variant == 2;
@@ -447,7 +456,10 @@ TEST_CASE("perfect Laplacian polygon-mesh convergence study" * doctest::skip()) 
       worst_eq = std::max(worst_eq, equilibrium_residual(R, Coords{}, 2, boundary_flags(m)));
     }
     std::sort(iters.begin(), iters.end());
-    const std::string label = variant == 0 ? "plain" : variant == 1 ? "anderson" : "anderson+active set";
+    const std::string label = variant == 0   ? "plain"
+                              : variant == 1 ? "anderson"
+                              : variant == 2 ? "anderson+active set"
+                                             : "newton (interior point)";
     MESSAGE(label << ": " << converged << "/" << n << " converged (" << nonconvex_in << " non-convex inputs), iterations "
             << "median " << (iters.empty() ? 0 : iters[iters.size() / 2]) << " max " << max_it << " mean "
             << (converged ? static_cast<double>(total_it) / converged : 0.0) << "; non-convex results "
