@@ -20,13 +20,9 @@
 
 namespace locus {
 
-namespace {
+namespace perfect_laplacian_detail {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v) {
+double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
@@ -42,6 +38,16 @@ double bbox_diagonal(int dims, const Coords& p, size_t n) {
   }
   return std::sqrt(d2);
 }
+
+}  // namespace perfect_laplacian_detail
+
+namespace {
+
+using perfect_laplacian_detail::bbox_diagonal;
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 double edge_length(int dims, const Coords& p, int32_t a, int32_t b) {
   double s = 0;
@@ -283,7 +289,7 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   R.pos = std::move(V);
   R.weights = std::move(w);
   R.rhs_scale = rhs_scale;
-  R.iter_s = median_of(later_s);
+  R.iter_s = perfect_laplacian_detail::median(later_s);
   R.revived = aset.num_revived();
   R.kkt_violation = aset.num_dropped() > 0 ? aset.max_violation(g) : 0.0;
   weight_statistics(opt, R);

@@ -204,4 +204,11 @@ double align_similarity(int dims, const Coords& p, const Coords& q, Coords& out)
 // Integrated mean-curvature normal b = L_C x̂ of a polygon mesh (fan triangulation), see above.
 Coords integrated_mean_curvature_normal(const Mesh& m);
 
+// Helpers shared by the multiplicative and the Newton method (perfect_laplacian.cpp).
+namespace perfect_laplacian_detail {
+double median(std::vector<double> v);  // 0 for an empty list
+// Diagonal of the bounding box of the first n points of p in `dims` coordinates.
+double bbox_diagonal(int dims, const Coords& p, size_t n);
+}  // namespace perfect_laplacian_detail
+
 }  // namespace locus

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "pipelines/weight_active_set.hpp"
 
 namespace locus {
 
@@ -18,49 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double bbox_diagonal(int dims, const Coords& p) {
-  double d2 = 0;
-  for (int k = 0; k < dims; ++k) {
-    if (p[k].empty()) break;
-    const auto [lo, hi] = std::minmax_element(p[k].begin(), p[k].end());
-    d2 += (*hi - *lo) * (*hi - *lo);
-  }
-  return std::sqrt(d2);
-}
-
-// True when the edges with positive weight tie every free vertex to a fixed one:
-// then K is positive definite with the zero weights assembled as exact zeros.
-bool positive_edges_anchor(int32_t nv, const std::vector<int32_t>& e0, const std::vector<int32_t>& e1,
-                           const std::vector<uint8_t>& fixed, const std::vector<double>& w,
-                           std::vector<int32_t>& parent) {
-  parent.resize(static_cast<size_t>(nv) + 1);
-  for (int32_t v = 0; v <= nv; ++v) parent[v] = v;
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  auto unite = [&](int32_t a, int32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
-  for (int32_t v = 0; v < nv; ++v)
-    if (fixed[v]) unite(v, nv);
-  for (size_t e = 0; e < w.size(); ++e)
-    if (w[e] > 0.0) unite(e0[e], e1[e]);
-  const int32_t anchor = find(nv);
-  for (int32_t v = 0; v < nv; ++v)
-    if (find(v) != anchor) return false;
-  return true;
-}
 
 }  // namespace
 
@@ -105,7 +63,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   double E = 0, S = 0;
   auto evaluate = [&](const std::vector<double>& w, Coords& X, std::vector<double>& l2, double& e_out,
                       double& s_out) {
-    sys.set_weight_floor_rel(positive_edges_anchor(nv, P.e0, P.e1, P.fixed, w, uf) ? 0.0
+    sys.set_weight_floor_rel(edges_anchor_free_vertices(P.e0, P.e1, P.fixed, [&](size_t e) { return w[e] > 0.0; }, uf) ? 0.0
                                                                                    : opt.system.weight_floor_rel);
     sys.factor(w, ctx);
     sys.solve(dims, P.fixed_pos, P.b, 1.0, X);
@@ -307,7 +265,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
     S = St;
     rescale(tau);
 
-    const double diag = bbox_diagonal(dims, Vt);
+    const double diag = perfect_laplacian_detail::bbox_diagonal(dims, Vt, static_cast<size_t>(nv));
     double change = 0;
     for (int32_t v = 0; v < nv; ++v) {
       double s = 0;
@@ -383,7 +341,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   for (size_t e = 0; e < ne; ++e) R.weights[e] = norm > 0 ? om[e] / norm : 0.0;
   R.rhs_scale = norm > 0 ? 1.0 / norm : 1.0;
   R.pos = std::move(V);
-  R.iter_s = median_of(later_s);
+  R.iter_s = perfect_laplacian_detail::median(later_s);
   return R;
 }
 

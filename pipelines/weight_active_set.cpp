@@ -47,25 +47,9 @@ void WeightActiveSet::rebuild_active() {
       ++active_degree_[e0_[e]];
       ++active_degree_[e1_[e]];
     }
-  // Union-find over the active edges with every fixed vertex in one class.
-  std::vector<int32_t> parent(static_cast<size_t>(nv) + 1);
-  for (int32_t v = 0; v <= nv; ++v) parent[v] = v;
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  auto unite = [&](int32_t a, int32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
-  for (int32_t v = 0; v < nv; ++v)
-    if (fixed_[v]) unite(v, nv);
-  for (int32_t e : active_) unite(e0_[e], e1_[e]);
-  const int32_t anchor = find(nv);
-  anchored_ = true;
-  for (int32_t v = 0; v < nv && anchored_; ++v)
-    if (find(v) != anchor) anchored_ = false;
+  std::vector<int32_t> parent;
+  anchored_ = edges_anchor_free_vertices(e0_, e1_, fixed_,
+                                         [&](size_t e) { return state_[e] == WeightState::active; }, parent);
 }
 
 bool WeightActiveSet::exempt(size_t e) const {

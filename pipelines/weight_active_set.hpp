@@ -55,6 +55,7 @@
 // has no row for fixed vertices): they are "passive", never iterated, never
 // dropped.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -78,6 +79,35 @@ struct WeightActiveSetOptions {
   double kkt_tol = 1e-4;        // a dropped edge with g_e > kkt_tol at convergence comes back
   int max_drops = 3;            // per edge; after that it stays active for good
 };
+
+// True when the edges e with use(e) (of e0/e1, ne of them) tie every free vertex
+// to a fixed one: union-find with all fixed vertices in one class. Then an
+// embedding system assembled from those edges alone is positive definite.
+// parent: scratch, resized to nv + 1 (nv = fixed.size()).
+template <class UseEdge>
+bool edges_anchor_free_vertices(std::span<const int32_t> e0, std::span<const int32_t> e1,
+                                std::span<const uint8_t> fixed, UseEdge use, std::vector<int32_t>& parent) {
+  const int32_t nv = static_cast<int32_t>(fixed.size());
+  parent.resize(static_cast<size_t>(nv) + 1);
+  for (int32_t v = 0; v <= nv; ++v) parent[v] = v;
+  auto find = [&](int32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  auto unite = [&](int32_t a, int32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  for (int32_t v = 0; v < nv; ++v)
+    if (fixed[v]) unite(v, nv);
+  for (size_t e = 0; e < e0.size(); ++e)
+    if (use(e)) unite(e0[e], e1[e]);
+  const int32_t anchor = find(nv);
+  for (int32_t v = 0; v < nv; ++v)
+    if (find(v) != anchor) return false;
+  return true;
+}
 
 class WeightActiveSet {
  public:
