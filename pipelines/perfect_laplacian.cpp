@@ -39,6 +39,13 @@ double bbox_diagonal(int dims, const Coords& p, size_t n) {
   return std::sqrt(d2);
 }
 
+bool scale_free(const PerfectLaplacianProblem& P) {
+  for (int k = 0; k < P.dims; ++k)
+    for (double x : P.b[k])
+      if (x != 0.0) return false;
+  return true;
+}
+
 }  // namespace perfect_laplacian_detail
 
 namespace {
@@ -113,10 +120,7 @@ PerfectLaplacianResult run_perfect_laplacian(const PerfectLaplacianProblem& P, c
   // normalization), so that it vanishes at the steady state instead of drifting
   // by log μ^-1 per iteration. With b != 0 the raw weights carry the scale (see
   // the header) and the residual is the plain log ratio.
-  bool scale_free = true;
-  for (int k = 0; k < dims; ++k)
-    for (double x : P.b[k])
-      if (x != 0.0) scale_free = false;
+  const bool scale_free = perfect_laplacian_detail::scale_free(P);
   R.scale_free = scale_free;
 
   // ω^(0) = 1 (or the caller's). The state is the vector U of log raw weights;

@@ -209,6 +209,9 @@ namespace perfect_laplacian_detail {
 double median(std::vector<double> v);  // 0 for an empty list
 // Diagonal of the bounding box of the first n points of p in `dims` coordinates.
 double bbox_diagonal(int dims, const Coords& p, size_t n);
+// True when the right-hand side b is zero: the steady state then fixes the
+// weights only up to scale (§2.3.3).
+bool scale_free(const PerfectLaplacianProblem& P);
 }  // namespace perfect_laplacian_detail
 
 }  // namespace locus

@@ -33,10 +33,7 @@ PerfectLaplacianResult run_perfect_laplacian_newton(const PerfectLaplacianProble
   R.order_s = sys.order_s();
   R.analyze_s = sys.analyze_s();
 
-  bool scale_free = true;
-  for (int k = 0; k < dims; ++k)
-    for (double x : P.b[k])
-      if (x != 0.0) scale_free = false;
+  const bool scale_free = perfect_laplacian_detail::scale_free(P);
   R.scale_free = scale_free;
 
   // Iterated edges: those with a free end (both ends fixed: no row of eq. 2.4).

@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Sparse>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <random>
@@ -14,6 +15,16 @@
 #include "locus/sparse_matrix.hpp"
 
 namespace locus::test {
+
+// `count` distinct indices of 0..n-1 in random order (all of them if count >= n).
+inline std::vector<int32_t> random_set(int32_t n, int32_t count, std::mt19937_64& rng) {
+  std::vector<int32_t> all(n);
+  for (int32_t i = 0; i < n; ++i) all[i] = i;
+  std::shuffle(all.begin(), all.end(), rng);
+  all.resize(std::min(count, n));
+  return all;
+}
+
 
 // 5-point Laplacian of an nx x ny grid plus shift * I (SPD for shift > 0).
 inline CscMatrix grid_laplacian(int nx, int ny, double shift) {

@@ -21,13 +21,7 @@ using namespace locus;
 
 namespace {
 
-std::vector<int32_t> random_set(int32_t n, int32_t count, std::mt19937_64& rng) {
-  std::vector<int32_t> all(n);
-  for (int32_t i = 0; i < n; ++i) all[i] = i;
-  std::shuffle(all.begin(), all.end(), rng);
-  all.resize(std::min(count, n));
-  return all;
-}
+using test::random_set;
 
 using Llt = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
 
