@@ -1,11 +1,14 @@
 // Reach and ancestor sets of the supernodal etree (kernels/solve_plan.hpp).
 // Marking uses a small hash-free trick: walk parents until an already-visited
-// supernode, so each supernode of the result is visited once; then sort.
+// supernode, so each supernode of the result is visited once; then sort (or,
+// for large sets, read them off a bit set in ascending order: a log-map region
+// of 200k vertices has ~50k supernodes, whose sort cost more than the walk).
 // Approximate plans mark kept columns instead of sorting them (only their
 // supernodes are sorted) and derive the pruned forward list in one downward walk.
 #include "kernels/solve_plan.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <string>
 
 #include "locus/error.hpp"
@@ -21,18 +24,36 @@ void check_ids(const SymbolicFactor& S, std::span<const int32_t> ids, const char
                                     ", outside 0.." + std::to_string(S.n - 1));
 }
 
+// Ascending order of distinct supernode ids: a sort for small sets, a bit set
+// scan (ns / 64 words) once the set is large enough for that to be cheaper.
+void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t>& bits) {
+  const size_t words = (static_cast<size_t>(ns) + 63) / 64;
+  if (ids.size() < 256 || ids.size() * 8 < words) {
+    std::sort(ids.begin(), ids.end());
+    return;
+  }
+  bits.assign(words, 0);
+  for (int32_t s : ids) bits[static_cast<size_t>(s) >> 6] |= uint64_t{1} << (s & 63);
+  ids.clear();
+  for (size_t w = 0; w < words; ++w)
+    for (uint64_t b = bits[w]; b != 0; b &= b - 1) ids.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
+}
+
 // Supernodes on the paths from the given vertices to the root, ascending, into
-// `out`; `seen` is all zero on entry and on exit.
-void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::vector<uint8_t>& seen,
-                  std::vector<int32_t>& out) {
+// `out`; `seen` is all zero on entry and on exit. With `vsuper` (vertex ->
+// supernode) one lookup per vertex instead of two (iperm, then col_to_super).
+void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::span<const int32_t> vsuper,
+                  PlanWorkspace& ws, std::vector<int32_t>& out) {
+  std::vector<uint8_t>& seen = ws.seen;
   out.clear();
+  const bool direct = !vsuper.empty();
   for (int32_t v : ids)
-    for (int32_t s = S.col_to_super[S.iperm[v]]; s >= 0 && !seen[s]; s = S.super_parent[s]) {
+    for (int32_t s = direct ? vsuper[v] : S.col_to_super[S.iperm[v]]; s >= 0 && !seen[s]; s = S.super_parent[s]) {
       seen[s] = 1;
       out.push_back(s);
     }
   for (int32_t s : out) seen[s] = 0;
-  std::sort(out.begin(), out.end());
+  sort_supernodes(out, S.ns, ws.bits);
 }
 
 int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) {
@@ -42,7 +63,7 @@ int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) 
 }
 
 void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out, SolvePlan& p,
-               PlanWorkspace& ws) {
+               PlanWorkspace& ws, std::span<const int32_t> vsuper = {}) {
   check_ids(S, rhs, "right-hand side support");
   check_ids(S, out, "output set");
   if (ws.seen.size() != static_cast<size_t>(S.ns)) ws.seen.assign(static_cast<size_t>(S.ns), 0);
@@ -52,7 +73,7 @@ void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<
   p.forward_pruned.clear();
   p.rhs.assign(rhs.begin(), rhs.end());
   p.outputs.assign(out.begin(), out.end());
-  ancestors_of(S, rhs, ws.seen, p.forward);
+  ancestors_of(S, rhs, vsuper, ws, p.forward);
   p.forward_columns = columns_of(S, p.forward);
 }
 
@@ -76,9 +97,54 @@ void finish(const SymbolicFactor& S, SolvePlan& p) {
 
 void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> wanted,
                        SolvePlan& p, PlanWorkspace& ws) {
-  base_plan(S, rhs_support, wanted, p, ws);
-  ancestors_of(S, wanted, ws.seen, p.backward);
+  plan_subset_solve(S, {}, rhs_support, wanted, p, ws);
+}
+
+std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S) {
+  std::vector<int32_t> v(static_cast<size_t>(S.n));
+  for (int32_t i = 0; i < S.n; ++i) v[i] = S.col_to_super[S.iperm[i]];
+  return v;
+}
+
+void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_super,
+                       std::span<const int32_t> rhs_support, std::span<const int32_t> wanted, SolvePlan& p,
+                       PlanWorkspace& ws) {
+  if (!vertex_super.empty() && vertex_super.size() != static_cast<size_t>(S.n))
+    fail(ErrorCode::BadUsage, "solve plan: vertex -> supernode table has " + std::to_string(vertex_super.size()) +
+                                  " entries for " + std::to_string(S.n) + " vertices");
+  base_plan(S, rhs_support, wanted, p, ws, vertex_super);
+  ancestors_of(S, wanted, vertex_super, ws, p.backward);
   std::reverse(p.backward.begin(), p.backward.end());
+  finish(S, p);
+}
+
+namespace {
+bool is_prefix(std::span<const int32_t> a, const std::vector<int32_t>& b) {
+  return a.size() <= b.size() && std::equal(a.begin(), a.end(), b.begin());
+}
+}  // namespace
+
+void plan_subset_solve_within(const SymbolicFactor& S, const SolvePlan& cover, std::span<const int32_t> rhs_support,
+                              std::span<const int32_t> wanted, SolvePlan& p, PlanWorkspace& ws) {
+  if (&cover == &p) fail(ErrorCode::BadUsage, "solve plan: the covering plan and the result must differ");
+  if (cover.approximate || cover.n != S.n || !is_prefix(rhs_support, cover.outputs) ||
+      !is_prefix(wanted, cover.outputs)) {
+    plan_subset_solve(S, rhs_support, wanted, p, ws);
+    return;
+  }
+  // (Both are prefixes of cover.outputs, which were range-checked when it was made.)
+  p.n = S.n;
+  p.approximate = false;
+  p.kept_cols.clear();
+  p.forward_pruned.clear();
+  p.rhs.assign(rhs_support.begin(), rhs_support.end());
+  p.outputs.assign(wanted.begin(), wanted.end());
+  // cover.backward holds the ancestors of all of cover.outputs: the reach of
+  // the support and a superset of the wanted vertices' ancestors (exact: the
+  // extra supernodes feed no wanted entry).
+  p.forward.assign(cover.backward.rbegin(), cover.backward.rend());
+  p.forward_columns = cover.backward_columns;
+  p.backward.assign(cover.backward.begin(), cover.backward.end());
   finish(S, p);
 }
 

@@ -52,6 +52,7 @@ SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t>
 struct PlanWorkspace {
   std::vector<uint8_t> seen;
   std::vector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
+  std::vector<uint64_t> bits;     // ascending order of large supernode sets (scratch)
 };
 
 // The same plans written into a caller-owned plan (its vectors' capacity is
@@ -60,5 +61,23 @@ void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_sup
                        SolvePlan& plan, PlanWorkspace& ws);
 void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> kept,
                           SolvePlan& plan, PlanWorkspace& ws);
+
+// Supernode of every vertex (S.col_to_super[S.iperm[v]]), for the planner below:
+// a region of 20k-200k scattered vertices then costs one random lookup per
+// vertex instead of two.
+std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S);
+// plan_subset_solve with that table (empty: the two lookups); the same plan.
+void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_super,
+                       std::span<const int32_t> rhs_support, std::span<const int32_t> wanted, SolvePlan& plan,
+                       PlanWorkspace& ws);
+// Exact plan for a second solve over the vertices an exact plan `cover` already
+// returned (same symbolic factor; e.g. the heat method's Poisson step over the
+// heat step's region): when rhs_support and wanted are prefixes of
+// cover.outputs, its forward and backward sets are both cover.backward (the
+// ancestors of all of cover.outputs), found without walking the etree again;
+// the backward set may then hold supernodes no wanted entry needs, which only
+// costs their work, the wanted values are exact. Otherwise plan_subset_solve.
+void plan_subset_solve_within(const SymbolicFactor& S, const SolvePlan& cover, std::span<const int32_t> rhs_support,
+                              std::span<const int32_t> wanted, SolvePlan& plan, PlanWorkspace& ws);
 
 }  // namespace locus

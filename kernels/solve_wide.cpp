@@ -153,8 +153,11 @@ void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> 
   };
   for (int32_t s : plan.forward) forward_super<NB>(super(s), x);
   for (int32_t s : plan.backward) backward_super<NB>(super(s), x);
+  ws.out_rows.resize(plan.outputs.size());
+  for (size_t k = 0; k < plan.outputs.size(); ++k) ws.out_rows[k] = local[S.iperm[plan.outputs[k]]];
+  if (out.empty()) return;
   for (size_t k = 0; k < plan.outputs.size(); ++k) {
-    const double* r = x + static_cast<int64_t>(local[S.iperm[plan.outputs[k]]]) * W;
+    const double* r = x + static_cast<int64_t>(ws.out_rows[k]) * W;
     std::copy(r, r + W, out.begin() + static_cast<int64_t>(k) * W);
   }
 }
@@ -171,7 +174,7 @@ void solve_planned_wide(const NumericFactor& F, const SolvePlan& plan, int lanes
   if (rhs.size() != plan.rhs.size() * lanes)
     fail(ErrorCode::BadUsage, "wide solve: " + std::to_string(rhs.size()) + " right-hand side values for a support of " +
                                   std::to_string(plan.rhs.size()) + " x " + std::to_string(lanes) + " lanes");
-  if (out.size() != plan.outputs.size() * lanes)
+  if (!out.empty() && out.size() != plan.outputs.size() * lanes)
     fail(ErrorCode::BadUsage, "wide solve: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(plan.outputs.size()) + " x " + std::to_string(lanes) + " lanes");
   if (ws.local.size() != static_cast<size_t>(F.n())) ws.local.assign(static_cast<size_t>(F.n()), 0);

@@ -30,11 +30,15 @@ namespace locus {
 constexpr int kMaxWideLanes = 32;
 
 struct WideSolveWorkspace {
-  std::vector<int32_t> local;  // n: local row of a touched factor column (stale elsewhere, never read)
-  std::vector<double> x;       // touched columns x lanes
-  std::vector<int32_t> rows;   // local rows below one supernode's diagonal block
+  std::vector<int32_t> local;     // n: local row of a touched factor column (stale elsewhere, never read)
+  std::vector<double> x;          // touched columns x lanes (row r at x[r * lanes])
+  std::vector<int32_t> rows;      // local rows below one supernode's diagonal block
+  std::vector<int32_t> out_rows;  // after a solve: the row of x holding plan.outputs[k]
 };
 
+// `out` may be empty: the results then stay in ws.x (output k at row
+// ws.out_rows[k], lanes contiguous), for callers that read them in x's row
+// order (ascending factor columns: sequential) instead of gathering a copy.
 void solve_planned_wide(const NumericFactor& f, const SolvePlan& plan, int lanes, std::span<const double> rhs,
                         std::span<double> out, WideSolveWorkspace& ws);
 

@@ -60,6 +60,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/solve_plan.hpp"
 #include "kernels/solve_sparse.hpp"
 #include "kernels/supernodal_factor.hpp"
 #include "locus/mesh.hpp"
@@ -89,9 +90,12 @@ struct HeatGeodesicOptions {
 struct PatchRegion {
   int32_t patch_size = 0;
   std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
-  std::vector<int32_t> faces;      // faces with at least one patch vertex
+  std::vector<int32_t> faces;      // faces with at least one patch vertex, ascending
   std::vector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
   std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
+  std::vector<int32_t> order;      // the patch in ascending vertex order (scratch of build_region)
+  std::vector<uint64_t> bits;      // n bits, all zero between queries (scratch of build_region)
+  std::vector<uint64_t> face_bits;  // one bit per face, all zero between queries (scratch of build_region)
 };
 
 struct HeatGeodesicWorkspace {
@@ -100,6 +104,7 @@ struct HeatGeodesicWorkspace {
   PlanWorkspace plan_ws;
   PatchRegion region;
   std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
+  double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
 };
 
 // The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
@@ -151,10 +156,15 @@ class HeatGeodesic {
   void build_region(std::span<const int32_t> patch, PatchRegion& r) const;
   void release_region(PatchRegion& r) const;
   // From heat values at r.verts (h[k] at r.verts[k]) to distances at the patch,
-  // zero at r.verts[source_local].
+  // zero at r.verts[source_local]. `heat_plan`, when given, is the exact plan
+  // whose outputs were r.verts (the heat step's): the Poisson plan is then
+  // taken from its backward set instead of walking the etree again
+  // (kernels/solve_plan.hpp, plan_subset_solve_within).
   void distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
                           std::span<double> distance, HeatGeodesicWorkspace& ws,
-                          HeatGeodesicOptions::PoissonRhs rhs) const;
+                          HeatGeodesicOptions::PoissonRhs rhs, const SolvePlan* heat_plan = nullptr) const;
+  // Supernode of each vertex in the shared symbolic factor (for planning).
+  std::span<const int32_t> vertex_supernodes() const { return vertex_super_; }
   // From heat values at every vertex to distances at every vertex.
   void distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
                                HeatGeodesicWorkspace& ws) const;
@@ -171,6 +181,8 @@ class HeatGeodesic {
   // 3 per vertex-face entry (grad_.vf_faces order): that face's corners, so a
   // region walks each patch vertex's faces in one contiguous read.
   std::vector<int32_t> vf_corners_;
+  std::vector<int32_t> vertex_super_;  // n: supernode of each vertex in the heat factor (solve planning)
+  bool shared_symbolic_ = true;        // both factors have the same supernodes (plans carry over)
 };
 
 }  // namespace locus

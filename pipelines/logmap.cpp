@@ -2,6 +2,7 @@
 #include "pipelines/logmap.hpp"
 
 #include <algorithm>
+#include <ctime>
 #include <bit>
 #include <cstdint>
 #include <cmath>
@@ -22,6 +23,13 @@ namespace locus {
 namespace {
 
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Phase times are thread CPU time: other processes on a loaded machine do not inflate them.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 void check_outputs(const LogMapOutput& out, size_t np) {
   if (out.distance.size() != np || out.angle.size() != np || out.u.size() != np || out.v.size() != np)
@@ -365,71 +373,67 @@ void HeatLogMap::prepare_lattice(const double e1[3], const double e2[3], Lattice
   }
 }
 
-// heat[row * row_stride + k] = (h_k)_j for the patch vertex j = patch[p], row = rows[p] (row = p when rows is empty).
-// Patch vertices inside the two-ring stencil use the one-ring estimator: the
-// heat from them peaks inside the stencil, where no quadratic fits it.
-void HeatLogMap::angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
-                        std::span<const int32_t> rows, const LogMapOutput& out, const LogMapEstimator& est,
-                        LogMapStats& st, LogMapWorkspace& ws) const {
+// Pass 1 for one patch vertex p (vertex j = patch[p]) from its heat row f,
+// f[k] = (h_k)_j: the estimated gradient (ws.grad[3p], [3p + 1]) and whether
+// it is one of log h (ws.grad[3p + 2]; 0 for the centre and for HeatAverage
+// fallbacks: no recentre, no correction). Vertices inside the two-ring stencil
+// use the one-ring estimator: the heat from them peaks inside the stencil,
+// where no quadratic fits it. Callers may visit the patch in any order (the
+// localized query walks the solver's rows in memory order).
+void HeatLogMap::vertex_gradient(size_t p, int32_t j, int32_t centre, const double* f, double h_centre,
+                                 const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const {
   const size_t d = ws.sources.size();
   const bool use_log = est.angle != LogMapAngle::HeatAverage;
-  const bool two_ring = !ws.coef2.empty();
+  double gx = 0, gy = 0;
+  bool plain = !use_log;
+  if (j != centre) {
+    const double* c = !ws.coef2.empty() && !std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), j)
+                          ? ws.coef2.data()
+                          : ws.coef1.data();
+    if (use_log) {
+      double* lf = ws.logrow.data();
+      log_array(f, lf, d);
+      for (size_t k = 0; k < d; ++k) {
+        if (c[2 * k] == 0 && c[2 * k + 1] == 0) continue;
+        if (!(f[k] > 0.0)) {
+          plain = true;
+          ++st.angle_fallbacks;
+          gx = gy = 0;
+          break;
+        }
+        const double l = lf[k];
+        gx += c[2 * k] * l;
+        gy += c[2 * k + 1] * l;
+      }
+    }
+    if (plain)
+      for (size_t k = 0; k < d; ++k) {
+        gx += ws.coef1[2 * k] * f[k];
+        gy += ws.coef1[2 * k + 1] * f[k];
+      }
+  }
+  ws.grad[3 * p] = gx;
+  ws.grad[3 * p + 1] = gy;
+  // 1: usable for the corrections; 2: also beyond the near field (for recentre).
+  // The near field is told by the heat from the centre (e^-4 of its peak, about
+  // 4 edges at t = h^2), not by the distance: the localized and the full map
+  // must see the same set.
+  ws.grad[3 * p + 2] = plain || j == centre ? 0.0 : (f[0] < 0.0183 * h_centre ? 2.0 : 1.0);
+}
+
+void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
   ws.sorted_sources.assign(ws.sources.begin(), ws.sources.end());
   std::sort(ws.sorted_sources.begin(), ws.sorted_sources.end());
-  // Pass 1: the estimated gradient per patch vertex and whether it is one of
-  // log h (0 for the centre and for HeatAverage fallbacks: no recentre, no correction).
-  ws.grad.resize(3 * patch.size());
-  // The centre's own heat (h_i)_i: lane 0 of its row (rows are patch vertices).
-  double h_centre = 0;
-  for (size_t p = 0; p < patch.size(); ++p)
-    if (patch[p] == centre) h_centre = heat[(rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride];
-  // Logarithms of the rows, in bulk (log_array) when the rows are contiguous.
-  if (use_log) {
-    ws.logheat.resize(patch.size() * d);
-    if (rows.empty() && row_stride == static_cast<int64_t>(d)) log_array(heat, ws.logheat.data(), patch.size() * d);
-    else
-      for (size_t p = 0; p < patch.size(); ++p)
-        log_array(heat + (rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride, ws.logheat.data() + p * d, d);
-  }
-  for (size_t p = 0; p < patch.size(); ++p) {
-    double gx = 0, gy = 0;
-    bool plain = !use_log;
-    if (patch[p] != centre) {
-      const double* f = heat + (rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride;
-      const double* lf = use_log ? ws.logheat.data() + p * d : nullptr;
-      const double* c =
-          two_ring && !std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p])
-              ? ws.coef2.data()
-              : ws.coef1.data();
-      if (use_log) {
-        for (size_t k = 0; k < d; ++k) {
-          if (c[2 * k] == 0 && c[2 * k + 1] == 0) continue;
-          if (!(f[k] > 0.0)) {
-            plain = true;
-            ++st.angle_fallbacks;
-            gx = gy = 0;
-            break;
-          }
-          const double l = lf[k];
-          gx += c[2 * k] * l;
-          gy += c[2 * k + 1] * l;
-        }
-      }
-      if (plain)
-        for (size_t k = 0; k < d; ++k) {
-          gx += ws.coef1[2 * k] * f[k];
-          gy += ws.coef1[2 * k + 1] * f[k];
-        }
-    }
-    ws.grad[3 * p] = gx;
-    ws.grad[3 * p + 1] = gy;
-    // 1: usable for the corrections; 2: also beyond the near field (for recentre).
-    // The near field is told by the heat from the centre (e^-4 of its peak, about
-    // 4 edges at t = h^2), not by the distance: the localized and the full map
-    // must see the same set.
-    const double* f0 = heat + (rows.empty() ? static_cast<int64_t>(p) : rows[p]) * row_stride;
-    ws.grad[3 * p + 2] = plain || patch[p] == centre ? 0.0 : (f0[0] < 0.0183 * h_centre ? 2.0 : 1.0);
-  }
+  ws.logrow.resize(ws.sources.size());
+  ws.grad.resize(3 * patch_size);
+}
+
+// Pass 2, after every vertex_gradient of the patch and the distances: the
+// corrections and the polar-to-Cartesian output.
+void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
+                               LogMapStats& st, LogMapWorkspace& ws) const {
+  const bool use_log = est.angle != LogMapAngle::HeatAverage;
+  const bool two_ring = !ws.coef2.empty();
   // Recentre: far from the stencil, grad log h_j at i is k*(direction of j) plus
   // a part b that does not depend on j (the heat kernel's vertex-level factors
   // around i on irregular meshes). The k* lie on a closed convex curve around
@@ -516,15 +520,23 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     fail(ErrorCode::BadUsage, "centre " + std::to_string(centre) + " is not a vertex (the mesh has " +
                                   std::to_string(n) + " vertices)");
   check_outputs(out, patch.size());
+  double tick = thread_cpu_seconds();
+  auto lap = [&tick](double& phase) {
+    const double now = thread_cpu_seconds();
+    phase = now - tick;
+    tick = now;
+  };
   PatchRegion& r = ws.geo.region;
   geo_.build_region(patch, r);
   LogMapStats st;
+  lap(st.region_s);
   try {
     const int32_t cl = r.local[centre];
     if (cl < 0 || cl >= r.patch_size)
       fail(ErrorCode::BadUsage, "the centre vertex " + std::to_string(centre) + " is not in the patch");
     check_same_component(geo_, centre, patch);
     const LogMapEstimator est = prepare_centre(centre, estimator, ws);
+    lap(st.centre_s);
     st.two_ring = !ws.coef2.empty();
     const std::vector<int32_t>& S = ws.sources;
     const int32_t d = static_cast<int32_t>(S.size());
@@ -533,38 +545,74 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     st.batches = (d + kLanes - 1) / kLanes;
     st.region_size = static_cast<int32_t>(nloc);
     const NumericFactor& F = geo_.heat_factor();
-    plan_subset_solve(*F.symbolic, S, r.verts, ws.plan, ws.plan_ws);
+    plan_subset_solve(*F.symbolic, geo_.vertex_supernodes(), S, r.verts, ws.plan, ws.plan_ws);
+    lap(st.plan_s);
     // All sources in one pass over the plan's supernodes (kernels/solve_wide.hpp),
     // lanes rounded up to a multiple of 8; more than kMaxWideLanes sources
     // (valence > 31) take further passes into the same rows.
     const int32_t W = std::min(kMaxWideLanes, (d + kLanes - 1) / kLanes * kLanes);
     st.passes = (d + W - 1) / W;
-    ws.heat.resize(nloc * static_cast<size_t>(W) * st.passes);
-    const int64_t stride = static_cast<int64_t>(W) * st.passes;
-    for (int32_t ps = 0; ps < st.passes; ++ps) {
-      const int32_t k0 = ps * W, lanes = std::min(W, d - k0);
+    ws.geo.h.resize(nloc);
+    begin_gradients(patch.size(), ws);
+    double t_gradients = 0;
+    if (st.passes == 1) {
+      // One pass: the results stay in the solver's rows (factor order). They are
+      // read once, in memory order, instead of gathered into region order first
+      // (at 50 % of 416k the rows are ~44 MB, a random gather cost ~10 ms): each
+      // row gives the centre's heat (lane 0) for the distance and, at patch
+      // vertices, the gradient estimate.
       ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
-      for (int32_t l = 0; l < lanes; ++l) ws.rhs_wide[static_cast<size_t>(k0 + l) * W + l] = 1.0;
-      if (st.passes == 1) {
-        solve_planned_wide(F, ws.plan, W, ws.rhs_wide, ws.heat, ws.wide);
-      } else {
+      for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
+      solve_planned_wide(F, ws.plan, W, ws.rhs_wide, {}, ws.wide);
+      lap(st.heat_s);
+      const std::vector<int32_t>& rows = ws.wide.out_rows;
+      const double* X = ws.wide.x.data();
+      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
+      ws.row_owner.assign(xrows, -1);
+      for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
+      const double h_centre = X[static_cast<size_t>(rows[cl]) * W];
+      const int32_t np = r.patch_size;
+      for (size_t row = 0; row < xrows; ++row) {
+        const int32_t k = ws.row_owner[row];
+        if (k < 0) continue;
+        const double* f = X + row * static_cast<size_t>(W);
+        ws.geo.h[k] = f[0];
+        if (k < np) vertex_gradient(static_cast<size_t>(k), patch[k], centre, f, h_centre, est, st, ws);
+      }
+    } else {
+      // More than kMaxWideLanes sources (valence > 31): further passes into the same rows.
+      ws.heat.resize(nloc * static_cast<size_t>(W) * st.passes);
+      const int64_t stride = static_cast<int64_t>(W) * st.passes;
+      for (int32_t ps = 0; ps < st.passes; ++ps) {
+        const int32_t k0 = ps * W, lanes = std::min(W, d - k0);
+        ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
+        for (int32_t l = 0; l < lanes; ++l) ws.rhs_wide[static_cast<size_t>(k0 + l) * W + l] = 1.0;
         ws.out_wide.resize(nloc * static_cast<size_t>(W));
         solve_planned_wide(F, ws.plan, W, ws.rhs_wide, ws.out_wide, ws.wide);
         for (size_t v = 0; v < nloc; ++v)
           std::copy_n(ws.out_wide.begin() + static_cast<int64_t>(v) * W, W, ws.heat.begin() + static_cast<int64_t>(v) * stride + k0);
       }
+      lap(st.heat_s);
+      for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
+      const double h_centre = ws.heat[static_cast<size_t>(cl) * stride];
+      for (size_t p = 0; p < patch.size(); ++p)
+        vertex_gradient(p, patch[p], centre, ws.heat.data() + p * stride, h_centre, est, st, ws);
     }
+    lap(t_gradients);
     // Distance from lane 0 (the heat from the centre).
-    ws.geo.h.resize(nloc);
-    for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
-    geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs);
-    // Patch vertex p is region row p (empty `rows`).
-    angles(centre, patch, ws.heat.data(), stride, {}, out, est, st, ws);
+    geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+    lap(st.distance_s);
+    st.poisson_s = ws.geo.poisson_s;
+    finish_angles(patch, out, est, st, ws);
+    st.angles_s = t_gradients;
   } catch (...) {
     geo_.release_region(r);
     throw;
   }
   geo_.release_region(r);
+  double t_finish = 0;
+  lap(t_finish);  // (with the region's release)
+  st.angles_s += t_finish;
   return st;
 }
 
@@ -608,7 +656,12 @@ LogMapStats HeatLogMap::query_full(int32_t centre, std::span<const int32_t> patc
   ws.dist_full.resize(static_cast<size_t>(n));
   geo_.distance_from_heat_full(h0, centre, ws.dist_full, ws.geo);
   for (size_t p = 0; p < patch.size(); ++p) out.distance[p] = ws.dist_full[patch[p]];
-  angles(centre, patch, ws.heat.data(), d, patch, out, est, st, ws);
+  // Rows of ws.heat are vertex ids.
+  begin_gradients(patch.size(), ws);
+  const double h_centre = ws.heat[static_cast<size_t>(centre) * d];
+  for (size_t p = 0; p < patch.size(); ++p)
+    vertex_gradient(p, patch[p], centre, ws.heat.data() + static_cast<size_t>(patch[p]) * d, h_centre, est, st, ws);
+  finish_angles(patch, out, est, st, ws);
   return st;
 }
 

@@ -152,6 +152,11 @@ struct LogMapStats {
   int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
   bool two_ring = false;        // the two-ring estimator was used at this centre
   bool recentred = false;       // recentre asked and applied (enough directions around the centre)
+  // Thread CPU time per phase of a localized query, for the bench's breakdown:
+  // region (patch + ring + faces), centre (sources, estimator), heat plan, heat
+  // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
+  // poisson_s), angles (gradients, logs, corrections, output).
+  double region_s = 0, centre_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0;
 };
 
 struct LogMapWorkspace {
@@ -163,7 +168,8 @@ struct LogMapWorkspace {
   std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
-  std::vector<double> logheat;    // log of the heat rows of the patch
+  std::vector<double> logrow;     // log of one heat row (|S|)
+  std::vector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/solve_wide.hpp)
@@ -225,9 +231,11 @@ class HeatLogMap {
   void prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
                        LogMapWorkspace& ws) const;
   bool irregular_star(int32_t i) const;
-  void angles(int32_t centre, std::span<const int32_t> patch, const double* heat, int64_t row_stride,
-              std::span<const int32_t> rows, const LogMapOutput& out, const LogMapEstimator& e, LogMapStats& st,
-              LogMapWorkspace& ws) const;
+  void begin_gradients(size_t patch_size, LogMapWorkspace& ws) const;
+  void vertex_gradient(size_t p, int32_t j, int32_t centre, const double* f, double h_centre,
+                       const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
+  void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
+                     LogMapStats& st, LogMapWorkspace& ws) const;
 
   void prepare(const Mesh& m);  // tangent frames (eq. 6.2)
 

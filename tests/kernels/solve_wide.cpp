@@ -2,7 +2,8 @@
 // equals an independent Eigen sparse Cholesky solve at the wanted entries, for
 // 8 to 32 lanes, small and wide supernodes, disjoint support and wanted sets,
 // repeated support entries; the workspace is reused across plans of different
-// sizes; bad arguments are refused by name.
+// sizes; results left in the workspace (no output span) are the same; bad
+// arguments are refused by name.
 #include "kernels/solve_wide.hpp"
 
 #include <Eigen/SparseCholesky>
@@ -45,6 +46,16 @@ void check_wide(const NumericFactor& F, const Llt& oracle, const std::vector<int
       worst = std::max(worst, std::abs(out[k * lanes + l] - x[wanted[k]]) / scale);
   }
   CHECK(worst <= 1e-11);
+  // Without an output span the results stay in the workspace, output k at row
+  // out_rows[k]: the same numbers the copy holds.
+  const std::vector<double> copied = out;
+  solve_planned_wide(F, plan, lanes, rhs, {}, ws);
+  REQUIRE(ws.out_rows.size() == wanted.size());
+  bool same = true;
+  for (size_t k = 0; k < wanted.size(); ++k)
+    for (int l = 0; l < lanes; ++l)
+      same &= ws.x[static_cast<size_t>(ws.out_rows[k]) * lanes + l] == copied[k * lanes + l];
+  CHECK(same);
 }
 
 }  // namespace

@@ -145,6 +145,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   for (double f : fractions) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
     std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
+    std::vector<double> ph_region, ph_centre, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
     int32_t max_sources = 0, two_ring_centres = 0;
@@ -162,6 +163,13 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       t_local.push_back(sw.seconds());
       c_local.push_back(thread_cpu_s() - c0);
       max_sources = std::max(max_sources, st.sources);
+      ph_region.push_back(st.region_s);
+      ph_centre.push_back(st.centre_s);
+      ph_plan.push_back(st.plan_s);
+      ph_heat.push_back(st.heat_s);
+      ph_distance.push_back(st.distance_s);
+      ph_poisson.push_back(st.poisson_s);
+      ph_angles.push_back(st.angles_s);
       two_ring_centres += st.two_ring;
       if (!to.no_full) {
         c0 = thread_cpu_s();
@@ -208,7 +216,12 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       row["heat_full_cpu_s"] = cli::median(c_full);
       row["full_over_local_cpu"] = cli::median(c_full) / cli::median(c_local);
     }
-    row["patch_select_s"] = cli::median(t_patch);
+    row["patch_select_s"] = cli::median(t_patch);  // the DEM's Dijkstra disk, outside every timed query
+    // Localized query by phase (medians of thread CPU time; they need not add up to heat_local_cpu_s exactly).
+    row["phases_s"] = Json{{"region", cli::median(ph_region)},     {"centre", cli::median(ph_centre)},
+                           {"heat_plan", cli::median(ph_plan)},     {"heat_solve", cli::median(ph_heat)},
+                           {"distance", cli::median(ph_distance)}, {"poisson", cli::median(ph_poisson)},
+                           {"angles", cli::median(ph_angles)}};
     row["max_sources"] = max_sources;
     row["two_ring_centres"] = two_ring_centres;
     row["mean_patch_radius"] = radius;
