@@ -16,6 +16,7 @@
 #include "kernels/solve_plan.hpp"
 #include "kernels/solve_wide.hpp"
 #include "kernels/log_array.hpp"
+#include <xsimd/xsimd.hpp>
 #include "locus/error.hpp"
 
 namespace locus {
@@ -373,37 +374,57 @@ void HeatLogMap::prepare_lattice(const double e1[3], const double e2[3], Lattice
   }
 }
 
-// Pass 1 for one patch vertex p (vertex j = patch[p]) from its heat row f,
+// Pass 1 for one patch vertex p (vertex j = patch[p]; is_centre: j is the
+// centre, is_source: j is one of the sources) from its heat row f,
 // f[k] = (h_k)_j: the estimated gradient (ws.grad[3p], [3p + 1]) and whether
 // it is one of log h (ws.grad[3p + 2]; 0 for the centre and for HeatAverage
 // fallbacks: no recentre, no correction). Vertices inside the two-ring stencil
 // use the one-ring estimator: the heat from them peaks inside the stencil,
 // where no quadratic fits it. Callers may visit the patch in any order (the
 // localized query walks the solver's rows in memory order).
-void HeatLogMap::vertex_gradient(size_t p, int32_t j, int32_t centre, const double* f, double h_centre,
-                                 const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const {
+void HeatLogMap::vertex_gradient(size_t p, bool is_centre, bool is_source, const double* f, bool padded,
+                                 double h_centre, const LogMapEstimator& est, LogMapStats& st,
+                                 LogMapWorkspace& ws) const {
   const size_t d = ws.sources.size();
   const bool use_log = est.angle != LogMapAngle::HeatAverage;
   double gx = 0, gy = 0;
   bool plain = !use_log;
-  if (j != centre) {
-    const double* c = !ws.coef2.empty() && !std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), j)
-                          ? ws.coef2.data()
-                          : ws.coef1.data();
+  if (!is_centre) {
+    const bool wide_stencil = !ws.coef2.empty() && !is_source;
     if (use_log) {
+      // Padded to whole SIMD batches (zero heat and zero coefficients beyond |S|),
+      // logs in bulk, then both components in vector accumulators; a used source
+      // (non-zero coefficient) with non-positive heat sends the vertex to the
+      // HeatAverage fallback.
+      using batch = xsimd::batch<double>;
+      constexpr size_t B = batch::size;
+      const size_t dp = ws.logrow.size();
+      // (A padded row is read in place: its entries beyond |S| are zero.)
+      const double* fb = f;
+      if (!padded) {
+        std::copy_n(f, d, ws.rowbuf.data());
+        fb = ws.rowbuf.data();
+      }
       double* lf = ws.logrow.data();
-      log_array(f, lf, d);
-      for (size_t k = 0; k < d; ++k) {
-        if (c[2 * k] == 0 && c[2 * k + 1] == 0) continue;
-        if (!(f[k] > 0.0)) {
-          plain = true;
-          ++st.angle_fallbacks;
-          gx = gy = 0;
-          break;
-        }
-        const double l = lf[k];
-        gx += c[2 * k] * l;
-        gy += c[2 * k + 1] * l;
+      log_array(fb, lf, dp);
+      const double* cx = ws.cpad.data() + (wide_stencil ? 2 * dp : 0);
+      const double* cy = cx + dp;
+      batch ax(0.0), ay(0.0);
+      auto bad = batch(0.0) != batch(0.0);
+      for (size_t k = 0; k < dp; k += B) {
+        const batch fv = batch::load_unaligned(fb + k), x = batch::load_unaligned(cx + k), y = batch::load_unaligned(cy + k);
+        const auto pos = fv > batch(0.0);
+        const batch l = xsimd::select(pos, batch::load_unaligned(lf + k), batch(0.0));
+        ax = xsimd::fma(x, l, ax);
+        ay = xsimd::fma(y, l, ay);
+        bad = bad || ((x != batch(0.0) || y != batch(0.0)) && !pos);
+      }
+      if (xsimd::any(bad)) {
+        plain = true;
+        ++st.angle_fallbacks;
+      } else {
+        gx = xsimd::hadd(ax);
+        gy = xsimd::hadd(ay);
       }
     }
     if (plain)
@@ -418,13 +439,25 @@ void HeatLogMap::vertex_gradient(size_t p, int32_t j, int32_t centre, const doub
   // The near field is told by the heat from the centre (e^-4 of its peak, about
   // 4 edges at t = h^2), not by the distance: the localized and the full map
   // must see the same set.
-  ws.grad[3 * p + 2] = plain || j == centre ? 0.0 : (f[0] < 0.0183 * h_centre ? 2.0 : 1.0);
+  ws.grad[3 * p + 2] = plain || is_centre ? 0.0 : (f[0] < 0.0183 * h_centre ? 2.0 : 1.0);
 }
 
 void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
   ws.sorted_sources.assign(ws.sources.begin(), ws.sources.end());
   std::sort(ws.sorted_sources.begin(), ws.sorted_sources.end());
-  ws.logrow.resize(ws.sources.size());
+  // Padded row buffers and de-interleaved coefficients (one-ring, then two-ring
+  // or the one-ring again) for vertex_gradient's vector loop.
+  const size_t d = ws.sources.size(), B = xsimd::batch<double>::size, dp = (d + B - 1) / B * B;
+  ws.logrow.assign(dp, 0.0);
+  ws.rowbuf.assign(dp, 0.0);
+  ws.cpad.assign(4 * dp, 0.0);
+  for (size_t k = 0; k < d; ++k) {
+    const std::vector<double>& c2 = ws.coef2.empty() ? ws.coef1 : ws.coef2;
+    ws.cpad[k] = ws.coef1[2 * k];
+    ws.cpad[dp + k] = ws.coef1[2 * k + 1];
+    ws.cpad[2 * dp + k] = c2[2 * k];
+    ws.cpad[3 * dp + k] = c2[2 * k + 1];
+  }
   ws.grad.resize(3 * patch_size);
 }
 
@@ -568,16 +601,22 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* X = ws.wide.x.data();
       const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
+      // Owner of each row: its region index, with kSourceBit set for the
+      // sources (no lookups by vertex id inside the loop: those were cache misses).
+      constexpr int32_t kSourceBit = 1 << 30;
       ws.row_owner.assign(xrows, -1);
       for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
+      for (int32_t v : S)  // (the two-ring may reach beyond a tiny patch's region)
+        if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
       const double h_centre = X[static_cast<size_t>(rows[cl]) * W];
       const int32_t np = r.patch_size;
       for (size_t row = 0; row < xrows; ++row) {
-        const int32_t k = ws.row_owner[row];
-        if (k < 0) continue;
+        const int32_t o = ws.row_owner[row];
+        if (o < 0) continue;
+        const int32_t k = o & (kSourceBit - 1);
         const double* f = X + row * static_cast<size_t>(W);
         ws.geo.h[k] = f[0];
-        if (k < np) vertex_gradient(static_cast<size_t>(k), patch[k], centre, f, h_centre, est, st, ws);
+        if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
       }
     } else {
       // More than kMaxWideLanes sources (valence > 31): further passes into the same rows.
@@ -596,7 +635,9 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
       const double h_centre = ws.heat[static_cast<size_t>(cl) * stride];
       for (size_t p = 0; p < patch.size(); ++p)
-        vertex_gradient(p, patch[p], centre, ws.heat.data() + p * stride, h_centre, est, st, ws);
+        vertex_gradient(p, patch[p] == centre,
+                        std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
+                        ws.heat.data() + p * stride, false, h_centre, est, st, ws);
     }
     lap(t_gradients);
     // Distance from lane 0 (the heat from the centre).
@@ -660,7 +701,9 @@ LogMapStats HeatLogMap::query_full(int32_t centre, std::span<const int32_t> patc
   begin_gradients(patch.size(), ws);
   const double h_centre = ws.heat[static_cast<size_t>(centre) * d];
   for (size_t p = 0; p < patch.size(); ++p)
-    vertex_gradient(p, patch[p], centre, ws.heat.data() + static_cast<size_t>(patch[p]) * d, h_centre, est, st, ws);
+    vertex_gradient(p, patch[p] == centre,
+                    std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
+                    ws.heat.data() + static_cast<size_t>(patch[p]) * d, false, h_centre, est, st, ws);
   finish_angles(patch, out, est, st, ws);
   return st;
 }

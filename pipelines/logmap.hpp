@@ -168,7 +168,8 @@ struct LogMapWorkspace {
   std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
-  std::vector<double> logrow;     // log of one heat row (|S|)
+  std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
+  std::vector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
   std::vector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
@@ -232,7 +233,8 @@ class HeatLogMap {
                        LogMapWorkspace& ws) const;
   bool irregular_star(int32_t i) const;
   void begin_gradients(size_t patch_size, LogMapWorkspace& ws) const;
-  void vertex_gradient(size_t p, int32_t j, int32_t centre, const double* f, double h_centre,
+  // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
+  void vertex_gradient(size_t p, bool is_centre, bool is_source, const double* f, bool padded, double h_centre,
                        const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;
