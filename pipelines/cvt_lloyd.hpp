@@ -21,11 +21,24 @@
 // the labels' top-K arrays and argmax, the cell lists and cell adjacency (one pass
 // over the edges), the Morton order and the batch patches (O(sites)).
 // Centroid refinement: the quadratic is fitted on fit_rings rings of the hottest
-// vertex (1 as in the thesis; 2 averages the piecewise-linear heat and makes the
-// centroid jump less when the hottest vertex changes). Measured on armadillo (26k
-// vertices, irregular triangles, 1000 sites, 100 iterations, seed 1): mean smallest
-// dual angle 48.6 deg with t = h^2 and one ring, 49.8 with t = 4h^2 and two rings,
-// 50.0 with centroids at t = 2h^2 on top (t_centroid_factor); defaults stay the thesis's.
+// vertex (the thesis fits one ring; the default 2 averages the piecewise-linear heat
+// over ~19 values instead of ~7, so the centroid jumps less when the hottest vertex
+// changes).
+// Diffusion time: the library default is the thesis's t = h^2 (the engine's shared
+// operator relies on it); `locus cvt` defaults to t = kLloydCliTFactor h^2 = 4h^2.
+// Why (measured, 100 iterations, defaults otherwise): at t = h^2 Lloyd does not
+// converge slowly but stalls: on armadillo (26k vertices, 1000 sites) the mean
+// smallest dual angle is 48.6 deg from iteration ~80 to 300, the sites keep moving
+// 0.07h per iteration and the CVT energy is flat, so acceleration cannot help. With
+// the exact centroids of the same heat cells (diagnostic, not a method here) it stalls
+// at 49.8 (t = h^2), 50.3 (2h^2), 50.5 (4h^2): the cells' bisectors get better with t
+// on irregular meshes, as thesis §3.4 expects ("the approximation is better for larger
+// values of t"), and the heat centroid loses ~0.8 deg to them. Larger centroid times
+// (t_centroid_factor 2..16, or 2-4 implicit steps) and fitting log(u) did not help.
+// Mean dual angle, seeds 1/2, default -> t = 4h^2 with two rings: armadillo 26k
+// (1000 sites, seeds 1-5) 48.75 -> 49.75 mean; bunny 37.7k (1450 sites) 49.17/49.47 ->
+// 50.57/50.67; diplodocus 24k (920) 49.75/49.46 -> 50.99/50.35; man 17.5k (670)
+// 41.87/41.17 -> 43.13/43.15; camel 9.8k (375) 43.96/43.84 -> 44.76/44.73.
 // Localized solver (default): every solve is the approximate selective solve
 // restricted to the union over the batch of the cells, their neighbour cells and
 // their neighbours (from the latest labels; before the first labels, the vertices
@@ -54,14 +67,14 @@ struct LloydOptions {
   int32_t iterations = 10;
   uint64_t seed = 1;         // initial sites
   enum class Solver { Local, Full } solver = Solver::Local;
-  double t_factor = 1.0;     // t = t_factor * h^2 (thesis §3.7: t = h^2) unless t_abs > 0
+  double t_factor = 1.0;     // t = t_factor * h^2 (thesis §3.7: t = h^2) unless t_abs > 0; CLI: 4
   double t_abs = 0.0;
   // Centroid diffusion time as a multiple of h^2 (0: the cells' operator, t above);
   // a second numeric factor on the same symbolic factor.
   double t_centroid_factor = 0.0;
   double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
   bool refine = true;        // quadratic refinement of centroids (§3.7.1)
-  int fit_rings = 1;         // vertex rings of the refinement fit (heat_centroid.hpp)
+  int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
   double init_radius = 4.0;  // first neighbourhoods, in units of sqrt(area / (pi N))
   // Cell sources from triangles split along the heat bisectors
   // (pipelines/voronoi_cell_partition.hpp) instead of whole vertex stars.
@@ -71,6 +84,9 @@ struct LloydOptions {
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
   const HeatDiffusion* prepared = nullptr;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
 };
+
+// `locus cvt`'s and `locus-bench cvt-speed`'s diffusion time in units of h^2 (see above).
+inline constexpr double kLloydCliTFactor = 4.0;
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
