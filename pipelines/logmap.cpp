@@ -6,6 +6,8 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -588,6 +590,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     ws.geo.h.resize(nloc);
     begin_gradients(patch.size(), ws);
     double t_gradients = 0;
+    bool distance_done = false;
     if (st.passes == 1) {
       // One pass: the results stay in the solver's rows (factor order). They are
       // read once, in memory order, instead of gathered into region order first
@@ -610,13 +613,41 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
       const double h_centre = X[static_cast<size_t>(rows[cl]) * W];
       const int32_t np = r.patch_size;
-      for (size_t row = 0; row < xrows; ++row) {
-        const int32_t o = ws.row_owner[row];
-        if (o < 0) continue;
-        const int32_t k = o & (kSourceBit - 1);
-        const double* f = X + row * static_cast<size_t>(W);
-        ws.geo.h[k] = f[0];
-        if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
+      auto gradient_pass = [&](bool with_heat) {
+        for (size_t row = 0; row < xrows; ++row) {
+          const int32_t o = ws.row_owner[row];
+          if (o < 0) continue;
+          const int32_t k = o & (kSourceBit - 1);
+          const double* f = X + row * static_cast<size_t>(W);
+          if (with_heat) ws.geo.h[k] = f[0];
+          if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
+        }
+      };
+      if (ws.threads >= 2) {
+        // Two threads: the distance (divergence, Poisson) needs only lane 0, the
+        // gradients only the rows; they write disjoint data, so they run side by
+        // side with the same arithmetic as one thread (identical results).
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X[static_cast<size_t>(rows[k]) * W];
+        std::exception_ptr failed;
+        double t_distance = 0;
+        std::thread helper([&] {
+          try {
+            const double c0 = thread_cpu_seconds();
+            geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+            t_distance = thread_cpu_seconds() - c0;
+          } catch (...) {
+            failed = std::current_exception();
+          }
+        });
+        gradient_pass(false);
+        lap(t_gradients);
+        helper.join();
+        if (failed) std::rethrow_exception(failed);
+        st.distance_s = t_distance;  // the helper's CPU time
+        st.poisson_s = ws.geo.poisson_s;
+        distance_done = true;
+      } else {
+        gradient_pass(true);
       }
     } else {
       // More than kMaxWideLanes sources (valence > 31): further passes into the same rows.
@@ -639,11 +670,15 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
                         std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
                         ws.heat.data() + p * stride, false, h_centre, est, st, ws);
     }
-    lap(t_gradients);
-    // Distance from lane 0 (the heat from the centre).
-    geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-    lap(st.distance_s);
-    st.poisson_s = ws.geo.poisson_s;
+    if (!distance_done) {
+      lap(t_gradients);
+      // Distance from lane 0 (the heat from the centre).
+      geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+      lap(st.distance_s);
+      st.poisson_s = ws.geo.poisson_s;
+    } else {
+      lap(st.wait_s);  // (the main thread's time waiting for the helper is not CPU time; ~0)
+    }
     finish_angles(patch, out, est, st, ws);
     st.angles_s = t_gradients;
   } catch (...) {

@@ -156,10 +156,15 @@ struct LogMapStats {
   // region (patch + ring + faces), centre (sources, estimator), heat plan, heat
   // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
   // poisson_s), angles (gradients, logs, corrections, output).
-  double region_s = 0, centre_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0;
+  // With LogMapWorkspace::threads = 2, distance_s is the helper thread's CPU time.
+  double region_s = 0, centre_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0, wait_s = 0;
 };
 
 struct LogMapWorkspace {
+  // Threads inside one localized query: 2 runs the distance (divergence and
+  // Poisson solve) on a helper thread beside the angle gradients. They share
+  // no writes and do the same arithmetic, so the results are identical to 1.
+  int threads = 1;
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;

@@ -334,3 +334,27 @@ TEST_CASE("log map: bad queries") {
   CHECK(a.u == b.u);
   CHECK(a.v == b.v);
 }
+
+TEST_CASE("log map: two threads inside a query give the one-thread map exactly") {
+  // The helper thread runs the distance while the caller's thread estimates the
+  // angles: same arithmetic, disjoint writes, so every output is bit-identical.
+  // The map itself is checked against the sphere's exact distance.
+  const Mesh m = make_random_sphere(8000, 3);
+  const HeatLogMap lm(m);
+  LogMapWorkspace one, two;
+  two.threads = 2;
+  for (int32_t c : {10, 4000}) {
+    const std::vector<int32_t> patch = sphere_disk(m, c, 0.6);
+    Map a(patch.size()), b(patch.size());
+    const LogMapStats sa = lm.query(c, patch, a.out(), one);
+    const LogMapStats sb = lm.query(c, patch, b.out(), two);
+    CHECK(a.d == b.d);
+    CHECK(a.a == b.a);
+    CHECK(a.u == b.u);
+    CHECK(a.v == b.v);
+    CHECK(sa.angle_fallbacks == sb.angle_fallbacks);
+    double ed = 0;
+    for (size_t p = 0; p < patch.size(); ++p) ed += std::abs(b.d[p] - great_circle(m, c, patch[p])) / patch.size();
+    CHECK(ed < 0.02);
+  }
+}

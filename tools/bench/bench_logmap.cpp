@@ -111,6 +111,7 @@ struct TimingOptions {
   int queries = 10;
   double t_factor = 1.0;
   bool no_full = false;
+  int query_threads = 1;  // 2: also time the localized query with a helper thread (LogMapWorkspace::threads)
   std::string angle = "auto";
   std::string lattice = "default";
   std::string recentre = "default";
@@ -134,10 +135,11 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   const double dem_prepare_s = sw.seconds();
   const std::vector<int32_t> centres = pick_centres(n, to.queries, opt.seed);
 
-  LogMapWorkspace lws;
+  LogMapWorkspace lws, lws2;
+  lws2.threads = 2;
   DemWorkspace dws;
   std::vector<int32_t> patch(n), dem_patch(n), scratch;
-  Maps local, full;
+  Maps local, full, local2;
   std::vector<double> du(n), dv(n);
   Json rows = Json::array();
   double crossover = -1;
@@ -145,6 +147,8 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   for (double f : fractions) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
     std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
+    std::vector<double> t_local2;
+    int64_t mismatch2 = 0;
     std::vector<double> ph_region, ph_centre, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
@@ -163,6 +167,15 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       t_local.push_back(sw.seconds());
       c_local.push_back(thread_cpu_s() - c0);
       max_sources = std::max(max_sources, st.sources);
+      if (to.query_threads >= 2) {
+        local2.resize(k);
+        sw.restart();
+        heat.query(c, P, local2.out(), lws2);
+        t_local2.push_back(sw.seconds());
+        for (int32_t p = 0; p < k; ++p)
+          mismatch2 += local2.d[p] != local.d[p] || local2.a[p] != local.a[p] || local2.u[p] != local.u[p] ||
+                       local2.v[p] != local.v[p];
+      }
       ph_region.push_back(st.region_s);
       ph_centre.push_back(st.centre_s);
       ph_plan.push_back(st.plan_s);
@@ -205,6 +218,13 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     if (!to.no_full) {
       row["heat_full_s"] = cli::median(t_full);
       row["full_over_local"] = cli::median(t_full) / ml;
+    }
+    if (to.query_threads >= 2) {
+      // Second figure: the same localized query with a helper thread (wall time;
+      // DEM stays single-threaded). Outputs must equal the one-thread map exactly.
+      row["heat_local_2t_s"] = cli::median(t_local2);
+      row["dem_over_local_2t"] = md / cli::median(t_local2);
+      row["two_thread_mismatches"] = mismatch2;
     }
     row["dem_s"] = md;
     row["dem_over_local"] = md / ml;
@@ -598,6 +618,8 @@ void register_logmap_bench(cli::CommandTable& table) {
   app->add_option("--queries", to->queries, "Random centres (seeded by --seed), default 10");
   app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
+  app->add_option("--query-threads", to->query_threads,
+                  "2: also time the localized query with a helper thread (heat_local_2t_s; the headline stays 1 thread)");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
   app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring (default: the library's)");
   app->add_option("--recentre", to->recentre, "Recentre the gradients: on, off (default: the library's)");
