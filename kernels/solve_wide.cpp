@@ -87,12 +87,15 @@ void forward_columns(const Super& s, int32_t j0, double* x) {
 // Backward on the NJ columns j0.. of s, whose later columns are final:
 // subtract the rows below and the later own rows, then the NJ x NJ triangle.
 template <int NB, int NJ>
-void backward_columns(const Super& s, int32_t j0, const double* x) {
+void backward_columns(const Super& s, int32_t j0, const double* x, bool from_zero) {
   constexpr int W = 8 * NB;
   const double* Lc[NJ];
   for (int q = 0; q < NJ; ++q) Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
   Row<NB> acc[NJ];
-  for (int q = 0; q < NJ; ++q) acc[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
+  for (int q = 0; q < NJ; ++q)
+    for (int b = 0; b < NB; ++b) acc[q].v[b] = Lane8::zero();
+  if (!from_zero)
+    for (int q = 0; q < NJ; ++q) acc[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
   gather_rows<NB, NJ>(Lc, s.k, s.m, acc, [&](int32_t i) { return x + static_cast<int64_t>(s.rl[i - s.k]) * W; });
   gather_rows<NB, NJ>(Lc, j0 + NJ, s.k, acc, [&](int32_t i) { return s.xs + static_cast<int64_t>(i) * W; });
   for (int q = NJ - 1; q >= 0; --q) {
@@ -114,17 +117,19 @@ void forward_super(const Super& s, double* x) {
   }
 }
 
+// from_zero: s is outside the forward reach, so L^{-1} b is zero on its rows
+// and they need not have been cleared (the same arithmetic: acc starts at +0).
 template <int NB>
-void backward_super(const Super& s, const double* x) {
+void backward_super(const Super& s, const double* x, bool from_zero) {
   // The last (partial) group first, then full groups of four downwards.
   int32_t j0 = s.k - s.k % 4;
   switch (s.k % 4) {
-    case 3: backward_columns<NB, 3>(s, j0, x); break;
-    case 2: backward_columns<NB, 2>(s, j0, x); break;
-    case 1: backward_columns<NB, 1>(s, j0, x); break;
+    case 3: backward_columns<NB, 3>(s, j0, x, from_zero); break;
+    case 2: backward_columns<NB, 2>(s, j0, x, from_zero); break;
+    case 1: backward_columns<NB, 1>(s, j0, x, from_zero); break;
     default: break;
   }
-  for (j0 -= 4; j0 >= 0; j0 -= 4) backward_columns<NB, 4>(s, j0, x);
+  for (j0 -= 4; j0 >= 0; j0 -= 4) backward_columns<NB, 4>(s, j0, x, from_zero);
 }
 
 template <int NB>
@@ -137,8 +142,14 @@ void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> 
   for (int32_t s : plan.touched)
     for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) local[c] = static_cast<int32_t>(rows++);
   // Local rows of the sub-diagonal part of each supernode, gathered per supernode below.
-  ws.x.assign(static_cast<size_t>(rows) * W, 0.0);
+  // Only the forward reach is cleared: every other row is written by the
+  // backward pass before it is read (a log-map region's rows are tens of MB).
+  ws.x.resize(static_cast<size_t>(rows) * W);
   double* x = ws.x.data();
+  for (int32_t s : plan.forward) {
+    const int64_t r0 = local[S.super_first_col[s]];
+    std::fill(x + r0 * W, x + (r0 + S.ncols(s)) * W, 0.0);
+  }
   for (size_t k = 0; k < plan.rhs.size(); ++k) {
     double* r = x + static_cast<int64_t>(local[S.iperm[plan.rhs[k]]]) * W;
     for (int l = 0; l < W; ++l) r[l] += rhs[k * W + l];
@@ -152,7 +163,12 @@ void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> 
     return Super{k, m, F.block(s), x + static_cast<int64_t>(local[S.super_first_col[s]]) * W, rl.data()};
   };
   for (int32_t s : plan.forward) forward_super<NB>(super(s), x);
-  for (int32_t s : plan.backward) backward_super<NB>(super(s), x);
+  // plan.backward is descending, plan.forward ascending: walk the latter from its end.
+  auto fw = plan.forward.rbegin();
+  for (int32_t s : plan.backward) {
+    while (fw != plan.forward.rend() && *fw > s) ++fw;
+    backward_super<NB>(super(s), x, fw == plan.forward.rend() || *fw != s);
+  }
   ws.out_rows.resize(plan.outputs.size());
   for (size_t k = 0; k < plan.outputs.size(); ++k) ws.out_rows[k] = local[S.iperm[plan.outputs[k]]];
   if (out.empty()) return;
