@@ -200,32 +200,51 @@ Mesh scaled_to_unit_area(Mesh m) {
 
 // Thesis §3.7.1: on a torus and a sphere of unit area (similar resolution), 20 and 500
 // sites, 100 iterations: cell-area variance ~1e-6 and ~1e-8; the targets are
-// 2e-6 and 2e-8. Not met (measured with split-triangle areas, seed 1, icosphere
-// level 5 (10242 vertices) and a 160 x 72 torus (11520 vertices): sphere 3.1e-6 and
-// 2.2e-8, torus 5.5e-6 and 3.0e-8), hence may_fail: the figures are printed either way.
-// Why: 20 sites: the exact geodesic CVT of the sphere from the same initial sites has
-// variance 4.9e-6 itself (study below; its cells are pentagons and hexagons), and
-// 4x finer meshes do not lower the heat CVT's (sphere 3.2e-6, torus 5.8e-6).
-// 500 sites (20 vertices per cell): resolution; on 4x finer meshes (icosphere 6,
-// 320 x 144 torus) 1.7e-8 and 2.2e-8 (the exact sphere CVT after 100 iterations: 1.3e-8).
-TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 20 and 500 sites, 100 iterations" *
+// 2e-6 and 2e-8. Both cases use `locus cvt`'s defaults (t = 4h^2, two fit rings) and
+// split-triangle areas, seed 1.
+// 500 sites: the bound needs ~90 vertices per cell on the torus. Measured (seed 1;
+// seeds 2 and 3 in brackets, measured unscaled): icosphere 5 (10242 vertices) 1.79e-8
+// (1.74e-8, 1.09e-8),
+// 320 x 144 torus (46080 vertices) 1.87e-8 (1.36e-8, 1.40e-8); the 160 x 72 torus
+// gives 2.6e-8, and at t = h^2 the 320 x 144 torus gives 2.5e-8. ~25 s, hence stress.
+TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 500 sites, 100 iterations" *
+          doctest::test_suite("stress")) {
+  const Mesh sphere = scaled_to_unit_area(make_icosphere(5));
+  const Mesh torus = scaled_to_unit_area(make_torus(320, 144));
+  for (const Mesh* m : {&sphere, &torus}) {
+    LloydOptions o;
+    o.sites = 500;
+    o.iterations = 100;
+    o.t_factor = kLloydCliTFactor;
+    const LloydResult r = cvt_lloyd(*m, o, {});
+    double cv = 0, var = 0;
+    cell_area_spread(r.cell_area, cv, var);
+    double total = 0;
+    for (double a : r.cell_area) total += a;
+    CHECK(total == doctest::Approx(1.0).epsilon(1e-9));  // the partition covers the surface once
+    MESSAGE(std::string(m == &sphere ? "sphere" : "torus") << " 500 sites: area variance " << var << ", cv " << cv);
+    CHECK(var <= 2e-8);
+  }
+}
+
+// 20 sites: not met, and not reachable: the exact geodesic CVT of the sphere from the
+// same initial sites has variance 4.6-4.9e-6 itself (study below; its cells are
+// pentagons and hexagons). Measured with the defaults above: sphere 3.6e-6, torus
+// 6.1e-6 (4x finer meshes do not lower them). Hence may_fail; the figures are printed.
+TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 20 sites, 100 iterations" *
           doctest::test_suite("stress") * doctest::may_fail()) {
   const Mesh sphere = scaled_to_unit_area(make_icosphere(5));
   const Mesh torus = scaled_to_unit_area(make_torus(160, 72));
   for (const Mesh* m : {&sphere, &torus}) {
-    for (int32_t ns : {20, 500}) {
-      LloydOptions o;
-      o.sites = ns;
-      o.iterations = 100;
-      const LloydResult r = cvt_lloyd(*m, o, {});
-      double cv = 0, var = 0;
-      cell_area_spread(r.cell_area, cv, var);
-      double total = 0;
-      for (double a : r.cell_area) total += a;
-      CHECK(total == doctest::Approx(1.0).epsilon(1e-9));  // the partition covers the surface once
-      MESSAGE(std::string(m == &sphere ? "sphere " : "torus ") << ns << " sites: area variance " << var << ", cv " << cv);
-      CHECK(var <= (ns == 20 ? 2e-6 : 2e-8));
-    }
+    LloydOptions o;
+    o.sites = 20;
+    o.iterations = 100;
+    o.t_factor = kLloydCliTFactor;
+    const LloydResult r = cvt_lloyd(*m, o, {});
+    double cv = 0, var = 0;
+    cell_area_spread(r.cell_area, cv, var);
+    MESSAGE(std::string(m == &sphere ? "sphere" : "torus") << " 20 sites: area variance " << var << ", cv " << cv);
+    CHECK(var <= 2e-6);
   }
 }
 
