@@ -126,9 +126,11 @@ void HeatGeodesic::prepare(const Mesh& m) {
   num_components_ = connected_components(m, component_);
   grad_ = triangle_gradients(m);
   // Corner records in vertex-face order (see build_region).
-  vf_corners_.resize(3 * grad_.vf_faces.size());
-  for (size_t q = 0; q < grad_.vf_faces.size(); ++q)
-    for (int s = 0; s < 3; ++s) vf_corners_[3 * q + s] = grad_.tri[3 * static_cast<int64_t>(grad_.vf_faces[q]) + s];
+  vf_corners_.resize(4 * grad_.vf_faces.size());
+  for (size_t q = 0; q < grad_.vf_faces.size(); ++q) {
+    for (int s = 0; s < 3; ++s) vf_corners_[4 * q + s] = grad_.tri[3 * static_cast<int64_t>(grad_.vf_faces[q]) + s];
+    vf_corners_[4 * q + 3] = grad_.vf_faces[q];
+  }
   h_ = locus::mean_edge_length(m);
   t_ = opt.t_factor * h_ * h_;
 }
@@ -220,12 +222,12 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
   }
   for (int32_t k = 0; k < np; ++k) {
     if (k + 2 * kAhead < np) __builtin_prefetch(grad_.vf_offsets.data() + r.order[k + 2 * kAhead]);
-    if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 3 * grad_.vf_offsets[r.order[k + kAhead]]);
+    if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 4 * grad_.vf_offsets[r.order[k + kAhead]]);
     const int32_t v = r.order[k];
     for (int64_t q = grad_.vf_offsets[v]; q < grad_.vf_offsets[v + 1]; ++q) {
-      const int32_t* c = vf_corners_.data() + 3 * q;  // the face's corners in slot order
+      const int32_t* c = vf_corners_.data() + 4 * q;  // the face's corners in slot order, then the face
       if (c[0] != v && (in_patch(c[0]) || (c[1] != v && in_patch(c[1])))) continue;
-      const int32_t f = grad_.vf_faces[q];
+      const int32_t f = c[3];
       r.face_bits[static_cast<uint32_t>(f) >> 6] |= uint64_t{1} << (f & 63);
       for (int s = 0; s < 3; ++s) {
         const int32_t w = c[s];
@@ -239,13 +241,19 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
   // Faces in ascending order too: the divergence then reads their gradient
   // bases (72 bytes each) in memory order.
   for (size_t w = 0; w < r.face_bits.size(); ++w) {
-    for (uint64_t b = r.face_bits[w]; b != 0; b &= b - 1) {
-      const int32_t f = static_cast<int32_t>(w * 64 + std::countr_zero(b));
-      r.faces.push_back(f);
-      const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
-      for (int s = 0; s < 3; ++s) r.face_local.push_back(r.local[t[s]]);
-    }
+    for (uint64_t b = r.face_bits[w]; b != 0; b &= b - 1) r.faces.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
     r.face_bits[w] = 0;
+  }
+  // Corner indices into verts; the corners' entries of `local` are fetched ahead.
+  const size_t nfl = r.faces.size();
+  r.face_local.resize(3 * nfl);
+  for (size_t q = 0; q < nfl; ++q) {
+    if (q + kAhead < nfl) {
+      const int32_t* ta = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q + kAhead]);
+      for (int s = 0; s < 3; ++s) __builtin_prefetch(r.local.data() + ta[s]);
+    }
+    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q]);
+    for (int s = 0; s < 3; ++s) r.face_local[3 * q + s] = r.local[t[s]];
   }
 }
 

@@ -178,8 +178,8 @@ class HeatGeodesic {
   NumericFactor heat_, poisson_;
   std::vector<int32_t> component_;
   int32_t num_components_ = 0;
-  // 3 per vertex-face entry (grad_.vf_faces order): that face's corners, so a
-  // region walks each patch vertex's faces in one contiguous read.
+  // 4 per vertex-face entry (grad_.vf_faces order): that face's corners and the
+  // face itself, so a region walks each patch vertex's faces in one contiguous read.
   std::vector<int32_t> vf_corners_;
   std::vector<int32_t> vertex_super_;  // n: supernode of each vertex in the heat factor (solve planning)
   bool shared_symbolic_ = true;        // both factors have the same supernodes (plans carry over)
