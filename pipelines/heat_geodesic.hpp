@@ -104,6 +104,7 @@ struct HeatGeodesicWorkspace {
   PlanWorkspace plan_ws;
   PatchRegion region;
   std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
+  std::vector<double> hlb;            // localized divergence: {h, log h, b, pad} per region vertex
   double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
 };
 
