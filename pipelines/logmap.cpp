@@ -597,13 +597,50 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // (at 50 % of 416k the rows are ~44 MB, a random gather cost ~10 ms): each
       // row gives the centre's heat (lane 0) for the distance and, at patch
       // vertices, the gradient estimate.
-      ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
-      for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
-      solve_planned_wide(F, ws.plan, W, ws.rhs_wide, {}, ws.wide);
+      // Two threads and more than 8 sources: the first 8 lanes (the centre's
+      // among them) on a helper thread, the others here, over the same plan (the
+      // same rows); each lane's arithmetic does not depend on the lane count.
+      const bool split = ws.threads >= 2 && d > kLanes;
+      const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes solved here
+      const int32_t first = split ? kLanes : 0;                                    // first source solved here
+      std::exception_ptr failed;
+      std::thread solver_a;
+      if (split) {
+        ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
+        for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
+        solver_a = std::thread([&] {
+          try {
+            solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
+          } catch (...) {
+            failed = std::current_exception();
+          }
+        });
+      }
+      ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
+      for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
+      try {
+        solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
+      } catch (...) {
+        if (solver_a.joinable()) solver_a.join();
+        throw;
+      }
+      if (solver_a.joinable()) solver_a.join();
+      if (failed) std::rethrow_exception(failed);
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
-      const double* X = ws.wide.x.data();
-      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
+      const double* XB = ws.wide.x.data();
+      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(WB);
+      // Lanes 0..7 (with the centre's heat in lane 0) and the rest, per row.
+      const double* XA = split ? ws.wide_a.x.data() : XB;
+      const int32_t WA = split ? kLanes : WB;
+      if (split) ws.rowjoin.assign(ws.logrow.size(), 0.0);
+      auto row_of = [&](size_t row) -> const double* {
+        if (!split) return XB + row * static_cast<size_t>(WB);
+        double* j = ws.rowjoin.data();
+        std::copy_n(XA + row * kLanes, kLanes, j);
+        std::copy_n(XB + row * static_cast<size_t>(WB), d - kLanes, j + kLanes);
+        return j;
+      };
       // Owner of each row: its region index, with kSourceBit set for the
       // sources (no lookups by vertex id inside the loop: those were cache misses).
       constexpr int32_t kSourceBit = 1 << 30;
@@ -611,14 +648,14 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
       for (int32_t v : S)  // (the two-ring may reach beyond a tiny patch's region)
         if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
-      const double h_centre = X[static_cast<size_t>(rows[cl]) * W];
+      const double h_centre = XA[static_cast<size_t>(rows[cl]) * WA];
       const int32_t np = r.patch_size;
       auto gradient_pass = [&](bool with_heat) {
         for (size_t row = 0; row < xrows; ++row) {
           const int32_t o = ws.row_owner[row];
           if (o < 0) continue;
           const int32_t k = o & (kSourceBit - 1);
-          const double* f = X + row * static_cast<size_t>(W);
+          const double* f = row_of(row);
           if (with_heat) ws.geo.h[k] = f[0];
           if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
         }
@@ -627,8 +664,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         // Two threads: the distance (divergence, Poisson) needs only lane 0, the
         // gradients only the rows; they write disjoint data, so they run side by
         // side with the same arithmetic as one thread (identical results).
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X[static_cast<size_t>(rows[k]) * W];
-        std::exception_ptr failed;
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = XA[static_cast<size_t>(rows[k]) * WA];
         double t_distance = 0;
         std::thread helper([&] {
           try {

@@ -161,9 +161,11 @@ struct LogMapStats {
 };
 
 struct LogMapWorkspace {
-  // Threads inside one localized query: 2 runs the distance (divergence and
-  // Poisson solve) on a helper thread beside the angle gradients. They share
-  // no writes and do the same arithmetic, so the results are identical to 1.
+  // Threads inside one localized query: 2 splits the heat solve's lanes (the
+  // first 8 sources on a helper thread, the rest on the caller's), then runs
+  // the distance (divergence and Poisson solve) on the helper beside the angle
+  // gradients. They share no writes and do the same arithmetic per lane, so the
+  // results are identical to 1 thread.
   int threads = 1;
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
@@ -179,7 +181,9 @@ struct LogMapWorkspace {
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/solve_wide.hpp)
-  std::vector<double> rhs_wide, out_wide;
+  WideSolveWorkspace wide_a;       // threads = 2: the first 8 sources, solved on the helper thread
+  std::vector<double> rhs_wide, out_wide, rhs_a;
+  std::vector<double> rowjoin;     // threads = 2: one row of both solves side by side
   std::vector<double> out8;        // full variant: one 8-lane batch
   std::vector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
   std::vector<double> dist_full;   // n, full variant
