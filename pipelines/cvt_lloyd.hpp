@@ -24,8 +24,8 @@
 // vertex (the thesis fits one ring; the default 2 averages the piecewise-linear heat
 // over ~19 values instead of ~7, so the centroid jumps less when the hottest vertex
 // changes).
-// Diffusion time: the library default is the thesis's t = h^2 (the engine's shared
-// operator relies on it); `locus cvt` defaults to t = kLloydCliTFactor h^2 = 4h^2.
+// Diffusion time: t = kLloydTFactor h^2 = 4h^2 by default (library, engine Session,
+// C API and `locus cvt` alike; the thesis uses h^2, `locus voronoi` keeps h^2).
 // Why (measured, 100 iterations, defaults otherwise): at t = h^2 Lloyd does not
 // converge slowly but stalls: on armadillo (26k vertices, 1000 sites) the mean
 // smallest dual angle is 48.6 deg from iteration ~80 to 300, the sites keep moving
@@ -62,12 +62,15 @@
 
 namespace locus {
 
+// Default diffusion time of the CVT's cells and centroids in units of h^2 (see above).
+inline constexpr double kLloydTFactor = 4.0;
+
 struct LloydOptions {
   int32_t sites = 100;       // number of generators (random initial sites)
   int32_t iterations = 10;
   uint64_t seed = 1;         // initial sites
   enum class Solver { Local, Full } solver = Solver::Local;
-  double t_factor = 1.0;     // t = t_factor * h^2 (thesis §3.7: t = h^2) unless t_abs > 0; CLI: 4
+  double t_factor = kLloydTFactor;  // t = t_factor * h^2 unless t_abs > 0 (thesis §3.7: h^2; see above)
   double t_abs = 0.0;
   // Centroid diffusion time as a multiple of h^2 (0: the cells' operator, t above);
   // a second numeric factor on the same symbolic factor.
@@ -84,9 +87,6 @@ struct LloydOptions {
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
   const HeatDiffusion* prepared = nullptr;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
 };
-
-// `locus cvt`'s and `locus-bench cvt-speed`'s diffusion time in units of h^2 (see above).
-inline constexpr double kLloydCliTFactor = 4.0;
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;

@@ -325,7 +325,7 @@ locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, 
       fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
     CallContext cc(opts);
     if (cc.t_factor != 1.0)
-      fail(ErrorCode::BadUsage, "t_factor: cvt uses t = h^2 (t_factor 1) only");
+      fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
     const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels_nv);
     if (out_sites_xyz) std::copy(r.site_xyz.begin(), r.site_xyz.end(), out_sites_xyz);

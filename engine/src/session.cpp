@@ -195,12 +195,12 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
   });
 }
 
-// The cells' operator of cvt_lloyd (t = h^2), built once per positions: later
+// The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later
 // cvt calls skip ordering and factoring (and METIS, which cannot be cancelled).
 std::shared_ptr<const HeatDiffusion> cvt_heat(State& s, const RunContext& ctx) {
   return s.cvt_heat.get(0, ctx, [&] {
     ctx.report(0.0, "factor heat operator (cvt)");
-    auto H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, 1.0, 0.0, ctx));
+    auto H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, kLloydTFactor, 0.0, ctx));
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor heat operator (cvt)");
     return H;
@@ -379,7 +379,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   o.iterations = iterations;
   o.seed = seed;
   const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, ctx);
-  o.prepared = H.get();  // t_factor 1 = cvt_lloyd's default: the same operator, bit for bit
+  o.prepared = H.get();  // kLloydTFactor = cvt_lloyd's default: the same operator, bit for bit
   const LloydResult lr = cvt_lloyd(s->mesh, o, ctx);
   CvtResult r;
   r.label = lr.label;

@@ -214,8 +214,7 @@ TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 500 s
   for (const Mesh* m : {&sphere, &torus}) {
     LloydOptions o;
     o.sites = 500;
-    o.iterations = 100;
-    o.t_factor = kLloydCliTFactor;
+    o.iterations = 100;  // defaults otherwise (t = kLloydTFactor h^2)
     const LloydResult r = cvt_lloyd(*m, o, {});
     double cv = 0, var = 0;
     cell_area_spread(r.cell_area, cv, var);
@@ -238,8 +237,7 @@ TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 20 si
   for (const Mesh* m : {&sphere, &torus}) {
     LloydOptions o;
     o.sites = 20;
-    o.iterations = 100;
-    o.t_factor = kLloydCliTFactor;
+    o.iterations = 100;  // defaults otherwise (t = kLloydTFactor h^2)
     const LloydResult r = cvt_lloyd(*m, o, {});
     double cv = 0, var = 0;
     cell_area_spread(r.cell_area, cv, var);

@@ -9,7 +9,7 @@
 //
 // `locus-bench cvt-speed MESH --sites N --iters K`: Lloyd CVT (thesis §3.7.1) with
 // localized and with full solves in the same process, on one prepared factor of
-// M - 4h^2 L (kLloydCliTFactor, as `locus cvt`) and the same random initial sites (--seed); per-iteration wall time
+// M - 4h^2 L (kLloydTFactor, as `locus cvt`) and the same random initial sites (--seed); per-iteration wall time
 // and process CPU time (between consecutive iteration reports; the first
 // iteration, whose neighbourhoods are Dijkstra balls, is left out), medians and
 // the full/local ratios, and the load average before and after. --rounds R
@@ -184,7 +184,7 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
   Json j{{"command", "cvt-speed"}, {"n", m.num_vertices()}, {"sites", o.sites}, {"iterations", o.iterations},
          {"seed", opt.seed}, {"threads", ctx.threads}, {"load_before", load_average()}};
   const double f0 = process_cpu_s();
-  const HeatDiffusion H = prepare_heat_diffusion(m, kLloydCliTFactor, 0.0, ctx);  // as `locus cvt`
+  const HeatDiffusion H = prepare_heat_diffusion(m, kLloydTFactor, 0.0, ctx);  // as `locus cvt`
   j["factor_cpu_s"] = process_cpu_s() - f0;
   const std::vector<SurfacePoint> init = random_surface_points(m, o.sites, opt.seed);
   std::vector<std::string> solvers;

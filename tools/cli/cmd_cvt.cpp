@@ -38,7 +38,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
   // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
   // (measurements in pipelines/cvt_lloyd.hpp).
-  const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydCliTFactor, true} : parse_time_spec(o.t_text);
+  const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
   check_preview_path(o.preview);
   if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))

@@ -65,7 +65,7 @@ typedef struct locus_run_options {
   locus_progress_fn progress; /* NULL: no progress reports, no cancellation */
   void* user_data;           /* passed to progress */
   uint64_t max_memory_bytes; /* limit of one factorization, 0 = 80% of physical memory */
-  double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = default 1 (cvt: 1 only) */
+  double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = default 1 (cvt: default only, its cells use t = 4h^2) */
 } locus_run_options;
 
 /* The defaults: threads 0, no callback, no memory limit beyond the default, t_factor 1. */
@@ -139,10 +139,11 @@ locus_status locus_logmap_ex(locus_session* session, int64_t center, double frac
                              const locus_run_options* opts);
 
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
- * §3.7): `sites` seeded random initial sites (1 <= sites <= vertex count),
- * 0 <= iters <= 10000 iterations; the mesh must be connected
- * (LOCUS_BAD_INPUT otherwise). out_labels_nv: vertex-count int32 labels in
- * [0, sites). The same seed gives the same labels for any thread count. */
+ * §3.7; cells and centroids by M - 4h^2 L): `sites` seeded random initial
+ * sites (1 <= sites <= vertex count), 0 <= iters <= 10000 iterations; the mesh
+ * must be connected (LOCUS_BAD_INPUT otherwise). out_labels_nv: vertex-count
+ * int32 labels in [0, sites). The same seed gives the same labels for any
+ * thread count. */
 locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                        int32_t* out_labels_nv);
 /* The same with options; with out_sites_xyz non-NULL (3 * sites doubles) also the
