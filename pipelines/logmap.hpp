@@ -98,6 +98,19 @@
 // t = h^2 (best: two-ring + Star 2.87e-3, default 3.04e-3); the default stays
 // Auto + Ring + recentre, which meets the random-point sphere target.
 //
+// Cost of a localized query (LogMapStats phases, thread CPU; `locus-bench
+// logmap` phases_s; 416k vertices, 5 % patch = 21k vertices, two-ring centre
+// with 19-22 sources, session 5 under load 3-5): region 1.8 ms, heat plan 0.3,
+// heat solve 4.2-4.8 (24 lanes over ~26 MB of the factor: the region's
+// ancestors, 25.8k columns, 1.6k of them the root path), distance 4.6-5.4
+// (Poisson plan + solve 3.3-4.0: two one-lane passes over ~26 MB, memory
+// bound; divergence ~1.2), angles 2.0-2.5. At 50 %: 11 / 2.5 / 25 / 32 / 23 ms.
+// The two exact solves alone read ~80 MB per 5 % query, which at this
+// machine's single-core bandwidth is about the whole time of the Dijkstra DEM
+// (6-7 ms): with exact solves through the top separators, parity with DEM is
+// out of reach at 5 %; the gap narrows with the patch (DEM / heat 0.47 at 5 %,
+// 0.78 at 50 %).
+//
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
 // face normals, so consistently oriented triangles keep their orientation.
