@@ -41,9 +41,6 @@
 #include <cmath>
 #include <numeric>
 #include <string>
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 #include "kernels/etree.hpp"
 #include "kernels/task_arenas.hpp"
@@ -57,31 +54,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Sizes a fresh result array so that its first touch is cheap. A block of
-// 32 MB or more is a new mapping on every update (glibc's mmap threshold never
-// exceeds 32 MB), and here each 4 KB page fault costs ~3.5 us (0.85 ms per MB,
-// measured): up to a third of a 416k update. Transparent huge pages (left to
-// madvise on this system) fault 2 MB at a time: in one process, alternating,
-// the copy phase at 416k went 38 -> 15 ms (25% patches) and 96 -> 26 ms (50%).
-// The advice goes between allocation (reserve touches nothing) and the first
-// write, only on blocks that are their own mapping (smaller ones live in the
-// malloc heap, whose pages are reused and which advice would split); it
-// changes no value, and the kernel falls back to small pages when no huge
-// page is free.
-template <class V>
-void resize_fresh(V& v, size_t count) {
-  constexpr size_t kHuge = size_t{2} << 20;
-  if (count * sizeof(typename V::value_type) >= 16 * kHuge && v.capacity() < count) {
-    v.reserve(count);
-#ifdef __linux__
-    const uintptr_t p = reinterpret_cast<uintptr_t>(v.data());
-    const uintptr_t a = (p + kHuge - 1) & ~uintptr_t{kHuge - 1};
-    const uintptr_t b = (p + count * sizeof(typename V::value_type)) & ~uintptr_t{kHuge - 1};
-    if (b > a) madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);  // advice only: failure is harmless
-#endif
-  }
-  v.resize(count);
-}
 // Runs f inside an arena of the context's thread budget (TBB owns the threads).
 template <class F>
 void in_arena(const RunContext& ctx, F&& f) {
@@ -335,14 +307,10 @@ void assemble_from_factor_order(SymbolicFactor& Sp, const std::vector<int32_t>& 
   const int32_t m = Sp.n, ns = Sp.ns;
   int64_t bound = 0;
   for (int32_t c = 0; c < m; ++c) bound += ap_ptr[gcol[c] + 1] - ap_ptr[gcol[c]];
-  // Scratch arrays are left uninitialized: every entry read was written.
-  std::vector<int32_t, DefaultInitAllocator<int32_t>> e_col, e_row;  // local (A_II) column and row, row >= column
-  std::vector<double, DefaultInitAllocator<double>> e_val;
-  resize_fresh(e_col, static_cast<size_t>(bound));
-  resize_fresh(e_row, static_cast<size_t>(bound));
-  resize_fresh(e_val, static_cast<size_t>(bound));
+  std::vector<int32_t> e_col(static_cast<size_t>(bound)), e_row(static_cast<size_t>(bound));  // local (A_II) column and row, row >= column
+  std::vector<double> e_val(static_cast<size_t>(bound));
   Sp.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  resize_fresh(Sp.a_dst, static_cast<size_t>(bound));
+  Sp.a_dst.resize(static_cast<size_t>(bound));
   std::vector<int32_t> rowpos(m);
   bool finite = true;
   int64_t k = 0;
@@ -382,8 +350,7 @@ void assemble_from_factor_order(SymbolicFactor& Sp, const std::vector<int32_t>& 
       }
   // A_II's columns, rows ascending: a counting sort by row, then a stable one
   // by column; a_src follows the entries.
-  std::vector<int32_t, DefaultInitAllocator<int32_t>> by_row;
-  resize_fresh(by_row, static_cast<size_t>(k));
+  std::vector<int32_t> by_row(static_cast<size_t>(k));
   {
     std::vector<int32_t> cnt(static_cast<size_t>(m) + 1, 0);
     for (int64_t q = 0; q < k; ++q) ++cnt[e_row[q] + 1];
@@ -394,9 +361,9 @@ void assemble_from_factor_order(SymbolicFactor& Sp, const std::vector<int32_t>& 
   B.colptr.assign(static_cast<size_t>(m) + 1, 0);
   for (int64_t q = 0; q < k; ++q) ++B.colptr[e_col[q] + 1];
   for (int32_t a = 0; a < m; ++a) B.colptr[a + 1] += B.colptr[a];
-  resize_fresh(B.rowind, static_cast<size_t>(k));
-  resize_fresh(B.values, static_cast<size_t>(k));
-  resize_fresh(Sp.a_src, static_cast<size_t>(k));
+  B.rowind.resize(static_cast<size_t>(k));
+  B.values.resize(static_cast<size_t>(k));
+  Sp.a_src.resize(static_cast<size_t>(k));
   std::vector<int64_t> next(B.colptr.begin(), B.colptr.end() - 1);
   for (const int32_t q : by_row) {
     const int64_t dst = next[e_col[q]]++;
@@ -697,7 +664,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
     // (3) Copy the unmarked supernodes' restricted blocks from L.
     const auto t2 = clock::now();
     F.symbolic = Sp;
-    resize_fresh(F.values, static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
+    F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
     auto copy_range = [&](int32_t s0, int32_t s1) {
       for (int32_t s = s0; s < s1; ++s) {
         if (smark[s]) continue;
