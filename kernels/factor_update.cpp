@@ -29,7 +29,6 @@
 // recomputation, which assembles its supernodes from the same copy of A.
 #include "kernels/factor_update.hpp"
 
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_for.h>
@@ -42,6 +41,7 @@
 #include <numeric>
 #include <string>
 
+#include "kernels/bit_set.hpp"
 #include "kernels/etree.hpp"
 #include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
@@ -515,12 +515,8 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
     cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
   }
   const int32_t m = static_cast<int32_t>(I.size());
-  auto scan_bits = [](const std::vector<uint64_t>& bits, std::vector<int32_t>& outv) {
-    for (size_t wi = 0; wi < bits.size(); ++wi)
-      for (uint64_t w = bits[wi]; w; w &= w - 1) outv.push_back(static_cast<int32_t>(wi * 64 + std::countr_zero(w)));
-  };
   out.vertices.reserve(m);
-  scan_bits(vbits_, out.vertices);
+  append_set_bits(vbits_, out.vertices);
   const bool prepared = !ap_ptr_.empty();
   // Local index of a vertex of I = its rank in the bit set: a popcount over a
   // prefix table of n/64 entries, which stays in cache where the n-sized map
@@ -554,7 +550,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
 
   // (1) Restricted structure, in L's order.
   gcol.reserve(m);
-  scan_bits(cbits_, gcol);
+  append_set_bits(cbits_, gcol);
   for (const int32_t c : gcol) cbits_[static_cast<size_t>(c) >> 6] = 0;
   reset.cbits_clear = true;
   for (int32_t c = 0; c < m; ++c) {

@@ -8,9 +8,9 @@
 #include "kernels/solve_plan.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <string>
 
+#include "kernels/bit_set.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -27,16 +27,15 @@ void check_ids(const SymbolicFactor& S, std::span<const int32_t> ids, const char
 // Ascending order of distinct supernode ids: a sort for small sets, a bit set
 // scan (ns / 64 words) once the set is large enough for that to be cheaper.
 void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t>& bits) {
-  const size_t words = (static_cast<size_t>(ns) + 63) / 64;
+  const size_t words = bit_words(static_cast<size_t>(ns));
   if (ids.size() < 256 || ids.size() * 8 < words) {
     std::sort(ids.begin(), ids.end());
     return;
   }
   bits.assign(words, 0);
-  for (int32_t s : ids) bits[static_cast<size_t>(s) >> 6] |= uint64_t{1} << (s & 63);
+  for (int32_t s : ids) set_bit(bits, s);
   ids.clear();
-  for (size_t w = 0; w < words; ++w)
-    for (uint64_t b = bits[w]; b != 0; b &= b - 1) ids.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
+  append_set_bits(bits, ids);
 }
 
 // Supernodes on the paths from the given vertices to the root, ascending, into
@@ -62,17 +61,26 @@ int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) 
   return c;
 }
 
-void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out, SolvePlan& p,
-               PlanWorkspace& ws, std::span<const int32_t> vsuper = {}) {
-  check_ids(S, rhs, "right-hand side support");
-  check_ids(S, out, "output set");
-  if (ws.seen.size() != static_cast<size_t>(S.ns)) ws.seen.assign(static_cast<size_t>(S.ns), 0);
+// An exact plan's fields other than its supernode lists, for these ids.
+void start_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out, SolvePlan& p) {
   p.n = S.n;
   p.approximate = false;
   p.kept_cols.clear();
   p.forward_pruned.clear();
   p.rhs.assign(rhs.begin(), rhs.end());
   p.outputs.assign(out.begin(), out.end());
+}
+
+bool is_prefix(std::span<const int32_t> a, const std::vector<int32_t>& b) {
+  return a.size() <= b.size() && std::equal(a.begin(), a.end(), b.begin());
+}
+
+void base_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span<const int32_t> out, SolvePlan& p,
+               PlanWorkspace& ws, std::span<const int32_t> vsuper = {}) {
+  check_ids(S, rhs, "right-hand side support");
+  check_ids(S, out, "output set");
+  if (ws.seen.size() != static_cast<size_t>(S.ns)) ws.seen.assign(static_cast<size_t>(S.ns), 0);
+  start_plan(S, rhs, out, p);
   ancestors_of(S, rhs, vsuper, ws, p.forward);
   p.forward_columns = columns_of(S, p.forward);
 }
@@ -118,12 +126,6 @@ void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_
   finish(S, p);
 }
 
-namespace {
-bool is_prefix(std::span<const int32_t> a, const std::vector<int32_t>& b) {
-  return a.size() <= b.size() && std::equal(a.begin(), a.end(), b.begin());
-}
-}  // namespace
-
 void plan_subset_solve_within(const SymbolicFactor& S, const SolvePlan& cover, std::span<const int32_t> rhs_support,
                               std::span<const int32_t> wanted, SolvePlan& p, PlanWorkspace& ws) {
   if (&cover == &p) fail(ErrorCode::BadUsage, "solve plan: the covering plan and the result must differ");
@@ -133,12 +135,7 @@ void plan_subset_solve_within(const SymbolicFactor& S, const SolvePlan& cover, s
     return;
   }
   // (Both are prefixes of cover.outputs, which were range-checked when it was made.)
-  p.n = S.n;
-  p.approximate = false;
-  p.kept_cols.clear();
-  p.forward_pruned.clear();
-  p.rhs.assign(rhs_support.begin(), rhs_support.end());
-  p.outputs.assign(wanted.begin(), wanted.end());
+  start_plan(S, rhs_support, wanted, p);
   // cover.backward holds the ancestors of all of cover.outputs: the reach of
   // the support and a superset of the wanted vertices' ancestors (exact: the
   // extra supernodes feed no wanted entry).

@@ -3,13 +3,12 @@
 #include "pipelines/heat_geodesic.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
 
+#include "kernels/bit_set.hpp"
 #include "kernels/log_array.hpp"
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
@@ -17,6 +16,7 @@
 #include "kernels/solve_full.hpp"
 #include "kernels/solve_plan.hpp"
 #include "kernels/symbolic_factor.hpp"
+#include "kernels/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -212,14 +212,11 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
   // at 50 % of a 416k mesh the caller's (Dijkstra) order made every vertex a
   // cache miss. Faces and ring vertices are therefore listed in that order.
   r.order.clear();
-  if (r.bits.size() != (static_cast<size_t>(n) + 63) / 64) r.bits.assign((static_cast<size_t>(n) + 63) / 64, 0);
-  if (r.face_bits.size() != (static_cast<size_t>(grad_.nf) + 63) / 64)
-    r.face_bits.assign((static_cast<size_t>(grad_.nf) + 63) / 64, 0);
-  for (int32_t k = 0; k < np; ++k) r.bits[static_cast<uint32_t>(r.verts[k]) >> 6] |= uint64_t{1} << (r.verts[k] & 63);
-  for (size_t w = 0; w < r.bits.size(); ++w) {
-    for (uint64_t b = r.bits[w]; b != 0; b &= b - 1) r.order.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
-    r.bits[w] = 0;
-  }
+  if (r.bits.size() != bit_words(n)) r.bits.assign(bit_words(n), 0);
+  if (r.face_bits.size() != bit_words(grad_.nf)) r.face_bits.assign(bit_words(grad_.nf), 0);
+  for (int32_t k = 0; k < np; ++k) set_bit(r.bits, r.verts[k]);
+  append_set_bits(r.bits, r.order);
+  std::fill(r.bits.begin(), r.bits.end(), 0);
   for (int32_t k = 0; k < np; ++k) {
     if (k + 2 * kAhead < np) __builtin_prefetch(grad_.vf_offsets.data() + r.order[k + 2 * kAhead]);
     if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 4 * grad_.vf_offsets[r.order[k + kAhead]]);
@@ -228,7 +225,7 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
       const int32_t* c = vf_corners_.data() + 4 * q;  // the face's corners in slot order, then the face
       if (c[0] != v && (in_patch(c[0]) || (c[1] != v && in_patch(c[1])))) continue;
       const int32_t f = c[3];
-      r.face_bits[static_cast<uint32_t>(f) >> 6] |= uint64_t{1} << (f & 63);
+      set_bit(r.face_bits, f);
       for (int s = 0; s < 3; ++s) {
         const int32_t w = c[s];
         if (r.local[w] < 0) {
@@ -240,10 +237,8 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) 
   }
   // Faces in ascending order too: the divergence then reads their gradient
   // bases (72 bytes each) in memory order.
-  for (size_t w = 0; w < r.face_bits.size(); ++w) {
-    for (uint64_t b = r.face_bits[w]; b != 0; b &= b - 1) r.faces.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
-    r.face_bits[w] = 0;
-  }
+  append_set_bits(r.face_bits, r.faces);
+  std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
   // Corner indices into verts; the corners' entries of `local` are fetched ahead.
   const size_t nfl = r.faces.size();
   r.face_local.resize(3 * nfl);
@@ -308,8 +303,7 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   }
   ws.b.resize(static_cast<size_t>(flux ? nloc : np));
   for (size_t k = 0; k < ws.b.size(); ++k) ws.b[k] = hlb[kRec * k + 2];
-  timespec t0{}, t1{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+  const double t0 = thread_cpu_seconds();
   const std::span<const int32_t> support(r.verts.data(), ws.b.size());
   const std::span<const int32_t> wanted(r.verts.data(), static_cast<size_t>(np));
   if (heat_plan && shared_symbolic_)
@@ -319,8 +313,7 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
                       support, wanted, ws.poisson_plan, ws.plan_ws);
   ws.x.resize(static_cast<size_t>(np));
   solve_planned(poisson_, ws.poisson_plan, ws.b, ws.x, ws.poisson);
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
-  ws.poisson_s = static_cast<double>(t1.tv_sec - t0.tv_sec) + 1e-9 * static_cast<double>(t1.tv_nsec - t0.tv_nsec);
+  ws.poisson_s = thread_cpu_seconds() - t0;
   const double d0 = ws.x[source_local];
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)

@@ -2,7 +2,6 @@
 #include "pipelines/logmap.hpp"
 
 #include <algorithm>
-#include <ctime>
 #include <bit>
 #include <cstdint>
 #include <cmath>
@@ -18,6 +17,7 @@
 #include "kernels/solve_plan.hpp"
 #include "kernels/solve_wide.hpp"
 #include "kernels/log_array.hpp"
+#include "kernels/thread_cpu_time.hpp"
 #include <xsimd/xsimd.hpp>
 #include "locus/error.hpp"
 
@@ -27,11 +27,27 @@ namespace {
 
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// Phase times are thread CPU time: other processes on a loaded machine do not inflate them.
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+// Runs `beside` on a second thread while `here` runs on this one (a query's
+// opt-in second thread); always joins before returning or rethrowing, and
+// rethrows an exception of either, this thread's first.
+template <class Beside, class Here>
+void run_beside(Beside&& beside, Here&& here) {
+  std::exception_ptr failed;
+  std::thread helper([&] {
+    try {
+      beside();
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  });
+  try {
+    here();
+  } catch (...) {
+    helper.join();
+    throw;
+  }
+  helper.join();
+  if (failed) std::rethrow_exception(failed);
 }
 
 void check_outputs(const LogMapOutput& out, size_t np) {
@@ -603,29 +619,18 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       const bool split = ws.threads >= 2 && d > kLanes;
       const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes solved here
       const int32_t first = split ? kLanes : 0;                                    // first source solved here
-      std::exception_ptr failed;
-      std::thread solver_a;
+      auto solve_here = [&] {
+        ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
+        for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
+        solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
+      };
       if (split) {
         ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
         for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
-        solver_a = std::thread([&] {
-          try {
-            solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
-          } catch (...) {
-            failed = std::current_exception();
-          }
-        });
+        run_beside([&] { solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a); }, solve_here);
+      } else {
+        solve_here();
       }
-      ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
-      for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
-      try {
-        solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
-      } catch (...) {
-        if (solver_a.joinable()) solver_a.join();
-        throw;
-      }
-      if (solver_a.joinable()) solver_a.join();
-      if (failed) std::rethrow_exception(failed);
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* XB = ws.wide.x.data();
@@ -666,19 +671,16 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         // side with the same arithmetic as one thread (identical results).
         for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = XA[static_cast<size_t>(rows[k]) * WA];
         double t_distance = 0;
-        std::thread helper([&] {
-          try {
-            const double c0 = thread_cpu_seconds();
-            geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-            t_distance = thread_cpu_seconds() - c0;
-          } catch (...) {
-            failed = std::current_exception();
-          }
-        });
-        gradient_pass(false);
-        lap(t_gradients);
-        helper.join();
-        if (failed) std::rethrow_exception(failed);
+        run_beside(
+            [&] {
+              const double c0 = thread_cpu_seconds();
+              geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+              t_distance = thread_cpu_seconds() - c0;
+            },
+            [&] {
+              gradient_pass(false);
+              lap(t_gradients);
+            });
         st.distance_s = t_distance;  // the helper's CPU time
         st.poisson_s = ws.geo.poisson_s;
         distance_done = true;

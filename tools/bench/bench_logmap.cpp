@@ -36,9 +36,9 @@
 #include <cstdio>
 #include <numeric>
 #include <sstream>
-#include <ctime>
 
 #include "kernels/mesh_generators.hpp"
+#include "kernels/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/logmap.hpp"
@@ -66,13 +66,6 @@ std::vector<double> parse_list(const std::string& text) {
   if (out.empty()) fail(ErrorCode::BadUsage, "--fractions is empty");
   std::sort(out.begin(), out.end());
   return out;
-}
-
-// Thread CPU time: robust against other processes on a loaded machine.
-double thread_cpu_s() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 // Distinct seeded centres (splitmix64 through cli::random_vector).
@@ -161,11 +154,11 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       const std::span<const int32_t> P(patch.data(), k);
       local.resize(k);
       full.resize(k);
-      double c0 = thread_cpu_s();
+      double c0 = thread_cpu_seconds();
       sw.restart();
       const LogMapStats st = heat.query(c, P, local.out(), lws);
       t_local.push_back(sw.seconds());
-      c_local.push_back(thread_cpu_s() - c0);
+      c_local.push_back(thread_cpu_seconds() - c0);
       max_sources = std::max(max_sources, st.sources);
       if (to.query_threads >= 2) {
         local2.resize(k);
@@ -185,17 +178,17 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       ph_angles.push_back(st.angles_s);
       two_ring_centres += st.two_ring;
       if (!to.no_full) {
-        c0 = thread_cpu_s();
+        c0 = thread_cpu_seconds();
         sw.restart();
         heat.query_full(c, P, full.out(), lws);
         t_full.push_back(sw.seconds());
-        c_full.push_back(thread_cpu_s() - c0);
+        c_full.push_back(thread_cpu_seconds() - c0);
       }
-      c0 = thread_cpu_s();
+      c0 = thread_cpu_seconds();
       sw.restart();
       const int32_t kd = dem.query(c, count, std::numeric_limits<double>::infinity(), dem_patch, du, dv, dws);
       t_dem.push_back(sw.seconds());
-      c_dem.push_back(thread_cpu_s() - c0);
+      c_dem.push_back(thread_cpu_seconds() - c0);
       flipped_heat += count_flipped_triangles(heat.geodesic().gradients(), P, local.u, local.v, scratch);
       flipped_dem += count_flipped_triangles(heat.geodesic().gradients(), std::span<const int32_t>(dem_patch.data(), kd),
                                              std::span<const double>(du.data(), kd),
