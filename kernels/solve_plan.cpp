@@ -206,4 +206,23 @@ SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t>
   return p;
 }
 
+PlanTraffic plan_traffic(const SymbolicFactor& S, const SolvePlan& plan) {
+  auto bytes = [&S](int32_t s) {
+    if (s < 0 || s >= S.ns) fail(ErrorCode::BadUsage, "plan_traffic: supernode " + std::to_string(s) + " is not in the factor");
+    return 8 * (S.super_value_ptr[s + 1] - S.super_value_ptr[s]) + 4 * static_cast<int64_t>(S.nrows(s));
+  };
+  PlanTraffic t;
+  for (int32_t s : plan.forward) t.forward_bytes += bytes(s);
+  for (int32_t s : plan.backward) t.backward_bytes += bytes(s);
+  // Both lists are sorted (forward ascending, backward descending): merge-count the common ones.
+  int64_t common = 0;
+  auto f = plan.forward.begin();
+  for (auto b = plan.backward.rbegin(); b != plan.backward.rend(); ++b) {
+    while (f != plan.forward.end() && *f < *b) ++f;
+    if (f != plan.forward.end() && *f == *b) common += bytes(*b);
+  }
+  t.distinct_bytes = t.read_bytes() - common;
+  return t;
+}
+
 }  // namespace locus

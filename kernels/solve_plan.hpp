@@ -80,4 +80,18 @@ void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_
 void plan_subset_solve_within(const SymbolicFactor& S, const SolvePlan& cover, std::span<const int32_t> rhs_support,
                               std::span<const int32_t> wanted, SolvePlan& plan, PlanWorkspace& ws);
 
+// Memory an exact plan's solve reads from the factor, one right-hand-side
+// pass each way (forward over plan.forward, backward over plan.backward): every
+// supernode block of the pass (nrows x ncols values, 8 bytes each, the unused
+// upper triangle of the diagonal block included: it shares the cache lines)
+// and its row indices (4 bytes per row). `distinct_bytes` counts a supernode
+// read by both passes once: the least a solve can move if nothing is in cache
+// when it starts and nothing it reads is evicted before its second use.
+// (Lanes' x rows are not counted: they are the solver's, not the factor's.)
+struct PlanTraffic {
+  int64_t forward_bytes = 0, backward_bytes = 0, distinct_bytes = 0;
+  int64_t read_bytes() const { return forward_bytes + backward_bytes; }
+};
+PlanTraffic plan_traffic(const SymbolicFactor& S, const SolvePlan& plan);
+
 }  // namespace locus

@@ -123,3 +123,37 @@ TEST_CASE("a plan derived from a covering plan solves exactly") {
     CHECK_THROWS_AS(plan_subset_solve_within(S, p, supp, wanted, p, ws), Error);
   }
 }
+
+// Oracle: the bytes summed over the brute-force etree closures (std::set), each
+// block's size from its row and column counts (not from super_value_ptr).
+TEST_CASE("plan_traffic counts the factor bytes of both passes, shared supernodes once") {
+  const CscMatrix A = test::grid_laplacian(70, 60, 0.01);
+  const NumericFactor F = factorize(analyze(A, order_matrix(A)), A);
+  const SymbolicFactor& S = *F.symbolic;
+  auto block = [&S](int32_t s) {
+    return 8 * static_cast<int64_t>(S.nrows(s)) * S.ncols(s) + 4 * static_cast<int64_t>(S.nrows(s));
+  };
+  std::mt19937_64 rng(11);
+  for (int32_t count : {1, 40, 2000}) {
+    CAPTURE(count);
+    const std::vector<int32_t> supp = random_set(S.n, std::min(count, 9), rng);
+    const std::vector<int32_t> wanted = random_set(S.n, count, rng);
+    const SolvePlan p = plan_subset_solve(S, supp, wanted);
+    const std::vector<int32_t> fw = closure(S, supp), bw = closure(S, wanted);
+    std::set<int32_t> both(fw.begin(), fw.end());
+    both.insert(bw.begin(), bw.end());
+    int64_t f = 0, b = 0, d = 0;
+    for (int32_t s : fw) f += block(s);
+    for (int32_t s : bw) b += block(s);
+    for (int32_t s : both) d += block(s);
+    const PlanTraffic t = plan_traffic(S, p);
+    CHECK(t.forward_bytes == f);
+    CHECK(t.backward_bytes == b);
+    CHECK(t.distinct_bytes == d);
+    CHECK(t.read_bytes() == f + b);
+    CHECK(d < f + b);  // the root is on both paths
+  }
+  SolvePlan bad;
+  bad.forward = {S.ns};
+  CHECK_THROWS_AS(plan_traffic(S, bad), Error);
+}

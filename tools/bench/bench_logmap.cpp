@@ -43,6 +43,7 @@
 #include "pipelines/dem_logmap.hpp"
 #include "pipelines/logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
+#include "tools/bench/stream_bandwidth.hpp"
 #include "tools/cli/logmap_choices.hpp"
 
 namespace locus::bench {
@@ -127,6 +128,9 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   const DemLogMap dem(in.mesh);
   const double dem_prepare_s = sw.seconds();
   const std::vector<int32_t> centres = pick_centres(n, to.queries, opt.seed);
+  // This machine's single-core streaming read rate: with the factor bytes a
+  // query's exact solves read (plan_traffic), a floor on their time.
+  const StreamBandwidth stream = measure_stream_read();
 
   LogMapWorkspace lws, lws2;
   lws2.threads = 2;
@@ -142,6 +146,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
     std::vector<double> t_local2;
     int64_t mismatch2 = 0;
+    std::vector<double> mb_heat_read, mb_heat_distinct, mb_poisson_read, mb_poisson_distinct, mb_distinct;
     std::vector<double> ph_region, ph_centre, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
@@ -168,6 +173,18 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
         for (int32_t p = 0; p < k; ++p)
           mismatch2 += local2.d[p] != local.d[p] || local2.a[p] != local.a[p] || local2.u[p] != local.u[p] ||
                        local2.v[p] != local.v[p];
+      }
+      {
+        // Factor bytes of this query's two exact solves (the wide heat solve
+        // makes st.passes passes over its plan; the Poisson solve one).
+        const PlanTraffic th = plan_traffic(*heat.geodesic().heat_factor().symbolic, lws.plan);
+        const PlanTraffic tp = plan_traffic(*heat.geodesic().poisson_factor().symbolic, lws.geo.poisson_plan);
+        const double mb = 1e-6;
+        mb_heat_read.push_back(mb * th.read_bytes() * st.passes);
+        mb_heat_distinct.push_back(mb * th.distinct_bytes);
+        mb_poisson_read.push_back(mb * tp.read_bytes());
+        mb_poisson_distinct.push_back(mb * tp.distinct_bytes);
+        mb_distinct.push_back(mb * (th.distinct_bytes + tp.distinct_bytes));
       }
       ph_region.push_back(st.region_s);
       ph_centre.push_back(st.centre_s);
@@ -235,6 +252,17 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
                            {"heat_plan", cli::median(ph_plan)},     {"heat_solve", cli::median(ph_heat)},
                            {"distance", cli::median(ph_distance)}, {"poisson", cli::median(ph_poisson)},
                            {"angles", cli::median(ph_angles)}};
+    // Factor traffic of the two exact solves (medians, MB = 1e6 bytes) and the
+    // time streaming the distinct bytes once would take at the best measured
+    // single-core read rate: no exact-solve query can be faster than that.
+    const double floor_s = cli::median(mb_distinct) * 1e6 / stream.best_bytes_per_s;
+    row["factor_traffic_mb"] = Json{{"heat_read", cli::median(mb_heat_read)},
+                                    {"heat_distinct", cli::median(mb_heat_distinct)},
+                                    {"poisson_read", cli::median(mb_poisson_read)},
+                                    {"poisson_distinct", cli::median(mb_poisson_distinct)},
+                                    {"distinct", cli::median(mb_distinct)}};
+    row["stream_floor_s"] = floor_s;
+    row["dem_over_floor"] = md / floor_s;
     row["max_sources"] = max_sources;
     row["two_ring_centres"] = two_ring_centres;
     row["mean_patch_radius"] = radius;
@@ -271,6 +299,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   j["precompute_s"] = precompute_s;
   j["dem_prepare_s"] = dem_prepare_s;
   j["queries"] = centres.size();
+  j["stream_read_gbs"] = Json{{"best", stream.best_bytes_per_s * 1e-9}, {"median", stream.median_bytes_per_s * 1e-9}};
   j["rows"] = rows;
   j["crossover_fraction"] = crossover < 0 ? Json(nullptr) : Json(crossover);
   j["crossover_fraction_cpu"] = crossover_cpu < 0 ? Json(nullptr) : Json(crossover_cpu);
