@@ -109,29 +109,32 @@ struct Restricted {
   std::vector<int32_t> parent;      // ns
 };
 
-Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t>& col_new, std::vector<int32_t> gcol) {
-  Restricted R;
-  const int32_t m = static_cast<int32_t>(gcol.size());
-  R.gcol = std::move(gcol);
-  R.colpos.resize(m);
-  {  // size the row lists once: the touched supernodes' rows bound them
-    int64_t bound = 0;
-    for (int32_t c = 0, prev = -1; c < m; ++c) {
-      const int32_t s = S.col_to_super[R.gcol[c]];
-      if (s != prev) bound += S.nrows(s);
-      prev = s;
-    }
-    R.rows.reserve(static_cast<size_t>(bound));
-    R.rowpos.reserve(static_cast<size_t>(bound));
+// The restricted supernodes of the global supernodes that hold columns
+// gcol[c0, c1) (c0 and c1 at supernode boundaries), appended to R's lists
+// (gsuper, first_col, row_ptr, rows, rowpos); colpos is written at [c0, c1).
+// Rows of the global supernodes holding gcol[c0, c1): a bound of their restricted rows.
+int64_t rows_bound(const SymbolicFactor& S, const std::vector<int32_t>& gcol, int32_t c0, int32_t c1) {
+  int64_t bound = 0;
+  for (int32_t c = c0, prev = -1; c < c1; ++c) {
+    const int32_t s = S.col_to_super[gcol[c]];
+    if (s != prev) bound += S.nrows(s);
+    prev = s;
   }
-  R.first_col.push_back(0);
-  R.row_ptr.push_back(0);
-  for (int32_t c = 0; c < m;) {
-    const int32_t s = S.col_to_super[R.gcol[c]];
+  return bound;
+}
+
+void restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new, const std::vector<int32_t>& gcol,
+                    int32_t* colpos, int32_t c0, int32_t c1, Restricted& R) {
+  // size the row lists once (a no-op when the caller reserved for more)
+  const size_t bound = R.rows.size() + static_cast<size_t>(rows_bound(S, gcol, c0, c1));
+  R.rows.reserve(bound);
+  R.rowpos.reserve(bound);
+  for (int32_t c = c0; c < c1;) {
+    const int32_t s = S.col_to_super[gcol[c]];
     const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
     int32_t c2 = c;
-    while (c2 < m && R.gcol[c2] < l) {
-      R.colpos[c2] = R.gcol[c2] - f;
+    while (c2 < c1 && gcol[c2] < l) {
+      colpos[c2] = gcol[c2] - f;
       ++c2;
     }
     R.gsuper.push_back(s);
@@ -146,6 +149,43 @@ Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t
     }
     R.row_ptr.push_back(static_cast<int64_t>(R.rows.size()));
     c = c2;
+  }
+}
+
+// With two threads the touched supernodes are split at a supernode boundary
+// near the middle column and restricted side by side; the second half is
+// appended to the first, so the result is the same as one pass.
+Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t>& col_new, std::vector<int32_t> gcol,
+                              bool two_threads) {
+  Restricted R;
+  const int32_t m = static_cast<int32_t>(gcol.size());
+  R.gcol = std::move(gcol);
+  R.colpos.resize(m);
+  R.first_col.push_back(0);
+  R.row_ptr.push_back(0);
+  int32_t mid = m / 2;
+  while (mid > 0 && mid < m && S.col_to_super[R.gcol[mid]] == S.col_to_super[R.gcol[mid - 1]]) ++mid;
+  if (!two_threads || mid <= 0 || mid >= m) {
+    restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, m, R);
+  } else {
+    Restricted H;  // the second half's lists (colpos is shared: disjoint ranges)
+    H.first_col.push_back(mid);
+    H.row_ptr.push_back(0);
+    tbb::parallel_invoke(
+        [&] {
+          // room for both halves, so that appending the second copies nothing else
+          const size_t bound = static_cast<size_t>(rows_bound(S, R.gcol, 0, m));
+          R.rows.reserve(bound);
+          R.rowpos.reserve(bound);
+          restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, mid, R);
+        },
+        [&] { restrict_range(S, col_new, R.gcol, R.colpos.data(), mid, m, H); });
+    const int64_t off = static_cast<int64_t>(R.rows.size());
+    R.gsuper.insert(R.gsuper.end(), H.gsuper.begin(), H.gsuper.end());
+    R.first_col.insert(R.first_col.end(), H.first_col.begin() + 1, H.first_col.end());
+    for (size_t q = 1; q < H.row_ptr.size(); ++q) R.row_ptr.push_back(off + H.row_ptr[q]);
+    R.rows.insert(R.rows.end(), H.rows.begin(), H.rows.end());
+    R.rowpos.insert(R.rowpos.end(), H.rowpos.begin(), H.rowpos.end());
   }
   R.ns = static_cast<int32_t>(R.gsuper.size());
   std::vector<int32_t> col_to_super(m);
@@ -244,53 +284,64 @@ bool postorder_in_place(Restricted& R) {
 // complete_symbolic derives, in single passes): value offsets, column etree and
 // counts, heights, workspace sizes and the update lists (for each s, the
 // supernodes d < s with a row in s's columns, ascending).
-void complete_structure(SymbolicFactor& S) {
+void complete_structure(SymbolicFactor& S, bool two_threads) {
   const int32_t n = S.n, ns = S.ns;
-  S.super_etree_height = tree_height(S.super_parent);
-  S.parent.assign(n, -1);
-  S.col_count.assign(n, 0);
-  S.nnz_exact = 0;
-  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  S.nnz_L = 0;
-  S.max_super_rows = 0;
-  for (int32_t s = 0; s < ns; ++s) {
-    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-    const int64_t r = S.nrows(s), c = l - f;
-    for (int32_t j = f; j < l; ++j) {
-      S.col_count[j] = static_cast<int32_t>(r - (j - f));
-      S.nnz_exact += S.col_count[j];
-      if (j + 1 < l) S.parent[j] = j + 1;
-      else if (r > c) S.parent[j] = S.super_rows[S.super_row_ptr[s] + c];
+  auto columns = [&] {
+    S.super_etree_height = tree_height(S.super_parent);
+    S.parent.assign(n, -1);
+    S.col_count.assign(n, 0);
+    S.nnz_exact = 0;
+    S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+    S.nnz_L = 0;
+    S.max_super_rows = 0;
+    for (int32_t s = 0; s < ns; ++s) {
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      const int64_t r = S.nrows(s), c = l - f;
+      for (int32_t j = f; j < l; ++j) {
+        S.col_count[j] = static_cast<int32_t>(r - (j - f));
+        S.nnz_exact += S.col_count[j];
+        if (j + 1 < l) S.parent[j] = j + 1;
+        else if (r > c) S.parent[j] = S.super_rows[S.super_row_ptr[s] + c];
+      }
+      S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
+      S.nnz_L += r * c - c * (c - 1) / 2;
+      S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
     }
-    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
-    S.nnz_L += r * c - c * (c - 1) / 2;
-    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
-  }
-  S.etree_height = tree_height(S.parent);
+    S.etree_height = tree_height(S.parent);
+  };
   // Update lists: (target, source) pairs in ascending source order, then a
-  // stable counting sort by target.
-  std::vector<std::pair<int32_t, int32_t>> pairs;
-  S.max_update_entries = 0;
-  for (int32_t d = 0; d < ns; ++d) {
-    const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
-    const int64_t nr = S.nrows(d);
-    int64_t t = S.ncols(d);
-    while (t < nr) {
-      const int32_t s = S.col_to_super[rd[t]];
-      const int32_t send = S.super_first_col[s + 1];
-      int64_t t2 = t + 1;
-      while (t2 < nr && rd[t2] < send) ++t2;
-      pairs.emplace_back(s, d);
-      S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
-      t = t2;
+  // stable counting sort by target. They read only the row structure, so they
+  // are built beside the column pass.
+  auto update_lists = [&] {
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    S.max_update_entries = 0;
+    for (int32_t d = 0; d < ns; ++d) {
+      const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
+      const int64_t nr = S.nrows(d);
+      int64_t t = S.ncols(d);
+      while (t < nr) {
+        const int32_t s = S.col_to_super[rd[t]];
+        const int32_t send = S.super_first_col[s + 1];
+        int64_t t2 = t + 1;
+        while (t2 < nr && rd[t2] < send) ++t2;
+        pairs.emplace_back(s, d);
+        S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+        t = t2;
+      }
     }
+    S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+    for (const auto& pr : pairs) ++S.update_ptr[pr.first + 1];
+    for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
+    S.update_from.resize(pairs.size());
+    std::vector<int64_t> next(S.update_ptr.begin(), S.update_ptr.end() - 1);
+    for (const auto& pr : pairs) S.update_from[next[pr.first]++] = pr.second;
+  };
+  if (two_threads) {
+    tbb::parallel_invoke(columns, update_lists);
+  } else {
+    columns();
+    update_lists();
   }
-  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  for (const auto& pr : pairs) ++S.update_ptr[pr.first + 1];
-  for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
-  S.update_from.resize(pairs.size());
-  std::vector<int64_t> next(S.update_ptr.begin(), S.update_ptr.end() - 1);
-  for (const auto& pr : pairs) S.update_from[next[pr.first]++] = pr.second;
 }
 
 // A_II (lower CSC, local numbering) and the assembly map of the restricted
@@ -467,6 +518,17 @@ FactorUpdate update_factor(const NumericFactor& L, const CscMatrix& A, std::span
 }
 
 FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext& ctx) {
+  // With the prepared updater and two or more threads the structure phase
+  // splits its passes too: run the whole update in the arena once instead of
+  // entering it for every parallel step.
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  if (threads < 2 || ap_ptr_.empty()) return update_impl(I, ctx, false);
+  FactorUpdate out;
+  run_with_threads(threads, [&] { out = update_impl(I, ctx, true); });
+  return out;
+}
+
+FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunContext& ctx, bool two_threads) {
   using clock = std::chrono::steady_clock;
   const NumericFactor& L = L_;
   const CscMatrix& A = A_;
@@ -557,7 +619,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
     col_new[gcol[c]] = c;
     ++in_super_[S.col_to_super[gcol[c]]];
   }
-  Restricted R = restrict_structure(S, col_new, gcol);
+  Restricted R = restrict_structure(S, col_new, gcol, two_threads);
   st.reordered = postorder_in_place(R);
   if (st.reordered)
     for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
@@ -579,7 +641,7 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   Sp->super_row_ptr = R.row_ptr;
   Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
   if (prepared) {
-    complete_structure(*Sp);  // A_II and its assembly map come below, next to marking and copying
+    complete_structure(*Sp, two_threads);  // A_II and its assembly map come below, next to marking and copying
   } else {
     out.A_sub = submatrix_from_map(A, out.vertices, local);
     complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree

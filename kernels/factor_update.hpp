@@ -91,6 +91,10 @@ class FactorUpdater {
   FactorUpdate update(std::span<const int32_t> I, const RunContext& ctx = {});
 
  private:
+  // two_threads: inside an arena of >= 2 threads, with the prepared updater
+  // (the structure passes may then run side by side).
+  FactorUpdate update_impl(std::span<const int32_t> I, const RunContext& ctx, bool two_threads);
+
   const NumericFactor& L_;
   const CscMatrix& A_;
   FactorUpdateOptions opt_;
