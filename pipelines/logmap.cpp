@@ -479,6 +479,165 @@ void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
   ws.grad.resize(3 * patch_size);
 }
 
+// Path correction (experimental, LatticeCorrection::Path). First-order picture:
+// far from j, log h_j ~ -D(x, j) with D the lattice's Finsler distance, whose
+// unit ball varies with position; along the ray from i to j,
+// grad_x D(i, j) is (to first order) the dual direction of the Finsler norm
+// averaged over the ray, plus a transverse term from the norm's variation. This
+// takes the first part: per sector of the first-pass map (kPathSectors, with
+// its two neighbours) and per radius R (kPathBins up to the patch's largest
+// distance), the dispersion relations of the stars of the patch vertices in
+// the sector with r < R, summed with weight mass / r (uniform per unit length),
+// plus the centre's star; each star's edges turned into i's tangent plane by
+// the minimal rotation of its normal onto n_i, projected and rescaled to their
+// length. The offset at a vertex interpolates linearly in sector and radius,
+// from the centre's own offset at r = 0.
+namespace {
+constexpr int kPathSectors = 64, kPathBins = 6;
+}  // namespace
+
+double HeatLogMap::path_offset_at(const std::vector<double>& table, double th, double r, double rmax) {
+  const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kPathSectors / (2 * std::numbers::pi)) - 0.5;
+  const double fl = std::floor(pos);
+  const int s0 = (static_cast<int>(fl) % kPathSectors + kPathSectors) % kPathSectors, s1 = (s0 + 1) % kPathSectors;
+  const double ws = pos - fl;
+  const double rb = std::clamp(r / rmax * kPathBins, 0.0, static_cast<double>(kPathBins));
+  const int b0 = std::min(kPathBins - 1, static_cast<int>(rb));
+  const double wb = rb - b0;
+  // table: (kPathBins + 1) radii per sector, radius 0 = the centre's star.
+  auto at = [&](int s, int b) { return table[static_cast<size_t>(s) * (kPathBins + 1) + b]; };
+  const double o0 = (1 - wb) * at(s0, b0) + wb * at(s0, b0 + 1), o1 = (1 - wb) * at(s1, b0) + wb * at(s1, b0 + 1);
+  return (1 - ws) * o0 + ws * o1;
+}
+
+void HeatLogMap::path_offsets(std::span<const int32_t> patch, std::span<const double> distance,
+                              LogMapWorkspace& ws) const {
+  const TriangleGradients& g = geo_.gradients();
+  const int32_t i = ws.sources[0];
+  double n[3], e1[3], e2[3];
+  frame(i, n, e1, e2);
+  double rmax = 0;
+  for (size_t p = 0; p < patch.size(); ++p) rmax = std::max(rmax, distance[p]);
+  ws.path_rmax = rmax > 0 ? rmax : 1.0;
+  const double h = geo_.mean_edge_length(), dtheta = 2 * std::numbers::pi / kPathSectors;
+  // Terms (ex, ey, w) of every patch vertex's star in i's frame, weighted; per vertex: sector, bin, mass.
+  std::vector<double> terms;
+  std::vector<int64_t> first;
+  std::vector<int32_t> sector, bin;
+  std::vector<double> mass;
+  auto add_star = [&](int32_t v, double weight) {
+    const double* nv = normal_.data() + 3 * static_cast<size_t>(v);
+    const double c[3] = {nv[1] * n[2] - nv[2] * n[1], nv[2] * n[0] - nv[0] * n[2], nv[0] * n[1] - nv[1] * n[0]};
+    const double cosa = dot3(nv, n);
+    const double k = cosa > -0.9 ? 1 / (1 + cosa) : 0.0;
+    double m = 0;
+    for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) {
+      const int32_t f = g.vf_faces[q];
+      const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(f);
+      const int s = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+      const int32_t a = t[(s + 1) % 3], b = t[(s + 2) % 3];
+      m += g.area[f] / 3;
+      const double pa[3] = {x_[a] - x_[v], y_[a] - y_[v], z_[a] - z_[v]};
+      const double pb[3] = {x_[b] - x_[v], y_[b] - y_[v], z_[b] - z_[v]};
+      const double twice = 2 * g.area[f];
+      const double w[2] = {0.5 * (dot3(pb, pb) - dot3(pa, pb)) / twice, 0.5 * (dot3(pa, pa) - dot3(pa, pb)) / twice};
+      const double* edges[2] = {pa, pb};
+      for (int e = 0; e < 2; ++e) {
+        const double* x = edges[e];
+        // R x = x + c x x + c x (c x x) / (1 + cos): the minimal rotation taking n_v to n_i.
+        const double cx[3] = {c[1] * x[2] - c[2] * x[1], c[2] * x[0] - c[0] * x[2], c[0] * x[1] - c[1] * x[0]};
+        const double ccx[3] = {c[1] * cx[2] - c[2] * cx[1], c[2] * cx[0] - c[0] * cx[2], c[0] * cx[1] - c[1] * cx[0]};
+        const double rx[3] = {x[0] + cx[0] + k * ccx[0], x[1] + cx[1] + k * ccx[1], x[2] + cx[2] + k * ccx[2]};
+        double ex = dot3(rx, e1), ey = dot3(rx, e2);
+        const double l2 = ex * ex + ey * ey;
+        if (l2 > 0) {
+          const double sc = std::sqrt(dot3(x, x) / l2);
+          ex *= sc;
+          ey *= sc;
+        }
+        terms.push_back(ex);
+        terms.push_back(ey);
+        terms.push_back(weight * w[e]);
+      }
+    }
+    return m * weight;
+  };
+  // The centre's star (weight: the length h it stands for), then the patch.
+  first.push_back(0);
+  const double centre_mass = add_star(i, h);
+  for (size_t p = 0; p < patch.size(); ++p) {
+    if (patch[p] == i) continue;
+    const double r = distance[p];
+    const double th = ws.path_angle[p];
+    const int sct = static_cast<int>(std::floor((th < 0 ? th + 2 * std::numbers::pi : th) / dtheta)) % kPathSectors;
+    const int32_t v = patch[p];
+    // weight ~ mass / (r * 3 sectors' angle): uniform per unit length along the ray.
+    double vm = 0;
+    for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) vm += g.area[g.vf_faces[q]] / 3;
+    const double weight = 1.0 / (std::max(r, h) * 3 * dtheta);
+    first.push_back(static_cast<int64_t>(terms.size()));
+    mass.push_back(add_star(v, weight));
+    (void)vm;
+    sector.push_back(sct);
+    bin.push_back(std::min(kPathBins - 1, static_cast<int>(r / ws.path_rmax * kPathBins)));
+  }
+  first.push_back(static_cast<int64_t>(terms.size()));
+  // Group vertices per sector.
+  std::vector<std::vector<int32_t>> members(kPathSectors);
+  for (size_t q = 0; q < sector.size(); ++q) members[sector[q]].push_back(static_cast<int32_t>(q));
+  ws.path.assign(static_cast<size_t>(kPathSectors) * (kPathBins + 1), 0.0);
+  const double tt = geo_.time();
+  std::vector<double> sel;  // terms of one (sector, bin)
+  for (int sct = 0; sct < kPathSectors; ++sct) {
+    const double psi = (sct + 0.5) * dtheta, ux = std::cos(psi), uy = std::sin(psi);
+    for (int b = 0; b <= kPathBins; ++b) {
+      sel.assign(terms.begin() + first[0], terms.begin() + first[1]);
+      double target = centre_mass;
+      if (b > 0)
+        for (int ds = -1; ds <= 1; ++ds)
+          for (int32_t q : members[(sct + ds + kPathSectors) % kPathSectors]) {
+            if (bin[q] >= b) continue;
+            sel.insert(sel.end(), terms.begin() + first[q + 1], terms.begin() + first[q + 2]);
+            target += mass[q];
+          }
+      target /= tt;
+      const size_t ne = sel.size() / 3;
+      double rho = 1.0 / std::sqrt(tt);
+      bool ok = false;
+      for (int it = 0; it < 60; ++it) {
+        double f = -target, df = 0;
+        for (size_t e = 0; e < ne; ++e) {
+          const double c = ux * sel[3 * e] + uy * sel[3 * e + 1];
+          const double x = std::exp(-rho * c);
+          f += sel[3 * e + 2] * (x - 1);
+          df -= sel[3 * e + 2] * c * x;
+        }
+        if (!(df > 0) || !std::isfinite(f)) break;
+        const double step = f / df;
+        rho -= step;
+        if (!(rho > 0)) break;
+        if (std::abs(step) <= 1e-12 * rho) {
+          ok = true;
+          break;
+        }
+      }
+      double off = 0;
+      if (ok) {
+        double gx = 0, gy = 0;
+        for (size_t e = 0; e < ne; ++e) {
+          const double c = ux * sel[3 * e] + uy * sel[3 * e + 1];
+          const double x = sel[3 * e + 2] * std::exp(-rho * c);
+          gx -= x * sel[3 * e];
+          gy -= x * sel[3 * e + 1];
+        }
+        off = std::remainder(std::atan2(gy, gx) - psi, 2 * std::numbers::pi);
+        if (!(std::abs(off) < 0.5)) off = 0;
+      }
+      ws.path[static_cast<size_t>(sct) * (kPathBins + 1) + b] = off;
+    }
+  }
+}
+
 // Pass 2, after every vertex_gradient of the patch and the distances: the
 // corrections and the polar-to-Cartesian output.
 void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
@@ -538,6 +697,23 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
     }
   }
   const double* lattice = use_log && !ws.lattice.empty() ? ws.lattice.data() : nullptr;
+  // Path correction: first-pass angles (raw + the centre's table), then the
+  // offsets of the lattice along each ray replace the table's.
+  const bool path = lattice && est.lattice == LatticeCorrection::Path;
+  if (path) {
+    ws.path_angle.resize(patch.size());
+    for (size_t p = 0; p < patch.size(); ++p) {
+      const bool usable = ws.grad[3 * p + 2] != 0;
+      const double gx = ws.grad[3 * p] - (usable ? bx : 0.0), gy = ws.grad[3 * p + 1] - (usable ? by : 0.0);
+      double th = (gx == 0 && gy == 0) ? 0.0 : std::atan2(gy, gx);
+      const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kLatticeTable / (2 * std::numbers::pi));
+      const int a0 = std::min(kLatticeTable - 1, static_cast<int>(pos));
+      const double w = pos - a0;
+      th += (1 - w) * lattice[a0] + w * lattice[(a0 + 1) % kLatticeTable];
+      ws.path_angle[p] = std::remainder(th, 2 * std::numbers::pi);
+    }
+    path_offsets(patch, out.distance, ws);
+  }
   for (size_t p = 0; p < patch.size(); ++p) {
     const bool usable = ws.grad[3 * p + 2] != 0;
     const double gx = ws.grad[3 * p] - (usable ? bx : 0.0), gy = ws.grad[3 * p + 1] - (usable ? by : 0.0);
@@ -550,7 +726,10 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       out.v[p] = out.distance[p] * (gy * il);
       continue;
     }
-    if (lattice && usable && (gx != 0 || gy != 0)) {
+    if (path && usable && (gx != 0 || gy != 0)) {
+      th += path_offset_at(ws.path, th, out.distance[p], ws.path_rmax);
+      th = std::remainder(th, 2 * std::numbers::pi);
+    } else if (lattice && usable && (gx != 0 || gy != 0)) {
       // Offset table over [0, 2 pi), linear interpolation, periodic.
       const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kLatticeTable / (2 * std::numbers::pi));
       const int a0 = std::min(kLatticeTable - 1, static_cast<int>(pos));

@@ -134,8 +134,12 @@ enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 // Plane-wave (dispersion) correction of the log estimators' direction, see above.
 // None: the gradient direction itself. Star: dispersion relation of the centre's
 // own star. Ring: the stars of the centre and its one ring summed (an average
-// lattice for irregular meshes).
-enum class LatticeCorrection { None, Star, Ring };
+// lattice for irregular meshes). Path (experimental): per patch vertex j, the
+// dispersion relation summed over the stars of the patch vertices near the ray
+// from i to j (a sector of the first-pass map, radius below j's), weighted per
+// unit length, each star turned into i's tangent plane by the minimal rotation
+// of its normal (logmap.cpp, path_offsets).
+enum class LatticeCorrection { None, Star, Ring, Path };
 
 // How a query turns heat values into angles (see above).
 struct LogMapEstimator {
@@ -187,6 +191,9 @@ struct LogMapWorkspace {
   std::vector<double> star;       // lattice correction: (ex, ey, w) per star edge in the centre's frame
   std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
+  std::vector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
+  std::vector<double> path_angle;
+  double path_rmax = 1;
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
   std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
   std::vector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
@@ -258,6 +265,9 @@ class HeatLogMap {
   // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
   void vertex_gradient(size_t p, bool is_centre, bool is_source, const double* f, bool padded, double h_centre,
                        const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
+  // LatticeCorrection::Path: offsets per (sector, radius) from the first-pass angles.
+  void path_offsets(std::span<const int32_t> patch, std::span<const double> distance, LogMapWorkspace& ws) const;
+  static double path_offset_at(const std::vector<double>& table, double th, double r, double rmax);
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;
 

@@ -500,7 +500,8 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   for (auto [an, a] : {std::pair{"log", LogMapAngle::LogHeat}, std::pair{"two_ring", LogMapAngle::LogHeatTwoRing},
                        std::pair{"auto", LogMapAngle::Auto}})
     for (auto [ln, l] : {std::pair{"none", LatticeCorrection::None}, std::pair{"star", LatticeCorrection::Star},
-                         std::pair{"ring", LatticeCorrection::Ring}})
+                         std::pair{"ring", LatticeCorrection::Ring},
+                         std::pair{"path", LatticeCorrection::Path}})
       for (bool rc : {false, true})
         variants.push_back({std::string(an) + "_" + ln + (rc ? "_recentre" : ""), {a, l, rc}, {}, 0, Json::array()});
   int64_t flipped_heat = 0, flipped_two_ring = 0, flipped_auto = 0, auto_two_ring = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;

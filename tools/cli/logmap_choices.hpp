@@ -22,7 +22,8 @@ inline std::optional<LatticeCorrection> parse_logmap_lattice(const std::string& 
   if (s == "none") return LatticeCorrection::None;
   if (s == "star") return LatticeCorrection::Star;
   if (s == "ring") return LatticeCorrection::Ring;
-  fail(ErrorCode::BadUsage, "--lattice must be none, star or ring (got '" + s + "')");
+  if (s == "path") return LatticeCorrection::Path;
+  fail(ErrorCode::BadUsage, "--lattice must be none, star, ring or path (got '" + s + "')");
 }
 
 inline std::optional<bool> parse_logmap_recentre(const std::string& s) {
