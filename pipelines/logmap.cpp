@@ -453,6 +453,12 @@ void HeatLogMap::vertex_gradient(size_t p, bool is_centre, bool is_source, const
   }
   ws.grad[3 * p] = gx;
   ws.grad[3 * p + 1] = gy;
+  // Path correction: the radius from the centre's heat (lane 0), sqrt(t) log(h_i(i) / h_i(j)),
+  // which grows like the distance; unlike the Poisson distance it is the same
+  // for the localized and the full solve (the localized map must equal the full one).
+  if (est.lattice == LatticeCorrection::Path && use_log)
+    ws.path_r[p] = f[0] > 0 && h_centre > 0 ? std::sqrt(geo_.time()) * std::log(h_centre / f[0])
+                                            : std::numeric_limits<double>::infinity();
   // 1: usable for the corrections; 2: also beyond the near field (for recentre).
   // The near field is told by the heat from the centre (e^-4 of its peak, about
   // 4 edges at t = h^2), not by the distance: the localized and the full map
@@ -477,6 +483,7 @@ void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
     ws.cpad[3 * dp + k] = c2[2 * k + 1];
   }
   ws.grad.resize(3 * patch_size);
+  ws.path_r.resize(patch_size);
 }
 
 // Path correction (experimental, LatticeCorrection::Path). First-order picture:
@@ -510,14 +517,15 @@ double HeatLogMap::path_offset_at(const std::vector<double>& table, double th, d
   return (1 - ws) * o0 + ws * o1;
 }
 
-void HeatLogMap::path_offsets(std::span<const int32_t> patch, std::span<const double> distance,
-                              LogMapWorkspace& ws) const {
+void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const {
+  const std::vector<double>& distance = ws.path_r;
   const TriangleGradients& g = geo_.gradients();
   const int32_t i = ws.sources[0];
   double n[3], e1[3], e2[3];
   frame(i, n, e1, e2);
   double rmax = 0;
-  for (size_t p = 0; p < patch.size(); ++p) rmax = std::max(rmax, distance[p]);
+  for (size_t p = 0; p < patch.size(); ++p)
+    if (std::isfinite(distance[p])) rmax = std::max(rmax, distance[p]);
   ws.path_rmax = rmax > 0 ? rmax : 1.0;
   const double h = geo_.mean_edge_length(), dtheta = 2 * std::numbers::pi / kPathSectors;
   // Terms (ex, ey, w) of every patch vertex's star in i's frame, weighted; per vertex: sector, bin, mass.
@@ -566,18 +574,15 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, std::span<const do
   first.push_back(0);
   const double centre_mass = add_star(i, h);
   for (size_t p = 0; p < patch.size(); ++p) {
-    if (patch[p] == i) continue;
+    if (patch[p] == i || !std::isfinite(distance[p])) continue;
     const double r = distance[p];
     const double th = ws.path_angle[p];
     const int sct = static_cast<int>(std::floor((th < 0 ? th + 2 * std::numbers::pi : th) / dtheta)) % kPathSectors;
     const int32_t v = patch[p];
     // weight ~ mass / (r * 3 sectors' angle): uniform per unit length along the ray.
-    double vm = 0;
-    for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) vm += g.area[g.vf_faces[q]] / 3;
     const double weight = 1.0 / (std::max(r, h) * 3 * dtheta);
     first.push_back(static_cast<int64_t>(terms.size()));
     mass.push_back(add_star(v, weight));
-    (void)vm;
     sector.push_back(sct);
     bin.push_back(std::min(kPathBins - 1, static_cast<int>(r / ws.path_rmax * kPathBins)));
   }
@@ -712,7 +717,7 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       th += (1 - w) * lattice[a0] + w * lattice[(a0 + 1) % kLatticeTable];
       ws.path_angle[p] = std::remainder(th, 2 * std::numbers::pi);
     }
-    path_offsets(patch, out.distance, ws);
+    path_offsets(patch, ws);
   }
   for (size_t p = 0; p < patch.size(); ++p) {
     const bool usable = ws.grad[3 * p + 2] != 0;
@@ -727,7 +732,7 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       continue;
     }
     if (path && usable && (gx != 0 || gy != 0)) {
-      th += path_offset_at(ws.path, th, out.distance[p], ws.path_rmax);
+      th += path_offset_at(ws.path, th, ws.path_r[p], ws.path_rmax);
       th = std::remainder(th, 2 * std::numbers::pi);
     } else if (lattice && usable && (gx != 0 || gy != 0)) {
       // Offset table over [0, 2 pi), linear interpolation, periodic.

@@ -38,14 +38,15 @@
 //    the one-ring estimator.
 //  * Auto (default): LogHeatTwoRing where the star of i is irregular (a corner
 //    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6), LogHeat elsewhere.
-//    Defaults: LatticeCorrection::Ring (at regular stars) and recentre.
+//    Defaults: LatticeCorrection::Path (at regular stars) and recentre.
 // Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
 // estimators fall back to HeatAverage for that vertex, counted in the stats.
 // Corrections after the gradient estimate (LogMapEstimator; defaults in LogMapOptions):
-//  * lattice (LatticeCorrection::Star / Ring): map the gradient direction to the
-//    normal of the heat kernel's dispersion set (see below; logmap.cpp,
-//    prepare_lattice), from the centre's star or from the stars of the centre
-//    and its ring; applied at regular stars only.
+//  * lattice (LatticeCorrection::Star / Ring / Path): map the gradient direction
+//    to the normal of the heat kernel's dispersion set (see below; logmap.cpp,
+//    prepare_lattice, path_offsets), from the centre's star, from the stars of
+//    the centre and its ring, or (Path, the default) from the stars along the
+//    ray to each vertex; applied at regular stars only.
 //  * recentre: on irregular meshes each vertex's heat carries a factor that does
 //    not depend on the source (its mass and weights), whose gradient adds the
 //    same vector b to every grad log h_j: an angle error of harmonic 1. b is
@@ -84,6 +85,26 @@
 // 1.29e-2 against 1.23e-2). The error falls with t (level 6: 2.7e-3 at 2 h^2,
 // 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
 //
+// Session 6: the correction along the ray (LatticeCorrection::Path). The error
+// left by the centre's correction grew with the distance (icosphere 7, Star:
+// 1.2e-3 at r = 0.1-0.2, 3-6e-3 at r = 0.4-0.5, mostly harmonic 2 with a phase
+// constant in r) and scales like h^2 / t (E_a 3.0 / 1.7 / 0.97e-3 at t = 1, 2,
+// 4 h^2; 4.3 / 3.0 / 3.2e-3 at levels 6 / 7 / 8 with t = h^2): the lattice's
+// anisotropy varies coherently over an icosahedron face, and the direction of
+// grad log h_j at i is, to first order, the dual direction of the lattice's
+// Finsler norm averaged along the ray from j to i (plus a transverse term from
+// its variation, not modelled). Summing the stars' dispersion relations along
+// the ray (logmap.cpp, path_offsets) instead of the centre's alone gives, over
+// the same 10 random centres at t = h^2 (`locus-bench logmap-accuracy SPEC
+// --centers 10`; tests/pipelines/logmap_accuracy.cpp):
+//   icosphere 7:   E_a 1.71e-3 (worst 2.6e-3), E_d 1.40e-3, no flips (Ring: 3.04e-3);
+//   bump 150:      E_a 1.11e-3, E_d 1.34e-3 (Ring: 5.44e-3; DEM 5.28e-2, 1.06e-3);
+//   random sphere: unchanged, E_a 1.70e-2, E_d 3.73e-3 (its centres are irregular:
+//                  no lattice correction there).
+// Its cost is per query and linear in the patch (a few hundred exponentials per
+// sector and radius bin): 10k-vertex patch on icosphere 7, thread CPU 31 ms
+// against 7 ms with Ring (`logmap-accuracy ... variants.*.query_cpu_s`).
+//
 // Where the "plain §6.5 implementation, E_a 1.1e-3 on icospheres" comes
 // from (session 4, full solves, no corrections, radius 0.5, t = h^2): it is the
 // thesis estimator (HeatAverage) at vertex 0, an icosahedron corner (valence 5,
@@ -94,9 +115,9 @@
 // to level 7 (t = h^2 keeps h^2 / t fixed, so the lattice anisotropy stays),
 // and at the corner the log estimators are worse than the plain one (3.2e-3:
 // the convexity bias of grad h there happens to cancel part of the
-// anisotropy). No estimator we have reaches 2e-3 over random centres at
-// t = h^2 (best: two-ring + Star 2.87e-3, default 3.04e-3); the default stays
-// Auto + Ring + recentre, which meets the random-point sphere target.
+// anisotropy). Before the Path correction no estimator reached 2e-3 over
+// random centres at t = h^2 (best: two-ring + Star 2.87e-3, the session-5
+// default Auto + Ring + recentre 3.04e-3).
 //
 // Cost of a localized query (LogMapStats phases, thread CPU; `locus-bench
 // logmap` phases_s; 416k vertices, 5 % patch = 21k vertices, two-ring centre
@@ -151,7 +172,7 @@ struct LogMapEstimator {
 struct LogMapOptions {
   HeatGeodesicOptions geodesic;  // t = geodesic.t_factor * h^2, Poisson options
   LogMapAngle angle = LogMapAngle::Auto;
-  LatticeCorrection lattice = LatticeCorrection::Ring;  // Auto applies it at regular stars only
+  LatticeCorrection lattice = LatticeCorrection::Path;  // Auto applies it at regular stars only
   bool recentre = true;
   LogMapEstimator estimator() const { return {angle, lattice, recentre}; }
 };
@@ -192,7 +213,7 @@ struct LogMapWorkspace {
   std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
   std::vector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
-  std::vector<double> path_angle;
+  std::vector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
   double path_rmax = 1;
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
   std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
@@ -266,7 +287,7 @@ class HeatLogMap {
   void vertex_gradient(size_t p, bool is_centre, bool is_source, const double* f, bool padded, double h_centre,
                        const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
   // LatticeCorrection::Path: offsets per (sector, radius) from the first-pass angles.
-  void path_offsets(std::span<const int32_t> patch, std::span<const double> distance, LogMapWorkspace& ws) const;
+  void path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const;
   static double path_offset_at(const std::vector<double>& table, double th, double r, double rmax);
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;

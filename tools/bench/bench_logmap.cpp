@@ -495,6 +495,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     Acc acc;
     int64_t flipped = 0;
     Json per_centre = Json::array();
+    double cpu_s = 0;  // mean thread CPU time of the localized query
   };
   std::vector<Variant> variants;
   for (auto [an, a] : {std::pair{"log", LogMapAngle::LogHeat}, std::pair{"two_ring", LogMapAngle::LogHeatTwoRing},
@@ -503,7 +504,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
                          std::pair{"ring", LatticeCorrection::Ring},
                          std::pair{"path", LatticeCorrection::Path}})
       for (bool rc : {false, true})
-        variants.push_back({std::string(an) + "_" + ln + (rc ? "_recentre" : ""), {a, l, rc}, {}, 0, Json::array()});
+        variants.push_back({std::string(an) + "_" + ln + (rc ? "_recentre" : ""), {a, l, rc}, {}, 0, Json::array(), 0.0});
   int64_t flipped_heat = 0, flipped_two_ring = 0, flipped_auto = 0, auto_two_ring = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
   double local_vs_full_d = 0;
   LogMapWorkspace lws;
@@ -520,7 +521,9 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     Maps m;
     m.resize(patch.size());
     for (Variant& v : variants) {
+      const double c0 = thread_cpu_seconds();
       heat.query(c, patch, m.out(), lws, v.est);
+      v.cpu_s += (thread_cpu_seconds() - c0) * w;
       const Errors e = errors_of(s, c, patch, m.d, m.a);
       v.acc.add(e, w, c);
       v.per_centre.push_back(e.ea);
@@ -621,6 +624,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     Json e = pair(v.acc);
     e["flipped_triangles"] = v.flipped;
     e["E_a_per_centre"] = v.per_centre;
+    e["query_cpu_s"] = v.cpu_s;
     var[v.name] = e;
   }
   j["variants"] = var;
