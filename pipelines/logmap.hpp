@@ -101,9 +101,12 @@
 //   bump 150:      E_a 1.11e-3, E_d 1.34e-3 (Ring: 5.44e-3; DEM 5.28e-2, 1.06e-3);
 //   random sphere: unchanged, E_a 1.70e-2, E_d 3.73e-3 (its centres are irregular:
 //                  no lattice correction there).
-// Its cost is per query and linear in the patch (a few hundred exponentials per
-// sector and radius bin): 10k-vertex patch on icosphere 7, thread CPU 31 ms
-// against 7 ms with Ring (`logmap-accuracy ... variants.*.query_cpu_s`).
+// Its cost is per query and linear in the patch: one pass over every patch
+// vertex's star into edge moments (degree <= 10) of its (sector, radius) cell,
+// then a 1-D Newton per sector and bin. 10k-vertex patch on icosphere 7, thread
+// CPU 10-15 ms against 6.5-9 ms with Ring under load 4 (`logmap-accuracy ...
+// variants.*.query_cpu_s`; direct exponential sums took 31 ms). Irregular
+// centres (most of subdivided armadillo's) skip it with the lattice correction.
 //
 // Where the "plain §6.5 implementation, E_a 1.1e-3 on icospheres" comes
 // from (session 4, full solves, no corrections, radius 0.5, t = h^2): it is the
@@ -214,6 +217,7 @@ struct LogMapWorkspace {
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
   std::vector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
   std::vector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
+  std::vector<double> path_moments;        // Path correction: edge moments per (sector, radius bin)
   double path_rmax = 1;
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
   std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
