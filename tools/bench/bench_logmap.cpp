@@ -648,7 +648,7 @@ void register_logmap_bench(cli::CommandTable& table) {
   app->add_option("--query-threads", to->query_threads,
                   "2: also time the localized query with a helper thread (heat_local_2t_s; the headline stays 1 thread)");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
-  app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring (default: the library's)");
+  app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring, path (default: the library's)");
   app->add_option("--recentre", to->recentre, "Recentre the gradients: on, off (default: the library's)");
 
   auto ao = std::make_shared<AccuracyOptions>();
@@ -662,7 +662,7 @@ void register_logmap_bench(cli::CommandTable& table) {
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
   acc->add_option("--center-ids", ao->centre_ids, "Comma-separated centre vertices instead of random ones");
-  acc->add_option("--lattice", ao->lattice, "Lattice correction of the unnamed rows: none, star, ring (default: the library's)");
+  acc->add_option("--lattice", ao->lattice, "Lattice correction of the unnamed rows: none, star, ring, path (default: the library's)");
   acc->add_option("--recentre", ao->recentre, "Recentre the gradients in the unnamed rows: on, off (default: the library's)");
   acc->add_option("--mass-blend", ao->mass_blend, "Heat operator mass: (1 - b) lumped + b consistent (default 0)");
   acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle) of --dump-variant");

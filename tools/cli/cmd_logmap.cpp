@@ -1,5 +1,5 @@
 // `locus logmap MESH --center V --fraction f [--t-factor c] [--method heat|dem|heat-full]
-//  [--angle auto|log|two-ring|average] [--lattice none|star|ring] [--recentre on|off] -o map.ply`: a log map (local polar /
+//  [--angle auto|log|two-ring|average] [--lattice none|star|ring|path] [--recentre on|off] -o map.ply`: a log map (local polar /
 // Cartesian coordinates) of the geodesic disk of round(f * n) vertices around
 // the centre. heat: thesis §6.5-6.6 with exact subset solves
 // (pipelines/logmap.hpp); heat-full: the same with full solves; dem: the
@@ -199,7 +199,7 @@ void register_logmap_command(CommandTable& table) {
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
-                  "Lattice (dispersion) correction of the heat map's angles: none, star or ring (default: the library's)");
+                  "Lattice (dispersion) correction of the heat map's angles: none, star, ring or path (default: the library's, path)");
   app->add_option("--recentre", lo->recentre,
                   "Recentre the heat map's gradients: on or off (default: the library's)");
   add_preview_option(app, lo->preview);
