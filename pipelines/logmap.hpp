@@ -125,15 +125,21 @@
 // Cost of a localized query (LogMapStats phases, thread CPU; `locus-bench
 // logmap` phases_s; 416k vertices, 5 % patch = 21k vertices, two-ring centre
 // with 19-22 sources, session 5 under load 3-5): region 1.8 ms, heat plan 0.3,
-// heat solve 4.2-4.8 (24 lanes over ~26 MB of the factor: the region's
-// ancestors, 25.8k columns, 1.6k of them the root path), distance 4.6-5.4
-// (Poisson plan + solve 3.3-4.0: two one-lane passes over ~26 MB, memory
-// bound; divergence ~1.2), angles 2.0-2.5. At 50 %: 11 / 2.5 / 25 / 32 / 23 ms.
-// The two exact solves alone read ~80 MB per 5 % query, which at this
-// machine's single-core bandwidth is about the whole time of the Dijkstra DEM
-// (6-7 ms): with exact solves through the top separators, parity with DEM is
-// out of reach at 5 %; the gap narrows with the patch (DEM / heat 0.47 at 5 %,
-// 0.78 at 50 %).
+// heat solve 4.2-4.8 (24 lanes; the region's ancestors, 25.8k columns, 1.6k of
+// them the root path), distance 4.6-5.4 (Poisson plan + solve 3.3-4.0, one
+// lane; divergence ~1.2), angles 2.0-2.5. At 50 %: 11 / 2.5 / 25 / 32 / 23 ms.
+// Factor traffic, counted from the plans (kernels/solve_plan.hpp, plan_traffic;
+// bench keys factor_traffic_mb, stream_floor_s; session 6, median of 30
+// centres): at 5 % the heat solve reads 23.7 MB (17.3 MB distinct: the root
+// path is read by both passes), the Poisson solve 34.5 MB (17.3 distinct);
+// 34.5 MB distinct in all. This machine streams 23-30 GB/s on one core
+// (stream_read_gbs; 512 MB buffer), so the bytes alone take 1.2-1.5 ms, against
+// DEM's 6.4 ms: memory bandwidth does not rule out parity (the session-5 note
+// said it did, from a 10 GB/s guess). The solves run at 6 GB/s (heat) and
+// 12.5 GB/s (Poisson): latency and per-supernode work, not bandwidth, bound
+// them; with the non-solve phases (region, plan, divergence, angles: ~5 ms)
+// that is where the time to DEM parity is. At 50 %: 110 / 209 MB read, 209 MB
+// distinct, floor 7.0 ms against DEM's 65-93 ms.
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
