@@ -546,9 +546,10 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
     const double k = cosa > -0.9 ? 1 / (1 + cosa) : 0.0;
     double px[D + 1], py[D + 1];
     // Each interior edge is met from its two faces: weights summed first, one moment pass per edge.
-    int32_t ends[32];
-    double ew[32], exy[64];
-    int ne = 0;
+    std::vector<int32_t>& ends = ws.star_ends;
+    std::vector<double>& exyw = ws.star;  // (x, y, weight) per edge
+    ends.clear();
+    exyw.clear();
     for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) {
       const int32_t f = g.vf_faces[q];
       const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(f);
@@ -563,13 +564,11 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
       const double* edges[2] = {pa, pb};
       const int32_t ends_of[2] = {a, b};
       for (int e = 0; e < 2; ++e) {
-        int seen = 0;
-        while (seen < ne && ends[seen] != ends_of[e]) ++seen;
-        if (seen < ne) {
-          ew[seen] += weight * w[e];
+        const size_t seen = static_cast<size_t>(std::find(ends.begin(), ends.end(), ends_of[e]) - ends.begin());
+        if (seen < ends.size()) {
+          exyw[3 * seen + 2] += weight * w[e];
           continue;
         }
-        if (ne == 32) fail(ErrorCode::BadUsage, "log map: vertex " + std::to_string(v) + " has more than 32 neighbours");
         const double* x = edges[e];
         // R x = x + c x x + c x (c x x) / (1 + cos): the minimal rotation taking n_v to n_i.
         const double cx[3] = {c[1] * x[2] - c[2] * x[1], c[2] * x[0] - c[0] * x[2], c[0] * x[1] - c[1] * x[0]};
@@ -582,18 +581,17 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
           ex *= sc;
           ey *= sc;
         }
-        ends[ne] = ends_of[e];
-        ew[ne] = weight * w[e];
-        exy[2 * ne] = ex;
-        exy[2 * ne + 1] = ey;
-        ++ne;
+        ends.push_back(ends_of[e]);
+        exyw.push_back(ex);
+        exyw.push_back(ey);
+        exyw.push_back(weight * w[e]);
       }
     }
-    for (int e = 0; e < ne; ++e) {
+    for (size_t e = 0; e < ends.size(); ++e) {
       // py stored reversed (py[D - k] = y^k): one degree's monomials are a contiguous product.
-      px[0] = ew[e];  // px[a] = w x^a
+      px[0] = exyw[3 * e + 2];  // px[a] = w x^a
       py[D] = 1;
-      for (int d = 1; d <= D; ++d) px[d] = px[d - 1] * exy[2 * e], py[D - d] = py[D - d + 1] * exy[2 * e + 1];
+      for (int d = 1; d <= D; ++d) px[d] = px[d - 1] * exyw[3 * e], py[D - d] = py[D - d + 1] * exyw[3 * e + 1];
       for (int d = 1; d <= D; ++d) {
         double* out = cell + mono(d, 0);
         const double* yr = py + D - d;  // yr[a] = y^(d - a)

@@ -218,8 +218,8 @@ struct LogMapWorkspace {
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
   std::vector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
-  std::vector<double> star;       // lattice correction: (ex, ey, w) per star edge in the centre's frame
-  std::vector<int32_t> star_ends;  // lattice correction: far ends of one star's edges
+  std::vector<double> star;       // lattice corrections' scratch: (ex, ey, w) per star edge in the centre's frame
+  std::vector<int32_t> star_ends;  // lattice corrections' scratch: far ends of one star's edges
   std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
   std::vector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
   std::vector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
