@@ -109,9 +109,10 @@ struct Restricted {
   std::vector<int32_t> parent;      // ns
 };
 
-// The restricted supernodes of the global supernodes that hold columns
-// gcol[c0, c1) (c0 and c1 at supernode boundaries), appended to R's lists
-// (gsuper, first_col, row_ptr, rows, rowpos); colpos is written at [c0, c1).
+// A structure pass is split over two threads only when it handles at least
+// this many rows: below, waking the second thread could cost what the half saves.
+constexpr int64_t kSplitRows = int64_t{1} << 14;
+
 // Rows of the global supernodes holding gcol[c0, c1): a bound of their restricted rows.
 int64_t rows_bound(const SymbolicFactor& S, const std::vector<int32_t>& gcol, int32_t c0, int32_t c1) {
   int64_t bound = 0;
@@ -123,12 +124,12 @@ int64_t rows_bound(const SymbolicFactor& S, const std::vector<int32_t>& gcol, in
   return bound;
 }
 
+// The restricted supernodes of the global supernodes that hold columns
+// gcol[c0, c1) (c0 and c1 at supernode boundaries), appended to R's lists
+// (gsuper, first_col, row_ptr, rows, rowpos; the caller reserves the rows);
+// colpos is written at [c0, c1).
 void restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new, const std::vector<int32_t>& gcol,
                     int32_t* colpos, int32_t c0, int32_t c1, Restricted& R) {
-  // size the row lists once (a no-op when the caller reserved for more)
-  const size_t bound = R.rows.size() + static_cast<size_t>(rows_bound(S, gcol, c0, c1));
-  R.rows.reserve(bound);
-  R.rowpos.reserve(bound);
   for (int32_t c = c0; c < c1;) {
     const int32_t s = S.col_to_super[gcol[c]];
     const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
@@ -163,23 +164,25 @@ Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t
   R.colpos.resize(m);
   R.first_col.push_back(0);
   R.row_ptr.push_back(0);
+  // Room for every row at once: appending the second half copies nothing else.
+  const int64_t bound = rows_bound(S, R.gcol, 0, m);
+  R.rows.reserve(static_cast<size_t>(bound));
+  R.rowpos.reserve(static_cast<size_t>(bound));
   int32_t mid = m / 2;
   while (mid > 0 && mid < m && S.col_to_super[R.gcol[mid]] == S.col_to_super[R.gcol[mid - 1]]) ++mid;
-  if (!two_threads || mid <= 0 || mid >= m) {
+  if (!two_threads || bound < kSplitRows || mid <= 0 || mid >= m) {
     restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, m, R);
   } else {
     Restricted H;  // the second half's lists (colpos is shared: disjoint ranges)
     H.first_col.push_back(mid);
     H.row_ptr.push_back(0);
-    tbb::parallel_invoke(
-        [&] {
-          // room for both halves, so that appending the second copies nothing else
-          const size_t bound = static_cast<size_t>(rows_bound(S, R.gcol, 0, m));
-          R.rows.reserve(bound);
-          R.rowpos.reserve(bound);
-          restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, mid, R);
-        },
-        [&] { restrict_range(S, col_new, R.gcol, R.colpos.data(), mid, m, H); });
+    tbb::parallel_invoke([&] { restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, mid, R); },
+                         [&] {
+                           const int64_t half_bound = rows_bound(S, R.gcol, mid, m);
+                           H.rows.reserve(static_cast<size_t>(half_bound));
+                           H.rowpos.reserve(static_cast<size_t>(half_bound));
+                           restrict_range(S, col_new, R.gcol, R.colpos.data(), mid, m, H);
+                         });
     const int64_t off = static_cast<int64_t>(R.rows.size());
     R.gsuper.insert(R.gsuper.end(), H.gsuper.begin(), H.gsuper.end());
     R.first_col.insert(R.first_col.end(), H.first_col.begin() + 1, H.first_col.end());
@@ -282,7 +285,7 @@ bool postorder_in_place(Restricted& R, bool two_threads) {
   // supernodes holding the first and the second half of the rows.
   const int32_t half = static_cast<int32_t>(
       std::lower_bound(Q.row_ptr.begin(), Q.row_ptr.end(), Q.row_ptr[R.ns] / 2) - Q.row_ptr.begin());
-  if (two_threads && half > 0 && half < R.ns) {
+  if (two_threads && Q.row_ptr[R.ns] >= kSplitRows && half > 0 && half < R.ns) {
     tbb::parallel_invoke([&] { map_rows(0, half); }, [&] { map_rows(half, R.ns); });
   } else {
     map_rows(0, R.ns);
@@ -347,7 +350,7 @@ void complete_structure(SymbolicFactor& S, bool two_threads) {
     std::vector<int64_t> next(S.update_ptr.begin(), S.update_ptr.end() - 1);
     for (const auto& pr : pairs) S.update_from[next[pr.first]++] = pr.second;
   };
-  if (two_threads) {
+  if (two_threads && static_cast<int64_t>(S.super_rows.size()) >= kSplitRows) {
     tbb::parallel_invoke(columns, update_lists);
   } else {
     columns();

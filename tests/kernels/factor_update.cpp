@@ -335,7 +335,7 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
   // or not) and a scattered set, on a mesh large enough for parallel subtrees.
   for (const bool bilap : {false, true}) {
     CAPTURE(bilap);
-    const Problem P = make_problem(make_random_sphere(6000, 9), bilap);
+    const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
     const int32_t n = P.A.ncols;
     FactorUpdater up1(P.L, P.A), up2(P.L, P.A);
     RunContext one, two;
