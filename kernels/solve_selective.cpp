@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 #include "kernels/blas.hpp"
 #include "kernels/lane8.hpp"
@@ -181,6 +182,48 @@ void solve_selective8(const NumericFactor& F, const SolvePlan& plan, std::span<c
   // The rhs, the forward updates (ancestors of the reach) and the backward all
   // stay inside plan.touched.
   clear_workspace(F, plan, ws, kLanes);
+}
+
+int64_t factor_entries(const SymbolicFactor& S) {
+  int64_t e = 0;
+  for (int32_t s = 0; s < S.ns; ++s) {
+    const int64_t k = S.ncols(s), m = S.nrows(s);
+    e += k * (k + 1) / 2 + (m - k) * k;
+  }
+  return e;
+}
+
+int64_t selective_solve_reads(const SymbolicFactor& S, const SolvePlan& plan, std::vector<uint8_t>& mark) {
+  if (plan.n != S.n || !plan.approximate)
+    fail(ErrorCode::BadUsage, "selective solve reads: needs an approximate plan of this factor");
+  if (mark.size() < static_cast<size_t>(S.n)) mark.assign(S.n, 0);
+  for (int32_t s : plan.forward_pruned)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) mark[c] = kNeeded;
+  for (int32_t c : plan.kept_cols) mark[c] |= kKept;
+  int64_t reads = 0;
+  for (int32_t s : plan.forward_pruned) {  // as forward_needed8
+    const int64_t k = S.ncols(s), m = S.nrows(s);
+    const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
+    int64_t below = m - k;
+    while (below > 0 && !(mark[rows[k + below - 1]] & kNeeded)) --below;
+    reads += k * (k + 1) / 2 + below * k;
+  }
+  for (int32_t s : plan.backward) {  // as backward_kept8
+    const int32_t f = S.super_first_col[s];
+    const int64_t k = S.ncols(s), m = S.nrows(s);
+    int64_t kept_here = 0;
+    for (int64_t j = 0; j < k; ++j) kept_here += (mark[f + j] & kKept) != 0;
+    if (kept_here == k && k >= kBlasCols) {
+      reads += k * (k + 1) / 2 + (m - k) * k;
+      continue;
+    }
+    for (int64_t j = 0; j < k; ++j)
+      if (mark[f + j] & kKept) reads += (m - k) + (k - j);
+  }
+  for (int32_t c : plan.kept_cols) mark[c] = 0;
+  for (int32_t s : plan.forward_pruned)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) mark[c] = 0;
+  return reads;
 }
 
 }  // namespace locus

@@ -27,4 +27,15 @@ namespace locus {
 void solve_selective8(const NumericFactor& f, const SolvePlan& plan, std::span<const double> rhs,
                       std::span<double> out, SolveWorkspace& ws);
 
+// Factor entries solve_selective8 reads for `plan` (forward: each pruned supernode's
+// diagonal triangle and its rows down to the last needed one; backward: whole blocks
+// of fully kept wide supernodes, else the kept columns' entries), counted by the same
+// rules as the solver. `mark` is scratch of one byte per column, zero between calls.
+// Compare with 2 * factor_entries(S), what a full forward + backward solve reads:
+// the ratio bounds how much faster a local solve can be when reading the factor
+// dominates.
+int64_t selective_solve_reads(const SymbolicFactor& S, const SolvePlan& plan, std::vector<uint8_t>& mark);
+// Stored lower-triangular entries of the factor: sum over supernodes of k(k+1)/2 + (m-k)k.
+int64_t factor_entries(const SymbolicFactor& S);
+
 }  // namespace locus

@@ -17,6 +17,7 @@
 #include "kernels/mesh_operators.hpp"
 #include "kernels/mesh_topology.hpp"
 #include "kernels/solve_full.hpp"
+#include "kernels/solve_selective.hpp"
 #include "kernels/task_arenas.hpp"
 #include "locus/error.hpp"
 #include "pipelines/cvt_quality.hpp"
@@ -299,9 +300,35 @@ struct CentroidMsg {
   int lanes = 0;
   int32_t batch = 0;
   int64_t kept = 0;
+  int64_t reads = 0, label_reads = 0;  // factor entries read (count_reads)
   double energy[kLanes] = {};
+  double area_centroid[kLanes][3] = {};  // sum_i b_i x_i / sum_i b_i of the cell's source
   int64_t fallback = 0;
 };
+
+// Tangential distance between a surface point and a point off the surface: the
+// difference with its component along the surface normal there removed.
+double tangential_distance(const Mesh& m, const CentroidGeometry& g, const SurfacePoint& p, const double q[3]) {
+  const auto x = surface_point_position(m, p);
+  double nrm[3] = {0, 0, 0};
+  if (p.face >= 0) {
+    const int32_t a = m.f0[p.face], b = m.f1[p.face], c = m.f2[p.face];
+    const double e1[3] = {m.x[b] - m.x[a], m.y[b] - m.y[a], m.z[b] - m.z[a]};
+    const double e2[3] = {m.x[c] - m.x[a], m.y[c] - m.y[a], m.z[c] - m.z[a]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  } else {
+    for (int k = 0; k < 3; ++k) nrm[k] = g.normals[3 * static_cast<size_t>(p.vertex) + k];
+  }
+  const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  double d[3] = {q[0] - x[0], q[1] - x[1], q[2] - x[2]};
+  if (len > 0) {
+    const double dn = (d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2]) / (len * len);
+    for (int k = 0; k < 3; ++k) d[k] -= dn * nrm[k];
+  }
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
 
 struct CentroidScratch {
   HeatBatch batch;
@@ -309,6 +336,10 @@ struct CentroidScratch {
   std::vector<int32_t> cells, touched;
   std::vector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
   std::vector<double> weights;
+  std::vector<uint8_t> read_mark;   // count_reads scratch
+  std::vector<int32_t> label_support;
+  SolvePlan label_plan;
+  PlanWorkspace label_pws;
 };
 
 }  // namespace
@@ -336,6 +367,8 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
   if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
   if (opt.fit_rings < 1 || opt.fit_rings > 4) fail(ErrorCode::BadUsage, "cvt: fit_rings must be 1 to 4");
+  if (!(opt.fit_sigma >= 0) || !std::isfinite(opt.fit_sigma))
+    fail(ErrorCode::BadUsage, "cvt: fit_sigma must be a finite number >= 0");
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
@@ -477,6 +510,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     r.partition_s += psw.lap();
   };
 
+  const int64_t full_entries = opt.count_reads ? factor_entries(*H.factor.symbolic) : 0;
+  double centroid_read_sum = 0, label_read_sum = 0;
+  int64_t read_batches = 0;
   for (int32_t it = 0; it < opt.iterations; ++it) {
     ctx.check_cancel();
     BatchStopwatch isw;
@@ -496,10 +532,26 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     std::vector<HeatCentroid> cent(ns);
     std::vector<double> cell_energy(ns, 0.0);
     std::vector<uint8_t> has(ns, 0);
+    std::vector<double> bias(ns, 0.0);
     const int32_t nbatch = (ns + kLanes - 1) / kLanes;
     if (local) batch_kept.assign(nbatch, {});
     const size_t kept_base = kept_fraction.size();
+    std::vector<int64_t> centroid_reads(nbatch, 0), label_reads(nbatch, 0);
     kept_fraction.resize(kept_base + nbatch, 0.0);
+    // sum_i b_i x_i / sum_i b_i: the exact area centroid (R^3) of a cell whose load is b
+    // (the hat functions reproduce x on every triangle).
+    auto area_centroid = [&](std::span<const int32_t> ids, std::span<const double> w, double out[3]) {
+      double s = 0, sx = 0, sy = 0, sz = 0;
+      for (size_t k = 0; k < ids.size(); ++k) {
+        s += w[k];
+        sx += w[k] * m.x[ids[k]];
+        sy += w[k] * m.y[ids[k]];
+        sz += w[k] * m.z[ids[k]];
+      }
+      out[0] = s > 0 ? sx / s : 0.0;
+      out[1] = s > 0 ? sy / s : 0.0;
+      out[2] = s > 0 ? sz / s : 0.0;
+    };
     auto solve = [&](int32_t b) {
       CentroidScratch& cs = cscratch.local();
       if (cs.dense.size() != static_cast<size_t>(n)) cs.dense.assign(n, 0.0);
@@ -533,9 +585,11 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
             cs.dense[v] = 0.0;
           }
           hb.add_source(cs.touched, cs.weights);
+          area_centroid(cs.touched, cs.weights, msg->area_centroid[l]);
         } else {
           for (int32_t v : cv) cs.weights.push_back(Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
           hb.add_source(cv, cs.weights);
+          area_centroid(cv, cs.weights, msg->area_centroid[l]);
         }
         if (local) two_ring_cells(cells, c, cs.cells);
       }
@@ -544,6 +598,18 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
         batch_kept[b] = hb.kept;  // this batch's slot: the next labels solve on it
       }
       solve_heat_batch(Hc, hb);
+      if (opt.count_reads && local) msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
+      if (opt.count_reads && local) {  // the next labels' solve of this batch: the sites' supports on the same kept set
+        cs.label_support.clear();
+        for (int l = 0; l < msg->lanes; ++l) {
+          int32_t sv[3];
+          double sw[3];
+          const int c = surface_point_support(m, sites[order[b * kLanes + l]], sv, sw);
+          cs.label_support.insert(cs.label_support.end(), sv, sv + c);
+        }
+        plan_selective_solve(*H.factor.symbolic, cs.label_support, hb.kept, cs.label_plan, cs.label_pws);
+        msg->label_reads = selective_solve_reads(*H.factor.symbolic, cs.label_plan, cs.read_mark);
+      }
       msg->kept = hb.count();
       const int32_t cnt = hb.count();
       // Hottest vertex of every lane in one pass: largest heat, smallest id on ties (deterministic).
@@ -576,10 +642,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
           msg->result[l].hottest = best[l];
           msg->result[l].point = vertex_point(best[l]);
         } else if (local) {
-          msg->result[l] = refine_heat_maximum(m, geo, hb.values, cs.pos, l, best[l], opt.fit_rings);
+          msg->result[l] = refine_heat_maximum(m, geo, hb.values, cs.pos, l, best[l], opt.fit_rings, opt.fit_sigma);
         } else {
           for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
-          msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best[l], opt.fit_rings);
+          msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best[l], opt.fit_rings, opt.fit_sigma);
         }
       }
       if (local && opt.refine)
@@ -593,15 +659,34 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
         cent[msg->cells[l]] = msg->result[l];
         cell_energy[msg->cells[l]] = msg->energy[l];
         has[msg->cells[l]] = 1;
+        if (msg->result[l].hottest >= 0)
+          bias[msg->cells[l]] = tangential_distance(m, geo, msg->result[l].point, msg->area_centroid[l]);
       }
       fallback += msg->fallback;  // integer: order-independent
       kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
+      centroid_reads[msg->batch] = msg->reads;
+      label_reads[msg->batch] = msg->label_reads;
     };
     psw.lap();
     run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
     r.centroids_s += psw.lap();
     r.fallback_faces += fallback;
+    if (opt.count_reads && local) {  // batch order: deterministic sums
+      const double full = 2.0 * static_cast<double>(full_entries);
+      for (int32_t b = 0; b < nbatch; ++b) {
+        centroid_read_sum += static_cast<double>(centroid_reads[b]) / full;
+        label_read_sum += static_cast<double>(label_reads[b]) / full;
+      }
+      read_batches += nbatch;
+    }
     r.energy.push_back(std::accumulate(cell_energy.begin(), cell_energy.end(), 0.0));  // fixed cell order
+    {
+      double b2 = 0;
+      for (double b : bias) b2 += b * b;  // fixed cell order
+      r.centroid_bias.push_back(std::sqrt(b2 / ns) / h_r3);
+      std::nth_element(bias.begin(), bias.begin() + ns / 2, bias.end());
+      r.centroid_bias_median.push_back(bias[ns / 2] / h_r3);
+    }
     for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
       if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
       if (cent[s].hottest < 0) {
@@ -627,6 +712,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   r.label = V.label;
   in_arena([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
   r.sites = std::move(sites);
+  if (read_batches > 0) {
+    r.centroid_read_fraction = centroid_read_sum / static_cast<double>(read_batches);
+    r.label_read_fraction = label_read_sum / static_cast<double>(read_batches);
+  }
   r.mean_kept_fraction = kept_fraction.empty() ? 1.0
                                               : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /
                                                     static_cast<double>(kept_fraction.size());

@@ -23,7 +23,27 @@
 // Centroid refinement: the quadratic is fitted on fit_rings rings of the hottest
 // vertex (the thesis fits one ring; the default 2 averages the piecewise-linear heat
 // over ~19 values instead of ~7, so the centroid jumps less when the hottest vertex
-// changes).
+// changes), then refitted with Gaussian weights of width fit_sigma one-ring
+// distances centred at that first maximizer (heat_centroid.hpp; default 1, 0 = off).
+// Why the refit (measured, armadillo 26k, 1000 sites, 100 iterations, 1 thread):
+// mean smallest dual angle, seeds 1-10, fit_sigma 0 -> 1: 49.81/49.60/50.00/49.70/
+// 49.61/49.63/50.02/49.80/49.45/49.69 -> 50.12/50.20/50.24/49.97/50.38/50.02/49.86/
+// 50.09/49.90/50.38 (seeds 1-5: 49.74 -> 50.18; 9 of 10 seeds higher); minimum angle
+// 20.4-23.5 -> 19.5-23.4 over seeds 1-5 (one triangle in ~1990; not systematic:
+// seed 7 goes 18.8 -> 19.2). The sites' last moves shrink from ~0.055h to ~0.020h per
+// iteration (less jitter at the fixed point); on the same cells (locus-bench cvt-bias,
+// after 60 iterations) the RMS distance of the heat centroid to the cell's area
+// centroid goes 0.157h -> 0.148h, the median 0.068h -> 0.062h. Other meshes, seeds
+// 1/2, 0 -> 1: bunny 37.7k (1450 sites) 50.57/50.67 -> 50.96/50.83; diplodocus 24k
+// (920) 50.99/50.35 -> 51.09/50.97; man 17.5k (670) 43.13/43.15 -> 44.61/44.73;
+// camel 9.8k (375) 44.76/44.73 -> 46.54/46.26. Tried and not kept (same measures):
+// k implicit steps of the centroid diffusion with the same factor (kernel closer to
+// a Gaussian; 2 steps of 4h^2 or of 2h^2: RMS bias 0.188h / 0.158h vs 0.150h, mean
+// angle 49.03 / 49.35 vs 49.81 on seed 1), more fit rings (3: 0.181h, 4: 0.240h),
+// a cubic fit (0.19-0.34h: the true maximum of the discrete heat lies farther from
+// the area centroid than the 2-ring estimate), a damped Lloyd step (0.5 from
+// iteration 0 or 50: 49.17-49.66 on seed 1), searching the maximizer in the next
+// ring's triangles (clamped fits 3.4% -> 0.2%, angles unchanged within noise).
 // Diffusion time: t = kLloydTFactor h^2 = 4h^2 by default (library, engine Session,
 // C API and `locus cvt` alike; the thesis uses h^2, `locus voronoi` keeps h^2).
 // Why (measured, 100 iterations, defaults otherwise): at t = h^2 Lloyd does not
@@ -78,14 +98,18 @@ struct LloydOptions {
   double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
   bool refine = true;        // quadratic refinement of centroids (§3.7.1)
   int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
+  double fit_sigma = 1.0;    // weighted refit of the maximizer (heat_centroid.hpp; 0 = none, as the thesis)
   double init_radius = 4.0;  // first neighbourhoods, in units of sqrt(area / (pi N))
   // Cell sources from triangles split along the heat bisectors
   // (pipelines/voronoi_cell_partition.hpp) instead of whole vertex stars.
   bool split_faces = true;
-  bool track_quality = false;
+  // Count the factor entries the localized solves read (LloydResult::read_fraction);
+  // costs a pass over each plan, so off by default.
+  bool count_reads = false;
+  bool track_quality = false;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
   // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
-  const HeatDiffusion* prepared = nullptr;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
+  const HeatDiffusion* prepared = nullptr;
 };
 
 struct LloydResult {
@@ -103,6 +127,12 @@ struct LloydResult {
   int64_t unreached = 0;          // labels filled by the breadth-first fallback, all iterations
   int64_t empty_cells = 0;        // cells without vertices, all iterations (their sites stay)
   double mean_kept_fraction = 0;  // localized: mean over centroid batches of |kept| / n
+  // With count_reads, localized: mean over batches of the factor entries one solve
+  // reads (kernels/solve_selective.hpp selective_solve_reads) over what a full
+  // solve reads (2 * factor_entries), for the centroid solves and for the label
+  // solves of the same batches; 1 / fraction bounds the local/full speed-up of
+  // the solves when reading the factor is their cost.
+  double centroid_read_fraction = 0, label_read_fraction = 0;
   // Per iteration, for the labels of that iteration and the sites before the move:
   // the Euclidean CVT energy sum_v M_vv |x_v - site(label v)|^2 (R^3, lumped mass);
   // Lloyd with exact centroids never raises it, so it shows convergence.
@@ -112,6 +142,12 @@ struct LloydResult {
   std::vector<double> moved;       // RMS site displacement of the move, in units of h (R^3 mean edge)
   std::vector<double> mean_angle;  // with track_quality: mean smallest dual angle (deg)
   std::vector<double> min_angle;   // with track_quality: min smallest dual angle (deg)
+  // Per iteration: RMS over the cells of the distance between the heat centroid and
+  // the area centroid of the same cell (its source: sum_i b_i x_i / sum_i b_i, exact
+  // for the split triangles), tangential (the difference projected off the normal at
+  // the heat centroid), in units of h (R^3 mean edge). Diagnostic of the centroid's bias.
+  std::vector<double> centroid_bias;
+  std::vector<double> centroid_bias_median;  // the median instead of the RMS
 };
 
 // Random initial sites (seeded), then `iterations` Lloyd steps.

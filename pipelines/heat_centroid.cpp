@@ -69,7 +69,8 @@ namespace {
 
 // heat(v): the heat at vertex v (any vertex the fit may read).
 template <class Heat>
-HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& heat, int32_t c, int rings) {
+HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& heat, int32_t c, int rings,
+                         double sigma) {
   HeatCentroid r;
   r.hottest = c;
   r.point = vertex_point(c);
@@ -116,8 +117,31 @@ HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& h
   Eigen::Matrix2d Hs;
   Hs << 2 * co[3], co[4], co[4], 2 * co[5];
   if (!(Hs(0, 0) < 0 && Hs.determinant() > 0)) return r;  // no maximum: stay at the vertex
-  const Eigen::Vector2d xs = Hs.ldlt().solve(-Eigen::Vector2d(co[1], co[2])) * radius;
+  Eigen::Vector2d xs = Hs.ldlt().solve(-Eigen::Vector2d(co[1], co[2])) * radius;
   if (!xs.allFinite()) return r;
+  if (sigma > 0) {
+    // Weighted refit centred at the first estimate: Gaussian weights of width sigma
+    // times the one ring's mean projected distance, so the values near the estimate
+    // dominate and the patch's asymmetry about the hottest vertex matters less.
+    double r1 = 0;
+    for (int64_t p = g.adj.offsets[c]; p < g.adj.offsets[c + 1]; ++p) r1 += project(g.adj.neighbors[p]).norm();
+    r1 /= static_cast<double>(std::max<int64_t>(1, g.adj.offsets[c + 1] - g.adj.offsets[c]));
+    const double inv2s2 = 1.0 / (2.0 * sigma * sigma * r1 * r1);
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const Eigen::Vector2d d = project(pts[k]) - xs;
+      const Eigen::Vector2d q = d / radius;
+      const double sw = std::sqrt(std::exp(-d.squaredNorm() * inv2s2));
+      A.row(k) << sw, sw * q[0], sw * q[1], sw * q[0] * q[0], sw * q[0] * q[1], sw * q[1] * q[1];
+      b[k] = sw * (heat(pts[k]) - hc);
+    }
+    const Eigen::VectorXd cw = A.colPivHouseholderQr().solve(b);
+    Eigen::Matrix2d Hw;
+    Hw << 2 * cw[3], cw[4], cw[4], 2 * cw[5];
+    if (cw.allFinite() && Hw(0, 0) < 0 && Hw.determinant() > 0) {  // else keep the unweighted maximizer
+      const Eigen::Vector2d dx = Hw.ldlt().solve(-Eigen::Vector2d(cw[1], cw[2])) * radius;
+      if (dx.allFinite()) xs += dx;
+    }
+  }
   // The incident triangle containing the maximizer, or the closest point on one.
   double best = INFINITY;
   for (int64_t p = g.vf_offsets[c]; p < g.vf_offsets[c + 1]; ++p) {
@@ -138,23 +162,25 @@ HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& h
 }  // namespace
 
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
-                                 int32_t c, int rings) {
+                                 int32_t c, int rings, double sigma) {
   if (c < 0 || c >= g.n || heat.size() != static_cast<size_t>(g.n))
     fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex or heat vector size");
   if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
-  return refine_impl(m, g, [&](int32_t v) { return heat[v]; }, c, rings);
+  if (!(sigma >= 0) || !std::isfinite(sigma)) fail(ErrorCode::BadUsage, "heat centroid refinement: sigma must be >= 0");
+  return refine_impl(m, g, [&](int32_t v) { return heat[v]; }, c, rings, sigma);
 }
 
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> values8,
-                                 std::span<const int32_t> pos, int lane, int32_t c, int rings) {
+                                 std::span<const int32_t> pos, int lane, int32_t c, int rings, double sigma) {
   if (c < 0 || c >= g.n || pos.size() != static_cast<size_t>(g.n) || lane < 0 || lane >= kLanes ||
       pos[c] < 0 || values8.size() % kLanes != 0)
     fail(ErrorCode::BadUsage, "heat centroid refinement: bad vertex, lane or position map");
   if (rings < 1 || rings > 4) fail(ErrorCode::BadUsage, "heat centroid refinement: 1 to 4 fit rings");
+  if (!(sigma >= 0) || !std::isfinite(sigma)) fail(ErrorCode::BadUsage, "heat centroid refinement: sigma must be >= 0");
   return refine_impl(
       m, g,
       [&](int32_t v) { return pos[v] >= 0 ? values8[static_cast<size_t>(pos[v]) * kLanes + lane] : 0.0; }, c,
-      rings);
+      rings, sigma);
 }
 
 HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const CentroidGeometry& g,

@@ -10,7 +10,9 @@
 // values), in the tangent plane of the area-weighted vertex normal; its maximizer is
 // located in the projected incident triangles and mapped back by barycentric
 // coordinates (the closest point of those triangles when it lies outside them; the
-// vertex itself when the quadratic has no maximum).
+// vertex itself when the quadratic has no maximum). Optionally (sigma > 0) the
+// maximizer is refined once by a Gaussian-weighted refit centred at it, which makes
+// the centroid vary more smoothly with the cell (Lloyd jitters less; cvt_lloyd.hpp).
 //
 // Thread safety: CentroidGeometry is immutable; all functions are re-entrant.
 #pragma once
@@ -44,15 +46,19 @@ struct HeatCentroid {
 // the fit may read (heat[v]; localized callers scatter their kept values and leave
 // zeros elsewhere). `rings` (1..4): fit to the hottest vertex and its rings up to
 // that graph distance (the thesis fits the one ring; more rings average the
-// piecewise-linear heat over a wider patch).
+// piecewise-linear heat over a wider patch). `sigma` > 0: the maximizer of that fit
+// is refined by a second fit of the same values, weighted by a Gaussian of width
+// sigma times the mean projected one-ring distance centred at the first maximizer
+// (the fit's values far from the maximum count less); 0 = the unweighted fit only.
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> heat,
-                                 int32_t hottest, int rings = 1);
+                                 int32_t hottest, int rings = 1, double sigma = 0.0);
 // The same reading lane `lane` of an 8-lane solution kept at some vertices:
 // heat(v) = values8[pos[v] * 8 + lane] where pos[v] >= 0, zero elsewhere (pos has
 // one entry per vertex; the hottest vertex must be kept). Lets a localized caller
 // refine all 8 lanes of a batch without scattering each lane into a dense vector.
 HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::span<const double> values8,
-                                 std::span<const int32_t> pos, int lane, int32_t hottest, int rings = 1);
+                                 std::span<const int32_t> pos, int lane, int32_t hottest, int rings = 1,
+                                 double sigma = 0.0);
 
 // One-shot: full solve of the cell indicator, hottest vertex, refinement (if `refine`).
 // `cell` lists vertex ids (non-empty, valid).

@@ -143,3 +143,33 @@ TEST_CASE("pruned selective solve rejects exact plans and mismatched sizes") {
   const SolvePlan approx = plan_selective_solve(*F.symbolic, std::vector<int32_t>{0}, std::vector<int32_t>{3, 4});
   CHECK_THROWS_AS(solve_selective8(F, approx, rhs, out, ws), Error);  // out needs 2 x 8
 }
+
+TEST_CASE("selective solve reads: a full plan reads the whole factor twice, a local plan less") {
+  const int nx = 48, ny = 40;
+  const CscMatrix A = test::grid_laplacian(nx, ny, 0.05);
+  auto S = analyze(A, order_matrix(A));
+  const int32_t n = S->n;
+  // Stored entries = the analysis' own count of L's trapezoids.
+  CHECK(factor_entries(*S) == S->nnz_L);
+  std::vector<uint8_t> mark;
+  std::vector<int32_t> every(n);
+  for (int32_t i = 0; i < n; ++i) every[i] = i;
+  // Everything kept, every row a source: forward and backward read every entry once.
+  const SolvePlan all = plan_selective_solve(*S, every, every);
+  CHECK(selective_solve_reads(*S, all, mark) == 2 * S->nnz_L);
+  CHECK(std::all_of(mark.begin(), mark.end(), [](uint8_t v) { return v == 0; }));
+  // A compact patch: at least its kept columns' stored entries (the backward reads
+  // each kept column), far less than a full solve.
+  const std::vector<int32_t> kept = grid_patch(nx, 17, 30, 13, 26), supp = grid_patch(nx, 22, 25, 18, 21);
+  const SolvePlan local = plan_selective_solve(*S, supp, kept);
+  int64_t kept_entries = 0;
+  for (int32_t c : local.kept_cols) {
+    const int32_t s = S->col_to_super[c];
+    kept_entries += S->nrows(s) - (c - S->super_first_col[s]);
+  }
+  const int64_t reads = selective_solve_reads(*S, local, mark);
+  CHECK(reads >= kept_entries);
+  CHECK(reads < S->nnz_L / 2);
+  CHECK(std::all_of(mark.begin(), mark.end(), [](uint8_t v) { return v == 0; }));
+  CHECK_THROWS_AS(selective_solve_reads(*S, plan_subset_solve(*S, supp, kept), mark), Error);
+}

@@ -25,6 +25,7 @@
 
 #include "kernels/mesh_generators.hpp"
 #include "kernels/mesh_topology.hpp"
+#include "kernels/solve_selective.hpp"
 #include "locus/error.hpp"
 #include "pipelines/cvt_lloyd.hpp"
 #include "pipelines/cvt_quality.hpp"
@@ -226,12 +227,97 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
                        {"min_angle_deg", q.min_angle_deg}};
     }
   }
+  if (o.solvers != "full") {
+    // Untimed extra local run: the factor entries one batch's solves read against a
+    // full forward + backward solve (the counting pass would distort the timings).
+    LloydOptions lo;
+    lo.iterations = o.iterations;
+    lo.prepared = &H;
+    lo.count_reads = true;
+    const LloydResult r = cvt_lloyd(m, init, lo, ctx);
+    const double mixed = 0.5 * (r.centroid_read_fraction + r.label_read_fraction);
+    j["reads"] = {{"factor_entries", factor_entries(*H.factor.symbolic)},
+                  {"centroid_read_fraction", r.centroid_read_fraction},
+                  {"label_read_fraction", r.label_read_fraction},
+                  {"bound_centroid", r.centroid_read_fraction > 0 ? 1.0 / r.centroid_read_fraction : 0.0},
+                  {"bound_label", r.label_read_fraction > 0 ? 1.0 / r.label_read_fraction : 0.0},
+                  {"bound_iteration", mixed > 0 ? 1.0 / mixed : 0.0}};
+  }
   if (solvers.size() == 2) {
     j["ratio_wall"] = wall[0] > 0 ? wall[1] / wall[0] : 0.0;
     j["ratio_cpu"] = cpu[0] > 0 ? cpu[1] / cpu[0] : 0.0;
   }
   j["load_after"] = load_average();
   cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+// `locus-bench cvt-bias MESH --sites N --warmup K --variants ...`: how far heat
+// centroids sit from the area centroids of their cells, for several centroid
+// variants on the SAME cells: K Lloyd iterations with the defaults give the sites,
+// then every variant runs one iteration from them (same labels, same cells), and
+// LloydResult::centroid_bias of that iteration is reported (RMS, median, 90th
+// percentile over the cells, units of h) with the iteration's time.
+// A variant is "tc:rings[:sigma]" (t_centroid_factor, fit_rings, fit_sigma; tc 0 =
+// the cells' t; sigma defaults to LloydOptions').
+// The warm-up uses the defaults of LloydOptions.
+struct CvtBiasOptions {
+  int32_t sites = 1000;
+  int32_t warmup = 60;
+  std::string variants = "0:2";
+  std::string solver = "local";
+};
+
+int run_cvt_bias(const cli::CommonOptions& opt, const CvtBiasOptions& o, const RunContext& ctx) {
+  // MESH may also be random-sphere:N (convex hull of N random unit vectors: irregular
+  // triangles, smooth constant curvature).
+  Mesh sphere;
+  const bool gen = opt.mesh_path.rfind("random-sphere:", 0) == 0;
+  if (gen) sphere = make_random_sphere(static_cast<int32_t>(std::stol(opt.mesh_path.substr(14))), opt.seed);
+  const cli::Input in = gen ? cli::Input{} : cli::load_input(opt, ctx);
+  const Mesh& m = gen ? sphere : in.mesh;
+  if (o.sites < 1 || o.sites > m.num_vertices()) fail(ErrorCode::BadUsage, "cvt-bias: --sites out of range");
+  if (o.warmup < 0) fail(ErrorCode::BadUsage, "cvt-bias: --warmup must be >= 0");
+  if (o.solver != "local" && o.solver != "full") fail(ErrorCode::BadUsage, "cvt-bias: --solver is local or full");
+  const HeatDiffusion H = prepare_heat_diffusion(m, kLloydTFactor, 0.0, ctx);  // as `locus cvt`
+  LloydOptions base;
+  base.iterations = o.warmup;
+  base.prepared = &H;
+  base.solver = o.solver == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
+  const std::vector<SurfacePoint> sites =
+      cvt_lloyd(m, random_surface_points(m, o.sites, opt.seed), base, ctx).sites;
+  Json j{{"command", "cvt-bias"}, {"n", m.num_vertices()}, {"sites", o.sites}, {"warmup", o.warmup},
+         {"seed", opt.seed}, {"solver", o.solver}, {"load_before", load_average()}};
+  Json rows = Json::array();
+  std::stringstream ss(o.variants);
+  std::string spec;
+  while (std::getline(ss, spec, ',')) {
+    double tc = 0, sigma = LloydOptions{}.fit_sigma;
+    int rings = 2;
+    char c1 = 0, c2 = ':';
+    std::stringstream vs(spec);
+    const bool ok = static_cast<bool>(vs >> tc >> c1 >> rings);
+    if (ok && !vs.eof()) vs >> c2 >> sigma;
+    if (!ok || vs.fail() || !vs.eof() || c1 != ':' || c2 != ':' || !(sigma >= 0))
+      fail(ErrorCode::BadUsage, "cvt-bias: a variant is tc:rings[:sigma], got '" + spec + "'");
+    LloydOptions lo = base;
+    lo.iterations = 1;
+    lo.t_centroid_factor = tc;
+    lo.fit_rings = rings;
+    lo.fit_sigma = sigma;
+    const LloydResult r = cvt_lloyd(m, sites, lo, ctx);
+    rows.push_back({{"variant", spec},
+                    {"bias_rms_h", r.centroid_bias.at(0)},
+                    {"bias_median_h", r.centroid_bias_median.at(0)},
+                    {"centroids_s", r.centroids_s}});
+  }
+  j["variants"] = rows;
+  j["load_after"] = load_average();
+  cli::emit(opt, j, [&](std::ostream& os) {
+    for (const auto& row : j["variants"])
+      os << row["variant"].get<std::string>() << "  rms " << row["bias_rms_h"].get<double>() << "  median "
+         << row["bias_median_h"].get<double>() << "  centroids_s " << row["centroids_s"].get<double>() << "\n";
+  });
   return 0;
 }
 
@@ -254,6 +340,14 @@ void register_voronoi_bench(cli::CommandTable& table) {
   capp->add_option("--solvers", c->solvers, "local,full (default), local or full");
   capp->add_option("--rounds", c->rounds,
                    "Alternating rounds of the solvers (default 1); medians over the timed iterations of all rounds");
+  auto b = std::make_shared<CvtBiasOptions>();
+  CLI::App* bapp = table.add(
+      "cvt-bias", "Heat centroid vs area centroid of the same cells, per centroid variant (thesis 3.5)",
+      [b](const cli::CommonOptions& opt, const RunContext& ctx) { return run_cvt_bias(opt, *b, ctx); });
+  bapp->add_option("--sites", b->sites, "Number of sites (default 1000)");
+  bapp->add_option("--warmup", b->warmup, "Lloyd iterations with the defaults before measuring (default 60)");
+  bapp->add_option("--variants", b->variants, "Comma-separated tc:rings[:sigma] (default 0:2)");
+  bapp->add_option("--solver", b->solver, "local (default) or full");
 }
 
 }  // namespace locus::bench

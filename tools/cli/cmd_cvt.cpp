@@ -28,6 +28,7 @@ struct CvtOptions {
   bool track = false;
   bool no_split = false;
   double t_centroid = 0.0;
+  double fit_sigma = LloydOptions{}.fit_sigma;
   int fit_rings = LloydOptions{}.fit_rings;
   FactorCacheOptions fc;
   std::string preview;
@@ -59,6 +60,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   lo.split_faces = !o.no_split;
   lo.t_centroid_factor = o.t_centroid;
   lo.fit_rings = o.fit_rings;
+  lo.fit_sigma = o.fit_sigma;
   if (ts.times_h2) {
     lo.t_factor = ts.value;
   } else {
@@ -121,6 +123,8 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["iter_s_all"] = r.iter_s;
   j["energy"] = r.energy;
   j["moved_h"] = r.moved;
+  j["centroid_bias_h"] = r.centroid_bias;
+  j["centroid_bias_median_h"] = r.centroid_bias_median;
   if (o.track) {
     j["mean_angle_all"] = r.mean_angle;
     j["min_angle_all"] = r.min_angle;
@@ -163,6 +167,9 @@ void register_cvt_command(CommandTable& table) {
       ->check(CLI::Range(0.0, 1e12));
   app->add_option("--fit-rings", o->fit_rings, "Vertex rings of the centroid's quadratic fit (default 2; the thesis fits 1)")
       ->check(CLI::Range(1, 4));
+  app->add_option("--fit-sigma", o->fit_sigma,
+                  "Weighted refit of the centroid's maximizer, Gaussian width in one-ring distances (default 1; 0 = none)")
+      ->check(CLI::Range(0.0, 100.0));
   app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
   app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }
