@@ -91,6 +91,7 @@ CvtQuality cvt_quality(const Mesh& m, std::span<const int32_t> label, std::span<
   for (const auto& t : tri) {
     const double a = smallest_angle_deg(pos[t[0]], pos[t[1]], pos[t[2]]);
     sum += a;
+    if (a < mn) q.min_angle_sites = t;
     mn = std::min(mn, a);
     ++q.angle_histogram[std::clamp(static_cast<int>(a / 5), 0, 11)];
   }

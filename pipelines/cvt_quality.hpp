@@ -28,6 +28,7 @@ struct CvtQuality {
   int64_t dual_triangles = 0;
   double min_angle_deg = 0;   // min over dual triangles of the smallest angle (0 if none)
   double mean_angle_deg = 0;  // mean over dual triangles of the smallest angle
+  std::array<int32_t, 3> min_angle_sites{-1, -1, -1};  // sites of the dual triangle with the min angle
   std::array<int64_t, 12> angle_histogram{};  // dual triangles per 5-degree bin of the smallest angle
   double area_cv = 0;         // std / mean of the cell areas (population std)
   double area_variance = 0;   // variance of cell area / total area

@@ -97,6 +97,22 @@ TEST_CASE("cvt: Lloyd on an icosphere raises the mean dual angle and evens out c
   CHECK(r.iter_s.size() == 12);
   // Euler: a sphere tessellated into N cells with only 3-valent corners has 2N - 4 of them.
   CHECK(q.dual_triangles == 2 * o.sites - 4);
+  // The reported worst triangle: its smallest angle by the law of cosines is the minimum.
+  double pts[3][3];
+  for (int k = 0; k < 3; ++k) {
+    REQUIRE(q.min_angle_sites[k] >= 0);
+    const auto p = surface_point_position(m, r.sites[q.min_angle_sites[k]]);
+    for (int c = 0; c < 3; ++c) pts[k][c] = p[c];
+  }
+  auto dist = [&](int a, int b) {
+    return std::sqrt((pts[a][0] - pts[b][0]) * (pts[a][0] - pts[b][0]) + (pts[a][1] - pts[b][1]) * (pts[a][1] - pts[b][1]) +
+                     (pts[a][2] - pts[b][2]) * (pts[a][2] - pts[b][2]));
+  };
+  double len[3] = {dist(1, 2), dist(0, 2), dist(0, 1)};
+  std::sort(len, len + 3);  // the smallest angle is opposite the shortest side
+  const double smallest = std::acos((len[1] * len[1] + len[2] * len[2] - len[0] * len[0]) / (2 * len[1] * len[2]));
+  CHECK(smallest * 180 / M_PI == doctest::Approx(q.min_angle_deg).epsilon(1e-9));
+  CHECK(q.min_angle_deg < q.mean_angle_deg);
 }
 
 TEST_CASE("cvt: split-triangle cell sources escape the vertex-quantized fixed point (sphere, 100 sites)") {

@@ -110,6 +110,15 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["dual_triangles"] = q.dual_triangles;
   j["min_angle_deg"] = q.min_angle_deg;
   j["mean_angle_deg"] = q.mean_angle_deg;
+  {  // where the smallest angle is: its dual triangle's sites (ids, positions, cell areas)
+    Json worst = Json::array();
+    for (int32_t s : q.min_angle_sites)
+      if (s >= 0) {
+        const auto p = surface_point_position(mesh, r.sites[s]);
+        worst.push_back({{"site", s}, {"xyz", {p[0], p[1], p[2]}}, {"cell_area", r.cell_area[s]}});
+      }
+    j["min_angle_sites"] = worst;
+  }
   j["angle_histogram_5deg"] = std::vector<int64_t>(q.angle_histogram.begin(), q.angle_histogram.end());
   double cv = 0, var = 0;
   cell_area_spread(r.cell_area, cv, var);
