@@ -19,6 +19,7 @@
 #include "kernels/solve_full.hpp"
 #include "kernels/solve_selective.hpp"
 #include "kernels/task_arenas.hpp"
+#include "kernels/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 #include "pipelines/cvt_quality.hpp"
 #include "pipelines/heat_centroid.hpp"
@@ -301,6 +302,7 @@ struct CentroidMsg {
   int32_t batch = 0;
   int64_t kept = 0;
   int64_t reads = 0, label_reads = 0;  // factor entries read (count_reads)
+  double solve_cpu_s = 0;
   double energy[kLanes] = {};
   double area_centroid[kLanes][3] = {};  // sum_i b_i x_i / sum_i b_i of the cell's source
   int64_t fallback = 0;
@@ -502,6 +504,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       nb = {};
     }
     r.unreached += V.unreached;
+    r.label_solve_cpu_s += V.solve_cpu_s;
     r.labels_s += psw.lap();
     for (int32_t v = 0; v < n; ++v)
       if (V.label[v] < 0)
@@ -597,7 +600,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
         cells_to_vertices(cells, cs.cells, hb.kept);
         batch_kept[b] = hb.kept;  // this batch's slot: the next labels solve on it
       }
+      const double c0 = thread_cpu_seconds();
       solve_heat_batch(Hc, hb);
+      msg->solve_cpu_s = thread_cpu_seconds() - c0;
       if (opt.count_reads && local) msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
       if (opt.count_reads && local) {  // the next labels' solve of this batch: the sites' supports on the same kept set
         cs.label_support.clear();
@@ -665,6 +670,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       fallback += msg->fallback;  // integer: order-independent
       kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
       centroid_reads[msg->batch] = msg->reads;
+      r.centroid_solve_cpu_s += msg->solve_cpu_s;
       label_reads[msg->batch] = msg->label_reads;
     };
     psw.lap();

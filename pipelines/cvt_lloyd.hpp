@@ -124,6 +124,9 @@ struct LloydResult {
   // Phase totals over the iterations: heat Voronoi labels, cells and split triangles,
   // per-site neighbourhoods (localized), centroid solves and refinement.
   double labels_s = 0, partition_s = 0, neighbourhood_s = 0, centroids_s = 0;
+  // Thread CPU time inside the heat solves alone (solve_heat_batch: planning and the
+  // solve), summed over batches: labels (the final labels included) and centroids.
+  double label_solve_cpu_s = 0, centroid_solve_cpu_s = 0;
   int64_t unreached = 0;          // labels filled by the breadth-first fallback, all iterations
   int64_t empty_cells = 0;        // cells without vertices, all iterations (their sites stay)
   double mean_kept_fraction = 0;  // localized: mean over centroid batches of |kept| / n

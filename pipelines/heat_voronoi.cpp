@@ -19,6 +19,7 @@
 #include "kernels/solve_plan.hpp"
 #include "kernels/solve_selective.hpp"
 #include "kernels/symbolic_factor.hpp"
+#include "kernels/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -237,6 +238,7 @@ struct VoronoiMsg {
   int lanes = 0;
   int per_vertex = 0;  // candidates per vertex: min(lanes, kVoronoiTopK)
   bool full = true;
+  double solve_cpu_s = 0;    // thread CPU time of this batch's solve
   std::vector<int32_t> ids;  // local mode: vertex ids of the candidates
   std::vector<int32_t> cand_site;
   std::vector<double> cand_value;
@@ -297,7 +299,9 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
     if (local) {
       dedupe_kept(hb, n);  // first occurrences, in order: no sort needed by the plan
     }
+    const double c0 = thread_cpu_seconds();
     solve_heat_batch(H, hb);
+    msg->solve_cpu_s = thread_cpu_seconds() - c0;
     msg->full = !local;
     if (local) msg->ids = hb.kept;
     const int32_t cnt = hb.count();
@@ -320,6 +324,7 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
     const int pv = msg->per_vertex;
     const int32_t cnt = pv > 0 ? static_cast<int32_t>(msg->cand_site.size() / pv) : 0;
     V.solved_entries += cnt;
+    V.solve_cpu_s += msg->solve_cpu_s;
     for (int32_t k = 0; k < cnt; ++k) {
       const int32_t v = msg->full ? k : msg->ids[k];
       int32_t* ts = V.top_site.data() + static_cast<size_t>(v) * kVoronoiTopK;

@@ -134,6 +134,7 @@ struct HeatVoronoi {
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
+  double solve_cpu_s = 0;          // thread CPU time in the solves, summed over batches (timing only)
 };
 
 // neighborhoods: empty (full solves) or one sorted vertex list per generator

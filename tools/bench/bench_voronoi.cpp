@@ -13,7 +13,10 @@
 // and process CPU time (between consecutive iteration reports; the first
 // iteration, whose neighbourhoods are Dijkstra balls, is left out), medians and
 // the full/local ratios, and the load average before and after. --rounds R
-// alternates the solvers R times and takes the medians over all rounds.
+// alternates the solvers R times and takes the medians over all rounds. JSON also
+// has the thread CPU time of the solves alone (ratio_solve_cpu) and, from an extra
+// untimed local run, the factor entries one batch reads against a full solve
+// (reads: selective_solve_reads / 2 factor_entries, and the bounds 1 / fraction).
 #include <time.h>
 
 #include <cmath>
@@ -193,6 +196,7 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
   if (o.solvers != "local") solvers.push_back("full");
   if (o.rounds < 1) fail(ErrorCode::BadUsage, "cvt-speed: --rounds must be at least 1");
   double wall[2] = {0, 0}, cpu[2] = {0, 0};
+  double solve_cpu[2] = {0, 0};  // thread CPU in the solves alone, all rounds (first and final labels included)
   // Per solver, the iteration times of every round (rounds alternate local and full,
   // so a change in the machine's load hits both alike).
   std::vector<double> wall_all[2], cpu_all[2];
@@ -214,6 +218,7 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
       const int slot = solvers[k] == "full" ? 1 : 0;
       wall_all[slot].insert(wall_all[slot].end(), wall_it.begin(), wall_it.end());
       cpu_all[slot].insert(cpu_all[slot].end(), cpu_it.begin(), cpu_it.end());
+      solve_cpu[slot] += r.label_solve_cpu_s + r.centroid_solve_cpu_s;
       wall[slot] = cli::median(wall_all[slot]);
       cpu[slot] = cli::median(cpu_all[slot]);
       j[solvers[k]] = {{"iter_s", wall[slot]},
@@ -223,6 +228,7 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
                        {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
                                     {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
                        {"mean_kept_fraction", r.mean_kept_fraction},
+                       {"solve_cpu_s", {{"labels", r.label_solve_cpu_s}, {"centroids", r.centroid_solve_cpu_s}}},
                        {"mean_angle_deg", q.mean_angle_deg},
                        {"min_angle_deg", q.min_angle_deg}};
     }
@@ -246,6 +252,9 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
   if (solvers.size() == 2) {
     j["ratio_wall"] = wall[0] > 0 ? wall[1] / wall[0] : 0.0;
     j["ratio_cpu"] = cpu[0] > 0 ? cpu[1] / cpu[0] : 0.0;
+    // The same ratio for the solves alone: what the localized iteration would gain
+    // if everything around its solves cost nothing.
+    j["ratio_solve_cpu"] = solve_cpu[0] > 0 ? solve_cpu[1] / solve_cpu[0] : 0.0;
   }
   j["load_after"] = load_average();
   cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
