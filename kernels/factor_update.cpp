@@ -26,7 +26,10 @@
 // dissection keeps subtrees together), not gathered from I's columns spread
 // over A; the symbolic parts are derived in single passes over the restricted
 // structure. A_II's extraction runs beside marking, copying and the
-// recomputation, which assembles its supernodes from the same copy of A.
+// recomputation, which assembles its supernodes from the same copy of A. With
+// two threads the structure passes that handle many rows (restriction, the
+// postorder's row remapping, the update lists) are also split in two, each
+// half writing its own range, so the result is the same for any thread count.
 #include "kernels/factor_update.hpp"
 
 #include <tbb/blocked_range.h>
