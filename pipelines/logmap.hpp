@@ -101,6 +101,11 @@
 //   bump 150:      E_a 1.11e-3, E_d 1.34e-3 (Ring: 5.44e-3; DEM 5.28e-2, 1.06e-3);
 //   random sphere: unchanged, E_a 1.70e-2, E_d 3.73e-3 (its centres are irregular:
 //                  no lattice correction there).
+//   other resolutions (E_a, default vs Ring + recentre): icosphere 6 2.56e-3 vs
+//   4.32e-3, icosphere 8 1.79e-3 vs 3.19e-3; icosphere 7 at t = 2 h^2 0.99e-3 vs
+//   1.69e-3. Allowing Path at irregular centres made the random sphere worse
+//   (two-ring + Path + recentre 2.0e-2, ~94 flipped triangles), so Auto keeps
+//   the lattice correction to regular stars.
 // Its cost is per query and linear in the patch: one pass over every patch
 // vertex's star into edge moments (degree <= 10) of its (sector, radius) cell,
 // then a 1-D Newton per sector and bin. 10k-vertex patch on icosphere 7, thread
