@@ -486,7 +486,7 @@ void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
   ws.path_r.resize(patch_size);
 }
 
-// Path correction (experimental, LatticeCorrection::Path). First-order picture:
+// Path correction (LatticeCorrection::Path, the default at regular stars). First-order picture:
 // far from j, log h_j ~ -D(x, j) with D the lattice's Finsler distance, whose
 // unit ball varies with position; along the ray from i to j,
 // grad_x D(i, j) is (to first order) the dual direction of the Finsler norm

@@ -169,7 +169,7 @@ enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 // Plane-wave (dispersion) correction of the log estimators' direction, see above.
 // None: the gradient direction itself. Star: dispersion relation of the centre's
 // own star. Ring: the stars of the centre and its one ring summed (an average
-// lattice for irregular meshes). Path (experimental): per patch vertex j, the
+// lattice for irregular meshes). Path (the default since session 6): per patch vertex j, the
 // dispersion relation summed over the stars of the patch vertices near the ray
 // from i to j (a sector of the first-pass map, radius below j's), weighted per
 // unit length, each star turned into i's tangent plane by the minimal rotation
