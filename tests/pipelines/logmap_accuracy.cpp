@@ -194,25 +194,38 @@ SphereFigures sphere_run(const Mesh& m, const std::vector<int32_t>& centres) {
 const std::vector<int32_t> kIcoCentres{92826, 122190, 159091, 72804, 72789, 124994, 143746, 85700, 46778, 130089};
 const std::vector<int32_t> kRandomCentres{90649, 119325, 155360, 71097, 71082, 122063, 140375, 83690, 45681, 127039};
 
-}  // namespace
+// The default heat map and DEM from the bump's peak over the disk of radius
+// 0.5, against the analytic map (angle = polar angle, radius by quadrature).
+struct BumpFigures {
+  Err heat, dem;
+  int64_t flipped = 0;
+};
 
-// Coarse bump (h ~ 0.038): the heat map against the analytic one and against
-// DEM, whose averaging of visited neighbours bends its angles on the curved
-// flank (thesis Table 6.8.1, Gauss column: DEM's angle error is the largest).
-TEST_CASE("log map accuracy: Gaussian bump, heat and DEM against the analytic map") {
-  const Mesh m = bump(40);
+BumpFigures bump_run(int32_t rings) {
+  const Mesh m = bump(rings);
   Oracle o;
   const std::vector<int32_t> patch = bump_patch(m, 0.5, o);
   const HeatLogMap lm(m);
   LogMapWorkspace ws;
   Map got(patch.size());
   lm.query(0, patch, got.out(), ws);
-  const Err heat = errors(got.d, got.a, o), dem = dem_errors(m, 0, patch, o);
-  MESSAGE("bump 40 rings: heat E_d " << heat.ed << " E_a " << heat.ea << "; DEM E_d " << dem.ed << " E_a " << dem.ea);
-  CHECK(heat.ed < 0.01);
-  CHECK(heat.ea < 0.01);
-  CHECK(heat.ea < dem.ea);
-  CHECK(flips(lm, patch, got) == 0);
+  BumpFigures f{errors(got.d, got.a, o), dem_errors(m, 0, patch, o), flips(lm, patch, got)};
+  MESSAGE("bump " << rings << " rings: heat E_d " << f.heat.ed << " E_a " << f.heat.ea << "; DEM E_d " << f.dem.ed
+                  << " E_a " << f.dem.ea);
+  return f;
+}
+
+}  // namespace
+
+// Coarse bump (h ~ 0.038): the heat map against the analytic one and against
+// DEM, whose averaging of visited neighbours bends its angles on the curved
+// flank (thesis Table 6.8.1, Gauss column: DEM's angle error is the largest).
+TEST_CASE("log map accuracy: Gaussian bump, heat and DEM against the analytic map") {
+  const BumpFigures f = bump_run(40);
+  CHECK(f.heat.ed < 0.01);
+  CHECK(f.heat.ea < 0.01);
+  CHECK(f.heat.ea < f.dem.ea);
+  CHECK(f.flipped == 0);
 }
 
 // Coarse icosphere (level 5, h ~ 0.038; centres of `locus-bench logmap-accuracy
@@ -280,17 +293,9 @@ TEST_CASE("log map accuracy: icosphere at mean edge 0.01 meets E_d <= 2.5e-3, E_
 }
 
 TEST_CASE("log map accuracy: Gaussian bump at h ~ 0.01, heat and DEM" * doctest::skip()) {
-  const Mesh m = bump(150);
-  Oracle o;
-  const std::vector<int32_t> patch = bump_patch(m, 0.5, o);
-  const HeatLogMap lm(m);
-  LogMapWorkspace ws;
-  Map got(patch.size());
-  lm.query(0, patch, got.out(), ws);
-  const Err heat = errors(got.d, got.a, o), dem = dem_errors(m, 0, patch, o);
-  MESSAGE("bump 150 rings: heat E_d " << heat.ed << " E_a " << heat.ea << "; DEM E_d " << dem.ed << " E_a " << dem.ea);
-  CHECK(heat.ed < 2e-3);
-  CHECK(heat.ea < 2e-3);
-  CHECK(heat.ea < 0.1 * dem.ea);
-  CHECK(flips(lm, patch, got) == 0);
+  const BumpFigures f = bump_run(150);
+  CHECK(f.heat.ed < 2e-3);
+  CHECK(f.heat.ea < 2e-3);
+  CHECK(f.heat.ea < 0.1 * f.dem.ea);
+  CHECK(f.flipped == 0);
 }
