@@ -603,8 +603,9 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
       const double c0 = thread_cpu_seconds();
       solve_heat_batch(Hc, hb);
       msg->solve_cpu_s = thread_cpu_seconds() - c0;
-      if (opt.count_reads && local) msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
-      if (opt.count_reads && local) {  // the next labels' solve of this batch: the sites' supports on the same kept set
+      if (opt.count_reads && local) {
+        msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
+        // The next labels' solve of this batch: the sites' supports on the same kept set.
         cs.label_support.clear();
         for (int l = 0; l < msg->lanes; ++l) {
           int32_t sv[3];

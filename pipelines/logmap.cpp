@@ -7,6 +7,7 @@
 #include <cmath>
 #include <exception>
 #include <thread>
+#include <utility>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -297,6 +298,23 @@ LogMapEstimator HeatLogMap::prepare_centre(int32_t i, LogMapEstimator est, LogMa
 // written in i's frame (the average lattice around i).
 namespace {
 constexpr int kLatticeTable = 128;
+
+// Newton for the dispersion set's radius rho > 0 in one direction, shared by the
+// star/ring table (exponential sums) and the Path table (Taylor moments):
+// eval(rho) gives (f, f') with f' > 0 on a convex set. False when it leaves that
+// regime (the caller then applies no correction); rho holds the last iterate.
+template <class Eval>
+bool newton_dispersion_radius(double& rho, double tol, Eval eval) {
+  for (int it = 0; it < 60; ++it) {
+    const auto [f, df] = eval(rho);
+    if (!(df > 0) || !std::isfinite(f)) return false;
+    const double step = f / df;
+    rho -= step;
+    if (!(rho > 0)) return false;
+    if (std::abs(step) <= tol * rho) return true;
+  }
+  return false;
+}
 }
 
 void HeatLogMap::prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
@@ -355,24 +373,16 @@ void HeatLogMap::prepare_lattice(const double e1[3], const double e2[3], Lattice
   for (int a = 0; a < kLatticeTable; ++a) {
     const double psi = 2 * std::numbers::pi * a / kLatticeTable;
     const double ux = std::cos(psi), uy = std::sin(psi);
-    bool ok = false;
-    for (int it = 0; it < 60; ++it) {
+    const bool ok = newton_dispersion_radius(rho, 1e-13, [&](double r) {
       double f = -target, df = 0;
       for (size_t e = 0; e < ne; ++e) {
         const double c = ux * st[3 * e] + uy * st[3 * e + 1];
-        const double x = std::exp(-rho * c);
+        const double x = std::exp(-r * c);
         f += st[3 * e + 2] * (x - 1);
         df -= st[3 * e + 2] * c * x;
       }
-      if (!(df > 0) || !std::isfinite(f)) break;
-      const double step = f / df;
-      rho -= step;
-      if (!(rho > 0)) break;
-      if (std::abs(step) <= 1e-13 * rho) {
-        ok = true;
-        break;
-      }
-    }
+      return std::pair{f, df};
+    });
     if (!ok) {  // not a convex dispersion set (e.g. negative weights): no correction
       ws.lattice.clear();
       return;
@@ -650,23 +660,15 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
         }
       // Phi(-rho u) = sum_d (-rho)^d P[d] / d! = mass / t (Newton in rho).
       const double target = acc[NM] / tt;
-      bool ok = false;
-      for (int it = 0; it < 60; ++it) {
-        double f = -target, df = 0, pw = 1;  // pw = (-rho)^(d-1)
+      const bool ok = newton_dispersion_radius(rho, 1e-12, [&](double r) {
+        double f = -target, df = 0, pw = 1;  // pw = (-r)^(d-1)
         for (int d = 1; d <= D; ++d) {
           df -= d * pw * P[d] / fact[d];
-          pw *= -rho;
+          pw *= -r;
           f += pw * P[d] / fact[d];
         }
-        if (!(df > 0) || !std::isfinite(f)) break;
-        const double step = f / df;
-        rho -= step;
-        if (!(rho > 0)) break;
-        if (std::abs(step) <= 1e-12 * rho) {
-          ok = true;
-          break;
-        }
-      }
+        return std::pair{f, df};
+      });
       double off = 0;
       if (ok) {
         double gx = 0, gy = 0, pw = 1;
