@@ -5,8 +5,8 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
-#include <exception>
-#include <thread>
+#include <atomic>
+#include <memory>
 #include <utility>
 #include <limits>
 #include <numbers>
@@ -27,29 +27,6 @@ namespace locus {
 namespace {
 
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// Runs `beside` on a second thread while `here` runs on this one (a query's
-// opt-in second thread); always joins before returning or rethrowing, and
-// rethrows an exception of either, this thread's first.
-template <class Beside, class Here>
-void run_beside(Beside&& beside, Here&& here) {
-  std::exception_ptr failed;
-  std::thread helper([&] {
-    try {
-      beside();
-    } catch (...) {
-      failed = std::current_exception();
-    }
-  });
-  try {
-    here();
-  } catch (...) {
-    helper.join();
-    throw;
-  }
-  helper.join();
-  if (failed) std::rethrow_exception(failed);
-}
 
 void check_outputs(const LogMapOutput& out, size_t np) {
   if (out.distance.size() != np || out.angle.size() != np || out.u.size() != np || out.v.size() != np)
@@ -769,8 +746,8 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       // Polar to Cartesian from the direction itself (no cos / sin calls).
       const double il = 1 / std::sqrt(gx * gx + gy * gy);
       out.angle[p] = th;
-      out.u[p] = out.distance[p] * (gx * il);
-      out.v[p] = out.distance[p] * (gy * il);
+      out.u[p] = gx * il;  // unit direction; scale_by_distance makes it (u, v)
+      out.v[p] = gy * il;
       continue;
     }
     if (path && usable && (gx != 0 || gy != 0)) {
@@ -785,8 +762,17 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       th = std::remainder(th, 2 * std::numbers::pi);
     }
     out.angle[p] = th;
-    out.u[p] = out.distance[p] * std::cos(th);
-    out.v[p] = out.distance[p] * std::sin(th);
+    out.u[p] = std::cos(th);
+    out.v[p] = std::sin(th);
+  }
+}
+
+// Polar to Cartesian: finish_angles left the unit direction in (u, v), which
+// needs no distance, so with two threads it runs before the Poisson solve ends.
+void HeatLogMap::scale_by_distance(const LogMapOutput& out) {
+  for (size_t p = 0; p < out.u.size(); ++p) {
+    out.u[p] *= out.distance[p];
+    out.v[p] *= out.distance[p];
   }
 }
 
@@ -840,28 +826,73 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // row gives the centre's heat (lane 0) for the distance and, at patch
       // vertices, the gradient estimate.
       // Two threads and more than 8 sources: the first 8 lanes (the centre's
-      // among them) on a helper thread, the others here, over the same plan (the
-      // same rows); each lane's arithmetic does not depend on the lane count.
-      const bool split = ws.threads >= 2 && d > kLanes;
+      // among them) on the helper thread, the others here, over the same plan
+      // (the same rows); each lane's arithmetic does not depend on the lane
+      // count. The helper then goes on with the distance (divergence, Poisson:
+      // lane 0 only) while this thread, once the helper's lanes are solved,
+      // takes the gradients and the angles: the Poisson path starts after an
+      // 8-lane solve instead of after all lanes.
+      const bool two = ws.threads >= 2;
+      const bool split = two && d > kLanes;
       const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes solved here
       const int32_t first = split ? kLanes : 0;                                    // first source solved here
-      auto solve_here = [&] {
-        ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
-        for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
-        solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
+      const int32_t np = r.patch_size;
+      // Lanes 0..7 (with the centre's heat in lane 0) live in XA (width WA).
+      auto centre_heat = [&](const double* XA, int32_t WA) {
+        const std::vector<int32_t>& rows = ws.wide.out_rows;
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = XA[static_cast<size_t>(rows[k]) * WA];
       };
+      double t_distance = 0;
+      auto distance = [&] {
+        geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+      };
+      std::atomic<int>& a_solved = ws.a_solved;
+      a_solved.store(0, std::memory_order_relaxed);
+      // The helper's task (split): lanes 0..7, tell this thread, then the distance.
+      auto distance_task = [&] {
+        const double c0 = thread_cpu_seconds();
+        distance();
+        t_distance = thread_cpu_seconds() - c0;
+      };
+      auto helper_task = [&] {
+        const double c0 = thread_cpu_seconds();
+        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
+        a_solved.store(1, std::memory_order_release);
+        a_solved.notify_one();
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.wide_a.x[static_cast<size_t>(ws.wide_a.out_rows[k]) * kLanes];
+        distance();
+        t_distance = thread_cpu_seconds() - c0;
+      };
+      HelperThread* helper = nullptr;
+      if (two) {
+        if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
+        helper = ws.helper.get();
+      }
+      // The helper reads this query's stack: join before leaving, also on an exception here.
+      struct JoinGuard {
+        HelperThread* h = nullptr;
+        ~JoinGuard() {
+          if (h) try { h->join(); } catch (...) {}
+        }
+      } guard;
       if (split) {
         ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
         for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
-        run_beside([&] { solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a); }, solve_here);
-      } else {
-        solve_here();
+        helper->run(helper_task);
+        guard.h = helper;
+      }
+      ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
+      for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
+      solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
+      if (split) {
+        // The helper's lanes must be complete before any row is read.
+        for (int v = a_solved.load(std::memory_order_acquire); v == 0; v = a_solved.load(std::memory_order_acquire))
+          a_solved.wait(0, std::memory_order_acquire);
       }
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* XB = ws.wide.x.data();
       const size_t xrows = ws.wide.x.size() / static_cast<size_t>(WB);
-      // Lanes 0..7 (with the centre's heat in lane 0) and the rest, per row.
       const double* XA = split ? ws.wide_a.x.data() : XB;
       const int32_t WA = split ? kLanes : WB;
       if (split) ws.rowjoin.assign(ws.logrow.size(), 0.0);
@@ -880,7 +911,6 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       for (int32_t v : S)  // (the two-ring may reach beyond a tiny patch's region)
         if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
       const double h_centre = XA[static_cast<size_t>(rows[cl]) * WA];
-      const int32_t np = r.patch_size;
       auto gradient_pass = [&](bool with_heat) {
         for (size_t row = 0; row < xrows; ++row) {
           const int32_t o = ws.row_owner[row];
@@ -891,26 +921,24 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
           if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
         }
       };
-      if (ws.threads >= 2) {
-        // Two threads: the distance (divergence, Poisson) needs only lane 0, the
-        // gradients only the rows; they write disjoint data, so they run side by
-        // side with the same arithmetic as one thread (identical results).
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = XA[static_cast<size_t>(rows[k]) * WA];
-        double t_distance = 0;
-        run_beside(
-            [&] {
-              const double c0 = thread_cpu_seconds();
-              geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-              t_distance = thread_cpu_seconds() - c0;
-            },
-            [&] {
-              gradient_pass(false);
-              lap(t_gradients);
-            });
-        st.distance_s = t_distance;  // the helper's CPU time
+      if (two) {
+        if (!split) {
+          // Up to 8 sources, all solved here: the helper takes the distance now.
+          centre_heat(XA, WA);
+          helper->run(distance_task);
+          guard.h = helper;
+        }
+        gradient_pass(false);
+        finish_angles(patch, out, est, st, ws);
+        lap(t_gradients);
+        helper->join();
+        guard.h = nullptr;
+        lap(st.wait_s);  // (waiting for the helper is no CPU time; ~0)
+        st.distance_s = t_distance;  // the helper's CPU time (with its lanes' solve when split)
         st.poisson_s = ws.geo.poisson_s;
         distance_done = true;
       } else {
+        (void)centre_heat;
         gradient_pass(true);
       }
     } else {
@@ -940,10 +968,9 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
       lap(st.distance_s);
       st.poisson_s = ws.geo.poisson_s;
-    } else {
-      lap(st.wait_s);  // (the main thread's time waiting for the helper is not CPU time; ~0)
+      finish_angles(patch, out, est, st, ws);
     }
-    finish_angles(patch, out, est, st, ws);
+    scale_by_distance(out);
     st.angles_s = t_gradients;
   } catch (...) {
     geo_.release_region(r);
@@ -1004,6 +1031,7 @@ LogMapStats HeatLogMap::query_full(int32_t centre, std::span<const int32_t> patc
                     std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
                     ws.heat.data() + static_cast<size_t>(patch[p]) * d, false, h_centre, est, st, ws);
   finish_angles(patch, out, est, st, ws);
+  scale_by_distance(out);
   return st;
 }
 

@@ -153,11 +153,14 @@
 // Thread safety: const after construction; concurrent queries each need their
 // own LogMapWorkspace.
 #pragma once
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "locus/mesh.hpp"
+#include "kernels/helper_thread.hpp"
 #include "kernels/solve_plan.hpp"
 #include "kernels/solve_wide.hpp"
 #include "pipelines/heat_geodesic.hpp"
@@ -213,12 +216,17 @@ struct LogMapStats {
 };
 
 struct LogMapWorkspace {
-  // Threads inside one localized query: 2 splits the heat solve's lanes (the
-  // first 8 sources on a helper thread, the rest on the caller's), then runs
-  // the distance (divergence and Poisson solve) on the helper beside the angle
-  // gradients. They share no writes and do the same arithmetic per lane, so the
-  // results are identical to 1 thread.
+  // Threads inside one localized query: 2 runs a persistent helper thread
+  // (kernels/helper_thread.hpp). With more than 8 sources it solves the first 8
+  // lanes (the centre's among them) and then the distance (divergence and
+  // Poisson solve, lane 0 only) while this thread solves the other lanes and,
+  // once the helper's lanes are in, computes the gradients and angles; with up
+  // to 8 sources this thread solves them all and the helper takes the distance.
+  // They share no writes and do the same arithmetic per lane, so the results
+  // are identical to 1 thread.
   int threads = 1;
+  std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
+  std::atomic<int> a_solved{0};          // threads = 2: the helper's lanes are solved (this query)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
@@ -306,6 +314,7 @@ class HeatLogMap {
   static double path_offset_at(const std::vector<double>& table, double th, double r, double rmax);
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;
+  static void scale_by_distance(const LogMapOutput& out);
 
   void prepare(const Mesh& m);  // tangent frames (eq. 6.2)
 
