@@ -825,42 +825,25 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // (at 50 % of 416k the rows are ~44 MB, a random gather cost ~10 ms): each
       // row gives the centre's heat (lane 0) for the distance and, at patch
       // vertices, the gradient estimate.
-      // Two threads and more than 8 sources: the first 8 lanes (the centre's
-      // among them) on the helper thread, the others here, over the same plan
-      // (the same rows); each lane's arithmetic does not depend on the lane
-      // count. The helper then goes on with the distance (divergence, Poisson:
-      // lane 0 only) while this thread, once the helper's lanes are solved,
-      // takes the gradients and the angles: the Poisson path starts after an
-      // 8-lane solve instead of after all lanes.
+      // Two threads: the heat from the centre (lane 0) is all the distance
+      // (divergence, Poisson) needs. With more than 8 sources this thread first
+      // solves lanes 0..7 alone, hands the distance to the helper thread, then
+      // solves the other lanes over the same plan (the same rows; each lane's
+      // arithmetic does not depend on the lane count) and computes the
+      // gradients and angles. The two solves run one after the other, not side
+      // by side: this machine's two vCPUs share one core's vector FMA
+      // throughput (two threads of AVX-512 FMAs each run at half speed), and
+      // the wide solve is FMA-bound, while the distance is latency-bound and
+      // overlaps well with it.
       const bool two = ws.threads >= 2;
       const bool split = two && d > kLanes;
-      const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes solved here
-      const int32_t first = split ? kLanes : 0;                                    // first source solved here
+      const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes of the (second) solve
+      const int32_t first = split ? kLanes : 0;                                    // its first source
       const int32_t np = r.patch_size;
-      // Lanes 0..7 (with the centre's heat in lane 0) live in XA (width WA).
-      auto centre_heat = [&](const double* XA, int32_t WA) {
-        const std::vector<int32_t>& rows = ws.wide.out_rows;
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = XA[static_cast<size_t>(rows[k]) * WA];
-      };
       double t_distance = 0;
-      auto distance = [&] {
-        geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-      };
-      std::atomic<int>& a_solved = ws.a_solved;
-      a_solved.store(0, std::memory_order_relaxed);
-      // The helper's task (split): lanes 0..7, tell this thread, then the distance.
       auto distance_task = [&] {
         const double c0 = thread_cpu_seconds();
-        distance();
-        t_distance = thread_cpu_seconds() - c0;
-      };
-      auto helper_task = [&] {
-        const double c0 = thread_cpu_seconds();
-        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
-        a_solved.store(1, std::memory_order_release);
-        a_solved.notify_one();
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.wide_a.x[static_cast<size_t>(ws.wide_a.out_rows[k]) * kLanes];
-        distance();
+        geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
       };
       HelperThread* helper = nullptr;
@@ -875,20 +858,21 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
           if (h) try { h->join(); } catch (...) {}
         }
       } guard;
+      auto start_distance = [&](const double* X, int32_t width, const std::vector<int32_t>& out_rows) {
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X[static_cast<size_t>(out_rows[k]) * width];
+        helper->run(distance_task);
+        guard.h = helper;
+      };
       if (split) {
         ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
         for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
-        helper->run(helper_task);
-        guard.h = helper;
+        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
+        start_distance(ws.wide_a.x.data(), kLanes, ws.wide_a.out_rows);
       }
       ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
       for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
       solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
-      if (split) {
-        // The helper's lanes must be complete before any row is read.
-        for (int v = a_solved.load(std::memory_order_acquire); v == 0; v = a_solved.load(std::memory_order_acquire))
-          a_solved.wait(0, std::memory_order_acquire);
-      }
+      if (two && !split) start_distance(ws.wide.x.data(), WB, ws.wide.out_rows);
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* XB = ws.wide.x.data();
@@ -922,12 +906,6 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         }
       };
       if (two) {
-        if (!split) {
-          // Up to 8 sources, all solved here: the helper takes the distance now.
-          centre_heat(XA, WA);
-          helper->run(distance_task);
-          guard.h = helper;
-        }
         gradient_pass(false);
         finish_angles(patch, out, est, st, ws);
         lap(t_gradients);
@@ -938,7 +916,6 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         st.poisson_s = ws.geo.poisson_s;
         distance_done = true;
       } else {
-        (void)centre_heat;
         gradient_pass(true);
       }
     } else {

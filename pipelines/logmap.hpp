@@ -226,7 +226,6 @@ struct LogMapWorkspace {
   // are identical to 1 thread.
   int threads = 1;
   std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
-  std::atomic<int> a_solved{0};          // threads = 2: the helper's lanes are solved (this query)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
@@ -245,7 +244,7 @@ struct LogMapWorkspace {
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/solve_wide.hpp)
-  WideSolveWorkspace wide_a;       // threads = 2: the first 8 sources, solved on the helper thread
+  WideSolveWorkspace wide_a;       // threads = 2: the first 8 sources, solved before the others
   std::vector<double> rhs_wide, out_wide, rhs_a;
   std::vector<double> rowjoin;     // threads = 2: one row of both solves side by side
   std::vector<double> out8;        // full variant: one 8-lane batch
