@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cmath>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <utility>
 #include <limits>
@@ -789,6 +790,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     phase = now - tick;
     tick = now;
   };
+  const auto w_query = std::chrono::steady_clock::now();
   PatchRegion& r = ws.geo.region;
   geo_.build_region(patch, r);
   LogMapStats st;
@@ -810,6 +812,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     const NumericFactor& F = geo_.heat_factor();
     plan_subset_solve(*F.symbolic, geo_.vertex_supernodes(), S, r.verts, ws.plan, ws.plan_ws);
     lap(st.plan_s);
+    const double wall_serial = std::chrono::duration<double>(std::chrono::steady_clock::now() - w_query).count();
     // All sources in one pass over the plan's supernodes (kernels/solve_wide.hpp),
     // lanes rounded up to a multiple of 8; more than kMaxWideLanes sources
     // (valence > 31) take further passes into the same rows.
@@ -826,25 +829,31 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // row gives the centre's heat (lane 0) for the distance and, at patch
       // vertices, the gradient estimate.
       // Two threads: the heat from the centre (lane 0) is all the distance
-      // (divergence, Poisson) needs. With more than 8 sources this thread first
-      // solves lanes 0..7 alone, hands the distance to the helper thread, then
-      // solves the other lanes over the same plan (the same rows; each lane's
-      // arithmetic does not depend on the lane count) and computes the
-      // gradients and angles. The two solves run one after the other, not side
-      // by side: this machine's two vCPUs share one core's vector FMA
-      // throughput (two threads of AVX-512 FMAs each run at half speed), and
-      // the wide solve is FMA-bound, while the distance is latency-bound and
-      // overlaps well with it.
+      // (divergence, Poisson) needs. With more than 8 sources lanes 0..7 are
+      // solved first by themselves, over the same plan as the other lanes (the
+      // same rows; each lane's arithmetic does not depend on the lane count),
+      // and the helper thread goes on with the distance from them; this thread
+      // solves the other lanes and computes the gradients and angles.
+      // LogMapWorkspace::lanes_beside chooses who solves lanes 0..7: the helper,
+      // beside this thread's lanes (shortest path on two free cores), or this
+      // thread before its other lanes (when the two threads share one core's
+      // vector units, two wide solves side by side each run at half speed).
       const bool two = ws.threads >= 2;
       const bool split = two && d > kLanes;
       const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes of the (second) solve
       const int32_t first = split ? kLanes : 0;                                    // its first source
       const int32_t np = r.patch_size;
       double t_distance = 0;
+      using clock = std::chrono::steady_clock;
+      auto since = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+      const clock::time_point w_start = w_query;
+      clock::time_point w_helper_end{}, w_helper_start{};
       auto distance_task = [&] {
+        w_helper_start = clock::now();
         const double c0 = thread_cpu_seconds();
         geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
+        w_helper_end = clock::now();
       };
       HelperThread* helper = nullptr;
       if (two) {
@@ -863,16 +872,38 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         helper->run(distance_task);
         guard.h = helper;
       };
+      std::atomic<int>& a_solved = ws.first_lanes_solved;
+      a_solved.store(0, std::memory_order_relaxed);
+      // lanes_beside: the helper's whole task (lanes 0..7, a signal, the distance).
+      auto first_lanes_then_distance = [&] {
+        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
+        st.wall2.first_lanes = since(w_start, clock::now());
+        a_solved.store(1, std::memory_order_release);
+        a_solved.notify_one();
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.wide_a.x[static_cast<size_t>(ws.wide_a.out_rows[k]) * kLanes];
+        distance_task();
+      };
       if (split) {
         ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
         for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
-        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
-        start_distance(ws.wide_a.x.data(), kLanes, ws.wide_a.out_rows);
+        if (ws.lanes_beside) {
+          helper->run(first_lanes_then_distance);
+          guard.h = helper;
+        } else {
+          solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
+          st.wall2.first_lanes = since(w_start, clock::now());
+          start_distance(ws.wide_a.x.data(), kLanes, ws.wide_a.out_rows);
+        }
       }
       ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
       for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
       solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
       if (two && !split) start_distance(ws.wide.x.data(), WB, ws.wide.out_rows);
+      if (split && ws.lanes_beside) {
+        // Lanes 0..7 must be complete before any row is read.
+        for (int v = a_solved.load(std::memory_order_acquire); v == 0; v = a_solved.load(std::memory_order_acquire))
+          a_solved.wait(0, std::memory_order_acquire);
+      }
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* XB = ws.wide.x.data();
@@ -909,7 +940,14 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
         gradient_pass(false);
         finish_angles(patch, out, est, st, ws);
         lap(t_gradients);
+        const clock::time_point w_main_end = clock::now();
         helper->join();
+        const clock::time_point w_joined = clock::now();
+        st.wall2.serial = wall_serial;
+        st.wall2.helper_start = since(w_start, w_helper_start);
+        st.wall2.helper = since(w_helper_start, w_helper_end);
+        st.wall2.main = since(w_start, w_main_end);
+        st.wall2.join_wait = since(w_main_end, w_joined);
         guard.h = nullptr;
         lap(st.wait_s);  // (waiting for the helper is no CPU time; ~0)
         st.distance_s = t_distance;  // the helper's CPU time (with its lanes' solve when split)

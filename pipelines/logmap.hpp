@@ -213,19 +213,33 @@ struct LogMapStats {
   // poisson_s), angles (gradients, logs, corrections, output).
   // With LogMapWorkspace::threads = 2, distance_s is the helper thread's CPU time.
   double region_s = 0, centre_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0, wait_s = 0;
+  // LogMapWorkspace::threads = 2, one-pass queries: wall-clock timeline (steady_clock, seconds).
+  // serial: query start to the heat solves (region, centre, plan), on the caller;
+  // first_lanes: query start to the end of the lanes 0..7 solve (more than 8 sources);
+  // helper_start / helper: when the helper's distance task began (from the query
+  // start) and how long it ran; main: query start to the caller's angles done;
+  // join_wait: the caller's wait for the helper after that.
+  struct {
+    double serial = 0, first_lanes = 0, helper_start = 0, helper = 0, main = 0, join_wait = 0;
+  } wall2;
 };
 
 struct LogMapWorkspace {
   // Threads inside one localized query: 2 runs a persistent helper thread
-  // (kernels/helper_thread.hpp). With more than 8 sources it solves the first 8
-  // lanes (the centre's among them) and then the distance (divergence and
-  // Poisson solve, lane 0 only) while this thread solves the other lanes and,
-  // once the helper's lanes are in, computes the gradients and angles; with up
-  // to 8 sources this thread solves them all and the helper takes the distance.
-  // They share no writes and do the same arithmetic per lane, so the results
-  // are identical to 1 thread.
+  // (kernels/helper_thread.hpp). With more than 8 sources lanes 0..7 (the
+  // centre's among them) are solved by themselves, by the helper beside this
+  // thread's other lanes or by this thread first (lanes_beside), and the helper
+  // then computes the distance (divergence and Poisson solve, lane 0 only)
+  // while this thread computes the gradients and angles; with up to 8 sources
+  // this thread solves them all and the helper takes the distance. They share
+  // no writes and do the same arithmetic per lane, so the results are
+  // identical to 1 thread.
   int threads = 1;
   std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
+  // threads = 2, more than 8 sources: the helper solves lanes 0..7 beside this
+  // thread's other lanes (true), or this thread solves them first (false; see logmap.cpp).
+  bool lanes_beside = true;
+  std::atomic<int> first_lanes_solved{0};  // lanes_beside: lanes 0..7 are solved (this query)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;

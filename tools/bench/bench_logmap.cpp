@@ -144,7 +144,8 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   for (double f : fractions) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
     std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
-    std::vector<double> t_local2;
+    std::vector<double> t_local2, c_local2_main, c_local2_helper;
+    std::vector<double> w2_serial, w2_first, w2_helper_start, w2_helper, w2_main, w2_wait;
     int64_t mismatch2 = 0;
     std::vector<double> mb_heat_read, mb_heat_distinct, mb_poisson_read, mb_poisson_distinct, mb_distinct;
     std::vector<double> ph_region, ph_centre, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
@@ -167,9 +168,18 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       max_sources = std::max(max_sources, st.sources);
       if (to.query_threads >= 2) {
         local2.resize(k);
+        const double c2 = thread_cpu_seconds();
         sw.restart();
-        heat.query(c, P, local2.out(), lws2);
+        const LogMapStats st2 = heat.query(c, P, local2.out(), lws2);
         t_local2.push_back(sw.seconds());
+        c_local2_main.push_back(thread_cpu_seconds() - c2);
+        c_local2_helper.push_back(st2.distance_s);
+        w2_serial.push_back(st2.wall2.serial);
+        w2_first.push_back(st2.wall2.first_lanes);
+        w2_helper_start.push_back(st2.wall2.helper_start);
+        w2_helper.push_back(st2.wall2.helper);
+        w2_main.push_back(st2.wall2.main);
+        w2_wait.push_back(st2.wall2.join_wait);
         for (int32_t p = 0; p < k; ++p)
           mismatch2 += local2.d[p] != local.d[p] || local2.a[p] != local.a[p] || local2.u[p] != local.u[p] ||
                        local2.v[p] != local.v[p];
@@ -235,6 +245,19 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       row["heat_local_2t_s"] = cli::median(t_local2);
       row["dem_over_local_2t"] = md / cli::median(t_local2);
       row["two_thread_mismatches"] = mismatch2;
+      // Thread CPU time of the two-thread query: the caller's and the helper's
+      // (medians; their sum against heat_local_cpu_s shows the extra work).
+      row["heat_local_2t_cpu_main_s"] = cli::median(c_local2_main);
+      row["heat_local_2t_cpu_helper_s"] = cli::median(c_local2_helper);
+      // Wall-clock timeline of the two-thread query (medians, seconds from the query start;
+      // LogMapStats::wall2): serial part, lanes 0-7 solved, helper's distance start and
+      // length, caller's angles done, caller's wait for the helper.
+      row["phases_2t_wall_s"] = Json{{"serial", cli::median(w2_serial)},
+                                     {"first_lanes", cli::median(w2_first)},
+                                     {"helper_start", cli::median(w2_helper_start)},
+                                     {"helper", cli::median(w2_helper)},
+                                     {"main", cli::median(w2_main)},
+                                     {"join_wait", cli::median(w2_wait)}};
     }
     row["dem_s"] = md;
     row["dem_over_local"] = md / ml;
