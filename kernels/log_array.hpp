@@ -37,9 +37,19 @@ inline void log_array(const double* in, double* out, size_t n) {
     p = p * z2 + 1.0;
     out[k] = static_cast<double>(e) * kLn2 + 2 * z * p;
   }
+  // Non-positive entries get their NaN in a second vectorized pass (a blend),
+  // not by scalar stores: a caller reading out in vectors would stall on them
+  // (store forwarding).
+  for (size_t k = 0; k < n; ++k) out[k] = in[k] > 0 ? out[k] : std::numeric_limits<double>::quiet_NaN();
+  // Subnormals, infinities and NaNs (rare): through std::log, after a
+  // vectorizable check whether there are any.
+  bool special = false;
   for (size_t k = 0; k < n; ++k)
-    if (!(in[k] >= std::numeric_limits<double>::min() && in[k] <= std::numeric_limits<double>::max()))
-      out[k] = in[k] > 0 ? std::log(in[k]) : std::numeric_limits<double>::quiet_NaN();
+    special |= in[k] > 0 && !(in[k] >= std::numeric_limits<double>::min() && in[k] <= std::numeric_limits<double>::max());
+  if (!special) return;
+  for (size_t k = 0; k < n; ++k)
+    if (in[k] > 0 && !(in[k] >= std::numeric_limits<double>::min() && in[k] <= std::numeric_limits<double>::max()))
+      out[k] = std::log(in[k]);
 }
 
 }  // namespace locus

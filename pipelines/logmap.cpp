@@ -411,8 +411,6 @@ void HeatLogMap::vertex_gradient(size_t p, bool is_centre, bool is_source, const
         std::copy_n(f, d, ws.rowbuf.data());
         fb = ws.rowbuf.data();
       }
-      double* lf = ws.logrow.data();
-      log_array(fb, lf, dp);
       const double* cx = ws.cpad.data() + (wide_stencil ? 2 * dp : 0);
       const double* cy = cx + dp;
       batch ax(0.0), ay(0.0);
@@ -420,7 +418,9 @@ void HeatLogMap::vertex_gradient(size_t p, bool is_centre, bool is_source, const
       for (size_t k = 0; k < dp; k += B) {
         const batch fv = batch::load_unaligned(fb + k), x = batch::load_unaligned(cx + k), y = batch::load_unaligned(cy + k);
         const auto pos = fv > batch(0.0);
-        const batch l = xsimd::select(pos, batch::load_unaligned(lf + k), batch(0.0));
+        // The logarithm in registers (xsimd): through a buffer, the log's
+        // stores and these loads stalled on store forwarding (perf).
+        const batch l = xsimd::select(pos, xsimd::log(fv), batch(0.0));
         ax = xsimd::fma(x, l, ax);
         ay = xsimd::fma(y, l, ay);
         bad = bad || ((x != batch(0.0) || y != batch(0.0)) && !pos);
