@@ -252,6 +252,7 @@ struct LogMapWorkspace {
   std::vector<double> path_moments;        // Path correction: edge moments per (sector, radius bin)
   double path_rmax = 1;
   std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
+  std::vector<double> theta;      // finish_angles: raw angle per patch vertex, then its gradient's x and y (padded)
   std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
   std::vector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
   std::vector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
