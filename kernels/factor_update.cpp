@@ -29,15 +29,19 @@
 // recomputation, which assembles its supernodes from the same copy of A. With
 // two threads the structure passes that handle many rows (restriction, the
 // postorder's row remapping, the update lists) are also split in two, each
-// half writing its own range, so the result is the same for any thread count.
+// half writing its own range, so the result is the same for any thread count;
+// the second thread first-touches a large result's fresh pages while the first
+// finishes the structure, and takes over part of the copy once A_II is done.
 #include "kernels/factor_update.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -110,6 +114,40 @@ struct Restricted {
   std::vector<int32_t> rows;        // restricted column ids, ascending per supernode
   std::vector<int32_t> rowpos;      // position of each row in the global supernode's row list
   std::vector<int32_t> parent;      // ns
+};
+
+// First touches of a fresh factor's pages, done by the second thread while the
+// first one finishes the structure (the value offsets need the whole
+// restricted structure; its size is known once the supernodes are restricted).
+// Only for results of at least FactorUpdateOptions::prefault_min_bytes (32 MB):
+// glibc serves smaller blocks again from the heap, already mapped, while
+// larger ones are always a fresh mapping whose every page faults (~0.45 ms per
+// MB on one thread, and the faults of two threads overlap). Every value is
+// written again later (copied or recomputed), so what this writes never shows;
+// it stops before anything else writes the values.
+class Prefault {
+ public:
+  Prefault(double* data, int64_t count, bool active) : data_(data), count_(count) {
+    if (active) tg_.run([this] { run(); });
+  }
+  ~Prefault() { stop(); }
+  void stop() {
+    stop_.store(true, std::memory_order_relaxed);
+    tg_.wait();
+  }
+
+ private:
+  void run() {
+    constexpr int64_t kPage = 4096 / sizeof(double), kChunk = 64 * kPage;  // a stop check per 256 KB
+    for (int64_t c0 = 0; c0 < count_ && !stop_.load(std::memory_order_relaxed); c0 += kChunk) {
+      const int64_t c1 = std::min(count_, c0 + kChunk);
+      for (int64_t i = c0; i < c1; i += kPage) data_[i] = 0.0;
+    }
+  }
+  double* data_;
+  int64_t count_;
+  std::atomic<bool> stop_{false};
+  tbb::task_group tg_;
 };
 
 // A structure pass is split over two threads only when it handles at least
@@ -642,6 +680,13 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     ++in_super_[S.col_to_super[gcol[c]]];
   }
   Restricted R = restrict_structure(S, col_new, gcol, two_threads);
+  NumericFactor& F = out.factor;
+  int64_t values_total = 0;
+  for (int32_t s = 0; s < R.ns; ++s)
+    values_total += (R.row_ptr[s + 1] - R.row_ptr[s]) * (R.first_col[s + 1] - R.first_col[s]);
+  F.values.resize(static_cast<size_t>(values_total));  // not initialized (DefaultInitAllocator)
+  Prefault prefault(F.values.data(), values_total,
+                    two_threads && values_total * static_cast<int64_t>(sizeof(double)) >= opt.prefault_min_bytes);
   st.reordered = postorder_in_place(R, two_threads);
   if (st.reordered)
     for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
@@ -677,8 +722,8 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   // Marking, copying and (with the prepared updater) the recomputation do not
   // read A_II: they run beside its extraction (independent outputs, so the
   // result does not depend on the threads).
+  prefault.stop();  // before anything else writes the values
   std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
-  NumericFactor& F = out.factor;
   auto mark_and_copy = [&] {
     // (2) Marking (§5.5): the changed columns are the ancestors, in the
     // restricted etree, of the first I-row of every column of L_IB. All I-rows of
@@ -770,8 +815,13 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
         }
       }
     };
-    // Threads only pay off for large copies (a gather, memory-bound).
-    if (st.values_stored - st.values_recomputed < (int64_t{1} << 22)) {
+    // Threads only pay off for large copies (a gather, memory-bound), except in
+    // the prepared two-thread update: there the other thread extracts A_II
+    // meanwhile and takes over part of the copy once it is done (work stealing;
+    // each supernode is copied by one thread, so the result is the same).
+    const int64_t copied = st.values_stored - st.values_recomputed;
+    const bool steal = two_threads && copied >= (int64_t{1} << 16);
+    if (!steal && copied < (int64_t{1} << 22)) {
       copy_range(0, Sp->ns);
     } else {
       in_arena(ctx, [&](int) {

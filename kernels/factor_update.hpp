@@ -41,6 +41,11 @@ struct FactorUpdateOptions {
   // original mesh vertex ids when A is itself a submatrix (cascades). Empty:
   // A's own indices are the names.
   std::span<const int32_t> vertex_ids;
+  // Prepared updater with two threads: a result of at least this many bytes
+  // has its fresh pages first touched by the second thread while the first one
+  // finishes the structure (page faults cost ~0.45 ms per MB). Smaller results
+  // usually reuse heap memory that is already mapped. 0: always (tests).
+  int64_t prefault_min_bytes = int64_t{32} << 20;
 };
 
 struct FactorUpdateStats {

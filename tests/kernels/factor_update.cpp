@@ -363,16 +363,21 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
   // and extracts A_II beside the recomputation: every output must equal the
   // one-thread run's, for patches (restricted supernodes already in postorder
   // or not) and a scattered set, on a mesh large enough for parallel subtrees.
+  // The two-thread updater also first-touches every result's pages beside the
+  // structure (prefault_min_bytes = 0) and shares the copy of the unmarked
+  // supernodes between its threads.
   for (const bool bilap : {false, true}) {
     CAPTURE(bilap);
     const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
     const int32_t n = P.A.ncols;
-    FactorUpdater up1(P.L, P.A), up2(P.L, P.A);
+    FactorUpdateOptions always_prefault;
+    always_prefault.prefault_min_bytes = 0;
+    FactorUpdater up1(P.L, P.A), up2(P.L, P.A, always_prefault);
     RunContext one, two;
     one.threads = 1;
     two.threads = 2;
     std::mt19937 rng(21);
-    int reordered = 0;
+    int reordered = 0, shared_copy = 0;
     for (int round = 0; round < 4; ++round) {
       CAPTURE(round);
       const std::vector<int32_t> I = round == 3 ? random_set(n, n / 4, 91)
@@ -381,6 +386,7 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
       const SymbolicFactor& Sa = *a.factor.symbolic;
       const SymbolicFactor& Sb = *b.factor.symbolic;
       reordered += a.stats.reordered;
+      shared_copy += b.stats.values_stored - b.stats.values_recomputed >= (int64_t{1} << 16);  // factor_update.cpp's bound
       CHECK(a.stats.reordered == b.stats.reordered);
       check_same_structure(a, b);
       CHECK(Sa.a_src == Sb.a_src);
@@ -401,7 +407,8 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
       const Eigen::Map<const Eigen::VectorXd> xv(x.data(), m), bv(rhs.data(), m);
       CHECK((E * xv - bv).norm() / bv.norm() <= 1e-9);
     }
-    CHECK(reordered > 0);  // the postorder path ran too
+    CHECK(reordered > 0);    // the postorder path ran too
+    CHECK(shared_copy > 0);  // and the shared copy
   }
 }
 
