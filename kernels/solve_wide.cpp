@@ -10,6 +10,7 @@
 #include "kernels/solve_wide.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "kernels/lane8.hpp"
@@ -22,6 +23,11 @@ namespace {
 template <int NB>
 struct Row {
   Lane8 v[NB];
+  static Row zero() {
+    Row r;
+    for (int b = 0; b < NB; ++b) r.v[b] = Lane8::zero();
+    return r;
+  }
   static Row load(const double* p) {
     Row r;
     for (int b = 0; b < NB; ++b) r.v[b] = Lane8::load(p + 8 * b);
@@ -37,6 +43,23 @@ struct Row {
     for (int b = 0; b < NB; ++b) v[b].scale(a);
   }
 };
+
+// NB = 0: one lane, as a scalar, with the operations a Lane8 applies to each of
+// its lanes (fused -(a x) + v, then v * a): the same numbers as any one lane
+// of the wide solve (solve_planned_lane).
+template <>
+struct Row<0> {
+  double v;
+  static Row zero() { return {0.0}; }
+  static Row load(const double* p) { return {*p}; }
+  void store(double* p) const { *p = v; }
+  void fnma(double a, const Row& x) { v = std::fma(-a, x.v, v); }
+  void scale(double a) { v = v * a; }
+};
+
+// Doubles per row of x: 8 per group of lanes, 1 for the scalar lane.
+template <int NB>
+constexpr int kRowWidth = NB == 0 ? 1 : 8 * NB;
 
 struct Super {
   int32_t k, m;
@@ -83,7 +106,7 @@ void gather_rows(const double* const* Lc_in, int32_t i0, int32_t i1, Row<NB>* ac
 // each factor entry is read once and each x row once per four columns.
 template <int NB, int NJ>
 void forward_columns(const Super& s, int32_t j0, double* x) {
-  constexpr int W = 8 * NB;
+  constexpr int W = kRowWidth<NB>;
   const double* Lc[NJ];
   for (int q = 0; q < NJ; ++q) Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
   Row<NB> xj[NJ];
@@ -101,12 +124,11 @@ void forward_columns(const Super& s, int32_t j0, double* x) {
 // subtract the rows below and the later own rows, then the NJ x NJ triangle.
 template <int NB, int NJ>
 void backward_columns(const Super& s, int32_t j0, const double* x, bool from_zero) {
-  constexpr int W = 8 * NB;
+  constexpr int W = kRowWidth<NB>;
   const double* Lc[NJ];
   for (int q = 0; q < NJ; ++q) Lc[q] = s.L + static_cast<int64_t>(j0 + q) * s.m;
   Row<NB> acc[NJ];
-  for (int q = 0; q < NJ; ++q)
-    for (int b = 0; b < NB; ++b) acc[q].v[b] = Lane8::zero();
+  for (int q = 0; q < NJ; ++q) acc[q] = Row<NB>::zero();
   if (!from_zero)
     for (int q = 0; q < NJ; ++q) acc[q] = Row<NB>::load(s.xs + static_cast<int64_t>(j0 + q) * W);
   gather_rows<NB, NJ>(Lc, s.k, s.m, acc, [&](int32_t i) { return x + static_cast<int64_t>(s.rl[i - s.k]) * W; });
@@ -148,7 +170,7 @@ void backward_super(const Super& s, const double* x, bool from_zero) {
 template <int NB>
 void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> rhs, std::span<double> out,
          WideSolveWorkspace& ws) {
-  constexpr int W = 8 * NB;
+  constexpr int W = kRowWidth<NB>;
   const SymbolicFactor& S = *F.symbolic;
   int32_t* local = ws.local.data();
   int64_t rows = 0;
@@ -192,6 +214,18 @@ void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> 
 }
 
 }  // namespace
+
+void solve_planned_lane(const NumericFactor& F, const SolvePlan& plan, std::span<const double> rhs,
+                        WideSolveWorkspace& ws) {
+  if (!F.symbolic || plan.n != F.n()) fail(ErrorCode::BadUsage, "one-lane solve: the plan was made for another factor");
+  if (plan.approximate)
+    fail(ErrorCode::BadUsage, "one-lane solve: exact subset plans only (plan_subset_solve), got an approximate plan");
+  if (rhs.size() != plan.rhs.size())
+    fail(ErrorCode::BadUsage, "one-lane solve: " + std::to_string(rhs.size()) + " right-hand side values for a support of " +
+                                  std::to_string(plan.rhs.size()));
+  if (ws.local.size() != static_cast<size_t>(F.n())) ws.local.assign(static_cast<size_t>(F.n()), 0);
+  run<0>(F, plan, rhs, {}, ws);
+}
 
 void solve_planned_wide(const NumericFactor& F, const SolvePlan& plan, int lanes, std::span<const double> rhs,
                         std::span<double> out, WideSolveWorkspace& ws) {

@@ -849,38 +849,32 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // (at 50 % of 416k the rows are ~44 MB, a random gather cost ~10 ms): each
       // row gives the centre's heat (lane 0) for the distance and, at patch
       // vertices, the gradient estimate.
-      // Two threads: the heat from the centre (lane 0) is all the distance
-      // (divergence, Poisson) needs. With more than 8 sources lanes 0..7 are
-      // solved first by themselves, over the same plan as the other lanes (the
-      // same rows; each lane's arithmetic does not depend on the lane count),
-      // and the helper thread goes on with the distance from them; this thread
-      // solves the other lanes and computes the gradients and angles.
-      // LogMapWorkspace::lanes_beside chooses who solves lanes 0..7: the helper,
-      // beside this thread's lanes (shortest path on two free cores), or this
-      // thread before its other lanes (when the two threads share one core's
-      // vector units, two wide solves side by side each run at half speed).
+      // Two threads: the heat from the centre is all the distance (divergence,
+      // Poisson) needs. The helper thread solves it alone (solve_planned_lane:
+      // the same numbers as lane 0 of the wide solve) and goes on with the
+      // distance, while this thread makes the wide solve of all sources and
+      // computes the gradients and angles. (Measured alternatives, same-process
+      // A/B under load: the helper solving lanes 0-7 beside this thread's other
+      // lanes was 5 % slower, this thread solving lanes 0-7 first 20 % slower.)
       const bool two = ws.threads >= 2;
-      const bool split = two && d > kLanes;
-      const int32_t WB = split ? (d - kLanes + kLanes - 1) / kLanes * kLanes : W;  // lanes of the (second) solve
-      const int32_t first = split ? kLanes : 0;                                    // its first source
       const int32_t np = r.patch_size;
       double t_distance = 0;
       using clock = std::chrono::steady_clock;
       auto since = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
       const clock::time_point w_start = w_query;
       clock::time_point w_helper_end{}, w_helper_start{};
-      auto distance_task = [&] {
+      // The helper's task: the centre's heat alone, then the distance.
+      auto centre_then_distance = [&] {
         w_helper_start = clock::now();
         const double c0 = thread_cpu_seconds();
+        solve_planned_lane(F, ws.plan, ws.rhs_lane, ws.lane);
+        st.wall2.centre_lane = since(w_start, clock::now());
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
         geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
         w_helper_end = clock::now();
       };
       HelperThread* helper = nullptr;
-      if (two) {
-        if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
-        helper = ws.helper.get();
-      }
       // The helper reads this query's stack: join before leaving, also on an exception here.
       struct JoinGuard {
         HelperThread* h = nullptr;
@@ -888,57 +882,21 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
           if (h) try { h->join(); } catch (...) {}
         }
       } guard;
-      auto start_distance = [&](const double* X, int32_t width, const std::vector<int32_t>& out_rows) {
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X[static_cast<size_t>(out_rows[k]) * width];
-        helper->run(distance_task);
+      if (two) {
+        if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
+        helper = ws.helper.get();
+        ws.rhs_lane.assign(static_cast<size_t>(d), 0.0);
+        ws.rhs_lane[0] = 1.0;
+        helper->run(centre_then_distance);
         guard.h = helper;
-      };
-      std::atomic<int>& a_solved = ws.first_lanes_solved;
-      a_solved.store(0, std::memory_order_relaxed);
-      // lanes_beside: the helper's whole task (lanes 0..7, a signal, the distance).
-      auto first_lanes_then_distance = [&] {
-        solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
-        st.wall2.first_lanes = since(w_start, clock::now());
-        a_solved.store(1, std::memory_order_release);
-        a_solved.notify_one();
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.wide_a.x[static_cast<size_t>(ws.wide_a.out_rows[k]) * kLanes];
-        distance_task();
-      };
-      if (split) {
-        ws.rhs_a.assign(static_cast<size_t>(d) * kLanes, 0.0);
-        for (int32_t l = 0; l < kLanes; ++l) ws.rhs_a[static_cast<size_t>(l) * kLanes + l] = 1.0;
-        if (ws.lanes_beside) {
-          helper->run(first_lanes_then_distance);
-          guard.h = helper;
-        } else {
-          solve_planned_wide(F, ws.plan, kLanes, ws.rhs_a, {}, ws.wide_a);
-          st.wall2.first_lanes = since(w_start, clock::now());
-          start_distance(ws.wide_a.x.data(), kLanes, ws.wide_a.out_rows);
-        }
       }
-      ws.rhs_wide.assign(static_cast<size_t>(d) * WB, 0.0);
-      for (int32_t l = 0; l + first < d; ++l) ws.rhs_wide[static_cast<size_t>(first + l) * WB + l] = 1.0;
-      solve_planned_wide(F, ws.plan, WB, ws.rhs_wide, {}, ws.wide);
-      if (two && !split) start_distance(ws.wide.x.data(), WB, ws.wide.out_rows);
-      if (split && ws.lanes_beside) {
-        // Lanes 0..7 must be complete before any row is read.
-        for (int v = a_solved.load(std::memory_order_acquire); v == 0; v = a_solved.load(std::memory_order_acquire))
-          a_solved.wait(0, std::memory_order_acquire);
-      }
+      ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
+      for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
+      solve_planned_wide(F, ws.plan, W, ws.rhs_wide, {}, ws.wide);
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
-      const double* XB = ws.wide.x.data();
-      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(WB);
-      const double* XA = split ? ws.wide_a.x.data() : XB;
-      const int32_t WA = split ? kLanes : WB;
-      if (split) ws.rowjoin.assign(ws.logrow.size(), 0.0);
-      auto row_of = [&](size_t row) -> const double* {
-        if (!split) return XB + row * static_cast<size_t>(WB);
-        double* j = ws.rowjoin.data();
-        std::copy_n(XA + row * kLanes, kLanes, j);
-        std::copy_n(XB + row * static_cast<size_t>(WB), d - kLanes, j + kLanes);
-        return j;
-      };
+      const double* X = ws.wide.x.data();
+      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
       // Owner of each row: its region index, with kSourceBit set for the
       // sources (no lookups by vertex id inside the loop: those were cache misses).
       constexpr int32_t kSourceBit = 1 << 30;
@@ -946,36 +904,33 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
       for (int32_t v : S)  // (the two-ring may reach beyond a tiny patch's region)
         if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
-      const double h_centre = XA[static_cast<size_t>(rows[cl]) * WA];
-      auto gradient_pass = [&](bool with_heat) {
-        for (size_t row = 0; row < xrows; ++row) {
-          const int32_t o = ws.row_owner[row];
-          if (o < 0) continue;
-          const int32_t k = o & (kSourceBit - 1);
-          const double* f = row_of(row);
-          if (with_heat) ws.geo.h[k] = f[0];
-          if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
-        }
-      };
+      const double h_centre = X[static_cast<size_t>(rows[cl]) * W];
+      // with_heat: also the centre's heat per region vertex (one thread; with two
+      // the helper has its own copy of it).
+      for (size_t row = 0; row < xrows; ++row) {
+        const int32_t o = ws.row_owner[row];
+        if (o < 0) continue;
+        const int32_t k = o & (kSourceBit - 1);
+        const double* f = X + row * static_cast<size_t>(W);
+        if (!two) ws.geo.h[k] = f[0];
+        if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_centre, est, st, ws);
+      }
       if (two) {
-        gradient_pass(false);
         finish_angles(patch, out, est, st, ws);
         lap(t_gradients);
         const clock::time_point w_main_end = clock::now();
         helper->join();
+        guard.h = nullptr;
         const clock::time_point w_joined = clock::now();
         st.wall2.serial = wall_serial;
         st.wall2.helper_start = since(w_start, w_helper_start);
         st.wall2.helper = since(w_helper_start, w_helper_end);
         st.wall2.main = since(w_start, w_main_end);
         st.wall2.join_wait = since(w_main_end, w_joined);
-        guard.h = nullptr;
         lap(st.wait_s);  // (waiting for the helper is no CPU time; ~0)
-        st.distance_s = t_distance;  // the helper's CPU time (with its lanes' solve when split)
+        st.distance_s = t_distance;  // the helper's CPU time (its centre solve and the distance)
         st.poisson_s = ws.geo.poisson_s;
         distance_done = true;
-      } else {
-        gradient_pass(true);
       }
     } else {
       // More than kMaxWideLanes sources (valence > 31): further passes into the same rows.

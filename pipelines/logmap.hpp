@@ -215,31 +215,26 @@ struct LogMapStats {
   double region_s = 0, centre_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0, wait_s = 0;
   // LogMapWorkspace::threads = 2, one-pass queries: wall-clock timeline (steady_clock, seconds).
   // serial: query start to the heat solves (region, centre, plan), on the caller;
-  // first_lanes: query start to the end of the lanes 0..7 solve (more than 8 sources);
-  // helper_start / helper: when the helper's distance task began (from the query
-  // start) and how long it ran; main: query start to the caller's angles done;
+  // centre_lane: query start to the end of the helper's solve of the centre's heat;
+  // helper_start / helper: when the helper's task (that solve, then the distance)
+  // began (from the query start) and how long it ran; main: query start to the
+  // caller's angles done;
   // join_wait: the caller's wait for the helper after that.
   struct {
-    double serial = 0, first_lanes = 0, helper_start = 0, helper = 0, main = 0, join_wait = 0;
+    double serial = 0, centre_lane = 0, helper_start = 0, helper = 0, main = 0, join_wait = 0;
   } wall2;
 };
 
 struct LogMapWorkspace {
   // Threads inside one localized query: 2 runs a persistent helper thread
-  // (kernels/helper_thread.hpp). With more than 8 sources lanes 0..7 (the
-  // centre's among them) are solved by themselves, by the helper beside this
-  // thread's other lanes or by this thread first (lanes_beside), and the helper
-  // then computes the distance (divergence and Poisson solve, lane 0 only)
-  // while this thread computes the gradients and angles; with up to 8 sources
-  // this thread solves them all and the helper takes the distance. They share
-  // no writes and do the same arithmetic per lane, so the results are
-  // identical to 1 thread.
+  // (kernels/helper_thread.hpp) that solves the centre's heat alone (the same
+  // numbers as lane 0 of the wide solve: kernels/solve_wide.hpp,
+  // solve_planned_lane) and then the distance (divergence and Poisson solve),
+  // while this thread makes the wide solve and computes the gradients and
+  // angles. They share no writes and do the same arithmetic, so the results
+  // are identical to 1 thread.
   int threads = 1;
   std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
-  // threads = 2, more than 8 sources: the helper solves lanes 0..7 beside this
-  // thread's other lanes (true), or this thread solves them first (false; see logmap.cpp).
-  bool lanes_beside = true;
-  std::atomic<int> first_lanes_solved{0};  // lanes_beside: lanes 0..7 are solved (this query)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
@@ -259,9 +254,8 @@ struct LogMapWorkspace {
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/solve_wide.hpp)
-  WideSolveWorkspace wide_a;       // threads = 2: the first 8 sources, solved before the others
-  std::vector<double> rhs_wide, out_wide, rhs_a;
-  std::vector<double> rowjoin;     // threads = 2: one row of both solves side by side
+  WideSolveWorkspace lane;         // threads = 2: the centre's heat alone, on the helper thread
+  std::vector<double> rhs_wide, out_wide, rhs_lane;
   std::vector<double> out8;        // full variant: one 8-lane batch
   std::vector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
   std::vector<double> dist_full;   // n, full variant

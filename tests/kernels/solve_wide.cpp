@@ -2,8 +2,8 @@
 // equals an independent Eigen sparse Cholesky solve at the wanted entries, for
 // 8 to 32 lanes, small and wide supernodes, disjoint support and wanted sets,
 // repeated support entries; the workspace is reused across plans of different
-// sizes; results left in the workspace (no output span) are the same; bad
-// arguments are refused by name.
+// sizes; results left in the workspace (no output span) are the same; the
+// one-lane solve equals each lane bit for bit; bad arguments are refused by name.
 #include "kernels/solve_wide.hpp"
 
 #include <Eigen/SparseCholesky>
@@ -56,6 +56,17 @@ void check_wide(const NumericFactor& F, const Llt& oracle, const std::vector<int
     for (int l = 0; l < lanes; ++l)
       same &= ws.x[static_cast<size_t>(ws.out_rows[k]) * lanes + l] == copied[k * lanes + l];
   CHECK(same);
+  // The one-lane solve gives each lane's numbers bit for bit.
+  WideSolveWorkspace one;
+  for (int l : {0, lanes - 1}) {
+    std::vector<double> r1(supp.size());
+    for (size_t k = 0; k < supp.size(); ++k) r1[k] = rhs[k * lanes + l];
+    solve_planned_lane(F, plan, r1, one);
+    REQUIRE(one.out_rows.size() == wanted.size());
+    bool equal = true;
+    for (size_t k = 0; k < wanted.size(); ++k) equal &= one.x[static_cast<size_t>(one.out_rows[k])] == copied[k * lanes + l];
+    CHECK(equal);
+  }
 }
 
 }  // namespace
@@ -105,4 +116,8 @@ TEST_CASE("wide subset solve: bad arguments are refused") {
   const SolvePlan approx = plan_selective_solve(*F.symbolic, std::vector<int32_t>{1, 2}, std::vector<int32_t>{5});
   CHECK(code([&] { solve_planned_wide(F, approx, 16, rhs, out, ws); }) == ErrorCode::BadUsage);
   solve_planned_wide(F, plan, 16, rhs, out, ws);  // the right sizes pass
+  std::vector<double> one(2), three(3);
+  CHECK(code([&] { solve_planned_lane(F, plan, three, ws); }) == ErrorCode::BadUsage);
+  CHECK(code([&] { solve_planned_lane(F, approx, one, ws); }) == ErrorCode::BadUsage);
+  solve_planned_lane(F, plan, one, ws);
 }

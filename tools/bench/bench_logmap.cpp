@@ -175,7 +175,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
         c_local2_main.push_back(thread_cpu_seconds() - c2);
         c_local2_helper.push_back(st2.distance_s);
         w2_serial.push_back(st2.wall2.serial);
-        w2_first.push_back(st2.wall2.first_lanes);
+        w2_first.push_back(st2.wall2.centre_lane);
         w2_helper_start.push_back(st2.wall2.helper_start);
         w2_helper.push_back(st2.wall2.helper);
         w2_main.push_back(st2.wall2.main);
@@ -250,10 +250,10 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       row["heat_local_2t_cpu_main_s"] = cli::median(c_local2_main);
       row["heat_local_2t_cpu_helper_s"] = cli::median(c_local2_helper);
       // Wall-clock timeline of the two-thread query (medians, seconds from the query start;
-      // LogMapStats::wall2): serial part, lanes 0-7 solved, helper's distance start and
-      // length, caller's angles done, caller's wait for the helper.
+      // LogMapStats::wall2): serial part, the helper's centre solve done, the helper's task
+      // start and length, the caller's angles done, its wait for the helper.
       row["phases_2t_wall_s"] = Json{{"serial", cli::median(w2_serial)},
-                                     {"first_lanes", cli::median(w2_first)},
+                                     {"centre_lane", cli::median(w2_first)},
                                      {"helper_start", cli::median(w2_helper_start)},
                                      {"helper", cli::median(w2_helper)},
                                      {"main", cli::median(w2_main)},
