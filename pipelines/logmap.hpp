@@ -145,6 +145,26 @@
 // them; with the non-solve phases (region, plan, divergence, angles: ~5 ms)
 // that is where the time to DEM parity is. At 50 %: 110 / 209 MB read, 209 MB
 // distinct, floor 7.0 ms against DEM's 65-93 ms.
+// Session 7 (`locus-bench logmap ... --query-threads 2`; the machine was loaded
+// 2-3.5 by other jobs throughout, so these are indicative):
+//  * the wide solve's row loops spilled their accumulators (perf: 11 of 12 in
+//    the 24-lane backward loop; GCC assumed the accumulators alias x); with
+//    local copies the heat solve fell from ~5.2 to ~3.9 ms at 5 % (same results);
+//  * the log of a heat row is taken in registers (a store-forwarding stall on
+//    the log buffer took half of the gradient time) and the raw angles with a
+//    vector atan2: angles phase 2.3 -> 1.3 ms at 5 %, 15.8 -> 8.4 ms at 25 %;
+//  * one thread, 5 %: region 1.9, plan 0.3, heat solve 4.0, distance 4.8
+//    (Poisson 3.5), angles 1.3 ms; DEM 6.4-6.9 ms. A one-lane vectorized Poisson
+//    kernel, 8-lane Poisson solves, software prefetch of the next supernodes'
+//    blocks or of the x rows did not help (same-process A/B): the solves wait
+//    on the factor stream, not on arithmetic;
+//  * two threads (LogMapWorkspace::threads): the helper's path (the centre's
+//    heat alone, then the distance) is the longer one. On this VM two threads
+//    of AVX-512 FMAs sometimes ran at half speed each and sometimes at full
+//    speed (other tenants on the host), and under load 2-3.5 the second
+//    thread mostly waits for a core: two threads were as fast as one at 5 %
+//    and slower at 25 %. bench JSON phases_2t_wall_s and heat_local_2t_cpu_*_s
+//    show the timeline and each thread's CPU time.
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbour; e2 = n_i x e1 with n_i on the side of the
