@@ -856,6 +856,9 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       // computes the gradients and angles. (Measured alternatives, same-process
       // A/B under load: the helper solving lanes 0-7 beside this thread's other
       // lanes was 5 % slower, this thread solving lanes 0-7 first 20 % slower.)
+      // centre_lane_alone = false: the helper waits for the wide solve and takes
+      // its lane 0 (no second read of the factor; under load 2.7 it was faster
+      // at 5 % and slower at 50 %, both within that load's noise).
       const bool two = ws.threads >= 2;
       const int32_t np = r.patch_size;
       double t_distance = 0;
@@ -867,9 +870,11 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       auto centre_then_distance = [&] {
         w_helper_start = clock::now();
         const double c0 = thread_cpu_seconds();
-        solve_planned_lane(F, ws.plan, ws.rhs_lane, ws.lane);
-        st.wall2.centre_lane = since(w_start, clock::now());
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
+        if (ws.centre_lane_alone) {
+          solve_planned_lane(F, ws.plan, ws.rhs_lane, ws.lane);
+          st.wall2.centre_lane = since(w_start, clock::now());
+          for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
+        }  // (otherwise the caller filled ws.geo.h from its wide solve's lane 0)
         geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
         w_helper_end = clock::now();
@@ -885,14 +890,23 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       if (two) {
         if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
         helper = ws.helper.get();
-        ws.rhs_lane.assign(static_cast<size_t>(d), 0.0);
-        ws.rhs_lane[0] = 1.0;
-        helper->run(centre_then_distance);
-        guard.h = helper;
+        if (ws.centre_lane_alone) {
+          ws.rhs_lane.assign(static_cast<size_t>(d), 0.0);
+          ws.rhs_lane[0] = 1.0;
+          helper->run(centre_then_distance);
+          guard.h = helper;
+        }
       }
       ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
       for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
       solve_planned_wide(F, ws.plan, W, ws.rhs_wide, {}, ws.wide);
+      if (two && !ws.centre_lane_alone) {
+        // The helper takes the distance from this solve's lane 0.
+        const double* X0 = ws.wide.x.data();
+        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X0[static_cast<size_t>(ws.wide.out_rows[k]) * W];
+        helper->run(centre_then_distance);
+        guard.h = helper;
+      }
       lap(st.heat_s);
       const std::vector<int32_t>& rows = ws.wide.out_rows;
       const double* X = ws.wide.x.data();

@@ -255,6 +255,9 @@ struct LogMapWorkspace {
   // are identical to 1 thread.
   int threads = 1;
   std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
+  // threads = 2: the helper solves the centre's heat itself beside the wide
+  // solve (true), or takes lane 0 of the wide solve when it is done (false).
+  bool centre_lane_alone = true;
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;

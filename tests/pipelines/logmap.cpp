@@ -339,19 +339,25 @@ TEST_CASE("log map: two threads inside a query give the one-thread map exactly")
   // The helper thread runs the distance while the caller's thread estimates the
   // angles: same arithmetic, disjoint writes, so every output is bit-identical.
   // The map itself is checked against the sphere's exact distance.
+  // Both ways of splitting (LogMapWorkspace::centre_lane_alone), the second
+  // query on a warm helper thread.
   const Mesh m = make_random_sphere(8000, 3);
   const HeatLogMap lm(m);
-  LogMapWorkspace one, two;
+  LogMapWorkspace one, two, after;
   two.threads = 2;
+  after.threads = 2;
+  after.centre_lane_alone = false;
   for (int32_t c : {10, 4000}) {
     const std::vector<int32_t> patch = sphere_disk(m, c, 0.6);
-    Map a(patch.size()), b(patch.size());
+    Map a(patch.size()), b(patch.size()), e(patch.size());
     const LogMapStats sa = lm.query(c, patch, a.out(), one);
     const LogMapStats sb = lm.query(c, patch, b.out(), two);
+    lm.query(c, patch, e.out(), after);
     CHECK(a.d == b.d);
     CHECK(a.a == b.a);
     CHECK(a.u == b.u);
     CHECK(a.v == b.v);
+    CHECK((a.d == e.d && a.a == e.a && a.u == e.u && a.v == e.v));
     CHECK(sa.angle_fallbacks == sb.angle_fallbacks);
     double ed = 0;
     for (size_t p = 0; p < patch.size(); ++p) ed += std::abs(b.d[p] - great_circle(m, c, patch[p])) / patch.size();
