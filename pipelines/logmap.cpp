@@ -813,7 +813,10 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
   };
   const auto w_query = std::chrono::steady_clock::now();
   PatchRegion& r = ws.geo.region;
-  geo_.build_region(patch, r);
+  // Two threads, one pass: the region's face list (only the helper's
+  // divergence needs it) is built after the helper has started (see below).
+  const bool faces_later = ws.threads >= 2;
+  geo_.build_region(patch, r, !faces_later);
   LogMapStats st;
   lap(st.region_s);
   try {
@@ -875,6 +878,8 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
           st.wall2.centre_lane = since(w_start, clock::now());
           for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
         }  // (otherwise the caller filled ws.geo.h from its wide solve's lane 0)
+        for (int v = ws.faces_ready.load(std::memory_order_acquire); v == 0; v = ws.faces_ready.load(std::memory_order_acquire))
+          ws.faces_ready.wait(0, std::memory_order_acquire);
         geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
         w_helper_end = clock::now();
@@ -890,12 +895,17 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
       if (two) {
         if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
         helper = ws.helper.get();
+        ws.faces_ready.store(0, std::memory_order_relaxed);
         if (ws.centre_lane_alone) {
           ws.rhs_lane.assign(static_cast<size_t>(d), 0.0);
           ws.rhs_lane[0] = 1.0;
           helper->run(centre_then_distance);
           guard.h = helper;
         }
+        // The faces, while the helper solves; it waits for them before the divergence.
+        geo_.build_region_faces(r);
+        ws.faces_ready.store(1, std::memory_order_release);
+        ws.faces_ready.notify_one();
       }
       ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
       for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
@@ -969,6 +979,7 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
     }
     if (!distance_done) {
       lap(t_gradients);
+      if (r.faces_pending) geo_.build_region_faces(r);  // (two threads asked, several passes)
       // Distance from lane 0 (the heat from the centre).
       geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
       lap(st.distance_s);
