@@ -10,9 +10,7 @@
 //   (d) CHOLMOD METIS:    cholmod_analyze with METIS (its own ordering of A_II) + factorize
 // A_II is extracted once per patch outside the timers, as in the thesis. The
 // contenders run back to back on the same patch, their order rotating from
-// patch to patch so that machine noise hits all alike; a locus contender that
-// follows a CHOLMOD one first waits --blas-settle seconds for OpenBLAS' worker
-// threads to stop spinning (they would take one of the two cores). Every update is
+// patch to patch so that machine noise hits all alike. Every update is
 // checked (relative residual of A_II x = b) before it is counted.
 // JSON: `cells` with medians and ratios; the spread of the speedups goes to stderr.
 // CHOLMOD's row deletion (cholmod_rowdel per vertex of B, the thesis's
@@ -22,14 +20,12 @@
 #include <oneapi/tbb/info.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <limits>
 #include <random>
 #include <sstream>
-#include <thread>
 
 #include <sys/resource.h>
 
@@ -67,14 +63,6 @@ struct Options {
   std::string fractions = "0.1,0.25,0.5";
   int patches = 5;
   std::string op = "laplacian";
-  // OpenBLAS' worker threads busy-wait ~2^28 TSC cycles (~0.1 s here) after a
-  // multithreaded call before they sleep, so right after a CHOLMOD contender
-  // one of them still holds the second core. A locus contender (TBB threads)
-  // that follows a CHOLMOD one starts only after this many seconds; CHOLMOD's
-  // own conditions are unchanged (0: no wait). Measured at 416k bi-Laplacian
-  // 10%, in one run: the update took 56.8 ms right after CHOLMOD, 44.6 ms
-  // after the wait and 40.5 ms when it ran first.
-  double blas_settle_s = 0.3;
   bool updown = false;
   double updown_cap = 60.0;
 };
@@ -235,12 +223,6 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
   Cholmod ch;
 #endif
   int rotation = 0;
-  bool after_cholmod = false;  // the last contender was CHOLMOD's: its BLAS threads may still spin
-  auto settle_blas = [&] {
-    if (after_cholmod && bo.blas_settle_s > 0)
-      std::this_thread::sleep_for(std::chrono::duration<double>(bo.blas_settle_s));
-    after_cholmod = false;
-  };
   for (double frac : fractions) {
     Cell cell;
     cell.fraction = frac;
@@ -261,7 +243,6 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
       for (int k = 0; k < 4; ++k) {
         switch ((k + rotation) % 4) {
           case 0: {
-            settle_blas();
             const long f0 = minor_faults();
             sw.restart();
             up = updater.update(I, ctx);
@@ -270,7 +251,6 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
             break;
           }
           case 1: {
-            settle_blas();
             sw.restart();
             auto S = analyze(Aii, Ordering{order, ref.factor.symbolic->iperm});
             scratch = factorize(S, Aii, ctx);
@@ -284,13 +264,11 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
             openblas_set_num_threads(threads);
             t_given = ch.analyze_factorize(Aii, order);
             openblas_set_num_threads(blas_default);
-            after_cholmod = true;
             break;
           case 3:
             openblas_set_num_threads(threads);
             t_metis = ch.analyze_factorize(Aii, {});
             openblas_set_num_threads(blas_default);
-            after_cholmod = true;
             break;
 #endif
           default: break;
@@ -352,7 +330,6 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
   j["threads"] = threads;
   j["seed"] = opt.seed;
   j["patches"] = bo.patches;
-  j["blas_settle_s"] = bo.blas_settle_s;
   j["operator_s"] = operator_s;
   j["global_factor_s"] = global_s;
   j["updater_setup_s"] = updater_s;
@@ -433,9 +410,6 @@ void register_submesh_bench(cli::CommandTable& table) {
   app->add_option("--fractions", bo->fractions, "Patch sizes as fractions of the vertices (default 0.1,0.25,0.5)");
   app->add_option("--patches", bo->patches, "Random BFS patches per fraction (default 5)")->check(CLI::Range(1, 10000));
   app->add_option("--operator", bo->op, "laplacian (-L_C + eps M, default) or bilaplacian (K M^-1 K)");
-  app->add_option("--blas-settle", bo->blas_settle_s,
-                  "Seconds a locus contender waits after a CHOLMOD one for OpenBLAS' spinning threads (default 0.3; 0: none)")
-      ->check(CLI::Range(0.0, 10.0));
   app->add_flag("--updown", bo->updown, "Also time CHOLMOD row deletions (smallest fraction only)");
   app->add_option("--updown-cap", bo->updown_cap, "Seconds per patch for the row deletions (default 60)")
       ->check(CLI::Range(1.0, 3600.0));
