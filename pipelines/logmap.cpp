@@ -878,20 +878,29 @@ LogMapStats HeatLogMap::query(int32_t centre, std::span<const int32_t> patch, co
           st.wall2.centre_lane = since(w_start, clock::now());
           for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
         }  // (otherwise the caller filled ws.geo.h from its wide solve's lane 0)
-        for (int v = ws.faces_ready.load(std::memory_order_acquire); v == 0; v = ws.faces_ready.load(std::memory_order_acquire))
-          ws.faces_ready.wait(0, std::memory_order_acquire);
+        int ready = ws.faces_ready.load(std::memory_order_acquire);
+        for (; ready == 0; ready = ws.faces_ready.load(std::memory_order_acquire)) ws.faces_ready.wait(0, std::memory_order_acquire);
+        if (ready != 1) return;  // the caller left by an exception before the faces were built
         geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
         t_distance = thread_cpu_seconds() - c0;
         w_helper_end = clock::now();
       };
       HelperThread* helper = nullptr;
-      // The helper reads this query's stack: join before leaving, also on an exception here.
+      // The helper reads this query's stack: join before leaving, also on an
+      // exception here (then first release it from waiting for the faces).
       struct JoinGuard {
         HelperThread* h = nullptr;
+        std::atomic<int>* faces_ready = nullptr;
         ~JoinGuard() {
-          if (h) try { h->join(); } catch (...) {}
+          if (!h) return;
+          int pending = 0;
+          if (faces_ready->compare_exchange_strong(pending, 2, std::memory_order_release)) faces_ready->notify_one();
+          try {
+            h->join();
+          } catch (...) {
+          }
         }
-      } guard;
+      } guard{nullptr, &ws.faces_ready};
       if (two) {
         if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
         helper = ws.helper.get();

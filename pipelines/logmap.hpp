@@ -258,7 +258,7 @@ struct LogMapWorkspace {
   // threads = 2: the helper solves the centre's heat itself beside the wide
   // solve (true), or takes lane 0 of the wide solve when it is done (false).
   bool centre_lane_alone = true;
-  std::atomic<int> faces_ready{0};  // threads = 2: the region's faces are built (this query)
+  std::atomic<int> faces_ready{0};  // threads = 2: 0 faces pending, 1 built, 2 abandoned (the caller failed)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
