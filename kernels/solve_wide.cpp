@@ -45,7 +45,8 @@ struct Row {
 };
 
 // NB = 0: one lane, as a scalar, with the operations a Lane8 applies to each of
-// its lanes (fused -(a x) + v, then v * a): the same numbers as any one lane
+// its lanes (-(a x) + v, fused where the target has FMA: lane8.hpp; then
+// v * a): the same numbers as any one lane
 // of the wide solve (solve_planned_lane).
 template <>
 struct Row<0> {
@@ -53,7 +54,7 @@ struct Row<0> {
   static Row zero() { return {0.0}; }
   static Row load(const double* p) { return {*p}; }
   void store(double* p) const { *p = v; }
-  void fnma(double a, const Row& x) { v = std::fma(-a, x.v, v); }
+  void fnma(double a, const Row& x) { v = fnma_scalar(a, x.v, v); }
   void scale(double a) { v = v * a; }
 };
 
