@@ -684,7 +684,9 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   int64_t values_total = 0;
   for (int32_t s = 0; s < R.ns; ++s)
     values_total += (R.row_ptr[s + 1] - R.row_ptr[s]) * (R.first_col[s + 1] - R.first_col[s]);
-  F.values.resize(static_cast<size_t>(values_total));  // not initialized (DefaultInitAllocator)
+  // The result's storage, sized once: the postorder below permutes the
+  // supernodes but keeps their total. Not initialized (DefaultInitAllocator).
+  F.values.resize(static_cast<size_t>(values_total));
   Prefault prefault(F.values.data(), values_total,
                     two_threads && values_total * static_cast<int64_t>(sizeof(double)) >= opt.prefault_min_bytes);
   st.reordered = postorder_in_place(R, two_threads);
@@ -788,8 +790,7 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
 
     // (3) Copy the unmarked supernodes' restricted blocks from L.
     const auto t2 = clock::now();
-    F.symbolic = Sp;
-    F.values.resize(static_cast<size_t>(Sp->super_value_ptr[Sp->ns]));
+    F.symbolic = Sp;  // (F.values was sized from the restricted supernodes above)
     auto copy_range = [&](int32_t s0, int32_t s1) {
       for (int32_t s = s0; s < s1; ++s) {
         if (smark[s]) continue;

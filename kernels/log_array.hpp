@@ -43,13 +43,14 @@ inline void log_array(const double* in, double* out, size_t n) {
   for (size_t k = 0; k < n; ++k) out[k] = in[k] > 0 ? out[k] : std::numeric_limits<double>::quiet_NaN();
   // Subnormals, infinities and NaNs (rare): through std::log, after a
   // vectorizable check whether there are any.
-  bool special = false;
+  auto special = [](double v) {
+    return v > 0 && !(v >= std::numeric_limits<double>::min() && v <= std::numeric_limits<double>::max());
+  };
+  bool any = false;
+  for (size_t k = 0; k < n; ++k) any |= special(in[k]);
+  if (!any) return;
   for (size_t k = 0; k < n; ++k)
-    special |= in[k] > 0 && !(in[k] >= std::numeric_limits<double>::min() && in[k] <= std::numeric_limits<double>::max());
-  if (!special) return;
-  for (size_t k = 0; k < n; ++k)
-    if (in[k] > 0 && !(in[k] >= std::numeric_limits<double>::min() && in[k] <= std::numeric_limits<double>::max()))
-      out[k] = std::log(in[k]);
+    if (special(in[k])) out[k] = std::log(in[k]);
 }
 
 }  // namespace locus

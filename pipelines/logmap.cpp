@@ -277,6 +277,14 @@ LogMapEstimator HeatLogMap::prepare_centre(int32_t i, LogMapEstimator est, LogMa
 namespace {
 constexpr int kLatticeTable = 128;
 
+// The table's offset at angle th: periodic over [0, 2 pi), linear interpolation.
+double lattice_offset(const double* table, double th) {
+  const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kLatticeTable / (2 * std::numbers::pi));
+  const int a0 = std::min(kLatticeTable - 1, static_cast<int>(pos));
+  const double w = pos - a0;
+  return (1 - w) * table[a0] + w * table[(a0 + 1) % kLatticeTable];
+}
+
 // Newton for the dispersion set's radius rho > 0 in one direction, shared by the
 // star/ring table (exponential sums) and the Path table (Taylor moments):
 // eval(rho) gives (f, f') with f' > 0 on a convex set. False when it leaves that
@@ -723,14 +731,15 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
   }
   // Raw angles of the (recentred) gradient directions, a SIMD batch of vertices
   // at a time (xsimd::atan2; one libm call per vertex was ~7 % of a query).
+  // gxs, gys: the recentred gradient per patch vertex, read again below.
+  const size_t np = patch.size();
+  using batch = xsimd::batch<double>;
+  constexpr size_t Bw = batch::size;
+  const size_t npad = (np + Bw - 1) / Bw * Bw;
+  ws.theta.resize(3 * npad);
+  double* gxs = ws.theta.data() + npad;
+  double* gys = gxs + npad;
   {
-    const size_t np = patch.size();
-    using batch = xsimd::batch<double>;
-    constexpr size_t Bw = batch::size;
-    const size_t npad = (np + Bw - 1) / Bw * Bw;
-    ws.theta.resize(3 * npad);
-    double* gxs = ws.theta.data() + npad;
-    double* gys = gxs + npad;
     for (size_t p = 0; p < np; ++p) {
       const bool usable = ws.grad[3 * p + 2] != 0;
       gxs[p] = ws.grad[3 * p] - (usable ? bx : 0.0);
@@ -750,19 +759,13 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
   const bool path = lattice && est.lattice == LatticeCorrection::Path;
   if (path) {
     ws.path_angle.resize(patch.size());
-    for (size_t p = 0; p < patch.size(); ++p) {
-      double th = ws.theta[p];
-      const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kLatticeTable / (2 * std::numbers::pi));
-      const int a0 = std::min(kLatticeTable - 1, static_cast<int>(pos));
-      const double w = pos - a0;
-      th += (1 - w) * lattice[a0] + w * lattice[(a0 + 1) % kLatticeTable];
-      ws.path_angle[p] = std::remainder(th, 2 * std::numbers::pi);
-    }
+    for (size_t p = 0; p < patch.size(); ++p)
+      ws.path_angle[p] = std::remainder(ws.theta[p] + lattice_offset(lattice, ws.theta[p]), 2 * std::numbers::pi);
     path_offsets(patch, ws);
   }
   for (size_t p = 0; p < patch.size(); ++p) {
     const bool usable = ws.grad[3 * p + 2] != 0;
-    const double gx = ws.grad[3 * p] - (usable ? bx : 0.0), gy = ws.grad[3 * p + 1] - (usable ? by : 0.0);
+    const double gx = gxs[p], gy = gys[p];
     double th = ws.theta[p];
     if (!(lattice && usable) && (gx != 0 || gy != 0)) {
       // Polar to Cartesian from the direction itself (no cos / sin calls).
@@ -776,12 +779,7 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
       th += path_offset_at(ws.path, th, ws.path_r[p], ws.path_rmax);
       th = std::remainder(th, 2 * std::numbers::pi);
     } else if (lattice && usable && (gx != 0 || gy != 0)) {
-      // Offset table over [0, 2 pi), linear interpolation, periodic.
-      const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kLatticeTable / (2 * std::numbers::pi));
-      const int a0 = std::min(kLatticeTable - 1, static_cast<int>(pos));
-      const double w = pos - a0;
-      th += (1 - w) * lattice[a0] + w * lattice[(a0 + 1) % kLatticeTable];
-      th = std::remainder(th, 2 * std::numbers::pi);
+      th = std::remainder(th + lattice_offset(lattice, th), 2 * std::numbers::pi);
     }
     out.angle[p] = th;
     out.u[p] = std::cos(th);
