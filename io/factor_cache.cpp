@@ -164,6 +164,9 @@ void save_factors(const std::string& path, uint64_t mesh_hash, std::span<const F
   if (entries.empty()) fail(ErrorCode::BadUsage, "save_factors: no factor to save");
   for (const FactorEntry& e : entries) {
     if (!e.factor || !e.factor->symbolic) fail(ErrorCode::BadUsage, "save_factors: empty factor");
+    if (e.factor->borrows())
+      fail(ErrorCode::BadUsage, "save_factors: the factor borrows blocks from another factor (a factor-once result); "
+                                "only self-contained factors are cached");
     if (e.factor->symbolic != entries[0].factor->symbolic)
       fail(ErrorCode::BadUsage, "save_factors: the factors of one file must share one symbolic factor");
   }

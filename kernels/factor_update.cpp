@@ -523,6 +523,19 @@ CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> verti
 
 Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
 
+namespace {
+const NumericFactor& factor_of(const std::shared_ptr<const NumericFactor>& L) {
+  if (!L) fail(ErrorCode::BadUsage, "update_factor: no factor (null pointer)");
+  return *L;
+}
+}  // namespace
+
+FactorUpdater::FactorUpdater(std::shared_ptr<const NumericFactor> L, const CscMatrix& A,
+                             const FactorUpdateOptions& opt, bool index_rows)
+    : FactorUpdater(factor_of(L), A, opt, index_rows) {
+  lender_ = std::move(L);
+}
+
 FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const FactorUpdateOptions& opt,
                              bool index_rows)
     : L_(L), A_(A), opt_(opt) {
@@ -531,7 +544,8 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
   const int32_t n = S.n;
   if (A.ncols != n || A.nrows != n || A.nnz() != S.a_nnz || pattern_hash(A) != S.a_pattern_hash)
     fail(ErrorCode::BadUsage, "update_factor: matrix does not have the sparsity pattern the factor was built for");
-  if (static_cast<int64_t>(L.values.size()) != S.super_value_ptr[S.ns])
+  if (L.borrows() ? static_cast<int32_t>(L.borrowed.size()) != S.ns || static_cast<int32_t>(L.own_offset.size()) != S.ns
+                  : static_cast<int64_t>(L.values.size()) != S.super_value_ptr[S.ns])
     fail(ErrorCode::BadUsage, "update_factor: factor values are not sized to its symbolic factor");
   if (!opt.vertex_ids.empty() && static_cast<int32_t>(opt.vertex_ids.size()) != n)
     fail(ErrorCode::BadUsage, "update_factor: vertex_ids has " + std::to_string(opt.vertex_ids.size()) +
@@ -660,10 +674,18 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
 
   if (m == n) {  // nothing is removed: L is the factor (same numbering)
     out.A_sub = A;
-    out.factor.symbolic = L.symbolic;
-    out.factor.values = L.values;
     st.supernodes = S.ns;
-    st.values_stored = static_cast<int64_t>(L.values.size());
+    st.values_stored = S.super_value_ptr[S.ns];
+    if (lender_) {  // every block is borrowed
+      out.factor.symbolic = L.symbolic;
+      out.factor.borrowed.resize(S.ns);
+      for (int32_t s = 0; s < S.ns; ++s) out.factor.borrowed[s] = L.block(s);
+      out.factor.own_offset.assign(S.ns, -1);
+      out.factor.lender = lender_;
+      st.values_borrowed = st.values_stored;
+    } else {
+      out.factor = L;  // (with its borrowed blocks and their lender, if L borrows)
+    }
     st.nnz_stored = S.nnz_L;
     st.copied_whole = true;
     st.copy_s = seconds_since(t0);
@@ -686,9 +708,12 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     values_total += (R.row_ptr[s + 1] - R.row_ptr[s]) * (R.first_col[s + 1] - R.first_col[s]);
   // The result's storage, sized once: the postorder below permutes the
   // supernodes but keeps their total. Not initialized (DefaultInitAllocator).
-  F.values.resize(static_cast<size_t>(values_total));
+  // A borrowing update sizes its own blocks after marking instead.
+  const bool borrow = lender_ != nullptr;
+  if (!borrow) F.values.resize(static_cast<size_t>(values_total));
   Prefault prefault(F.values.data(), values_total,
-                    two_threads && values_total * static_cast<int64_t>(sizeof(double)) >= opt.prefault_min_bytes);
+                    !borrow && two_threads &&
+                        values_total * static_cast<int64_t>(sizeof(double)) >= opt.prefault_min_bytes);
   st.reordered = postorder_in_place(R, two_threads);
   if (st.reordered)
     for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
@@ -783,17 +808,39 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
         ++st.supernodes_recomputed;
         st.columns_recomputed += Sp->ncols(s);
         st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+        st.flops_recomputed += Sp->flops(s);
       }
     st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
+    F.symbolic = Sp;
+    if (borrow) {
+      // An unmarked supernode that keeps every row and column of its global
+      // supernode has exactly that block (same rows, same order, same values):
+      // borrow it. The others (recomputed, or restricted) are own blocks.
+      F.borrowed.assign(Sp->ns, nullptr);
+      F.own_offset.assign(Sp->ns, -1);
+      int64_t own = 0;
+      for (int32_t s = 0; s < Sp->ns; ++s) {
+        const int32_t gs = R.gsuper[s];
+        const int64_t size = Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+        if (!smark[s] && Sp->ncols(s) == S.ncols(gs) && Sp->nrows(s) == S.nrows(gs)) {
+          F.borrowed[s] = L.block(gs);
+          st.values_borrowed += size;
+        } else {
+          F.own_offset[s] = own;
+          own += size;
+        }
+      }
+      F.values.resize(static_cast<size_t>(own));
+      F.lender = lender_;
+    }
     st.mark_s = seconds_since(t1);
     ctx.check_cancel();
 
     // (3) Copy the unmarked supernodes' restricted blocks from L.
     const auto t2 = clock::now();
-    F.symbolic = Sp;  // (F.values was sized from the restricted supernodes above)
     auto copy_range = [&](int32_t s0, int32_t s1) {
       for (int32_t s = s0; s < s1; ++s) {
-        if (smark[s]) continue;
+        if (smark[s] || (borrow && F.borrowed[s])) continue;
         const int32_t gs = R.gsuper[s];
         const int64_t gm = S.nrows(gs);
         const double* src = L.block(gs);
@@ -820,7 +867,7 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     // the prepared two-thread update: there the other thread extracts A_II
     // meanwhile and takes over part of the copy once it is done (work stealing;
     // each supernode is copied by one thread, so the result is the same).
-    const int64_t copied = st.values_stored - st.values_recomputed;
+    const int64_t copied = st.values_stored - st.values_recomputed - st.values_borrowed;
     const bool steal = two_threads && copied >= (int64_t{1} << 16);
     if (!steal && copied < (int64_t{1} << 22)) {
       copy_range(0, Sp->ns);
@@ -834,10 +881,12 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   };
   if (prepared) {
     auto assemble = [&] {
+      if (!opt.submatrix) return;
       const auto ta = clock::now();
       assemble_from_factor_order(*Sp, R.gcol, col_new, ap_ptr_, ap_row_, ap_val_, out.vertices, opt.vertex_ids,
                                  out.A_sub);
-      st.structure_s += seconds_since(ta);
+      st.assemble_s = seconds_since(ta);
+      st.structure_s += st.assemble_s;
     };
     // The recomputed supernodes are assembled straight from the copy of A in
     // factor order (the same entries A_II's map would place), so that they

@@ -114,7 +114,7 @@ SelectedInverse selected_inversion(const NumericFactor& F, const RunContext& ctx
   const SymbolicFactor& S = *F.symbolic;
   SelectedInverse Z;
   Z.symbolic = F.symbolic;
-  Z.values.resize(F.values.size());
+  Z.values.resize(static_cast<size_t>(S.super_value_ptr[S.ns]));  // (F's own values may be fewer: borrowed blocks)
   Inverter inv(F, Z);
   blas::SingleThreaded single;
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();

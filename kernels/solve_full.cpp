@@ -28,7 +28,7 @@ struct Block {
 inline Block block_of(const NumericFactor& F, int32_t s) {
   const SymbolicFactor& S = *F.symbolic;
   return {S.super_first_col[s], S.ncols(s), S.nrows(s), S.super_rows.data() + S.super_row_ptr[s],
-          F.values.data() + S.super_value_ptr[s]};
+          F.block(s)};
 }
 }  // namespace
 

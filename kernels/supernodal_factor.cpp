@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "kernels/blas.hpp"
 #include "kernels/dense_small.hpp"
@@ -136,7 +137,7 @@ class Factorizer {
     const int32_t f = S_.super_first_col[s];
     const int32_t k = S_.ncols(s), m = S_.nrows(s);
     const int32_t* rows = S_.super_rows.data() + S_.super_row_ptr[s];
-    double* Ls = F_.values.data() + S_.super_value_ptr[s];
+    double* Ls = F_.block(s);  // an own block: only own blocks are (re)computed
     std::memset(Ls, 0, sizeof(double) * static_cast<size_t>(m) * k);
     for (int32_t t = 0; t < m; ++t) w.rowmap[rows[t]] = t;
     if (assemble_) {
@@ -189,7 +190,7 @@ class Factorizer {
     const int32_t f = S_.super_first_col[s];
     const int32_t k = S_.ncols(s), m = S_.nrows(s);
     const int32_t* rows = S_.super_rows.data() + S_.super_row_ptr[s];
-    double* Ls = F_.values.data() + S_.super_value_ptr[s];
+    double* Ls = F_.block(s);  // an own block: only own blocks are (re)computed
     const int nblocks = (k + kBlock - 1) / kBlock;
     // Assembly and descendant updates, one task per block of kBlock columns of s.
     tbb::parallel_for(0, nblocks, [&](int b) {
@@ -258,7 +259,7 @@ class Factorizer {
   void apply_update(int32_t d, int32_t f, int32_t k, int32_t m, double* Ls, Workspace& w, int32_t sf) {
     const int32_t md = S_.nrows(d), kd = S_.ncols(d);
     const int32_t* rd = S_.super_rows.data() + S_.super_row_ptr[d];
-    const double* Ld = F_.values.data() + S_.super_value_ptr[d];
+    const double* Ld = std::as_const(F_).block(d);  // own or borrowed
     const int32_t p1 = static_cast<int32_t>(std::lower_bound(rd + kd, rd + md, f) - rd);
     const int32_t p2 = static_cast<int32_t>(std::lower_bound(rd + p1, rd + md, f + k) - rd);
     const int mm = md - p1, kk = p2 - p1;
@@ -308,6 +309,30 @@ class Factorizer {
   double threshold_ = 0;
 };
 
+// factorize_supernodes: the values hold every block (or, for a factor that
+// borrows, every own block), and no block to recompute is borrowed.
+void check_recomputable(const NumericFactor& f, std::span<const uint8_t> refactor) {
+  const SymbolicFactor& S = *f.symbolic;
+  if (!f.borrows()) {
+    if (static_cast<int64_t>(f.values.size()) != S.super_value_ptr[S.ns])
+      fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+    return;
+  }
+  if (static_cast<int32_t>(f.borrowed.size()) != S.ns || static_cast<int32_t>(f.own_offset.size()) != S.ns)
+    fail(ErrorCode::BadUsage, "factorize_supernodes: the borrowed-block tables are not sized to the symbolic factor");
+  for (int32_t s = 0; s < S.ns; ++s) {
+    if (f.borrowed[s]) {
+      if (refactor[s])
+        fail(ErrorCode::BadUsage, "factorize_supernodes: supernode " + std::to_string(s) +
+                                      " is borrowed from another factor and cannot be recomputed in place");
+      continue;
+    }
+    const int64_t size = S.super_value_ptr[s + 1] - S.super_value_ptr[s];
+    if (f.own_offset[s] < 0 || f.own_offset[s] + size > static_cast<int64_t>(f.values.size()))
+      fail(ErrorCode::BadUsage, "factorize_supernodes: own block " + std::to_string(s) + " lies outside the values");
+  }
+}
+
 void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
   if (A.ncols != S.n || A.nrows != S.n || A.nnz() != S.a_nnz ||
       static_cast<int64_t>(A.values.size()) != A.nnz() || pattern_hash(A) != S.a_pattern_hash)
@@ -336,6 +361,10 @@ NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const Cs
 void refactorize(NumericFactor& f, const CscMatrix& A, const RunContext& ctx) {
   if (!f.symbolic) fail(ErrorCode::BadUsage, "refactorize: factor has no symbolic part");
   check_pattern(*f.symbolic, A);
+  // Every block is recomputed, so a factor that borrowed blocks owns them all again.
+  f.borrowed.clear();
+  f.own_offset.clear();
+  f.lender.reset();
   f.values.resize(static_cast<size_t>(f.symbolic->super_value_ptr[f.symbolic->ns]));
   Factorizer(f, &A, ctx).run();
 }
@@ -346,8 +375,7 @@ void factorize_supernodes(NumericFactor& f, const CscMatrix& A, std::span<const 
   if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
     fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
                                   std::to_string(f.symbolic->ns) + " supernodes");
-  if (static_cast<int64_t>(f.values.size()) != f.symbolic->super_value_ptr[f.symbolic->ns])
-    fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+  check_recomputable(f, refactor);
   Factorizer(f, &A, ctx, refactor.data()).run();
 }
 
@@ -357,8 +385,7 @@ void factorize_supernodes_assembled(NumericFactor& f, std::span<const uint8_t> r
   if (static_cast<int64_t>(refactor.size()) != f.symbolic->ns)
     fail(ErrorCode::BadUsage, "factorize_supernodes: mask has " + std::to_string(refactor.size()) + " entries for " +
                                   std::to_string(f.symbolic->ns) + " supernodes");
-  if (static_cast<int64_t>(f.values.size()) != f.symbolic->super_value_ptr[f.symbolic->ns])
-    fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+  check_recomputable(f, refactor);
   Factorizer(f, nullptr, ctx, refactor.data(), &assemble).run();
 }
 

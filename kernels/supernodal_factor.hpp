@@ -25,9 +25,27 @@ struct NumericFactor {
   // triangle of each diagonal block is unused).
   std::vector<double, DefaultInitAllocator<double>> values;
 
+  // Borrowed blocks (factor-once results, kernels/factor_update.hpp): most
+  // supernodes of a submesh factor equal a supernode of the factor it was
+  // derived from, and are read from there instead of being copied. Then
+  // `borrowed` has ns entries (a borrowed block's address, or null), the own
+  // blocks are packed in `values` at own_offset[s], and `lender` keeps the
+  // borrowed storage alive. Empty for every other factor. Read blocks through
+  // block(s): values.data() + super_value_ptr[s] is only right when !borrows().
+  std::vector<const double*> borrowed;
+  std::vector<int64_t> own_offset;
+  std::shared_ptr<const void> lender;
+
   int32_t n() const { return symbolic ? symbolic->n : 0; }
-  const double* block(int32_t s) const { return values.data() + symbolic->super_value_ptr[s]; }
-  double* block(int32_t s) { return values.data() + symbolic->super_value_ptr[s]; }
+  bool borrows() const { return !borrowed.empty(); }
+  const double* block(int32_t s) const {
+    if (borrowed.empty()) return values.data() + symbolic->super_value_ptr[s];
+    return borrowed[s] ? borrowed[s] : values.data() + own_offset[s];
+  }
+  // Writable blocks are own blocks (a borrowed one belongs to the lender).
+  double* block(int32_t s) {
+    return values.data() + (borrowed.empty() ? symbolic->super_value_ptr[s] : own_offset[s]);
+  }
 };
 
 // Factors A (lower CSC, original numbering, same pattern that `symbolic` was built from).

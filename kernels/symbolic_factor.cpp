@@ -75,13 +75,18 @@ uint64_t pattern_hash(const CscMatrix& A) {
   return h;
 }
 
-int64_t SymbolicFactor::flops() const {
+int64_t SymbolicFactor::flops(int32_t s) const {
+  // Column j of the supernode: r - j entries, each updating the r - j rows below it.
+  const double r = nrows(s), c = ncols(s);
   double f = 0;
-  for (int32_t s = 0; s < ns; ++s) {
-    const double r = nrows(s), c = ncols(s);
-    for (int32_t j = 0; j < c; ++j) f += (r - j) * (r - j);
-  }
+  for (int32_t j = 0; j < c; ++j) f += (r - j) * (r - j);
   return static_cast<int64_t>(f);
+}
+
+int64_t SymbolicFactor::flops() const {
+  int64_t f = 0;
+  for (int32_t s = 0; s < ns; ++s) f += flops(s);
+  return f;
 }
 
 void compute_update_lists(SymbolicFactor& S) {

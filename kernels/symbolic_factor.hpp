@@ -73,6 +73,7 @@ struct SymbolicFactor {
   int32_t ncols(int32_t s) const { return super_first_col[s + 1] - super_first_col[s]; }
   int32_t nrows(int32_t s) const { return static_cast<int32_t>(super_row_ptr[s + 1] - super_row_ptr[s]); }
   int64_t flops() const;  // floating-point operations of one numeric factorization
+  int64_t flops(int32_t s) const;  // of supernode s alone (its columns' share of flops())
 };
 
 // Throws BadInput if A is not square or not lower-stored with sorted rows.

@@ -534,3 +534,118 @@ TEST_CASE("a non-finite entry of A_II is refused naming its vertices") {
     }
   }
 }
+
+TEST_CASE("the sharing updater borrows L's unchanged blocks: same values, L kept alive, cascades, refactorize") {
+  // The sharing form (L by shared pointer) must give, block for block, the
+  // copying form's values (bit for bit, 1 and 2 threads), store only the
+  // blocks it does not borrow, and keep L's storage alive on its own; without
+  // A_II (submatrix = false) the factor is the same. Oracles: the copying
+  // form (itself checked above against a from-scratch factorization) and the
+  // residual of A_II x = b with A_II assembled by hand.
+  for (const bool bilap : {false, true}) {
+    CAPTURE(bilap);
+    const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
+    const int32_t n = P.A.ncols;
+    auto Lp = std::make_shared<const NumericFactor>(P.L);
+    FactorUpdateOptions factor_only;
+    factor_only.submatrix = false;
+    FactorUpdater copying(P.L, P.A), sharing(Lp, P.A), sharing_fo(Lp, P.A, factor_only);
+    auto residual = [&](const FactorUpdate& u) {
+      const int32_t m = static_cast<int32_t>(u.vertices.size());
+      std::vector<double> rhs(static_cast<size_t>(m));
+      std::mt19937_64 r2(3);
+      std::uniform_real_distribution<double> d(-1, 1);
+      for (double& v : rhs) v = d(r2);
+      std::vector<double> x = rhs;
+      solve(u.factor, x);
+      const SpMat E = submatrix_by_hand(P.A, u.vertices);
+      const Eigen::Map<const Eigen::VectorXd> xv(x.data(), m), bv(rhs.data(), m);
+      return (E * xv - bv).norm() / bv.norm();
+    };
+    int64_t borrowed_total = 0;
+    for (const int threads : {1, 2}) {
+      RunContext ctx;
+      ctx.threads = threads;
+      std::mt19937 rng(33);
+      for (int round = 0; round < 4; ++round) {
+        CAPTURE(threads);
+        CAPTURE(round);
+        const std::vector<int32_t> I = round == 3 ? random_set(n, n / 4, 17)
+                                                  : bfs_patch(P.adj, static_cast<int32_t>(rng() % n), n / (2 + 3 * round));
+        const FactorUpdate a = copying.update(I, ctx), b = sharing.update(I, ctx), c = sharing_fo.update(I, ctx);
+        check_same_structure(a, b);
+        const SymbolicFactor& S = *a.factor.symbolic;
+        REQUIRE(b.factor.borrows());
+        REQUIRE(c.factor.borrows());
+        CHECK(c.A_sub.ncols == 0);  // not extracted
+        CHECK(c.factor.symbolic->super_rows == S.super_rows);
+        CHECK(c.factor.symbolic->super_value_ptr == S.super_value_ptr);
+        CHECK(b.stats.values_borrowed == c.stats.values_borrowed);
+        CHECK(static_cast<int64_t>(b.factor.values.size()) + b.stats.values_borrowed == b.stats.values_stored);
+        borrowed_total += b.stats.values_borrowed;
+        bool same_b = true, same_c = true;
+        for (int32_t s = 0; s < S.ns; ++s) {
+          const int64_t size = S.super_value_ptr[s + 1] - S.super_value_ptr[s];
+          same_b = same_b && std::equal(a.factor.block(s), a.factor.block(s) + size, b.factor.block(s));
+          same_c = same_c && std::equal(a.factor.block(s), a.factor.block(s) + size, c.factor.block(s));
+        }
+        CHECK(same_b);
+        CHECK(same_c);
+        CHECK(residual(c) <= 1e-9);
+      }
+    }
+    CHECK(borrowed_total > 0);
+
+    // Lifetime: the result outlives its updater and every other owner of L.
+    const std::vector<int32_t> I = bfs_patch(P.adj, 7, n / 3);
+    FactorUpdate kept;
+    {
+      auto L2 = std::make_shared<const NumericFactor>(P.L);
+      FactorUpdater u(L2, P.A);
+      kept = u.update(I);
+    }
+    REQUIRE(kept.factor.borrows());
+    CHECK(residual(kept) <= 1e-9);
+
+    // Cascade from a borrowing factor (its blocks then come from two lenders),
+    // which again outlives everything else.
+    const std::vector<int32_t> inner = bfs_patch(P.adj, 7, n / 8);
+    std::vector<int32_t> J;
+    for (int32_t v : inner)
+      J.push_back(static_cast<int32_t>(std::lower_bound(kept.vertices.begin(), kept.vertices.end(), v) - kept.vertices.begin()));
+    FactorUpdate second;
+    {
+      auto first = std::make_shared<const NumericFactor>(kept.factor);
+      FactorUpdater u(first, kept.A_sub);
+      second = u.update(J);
+    }
+    const FactorUpdate direct = update_factor(P.L, P.A, inner);
+    CHECK(max_factor_difference(second.factor, direct.factor) <= 1e-10);
+    {
+      // (second's vertices are local to kept's numbering: residual against A_II of `inner`)
+      // (the bi-Laplacian's A_II is ill-conditioned: measured against the direct update's residual)
+      const int32_t m = static_cast<int32_t>(J.size());
+      std::vector<double> rhs(static_cast<size_t>(m), 1.0), x = rhs, xd = rhs;
+      solve(second.factor, x);
+      solve(direct.factor, xd);
+      const SpMat E = submatrix_by_hand(P.A, direct.vertices);
+      const Eigen::Map<const Eigen::VectorXd> xv(x.data(), m), xdv(xd.data(), m), bv(rhs.data(), m);
+      const double res = (E * xv - bv).norm() / bv.norm(), res_direct = (E * xdv - bv).norm() / bv.norm();
+      CHECK(res <= std::max(1e-9, 10 * res_direct));
+    }
+
+    // A borrowed block cannot be recomputed in place; refactorize owns every block again.
+    NumericFactor r = kept.factor;
+    int32_t borrowed_s = -1;
+    for (int32_t s = 0; s < r.symbolic->ns && borrowed_s < 0; ++s)
+      if (r.borrowed[s]) borrowed_s = s;
+    REQUIRE(borrowed_s >= 0);
+    std::vector<uint8_t> mask(static_cast<size_t>(r.symbolic->ns), 0);
+    mask[borrowed_s] = 1;
+    CHECK_THROWS_AS(factorize_supernodes(r, kept.A_sub, mask), Error);
+    refactorize(r, kept.A_sub);
+    CHECK_FALSE(r.borrows());
+    CHECK(static_cast<int64_t>(r.values.size()) == r.symbolic->super_value_ptr[r.symbolic->ns]);
+    CHECK(max_factor_difference(r, kept.factor) <= 1e-10);
+  }
+}

@@ -4,7 +4,11 @@
 // The global operator is factored once and indexed for updates once
 // (FactorUpdater's set-up; both reported, not part of the per-patch times). For every cell (a patch
 // size as a fraction of the vertices) and every random BFS patch I (seeded):
-//   (a) update:           locus FactorUpdater::update(I)          [copy + recompute marked supernodes]
+//   (a) update:           locus FactorUpdater::update(I), sharing form (L held by shared pointer):
+//                         unchanged whole blocks borrowed from L, the others recomputed or copied;
+//                         A_II not extracted (FactorUpdateOptions::submatrix = false): like (b)-(d),
+//                         which are handed A_II, it is not charged for that
+//   (a') update_copying:  the copying form with A_II extracted (the headline until session 7)
 //   (b) locus refactor:   locus analyze(A_II, restricted order) + factorize
 //   (c) CHOLMOD given:    cholmod_analyze_p with that order (CHOLMOD_GIVEN, no postorder) + factorize
 //   (d) CHOLMOD METIS:    cholmod_analyze with METIS (its own ordering of A_II) + factorize
@@ -108,6 +112,8 @@ class Cholmod {
 
   // Analyze + factorize A (lower) with `perm` (given order, no postorder) or
   // with METIS when perm is empty; returns seconds. The factor is freed.
+  // analyze_s and flops (CHOLMOD's own count, Common->fl) of the last call are kept.
+  double analyze_s = 0, flops = 0;
   double analyze_factorize(const CscMatrix& A, const std::vector<int32_t>& perm) {
     cholmod_sparse* As = to_cholmod(A);
     c_.supernodal = CHOLMOD_SUPERNODAL;
@@ -118,6 +124,8 @@ class Cholmod {
     Stopwatch sw;
     cholmod_factor* L = perm.empty() ? cholmod_analyze(As, &c_) : cholmod_analyze_p(As, p.data(), nullptr, 0, &c_);
     check("cholmod_analyze");
+    analyze_s = sw.seconds();
+    flops = c_.fl;
     cholmod_factorize(As, L, &c_);
     const double t = sw.seconds();
     const int status = c_.status;
@@ -183,10 +191,15 @@ class Cholmod {
 
 struct Cell {
   double fraction = 0;
+  std::vector<double> copying_s, mem_owned, sp_given_copying;
   std::vector<double> update_s, refactor_s, given_s, metis_s, cols, mem, sp_given, sp_refactor, sp_metis, residual;
   std::vector<double> zeros;
-  std::vector<double> structure_s, mark_s, copy_s, factor_s;  // phases of the update  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
+  std::vector<double> structure_s, assemble_s, mark_s, copy_s, factor_s;  // phases of the update  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
   std::vector<double> update_faults;  // minor page faults during the timed update
+  // Flops (SymbolicFactor::flops' count: what each column sends to the rows
+  // below it) of the update's recomputed supernodes and of (b)'s whole
+  // factorization; CHOLMOD's own count (same formula) and analyze time for (c).
+  std::vector<double> flops_recomputed, flops_refactor, cholmod_flops, given_analyze_s;
   std::vector<double> rowdel_s;
   int rowdel_capped = 0;
 };
@@ -204,12 +217,16 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
   const double operator_s = sw.seconds();
   const int32_t n = A.ncols;
   sw.restart();
-  const NumericFactor L = factorize(analyze(A, order_matrix(A)), A, ctx);
+  const auto Lp = std::make_shared<const NumericFactor>(factorize(analyze(A, order_matrix(A)), A, ctx));
+  const NumericFactor& L = *Lp;
   const double global_s = sw.seconds();
   // The updater indexes L once (pattern check, row -> supernode lists): part of the set-up, like the factor.
   sw.restart();
-  FactorUpdater updater(L, A);
+  FactorUpdateOptions factor_only;
+  factor_only.submatrix = false;
+  FactorUpdater updater(Lp, A, factor_only);
   const double updater_s = sw.seconds();
+  FactorUpdater copying(L, A);  // (a') and A_II for the other contenders
   const Adjacency adj = vertex_adjacency(mesh);
   const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   const int blas_default = openblas_get_num_threads();
@@ -232,22 +249,29 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
       const int32_t seed = static_cast<int32_t>(rng() % static_cast<uint64_t>(n));
       const std::vector<int32_t> I = bfs_patch(adj, seed, count);
       // A_II and the restricted order, outside the timers (one untimed update provides both).
-      const FactorUpdate ref = updater.update(I, ctx);
+      const FactorUpdate ref = copying.update(I, ctx);
       const CscMatrix& Aii = ref.A_sub;
       const std::vector<int32_t>& order = ref.factor.symbolic->perm;
-      double t_update = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
+      double t_update = 0, t_copying = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
       long faults_update = 0;
-      int64_t values_refactor = 0, nnz_exact = 0;
+      int64_t values_refactor = 0, nnz_exact = 0, flops_refactor = 0;
+      double given_analyze = NAN, given_flops = NAN;
       FactorUpdate up;
       NumericFactor scratch;  // (b)'s factor: the residual yardstick for the update
-      for (int k = 0; k < 4; ++k) {
-        switch ((k + rotation) % 4) {
+      for (int k = 0; k < 5; ++k) {
+        switch ((k + rotation) % 5) {
           case 0: {
             const long f0 = minor_faults();
             sw.restart();
             up = updater.update(I, ctx);
             t_update = sw.seconds();
             faults_update = minor_faults() - f0;
+            break;
+          }
+          case 4: {
+            sw.restart();
+            const FactorUpdate u = copying.update(I, ctx);
+            t_copying = sw.seconds();
             break;
           }
           case 1: {
@@ -257,12 +281,15 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
             t_refactor = sw.seconds();
             values_refactor = static_cast<int64_t>(scratch.values.size());
             nnz_exact = S->nnz_exact;
+            flops_refactor = S->flops();
             break;
           }
 #ifdef LOCUS_HAVE_CHOLMOD
           case 2:
             openblas_set_num_threads(threads);
             t_given = ch.analyze_factorize(Aii, order);
+            given_analyze = ch.analyze_s;
+            given_flops = ch.flops;
             openblas_set_num_threads(blas_default);
             break;
           case 3:
@@ -290,20 +317,31 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
                                       " (from-scratch factor: " + cli::format_number(res_scratch) + ")");
       cell.residual.push_back(res);
       cell.update_s.push_back(t_update);
+      cell.copying_s.push_back(t_copying);
+      cell.mem_owned.push_back(static_cast<double>(up.stats.values_stored - up.stats.values_borrowed) /
+                               static_cast<double>(values_refactor));
       cell.refactor_s.push_back(t_refactor);
       cell.cols.push_back(up.stats.columns_updated_fraction);
       cell.mem.push_back(static_cast<double>(up.stats.values_stored) / static_cast<double>(values_refactor));
       cell.sp_refactor.push_back(t_refactor / t_update);
       cell.structure_s.push_back(up.stats.structure_s);
+      cell.assemble_s.push_back(up.stats.assemble_s);
       cell.mark_s.push_back(up.stats.mark_s);
       cell.copy_s.push_back(up.stats.copy_s);
       cell.factor_s.push_back(up.stats.factor_s);
       cell.update_faults.push_back(static_cast<double>(faults_update));
+      cell.flops_recomputed.push_back(static_cast<double>(up.stats.flops_recomputed));
+      cell.flops_refactor.push_back(static_cast<double>(flops_refactor));
+      if (!std::isnan(given_flops)) {
+        cell.cholmod_flops.push_back(given_flops);
+        cell.given_analyze_s.push_back(given_analyze);
+      }
       cell.zeros.push_back(1.0 - static_cast<double>(nnz_exact) / static_cast<double>(up.stats.nnz_stored));
       if (!std::isnan(t_given)) {
         cell.given_s.push_back(t_given);
         cell.metis_s.push_back(t_metis);
         cell.sp_given.push_back(t_given / t_update);
+        cell.sp_given_copying.push_back(t_given / t_copying);
         cell.sp_metis.push_back(t_metis / t_update);
       }
 #ifdef LOCUS_HAVE_CHOLMOD
@@ -357,13 +395,20 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
     e["speedup_vs_cholmod_metis"] = med(c.sp_metis);
     e["speedup_vs_locus_refactor"] = med(c.sp_refactor);
     e["columns_updated_fraction"] = med(c.cols);
-    e["memory_ratio"] = med(c.mem);
+    e["memory_ratio"] = med(c.mem);  // values the factor holds (own and borrowed) / (b)'s
+    e["memory_owned_ratio"] = med(c.mem_owned);  // values it stores itself / (b)'s
+    e["update_copying_s"] = med(c.copying_s);
+    e["speedup_copying_vs_cholmod_given"] = med(c.sp_given_copying);
     // Entries the restricted structure stores beyond the exact factor of A_II
     // (explicit zeros: fill of L not present in L', plus L's amalgamation zeros).
     e["explicit_zero_fraction"] = med(c.zeros);
-    e["update_phases"] = {{"structure_s", med(c.structure_s)}, {"mark_s", med(c.mark_s)},
+    e["update_phases"] = {{"structure_s", med(c.structure_s)}, {"assemble_s", med(c.assemble_s)}, {"mark_s", med(c.mark_s)},
                           {"copy_s", med(c.copy_s)}, {"factor_s", med(c.factor_s)}};
     e["update_minor_faults"] = med(c.update_faults);
+    e["flops_recomputed"] = med(c.flops_recomputed);
+    e["flops_refactor"] = med(c.flops_refactor);
+    e["cholmod_given_flops"] = med(c.cholmod_flops);
+    e["cholmod_given_analyze_s"] = med(c.given_analyze_s);
     e["max_residual"] = *std::max_element(c.residual.begin(), c.residual.end());
     if (!c.rowdel_s.empty()) {
       e["cholmod_rowdel_s"] = med(c.rowdel_s);
