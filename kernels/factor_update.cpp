@@ -648,11 +648,13 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     const uint64_t bit = uint64_t{1} << (v & 63);
     if (w & bit) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
     w |= bit;
-    cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
   }
   const int32_t m = static_cast<int32_t>(I.size());
   out.vertices.reserve(m);
   append_set_bits(vbits_, out.vertices);
+  // Factor columns from the sorted vertices: iperm is then read in ascending
+  // order (prefetchable) instead of in I's order (a cache miss per vertex).
+  for (const int32_t v : out.vertices) cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
   const bool prepared = !ap_ptr_.empty();
   // Local index of a vertex of I = its rank in the bit set: a popcount over a
   // prefix table of n/64 entries, which stays in cache where the n-sized map
