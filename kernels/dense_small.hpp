@@ -17,7 +17,8 @@ namespace locus::dense {
 // Tiles of 8 rows x 4 columns stay in registers over the whole sum (one load of
 // A's rows feeds four columns): 2-3x the plain loop's speed at these sizes.
 // Every entry is summed over l in order, whatever the tiling.
-inline void syrk_gemm_lower(int mm, int kk, int kd, const double* A, int lda, double* C) {
+// C never overlaps A (restrict): the last columns' loop then vectorizes.
+inline void syrk_gemm_lower(int mm, int kk, int kd, const double* __restrict A, int lda, double* __restrict C) {
   int j = 0;
   for (; j + 4 <= kk; j += 4) {
     double* c = C + static_cast<int64_t>(j) * mm;
@@ -50,8 +51,22 @@ inline void syrk_gemm_lower(int mm, int kk, int kd, const double* A, int lda, do
         }
       }
       // Rows above a column's diagonal in this tile are computed but never read.
-      for (int q = 0; q < 4; ++q)
-        for (int r = 0; r < rows; ++r) c[static_cast<int64_t>(q) * mm + i0 + r] = acc[q][r];
+      // A short tile is stored row by row through a switch: as a loop GCC
+      // turns it into a `rep movs` per column, slow for a few words.
+      for (int q = 0; q < 4; ++q) {
+        double* dst = c + static_cast<int64_t>(q) * mm + i0;
+        const double* src = acc[q];
+        switch (rows) {
+          case 8: dst[7] = src[7]; [[fallthrough]];
+          case 7: dst[6] = src[6]; [[fallthrough]];
+          case 6: dst[5] = src[5]; [[fallthrough]];
+          case 5: dst[4] = src[4]; [[fallthrough]];
+          case 4: dst[3] = src[3]; [[fallthrough]];
+          case 3: dst[2] = src[2]; [[fallthrough]];
+          case 2: dst[1] = src[1]; [[fallthrough]];
+          default: dst[0] = src[0];
+        }
+      }
     }
   }
   for (; j < kk; ++j) {
