@@ -15,9 +15,11 @@
 //    is needed: the first I-column after its first B-column, or, when its last
 //    columns are all in B, its first I-row below — every other start it could
 //    give is an ancestor of that one. The walk stops at marked columns.
-//  - values: unmarked supernodes copy their restricted rows/columns of L;
-//    marked ones are recomputed by factorize_supernodes from A_II and their
-//    descendants (copied or recomputed), BLAS-3, in parallel subtrees.
+//  - values: unmarked supernodes copy their restricted rows/columns of L (the
+//    sharing form borrows instead those that keep all their global rows and
+//    columns: their block is L's block); marked ones are recomputed by
+//    factorize_supernodes from A_II and their descendants (copied, borrowed or
+//    recomputed), BLAS-3, in parallel subtrees.
 //
 // Cost (prepared updater, the repeated-update case): nothing is O(n) or
 // O(nnz(A)) per update except scans of n/64-word bit sets. I is sorted through

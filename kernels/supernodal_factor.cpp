@@ -192,7 +192,7 @@ class Factorizer {
   // From a bit over one block: the gather then splits into two column-block
   // tasks. On the recomputed top of a factor-once update (chains of medium
   // supernodes) that cut the factor phase by 5-9% at two threads (104k
-  // vertices); the whole factorization did not change.
+  // vertices); the whole factorization's time did not change.
   bool is_large(int32_t s) const {
     const double k = S_.ncols(s), m = S_.nrows(s);
     return k >= kBlock + 16 && k * k * m >= 2.0e6;
