@@ -10,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "kernels/factor_update.hpp"
 #include "kernels/solve_full.hpp"
 #include "locus/error.hpp"
 #include "../kernels/matrix_fixtures.hpp"
@@ -123,4 +124,29 @@ TEST_CASE("validate_symbolic catches inconsistent structures") {
   broken([](SymbolicFactor& T) { T.super_parent[0] = 0; });
   broken([](SymbolicFactor& T) { T.super_value_ptr[1] += 1; });
   broken([](SymbolicFactor& T) { T.a_dst[0] = -1; });
+}
+
+TEST_CASE("factor cache refuses a factor that borrows blocks from another factor") {
+  const CscMatrix A = test::grid_laplacian(40, 40, 0.01);
+  auto F = std::make_shared<const NumericFactor>(factorize(analyze(A, order_matrix(A)), A));
+  std::vector<int32_t> I;
+  for (int32_t v = 0; v < A.ncols / 2; ++v) I.push_back(v);  // half the grid: many blocks kept whole
+  FactorUpdater up(F, A);
+  const FactorUpdate U = up.update(I);
+  REQUIRE(U.factor.borrows());
+  REQUIRE(U.stats.values_borrowed > 0);
+  const std::string path = temp_path("borrow.locus");
+  try {
+    save_factor(path, U.factor, {1, "heat", 0.5});
+    FAIL("a borrowing factor was saved");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::BadUsage);
+    CHECK(std::string(e.what()).find("borrows") != std::string::npos);
+  }
+  CHECK_FALSE(std::filesystem::exists(path));
+  // Once it owns its blocks again (refactorize), it is cached like any other.
+  NumericFactor G = U.factor;
+  refactorize(G, U.A_sub);
+  CHECK_NOTHROW(save_factor(path, G, {1, "heat", 0.5}));
+  std::remove(path.c_str());
 }
