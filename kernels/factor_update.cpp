@@ -546,8 +546,7 @@ FactorUpdater::FactorUpdater(const NumericFactor& L, const CscMatrix& A, const F
   const int32_t n = S.n;
   if (A.ncols != n || A.nrows != n || A.nnz() != S.a_nnz || pattern_hash(A) != S.a_pattern_hash)
     fail(ErrorCode::BadUsage, "update_factor: matrix does not have the sparsity pattern the factor was built for");
-  if (L.borrows() ? static_cast<int32_t>(L.borrowed.size()) != S.ns || static_cast<int32_t>(L.own_offset.size()) != S.ns
-                  : static_cast<int64_t>(L.values.size()) != S.super_value_ptr[S.ns])
+  if (!storage_matches_symbolic(L))
     fail(ErrorCode::BadUsage, "update_factor: factor values are not sized to its symbolic factor");
   if (!opt.vertex_ids.empty() && static_cast<int32_t>(opt.vertex_ids.size()) != n)
     fail(ErrorCode::BadUsage, "update_factor: vertex_ids has " + std::to_string(opt.vertex_ids.size()) +

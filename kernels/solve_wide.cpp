@@ -45,9 +45,8 @@ struct Row {
 };
 
 // NB = 0: one lane, as a scalar, with the operations a Lane8 applies to each of
-// its lanes (-(a x) + v, fused where the target has FMA: lane8.hpp; then
-// v * a): the same numbers as any one lane
-// of the wide solve (solve_planned_lane).
+// its lanes (-(a x) + v, fused where the target has FMA: lane8.hpp; then v * a):
+// the same numbers as any one lane of the wide solve (solve_planned_lane).
 template <>
 struct Row<0> {
   double v;

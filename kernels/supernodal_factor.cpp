@@ -42,21 +42,15 @@ struct Workspace {
   std::vector<int32_t, DefaultInitAllocator<int32_t>> rel;     // target row (in s) of each row of C
 };
 
-int32_t max_rows(const SymbolicFactor& S) {
-  int32_t r = 1;
-  for (int32_t s = 0; s < S.ns; ++s) r = std::max(r, S.nrows(s));
-  return r;
-}
-
 class Factorizer {
  public:
   Factorizer(NumericFactor& f, const CscMatrix* A, const RunContext& ctx, const uint8_t* only = nullptr,
              const SupernodeAssembler* assemble = nullptr)
-      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx), only_(only), assemble_(assemble), max_rows_(max_rows(S_)),
+      : F_(f), S_(*f.symbolic), A_(A), ctx_(ctx), only_(only), assemble_(assemble),
         ws_([this] {
           Workspace w;
           w.rowmap.resize(S_.n);
-          w.rel.resize(static_cast<size_t>(max_rows_));
+          w.rel.resize(static_cast<size_t>(std::max<int32_t>(1, S_.max_super_rows)));
           w.update.resize(static_cast<size_t>(std::max<int64_t>(1, S_.max_update_entries)));
           return w;
         }) {}
@@ -319,35 +313,22 @@ class Factorizer {
   const RunContext& ctx_;
   const uint8_t* only_;  // if set, factor only supernodes with only_[s] != 0
   const SupernodeAssembler* assemble_;
-  int32_t max_rows_;  // largest nrows(s), at least 1
   tbb::enumerable_thread_specific<Workspace> ws_;
   std::vector<double> work_;
   std::vector<int32_t> first_desc_, child_ptr_, children_;
   double threshold_ = 0;
 };
 
-// factorize_supernodes: the values hold every block (or, for a factor that
-// borrows, every own block), and no block to recompute is borrowed.
+// factorize_supernodes: the storage matches the symbolic factor and no block
+// to recompute is borrowed.
 void check_recomputable(const NumericFactor& f, std::span<const uint8_t> refactor) {
-  const SymbolicFactor& S = *f.symbolic;
-  if (!f.borrows()) {
-    if (static_cast<int64_t>(f.values.size()) != S.super_value_ptr[S.ns])
-      fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
-    return;
-  }
-  if (static_cast<int32_t>(f.borrowed.size()) != S.ns || static_cast<int32_t>(f.own_offset.size()) != S.ns)
-    fail(ErrorCode::BadUsage, "factorize_supernodes: the borrowed-block tables are not sized to the symbolic factor");
-  for (int32_t s = 0; s < S.ns; ++s) {
-    if (f.borrowed[s]) {
-      if (refactor[s])
-        fail(ErrorCode::BadUsage, "factorize_supernodes: supernode " + std::to_string(s) +
-                                      " is borrowed from another factor and cannot be recomputed in place");
-      continue;
-    }
-    const int64_t size = S.super_value_ptr[s + 1] - S.super_value_ptr[s];
-    if (f.own_offset[s] < 0 || f.own_offset[s] + size > static_cast<int64_t>(f.values.size()))
-      fail(ErrorCode::BadUsage, "factorize_supernodes: own block " + std::to_string(s) + " lies outside the values");
-  }
+  if (!storage_matches_symbolic(f))
+    fail(ErrorCode::BadUsage, "factorize_supernodes: factor values are not sized to its symbolic factor");
+  if (!f.borrows()) return;
+  for (int32_t s = 0; s < f.symbolic->ns; ++s)
+    if (f.borrowed[s] && refactor[s])
+      fail(ErrorCode::BadUsage, "factorize_supernodes: supernode " + std::to_string(s) +
+                                    " is borrowed from another factor and cannot be recomputed in place");
 }
 
 void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
@@ -363,6 +344,19 @@ void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
 }
 
 }  // namespace
+
+bool storage_matches_symbolic(const NumericFactor& f) {
+  if (!f.symbolic) return false;
+  const SymbolicFactor& S = *f.symbolic;
+  if (!f.borrows()) return static_cast<int64_t>(f.values.size()) == S.super_value_ptr[S.ns];
+  if (static_cast<int32_t>(f.borrowed.size()) != S.ns || static_cast<int32_t>(f.own_offset.size()) != S.ns) return false;
+  for (int32_t s = 0; s < S.ns; ++s) {
+    if (f.borrowed[s]) continue;
+    const int64_t size = S.super_value_ptr[s + 1] - S.super_value_ptr[s];
+    if (f.own_offset[s] < 0 || f.own_offset[s] + size > static_cast<int64_t>(f.values.size())) return false;
+  }
+  return true;
+}
 
 NumericFactor factorize(std::shared_ptr<const SymbolicFactor> symbolic, const CscMatrix& A, const RunContext& ctx) {
   if (!symbolic) fail(ErrorCode::BadUsage, "factorize: no symbolic factor");

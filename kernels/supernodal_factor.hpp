@@ -48,6 +48,11 @@ struct NumericFactor {
   }
 };
 
+// True when f's storage matches its symbolic factor: every block in `values`
+// at super_value_ptr, or, for a factor that borrows, both tables sized to the
+// supernodes and every own block inside `values`.
+bool storage_matches_symbolic(const NumericFactor& f);
+
 // Factors A (lower CSC, original numbering, same pattern that `symbolic` was built from).
 // A non-positive pivot raises Error(Numerical) naming the factor column and the
 // original (input) index of that column: "not positive definite at vertex 513 (column 20771)";

@@ -164,7 +164,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGe
   const CscMatrix A = heat_operator(m, t_);
   for (const NumericFactor* F : {&factors.heat, &factors.poisson})
     if (!F->symbolic || F->n() != m.num_vertices() || F->symbolic->a_pattern_hash != pattern_hash(A) ||
-        F->values.size() != static_cast<size_t>(F->symbolic->super_value_ptr[F->symbolic->ns]))
+        !storage_matches_symbolic(*F))
       fail(ErrorCode::BadUsage, "heat geodesic: a given factor is not one of " + mesh_name(m) + "'s operators");
   heat_ = std::move(factors.heat);
   poisson_ = std::move(factors.poisson);

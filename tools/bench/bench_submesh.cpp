@@ -193,8 +193,8 @@ struct Cell {
   double fraction = 0;
   std::vector<double> copying_s, mem_owned, sp_given_copying;
   std::vector<double> update_s, refactor_s, given_s, metis_s, cols, mem, sp_given, sp_refactor, sp_metis, residual;
-  std::vector<double> zeros;
-  std::vector<double> structure_s, assemble_s, mark_s, copy_s, factor_s;  // phases of the update  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
+  std::vector<double> zeros;  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
+  std::vector<double> structure_s, assemble_s, mark_s, copy_s, factor_s;  // phases of the update
   std::vector<double> update_faults;  // minor page faults during the timed update
   // Flops (SymbolicFactor::flops' count: what each column sends to the rows
   // below it) of the update's recomputed supernodes and of (b)'s whole
