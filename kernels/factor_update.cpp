@@ -168,11 +168,17 @@ int64_t rows_bound(const SymbolicFactor& S, const std::vector<int32_t>& gcol, in
 }
 
 // The restricted supernodes of the global supernodes that hold columns
-// gcol[c0, c1) (c0 and c1 at supernode boundaries), appended to R's lists
-// (gsuper, first_col, row_ptr, rows, rowpos; the caller reserves the rows);
-// colpos is written at [c0, c1).
-void restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new, const std::vector<int32_t>& gcol,
-                    int32_t* colpos, int32_t c0, int32_t c1, Restricted& R) {
+// gcol[c0, c1) (c0 and c1 at supernode boundaries), in lists of their own
+// (gsuper, first_col and row_ptr without the leading entries, rows, rowpos;
+// rows reserved for `reserve` entries); colpos is written at [c0, c1). The
+// lists live in this call's frame, not beside another thread's: two halves
+// appending to neighbouring vectors shared the cache lines of their end
+// pointers, which made the two-thread restriction slower than one thread.
+Restricted restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new, const std::vector<int32_t>& gcol,
+                          int32_t* colpos, int32_t c0, int32_t c1, int64_t reserve) {
+  Restricted H;
+  H.rows.reserve(static_cast<size_t>(reserve));
+  H.rowpos.reserve(static_cast<size_t>(reserve));
   for (int32_t c = c0; c < c1;) {
     const int32_t s = S.col_to_super[gcol[c]];
     const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
@@ -181,19 +187,20 @@ void restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new
       colpos[c2] = gcol[c2] - f;
       ++c2;
     }
-    R.gsuper.push_back(s);
-    R.first_col.push_back(c2);
+    H.gsuper.push_back(s);
+    H.first_col.push_back(c2);
     const int64_t r0 = S.super_row_ptr[s], nr = S.nrows(s);
     for (int64_t t = 0; t < nr; ++t) {
       const int32_t r = col_new[S.super_rows[r0 + t]];
       if (r >= 0) {
-        R.rows.push_back(r);
-        R.rowpos.push_back(static_cast<int32_t>(t));
+        H.rows.push_back(r);
+        H.rowpos.push_back(static_cast<int32_t>(t));
       }
     }
-    R.row_ptr.push_back(static_cast<int64_t>(R.rows.size()));
+    H.row_ptr.push_back(static_cast<int64_t>(H.rows.size()));
     c = c2;
   }
+  return H;
 }
 
 // With two threads the touched supernodes are split at a supernode boundary
@@ -201,38 +208,30 @@ void restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new
 // appended to the first, so the result is the same as one pass.
 Restricted restrict_structure(const SymbolicFactor& S, const std::vector<int32_t>& col_new, std::vector<int32_t> gcol,
                               bool two_threads) {
-  Restricted R;
   const int32_t m = static_cast<int32_t>(gcol.size());
-  R.gcol = std::move(gcol);
-  R.colpos.resize(m);
-  R.first_col.push_back(0);
-  R.row_ptr.push_back(0);
+  std::vector<int32_t> colpos(m);
   // Room for every row at once: appending the second half copies nothing else.
-  const int64_t bound = rows_bound(S, R.gcol, 0, m);
-  R.rows.reserve(static_cast<size_t>(bound));
-  R.rowpos.reserve(static_cast<size_t>(bound));
+  const int64_t bound = rows_bound(S, gcol, 0, m);
   int32_t mid = m / 2;
-  while (mid > 0 && mid < m && S.col_to_super[R.gcol[mid]] == S.col_to_super[R.gcol[mid - 1]]) ++mid;
+  while (mid > 0 && mid < m && S.col_to_super[gcol[mid]] == S.col_to_super[gcol[mid - 1]]) ++mid;
+  Restricted R;
   if (!two_threads || bound < kSplitRows || mid <= 0 || mid >= m) {
-    restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, m, R);
+    R = restrict_range(S, col_new, gcol, colpos.data(), 0, m, bound);
   } else {
-    Restricted H;  // the second half's lists (colpos is shared: disjoint ranges)
-    H.first_col.push_back(mid);
-    H.row_ptr.push_back(0);
-    tbb::parallel_invoke([&] { restrict_range(S, col_new, R.gcol, R.colpos.data(), 0, mid, R); },
-                         [&] {
-                           const int64_t half_bound = rows_bound(S, R.gcol, mid, m);
-                           H.rows.reserve(static_cast<size_t>(half_bound));
-                           H.rowpos.reserve(static_cast<size_t>(half_bound));
-                           restrict_range(S, col_new, R.gcol, R.colpos.data(), mid, m, H);
-                         });
+    Restricted H;  // the second half (colpos is shared: disjoint ranges)
+    tbb::parallel_invoke([&] { R = restrict_range(S, col_new, gcol, colpos.data(), 0, mid, bound); },
+                         [&] { H = restrict_range(S, col_new, gcol, colpos.data(), mid, m, rows_bound(S, gcol, mid, m)); });
     const int64_t off = static_cast<int64_t>(R.rows.size());
     R.gsuper.insert(R.gsuper.end(), H.gsuper.begin(), H.gsuper.end());
-    R.first_col.insert(R.first_col.end(), H.first_col.begin() + 1, H.first_col.end());
-    for (size_t q = 1; q < H.row_ptr.size(); ++q) R.row_ptr.push_back(off + H.row_ptr[q]);
+    R.first_col.insert(R.first_col.end(), H.first_col.begin(), H.first_col.end());
+    for (const int64_t q : H.row_ptr) R.row_ptr.push_back(off + q);
     R.rows.insert(R.rows.end(), H.rows.begin(), H.rows.end());
     R.rowpos.insert(R.rowpos.end(), H.rowpos.begin(), H.rowpos.end());
   }
+  R.first_col.insert(R.first_col.begin(), 0);
+  R.row_ptr.insert(R.row_ptr.begin(), 0);
+  R.gcol = std::move(gcol);
+  R.colpos = std::move(colpos);
   R.ns = static_cast<int32_t>(R.gsuper.size());
   std::vector<int32_t> col_to_super(m);
   for (int32_t s = 0; s < R.ns; ++s)
@@ -347,23 +346,27 @@ void complete_structure(SymbolicFactor& S, bool two_threads) {
     S.super_etree_height = tree_height(S.super_parent);
     S.parent.assign(n, -1);
     S.col_count.assign(n, 0);
-    S.nnz_exact = 0;
     S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-    S.nnz_L = 0;
-    S.max_super_rows = 0;
+    // Sums in locals, stored once: fields of S written in these loops shared a
+    // cache line with the update lists' maximum, written by the other thread.
+    int64_t nnz_exact = 0, nnz_L = 0;
+    int32_t max_rows = 0;
     for (int32_t s = 0; s < ns; ++s) {
       const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
       const int64_t r = S.nrows(s), c = l - f;
       for (int32_t j = f; j < l; ++j) {
         S.col_count[j] = static_cast<int32_t>(r - (j - f));
-        S.nnz_exact += S.col_count[j];
+        nnz_exact += S.col_count[j];
         if (j + 1 < l) S.parent[j] = j + 1;
         else if (r > c) S.parent[j] = S.super_rows[S.super_row_ptr[s] + c];
       }
       S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
-      S.nnz_L += r * c - c * (c - 1) / 2;
-      S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
+      nnz_L += r * c - c * (c - 1) / 2;
+      max_rows = std::max<int32_t>(max_rows, static_cast<int32_t>(r));
     }
+    S.nnz_exact = nnz_exact;
+    S.nnz_L = nnz_L;
+    S.max_super_rows = max_rows;
     S.etree_height = tree_height(S.parent);
   };
   // Update lists: (target, source) pairs in ascending source order, then a
@@ -371,7 +374,8 @@ void complete_structure(SymbolicFactor& S, bool two_threads) {
   // are built beside the column pass.
   auto update_lists = [&] {
     std::vector<std::pair<int32_t, int32_t>> pairs;
-    S.max_update_entries = 0;
+    pairs.reserve(static_cast<size_t>(ns));
+    int64_t max_entries = 0;
     for (int32_t d = 0; d < ns; ++d) {
       const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
       const int64_t nr = S.nrows(d);
@@ -382,10 +386,11 @@ void complete_structure(SymbolicFactor& S, bool two_threads) {
         int64_t t2 = t + 1;
         while (t2 < nr && rd[t2] < send) ++t2;
         pairs.emplace_back(s, d);
-        S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+        max_entries = std::max(max_entries, (nr - t) * (t2 - t));
         t = t2;
       }
     }
+    S.max_update_entries = max_entries;
     S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
     for (const auto& pr : pairs) ++S.update_ptr[pr.first + 1];
     for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
