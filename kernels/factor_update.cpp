@@ -630,11 +630,12 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     const std::vector<int32_t>& gcol;
     const SymbolicFactor& S;
     bool cbits_clear = false;  // cleared from gcol already (sequential, unlike iperm of I)
+    bool local_filled = false;  // the prepared path filled the map (scattered set)
     ~Reset() {
       const int32_t n = static_cast<int32_t>(u.local_.size());
       for (const int32_t v : I)
         if (v >= 0 && v < n) {
-          if (u.ap_ptr_.empty()) u.local_[v] = -1;  // only the one-shot path fills the map
+          if (u.ap_ptr_.empty() || local_filled) u.local_[v] = -1;  // the one-shot path (and a refactored set) fill the map
           u.vbits_[static_cast<size_t>(v) >> 6] = 0;
           if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
         }
@@ -708,6 +709,53 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   for (int32_t c = 0; c < m; ++c) {
     col_new[gcol[c]] = c;
     ++in_super_[S.col_to_super[gcol[c]]];
+  }
+  {
+    int64_t touched = 0;  // columns of the global supernodes that hold I's columns
+    for (int32_t c = 0, prev = -1; c < m; ++c) {
+      const int32_t s = S.col_to_super[gcol[c]];
+      if (s != prev) touched += S.ncols(s);
+      prev = s;
+    }
+    st.touched_share = static_cast<double>(m) / static_cast<double>(touched);
+  }
+  if (st.touched_share < opt.refactor_below_share) {
+    // A scattered set: A_II from scratch, in L's relative order (I's factor columns ascending).
+    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
+    reset.local_filled = true;
+    out.A_sub = submatrix_from_map(A, out.vertices, local);
+    for (int32_t a = 0; a < m; ++a)
+      for (int64_t p = out.A_sub.colptr[a]; p < out.A_sub.colptr[a + 1]; ++p)
+        if (!std::isfinite(out.A_sub.values[p])) {
+          auto nm = [&](int32_t b) { return name(out.vertices[b]); };
+          fail(ErrorCode::Numerical, "submatrix entry of vertices " + nm(out.A_sub.rowind[p]) + " and " + nm(a) +
+                                         " is not finite");
+        }
+    Ordering order;
+    order.perm.resize(m);
+    order.iperm.resize(m);
+    for (int32_t c = 0; c < m; ++c) {
+      order.perm[c] = local[S.perm[gcol[c]]];
+      order.iperm[order.perm[c]] = c;
+    }
+    auto Sx = analyze(out.A_sub, order);
+    st.structure_s = seconds_since(t0);
+    const auto t3 = clock::now();
+    try {
+      out.factor = factorize(Sx, out.A_sub, ctx);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::Numerical || std::string(e.what()).find("not finite") != std::string::npos) throw;
+      rethrow_numerical(e, *Sx, out.vertices, opt.vertex_ids);
+    }
+    st.factor_s = seconds_since(t3);
+    st.refactored = true;
+    st.supernodes = st.supernodes_recomputed = Sx->ns;
+    st.columns_marked = st.columns_recomputed = m;
+    st.columns_updated_fraction = 1.0;
+    st.values_stored = st.values_recomputed = Sx->super_value_ptr[Sx->ns];
+    st.nnz_stored = Sx->nnz_L;
+    st.flops_recomputed = Sx->flops();
+    return out;
   }
   Restricted R = restrict_structure(S, col_new, gcol, two_threads);
   NumericFactor& F = out.factor;

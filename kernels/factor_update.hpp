@@ -54,6 +54,14 @@ struct FactorUpdateOptions {
   // assembles the recomputed supernodes straight from A. false: A_sub stays
   // empty (prepared updater only; the one-shot update always extracts it).
   bool submatrix = true;
+  // A set scattered over the mesh (thesis Fig. 5.11) keeps only a small share
+  // of the columns of the global supernodes it touches; its restricted
+  // structure then holds far more fill than the factor of A_II needs, and the
+  // update costs more than factoring A_II afresh (armadillo 104k, Laplacian:
+  // 2.4x for 10% random vertices, 1.1-1.2x at shares 0.26-0.31; shares >= 0.39
+  // were 0.5-0.9x). Below this share, A_II is analysed and factored from
+  // scratch in L's relative order (FactorUpdateStats::refactored). 0: never.
+  double refactor_below_share = 0.35;
 };
 
 struct FactorUpdateStats {
@@ -71,6 +79,8 @@ struct FactorUpdateStats {
   int64_t flops_recomputed = 0;       // SymbolicFactor::flops(s) summed over the marked supernodes
   bool reordered = false;             // restricted supernodes needed a postorder
   bool copied_whole = false;          // I = all indices: L copied, nothing recomputed
+  bool refactored = false;            // scattered set: A_II factored from scratch (refactor_below_share)
+  double touched_share = 0;           // |I| / columns of the global supernodes holding I's columns
   double structure_s = 0, mark_s = 0, copy_s = 0, factor_s = 0;  // phase timings (seconds)
   double assemble_s = 0;  // of structure_s: A_II's extraction (prepared updater: beside marking, copying, factoring)
 };

@@ -124,11 +124,11 @@ struct Checked {
 
 // Runs the update and checks it against the oracles; returns it for further checks.
 Checked check_update(const NumericFactor& L, const CscMatrix& A, const std::vector<int32_t>& I, int threads = 0,
-                     FactorUpdater* updater = nullptr) {
+                     FactorUpdater* updater = nullptr, const FactorUpdateOptions& opt = {}) {
   RunContext ctx;
   ctx.threads = threads;
   Checked c;
-  c.up = updater ? updater->update(I, ctx) : update_factor(L, A, I, ctx);
+  c.up = updater ? updater->update(I, ctx) : update_factor(L, A, I, ctx, opt);
   const FactorUpdate& up = c.up;
   std::vector<int32_t> sorted = I;
   std::sort(sorted.begin(), sorted.end());
@@ -280,6 +280,63 @@ TEST_CASE("scattered sets, a single vertex, two components and the whole set") {
   }
 }
 
+TEST_CASE("a scattered set is factored afresh in L's relative order; the update path gives the same solves") {
+  // Random vertices keep a small share of the columns of the supernodes they
+  // touch (thesis Fig. 5.11): below refactor_below_share A_II is analysed and
+  // factored from scratch. Oracles: check_update (residual, Eigen, a
+  // from-scratch factor in the same order) and the forced update path.
+  for (const bool bilap : {false, true}) {
+    CAPTURE(bilap);
+    const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
+    const int32_t n = P.A.ncols;
+    const std::vector<int32_t> I = random_set(n, n / 10, 5);
+    FactorUpdateOptions forced;
+    forced.refactor_below_share = 0;
+    const Checked fresh = check_update(P.L, P.A, I);  // one-shot path
+    CHECK(fresh.up.stats.refactored);
+    CHECK(fresh.up.stats.touched_share < FactorUpdateOptions{}.refactor_below_share);
+    CHECK(fresh.up.stats.columns_recomputed == n / 10);
+    FactorUpdater prepared(P.L, P.A), prepared_forced(P.L, P.A, forced);
+    const Checked fresh2 = check_update(P.L, P.A, I, 2, &prepared);  // prepared path, 2 threads
+    CHECK(fresh2.up.stats.refactored);
+    CHECK(fresh2.up.factor.values == fresh.up.factor.values);
+    const Checked upd = check_update(P.L, P.A, I, 1, &prepared_forced);
+    CHECK_FALSE(upd.up.stats.refactored);
+    CHECK(upd.up.stats.touched_share == fresh.up.stats.touched_share);
+    // The update path stores the restricted structure of L: more than A_II's own factor.
+    CHECK(upd.up.stats.nnz_stored > fresh.up.stats.nnz_stored);
+    // The same perm (L's relative order), hence the same unique factor: equal solves.
+    std::vector<double> x1(static_cast<size_t>(n / 10), 1.0), x2 = x1;
+    solve(fresh.up.factor, x1);
+    solve(upd.up.factor, x2);
+    double diff = 0, norm = 0;
+    for (size_t i = 0; i < x1.size(); ++i) {
+      diff = std::max(diff, std::abs(x1[i] - x2[i]));
+      norm = std::max(norm, std::abs(x2[i]));
+    }
+    CHECK(diff <= 1e-10 * norm);
+    // A BFS patch keeps the update path; the refactored result cascades.
+    CHECK_FALSE(check_update(P.L, P.A, bfs_patch(P.adj, 7, n / 10), 1, &prepared).up.stats.refactored);
+    std::vector<int32_t> sub;
+    for (int32_t a = 0; a < n / 10; a += 2) sub.push_back(a);
+    check_update(fresh.up.factor, fresh.up.A_sub, sub);
+    // A non-finite entry of A_II is named by its vertices, as on the update path.
+    CscMatrix bad = P.A;
+    const int32_t v = fresh.up.vertices[3];
+    for (int64_t p = bad.colptr[v]; p < bad.colptr[v + 1]; ++p)
+      if (bad.rowind[p] == v) bad.values[p] = std::nan("");
+    FactorUpdater bad_up(P.L, bad);
+    try {
+      bad_up.update(I);
+      FAIL("no error for a NaN entry");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::Numerical);
+      CHECK(std::string(e.what()).find("vertices " + std::to_string(v) + " and " + std::to_string(v) + " is not finite") !=
+            std::string::npos);
+    }
+  }
+}
+
 TEST_CASE("two mesh components: patches in one or both") {
   Mesh a = make_icosphere(3), b = make_icosphere(3, 2.0);
   const int32_t na = a.num_vertices();
@@ -370,9 +427,10 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
     CAPTURE(bilap);
     const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
     const int32_t n = P.A.ncols;
-    FactorUpdateOptions always_prefault;
+    FactorUpdateOptions update_path, always_prefault;  // the scattered set too takes the update path
+    update_path.refactor_below_share = always_prefault.refactor_below_share = 0;
     always_prefault.prefault_min_bytes = 0;
-    FactorUpdater up1(P.L, P.A), up2(P.L, P.A, always_prefault);
+    FactorUpdater up1(P.L, P.A, update_path), up2(P.L, P.A, always_prefault);
     RunContext one, two;
     one.threads = 1;
     two.threads = 2;
@@ -547,9 +605,10 @@ TEST_CASE("the sharing updater borrows L's unchanged blocks: same values, L kept
     const Problem P = make_problem(make_random_sphere(20000, 9), bilap);
     const int32_t n = P.A.ncols;
     auto Lp = std::make_shared<const NumericFactor>(P.L);
-    FactorUpdateOptions factor_only;
+    FactorUpdateOptions update_path, factor_only;  // the scattered set too takes the update path
+    update_path.refactor_below_share = factor_only.refactor_below_share = 0;
     factor_only.submatrix = false;
-    FactorUpdater copying(P.L, P.A), sharing(Lp, P.A), sharing_fo(Lp, P.A, factor_only);
+    FactorUpdater copying(P.L, P.A, update_path), sharing(Lp, P.A, update_path), sharing_fo(Lp, P.A, factor_only);
     auto residual = [&](const FactorUpdate& u) {
       const int32_t m = static_cast<int32_t>(u.vertices.size());
       std::vector<double> rhs(static_cast<size_t>(m));
