@@ -74,34 +74,40 @@ void in_arena(const RunContext& ctx, F&& f) {
   run_with_threads(threads, [&] { f(threads); });
 }
 
-// A_II from the local map (local[v] = position of v in I, -1 outside). The map
-// is increasing on I, so rows stay sorted and lower.
-CscMatrix submatrix_from_map(const CscMatrix& A, std::span<const int32_t> vertices, const std::vector<int32_t>& local) {
+// A_II from a local index (local(v) = position of v in I, -1 outside), which
+// is increasing on I, so rows stay sorted and lower. One pass with an upper
+// bound of the entries: the columns of a scattered I are cache misses, read once.
+template <class Local>
+CscMatrix submatrix_with(const CscMatrix& A, std::span<const int32_t> vertices, Local local) {
   const int32_t m = static_cast<int32_t>(vertices.size());
+  int64_t bound = 0;
+  for (const int32_t v : vertices) bound += A.colptr[v + 1] - A.colptr[v];
   CscMatrix B;
   B.nrows = B.ncols = m;
-  B.colptr.assign(static_cast<size_t>(m) + 1, 0);
+  B.colptr.resize(static_cast<size_t>(m) + 1);
+  B.colptr[0] = 0;
+  B.rowind.resize(static_cast<size_t>(bound));
+  B.values.resize(static_cast<size_t>(bound));
+  int64_t q = 0;
   for (int32_t a = 0; a < m; ++a) {
     const int32_t v = vertices[a];
-    int64_t cnt = 0;
-    for (int64_t p = A.colptr[v]; p < A.colptr[v + 1]; ++p) cnt += local[A.rowind[p]] >= 0;
-    B.colptr[a + 1] = B.colptr[a] + cnt;
-  }
-  B.rowind.resize(static_cast<size_t>(B.colptr[m]));
-  B.values.resize(static_cast<size_t>(B.colptr[m]));
-  for (int32_t a = 0; a < m; ++a) {
-    const int32_t v = vertices[a];
-    int64_t q = B.colptr[a];
     for (int64_t p = A.colptr[v]; p < A.colptr[v + 1]; ++p) {
-      const int32_t r = local[A.rowind[p]];
+      const int32_t r = local(A.rowind[p]);
       if (r >= 0) {
         B.rowind[q] = r;
         B.values[q] = A.values[p];
         ++q;
       }
     }
+    B.colptr[a + 1] = q;
   }
+  B.rowind.resize(static_cast<size_t>(q));
+  B.values.resize(static_cast<size_t>(q));
   return B;
+}
+
+CscMatrix submatrix_from_map(const CscMatrix& A, std::span<const int32_t> vertices, const std::vector<int32_t>& local) {
+  return submatrix_with(A, vertices, [&](int32_t v) { return local[v]; });
 }
 
 // The restricted supernodal structure, with the positions of its rows and
@@ -630,12 +636,11 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     const std::vector<int32_t>& gcol;
     const SymbolicFactor& S;
     bool cbits_clear = false;  // cleared from gcol already (sequential, unlike iperm of I)
-    bool local_filled = false;  // the prepared path filled the map (scattered set)
     ~Reset() {
       const int32_t n = static_cast<int32_t>(u.local_.size());
       for (const int32_t v : I)
         if (v >= 0 && v < n) {
-          if (u.ap_ptr_.empty() || local_filled) u.local_[v] = -1;  // the one-shot path (and a refactored set) fill the map
+          if (u.ap_ptr_.empty()) u.local_[v] = -1;  // only the one-shot path fills the map
           u.vbits_[static_cast<size_t>(v) >> 6] = 0;
           if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
         }
@@ -721,9 +726,12 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   }
   if (st.touched_share < opt.refactor_below_share) {
     // A scattered set: A_II from scratch, in L's relative order (I's factor columns ascending).
-    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
-    reset.local_filled = true;
-    out.A_sub = submatrix_from_map(A, out.vertices, local);
+    // Membership and rank from the bit set (n/64 words, in cache), not the n-sized map.
+    out.A_sub = submatrix_with(A, out.vertices, [&](int32_t v) {
+      const size_t wi = static_cast<size_t>(v) >> 6;
+      const uint64_t w = vbits_[wi];
+      return (w >> (v & 63)) & 1 ? vrank_[wi] + std::popcount(w & ((uint64_t{1} << (v & 63)) - 1)) : -1;
+    });
     for (int32_t a = 0; a < m; ++a)
       for (int64_t p = out.A_sub.colptr[a]; p < out.A_sub.colptr[a + 1]; ++p)
         if (!std::isfinite(out.A_sub.values[p])) {
@@ -735,7 +743,7 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     order.perm.resize(m);
     order.iperm.resize(m);
     for (int32_t c = 0; c < m; ++c) {
-      order.perm[c] = local[S.perm[gcol[c]]];
+      order.perm[c] = local_of(S.perm[gcol[c]]);
       order.iperm[order.perm[c]] = c;
     }
     auto Sx = analyze(out.A_sub, order);

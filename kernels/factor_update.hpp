@@ -57,11 +57,15 @@ struct FactorUpdateOptions {
   // A set scattered over the mesh (thesis Fig. 5.11) keeps only a small share
   // of the columns of the global supernodes it touches; its restricted
   // structure then holds far more fill than the factor of A_II needs, and the
-  // update costs more than factoring A_II afresh (armadillo 104k, Laplacian:
-  // 2.4x for 10% random vertices, 1.1-1.2x at shares 0.26-0.31; shares >= 0.39
-  // were 0.5-0.9x). Below this share, A_II is analysed and factored from
-  // scratch in L's relative order (FactorUpdateStats::refactored). 0: never.
-  double refactor_below_share = 0.35;
+  // update costs more than factoring A_II afresh. Below this share, A_II is
+  // extracted, analysed and factored from scratch in L's relative order
+  // (FactorUpdateStats::refactored). Measured on armadillo 104k, Laplacian, 2
+  // threads, against (b) = analyse + factor of an A_II handed over: random
+  // vertices and clumps of 5-20 at shares 0.13-0.26 cost the update path
+  // 1.4-3.3x (b), this path 1.3-1.7x (the extraction of a scattered A_II is a
+  // cache miss per column); at shares 0.30-0.36 the update path was 0.89-1.04x
+  // and this one 1.0-1.3x; BFS patches have shares of 0.77-0.91. 0: never.
+  double refactor_below_share = 0.28;
 };
 
 struct FactorUpdateStats {

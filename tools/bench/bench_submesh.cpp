@@ -16,6 +16,8 @@
 // contenders run back to back on the same patch, their order rotating from
 // patch to patch so that machine noise hits all alike. Every update is
 // checked (relative residual of A_II x = b) before it is counted.
+// --sets scattered draws uniformly random vertices instead of BFS patches (the
+// edge case of thesis Fig. 5.11, where the update must not lose to (b)).
 // JSON: `cells` with medians and ratios; the spread of the speedups goes to stderr.
 // Page faults on fresh memory cost 6x more on some VMs than on others and hit
 // the contenders that allocate most: each one's minor faults are reported, and
@@ -74,6 +76,7 @@ struct Options {
   bool updown = false;
   double updown_cap = 60.0;
   bool warm_heap = false;
+  std::string sets = "bfs";
 };
 
 std::vector<double> parse_fractions(const std::string& text) {
@@ -199,6 +202,10 @@ struct Cell {
   std::vector<double> copying_s, mem_owned, sp_given_copying;
   std::vector<double> update_s, refactor_s, given_s, metis_s, cols, mem, sp_given, sp_refactor, sp_metis, residual;
   std::vector<double> zeros;  // 1 - nnz(exact factor of A_II) / nnz(restricted structure)
+  // Extraction of A_II from A (principal_submatrix, timed apart: (b)-(d) are
+  // handed A_II), (b) + that over the update, and the update's refactored sets
+  // and touched shares (FactorUpdateStats: a scattered set is factored afresh).
+  std::vector<double> extract_s, sp_refactor_extract, refactored, touched_share;
   std::vector<double> structure_s, assemble_s, mark_s, copy_s, factor_s;  // phases of the update
   // Minor page faults during the timed update, (b) and (c): first touches of
   // fresh memory, whose cost depends on the machine (0.45 ms per MB on one VM,
@@ -261,7 +268,20 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
     for (int p = 0; p < bo.patches; ++p) {
       ctx.check_cancel();
       const int32_t seed = static_cast<int32_t>(rng() % static_cast<uint64_t>(n));
-      const std::vector<int32_t> I = bfs_patch(adj, seed, count);
+      std::vector<int32_t> I;
+      if (bo.sets == "bfs") {
+        I = bfs_patch(adj, seed, count);
+      } else {  // scattered: uniformly random vertices (thesis Fig. 5.11's extreme)
+        std::vector<uint8_t> in(static_cast<size_t>(n), 0);
+        std::mt19937_64 pick(static_cast<uint64_t>(seed));
+        while (static_cast<int32_t>(I.size()) < count) {
+          const int32_t v = static_cast<int32_t>(pick() % static_cast<uint64_t>(n));
+          if (!in[v]) {
+            in[v] = 1;
+            I.push_back(v);
+          }
+        }
+      }
       // A_II and the restricted order, outside the timers (one untimed update provides both).
       const FactorUpdate ref = copying.update(I, ctx);
       const CscMatrix& Aii = ref.A_sub;
@@ -343,6 +363,16 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
       cell.cols.push_back(up.stats.columns_updated_fraction);
       cell.mem.push_back(static_cast<double>(up.stats.values_stored) / static_cast<double>(values_refactor));
       cell.sp_refactor.push_back(t_refactor / t_update);
+      {
+        sw.restart();
+        const CscMatrix E = principal_submatrix(A, ref.vertices);
+        const double t_extract = sw.seconds();
+        if (E.nnz() != Aii.nnz()) fail(ErrorCode::Internal, "bench submesh: principal_submatrix differs from the update's A_II");
+        cell.extract_s.push_back(t_extract);
+        cell.sp_refactor_extract.push_back((t_refactor + t_extract) / t_update);
+        cell.refactored.push_back(up.stats.refactored ? 1.0 : 0.0);
+        cell.touched_share.push_back(up.stats.touched_share);
+      }
       cell.structure_s.push_back(up.stats.structure_s);
       cell.assemble_s.push_back(up.stats.assemble_s);
       cell.mark_s.push_back(up.stats.mark_s);
@@ -383,6 +413,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
 
   cli::Json j{{"command", "bench submesh"}, {"input", cli::input_json(opt, in)}};
   j["operator"] = bo.op;
+  j["sets"] = bo.sets;
   j["n"] = n;
   j["nnz_A"] = A.nnz();
   j["nnz_L"] = L.symbolic->nnz_L;
@@ -416,6 +447,11 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
     e["speedup_vs_cholmod_given"] = med(c.sp_given);
     e["speedup_vs_cholmod_metis"] = med(c.sp_metis);
     e["speedup_vs_locus_refactor"] = med(c.sp_refactor);
+    e["extract_s"] = med(c.extract_s);
+    e["speedup_vs_locus_refactor_with_extract"] = med(c.sp_refactor_extract);
+    e["min_speedup_vs_locus_refactor"] = *std::min_element(c.sp_refactor.begin(), c.sp_refactor.end());
+    e["refactored_sets"] = std::count(c.refactored.begin(), c.refactored.end(), 1.0);
+    e["touched_share"] = med(c.touched_share);
     e["columns_updated_fraction"] = med(c.cols);
     e["memory_ratio"] = med(c.mem);  // values the factor holds (own and borrowed) / (b)'s
     e["memory_owned_ratio"] = med(c.mem_owned);  // values it stores itself / (b)'s
@@ -479,6 +515,8 @@ void register_submesh_bench(cli::CommandTable& table) {
   app->add_option("--fractions", bo->fractions, "Patch sizes as fractions of the vertices (default 0.1,0.25,0.5)");
   app->add_option("--patches", bo->patches, "Random BFS patches per fraction (default 5)")->check(CLI::Range(1, 10000));
   app->add_option("--operator", bo->op, "laplacian (-L_C + eps M, default) or bilaplacian (K M^-1 K)");
+  app->add_option("--sets", bo->sets, "bfs (patches around random seeds, default) or scattered (random vertices)")
+      ->check(CLI::IsMember({"bfs", "scattered"}));
   app->add_flag("--updown", bo->updown, "Also time CHOLMOD row deletions (smallest fraction only)");
   app->add_option("--updown-cap", bo->updown_cap, "Seconds per patch for the row deletions (default 60)")
       ->check(CLI::Range(1.0, 3600.0));
