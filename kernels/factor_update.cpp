@@ -636,6 +636,7 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     const std::vector<int32_t>& gcol;
     const SymbolicFactor& S;
     bool cbits_clear = false;  // cleared from gcol already (sequential, unlike iperm of I)
+    bool maps_filled = false;  // col_new_ and in_super_ were set for gcol
     ~Reset() {
       const int32_t n = static_cast<int32_t>(u.local_.size());
       for (const int32_t v : I)
@@ -644,10 +645,11 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
           u.vbits_[static_cast<size_t>(v) >> 6] = 0;
           if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
         }
-      for (const int32_t c : gcol) {
-        u.col_new_[c] = -1;
-        u.in_super_[S.col_to_super[c]] = 0;
-      }
+      if (maps_filled)
+        for (const int32_t c : gcol) {
+          u.col_new_[c] = -1;
+          u.in_super_[S.col_to_super[c]] = 0;
+        }
     }
   } reset{*this, I, gcol, S};
   // Sorted I and its sorted factor columns, from bit sets: O(m + n/64).
@@ -711,10 +713,6 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   append_set_bits(cbits_, gcol);
   for (const int32_t c : gcol) cbits_[static_cast<size_t>(c) >> 6] = 0;
   reset.cbits_clear = true;
-  for (int32_t c = 0; c < m; ++c) {
-    col_new[gcol[c]] = c;
-    ++in_super_[S.col_to_super[gcol[c]]];
-  }
   {
     int64_t touched = 0;  // columns of the global supernodes that hold I's columns
     for (int32_t c = 0, prev = -1; c < m; ++c) {
@@ -764,6 +762,12 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
     st.nnz_stored = Sx->nnz_L;
     st.flops_recomputed = Sx->flops();
     return out;
+  }
+  // The column map and per-supernode counts (not needed by the fresh path above).
+  reset.maps_filled = true;
+  for (int32_t c = 0; c < m; ++c) {
+    col_new[gcol[c]] = c;
+    ++in_super_[S.col_to_super[gcol[c]]];
   }
   Restricted R = restrict_structure(S, col_new, gcol, two_threads);
   NumericFactor& F = out.factor;
