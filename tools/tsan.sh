@@ -105,13 +105,13 @@ run() {  # run NAME DOCTEST-ARGS...: one group of test cases
     status=1
   fi
 }
-run "ordering (halves on two threads, per-thread METIS random numbers)" --source-file='*tests/kernels/ordering*'
-run "factorization" --source-file='*tests/kernels/supernodal_factor*'
-run "solves" --source-file='*tests/kernels/solve_*'
-run "selected inversion" --source-file='*tests/kernels/selected_inversion*'
-run "factor update" --source-file='*tests/kernels/factor_update*'
-run "memory budget" --source-file='*tests/kernels/memory_budget*'
-run "CVT (flow graph)" --source-file='*tests/pipelines/cvt_lloyd*'
+run "ordering (halves on two threads, per-thread METIS random numbers)" --source-file='*tests/kernels/*/ordering*'
+run "factorization" --source-file='*tests/kernels/*/supernodal_factor*'
+run "solves" --source-file='*tests/kernels/*/solve_*'
+run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'
+run "factor update" --source-file='*tests/kernels/*/factor_update*'
+run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
+run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*,*log map: two threads inside a query*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
 run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*'

@@ -24,21 +24,21 @@
 #include <new>
 #include <utility>
 
-#include "kernels/factor_update.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/solve_plan.hpp"
-#include "kernels/solve_sparse.hpp"
-#include "kernels/supernodal_factor.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/update/factor_update.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/deform.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/heat_geodesic.hpp"
-#include "pipelines/logmap.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 
 namespace locus {
 namespace {

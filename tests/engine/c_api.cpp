@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/session.hpp"
 
 using namespace locus;
@@ -163,7 +163,7 @@ TEST_CASE("c api: queries equal the C++ Session; bad query arguments; NaN outsid
   for (size_t i = 0; i < n; ++i)
     if (!in[i]) nan_count += std::isnan(uv[2 * i]) && std::isnan(uv[2 * i + 1]);
   CHECK(nan_count == n - lr.patch.size());
-  CHECK(uv[14] == 0.0);  // the centre maps to the origin
+  CHECK(uv[14] == 0.0);  // the center maps to the origin
   CHECK(locus_logmap(g.s, 7, 0.0, uv.data()) == LOCUS_BAD_USAGE);
   CHECK(message_has("fraction"));
   CHECK(locus_logmap(g.s, 7, 1.01, uv.data()) == LOCUS_BAD_USAGE);

@@ -1,6 +1,6 @@
 // Numerical faults through the C API (issue 10 item 3): a mesh with two
 // components (geodesic distance +infinity in the other component, log map
-// confined to the centre's component, zero heat across), huge and tiny
+// confined to the center's component, zero heat across), huge and tiny
 // diffusion times (LOCUS_NUMERICAL with a message, or finite values), and
 // collapsed or needle triangles. Argument checking (NULL, counts, ids) is in
 // tests/engine/c_api.cpp; fuzz_c_api attacks the same entry points.
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
 
 using namespace locus;
 
@@ -132,7 +132,7 @@ TEST_CASE("C API faults: collapsed and needle triangles") {
     }
     REQUIRE(st == LOCUS_OK);
     std::vector<double> d(25);
-    // An angle of ~1e-9 rad: refused by name (pipelines/heat_geodesic.cpp, needles).
+    // An angle of ~1e-9 rad: refused by name (pipelines/src/geodesic/heat_geodesic.cpp, needles).
     const locus_status g = locus_geodesic_distance(s, 12, d.data());
     CHECK(g == LOCUS_BAD_INPUT);
     CHECK(std::string(locus_last_error_message()).find("needle") != std::string::npos);

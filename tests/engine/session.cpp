@@ -16,15 +16,15 @@
 #include <thread>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/deform.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/heat_geodesic.hpp"
-#include "pipelines/logmap.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 
 using namespace locus;
 
@@ -344,7 +344,7 @@ TEST_CASE("session: two components (distance +inf across, cvt refused), one-vert
   CHECK(inf == m.num_vertices() - n1);
   for (int32_t i = 0; i < n1; ++i) CHECK(std::isfinite(d[i]));
   CHECK(code_of([&] { s.cvt(10, 1, 1); }) == ErrorCode::BadInput);
-  const LogMapResult r = s.logmap(n1 + 4, 0.5);  // the disk stays in the centre's component
+  const LogMapResult r = s.logmap(n1 + 4, 0.5);  // the disk stays in the center's component
   for (int32_t v : r.patch) CHECK(v >= n1);
 
   const LogMapResult one = s.logmap(7, 1e-9);

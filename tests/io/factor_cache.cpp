@@ -1,7 +1,7 @@
 // Tests for io/factor_cache: round trip (bit-identical solves), refusal of
 // other meshes and format versions, truncated and corrupted files, and the
 // structural validator on inconsistent factors.
-#include "io/factor_cache.hpp"
+#include "locus/io/factor_cache.hpp"
 
 #include <doctest/doctest.h>
 
@@ -10,8 +10,8 @@
 #include <fstream>
 #include <random>
 
-#include "kernels/factor_update.hpp"
-#include "kernels/solve_full.hpp"
+#include "locus/kernels/update/factor_update.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
 #include "../kernels/matrix_fixtures.hpp"
 

@@ -1,4 +1,4 @@
-// Tests for io/read_mesh.cpp: dispatch by extension over the fixtures in
+// Tests for io/src/read_mesh.cpp: dispatch by extension over the fixtures in
 // tests/data/io/, which hold the same square pyramid (4 triangles + a quad
 // base) in OBJ, OFF, ascii PLY and big-endian binary PLY; the expected
 // numbers are the pyramid written out by hand below.

@@ -1,4 +1,4 @@
-// Tests for io/read_obj.cpp: every corner syntax, relative indices, ignored
+// Tests for io/src/read_obj.cpp: every corner syntax, relative indices, ignored
 // statements, and exact coordinates against values written by hand.
 #include <doctest/doctest.h>
 

@@ -1,4 +1,4 @@
-// Tests for io/read_off.cpp: header variants, counts layout, colours, comments,
+// Tests for io/src/read_off.cpp: header variants, counts layout, colours, comments,
 // and the real CGAL meshes in cache/meshes (armadillo: 26002 vertices, 52000
 // faces, as its header says and as CGAL documents it).
 #include <doctest/doctest.h>

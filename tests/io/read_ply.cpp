@@ -1,4 +1,4 @@
-// Tests for io/read_ply.cpp: ascii and both binary byte orders, any scalar
+// Tests for io/src/read_ply.cpp: ascii and both binary byte orders, any scalar
 // type and property order, both face list names, skipped unknown elements and
 // list properties. Binary fixtures are assembled here byte by byte
 // (locus_test::put), independently of locus's writer.

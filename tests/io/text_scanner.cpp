@@ -1,4 +1,4 @@
-// Tests for io/text_scanner.hpp: number parsing edge cases against values the
+// Tests for io/include/locus/io/text_scanner.hpp: number parsing edge cases against values the
 // C++ standard pins down, line splitting and counting, message quoting.
 #include <doctest/doctest.h>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "io/text_scanner.hpp"
+#include "locus/io/text_scanner.hpp"
 #include "io_test_support.hpp"
 
 using namespace locus::io;

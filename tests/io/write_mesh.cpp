@@ -1,4 +1,4 @@
-// Tests for io/write_mesh.cpp: write-then-read round trips in every format
+// Tests for io/src/write_mesh.cpp: write-then-read round trips in every format
 // (exact for doubles, ascii included), uv and named vertex properties checked
 // by decoding the written bytes here (not with locus's reader, which drops
 // them), and caller mistakes refused with BadUsage.

@@ -24,31 +24,31 @@
 #include <string>
 #include <vector>
 
-#include "kernels/factor_update.hpp"
+#include "locus/kernels/update/factor_update.hpp"
 #include "locus/session.hpp"
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/selected_inversion.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/solve_plan.hpp"
-#include "kernels/solve_sparse.hpp"
-#include "kernels/symbolic_factor.hpp"
-#include "pipelines/adf.hpp"
-#include "pipelines/bfs_patch.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/deform.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/flipfree_param.hpp"
-#include "pipelines/heat_centroid.hpp"
-#include "pipelines/heat_exchange.hpp"
-#include "pipelines/heat_geodesic.hpp"
-#include "pipelines/heat_voronoi.hpp"
-#include "pipelines/logmap.hpp"
-#include "pipelines/patch_param.hpp"
-#include "pipelines/perfect_laplacian.hpp"
-#include "pipelines/self_supporting.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/selected_inversion.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/pipelines/heat/adf.hpp"
+#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/laplacian/flipfree_param.hpp"
+#include "locus/pipelines/voronoi/heat_centroid.hpp"
+#include "locus/pipelines/heat/heat_exchange.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/param/patch_param.hpp"
+#include "locus/pipelines/laplacian/perfect_laplacian.hpp"
+#include "locus/pipelines/laplacian/self_supporting.hpp"
 
 using namespace locus;
 
@@ -256,8 +256,8 @@ TEST_CASE("determinism: harmonic patch parameterization from the global factor")
     Bytes out;
     PatchWorkspace pws;
     SolveWorkspace ws;
-    for (int32_t centre : {0, 777}) {
-      const PatchParam P = parameterize_patch(F, g, centre, 200, pws, ws);
+    for (int32_t center : {0, 777}) {
+      const PatchParam P = parameterize_patch(F, g, center, 200, pws, ws);
       out.add_vec(P.patch.vertices);
       out.add_vec(P.uv_raw);
       out.add_vec(P.uv);
@@ -297,7 +297,7 @@ TEST_CASE("determinism: factor-once update and ROI deformation (laplacian, bilap
 TEST_CASE("determinism: heat Voronoi (full and localized), diagram, heat centroids") {
   const Mesh m = make_random_sphere(1500, 17);
   const std::vector<SurfacePoint> sites = random_surface_points(m, 21, 5);
-  // Localized neighbourhoods: a Dijkstra disk of 300 vertices around a corner of each site's face.
+  // Localized neighborhoods: a Dijkstra disk of 300 vertices around a corner of each site's face.
   const DemLogMap dem(m);
   std::vector<std::vector<int32_t>> hoods(sites.size());
   {

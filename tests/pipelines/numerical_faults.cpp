@@ -14,12 +14,12 @@
 //    geodesics) is regularized per component by eps M.
 //  * heat geodesic distance: vertices in another component than the source
 //    receive no heat; their distance is +infinity (documented in
-//    pipelines/heat_geodesic.hpp), never a finite number.
+//    pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp), never a finite number.
 //  * heat Voronoi: a component without a generator receives no heat: its
 //    vertices' best heat is exactly 0 and their label only the tie-break of
 //    the total order (the lowest generator id); callers detect them by the
 //    zero top value (locus voronoi reports them).
-//  * heat log map: patches must stay in the centre's component (BadUsage).
+//  * heat log map: patches must stay in the center's component (BadUsage).
 //  * patch parameterization: patches grow inside a component; a patch that is
 //    a whole closed component has no boundary and is refused (BadInput).
 //  * perfect Laplacian in space: one pinned vertex per closed component.
@@ -38,26 +38,26 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "pipelines/adf.hpp"
-#include "pipelines/bfs_patch.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/deform.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/flipfree_param.hpp"
-#include "pipelines/heat_exchange.hpp"
-#include "pipelines/heat_geodesic.hpp"
-#include "pipelines/heat_voronoi.hpp"
-#include "pipelines/logmap.hpp"
-#include "pipelines/patch_param.hpp"
-#include "pipelines/perfect_laplacian.hpp"
-#include "pipelines/self_supporting.hpp"
+#include "locus/pipelines/heat/adf.hpp"
+#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/laplacian/flipfree_param.hpp"
+#include "locus/pipelines/heat/heat_exchange.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/param/patch_param.hpp"
+#include "locus/pipelines/laplacian/perfect_laplacian.hpp"
+#include "locus/pipelines/laplacian/self_supporting.hpp"
 
 using namespace locus;
 
@@ -335,7 +335,7 @@ TEST_CASE("faults: meshes with several components") {
     for (int32_t v = 0; v < na; ++v) CHECK(e[na + v] == doctest::Approx(d5[v]).epsilon(1e-9));
   }
 
-  SUBCASE("heat log map: patches stay in the centre's component; crossing patches are refused") {
+  SUBCASE("heat log map: patches stay in the center's component; crossing patches are refused") {
     const HeatLogMap lm(m);
     const DemLogMap dem(m);
     DemWorkspace dws;
@@ -494,7 +494,7 @@ TEST_CASE("faults: diffusion times 0, negative, NaN, infinite and huge") {
     // t >= 0 but not finiteness, so an infinite time reaches the factorization
     // and is refused there ("matrix entry (0, 0) is not finite (vertex 0)"): a
     // clear error, with code Numerical instead of BadUsage (reported to the CVT
-    // owner: pipelines/cvt_lloyd.cpp, the anisotropic t check).
+    // owner: pipelines/src/voronoi/cvt_lloyd.cpp, the anisotropic t check).
     lo.anisotropy = 0.05;
     for (int which = 0; which < 2; ++which) {
       lo.t_abs = which == 0 ? t : 0.0;
@@ -544,7 +544,7 @@ TEST_CASE("faults: diffusion times 0, negative, NaN, infinite and huge") {
 
 // Regression of a fuzz_c_api finding: a mesh whose faces all collapse to one
 // vertex has no edge at all; building its edge incidence computed nullptr + 1
-// (UBSan, kernels/mesh_topology.cpp sort_bucket; caught by the sanitizer CI job).
+// (UBSan, kernels/src/mesh/mesh_topology.cpp sort_bucket; caught by the sanitizer CI job).
 TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refused by name") {
   Mesh m;
   m.add_vertex(0, 0, 0);
@@ -562,7 +562,7 @@ TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refu
 // regress_cvt_component_without_site): localized Lloyd on a mesh where one
 // component receives no site leaves that component's labels at -1 (no batch
 // reaches it and the breadth-first fallback cannot cross components), and
-// pipelines/cvt_lloyd.cpp build_cells then indexes offsets[label + 1] and
+// pipelines/src/voronoi/cvt_lloyd.cpp build_cells then indexes offsets[label + 1] and
 // fill[label] with label -1: a heap-buffer-overflow (ASan), silent memory
 // corruption in Release. cvt_lloyd now refuses such meshes up front (BadInput
 // naming a vertex of the siteless component).

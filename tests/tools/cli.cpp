@@ -235,7 +235,7 @@ TEST_CASE("cli: factor --json on an octahedron: sizes, default t = h^2, residual
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["n"] == 6);
   CHECK(j["nnz_A"] == 18);  // lower triangle: 6 diagonal + 12 edges
-  // Eliminating any vertex of the octahedron joins its 4 neighbours into a
+  // Eliminating any vertex of the octahedron joins its 4 neighbors into a
   // clique, leaving K5: nnz(L) = 6 + 4 + 10 = 20 for every ordering.
   CHECK(j["nnz_L_exact"] == 20);
   CHECK(j["nnz_L"].get<int64_t>() >= 20);

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/mesh_io.hpp"
 #include "tests/tools/cli_support.hpp"
 

@@ -9,9 +9,9 @@
 #include <set>
 #include <string>
 
-#include "io/write_png.hpp"
-#include "kernels/mesh_generators.hpp"
-#include "kernels/rasterize.hpp"
+#include "locus/io/write_png.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/render/rasterize.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
 #include "tests/tools/cli_support.hpp"
@@ -75,7 +75,7 @@ TEST_CASE("preview: geodesic, logmap and adf write decodable, non-uniform PNGs")
 
 TEST_CASE("rasterize: a square facing the camera lands in the middle, background around it") {
   // A flat square in the plane z = 0: seen by the fixed camera (yaw 210, pitch 20
-  // degrees, orthographic, fitted to 90% of the image) it covers the centre, not
+  // degrees, orthographic, fitted to 90% of the image) it covers the center, not
   // the corners.
   locus::Mesh m = locus::make_grid(8);
   std::vector<double> values(static_cast<size_t>(m.num_vertices()));

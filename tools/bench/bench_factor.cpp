@@ -25,10 +25,10 @@
 #include <limits>
 #include <sstream>
 
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/supernodal_factor.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "tools/bench/bench_commands.hpp"
 

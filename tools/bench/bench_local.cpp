@@ -24,7 +24,7 @@
 //    the path walk is also extrapolated from a random sample of that many.
 // 3. Patch parameterization (§4.4, Figs. 4.6/4.7): regularized Laplacian
 //    factored once; for each patch size in --patch-sizes (sizes above n/2
-//    skipped) and --patch-centres random centres:
+//    skipped) and --patch-centers random centers:
 //      local   — pipelines/patch_param: BFS patch, eq. 4.6 data, 8-lane subset
 //                solve on the global factor, normalization, flip count
 //      patch system — the same BFS patch extracted as a mesh, its own
@@ -47,18 +47,18 @@
 #include <random>
 #include <sstream>
 
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/selected_inversion.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/solve_sparse.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/selected_inversion.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "pipelines/adf.hpp"
-#include "pipelines/heat_exchange.hpp"
-#include "pipelines/patch_param.hpp"
-#include "pipelines/patch_param_circle.hpp"
+#include "locus/pipelines/heat/adf.hpp"
+#include "locus/pipelines/heat/heat_exchange.hpp"
+#include "locus/pipelines/param/patch_param.hpp"
+#include "locus/pipelines/param/patch_param_circle.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/cli/vertex_list.hpp"
 
@@ -78,7 +78,7 @@ struct Options {
   int adf_sample = 100;
   int adf_subset_limit = 300000;
   std::string patch_sizes = "2000,10000,30000,50000";
-  int patch_centres = 5;
+  int patch_centers = 5;
   bool skip_adf = false, skip_patch = false;
 };
 
@@ -443,7 +443,7 @@ Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, co
   Json rows = Json::array();
   for (const int32_t size : patch_sizes(bo, n)) {
     std::vector<double> local_s, sys_s, sys_factor_s, r, np, flips_local, flips_sys, fw, bw, grow_s, solve_s;
-    for (int c = 0; c < bo.patch_centres; ++c) {
+    for (int c = 0; c < bo.patch_centers; ++c) {
       ctx.check_cancel();
       const int32_t center = pick(rng);
       // (local) from the global factor.
@@ -489,7 +489,7 @@ Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, co
     }
     rows.push_back({{"patch_size", size},
                     {"patch_vertices", cli::median(np)},
-                    {"centres", bo.patch_centres},
+                    {"centers", bo.patch_centers},
                     {"local_s", cli::median(local_s)},
                     {"local_grow_s", cli::median(grow_s)},
                     {"local_solve_s", cli::median(solve_s)},
@@ -532,7 +532,7 @@ Json bench_circle_patches(const Mesh& m, const CscMatrix& K, const NumericFactor
     std::vector<double> local_s, sys_s, r, np, holes, flips_local, flips_sys, upd_s, fac_s, diff, steps;
     std::vector<double> grow_s, system_s, solve_s, check_s;
     int refused = 0;
-    for (int c = 0, tries = 0; c < bo.patch_centres && tries < 20 * bo.patch_centres; ++tries) {
+    for (int c = 0, tries = 0; c < bo.patch_centers && tries < 20 * bo.patch_centers; ++tries) {
       ctx.check_cancel();
       const int32_t center = pick(rng);
       sw.restart();
@@ -582,7 +582,7 @@ Json bench_circle_patches(const Mesh& m, const CscMatrix& K, const NumericFactor
     }
     rows.push_back({{"patch_size", size},
                     {"patch_vertices", cli::median(np)},
-                    {"centres", local_s.size()},
+                    {"centers", local_s.size()},
                     {"refused_not_disk", refused},
                     {"holes_filled_median", cli::median(holes)},
                     {"local_s", cli::median(local_s)},
@@ -652,7 +652,7 @@ void register_local_bench(cli::CommandTable& table) {
                   "Above this n the all-vertex path walk is extrapolated from this many random vertices (default 300000)")
       ->check(CLI::Range(1, 1 << 30));
   app->add_option("--patch-sizes", bo->patch_sizes, "Patch vertex counts (default 2000,10000,30000,50000)");
-  app->add_option("--patch-centres", bo->patch_centres, "Random centres per patch size (default 5)")
+  app->add_option("--patch-centers", bo->patch_centers, "Random centers per patch size (default 5)")
       ->check(CLI::Range(1, 10000));
   app->add_flag("--skip-adf", bo->skip_adf, "Skip the all-vertex auto-diffusion section");
   app->add_flag("--skip-patch", bo->skip_patch, "Skip the patch parameterization section");

@@ -1,10 +1,10 @@
 // `locus-bench logmap MESH`: the heat log map (thesis §6.5-6.7) localized with
 // exact subset solves, against the same map with full solves and against the
-// Dijkstra-based discrete exponential map (DEM), on the same centres and the
+// Dijkstra-based discrete exponential map (DEM), on the same centers and the
 // same patches, alternating the contenders within each query so that machine
 // noise hits all alike (DESIGN.md "Measuring"). Patches are geodesic disks
 // (Dijkstra in graph metric) of round(fraction * n) vertices around seeded
-// random centres. Reported per fraction: medians of the query times, the
+// random centers. Reported per fraction: medians of the query times, the
 // ratios full / local and DEM / local, flipped triangles, how far the localized
 // map is from the full one (distance: the effect of the Poisson right-hand side
 // on the patch only; angle: must be ~0, the heat values are the same), and the
@@ -18,18 +18,18 @@
 //   icosphere:L        unit icosphere, level L (7: ~164k vertices, h ~ 0.0094)
 //   random-sphere:N    convex hull of N random unit vectors (irregular)
 //   bump:R             z = exp(-(x^2 + y^2) / sigma^2) over the disk of radius 1.5
-//                      (R rings, h ~ 1.5 / R), centre at the top
-// Patch: the vertices within geodesic distance --radius (exact) of the centre.
+//                      (R rings, h ~ 1.5 / R), center at the top
+// Patch: the vertices within geodesic distance --radius (exact) of the center.
 // Errors: E_d = mean |d - d_exact|, E_a = mean |angle - angle_exact - delta|
 // (wrapped) with delta the best global rotation (circular mean of the
-// differences), both over the patch without the centre. Exact values: on the
+// differences), both over the patch without the center. Exact values: on the
 // sphere d = acos(p_c . p_j) and the azimuth of p_j in the tangent plane of p_c;
 // on the bump the azimuth atan2(y, x) and the arc length of the radial profile
 // by Simpson quadrature. Heat (localized, both angle estimators and both
 // Poisson right-hand sides), heat with full solves, and DEM; under "variants"
-// every angle estimator x lattice correction x recentre (pipelines/logmap.hpp)
-// with the mean, the worst centre and the per-centre E_a. --center-ids picks
-// the centres (e.g. 0,13: an icosahedron corner and an edge midpoint), --dump
+// every angle estimator x lattice correction x recenter (pipelines/include/locus/pipelines/geodesic/logmap.hpp)
+// with the mean, the worst center and the per-center E_a. --center-ids picks
+// the centers (e.g. 0,13: an icosahedron corner and an edge midpoint), --dump
 // writes per-vertex values of one variant (--dump-variant).
 #include <algorithm>
 #include <cmath>
@@ -37,11 +37,11 @@
 #include <numeric>
 #include <sstream>
 
-#include "kernels/mesh_generators.hpp"
-#include "kernels/thread_cpu_time.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/logmap.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/bench/stream_bandwidth.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -69,8 +69,8 @@ std::vector<double> parse_list(const std::string& text) {
   return out;
 }
 
-// Distinct seeded centres (splitmix64 through cli::random_vector).
-std::vector<int32_t> pick_centres(int32_t n, int q, uint64_t seed) {
+// Distinct seeded centers (splitmix64 through cli::random_vector).
+std::vector<int32_t> pick_centers(int32_t n, int q, uint64_t seed) {
   const std::vector<double> r = cli::random_vector(static_cast<size_t>(q) * 4, seed);
   std::vector<int32_t> c;
   for (double x : r) {
@@ -108,7 +108,7 @@ struct TimingOptions {
   int query_threads = 1;  // 2: also time the localized query with a helper thread (LogMapWorkspace::threads)
   std::string angle = "auto";
   std::string lattice = "default";
-  std::string recentre = "default";
+  std::string recenter = "default";
 };
 
 int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const RunContext& ctx) {
@@ -121,13 +121,13 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   lo.geodesic.t_factor = to.t_factor;
   lo.angle = cli::parse_logmap_angle(to.angle);
   if (const auto l = cli::parse_logmap_lattice(to.lattice)) lo.lattice = *l;
-  if (const auto r = cli::parse_logmap_recentre(to.recentre)) lo.recentre = *r;
+  if (const auto r = cli::parse_logmap_recenter(to.recenter)) lo.recenter = *r;
   const HeatLogMap heat(in.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   sw.restart();
   const DemLogMap dem(in.mesh);
   const double dem_prepare_s = sw.seconds();
-  const std::vector<int32_t> centres = pick_centres(n, to.queries, opt.seed);
+  const std::vector<int32_t> centers = pick_centers(n, to.queries, opt.seed);
   // This machine's single-core streaming read rate: with the factor bytes a
   // query's exact solves read (plan_traffic), a floor on their time.
   const StreamBandwidth stream = measure_stream_read();
@@ -148,11 +148,11 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     std::vector<double> w2_serial, w2_first, w2_helper_start, w2_helper, w2_main, w2_wait;
     int64_t mismatch2 = 0;
     std::vector<double> mb_heat_read, mb_heat_distinct, mb_poisson_read, mb_poisson_distinct, mb_distinct;
-    std::vector<double> ph_region, ph_centre, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
+    std::vector<double> ph_region, ph_center, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
     int64_t flipped_heat = 0, flipped_dem = 0, cnt = 0;
-    int32_t max_sources = 0, two_ring_centres = 0;
-    for (int32_t c : centres) {
+    int32_t max_sources = 0, two_ring_centers = 0;
+    for (int32_t c : centers) {
       ctx.check_cancel();
       sw.restart();
       const int32_t k = dem.disk(c, count, patch, dws);
@@ -175,7 +175,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
         c_local2_main.push_back(thread_cpu_seconds() - c2);
         c_local2_helper.push_back(st2.distance_s);
         w2_serial.push_back(st2.wall2.serial);
-        w2_first.push_back(st2.wall2.centre_lane);
+        w2_first.push_back(st2.wall2.center_lane);
         w2_helper_start.push_back(st2.wall2.helper_start);
         w2_helper.push_back(st2.wall2.helper);
         w2_main.push_back(st2.wall2.main);
@@ -197,13 +197,13 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
         mb_distinct.push_back(mb * (th.distinct_bytes + tp.distinct_bytes));
       }
       ph_region.push_back(st.region_s);
-      ph_centre.push_back(st.centre_s);
+      ph_center.push_back(st.center_s);
       ph_plan.push_back(st.plan_s);
       ph_heat.push_back(st.heat_s);
       ph_distance.push_back(st.distance_s);
       ph_poisson.push_back(st.poisson_s);
       ph_angles.push_back(st.angles_s);
-      two_ring_centres += st.two_ring;
+      two_ring_centers += st.two_ring;
       if (!to.no_full) {
         c0 = thread_cpu_seconds();
         sw.restart();
@@ -222,7 +222,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
                                              std::span<const double>(dv.data(), kd), scratch);
       double r = 0;
       for (int32_t p = 0; p < k; ++p) r = std::max(r, local.d[p]);
-      radius += r / centres.size();
+      radius += r / centers.size();
       if (!to.no_full)
         for (int32_t p = 0; p < k; ++p) {
           const double dd = std::abs(local.d[p] - full.d[p]);
@@ -233,7 +233,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
         }
     }
     const double ml = cli::median(t_local), md = cli::median(t_dem);
-    Json row{{"fraction", f}, {"patch_size", count}, {"queries", centres.size()}};
+    Json row{{"fraction", f}, {"patch_size", count}, {"queries", centers.size()}};
     row["heat_local_s"] = ml;
     if (!to.no_full) {
       row["heat_full_s"] = cli::median(t_full);
@@ -250,10 +250,10 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       row["heat_local_2t_cpu_main_s"] = cli::median(c_local2_main);
       row["heat_local_2t_cpu_helper_s"] = cli::median(c_local2_helper);
       // Wall-clock timeline of the two-thread query (medians, seconds from the query start;
-      // LogMapStats::wall2): serial part, the helper's centre solve done, the helper's task
+      // LogMapStats::wall2): serial part, the helper's center solve done, the helper's task
       // start and length, the caller's angles done, its wait for the helper.
       row["phases_2t_wall_s"] = Json{{"serial", cli::median(w2_serial)},
-                                     {"centre_lane", cli::median(w2_first)},
+                                     {"center_lane", cli::median(w2_first)},
                                      {"helper_start", cli::median(w2_helper_start)},
                                      {"helper", cli::median(w2_helper)},
                                      {"main", cli::median(w2_main)},
@@ -271,7 +271,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     }
     row["patch_select_s"] = cli::median(t_patch);  // the DEM's Dijkstra disk, outside every timed query
     // Localized query by phase (medians of thread CPU time; they need not add up to heat_local_cpu_s exactly).
-    row["phases_s"] = Json{{"region", cli::median(ph_region)},     {"centre", cli::median(ph_centre)},
+    row["phases_s"] = Json{{"region", cli::median(ph_region)},     {"center", cli::median(ph_center)},
                            {"heat_plan", cli::median(ph_plan)},     {"heat_solve", cli::median(ph_heat)},
                            {"distance", cli::median(ph_distance)}, {"poisson", cli::median(ph_poisson)},
                            {"angles", cli::median(ph_angles)}};
@@ -287,7 +287,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     row["stream_floor_s"] = floor_s;
     row["dem_over_floor"] = md / floor_s;
     row["max_sources"] = max_sources;
-    row["two_ring_centres"] = two_ring_centres;
+    row["two_ring_centers"] = two_ring_centers;
     row["mean_patch_radius"] = radius;
     row["flipped_triangles_heat"] = flipped_heat;
     row["flipped_triangles_dem"] = flipped_dem;
@@ -317,18 +317,18 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   j["t_factor"] = to.t_factor;
   j["angle"] = to.angle;
   j["lattice"] = to.lattice;
-  j["recentre"] = to.recentre;
+  j["recenter"] = to.recenter;
   j["h"] = heat.geodesic().mean_edge_length();
   j["precompute_s"] = precompute_s;
   j["dem_prepare_s"] = dem_prepare_s;
-  j["queries"] = centres.size();
+  j["queries"] = centers.size();
   j["stream_read_gbs"] = Json{{"best", stream.best_bytes_per_s * 1e-9}, {"median", stream.median_bytes_per_s * 1e-9}};
   j["rows"] = rows;
   j["crossover_fraction"] = crossover < 0 ? Json(nullptr) : Json(crossover);
   j["crossover_fraction_cpu"] = crossover_cpu < 0 ? Json(nullptr) : Json(crossover_cpu);
   cli::emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": n " << n << ", precompute " << precompute_s << " s, " << centres.size()
-       << " centres, medians\n";
+    os << opt.mesh_path << ": n " << n << ", precompute " << precompute_s << " s, " << centers.size()
+       << " centers, medians\n";
     for (const Json& r : rows) {
       os << "  fraction " << r["fraction"] << " (" << r["patch_size"] << " vertices): local " << r["heat_local_s"]
          << " s, DEM " << r["dem_s"] << " s (DEM/local " << r["dem_over_local"] << ")";
@@ -431,7 +431,7 @@ struct Errors {
   int64_t count = 0;
 };
 
-// Mean errors over the patch minus the centre; `mapped[p]` false skips p.
+// Mean errors over the patch minus the center; `mapped[p]` false skips p.
 Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, std::span<const double> d,
                  std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr) {
   double cs = 0, sn = 0;
@@ -457,16 +457,16 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
 }
 
 struct AccuracyOptions {
-  int centres = 3;
+  int centers = 3;
   double radius = 0.5;
   double t_factor = 1.0;
   bool no_full = false;
   bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
   std::string dump;  // CSV of per-vertex exact and computed values of one variant
   std::string dump_variant = "log_none";
-  std::string centre_ids;  // explicit centres instead of random ones
+  std::string center_ids;  // explicit centers instead of random ones
   std::string lattice = "default";  // the correction of the default (Auto) rows
-  std::string recentre = "default";
+  std::string recenter = "default";
   double mass_blend = 0.0;
 };
 
@@ -480,44 +480,44 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   lo.geodesic.t_factor = ao.t_factor;
   lo.geodesic.log_heat_gradient = !ao.plain_gradient;
   if (const auto l = cli::parse_logmap_lattice(ao.lattice)) lo.lattice = *l;
-  if (const auto r = cli::parse_logmap_recentre(ao.recentre)) lo.recentre = *r;
+  if (const auto r = cli::parse_logmap_recenter(ao.recenter)) lo.recenter = *r;
   lo.geodesic.mass_blend = ao.mass_blend;
   const HeatLogMap heat(s.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   const DemLogMap dem(s.mesh);
-  std::vector<int32_t> centres =
-      s.kind == "bump" ? std::vector<int32_t>{0} : pick_centres(n, ao.centres, opt.seed);
-  if (!ao.centre_ids.empty()) {
-    centres.clear();
-    std::stringstream ss(ao.centre_ids);
+  std::vector<int32_t> centers =
+      s.kind == "bump" ? std::vector<int32_t>{0} : pick_centers(n, ao.centers, opt.seed);
+  if (!ao.center_ids.empty()) {
+    centers.clear();
+    std::stringstream ss(ao.center_ids);
     std::string item;
     while (std::getline(ss, item, ',')) {
       char* end = nullptr;
       const long v = std::strtol(item.c_str(), &end, 10);
       if (end == item.c_str() || *end != '\0' || v < 0 || v >= n)
         fail(ErrorCode::BadUsage, "--center-ids: '" + item + "' is not a vertex id (0.." + std::to_string(n - 1) + ")");
-      centres.push_back(static_cast<int32_t>(v));
+      centers.push_back(static_cast<int32_t>(v));
     }
   }
 
-  // Accumulated means over centres (each centre's mean weighs the same) and the worst centre.
+  // Accumulated means over centers (each center's mean weighs the same) and the worst center.
   struct Acc {
     double ed = 0, ea = 0, ed_worst = 0, ea_worst = 0;
-    int32_t worst_centre = -1;
+    int32_t worst_center = -1;
     void add(const Errors& e, double w, int32_t c = -1) {
       ed += e.ed * w;
       ea += e.ea * w;
       ed_worst = std::max(ed_worst, e.ed);
-      if (e.ea > ea_worst) ea_worst = e.ea, worst_centre = c;
+      if (e.ea > ea_worst) ea_worst = e.ea, worst_center = c;
     }
   } log_flux, plain_flux, two_ring, auto_acc, log_trunc, full_log, full_plain, dem_acc;
-  // Every estimator with and without the lattice correction (pipelines/logmap.hpp).
+  // Every estimator with and without the lattice correction (pipelines/include/locus/pipelines/geodesic/logmap.hpp).
   struct Variant {
     std::string name;
     LogMapEstimator est;
     Acc acc;
     int64_t flipped = 0;
-    Json per_centre = Json::array();
+    Json per_center = Json::array();
     double cpu_s = 0;  // mean thread CPU time of the localized query
   };
   std::vector<Variant> variants;
@@ -527,15 +527,15 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
                          std::pair{"ring", LatticeCorrection::Ring},
                          std::pair{"path", LatticeCorrection::Path}})
       for (bool rc : {false, true})
-        variants.push_back({std::string(an) + "_" + ln + (rc ? "_recentre" : ""), {a, l, rc}, {}, 0, Json::array(), 0.0});
+        variants.push_back({std::string(an) + "_" + ln + (rc ? "_recenter" : ""), {a, l, rc}, {}, 0, Json::array(), 0.0});
   int64_t flipped_heat = 0, flipped_two_ring = 0, flipped_auto = 0, auto_two_ring = 0, flipped_full = 0, flipped_dem = 0, fallbacks = 0, patch_total = 0;
   double local_vs_full_d = 0;
   LogMapWorkspace lws;
   DemWorkspace dws;
   std::vector<int32_t> scratch, dem_patch(n), dem_pos(n, -1);
   std::vector<double> du(n), dv(n);
-  const double w = 1.0 / centres.size();
-  for (int32_t c : centres) {
+  const double w = 1.0 / centers.size();
+  for (int32_t c : centers) {
     ctx.check_cancel();
     std::vector<int32_t> patch{c};
     for (int32_t j = 0; j < n; ++j)
@@ -549,10 +549,10 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
       v.cpu_s += (thread_cpu_seconds() - c0) * w;
       const Errors e = errors_of(s, c, patch, m.d, m.a);
       v.acc.add(e, w, c);
-      v.per_centre.push_back(e.ea);
+      v.per_center.push_back(e.ea);
       v.flipped += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
       if (!ao.dump.empty() && v.name == ao.dump_variant) {
-        std::FILE* fp = std::fopen(ao.dump.c_str(), c == centres.front() ? "w" : "a");
+        std::FILE* fp = std::fopen(ao.dump.c_str(), c == centers.front() ? "w" : "a");
         if (!fp) fail(ErrorCode::BadUsage, "cannot write " + ao.dump);
         for (size_t p = 0; p < patch.size(); ++p)
           std::fprintf(fp, "%d,%d,%.9g,%.9g,%.9g,%.9g\n", c, patch[p], s.exact_distance(c, patch[p]),
@@ -613,7 +613,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   }
   auto pair = [](const Acc& a) {
     return Json{{"E_d", a.ed}, {"E_a", a.ea}, {"E_d_worst", a.ed_worst}, {"E_a_worst", a.ea_worst},
-                {"worst_centre", a.worst_centre}};
+                {"worst_center", a.worst_center}};
   };
   Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}};
   j["n"] = n;
@@ -622,14 +622,14 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   j["mass_blend"] = ao.mass_blend;
   j["distance_gradient"] = ao.plain_gradient ? "heat" : "log_heat";
   j["radius"] = ao.radius;
-  j["centres"] = centres;
-  j["mean_patch_size"] = static_cast<double>(patch_total) / centres.size();
+  j["centers"] = centers;
+  j["mean_patch_size"] = static_cast<double>(patch_total) / centers.size();
   j["generate_s"] = generate_s;
   j["precompute_s"] = precompute_s;
   j["heat_local_logheat"] = pair(log_flux);
   j["heat_local_heataverage"] = pair(plain_flux);
   j["heat_local_auto"] = pair(auto_acc);
-  j["auto_two_ring_centres"] = auto_two_ring;
+  j["auto_two_ring_centers"] = auto_two_ring;
   j["flipped_triangles_heat_auto"] = flipped_auto;
   j["heat_local_logheat_tworing"] = pair(two_ring);
   j["flipped_triangles_heat_tworing"] = flipped_two_ring;
@@ -646,7 +646,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   for (const Variant& v : variants) {
     Json e = pair(v.acc);
     e["flipped_triangles"] = v.flipped;
-    e["E_a_per_centre"] = v.per_centre;
+    e["E_a_per_center"] = v.per_center;
     e["query_cpu_s"] = v.cpu_s;
     var[v.name] = e;
   }
@@ -665,28 +665,28 @@ void register_logmap_bench(cli::CommandTable& table) {
   CLI::App* app = table.add("logmap", "heat log map: localized vs full solves vs DEM, medians and crossover",
                             [to](const cli::CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *to, ctx); });
   app->add_option("--fractions", to->fractions, "Patch sizes as fractions of the vertex count, comma-separated");
-  app->add_option("--queries", to->queries, "Random centres (seeded by --seed), default 10");
+  app->add_option("--queries", to->queries, "Random centers (seeded by --seed), default 10");
   app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
   app->add_option("--query-threads", to->query_threads,
                   "2: also time the localized query with a helper thread (heat_local_2t_s; the headline stays 1 thread)");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
   app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring, path (default: the library's)");
-  app->add_option("--recentre", to->recentre, "Recentre the gradients: on, off (default: the library's)");
+  app->add_option("--recenter,--recentre", to->recenter, "Recenter the gradients: on, off (default: the library's)");
 
   auto ao = std::make_shared<AccuracyOptions>();
   CLI::App* acc = table.add(
       "logmap-accuracy",
       "E_d / E_a against analytic maps; mesh-file is a surface spec: icosphere:L, random-sphere:N or bump:RINGS",
       [ao](const cli::CommonOptions& o, const RunContext& ctx) { return run_accuracy(o, *ao, ctx); });
-  acc->add_option("--centers", ao->centres, "Random centres (spheres; the bump uses its top), default 3");
+  acc->add_option("--centers", ao->centers, "Random centers (spheres; the bump uses its top), default 3");
   acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
   acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
-  acc->add_option("--center-ids", ao->centre_ids, "Comma-separated centre vertices instead of random ones");
+  acc->add_option("--center-ids", ao->center_ids, "Comma-separated center vertices instead of random ones");
   acc->add_option("--lattice", ao->lattice, "Lattice correction of the unnamed rows: none, star, ring, path (default: the library's)");
-  acc->add_option("--recentre", ao->recentre, "Recentre the gradients in the unnamed rows: on, off (default: the library's)");
+  acc->add_option("--recenter,--recentre", ao->recenter, "Recenter the gradients in the unnamed rows: on, off (default: the library's)");
   acc->add_option("--mass-blend", ao->mass_blend, "Heat operator mass: (1 - b) lumped + b consistent (default 0)");
   acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle) of --dump-variant");
   acc->add_option("--dump-variant", ao->dump_variant, "Variant written by --dump (default log_none; see 'variants')");

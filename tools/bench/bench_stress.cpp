@@ -31,13 +31,13 @@
 #include <thread>
 #include <unistd.h>
 
-#include "kernels/memory_budget.hpp"
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/supernodal_factor.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/factor/memory_budget.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/session.hpp"
 #include "tools/bench/bench_commands.hpp"
@@ -91,7 +91,7 @@ const char* kind_name(Kind k) {
 struct Query {
   explicit Query(Kind k, int32_t v = 0) : kind(k), vertex(v) {}
   Kind kind;
-  int32_t vertex;                          // geodesic source / log-map centre
+  int32_t vertex;                          // geodesic source / log-map center
   std::vector<int32_t> sources, targets;   // heat values
   DeformRequest deform;
   std::vector<double> answer;              // flattened result (reference or candidate)

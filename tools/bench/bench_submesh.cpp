@@ -39,14 +39,14 @@
 #include <malloc.h>
 #include <sys/resource.h>
 
-#include "kernels/factor_update.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/update/factor_update.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "pipelines/deform.hpp"
+#include "locus/pipelines/deform/deform.hpp"
 #include "tools/bench/bench_commands.hpp"
 
 #ifdef LOCUS_HAVE_CHOLMOD

@@ -11,7 +11,7 @@
 // localized and with full solves in the same process, on one prepared factor of
 // M - 4h^2 L (kLloydTFactor, as `locus cvt`) and the same random initial sites (--seed); per-iteration wall time
 // and process CPU time (between consecutive iteration reports; the first
-// iteration, whose neighbourhoods are Dijkstra balls, is left out), medians and
+// iteration, whose neighborhoods are Dijkstra balls, is left out), medians and
 // the full/local ratios, and the load average before and after. --rounds R
 // alternates the solvers R times and takes the medians over all rounds. JSON also
 // has the thread CPU time of the solves alone (ratio_solve_cpu) and, from an extra
@@ -26,13 +26,13 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/solve_selective.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/solve/solve_selective.hpp"
 #include "locus/error.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/cvt_quality.hpp"
-#include "pipelines/heat_voronoi.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/cvt_quality.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "tools/bench/bench_commands.hpp"
 
 namespace locus::bench {
@@ -226,7 +226,7 @@ int run_cvt_speed(const cli::CommonOptions& opt, const CvtSpeedOptions& o, const
                        {"iter_s_all", wall_all[slot]},
                        {"iter_cpu_s_all", cpu_all[slot]},
                        {"phase_s", {{"labels", r.labels_s}, {"partition", r.partition_s},
-                                    {"neighbourhoods", r.neighbourhood_s}, {"centroids", r.centroids_s}}},
+                                    {"neighborhoods", r.neighborhood_s}, {"centroids", r.centroids_s}}},
                        {"mean_kept_fraction", r.mean_kept_fraction},
                        {"solve_cpu_s", {{"labels", r.label_solve_cpu_s}, {"centroids", r.centroid_solve_cpu_s}}},
                        {"mean_angle_deg", q.mean_angle_deg},

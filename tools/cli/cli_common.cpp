@@ -18,14 +18,14 @@
 #include <new>
 #include <optional>
 
-#include "io/factor_cache.hpp"
-#include "io/write_png.hpp"
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/rasterize.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/io/factor_cache.hpp"
+#include "locus/io/write_png.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/render/rasterize.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
 

@@ -23,7 +23,7 @@
 
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
-#include "kernels/supernodal_factor.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus::cli {
@@ -151,7 +151,7 @@ BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec);
 // before the body runs and puts it in RunContext::max_memory_bytes.
 std::size_t parse_memory_size(const std::string& text);
 
-// ---- Factor cache (--save F.locus / --load F.locus, io/factor_cache.hpp) ----
+// ---- Factor cache (--save F.locus / --load F.locus, io/include/locus/io/factor_cache.hpp) ----
 //
 // A command that factors declares the options with add_factor_cache_options,
 // checks them with validate_factor_cache_options before reading the mesh, and
@@ -199,7 +199,7 @@ Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<co
 // {"loaded": FILE or null, "saved": FILE or null, "load_s", "save_s"}.
 Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f);
 
-// ---- Previews (--preview out.png, kernels/rasterize.hpp, io/write_png.hpp) ----
+// ---- Previews (--preview out.png, kernels/include/locus/kernels/render/rasterize.hpp, io/include/locus/io/write_png.hpp) ----
 //
 // A shaded picture of the mesh coloured by a per-vertex result, from a fixed
 // camera fitted to the bounding box (orthographic, a three-quarter view from

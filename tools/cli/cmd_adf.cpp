@@ -1,6 +1,6 @@
 // `locus adf MESH [--t T] (--vertices LIST | --all) [--method subset|selinv|full] [-o out.ply] --json`:
 // the auto-diffusion function of thesis §4.6, (M - t L_C)^{-1}_ii (no mass
-// scaling; pipelines/adf.hpp). The heat kernel signature with one t: the body,
+// scaling; pipelines/include/locus/pipelines/heat/adf.hpp). The heat kernel signature with one t: the body,
 // the output rules (-o only with --all, PLY property `adf`) and the JSON keys
 // are those of `locus hks` (cmd_hks.cpp).
 #include "tools/cli/heat_signature.hpp"

@@ -1,17 +1,17 @@
 // `locus cvt MESH`: centroidal Voronoi tessellation by Lloyd's method with heat
-// cells and centroids (thesis §3.7.1; pipelines/cvt_lloyd.hpp), localized
+// cells and centroids (thesis §3.7.1; pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp), localized
 // (approximate selective solves, default) or with full solves (--solver full, for
 // comparison), isotropic or anisotropic (--anisotropy lambda). -o writes the mesh
 // with a per-vertex `label` property (the cell); --json reports the timings and the
-// quality of the dual triangulation and of the cell areas (pipelines/cvt_quality.hpp).
+// quality of the dual triangulation and of the cell areas (pipelines/include/locus/pipelines/voronoi/cvt_quality.hpp).
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/cvt_lloyd.hpp"
-#include "pipelines/cvt_quality.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/cvt_quality.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
@@ -38,7 +38,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   if (o.solver != "local" && o.solver != "full")
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
   // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
-  // (measurements in pipelines/cvt_lloyd.hpp).
+  // (measurements in pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp).
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
   check_preview_path(o.preview);
@@ -104,7 +104,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
-  j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighbourhood_s},
+  j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighborhood_s},
                   {"centroids", r.centroids_s}};
   j["mean_kept_fraction"] = r.mean_kept_fraction;
   j["dual_triangles"] = q.dual_triangles;

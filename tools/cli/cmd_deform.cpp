@@ -1,5 +1,5 @@
 // `locus deform MESH`: region-of-interest deformation with a factor-once
-// submesh factor (thesis §5.1, §5.7; pipelines/deform.hpp). The global
+// submesh factor (thesis §5.1, §5.7; pipelines/include/locus/pipelines/deform/deform.hpp). The global
 // operator is factored once; the factor of A_FF for the free vertices comes
 // from the update kernel; the handle offset is then one 8-lane solve. For
 // comparison the same A_FF is ordered (METIS), analyzed and factored from
@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "pipelines/deform.hpp"
+#include "locus/pipelines/deform/deform.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

@@ -12,10 +12,10 @@
 #include <string>
 #include <ostream>
 
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/supernodal_factor.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

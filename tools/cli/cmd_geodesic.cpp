@@ -2,7 +2,7 @@
 // heat geodesic distance from one vertex (thesis §6.4.1, Crane et al.), on the
 // whole mesh with full solves (--fraction 1, the default) or localized to the
 // geodesic disk of round(f * n) vertices around the source with exact subset
-// solves (§6.4.2; pipelines/heat_geodesic.hpp). Output: PLY vertex property
+// solves (§6.4.2; pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp). Output: PLY vertex property
 // `distance` (-1 outside the patch); JSON: precompute_s, query_s, patch_size,
 // the maximum distance and the radius of the patch.
 #include <algorithm>
@@ -13,8 +13,8 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 

@@ -1,5 +1,5 @@
 // `locus heat MESH --source LIST --target LIST [--t T] [--method subset|union|full] [--repeat R] --json`:
-// pairwise heat exchange (thesis §4.6, pipelines/heat_exchange.hpp): unit heat
+// pairwise heat exchange (thesis §4.6, pipelines/include/locus/pipelines/heat/heat_exchange.hpp): unit heat
 // at every source (b = sum e_s), one backward-Euler step with M - t L_C, the
 // heat at each target. subset uses separate etree subtrees for the forward
 // (sources) and backward (targets) solve, union one subtree for both, full a
@@ -11,9 +11,9 @@
 #include <cmath>
 #include <ostream>
 
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "pipelines/heat_exchange.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/heat/heat_exchange.hpp"
 #include "tools/cli/heat_signature.hpp"
 #include "tools/cli/vertex_list.hpp"
 

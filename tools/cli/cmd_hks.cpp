@@ -1,6 +1,6 @@
 // `locus hks MESH --ts t1,t2,... (--vertices LIST | --all) [--method subset|selinv|full] [-o out.ply] --json`:
 // the heat kernel signature of thesis §4.6 — the auto-diffusion values
-// (M - t L_C)^{-1}_ii for several t (no mass scaling; see pipelines/adf.hpp) —
+// (M - t L_C)^{-1}_ii for several t (no mass scaling; see pipelines/include/locus/pipelines/heat/adf.hpp) —
 // with one ordering and one symbolic factor shared by every t. Also the body of
 // `locus adf` (cmd_adf.cpp), which is the same with one t.
 //
@@ -20,10 +20,10 @@
 #include <limits>
 #include <ostream>
 
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/adf.hpp"
+#include "locus/pipelines/heat/adf.hpp"
 #include "tools/cli/heat_signature.hpp"
 #include "tools/cli/vertex_list.hpp"
 

@@ -7,7 +7,7 @@
 #include <iomanip>
 #include <ostream>
 
-#include "kernels/mesh_topology.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

@@ -1,9 +1,9 @@
 // `locus logmap MESH --center V --fraction f [--t-factor c] [--method heat|dem|heat-full]
-//  [--angle auto|log|two-ring|average] [--lattice none|star|ring|path] [--recentre on|off] -o map.ply`: a log map (local polar /
+//  [--angle auto|log|two-ring|average] [--lattice none|star|ring|path] [--recenter on|off] -o map.ply`: a log map (local polar /
 // Cartesian coordinates) of the geodesic disk of round(f * n) vertices around
-// the centre. heat: thesis §6.5-6.6 with exact subset solves
-// (pipelines/logmap.hpp); heat-full: the same with full solves; dem: the
-// Dijkstra-based discrete exponential map (pipelines/dem_logmap.hpp).
+// the center. heat: thesis §6.5-6.6 with exact subset solves
+// (pipelines/include/locus/pipelines/geodesic/logmap.hpp); heat-full: the same with full solves; dem: the
+// Dijkstra-based discrete exponential map (pipelines/include/locus/pipelines/geodesic/dem_logmap.hpp).
 // Output: per-vertex u, v (PLY properties u/v, OBJ vt; 0 outside the patch) and
 // PLY properties distance, angle (-1 and 0 outside) and in_patch. JSON:
 // precompute_s, query_s, patch_size, flipped_triangles, and the solve sizes.
@@ -15,8 +15,8 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/dem_logmap.hpp"
-#include "pipelines/logmap.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -31,7 +31,7 @@ struct LogmapOptions {
   std::string method = "heat";
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
-  std::string recentre = "default";  // on, off or the library default (LogMapOptions::recentre)
+  std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
   FactorCacheOptions cache;
 };
@@ -43,7 +43,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(lo.t_factor) + ")");
   const LogMapAngle angle = parse_logmap_angle(lo.angle);
   const std::optional<LatticeCorrection> lattice = parse_logmap_lattice(lo.lattice);
-  const std::optional<bool> recentre = parse_logmap_recentre(lo.recentre);
+  const std::optional<bool> recenter = parse_logmap_recenter(lo.recenter);
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
   check_preview_path(lo.preview);
@@ -55,7 +55,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   if (lo.center < 0 || lo.center >= n)
     fail(ErrorCode::BadUsage, "--center " + std::to_string(lo.center) + " is not a vertex of " + opt.mesh_path + " (" +
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
-  const int32_t centre = static_cast<int32_t>(lo.center);
+  const int32_t center = static_cast<int32_t>(lo.center);
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
 
   Stopwatch sw;
@@ -69,7 +69,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     mo.geodesic.t_factor = lo.t_factor;
     mo.angle = angle;
     if (lattice) mo.lattice = *lattice;
-    if (recentre) mo.recentre = *recentre;
+    if (recenter) mo.recenter = *recenter;
     std::optional<HeatGeodesicFactors> given = heat_method_factors(lo.cache, in.mesh, mo.geodesic, ctx, cache_info);
     heat = given ? std::make_unique<HeatLogMap>(in.mesh, mo, std::move(*given))
                  : std::make_unique<HeatLogMap>(in.mesh, mo, ctx);
@@ -88,7 +88,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     u.resize(static_cast<size_t>(count));
     v.resize(static_cast<size_t>(count));
     sw.restart();
-    k = dem.query(centre, count, std::numeric_limits<double>::infinity(), patch, u, v, dws);
+    k = dem.query(center, count, std::numeric_limits<double>::infinity(), patch, u, v, dws);
     query_s = sw.seconds();
     u.resize(static_cast<size_t>(k));
     v.resize(static_cast<size_t>(k));
@@ -98,7 +98,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     }
   } else {
     sw.restart();
-    k = dem.disk(centre, count, patch, dws);
+    k = dem.disk(center, count, patch, dws);
     patch_s = sw.seconds();
     d.resize(static_cast<size_t>(k));
     a.resize(static_cast<size_t>(k));
@@ -112,7 +112,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     ws.threads = opt.threads >= 2 ? 2 : 1;
     query_threads = ws.threads;
     sw.restart();
-    st = lo.method == "heat" ? heat->query(centre, P, {d, a, u, v}, ws) : heat->query_full(centre, P, {d, a, u, v}, ws);
+    st = lo.method == "heat" ? heat->query(center, P, {d, a, u, v}, ws) : heat->query_full(center, P, {d, a, u, v}, ws);
     query_s = sw.seconds();
   }
   patch.resize(static_cast<size_t>(k));
@@ -153,7 +153,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   double dmax = 0;
   for (double x : d) dmax = std::max(dmax, x);
   Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
-  j["center"] = centre;
+  j["center"] = center;
   j["method"] = lo.method;
   j["angle"] = lo.method == "dem" ? "dem" : lo.angle;
   j["fraction"] = lo.fraction;
@@ -166,8 +166,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     j["passes"] = st.passes;    // wide solves over the plan (0 for heat-full)
     j["two_ring"] = st.two_ring;
     j["lattice"] = lo.lattice;
-    j["recentre"] = lo.recentre;
-    j["recentred"] = st.recentred;
+    j["recentre"] = lo.recenter;  // JSON keys keep their released spelling
+    j["recentred"] = st.recentered;
     j["angle_fallbacks"] = st.angle_fallbacks;
   }
   j["patch_size"] = k;
@@ -180,7 +180,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["query_threads"] = query_threads;
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
   emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": log map around vertex " << centre << " (" << lo.method << ")\n  patch " << k
+    os << opt.mesh_path << ": log map around vertex " << center << " (" << lo.method << ")\n  patch " << k
        << " vertices, max distance " << dmax << ", flipped triangles " << flipped << "\n  precompute "
        << precompute_s << " s, query " << query_s << " s\n";
   });
@@ -193,15 +193,15 @@ void register_logmap_command(CommandTable& table) {
   auto lo = std::make_shared<LogmapOptions>();
   CLI::App* app = table.add("logmap", "Log map (geodesic polar coordinates) of a patch: heat, heat-full or DEM",
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
-  app->add_option("--center", lo->center, "Centre vertex (0-based)")->required();
+  app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
   app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
                   "Lattice (dispersion) correction of the heat map's angles: none, star, ring or path (default: the library's, path)");
-  app->add_option("--recentre", lo->recentre,
-                  "Recentre the heat map's gradients: on or off (default: the library's)");
+  app->add_option("--recenter,--recentre", lo->recenter,
+                  "Recenter the heat map's gradients: on or off (default: the library's)");
   add_preview_option(app, lo->preview);
   add_factor_cache_options(app, lo->cache);
 }

@@ -1,14 +1,14 @@
-// `locus nncoords MESH --sites v1,v2,... --point f,b0,b1,b2`: natural-neighbour
+// `locus nncoords MESH --sites v1,v2,... --point f,b0,b1,b2`: natural-neighbor
 // (area-stealing) coordinates of a surface point with respect to vertex sites,
-// with heat-diffusion cells (thesis §3.7.2; pipelines/natural_neighbour.hpp).
-// JSON: `weights` (one per site, in --sites order), `natural_neighbours` (sites
+// with heat-diffusion cells (thesis §3.7.2; pipelines/include/locus/pipelines/voronoi/natural_neighbor.hpp).
+// JSON: `weights` (one per site, in --sites order), `natural_neighbors` (sites
 // with a nonzero weight), `cell_area`, `at_site`, `degenerate`, timings.
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "locus/error.hpp"
-#include "pipelines/natural_neighbour.hpp"
+#include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/site_args.hpp"
 
@@ -34,10 +34,10 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   Stopwatch sw;
   const HeatDiffusion H = ts.times_h2 ? prepare_heat_diffusion(mesh, ts.value, 0.0, ctx)
                                       : prepare_heat_diffusion(mesh, 1.0, ts.value, ctx);
-  const NaturalNeighbourField F = prepare_natural_neighbours(H, mesh, sites, ctx);
+  const NaturalNeighborField F = prepare_natural_neighbors(H, mesh, sites, ctx);
   const double prepare_s = sw.seconds();
   sw.restart();
-  const NaturalCoordinates c = natural_neighbour_coordinates(F, mesh, q);
+  const NaturalCoordinates c = natural_neighbor_coordinates(F, mesh, q);
   const double query_s = sw.seconds();
   std::vector<int32_t> nbrs;
   for (size_t s = 0; s < sites.size(); ++s)
@@ -48,7 +48,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   j["point"] = {q.face, q.bary[0], q.bary[1], q.bary[2]};
   j["t"] = H.t;
   j["weights"] = c.weight;
-  j["natural_neighbours"] = nbrs;
+  j["natural_neighbours"] = nbrs;  // the released JSON key
   j["cell_area"] = c.cell_area;
   j["at_site"] = c.at_site;
   j["degenerate"] = c.degenerate;
@@ -56,7 +56,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   j["fallback_faces"] = c.fallback_faces;
   j["timings"] = {{"load_s", in.load_s}, {"prepare_s", prepare_s}, {"query_s", query_s}};
   emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": natural-neighbour coordinates of face " << q.face << " (" << q.bary[0] << ", "
+    os << opt.mesh_path << ": natural-neighbor coordinates of face " << q.face << " (" << q.bary[0] << ", "
        << q.bary[1] << ", " << q.bary[2] << ")\n";
     for (size_t s = 0; s < sites.size(); ++s)
       if (c.weight[s] > 0) os << "  vertex " << ids[s] << ": " << c.weight[s] << "\n";
@@ -68,7 +68,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
 
 void register_nncoords_command(CommandTable& table) {
   auto o = std::make_shared<NnOptions>();
-  CLI::App* app = table.add("nncoords", "Natural-neighbour coordinates of a surface point (heat Voronoi area stealing)",
+  CLI::App* app = table.add("nncoords", "Natural-neighbor coordinates of a surface point (heat Voronoi area stealing)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_nncoords(opt, *o, ctx); });
   app->add_option("--sites", o->sites_text, "Sites: comma-separated vertex ids");
   app->add_option("--point", o->point_text, "Query point: FACE,B0,B1,B2 (barycentric weights summing to 1)");

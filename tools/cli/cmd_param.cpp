@@ -16,7 +16,7 @@
 #include <ostream>
 
 #include "locus/mesh_io.hpp"
-#include "pipelines/flipfree_param.hpp"
+#include "locus/pipelines/laplacian/flipfree_param.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/param_patch.hpp"
 

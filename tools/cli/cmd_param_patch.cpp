@@ -5,7 +5,7 @@
 // around --center (pipelines/bfs_patch); its boundary loop on a circle gives the
 // Neumann data of eq. 4.6; u and v come from one 8-lane subset solve with the
 // patch vertices as the wanted set (exact: the full solve's values there), then
-// are centred and scaled into the unit disk. --method does not apply: the patch
+// are centered and scaled into the unit disk. --method does not apply: the patch
 // mode always uses the global cotan operator (that is the point of §4.4).
 //
 // -o FILE writes the PATCH as a mesh of its own (vertex k = k-th patch vertex)
@@ -25,13 +25,13 @@
 #include <cmath>
 #include <ostream>
 
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/symbolic_factor.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/patch_param.hpp"
-#include "pipelines/patch_param_circle.hpp"
+#include "locus/pipelines/param/patch_param.hpp"
+#include "locus/pipelines/param/patch_param_circle.hpp"
 #include "tools/cli/param_patch.hpp"
 
 namespace locus::cli {

@@ -2,7 +2,7 @@
 //  [--anderson M] [--no-active-set] [--noise A] -o out.obj --json`:
 // Algorithm 1 of thesis chapter 2 (pipelines/perfect_laplacian) on a polygon mesh.
 // --method newton (default) reaches its steady state by the interior-point Newton
-// method of pipelines/perfect_laplacian_newton.hpp; multiplicative is the update
+// method of pipelines/include/locus/pipelines/laplacian/perfect_laplacian_newton.hpp; multiplicative is the update
 // of eq. 2.8 with Anderson acceleration (--anderson) and the active set
 // (--no-active-set turns it off); those two options act on that method only.
 //
@@ -21,7 +21,7 @@
 // max_displacement_rel, mean_displacement_rel (after alignment, / bbox diagonal),
 // first_iter_s (ordering + analysis + factorization + solve + update), iter_s
 // (median of the later iterations), iter_ratio = iter_s / first_iter_s; the
-// active set of §2.3.3 (pipelines/weight_active_set.hpp): weights_at_floor
+// active set of §2.3.3 (pipelines/include/locus/pipelines/laplacian/weight_active_set.hpp): weights_at_floor
 // (exactly 0), weights_revived, kkt_rounds, kkt_violation (max log-length
 // excess of a zero-weight edge over the common ratio; <= 1e-4 when steady);
 // method, factorizations (line-search trials included), hessian_products (Newton:
@@ -34,8 +34,8 @@
 #include <ostream>
 #include <string>
 
-#include "kernels/mesh_topology.hpp"
-#include "pipelines/perfect_laplacian.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/laplacian/perfect_laplacian.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

@@ -11,7 +11,7 @@
 #include <iomanip>
 #include <ostream>
 
-#include "pipelines/self_supporting.hpp"
+#include "locus/pipelines/laplacian/self_supporting.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

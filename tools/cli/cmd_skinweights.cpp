@@ -1,6 +1,6 @@
 // `locus skinweights MESH --handles v1,v2,... -o weights.ply`: per-vertex skinning
-// weights from natural-neighbour coordinates of the handle set (thesis §3.7.2;
-// pipelines/skinning_weights.hpp). -o writes the mesh with vertex properties
+// weights from natural-neighbor coordinates of the handle set (thesis §3.7.2;
+// pipelines/include/locus/pipelines/voronoi/skinning_weights.hpp). -o writes the mesh with vertex properties
 // w0..w{k-1} (PLY) in --handles order. JSON: `handles`, `degenerate_vertices`,
 // `max_clamped`, `fallback_faces`, timings.
 #include <ostream>
@@ -9,7 +9,7 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
-#include "pipelines/skinning_weights.hpp"
+#include "locus/pipelines/voronoi/skinning_weights.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/site_args.hpp"
 
@@ -67,7 +67,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
 
 void register_skinweights_command(CommandTable& table) {
   auto o = std::make_shared<SkinOptions>();
-  CLI::App* app = table.add("skinweights", "Per-vertex skinning weights of vertex handles (natural-neighbour coordinates)",
+  CLI::App* app = table.add("skinweights", "Per-vertex skinning weights of vertex handles (natural-neighbor coordinates)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_skinweights(opt, *o, ctx); });
   app->add_option("--handles", o->handles_text, "Handles: comma-separated vertex ids");
   app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());

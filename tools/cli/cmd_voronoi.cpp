@@ -1,5 +1,5 @@
 // `locus voronoi MESH`: the heat-diffusion Voronoi diagram of a set of
-// generators (thesis §3.4, eqs. 3.15-3.21; pipelines/heat_voronoi.hpp): one
+// generators (thesis §3.4, eqs. 3.15-3.21; pipelines/include/locus/pipelines/voronoi/heat_voronoi.hpp): one
 // factorization of M - t L_C, heat of 8 generators per solve, vertex labels by
 // the hottest generator, and the diagram's curves as OBJ polylines (`v` and `l`
 // lines) with -o. Generators are vertex ids (--sites) or seeded random surface
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "locus/error.hpp"
-#include "pipelines/heat_voronoi.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 

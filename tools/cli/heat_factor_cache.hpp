@@ -7,9 +7,9 @@
 #include <span>
 #include <utility>
 
-#include "kernels/mesh_operators.hpp"
-#include "kernels/mesh_topology.hpp"
-#include "pipelines/heat_voronoi.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

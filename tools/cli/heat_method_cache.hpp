@@ -5,7 +5,7 @@
 #include <optional>
 #include <utility>
 
-#include "pipelines/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {

@@ -1,5 +1,5 @@
 // The body shared by `locus adf` (one t) and `locus hks` (several t): both
-// report (M - t L_C)^{-1}_ii (pipelines/adf.hpp) at chosen vertices or all of
+// report (M - t L_C)^{-1}_ii (pipelines/include/locus/pipelines/heat/adf.hpp) at chosen vertices or all of
 // them, with one symbolic factor for every t. Implemented in cmd_hks.cpp.
 #pragma once
 #include <string>

@@ -1,11 +1,11 @@
 // The log map's estimator choices as the CLI and the bench spell them
-// (--angle, --lattice, --recentre); "default" keeps the library's choice.
+// (--angle, --lattice, --recenter); "default" keeps the library's choice.
 #pragma once
 #include <optional>
 #include <string>
 
 #include "locus/error.hpp"
-#include "pipelines/logmap.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 
 namespace locus::cli {
 
@@ -26,10 +26,10 @@ inline std::optional<LatticeCorrection> parse_logmap_lattice(const std::string& 
   fail(ErrorCode::BadUsage, "--lattice must be none, star, ring or path (got '" + s + "')");
 }
 
-inline std::optional<bool> parse_logmap_recentre(const std::string& s) {
+inline std::optional<bool> parse_logmap_recenter(const std::string& s) {
   if (s == "default") return std::nullopt;
   if (s == "on" || s == "off") return s == "on";
-  fail(ErrorCode::BadUsage, "--recentre must be on or off (got '" + s + "')");
+  fail(ErrorCode::BadUsage, "--recenter must be on or off (got '" + s + "')");
 }
 
 }  // namespace locus::cli

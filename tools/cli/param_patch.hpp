@@ -1,7 +1,7 @@
 // `locus param MESH --center V --fraction f [-o patch.obj] --json`: the patch
 // mode of `locus param` (cmd_param.cpp dispatches to it): harmonic
 // parameterization of a BFS patch from the GLOBAL factor of the regularized
-// cotan Laplacian (thesis §4.4, eq. 4.6; pipelines/patch_param.hpp).
+// cotan Laplacian (thesis §4.4, eq. 4.6; pipelines/include/locus/pipelines/param/patch_param.hpp).
 // Implemented in cmd_param_patch.cpp.
 #pragma once
 #include <cstdint>

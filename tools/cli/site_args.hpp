@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "locus/error.hpp"
-#include "pipelines/heat_voronoi.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 
 namespace locus::cli {
 

@@ -45,7 +45,7 @@ struct Reader {
 
 // Known open finding, kept out of the way so the fuzzer can look for others:
 // locus_cvt on a mesh with a component that receives no site (localized Lloyd
-// leaves its labels at -1, and pipelines/cvt_lloyd.cpp build_cells indexes
+// leaves its labels at -1, and pipelines/src/voronoi/cvt_lloyd.cpp build_cells indexes
 // offsets[-1 + 1] / fill[-1]: heap-buffer-overflow; input
 // tests/fuzz_corpus/c_api/regress_cvt_component_without_site). Set to false
 // once cvt_lloyd handles it; the regression input then runs again.
@@ -144,7 +144,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const double fraction = (q & 16) ? in.raw<double>() : (1 + in.byte() % 8) / 8.0;
   r = locus_logmap_ex(s, center, fraction, uv.data(), &opt);
   check_status(r, "logmap");
-  if (r == LOCUS_OK && !std::isfinite(uv[2 * center])) finding("log map not finite at its centre", r);
+  if (r == LOCUS_OK && !std::isfinite(uv[2 * center])) finding("log map not finite at its center", r);
 
   const int32_t sites = static_cast<int32_t>(in.byte() % 8) - 1, iters = in.byte() % 3;
   std::vector<int32_t> labels(static_cast<size_t>(nv));

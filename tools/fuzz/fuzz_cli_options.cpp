@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/mesh_io.hpp"
 #include "tools/cli/cli_common.hpp"
 

@@ -1,4 +1,4 @@
-// libFuzzer target for the factor-cache loader (io/factor_cache.cpp,
+// libFuzzer target for the factor-cache loader (io/src/factor_cache.cpp,
 // load_factors, which load_factor wraps). The input is the file. The only acceptable outcomes are a
 // factor or a locus::Error; any other exception, crash, sanitizer report, hang
 // (-timeout) or memory blow-up (-rss_limit_mb) is a finding. A loaded factor is
@@ -9,7 +9,7 @@
 // Every section carries a checksum, so almost every mutation of the raw file
 // would stop at the checksum test. To reach the structural validation behind
 // it, the target repairs the checksums of inputs whose metadata parses (the
-// same hash as io/factor_cache.cpp, recomputed over the mutated bytes) for
+// same hash as io/src/factor_cache.cpp, recomputed over the mutated bytes) for
 // three inputs in four (size % 4 != 3); the others are loaded as they are.
 //
 // Seeds: LOCUS_FUZZ_WRITE_SEEDS=DIR fuzz_load_factor writes small valid caches
@@ -29,20 +29,20 @@
 #include <vector>
 
 #include "factor_cache_generated.h"
-#include "io/factor_cache.hpp"
-#include "kernels/mesh_generators.hpp"
-#include "kernels/mesh_operators.hpp"
-#include "kernels/ordering.hpp"
-#include "kernels/solve_full.hpp"
-#include "kernels/solve_plan.hpp"
-#include "kernels/solve_sparse.hpp"
+#include "locus/io/factor_cache.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/error.hpp"
 
 namespace {
 
 constexpr size_t kHeaderBytes = 24;
 
-// The section checksum of io/factor_cache.cpp (FNV-1a over 8-byte words, then the tail).
+// The section checksum of io/src/factor_cache.cpp (FNV-1a over 8-byte words, then the tail).
 uint64_t checksum(const uint8_t* p, size_t bytes) {
   uint64_t h = 0xcbf29ce484222325ull;
   size_t i = 0;

@@ -1,4 +1,4 @@
-// libFuzzer target for the OFF reader (io/read_off.cpp) through
+// libFuzzer target for the OFF reader (io/src/read_off.cpp) through
 // read_mesh_from_memory. The only acceptable outcomes are a Mesh or a
 // locus::Error; any other exception escapes and counts as a finding, as do
 // crashes, sanitizer reports, hangs (-timeout) and memory blow-ups (-rss_limit_mb).

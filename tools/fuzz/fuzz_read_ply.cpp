@@ -1,4 +1,4 @@
-// libFuzzer target for the PLY reader (io/read_ply.cpp) through
+// libFuzzer target for the PLY reader (io/src/read_ply.cpp) through
 // read_mesh_from_memory. The only acceptable outcomes are a Mesh or a
 // locus::Error; any other exception escapes and counts as a finding, as do
 // crashes, sanitizer reports, hangs (-timeout) and memory blow-ups (-rss_limit_mb).

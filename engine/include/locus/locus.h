@@ -132,7 +132,7 @@ locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, 
 /* Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv)
  * vertices (at least 1) around vertex `center`, 0 < fraction <= 1.
  * out_uv: 2 * vertex-count doubles; vertex i gets (u, v) at out_uv[2i], out_uv[2i+1]
- * (geodesic polar coordinates in the tangent plane of the centre) when it lies
+ * (geodesic polar coordinates in the tangent plane of the center) when it lies
  * in the disk, NaN in both otherwise. Shares its factors with the geodesic distance. */
 locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv);
 locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,

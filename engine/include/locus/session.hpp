@@ -57,7 +57,7 @@ struct HeatQuery {
 };
 
 struct LogMapResult {
-  std::vector<int32_t> patch;  // the geodesic disk (graph metric), centre first
+  std::vector<int32_t> patch;  // the geodesic disk (graph metric), center first
   // Per patch vertex, in patch order: heat geodesic distance, polar angle and
   // Cartesian coordinates (u, v) = distance * (cos, sin)(angle).
   std::vector<double> distance, angle, u, v;

@@ -106,7 +106,7 @@ static void file_checks(const char* path) {
     printf("log map at 0: %lld vertices in the patch (want %lld), radius %.6g, max | |uv| - geodesic | %.4g\n",
            (long long)inside, (long long)want, rmax, worst);
     EXPECT(inside == want, "patch size %lld", (long long)inside);
-    EXPECT(uv[0] == 0.0 && uv[1] == 0.0, "centre at (%g, %g)", uv[0], uv[1]);
+    EXPECT(uv[0] == 0.0 && uv[1] == 0.0, "center at (%g, %g)", uv[0], uv[1]);
     EXPECT(rmax > 0 && worst < 0.1 * rmax, "log-map radius %g vs geodesic, worst difference %g", rmax, worst);
   }
 

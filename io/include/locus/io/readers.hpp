@@ -1,0 +1,17 @@
+// The per-format readers behind read_mesh / read_mesh_from_memory
+// (io/src/read_mesh.cpp dispatches on the extension). Internal to io/.
+// Each parses a complete in-memory file; `name` is used in error messages.
+#pragma once
+#include <string>
+#include <string_view>
+
+#include "locus/mesh.hpp"
+#include "locus/mesh_io.hpp"
+
+namespace locus::io {
+
+Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt);
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt);
+Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt);
+
+}  // namespace locus::io

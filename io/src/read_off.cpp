@@ -1,0 +1,161 @@
+// Geomview OFF reader (locus/mesh_io.hpp), ASCII form: an optional header
+// keyword `[ST][C][N]OFF`, the counts `nv nf [ne]` (on the keyword's line or on
+// the following line(s)), nv vertex lines `x y z ...` and nf face lines
+// `k i1 .. ik ...`. What follows the coordinates on a vertex line (normal,
+// colour, texture coordinate) and the indices on a face line (a face colour)
+// is ignored. `#` starts a comment anywhere. Not from the thesis: file plumbing.
+//
+// Records are read line by line (as every OFF writer we know emits them), so
+// errors name the line. 4OFF / nOFF (other dimensions) and binary OFF are
+// refused with a message saying so.
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "locus/io/mesh_checks.hpp"
+#include "locus/io/readers.hpp"
+#include "locus/io/text_scanner.hpp"
+
+namespace locus::io {
+
+namespace {
+
+// Recognizes the header keyword; returns false if `tok` is not one (the file
+// may start directly with the counts, which Geomview allows).
+bool header_keyword(std::string_view tok, const LineReader& lines) {
+  std::string_view s = tok;
+  if (s.substr(0, 2) == "ST") s.remove_prefix(2);
+  if (!s.empty() && s[0] == 'C') s.remove_prefix(1);
+  if (!s.empty() && s[0] == 'N') s.remove_prefix(1);
+  if (!s.empty() && (s[0] == '4' || s[0] == 'n') && s.size() >= 3 && s.substr(s.size() - 3) == "OFF")
+    lines.fail("header " + quote(tok) + ": only 3-D OFF is supported (4OFF / nOFF are not)");
+  if (s == "OFF") return true;
+  int64_t dummy;
+  if (parse_int(tok, dummy)) return false;
+  lines.fail("expected an OFF header (OFF, COFF, NOFF, CNOFF, STOFF, ...), found " + quote(tok));
+}
+
+}  // namespace
+
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt) {
+  LineReader lines(data, name);
+  std::string_view line;
+  if (!lines.next_content(line)) fail(ErrorCode::BadInput, name + ": no OFF header (the file holds only comments or blanks)");
+
+  // Header keyword, then the counts, possibly spread over several lines.
+  Fields fields(line);
+  const std::string_view first = fields.next();
+  std::vector<int64_t> counts;
+  if (!header_keyword(first, lines)) fields = Fields(line);  // no keyword: this line holds counts
+  for (;;) {
+    for (std::string_view tok = fields.next(); !tok.empty() && counts.size() < 3; tok = fields.next()) {
+      if (tok == "BINARY") lines.fail("binary OFF is not supported");
+      int64_t c;
+      if (!parse_int(tok, c)) lines.fail("expected the vertex, face and edge counts, found " + quote(tok));
+      if (c < 0) lines.fail("negative count " + std::to_string(c) + " in the OFF header");
+      counts.push_back(c);
+    }
+    if (counts.size() >= 2) break;
+    if (!lines.next_content(line))
+      fail_line(name, lines.line_number(), "the file ends inside the OFF header (truncated: counts missing)");
+    fields = Fields(line);
+  }
+  // Counts spread over lines ("3\n1\n0\n"): a following line holding a single
+  // integer is the edge count; a vertex line has at least three fields.
+  if (counts.size() == 2) {
+    LineReader ahead = lines;
+    std::string_view peek;
+    if (ahead.next_content(peek)) {
+      Fields pf(peek);
+      int64_t ne;
+      if (parse_int(pf.next(), ne) && pf.done()) lines = ahead;
+    }
+  }
+  const int64_t nv = counts[0];
+  const int64_t nf = counts[1];
+  if (nv > kMaxCount || nf > kMaxCount)
+    lines.fail("counts " + std::to_string(nv) + " vertices / " + std::to_string(nf) +
+               " faces exceed what a mesh can index (" + std::to_string(kMaxCount) + ")");
+  // Refuse counts the rest of the file cannot hold before allocating anything:
+  // a vertex line is at least "0 0 0\n" (6 bytes); a face line at least two
+  // ("k\n": invalid, but it must reach the face check to be reported as what
+  // it is); the last line may lack its newline.
+  const uint64_t need = sat_add(sat_mul(uint64_t(nv), 6), sat_mul(uint64_t(nf), 2));
+  if (need > lines.remaining() + 1)
+    lines.fail("header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+               " faces, which need at least " + std::to_string(need) + " bytes, but only " +
+               std::to_string(lines.remaining()) + " bytes follow (truncated file or corrupt counts)");
+  check_budget(name, uint64_t(nv), uint64_t(nf), 3 * uint64_t(nf), opt);
+
+  Mesh m;
+  m.x.reserve(nv); m.y.reserve(nv); m.z.reserve(nv);
+  // Reserve only what the bytes can hold as valid triangles ("3 0 1 2\n" is
+  // 8 bytes), so hostile face counts cannot inflate the allocation.
+  const int64_t nf_fit = std::min<int64_t>(nf, static_cast<int64_t>(lines.remaining() / 8) + 1);
+  m.face_offsets.reserve(nf_fit + 1);
+  m.face_vertices.reserve(3 * nf_fit);
+
+  for (int64_t v = 0; v < nv; ++v) {
+    if (!lines.next_content(line))
+      fail_line(name, lines.line_number(),
+                "the file ends after " + std::to_string(v) + " of " + std::to_string(nv) + " vertices (truncated)");
+    Fields f(line);
+    double c[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::string_view tok = f.next();
+      if (tok.empty())
+        lines.fail("vertex " + std::to_string(v) + " has " + std::to_string(k) + " coordinates (expected 3)");
+      const std::string bad = parse_coordinate(tok, v, c[k]);
+      if (!bad.empty()) lines.fail(bad);
+    }
+    const std::string bad = vertex_problem(v, c[0], c[1], c[2]);
+    if (!bad.empty()) lines.fail(bad);
+    m.add_vertex(c[0], c[1], c[2]);
+  }
+
+  std::vector<int32_t> face;
+  for (int64_t fi = 0; fi < nf; ++fi) {
+    if (!lines.next_content(line))
+      fail_line(name, lines.line_number(),
+                "the file ends after " + std::to_string(fi) + " of " + std::to_string(nf) + " faces (truncated)");
+    Fields f(line);
+    const std::string_view ktok = f.next();
+    int64_t k;
+    if (!parse_int(ktok, k))
+      lines.fail("face " + std::to_string(fi) + ": expected the vertex count, found " + quote(ktok));
+    if (k < 3)
+      lines.fail("face " + std::to_string(fi) + " has " + std::to_string(k) + " vertices (a face needs at least 3)");
+    // A line is at most kMaxLineBytes, so a count beyond half of that cannot be
+    // honest; checking first keeps the reserve below bounded.
+    if (k > int64_t(kMaxLineBytes / 2))
+      lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices, more than the line can hold");
+    face.clear();
+    for (int64_t j = 0; j < k; ++j) {
+      const std::string_view tok = f.next();
+      if (tok.empty())
+        lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices but lists only " +
+                   std::to_string(j) + " (truncated face)");
+      int64_t idx;
+      if (!parse_int(tok, idx))
+        lines.fail("face " + std::to_string(fi) + ": expected a vertex index, found " + quote(tok));
+      if (idx < 0 || idx >= nv)
+        lines.fail("face " + std::to_string(fi) + " references vertex " + std::to_string(idx) + " but the file has " +
+                   std::to_string(nv) + " vertices (index out of range)");
+      face.push_back(static_cast<int32_t>(idx));
+    }
+    // The rest of the line (a face colour) is ignored.
+    const std::string bad = face_problem(fi, face);
+    if (!bad.empty()) lines.fail(bad);
+    if (static_cast<int64_t>(m.face_vertices.size() + face.size()) > kMaxCount)
+      lines.fail("more face corners than a mesh can index (" + std::to_string(kMaxCount) + ")");
+    m.face_vertices.insert(m.face_vertices.end(), face.begin(), face.end());
+    m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
+  }
+  // Whatever follows the faces (edges, trailing comments) is not mesh data.
+  finish_mesh(m, name);
+  return m;
+}
+
+}  // namespace locus::io

@@ -1,0 +1,373 @@
+// Symbolic analysis driver (kernels/include/locus/kernels/symbolic/symbolic_factor.hpp).
+//
+// Order of work: (1) etree of the METIS-ordered graph and its postorder; the
+// final ordering is METIS composed with that postorder, which changes no fill
+// but makes every subtree a contiguous range of columns; (2) column counts
+// (Gilbert–Ng–Peyton); (3) relaxed supernodes; (4) supernode row structures,
+// from the graph and the children's structures, in O(sum of supernode rows);
+// (5) the A -> L assembly map, the left-looking update lists and workspace size.
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "locus/kernels/symbolic/column_counts.hpp"
+#include "locus/kernels/symbolic/etree.hpp"
+#include "locus/kernels/symbolic/supernodes.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+void check_lower(const CscMatrix& A) {
+  if (A.nrows != A.ncols)
+    fail(ErrorCode::BadUsage, "matrix is " + std::to_string(A.nrows) + " x " + std::to_string(A.ncols) + ", not square");
+  const int32_t n = A.ncols;
+  if (static_cast<int64_t>(A.colptr.size()) != static_cast<int64_t>(n) + 1 || A.colptr[0] != 0 ||
+      static_cast<int64_t>(A.rowind.size()) != A.colptr[n] || static_cast<int64_t>(A.values.size()) != A.colptr[n])
+    fail(ErrorCode::BadUsage, "matrix arrays are inconsistent (colptr/rowind/values sizes)");
+  for (int32_t j = 0; j < n; ++j) {
+    if (A.colptr[j + 1] < A.colptr[j]) fail(ErrorCode::BadUsage, "matrix colptr decreases at column " + std::to_string(j));
+    int32_t prev = -1;
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+      const int32_t i = A.rowind[p];
+      if (i < j || i >= n || i <= prev)
+        fail(ErrorCode::BadUsage, "matrix is not lower-stored with sorted unique rows (column " + std::to_string(j) +
+                                      ", row " + std::to_string(i) + ")");
+      prev = i;
+    }
+  }
+}
+
+// Symmetric adjacency (no diagonal) of P A P^T, where pos[i] is the new index of original i.
+void permuted_graph(const CscMatrix& A, const std::vector<int32_t>& pos, std::vector<int64_t>& ptr,
+                    std::vector<int32_t>& idx) {
+  const int32_t n = A.ncols;
+  ptr.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+      const int32_t i = A.rowind[p];
+      if (i != j) { ++ptr[pos[i] + 1]; ++ptr[pos[j] + 1]; }
+    }
+  for (int32_t k = 0; k < n; ++k) ptr[k + 1] += ptr[k];
+  idx.resize(static_cast<size_t>(ptr[n]));
+  std::vector<int64_t> next(ptr.begin(), ptr.end() - 1);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+      const int32_t i = A.rowind[p];
+      if (i != j) {
+        idx[next[pos[i]]++] = pos[j];
+        idx[next[pos[j]]++] = pos[i];
+      }
+    }
+}
+
+}  // namespace
+
+uint64_t pattern_hash(const CscMatrix& A) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](uint64_t v) { h = (h ^ v) * 1099511628211ull; h ^= h >> 29; };
+  mix(static_cast<uint64_t>(A.nrows));
+  mix(static_cast<uint64_t>(A.ncols));
+  for (int64_t v : A.colptr) mix(static_cast<uint64_t>(v));
+  for (int32_t v : A.rowind) mix(static_cast<uint64_t>(v));
+  return h;
+}
+
+int64_t SymbolicFactor::flops(int32_t s) const {
+  // Column j of the supernode: r - j entries, each updating the r - j rows below it.
+  const double r = nrows(s), c = ncols(s);
+  double f = 0;
+  for (int32_t j = 0; j < c; ++j) f += (r - j) * (r - j);
+  return static_cast<int64_t>(f);
+}
+
+int64_t SymbolicFactor::flops() const {
+  int64_t f = 0;
+  for (int32_t s = 0; s < ns; ++s) f += flops(s);
+  return f;
+}
+
+void compute_update_lists(SymbolicFactor& S) {
+  const int32_t ns = S.ns;
+  S.max_update_entries = 0;
+  S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int64_t> next;
+    if (pass == 1) {
+      for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
+      S.update_from.resize(static_cast<size_t>(S.update_ptr[ns]));
+      next.assign(S.update_ptr.begin(), S.update_ptr.end() - 1);
+    }
+    for (int32_t d = 0; d < ns; ++d) {
+      const int64_t r0 = S.super_row_ptr[d], nr = S.nrows(d);
+      int64_t t = S.ncols(d);
+      while (t < nr) {
+        const int32_t s = S.col_to_super[S.super_rows[r0 + t]];
+        const int32_t send = S.super_first_col[s + 1];
+        int64_t t2 = t;
+        while (t2 < nr && S.super_rows[r0 + t2] < send) ++t2;
+        if (pass == 0) {
+          ++S.update_ptr[s + 1];
+          S.max_update_entries = std::max(S.max_update_entries, (nr - t) * (t2 - t));
+        } else {
+          S.update_from[next[s]++] = d;
+        }
+        t = t2;
+      }
+    }
+  }
+}
+
+void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
+  const int32_t n = S.n, ns = S.ns;
+  if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
+  S.a_nnz = A.nnz();
+  S.a_pattern_hash = pattern_hash(A);
+  S.super_etree_height = tree_height(S.super_parent);
+  if (static_cast<int32_t>(S.parent.size()) != n) {  // column etree from the supernodal structure
+    S.parent.assign(n, -1);
+    S.col_count.assign(n, 0);
+    for (int32_t s = 0; s < ns; ++s) {
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      for (int32_t c = f; c < l; ++c) {
+        S.col_count[c] = S.nrows(s) - (c - f);
+        if (c + 1 < l) S.parent[c] = c + 1;
+        else if (S.nrows(s) > S.ncols(s)) S.parent[c] = S.super_rows[S.super_row_ptr[s] + S.ncols(s)];
+      }
+    }
+    S.nnz_exact = 0;
+    for (int32_t c : S.col_count) S.nnz_exact += c;
+    S.etree_height = tree_height(S.parent);
+  }
+  std::vector<int32_t> mark(n, -1);
+  S.max_super_rows = 0;
+  S.max_update_entries = 0;
+  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  S.nnz_L = 0;
+  for (int32_t s = 0; s < ns; ++s) {
+    const int64_t r = S.nrows(s), c = S.ncols(s);
+    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
+    S.nnz_L += r * c - c * (c - 1) / 2;
+    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
+  }
+
+  // (5a) assembly map, grouped by supernode.
+  const int64_t nnzA = A.nnz();
+  S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
+      const int32_t a = S.iperm[A.rowind[p]], b = S.iperm[j];
+      entry_col[p] = std::min(a, b);
+      entry_row[p] = std::max(a, b);
+      ++S.a_super_ptr[S.col_to_super[entry_col[p]] + 1];
+    }
+  for (int32_t s = 0; s < ns; ++s) S.a_super_ptr[s + 1] += S.a_super_ptr[s];
+  S.a_src.resize(nnzA);
+  S.a_dst.resize(nnzA);
+  {
+    std::vector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
+    for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
+  }
+  std::vector<int32_t>& rowpos = mark;  // reuse: row -> local index within the current supernode
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t f = S.super_first_col[s], nr = S.nrows(s);
+    for (int32_t t = 0; t < nr; ++t) rowpos[S.super_rows[S.super_row_ptr[s] + t]] = t;
+    for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k) {
+      const int64_t p = S.a_src[k];
+      const int32_t t = rowpos[entry_row[p]];
+      if (t < 0 || t >= nr || S.super_rows[S.super_row_ptr[s] + t] != entry_row[p])
+        fail(ErrorCode::Internal, "symbolic structure misses entry (" + std::to_string(entry_row[p]) + ", " +
+                                      std::to_string(entry_col[p]) + ") of the matrix");
+      S.a_dst[k] = S.super_value_ptr[s] + static_cast<int64_t>(entry_col[p] - f) * nr + rowpos[entry_row[p]];
+    }
+  }
+
+  compute_update_lists(S);
+
+}
+
+void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
+  auto bad = [](const std::string& what) { fail(ErrorCode::BadInput, "invalid factor structure: " + what); };
+  const int32_t n = S.n, ns = S.ns;
+  if (n < 0 || ns < 0 || ns > n || (n > 0 && ns == 0)) bad("sizes n/ns");
+  if (static_cast<int32_t>(S.perm.size()) != n || static_cast<int32_t>(S.iperm.size()) != n) bad("permutation size");
+  for (int32_t k = 0; k < n; ++k)
+    if (S.perm[k] < 0 || S.perm[k] >= n || S.iperm[S.perm[k]] != k) bad("permutation at " + std::to_string(k));
+  if (static_cast<int32_t>(S.super_first_col.size()) != ns + 1 || S.super_first_col[0] != 0 || S.super_first_col[ns] != n)
+    bad("supernode column ranges");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_first_col[s + 1] <= S.super_first_col[s]) bad("empty supernode " + std::to_string(s));
+  if (static_cast<int32_t>(S.col_to_super.size()) != n) bad("column map size");
+  for (int32_t s = 0; s < ns; ++s)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c)
+      if (S.col_to_super[c] != s) bad("column map at " + std::to_string(c));
+  if (static_cast<int32_t>(S.super_parent.size()) != ns) bad("supernodal etree size");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_parent[s] != -1 && (S.super_parent[s] <= s || S.super_parent[s] >= ns)) bad("supernodal parent of " + std::to_string(s));
+  if (static_cast<int32_t>(S.parent.size()) != n || static_cast<int32_t>(S.col_count.size()) != n) bad("column etree size");
+  for (int32_t j = 0; j < n; ++j)
+    if (S.parent[j] != -1 && (S.parent[j] <= j || S.parent[j] >= n)) bad("column parent of " + std::to_string(j));
+  if (static_cast<int32_t>(S.super_row_ptr.size()) != ns + 1 || S.super_row_ptr[0] != 0 ||
+      S.super_row_ptr[ns] != static_cast<int64_t>(S.super_rows.size()))
+    bad("row pointers");
+  for (int32_t s = 0; s < ns; ++s) {
+    if (S.super_row_ptr[s + 1] - S.super_row_ptr[s] < S.ncols(s)) bad("rows of supernode " + std::to_string(s));
+    const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
+    for (int32_t t = 0; t < S.nrows(s); ++t) {
+      if (t < S.ncols(s) ? rows[t] != S.super_first_col[s] + t : (rows[t] <= rows[t - 1] || rows[t] >= n))
+        bad("row " + std::to_string(t) + " of supernode " + std::to_string(s));
+    }
+  }
+  if (static_cast<int32_t>(S.super_value_ptr.size()) != ns + 1 || S.super_value_ptr[0] != 0) bad("value offsets");
+  for (int32_t s = 0; s < ns; ++s)
+    if (S.super_value_ptr[s + 1] - S.super_value_ptr[s] != static_cast<int64_t>(S.nrows(s)) * S.ncols(s)) bad("value offsets of " + std::to_string(s));
+  if (num_values >= 0 && S.super_value_ptr[ns] != num_values) bad("number of values");
+  // Closure: every row of d at or after a supernode s it reaches is a row of s
+  // (left-looking updates and refactorization index through it).
+  for (int32_t d = 0; d < ns; ++d) {
+    const int32_t* rd = S.super_rows.data() + S.super_row_ptr[d];
+    const int32_t nr = S.nrows(d);
+    for (int32_t t = S.ncols(d); t < nr;) {
+      const int32_t s = S.col_to_super[rd[t]];
+      const int32_t* rs = S.super_rows.data() + S.super_row_ptr[s];
+      int32_t q = 0;
+      for (int32_t u = t; u < nr; ++u) {
+        while (q < S.nrows(s) && rs[q] < rd[u]) ++q;
+        if (q == S.nrows(s) || rs[q] != rd[u]) bad("structure not closed at supernodes " + std::to_string(d) + ", " + std::to_string(s));
+      }
+      while (t < nr && S.col_to_super[rd[t]] == s) ++t;
+    }
+  }
+  if (static_cast<int64_t>(S.a_super_ptr.size()) != ns + 1 || S.a_super_ptr[0] != 0 || S.a_super_ptr[ns] != S.a_nnz ||
+      static_cast<int64_t>(S.a_src.size()) != S.a_nnz || static_cast<int64_t>(S.a_dst.size()) != S.a_nnz)
+    bad("assembly map sizes");
+  for (int32_t s = 0; s < ns; ++s) {
+    if (S.a_super_ptr[s + 1] < S.a_super_ptr[s]) bad("assembly map pointers");
+    for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k)
+      if (S.a_src[k] < 0 || S.a_src[k] >= S.a_nnz || S.a_dst[k] < S.super_value_ptr[s] || S.a_dst[k] >= S.super_value_ptr[s + 1])
+        bad("assembly map entry " + std::to_string(k));
+  }
+}
+
+std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt) {
+  check_lower(A);
+  const int32_t n = A.ncols;
+  if (static_cast<int32_t>(ordering.perm.size()) != n || static_cast<int32_t>(ordering.iperm.size()) != n)
+    fail(ErrorCode::BadUsage, "ordering has " + std::to_string(ordering.perm.size()) + " entries for a matrix of " +
+                                  std::to_string(n) + " columns");
+  for (int32_t k = 0; k < n; ++k) {
+    const int32_t i = ordering.perm[k];
+    if (i < 0 || i >= n || ordering.iperm[i] != k) fail(ErrorCode::BadUsage, "ordering is not a permutation");
+  }
+  auto S = std::make_shared<SymbolicFactor>();
+  S->n = n;
+  S->a_nnz = A.nnz();
+  S->a_pattern_hash = pattern_hash(A);
+
+  // (1) etree in METIS order, then renumber by its postorder.
+  std::vector<int64_t> gptr;
+  std::vector<int32_t> gidx;
+  permuted_graph(A, ordering.iperm, gptr, gidx);
+  std::vector<int32_t> parent0 = elimination_tree(n, gptr, gidx);
+  std::vector<int32_t> post = tree_postorder(parent0);
+  std::vector<int32_t> ipost(n);
+  for (int32_t k = 0; k < n; ++k) ipost[post[k]] = k;
+  S->perm.resize(n);
+  S->iperm.resize(n);
+  for (int32_t k = 0; k < n; ++k) {
+    S->perm[k] = ordering.perm[post[k]];
+    S->iperm[S->perm[k]] = k;
+  }
+  S->parent.resize(n);
+  for (int32_t k = 0; k < n; ++k) {
+    const int32_t p0 = parent0[post[k]];
+    S->parent[k] = p0 < 0 ? -1 : ipost[p0];
+  }
+  parent0.clear();
+  parent0.shrink_to_fit();
+  permuted_graph(A, S->iperm, gptr, gidx);
+
+  // (2) column counts; the postorder is now the identity.
+  for (int32_t k = 0; k < n; ++k) post[k] = k;
+  S->col_count = column_counts(n, gptr, gidx, S->parent, post);
+  S->nnz_exact = 0;
+  for (int32_t c : S->col_count) S->nnz_exact += c;
+  S->etree_height = tree_height(S->parent);
+
+  // (3) supernodes.
+  S->super_first_col = relaxed_supernodes(S->parent, S->col_count, opt);
+  const int32_t ns = S->ns = static_cast<int32_t>(S->super_first_col.size()) - 1;
+  S->col_to_super.resize(n);
+  for (int32_t s = 0; s < ns; ++s)
+    for (int32_t j = S->super_first_col[s]; j < S->super_first_col[s + 1]; ++j) S->col_to_super[j] = s;
+  S->super_parent.resize(ns);
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t p = S->parent[S->super_first_col[s + 1] - 1];
+    S->super_parent[s] = p < 0 ? -1 : S->col_to_super[p];
+  }
+  S->super_etree_height = tree_height(S->super_parent);
+
+  // (4) row structures: own columns, then A's rows below, then the children's rows below.
+  std::vector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
+  for (int32_t s = 0; s < ns; ++s)
+    if (S->super_parent[s] >= 0) ++child_ptr[S->super_parent[s] + 1];
+  for (int32_t s = 0; s < ns; ++s) child_ptr[s + 1] += child_ptr[s];
+  {
+    std::vector<int32_t> next(child_ptr.begin(), child_ptr.end() - 1);
+    for (int32_t s = 0; s < ns; ++s)
+      if (S->super_parent[s] >= 0) children[next[S->super_parent[s]]++] = s;
+  }
+  std::vector<int32_t> mark(n, -1);
+  S->super_row_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  S->super_rows.reserve(static_cast<size_t>(S->nnz_exact / std::max<int64_t>(1, n / std::max(1, ns))) + n);
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t f = S->super_first_col[s], l = S->super_first_col[s + 1];
+    for (int32_t c = f; c < l; ++c) S->super_rows.push_back(c);
+    const size_t below = S->super_rows.size();
+    for (int32_t c = f; c < l; ++c)
+      for (int64_t p = gptr[c]; p < gptr[c + 1]; ++p) {
+        const int32_t r = gidx[p];
+        if (r >= l && mark[r] != s) { mark[r] = s; S->super_rows.push_back(r); }
+      }
+    for (int32_t q = child_ptr[s]; q < child_ptr[s + 1]; ++q) {
+      const int32_t c = children[q];
+      for (int64_t p = S->super_row_ptr[c] + S->ncols(c); p < S->super_row_ptr[c + 1]; ++p) {
+        const int32_t r = S->super_rows[p];
+        if (r >= l && mark[r] != s) { mark[r] = s; S->super_rows.push_back(r); }
+      }
+    }
+    std::sort(S->super_rows.begin() + static_cast<int64_t>(below), S->super_rows.end());
+    S->super_row_ptr[s + 1] = static_cast<int64_t>(S->super_rows.size());
+  }
+  S->super_rows.shrink_to_fit();
+  complete_symbolic(*S, A);
+  return S;
+}
+
+RowStructure row_structure(const SymbolicFactor& S) {
+  RowStructure R;
+  R.row_ptr.assign(static_cast<size_t>(S.n) + 1, 0);
+  for (int32_t s = 0; s < S.ns; ++s) {
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    for (int64_t p = S.super_row_ptr[s]; p < S.super_row_ptr[s + 1]; ++p) {
+      const int32_t r = S.super_rows[p];
+      R.row_ptr[r + 1] += std::min(r, l) - f;  // columns f..min(r,l)-1 of s lie left of row r
+    }
+  }
+  for (int32_t i = 0; i < S.n; ++i) R.row_ptr[i + 1] += R.row_ptr[i];
+  R.cols.resize(static_cast<size_t>(R.row_ptr[S.n]));
+  std::vector<int64_t> next(R.row_ptr.begin(), R.row_ptr.end() - 1);
+  for (int32_t s = 0; s < S.ns; ++s) {  // ascending s and c: each row's columns come out sorted
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    for (int64_t p = S.super_row_ptr[s]; p < S.super_row_ptr[s + 1]; ++p) {
+      const int32_t r = S.super_rows[p];
+      for (int32_t c = f; c < std::min(r, l); ++c) R.cols[next[r]++] = c;
+    }
+  }
+  return R;
+}
+
+}  // namespace locus

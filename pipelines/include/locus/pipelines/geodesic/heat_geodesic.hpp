@@ -1,0 +1,194 @@
+// Heat geodesic distance, whole-mesh and localized to a patch (thesis §6.4.1,
+// eqs. 6.3-6.6, after Crane et al. 2013; localization §6.4.2 with the exact
+// subset solves of chapter 4).
+//
+// prepare (the constructor): t = t_factor * h^2 (h = mean edge length), one
+// METIS ordering and one symbolic factor for the shared pattern, numeric
+// factors of the heat operator M - t L_C (eq. 6.3) and of -L_C + eps M (the
+// regularized Poisson operator of eq. 6.6), per-triangle gradient bases (eq. 6.4).
+// query: heat h = A^{-1} e_source; per triangle X = -grad h / |grad h| (eq. 6.5);
+// integrated divergence b = D X; (-L_C + eps M) d = b (eq. 6.6, the sign of
+// mesh_gradient.hpp); d shifted so that d(source) = 0.
+//
+// Localized query on a patch P (the caller's vertex set, containing the source):
+//  * heat: exact subset solve, support {source}, wanted = P ∪ ring(P) (the
+//    vertices of the triangles touching P) — the same numbers as a full solve;
+//  * divergence: only from the triangles T(P) with at least one vertex in P;
+//  * Poisson: exact subset solve, wanted = P. The right-hand side is where the
+//    approximation lies: the true b also has entries outside P, which the
+//    localized solve cannot know without the heat outside P ∪ ring.
+//    PoissonRhs::Truncated keeps b on P only (the rest treated as zero, §6.4.2
+//    as stated). Its entries do not sum to zero, and the regularized Laplacian
+//    turns the net source into a constant plus a sink spread uniformly over the
+//    whole surface, which bends d inside P (on a unit sphere with a geodesic
+//    disk of radius 0.5: the gradient is off by ~0.12 r).
+//    PoissonRhs::BoundaryFlux (default) uses the divergence of X restricted to
+//    T(P): patch vertices get their complete divergence, ring vertices the
+//    partial one, i.e. the flux of X through the patch boundary. It sums to zero
+//    exactly and, by Gauss' law, leaves a radially symmetric field exact inside
+//    P; what remains is the effect of the divergence outside T(P) on the
+//    Helmholtz projection inside, which is small when X is nearly curl-free.
+//    Both are measured against the full solve in tests/pipelines/heat_geodesic.cpp
+//    and by `locus-bench logmap`.
+// Per-triangle direction (HeatGeodesicOptions::log_heat_gradient, default on):
+// the normalized gradient of log h instead of h. Normalization makes the two
+// equal in the continuum; on the mesh, h falls by a factor ~e per edge at
+// t = h^2, so its piecewise-linear gradient in a triangle leans towards the
+// hottest corner, while log h is nearly linear there. Measured E_d (unit
+// icosphere level 6, geodesic disk of radius 0.5): 3.1e-3 with grad h (Crane
+// et al.), 2.0e-3 with grad log h. Triangles with a non-positive corner value
+// fall back to grad h.
+// Cost of a localized query: the reach of {source} and of P ∪ ring in the
+// etree, plus O(|P| + |ring|) for gradients and divergence; nothing of size n
+// is touched except O(#supernodes) bytes cleared by the plan builder.
+//
+// Several connected components: both operators stay SPD (M regularizes each
+// component's block of the heat operator, eps M that of the Poisson operator),
+// but heat never crosses components, so a vertex in another component than the
+// source has no geodesic path to it: its distance is +infinity (whole-mesh and
+// localized queries alike), never a finite number.
+//
+// Heat values decay like exp(-r / sqrt(t)); beyond ~700 sqrt(t) they underflow
+// to 0, the gradient vanishes and those triangles contribute no direction
+// (Crane et al. note the same limit): keep patches within that radius.
+//
+// Thread safety: after construction every member is const; queries may run
+// concurrently, each thread with its own HeatGeodesicWorkspace.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "locus/kernels/mesh/mesh_gradient.hpp"
+
+namespace locus {
+
+struct HeatGeodesicOptions {
+  double t_factor = 1.0;      // diffusion time t = t_factor * h^2 (Crane et al. recommend 1)
+  double poisson_rel = 1e-6;  // eps of -L_C + eps M, relative (kernels/include/locus/kernels/mesh/mesh_operators.hpp)
+  enum class PoissonRhs { BoundaryFlux, Truncated };
+  PoissonRhs poisson_rhs = PoissonRhs::BoundaryFlux;  // localized queries only, see above
+  bool log_heat_gradient = true;  // direction of grad log h instead of grad h per triangle, see above
+  // Mass matrix of the heat operator: (1 - mass_blend) lumped + mass_blend consistent
+  // (see heat_geodesic.cpp, blend_mass: meant to cancel the leading h^2 / t term
+  // of the discrete decay rate). 0 = the lumped mass of Crane et al. Measured at
+  // 0.5: no gain in the log map's angles (icosphere level 7, vertex 13: E_a
+  // 1.29e-2 against 1.23e-2), so off. The CLI's factor cache labels the heat
+  // factor by t only: a cache made with another mass_blend would be accepted.
+  double mass_blend = 0.0;
+};
+
+// The vertices and triangles a localized query works on. Built by
+// HeatGeodesic::build_region, reset by release_region (the n-sized index array
+// is all -1 between queries, so a query touches only its region).
+struct PatchRegion {
+  int32_t patch_size = 0;
+  std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
+  std::vector<int32_t> faces;      // faces with at least one patch vertex, ascending
+  std::vector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
+  std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
+  std::vector<int32_t> order;      // the patch in ascending vertex order (scratch of build_region)
+  std::vector<uint64_t> bits;      // n bits, all zero between queries (scratch of build_region)
+  std::vector<uint64_t> face_bits;  // one bit per face, all zero between queries (scratch of build_region)
+  bool faces_pending = false;      // face_bits marked, r.faces not built yet (build_region_faces)
+};
+
+struct HeatGeodesicWorkspace {
+  SolveWorkspace heat, poisson;
+  SolvePlan heat_plan, poisson_plan;  // reused across queries: planning allocates nothing once warm
+  PlanWorkspace plan_ws;
+  PatchRegion region;
+  std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
+  std::vector<double> hlb;            // localized divergence: {h, log h, b, pad} per region vertex
+  double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
+};
+
+// The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
+// cache): M - tL_C with t = t_factor h^2 and -L_C + eps M (poisson_rel), on one
+// symbolic factor of this mesh's pattern (HeatGeodesic::operators builds them).
+struct HeatGeodesicFactors {
+  NumericFactor heat, poisson;
+};
+
+class HeatGeodesic {
+ public:
+  // Needs a manifold triangle mesh without zero-area faces, needles (an angle
+  // within 1e-6 rad of 0 or pi; see heat_geodesic.cpp for the measured loss of
+  // accuracy) or unreferenced vertices (Error(BadInput) naming the element
+  // otherwise); boundaries are
+  // allowed (natural boundary conditions). Factorization runs on ctx's threads.
+  explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {});
+  // The same with given factors instead of factoring (Error(BadUsage) when their
+  // size or pattern is not this mesh's; that they hold these t / eps values is the
+  // caller's to check, as the factor cache does with its labels).
+  HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors);
+  // The operators it factors: heat = M - t L_C, poisson = -L_C + eps M; returns t.
+  static double operators(const Mesh& m, const HeatGeodesicOptions& opt, CscMatrix& heat, CscMatrix& poisson);
+
+  int32_t num_vertices() const { return grad_.nv; }
+  double mean_edge_length() const { return h_; }
+  double time() const { return t_; }
+  const HeatGeodesicOptions& options() const { return opt_; }
+  const TriangleGradients& gradients() const { return grad_; }
+  const NumericFactor& heat_factor() const { return heat_; }
+  const NumericFactor& poisson_factor() const { return poisson_; }
+  // Connected component of vertex v (components numbered by their smallest vertex).
+  int32_t component(int32_t v) const { return component_[v]; }
+  int32_t num_components() const { return num_components_; }
+
+  // distance[k] = heat geodesic distance from `source` to patch[k]; `source` must be
+  // in the patch; patch ids distinct and in range (Error(BadUsage) otherwise).
+  void query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,
+             HeatGeodesicWorkspace& ws) const {
+    query(source, patch, distance, ws, opt_.poisson_rhs);
+  }
+  // The same with the Poisson right-hand side chosen per query (for measuring both).
+  void query(int32_t source, std::span<const int32_t> patch, std::span<double> distance, HeatGeodesicWorkspace& ws,
+             HeatGeodesicOptions::PoissonRhs rhs) const;
+  // Whole mesh with full solves: distance has num_vertices() entries.
+  void query_full(int32_t source, std::span<double> distance, HeatGeodesicWorkspace& ws) const;
+
+  // Building blocks shared with the log map (pipelines/include/locus/pipelines/geodesic/logmap.hpp).
+  // with_faces = false leaves r.faces and r.face_local (only the divergence
+  // needs them) to a later build_region_faces, e.g. on another thread while
+  // the solves start; nothing else may touch r in between.
+  void build_region(std::span<const int32_t> patch, PatchRegion& r, bool with_faces = true) const;
+  void build_region_faces(PatchRegion& r) const;
+  void release_region(PatchRegion& r) const;
+  // From heat values at r.verts (h[k] at r.verts[k]) to distances at the patch,
+  // zero at r.verts[source_local]. `heat_plan`, when given, is the exact plan
+  // whose outputs were r.verts (the heat step's): the Poisson plan is then
+  // taken from its backward set instead of walking the etree again
+  // (kernels/include/locus/kernels/solve/solve_plan.hpp, plan_subset_solve_within).
+  void distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
+                          std::span<double> distance, HeatGeodesicWorkspace& ws,
+                          HeatGeodesicOptions::PoissonRhs rhs, const SolvePlan* heat_plan = nullptr) const;
+  // Supernode of each vertex in the shared symbolic factor (for planning).
+  std::span<const int32_t> vertex_supernodes() const { return vertex_super_; }
+  // From heat values at every vertex to distances at every vertex.
+  void distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
+                               HeatGeodesicWorkspace& ws) const;
+
+ private:
+  void prepare(const Mesh& m);  // checks and per-mesh data shared by both constructors
+
+  HeatGeodesicOptions opt_;
+  TriangleGradients grad_;
+  double h_ = 0, t_ = 0;
+  NumericFactor heat_, poisson_;
+  std::vector<int32_t> component_;
+  int32_t num_components_ = 0;
+  // 4 per vertex-face entry (grad_.vf_faces order): that face's corners and the
+  // face itself, so a region walks each patch vertex's faces in one contiguous read.
+  std::vector<int32_t> vf_corners_;
+  std::vector<int32_t> vertex_super_;  // n: supernode of each vertex in the heat factor (solve planning)
+  bool shared_symbolic_ = true;        // both factors have the same supernodes (plans carry over)
+};
+
+}  // namespace locus

@@ -1,0 +1,172 @@
+// Centroidal Voronoi tessellations by Lloyd's method with heat-diffusion cells and
+// centroids, localized (thesis §3.7.1; cells §3.4 eq. 3.18, centroids §3.5 and
+// "Centroids on faces", localization §3.6 Algorithm 2), isotropic or anisotropic.
+//
+// prepare: one factorization of M - t L_C (t = t_factor h^2 or absolute).
+// Anisotropic (lambda > 0): the mesh is scaled to a unit bounding box (largest side
+// 1) and lifted to R^6 by (p, lambda n) with area-weighted vertex normals n; the
+// cotan weights, lumped masses and h of the lifted mesh come from its 6-D edge
+// lengths (cotan_from_lengths below), so cells and centroids follow the metric
+// that also measures normal variation (thesis: lambda = 0.05).
+// iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve;
+// (2) batches of 8 neighboring cells (breadth-first patches of the cell adjacency
+// graph, seeded in Morton order of the sites); per cell, its source (the split
+// triangles of the cell, computed inside the cell's own task from its vertex stars:
+// voronoi_cell_partition.hpp accumulate_cell_load), the heat of that source and its
+// hottest point, refined by the quadratic fit (a oneTBB flow graph: an unlimited
+// function_node solves batches of 8 cells, a serial node stores each centroid in its
+// cell's slot; the new sites are read in cell order). The next labels use the same
+// batches and kept sets (the sites are these cells' centroids).
+// Per-iteration work outside the per-cell tasks, all O(n) but single cheap passes:
+// the labels' top-K arrays and argmax, the cell lists and cell adjacency (one pass
+// over the edges), the Morton order and the batch patches (O(sites)).
+// Centroid refinement: the quadratic is fitted on fit_rings rings of the hottest
+// vertex (the thesis fits one ring; the default 2 averages the piecewise-linear heat
+// over ~19 values instead of ~7, so the centroid jumps less when the hottest vertex
+// changes), then refitted with Gaussian weights of width fit_sigma one-ring
+// distances centered at that first maximizer (heat_centroid.hpp; default 1, 0 = off).
+// Why the refit (measured, armadillo 26k, 1000 sites, 100 iterations, 1 thread):
+// mean smallest dual angle, seeds 1-10, fit_sigma 0 -> 1: 49.81/49.60/50.00/49.70/
+// 49.61/49.63/50.02/49.80/49.45/49.69 -> 50.12/50.20/50.24/49.97/50.38/50.02/49.86/
+// 50.09/49.90/50.38 (seeds 1-5: 49.74 -> 50.18; 9 of 10 seeds higher); minimum angle
+// 20.4-23.5 -> 19.5-23.4 over seeds 1-5 (one triangle in ~1990; not systematic:
+// seed 7 goes 18.8 -> 19.2). The sites' last moves shrink from ~0.055h to ~0.020h per
+// iteration (less jitter at the fixed point); on the same cells (locus-bench cvt-bias,
+// after 60 iterations) the RMS distance of the heat centroid to the cell's area
+// centroid goes 0.157h -> 0.148h, the median 0.068h -> 0.062h. Other meshes, seeds
+// 1/2, 0 -> 1: bunny 37.7k (1450 sites) 50.57/50.67 -> 50.96/50.83; diplodocus 24k
+// (920) 50.99/50.35 -> 51.09/50.97; man 17.5k (670) 43.13/43.15 -> 44.61/44.73;
+// camel 9.8k (375) 44.76/44.73 -> 46.54/46.26. Tried and not kept (same measures):
+// k implicit steps of the centroid diffusion with the same factor (kernel closer to
+// a Gaussian; 2 steps of 4h^2 or of 2h^2: RMS bias 0.188h / 0.158h vs 0.150h, mean
+// angle 49.03 / 49.35 vs 49.81 on seed 1), more fit rings (3: 0.181h, 4: 0.240h),
+// a cubic fit (0.19-0.34h: the true maximum of the discrete heat lies farther from
+// the area centroid than the 2-ring estimate), a damped Lloyd step (0.5 from
+// iteration 0 or 50: 49.17-49.66 on seed 1), searching the maximizer in the next
+// ring's triangles (clamped fits 3.4% -> 0.2%, angles unchanged within noise).
+// Diffusion time: t = kLloydTFactor h^2 = 4h^2 by default (library, engine Session,
+// C API and `locus cvt` alike; the thesis uses h^2, `locus voronoi` keeps h^2).
+// Why (measured, 100 iterations, defaults otherwise): at t = h^2 Lloyd does not
+// converge slowly but stalls: on armadillo (26k vertices, 1000 sites) the mean
+// smallest dual angle is 48.6 deg from iteration ~80 to 300, the sites keep moving
+// 0.07h per iteration and the CVT energy is flat, so acceleration cannot help. With
+// the exact centroids of the same heat cells (diagnostic, not a method here) it stalls
+// at 49.8 (t = h^2), 50.3 (2h^2), 50.5 (4h^2): the cells' bisectors get better with t
+// on irregular meshes, as thesis §3.4 expects ("the approximation is better for larger
+// values of t"), and the heat centroid loses ~0.8 deg to them. Larger centroid times
+// (t_centroid_factor 2..16, or 2-4 implicit steps) and fitting log(u) did not help.
+// Mean dual angle, seeds 1/2, default -> t = 4h^2 with two rings: armadillo 26k
+// (1000 sites, seeds 1-5) 48.75 -> 49.75 mean; bunny 37.7k (1450 sites) 49.17/49.47 ->
+// 50.57/50.67; diplodocus 24k (920) 49.75/49.46 -> 50.99/50.35; man 17.5k (670)
+// 41.87/41.17 -> 43.13/43.15; camel 9.8k (375) 43.96/43.84 -> 44.76/44.73.
+// Localized solver (default): every solve is the approximate selective solve
+// restricted to the union over the batch of the cells, their neighbor cells and
+// their neighbors (from the latest labels; before the first labels, the vertices
+// within a Dijkstra radius of init_radius * sqrt(area / (pi N)) of each site). The full
+// solver does the same arithmetic with full solves, for comparison.
+// After the last iteration the labels of the final sites are computed once more,
+// so `label` and `sites` belong together.
+//
+// Deterministic: seeded initial sites (random_surface_points), order-independent
+// reductions; the result is bit-identical for any ctx.threads. Progress is reported
+// per iteration ("lloyd"); cancellation is polled between work items.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "locus/sparse_matrix.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+
+namespace locus {
+
+// Default diffusion time of the CVT's cells and centroids in units of h^2 (see above).
+inline constexpr double kLloydTFactor = 4.0;
+
+struct LloydOptions {
+  int32_t sites = 100;       // number of generators (random initial sites)
+  int32_t iterations = 10;
+  uint64_t seed = 1;         // initial sites
+  enum class Solver { Local, Full } solver = Solver::Local;
+  double t_factor = kLloydTFactor;  // t = t_factor * h^2 unless t_abs > 0 (thesis §3.7: h^2; see above)
+  double t_abs = 0.0;
+  // Centroid diffusion time as a multiple of h^2 (0: the cells' operator, t above);
+  // a second numeric factor on the same symbolic factor.
+  double t_centroid_factor = 0.0;
+  double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
+  bool refine = true;        // quadratic refinement of centroids (§3.7.1)
+  int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
+  double fit_sigma = 1.0;    // weighted refit of the maximizer (heat_centroid.hpp; 0 = none, as the thesis)
+  double init_radius = 4.0;  // first neighborhoods, in units of sqrt(area / (pi N))
+  // Cell sources from triangles split along the heat bisectors
+  // (pipelines/include/locus/pipelines/voronoi/voronoi_cell_partition.hpp) instead of whole vertex stars.
+  bool split_faces = true;
+  // Count the factor entries the localized solves read (LloydResult::read_fraction);
+  // costs a pass over each plan, so off by default.
+  bool count_reads = false;
+  bool track_quality = false;  // record the dual-angle means of every iteration (LloydResult::mean_angle)
+  // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
+  // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
+  const HeatDiffusion* prepared = nullptr;
+};
+
+struct LloydResult {
+  std::vector<SurfacePoint> sites;
+  std::vector<int32_t> label;     // per vertex, cell of the final sites
+  double h = 0, t = 0;            // in the operator's metric
+  double factor_s = 0;            // operator + ordering + symbolic + numeric
+  int64_t factor_bytes = 0;       // numeric factor values (both factors with t_centroid_factor)
+  double init_s = 0;              // initial sites and first neighborhoods
+  std::vector<double> iter_s;     // per iteration (labels + centroids)
+  double final_labels_s = 0;
+  // Phase totals over the iterations: heat Voronoi labels, cells and split triangles,
+  // per-site neighborhoods (localized), centroid solves and refinement.
+  double labels_s = 0, partition_s = 0, neighborhood_s = 0, centroids_s = 0;
+  // Thread CPU time inside the heat solves alone (solve_heat_batch: planning and the
+  // solve), summed over batches: labels (the final labels included) and centroids.
+  double label_solve_cpu_s = 0, centroid_solve_cpu_s = 0;
+  int64_t unreached = 0;          // labels filled by the breadth-first fallback, all iterations
+  int64_t empty_cells = 0;        // cells without vertices, all iterations (their sites stay)
+  double mean_kept_fraction = 0;  // localized: mean over centroid batches of |kept| / n
+  // With count_reads, localized: mean over batches of the factor entries one solve
+  // reads (kernels/include/locus/kernels/solve/solve_selective.hpp selective_solve_reads) over what a full
+  // solve reads (2 * factor_entries), for the centroid solves and for the label
+  // solves of the same batches; 1 / fraction bounds the local/full speed-up of
+  // the solves when reading the factor is their cost.
+  double centroid_read_fraction = 0, label_read_fraction = 0;
+  // Per iteration, for the labels of that iteration and the sites before the move:
+  // the Euclidean CVT energy sum_v M_vv |x_v - site(label v)|^2 (R^3, lumped mass);
+  // Lloyd with exact centroids never raises it, so it shows convergence.
+  std::vector<double> energy;
+  std::vector<double> cell_area;   // final cells, triangles split along the bisectors, R^3 metric
+  int64_t fallback_faces = 0;      // split triangles cut by vertex labels (heat value missing), all iterations
+  std::vector<double> moved;       // RMS site displacement of the move, in units of h (R^3 mean edge)
+  std::vector<double> mean_angle;  // with track_quality: mean smallest dual angle (deg)
+  std::vector<double> min_angle;   // with track_quality: min smallest dual angle (deg)
+  // Per iteration: RMS over the cells of the distance between the heat centroid and
+  // the area centroid of the same cell (its source: sum_i b_i x_i / sum_i b_i, exact
+  // for the split triangles), tangential (the difference projected off the normal at
+  // the heat centroid), in units of h (R^3 mean edge). Diagnostic of the centroid's bias.
+  std::vector<double> centroid_bias;
+  std::vector<double> centroid_bias_median;  // the median instead of the RMS
+};
+
+// Random initial sites (seeded), then `iterations` Lloyd steps.
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx);
+// The same from given initial sites (opt.sites and opt.seed are ignored).
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const LloydOptions& opt,
+                      const RunContext& ctx);
+
+// Heat operator M - t L of a triangle mesh whose vertex positions are given in
+// `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed
+// from edge lengths only (Heron's area, cot = (a^2 + b^2 - c^2) / 4A), on the
+// lower pattern diagonal + edges. Returns the mass and the mean edge length.
+// Throws BadInput naming the face if a triangle has zero area in that metric.
+CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
+                                       std::vector<double>& mass, double& mean_edge);
+// The R^6 lift (p, lambda n) of the mesh scaled to a unit bounding box (6 per vertex).
+std::vector<double> lifted_positions(const Mesh& m, double lambda);
+
+}  // namespace locus

@@ -1,0 +1,65 @@
+// Natural-neighbor (area-stealing) coordinates on a triangle mesh with heat-diffusion
+// Voronoi cells (thesis §3.7.2; Sibson's coordinates, cells of §3.4 eq. 3.18).
+//
+// b_i(q) = (a_i - ã_i) / a_q: a_i is the area of site i's cell, ã_i its area once q
+// is inserted as an extra site, a_q the area of q's cell. Areas are those of the
+// split-triangle partition (pipelines/voronoi_cell_partition), so coordinates vary
+// continuously with q. Inserting q changes the labels only where q's heat is the
+// largest, and the split only of triangles with such a vertex: the query solves
+// q's heat once (or takes it from the caller, so batches of 8 queries share a solve)
+// and re-splits just those triangles; the sites' heat comes from the prepared
+// top-K lists (one full Voronoi computation at preparation).
+// Properties: b_i >= 0 (tiny negative differences from rounding are clamped and
+// reported), sum b_i = 1 (the partition preserves the total area), b_i(p_j) =
+// delta_ij (a query at a site's position returns the indicator), locality (sites
+// whose cells q does not touch get exactly 0). Linear precision holds in the plane
+// up to the discretization of the cells (thesis: not on curved surfaces).
+// When q's heat is the largest at no vertex (q much closer to a site than the mesh
+// resolves), the result is the indicator of the site whose cell contains q and
+// `degenerate` is set.
+//
+// Thread safety: a prepared NaturalNeighborField is immutable; queries are re-entrant.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+
+namespace locus {
+
+struct NaturalNeighborField {
+  const HeatDiffusion* heat = nullptr;  // not owned; must outlive the field
+  std::vector<SurfacePoint> sites;
+  std::vector<std::array<double, 3>> site_position;
+  HeatVoronoi voronoi;                  // full solves: complete top-K lists
+  std::vector<double> face_area;        // R^3
+  std::vector<int64_t> vf_offsets;      // faces around each vertex (CSR)
+  std::vector<int32_t> vf_faces;
+  std::vector<double> cell_area;        // a_i
+};
+
+// H: the prepared heat operator of m (isotropic); sites: at least one, valid.
+NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mesh& m,
+                                                 std::span<const SurfacePoint> sites, const RunContext& ctx);
+
+struct NaturalCoordinates {
+  std::vector<double> weight;  // one per site
+  double cell_area = 0;        // a_q
+  bool at_site = false;        // q coincides with a site (indicator returned)
+  bool degenerate = false;     // q's cell holds no vertex (indicator of the containing cell)
+  double clamped = 0;          // sum of negative differences set to zero, relative to a_q
+  int64_t fallback_faces = 0;  // re-split triangles lacking a heat value (split by vertex labels)
+};
+
+// heat_q[v]: q's heat (M - tL)^{-1} b(q) at every vertex (size n).
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q, std::span<const double> heat_q);
+// One-shot: solves q's heat itself.
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q);
+
+}  // namespace locus

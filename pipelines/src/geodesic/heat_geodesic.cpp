@@ -1,0 +1,401 @@
+// Heat geodesic distance, whole-mesh and localized (pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp;
+// thesis §6.4.1-6.4.2, eqs. 6.3-6.6).
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "locus/core/bit_set.hpp"
+#include "locus/kernels/simd/log_array.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/kernels/parallel/thread_cpu_time.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+void check_vertex(int32_t v, int32_t n, const char* what) {
+  if (v < 0 || v >= n)
+    fail(ErrorCode::BadUsage, std::string(what) + " " + std::to_string(v) + " is not a vertex (the mesh has " +
+                                  std::to_string(n) + " vertices)");
+}
+
+// Normalized negative gradient of the heat in face k (eq. 6.5); zero where the
+// heat is flat (underflow), so such faces carry no direction.
+// l* = log h* (or NaN where h <= 0, computed once per vertex), used when all three are finite.
+inline void unit_direction(const TriangleGradients& g, int32_t k, double h0, double h1, double h2, const double* l,
+                           double X[3]) {
+  if (l && std::isfinite(l[0] + l[1] + l[2])) g.gradient(k, l[0], l[1], l[2], X);
+  else g.gradient(k, h0, h1, h2, X);
+  const double len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+  const double s = len > 0.0 && std::isfinite(len) ? -1.0 / len : 0.0;
+  for (int c = 0; c < 3; ++c) X[c] *= s;
+}
+
+// A_k grad(phi_s) . X for the three corners of face k.
+inline void corner_divergence(const TriangleGradients& g, int32_t k, const double X[3], double out[3]) {
+  const double* b = g.basis.data() + 9 * static_cast<int64_t>(k);
+  const double a = g.area[k];
+  for (int s = 0; s < 3; ++s) out[s] = a * (b[3 * s] * X[0] + b[3 * s + 1] * X[1] + b[3 * s + 2] * X[2]);
+}
+
+// Needle triangles: an angle within kMinAngle of 0 or pi gives cotangent
+// weights beyond 1 / kMinAngle. The factorizations still succeed, but the
+// distance silently loses all accuracy (measured on a 5x5 planar grid with one
+// needle, max error against the Euclidean distance: 0.105 without the needle,
+// 0.125 at |cot| ~ 3e5, 0.15 at 3e6, 0.23-0.41 at 1e7-3e7, 0.66 at 3e8: the
+// result is then meaningless). Refused by name instead of answered wrongly.
+constexpr double kMinAngle = 1e-6;  // radians
+
+void check_needles(const Mesh& m) {
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+      const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
+      const double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
+      const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
+      const double angle = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ux * wx + uy * wy + uz * wz);
+      if (angle < kMinAngle || angle > M_PI - kMinAngle) {
+        char deg[32];
+        std::snprintf(deg, sizeof deg, "%.3g", angle * 180.0 / M_PI);
+        fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has an angle of " +
+                                      deg + " degrees at vertex " + std::to_string(a) +
+                                      " (a needle): heat geodesic distances lose all accuracy there; remesh or remove it");
+      }
+    }
+  }
+}
+
+// A += beta (M_consistent - M_lumped) on A's pattern (lower CSC, diagonal first
+// in each column). Per triangle of area a: consistent mass a/6 on each corner's
+// diagonal and a/12 per edge, lumped a/3 on the diagonal; rows sums agree, so
+// the total mass is unchanged. Why: on a lattice of spacing h the plane waves
+// exp(k . x) of (M - t L_C) have |k|^2 = (1 - c h^2 / t) / t with lumped mass and
+// (1 + c h^2 / t) / t with the consistent one (1-D: c = 1/12). At t = h^2 that
+// term is a few percent and varies with the local edge length and shape, so the
+// decay rate per unit length varies over the mesh and the heat's paths bend
+// (icosphere: angle errors that grow with the distance, harmonic 2 at the
+// midpoints of the icosahedron's edges); the half-and-half blend cancels it.
+void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
+  if (beta == 0.0) return;
+  auto at = [&](int32_t r, int32_t c) -> double& {
+    if (r < c) std::swap(r, c);
+    for (int64_t q = A.colptr[c]; q < A.colptr[c + 1]; ++q)
+      if (A.rowind[q] == r) return A.values[q];
+    fail(ErrorCode::Internal, "blend_mass: edge (" + std::to_string(r) + ", " + std::to_string(c) + ") not in the pattern");
+  };
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const double ux = m.x[v[1]] - m.x[v[0]], uy = m.y[v[1]] - m.y[v[0]], uz = m.z[v[1]] - m.z[v[0]];
+    const double wx = m.x[v[2]] - m.x[v[0]], wy = m.y[v[2]] - m.y[v[0]], wz = m.z[v[2]] - m.z[v[0]];
+    const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
+    const double area = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+    for (int s = 0; s < 3; ++s) {
+      at(v[s], v[s]) -= beta * area / 6;
+      at(v[s], v[(s + 1) % 3]) += beta * area / 12;
+    }
+  }
+}
+
+}  // namespace
+
+void HeatGeodesic::prepare(const Mesh& m) {
+  const HeatGeodesicOptions& opt = opt_;
+  if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
+    fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
+                                  std::to_string(opt.t_factor) + ")");
+  if (!(opt.poisson_rel > 0) || !std::isfinite(opt.poisson_rel))
+    fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
+  if (!(opt.mass_blend >= 0 && opt.mass_blend <= 1))
+    fail(ErrorCode::BadUsage, "heat geodesic: mass_blend must be in [0, 1] (got " + std::to_string(opt.mass_blend) + ")");
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  check_requirements(m, req);
+  check_needles(m);
+  if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
+  num_components_ = connected_components(m, component_);
+  grad_ = triangle_gradients(m);
+  // Corner records in vertex-face order (see build_region).
+  vf_corners_.resize(4 * grad_.vf_faces.size());
+  for (size_t q = 0; q < grad_.vf_faces.size(); ++q) {
+    for (int s = 0; s < 3; ++s) vf_corners_[4 * q + s] = grad_.tri[3 * static_cast<int64_t>(grad_.vf_faces[q]) + s];
+    vf_corners_[4 * q + 3] = grad_.vf_faces[q];
+  }
+  h_ = locus::mean_edge_length(m);
+  t_ = opt.t_factor * h_ * h_;
+}
+
+double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, CscMatrix& heat, CscMatrix& poisson) {
+  const double h = locus::mean_edge_length(m);
+  const double t = opt.t_factor * h * h;
+  heat = heat_operator(m, t);
+  blend_mass(m, opt.mass_blend, heat);
+  poisson = regularized_laplacian(m, opt.poisson_rel);
+  return t;
+}
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
+  prepare(m);
+  CscMatrix A = heat_operator(m, t_);
+  blend_mass(m, opt.mass_blend, A);
+  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
+  ctx.check_cancel();
+  // Both operators live on the same lower pattern: one ordering, one symbolic factor.
+  const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A, {}, ctx));
+  ctx.check_cancel();
+  heat_ = factorize(S, A, ctx);
+  ctx.check_cancel();
+  poisson_ = factorize(S, P, ctx);
+  vertex_super_ = locus::vertex_supernodes(*S);
+}
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors) : opt_(opt) {
+  prepare(m);
+  const CscMatrix A = heat_operator(m, t_);
+  for (const NumericFactor* F : {&factors.heat, &factors.poisson})
+    if (!F->symbolic || F->n() != m.num_vertices() || F->symbolic->a_pattern_hash != pattern_hash(A) ||
+        !storage_matches_symbolic(*F))
+      fail(ErrorCode::BadUsage, "heat geodesic: a given factor is not one of " + mesh_name(m) + "'s operators");
+  heat_ = std::move(factors.heat);
+  poisson_ = std::move(factors.poisson);
+  // Plans are shared between the two solves only on one supernode structure.
+  shared_symbolic_ = heat_.symbolic.get() == poisson_.symbolic.get() ||
+                     (heat_.symbolic->perm == poisson_.symbolic->perm &&
+                      heat_.symbolic->super_first_col == poisson_.symbolic->super_first_col);
+  vertex_super_ = locus::vertex_supernodes(*heat_.symbolic);
+}
+
+// How many patch vertices (or faces) ahead the region walks prefetch.
+constexpr int32_t kAhead = 8;
+
+void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r, bool with_faces) const {
+  const int32_t n = grad_.nv;
+  if (r.local.size() != static_cast<size_t>(n)) r.local.assign(n, -1);
+  r.verts.clear();
+  r.faces.clear();
+  r.face_local.clear();
+  if (patch.empty()) fail(ErrorCode::BadUsage, "the patch is empty");
+  for (size_t k = 0; k < patch.size(); ++k) {
+    const int32_t v = patch[k];
+    if (k + static_cast<size_t>(kAhead) < patch.size() && static_cast<uint32_t>(patch[k + static_cast<size_t>(kAhead)]) < static_cast<uint32_t>(n))
+      __builtin_prefetch(r.local.data() + patch[k + static_cast<size_t>(kAhead)], 1);
+    if (v < 0 || v >= n || r.local[v] >= 0) {
+      const bool dup = v >= 0 && v < n;
+      release_region(r);
+      fail(ErrorCode::BadUsage, "patch entry " + std::to_string(k) + " is vertex " + std::to_string(v) +
+                                    (dup ? ", listed twice" : ", outside 0.." + std::to_string(n - 1)));
+    }
+    r.local[v] = static_cast<int32_t>(r.verts.size());
+    r.verts.push_back(v);
+  }
+  const int32_t np = static_cast<int32_t>(patch.size());
+  r.patch_size = np;
+  // A face is listed once, by its owner: the patch corner in the lowest corner
+  // slot. The patch is fully marked above, so ownership is decided from the
+  // corner records alone (no per-face marks to set and reset: random writes).
+  auto in_patch = [&](int32_t w) { return static_cast<uint32_t>(r.local[w]) < static_cast<uint32_t>(np); };
+  // Patch vertices lie scattered in memory (a subdivided mesh numbers the new
+  // vertices after the old ones), so each one's records are a cache miss; they
+  // are known in advance and fetched ahead in two stages (offsets, then records).
+  // The walk goes in ascending vertex order (the patch's bits in an n-bit set,
+  // read off word by word), so the per-vertex records are read in memory order:
+  // at 50 % of a 416k mesh the caller's (Dijkstra) order made every vertex a
+  // cache miss. Faces and ring vertices are therefore listed in that order.
+  r.order.clear();
+  if (r.bits.size() != bit_words(n)) r.bits.assign(bit_words(n), 0);
+  if (r.face_bits.size() != bit_words(grad_.nf)) r.face_bits.assign(bit_words(grad_.nf), 0);
+  for (int32_t k = 0; k < np; ++k) set_bit(r.bits, r.verts[k]);
+  append_set_bits(r.bits, r.order);
+  std::fill(r.bits.begin(), r.bits.end(), 0);
+  for (int32_t k = 0; k < np; ++k) {
+    if (k + 2 * kAhead < np) __builtin_prefetch(grad_.vf_offsets.data() + r.order[k + 2 * kAhead]);
+    if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 4 * grad_.vf_offsets[r.order[k + kAhead]]);
+    const int32_t v = r.order[k];
+    for (int64_t q = grad_.vf_offsets[v]; q < grad_.vf_offsets[v + 1]; ++q) {
+      const int32_t* c = vf_corners_.data() + 4 * q;  // the face's corners in slot order, then the face
+      if (c[0] != v && (in_patch(c[0]) || (c[1] != v && in_patch(c[1])))) continue;
+      const int32_t f = c[3];
+      set_bit(r.face_bits, f);
+      for (int s = 0; s < 3; ++s) {
+        const int32_t w = c[s];
+        if (r.local[w] < 0) {
+          r.local[w] = static_cast<int32_t>(r.verts.size());
+          r.verts.push_back(w);
+        }
+      }
+    }
+  }
+  r.faces_pending = true;
+  if (with_faces) build_region_faces(r);
+}
+
+void HeatGeodesic::build_region_faces(PatchRegion& r) const {
+  // Faces in ascending order too: the divergence then reads their gradient
+  // bases (72 bytes each) in memory order.
+  r.faces.clear();
+  append_set_bits(r.face_bits, r.faces);
+  std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
+  r.faces_pending = false;
+  // Corner indices into verts; the corners' entries of `local` are fetched ahead.
+  const size_t nfl = r.faces.size();
+  r.face_local.resize(3 * nfl);
+  for (size_t q = 0; q < nfl; ++q) {
+    if (q + kAhead < nfl) {
+      const int32_t* ta = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q + kAhead]);
+      for (int s = 0; s < 3; ++s) __builtin_prefetch(r.local.data() + ta[s]);
+    }
+    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q]);
+    for (int s = 0; s < 3; ++s) r.face_local[3 * q + s] = r.local[t[s]];
+  }
+}
+
+void HeatGeodesic::release_region(PatchRegion& r) const {
+  // Face marks not yet turned into r.faces (a failure between build_region
+  // without faces and build_region_faces) must not reach the next query.
+  if (r.faces_pending) std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
+  r.faces_pending = false;
+  for (int32_t v : r.verts) r.local[v] = -1;
+  r.verts.clear();
+  r.faces.clear();
+  r.face_local.clear();
+  r.patch_size = 0;
+}
+
+void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
+                                      std::span<double> distance, HeatGeodesicWorkspace& ws,
+                                      HeatGeodesicOptions::PoissonRhs rhs, const SolvePlan* heat_plan) const {
+  const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
+  const bool flux = rhs == HeatGeodesicOptions::PoissonRhs::BoundaryFlux;
+  const bool lg = opt_.log_heat_gradient;
+  ws.logh.resize(static_cast<size_t>(nloc));
+  if (lg) log_array(h.data(), ws.logh.data(), static_cast<size_t>(nloc));  // NaN where h <= 0
+  // Per region vertex {h, log h, b} side by side: faces reach their corners in
+  // no particular region order, and three separate arrays cost three cache
+  // misses per corner (at 50 % of 416k the divergence was half gathers).
+  constexpr int kRec = 4;
+  ws.hlb.resize(static_cast<size_t>(kRec) * nloc);
+  double* hlb = ws.hlb.data();
+  for (int32_t k = 0; k < nloc; ++k) {
+    hlb[kRec * k] = h[k];
+    hlb[kRec * k + 1] = lg ? ws.logh[k] : 0.0;
+    hlb[kRec * k + 2] = 0.0;
+  }
+  const size_t nfl = r.faces.size();
+  for (size_t q = 0; q < nfl; ++q) {
+    if (q + kAhead < nfl) {  // scattered faces: fetch their basis gradients, area and corner records ahead
+      const int32_t fa = r.faces[q + kAhead];
+      __builtin_prefetch(grad_.basis.data() + 9 * static_cast<int64_t>(fa));
+      __builtin_prefetch(grad_.basis.data() + 9 * static_cast<int64_t>(fa) + 8);
+      __builtin_prefetch(grad_.area.data() + fa);
+      for (int s = 0; s < 3; ++s) __builtin_prefetch(hlb + kRec * r.face_local[3 * (q + kAhead) + s], 1);
+    }
+    const int32_t f = r.faces[q];
+    const int32_t l[3] = {r.face_local[3 * q], r.face_local[3 * q + 1], r.face_local[3 * q + 2]};
+    double* c0 = hlb + kRec * l[0];
+    double* c1 = hlb + kRec * l[1];
+    double* c2 = hlb + kRec * l[2];
+    double X[3], d[3];
+    const double lh[3] = {c0[1], c1[1], c2[1]};
+    unit_direction(grad_, f, c0[0], c1[0], c2[0], lg ? lh : nullptr, X);
+    corner_divergence(grad_, f, X, d);
+    double* c[3] = {c0, c1, c2};
+    for (int s = 0; s < 3; ++s)
+      if (flux || l[s] < np) c[s][2] += d[s];
+  }
+  ws.b.resize(static_cast<size_t>(flux ? nloc : np));
+  for (size_t k = 0; k < ws.b.size(); ++k) ws.b[k] = hlb[kRec * k + 2];
+  const double t0 = thread_cpu_seconds();
+  const std::span<const int32_t> support(r.verts.data(), ws.b.size());
+  const std::span<const int32_t> wanted(r.verts.data(), static_cast<size_t>(np));
+  if (heat_plan && shared_symbolic_)
+    plan_subset_solve_within(*poisson_.symbolic, *heat_plan, support, wanted, ws.poisson_plan, ws.plan_ws);
+  else
+    plan_subset_solve(*poisson_.symbolic, shared_symbolic_ ? std::span<const int32_t>(vertex_super_) : std::span<const int32_t>(),
+                      support, wanted, ws.poisson_plan, ws.plan_ws);
+  ws.x.resize(static_cast<size_t>(np));
+  solve_planned(poisson_, ws.poisson_plan, ws.b, ws.x, ws.poisson);
+  ws.poisson_s = thread_cpu_seconds() - t0;
+  const double d0 = ws.x[source_local];
+  const int32_t c = component_[r.verts[source_local]];
+  for (int32_t k = 0; k < np; ++k)
+    distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
+}
+
+void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
+                                           HeatGeodesicWorkspace& ws) const {
+  const int32_t n = grad_.nv;
+  ws.b.assign(static_cast<size_t>(n), 0.0);
+  const bool lg = opt_.log_heat_gradient;
+  if (lg) {
+    ws.logh.resize(static_cast<size_t>(n));
+    log_array(h.data(), ws.logh.data(), static_cast<size_t>(n));  // NaN where h <= 0
+  }
+  for (int32_t f = 0; f < grad_.nf; ++f) {
+    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(f);
+    double X[3], d[3];
+    const double lh[3] = {lg ? ws.logh[t[0]] : 0.0, lg ? ws.logh[t[1]] : 0.0, lg ? ws.logh[t[2]] : 0.0};
+    unit_direction(grad_, f, h[t[0]], h[t[1]], h[t[2]], lg ? lh : nullptr, X);
+    corner_divergence(grad_, f, X, d);
+    for (int s = 0; s < 3; ++s) ws.b[t[s]] += d[s];
+  }
+  ws.x.resize(solve_work_size(poisson_, 1));
+  solve(poisson_, ws.b, ws.x);
+  const double d0 = ws.b[source];
+  const int32_t c = component_[source];
+  for (int32_t i = 0; i < n; ++i)
+    distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
+}
+
+void HeatGeodesic::query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,
+                         HeatGeodesicWorkspace& ws, HeatGeodesicOptions::PoissonRhs rhs) const {
+  check_vertex(source, grad_.nv, "source");
+  if (distance.size() != patch.size())
+    fail(ErrorCode::BadUsage, "heat geodesic: distance has " + std::to_string(distance.size()) +
+                                  " entries for a patch of " + std::to_string(patch.size()));
+  PatchRegion& r = ws.region;
+  build_region(patch, r);
+  const int32_t sl = r.local[source];
+  if (sl < 0 || sl >= r.patch_size) {
+    release_region(r);
+    fail(ErrorCode::BadUsage, "the source vertex " + std::to_string(source) + " is not in the patch");
+  }
+  try {
+    const int32_t src[1] = {source};
+    const double one[1] = {1.0};
+    plan_subset_solve(*heat_.symbolic, vertex_super_, src, r.verts, ws.heat_plan, ws.plan_ws);
+    ws.h.resize(r.verts.size());
+    solve_planned(heat_, ws.heat_plan, one, ws.h, ws.heat);
+    distance_from_heat(r, ws.h, sl, distance, ws, rhs, &ws.heat_plan);
+  } catch (...) {
+    release_region(r);
+    throw;
+  }
+  release_region(r);
+}
+
+void HeatGeodesic::query_full(int32_t source, std::span<double> distance, HeatGeodesicWorkspace& ws) const {
+  const int32_t n = grad_.nv;
+  check_vertex(source, n, "source");
+  if (distance.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "heat geodesic: distance has " + std::to_string(distance.size()) + " entries for " +
+                                  std::to_string(n) + " vertices");
+  std::vector<double>& h = ws.h;
+  h.assign(static_cast<size_t>(n), 0.0);
+  h[source] = 1.0;
+  ws.x.resize(solve_work_size(heat_, 1));
+  solve(heat_, h, ws.x);
+  // distance_from_heat_full reuses ws.b and ws.x, not ws.h.
+  distance_from_heat_full(h, source, distance, ws);
+}
+
+}  // namespace locus

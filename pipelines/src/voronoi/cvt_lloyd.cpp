@@ -1,0 +1,732 @@
+// Lloyd's method with heat-diffusion Voronoi cells and centroids, localized
+// (pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp; thesis §3.7.1, §3.4-3.6), and the R^6 lift of the
+// anisotropic variant.
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <string>
+
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_selective.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
+#include "locus/kernels/parallel/thread_cpu_time.hpp"
+#include "locus/error.hpp"
+#include "locus/pipelines/voronoi/cvt_quality.hpp"
+#include "locus/pipelines/voronoi/heat_centroid.hpp"
+#include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
+
+namespace locus {
+
+CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
+                                       std::vector<double>& mass, double& mean_edge) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
+    fail(ErrorCode::BadUsage, "heat operator from positions: expected " + std::to_string(dim) + " values per vertex");
+  auto len2 = [&](int32_t a, int32_t b) {
+    double s = 0;
+    for (int c = 0; c < dim; ++c) {
+      const double d = pos[static_cast<size_t>(a) * dim + c] - pos[static_cast<size_t>(b) * dim + c];
+      s += d * d;
+    }
+    return s;
+  };
+  mass.assign(n, 0.0);
+  std::vector<int32_t> ii, jj;
+  std::vector<double> vv;
+  ii.reserve(static_cast<size_t>(n) + 3 * static_cast<size_t>(nf));
+  jj.reserve(ii.capacity());
+  vv.reserve(ii.capacity());
+  std::vector<double> diag(n, 0.0);
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    // l2[k]: squared length of the edge opposite corner k.
+    const double l2[3] = {len2(v[1], v[2]), len2(v[2], v[0]), len2(v[0], v[1])};
+    double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+    // Heron in Kahan's stable form (a >= b >= c), exact for needle triangles.
+    std::sort(l, l + 3, std::greater<double>());
+    const double a = l[0], b = l[1], c = l[2];
+    const double q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    const double area = q > 0 ? 0.25 * std::sqrt(q) : 0.0;
+    if (!(area > 0) || !std::isfinite(area))
+      fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has zero area in the lifted metric");
+    for (int k = 0; k < 3; ++k) {
+      mass[v[k]] += area / 3;
+      const int32_t i = v[(k + 1) % 3], j = v[(k + 2) % 3];
+      const double w = 0.5 * (l2[(k + 1) % 3] + l2[(k + 2) % 3] - l2[k]) / (4 * area);  // cot at k, halved
+      ii.push_back(i);
+      jj.push_back(j);
+      vv.push_back(-t * w);
+      diag[i] += t * w;
+      diag[j] += t * w;
+    }
+  }
+  for (int32_t v = 0; v < n; ++v) {
+    ii.push_back(v);
+    jj.push_back(v);
+    vv.push_back(mass[v] + diag[v]);
+  }
+  const Edges e = unique_edges(m);
+  double sum = 0;
+  for (size_t k = 0; k < e.e0.size(); ++k) sum += std::sqrt(len2(e.e0[k], e.e1[k]));
+  mean_edge = e.e0.empty() ? 0.0 : sum / static_cast<double>(e.e0.size());
+  return lower_from_triplets(n, ii, jj, vv);
+}
+
+std::vector<double> lifted_positions(const Mesh& m, double lambda) {
+  const int32_t n = m.num_vertices();
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  const std::vector<double>* X[3] = {&m.x, &m.y, &m.z};
+  for (int c = 0; c < 3; ++c)
+    for (int32_t v = 0; v < n; ++v) {
+      lo[c] = std::min(lo[c], (*X[c])[v]);
+      hi[c] = std::max(hi[c], (*X[c])[v]);
+    }
+  const double side = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(side > 0) || !std::isfinite(side)) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no extent");
+  const std::vector<double> nrm = area_weighted_normals(m);
+  std::vector<double> p(static_cast<size_t>(n) * 6);
+  for (int32_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      p[6 * static_cast<size_t>(v) + c] = ((*X[c])[v] - lo[c]) / side;
+      p[6 * static_cast<size_t>(v) + 3 + c] = lambda * nrm[3 * static_cast<size_t>(v) + c];
+    }
+  return p;
+}
+
+namespace {
+
+// Morton order of the sites' positions: batches of 8 consecutive sites are compact,
+// so the unions of their neighborhoods stay small.
+std::vector<int32_t> spatial_order(const Mesh& m, std::span<const SurfacePoint> sites) {
+  const size_t ns = sites.size();
+  std::vector<std::array<double, 3>> p(ns);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t s = 0; s < ns; ++s) {
+    p[s] = surface_point_position(m, sites[s]);
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], p[s][c]);
+      hi[c] = std::max(hi[c], p[s][c]);
+    }
+  }
+  auto spread = [](uint64_t x) {  // 21 bits -> every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+  };
+  std::vector<std::pair<uint64_t, int32_t>> key(ns);
+  for (size_t s = 0; s < ns; ++s) {
+    uint64_t code = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double ext = hi[c] - lo[c];
+      const double f = ext > 0 ? (p[s][c] - lo[c]) / ext : 0.0;
+      code |= spread(static_cast<uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0)) << c;
+    }
+    key[s] = {code, static_cast<int32_t>(s)};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<int32_t> order(ns);
+  for (size_t s = 0; s < ns; ++s) order[s] = key[s].second;
+  return order;
+}
+
+// Vertices within graph distance `radius` of a surface point (Dijkstra on edge lengths),
+// sorted. Scratch `dist` is all +inf between calls.
+struct DijkstraScratch {
+  std::vector<double> dist;
+  std::vector<int32_t> touched;
+};
+std::vector<int32_t> dijkstra_ball(const Mesh& m, const Adjacency& adj, const SurfacePoint& s, double radius,
+                                   DijkstraScratch& w) {
+  const int32_t n = m.num_vertices();
+  if (w.dist.size() != static_cast<size_t>(n)) w.dist.assign(n, INFINITY);
+  using Entry = std::pair<double, int32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> pq;
+  const auto p = surface_point_position(m, s);
+  int32_t sv[3];
+  double sw[3];
+  const int cnt = surface_point_support(m, s, sv, sw);
+  for (int k = 0; k < cnt; ++k) {
+    const double d = std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
+                               (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2]));
+    if (d < w.dist[sv[k]]) {
+      if (w.dist[sv[k]] == INFINITY) w.touched.push_back(sv[k]);
+      w.dist[sv[k]] = d;
+      pq.push({d, sv[k]});
+    }
+  }
+  std::vector<int32_t> out;
+  while (!pq.empty()) {
+    const auto [d, v] = pq.top();
+    pq.pop();
+    if (d > w.dist[v]) continue;
+    out.push_back(v);
+    for (int64_t q = adj.offsets[v]; q < adj.offsets[v + 1]; ++q) {
+      const int32_t u = adj.neighbors[q];
+      const double e = std::sqrt((m.x[u] - m.x[v]) * (m.x[u] - m.x[v]) + (m.y[u] - m.y[v]) * (m.y[u] - m.y[v]) +
+                                 (m.z[u] - m.z[v]) * (m.z[u] - m.z[v]));
+      const double nd = d + e;
+      if (nd <= radius && nd < w.dist[u]) {
+        if (w.dist[u] == INFINITY) w.touched.push_back(u);
+        w.dist[u] = nd;
+        pq.push({nd, u});
+      }
+    }
+  }
+  for (int32_t v : w.touched) w.dist[v] = INFINITY;
+  w.touched.clear();
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Cells as CSR (vertices ascending within a cell) and the cell adjacency graph.
+struct Cells {
+  std::vector<int64_t> offsets;  // ns + 1
+  std::vector<int32_t> verts;
+  std::vector<int64_t> adj_offsets;
+  std::vector<int32_t> adj;
+};
+Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
+  Cells c;
+  c.offsets.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int32_t l : label) ++c.offsets[l + 1];
+  for (int32_t s = 0; s < ns; ++s) c.offsets[s + 1] += c.offsets[s];
+  c.verts.resize(label.size());
+  std::vector<int64_t> fill(c.offsets.begin(), c.offsets.end() - 1);
+  for (size_t v = 0; v < label.size(); ++v) c.verts[fill[label[v]]++] = static_cast<int32_t>(v);
+  // Cell adjacency: the labels across every edge between two cells, bucketed by
+  // cell (CSR with repeats), then sorted and deduplicated per cell in parallel.
+  std::vector<int64_t> raw_off(static_cast<size_t>(ns) + 1, 0);
+  for (size_t k = 0; k < edges.e0.size(); ++k) {
+    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+    if (a != b) {
+      ++raw_off[a + 1];
+      ++raw_off[b + 1];
+    }
+  }
+  for (int32_t s = 0; s < ns; ++s) raw_off[s + 1] += raw_off[s];
+  std::vector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
+  fill.assign(raw_off.begin(), raw_off.end() - 1);
+  for (size_t k = 0; k < edges.e0.size(); ++k) {
+    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+    if (a != b) {
+      raw[fill[a]++] = b;
+      raw[fill[b]++] = a;
+    }
+  }
+  std::vector<int64_t> count(ns);
+  tbb::parallel_for(0, ns, [&](int32_t s) {
+    auto first = raw.begin() + raw_off[s], last = raw.begin() + raw_off[s + 1];
+    std::sort(first, last);
+    count[s] = std::unique(first, last) - first;
+  });
+  c.adj_offsets.assign(static_cast<size_t>(ns) + 1, 0);
+  for (int32_t s = 0; s < ns; ++s) c.adj_offsets[s + 1] = c.adj_offsets[s] + count[s];
+  c.adj.resize(static_cast<size_t>(c.adj_offsets[ns]));
+  for (int32_t s = 0; s < ns; ++s)
+    std::copy(raw.begin() + raw_off[s], raw.begin() + raw_off[s] + count[s], c.adj.begin() + c.adj_offsets[s]);
+  return c;
+}
+
+// Cell s, its neighbor cells and their neighbors (sorted cell ids), appended to `out`.
+void two_ring_cells(const Cells& c, int32_t s, std::vector<int32_t>& out) {
+  out.push_back(s);
+  for (int64_t p = c.adj_offsets[s]; p < c.adj_offsets[s + 1]; ++p) {
+    const int32_t a = c.adj[p];
+    out.push_back(a);
+    for (int64_t q = c.adj_offsets[a]; q < c.adj_offsets[a + 1]; ++q) out.push_back(c.adj[q]);
+  }
+}
+
+void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<int32_t>& verts) {
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  verts.clear();
+  // Cells are disjoint: the concatenation is already unique (the solve plan needs no order).
+  for (int32_t a : cells) verts.insert(verts.end(), c.verts.begin() + c.offsets[a], c.verts.begin() + c.offsets[a + 1]);
+}
+
+// Batches of 8 cells that are neighbors in the cell adjacency graph, grown
+// breadth-first from the first unassigned cell in Morton order: the union of a
+// batch's two-ring neighborhoods (its kept set) is then close to the two rings
+// around one compact patch of 8 cells rather than around 8 scattered ones.
+std::vector<int32_t> cluster_order(const Cells& c, std::span<const int32_t> morton) {
+  const int32_t ns = static_cast<int32_t>(morton.size());
+  std::vector<int32_t> out, queue;
+  out.reserve(ns);
+  std::vector<uint8_t> taken(ns, 0), queued(ns, 0);
+  size_t next = 0;
+  while (static_cast<int32_t>(out.size()) < ns) {
+    const size_t batch_start = out.size();
+    queue.clear();
+    size_t head = 0;
+    while (out.size() - batch_start < static_cast<size_t>(kLanes) && static_cast<int32_t>(out.size()) < ns) {
+      if (head == queue.size()) {  // patch exhausted: the next unassigned cell in Morton order
+        while (taken[morton[next]]) ++next;
+        queue.push_back(morton[next]);
+        queued[morton[next]] = 1;
+      }
+      const int32_t s = queue[head++];
+      taken[s] = 1;
+      out.push_back(s);
+      for (int64_t p = c.adj_offsets[s]; p < c.adj_offsets[s + 1]; ++p) {
+        const int32_t a = c.adj[p];
+        if (!taken[a] && !queued[a]) {
+          queued[a] = 1;
+          queue.push_back(a);
+        }
+      }
+    }
+    for (int32_t q : queue) queued[q] = 0;
+  }
+  return out;
+}
+
+struct CentroidMsg {
+  int32_t cells[kLanes];
+  HeatCentroid result[kLanes];
+  int lanes = 0;
+  int32_t batch = 0;
+  int64_t kept = 0;
+  int64_t reads = 0, label_reads = 0;  // factor entries read (count_reads)
+  double solve_cpu_s = 0;
+  double energy[kLanes] = {};
+  double area_centroid[kLanes][3] = {};  // sum_i b_i x_i / sum_i b_i of the cell's source
+  int64_t fallback = 0;
+};
+
+// Tangential distance between a surface point and a point off the surface: the
+// difference with its component along the surface normal there removed.
+double tangential_distance(const Mesh& m, const CentroidGeometry& g, const SurfacePoint& p, const double q[3]) {
+  const auto x = surface_point_position(m, p);
+  double nrm[3] = {0, 0, 0};
+  if (p.face >= 0) {
+    const int32_t a = m.f0[p.face], b = m.f1[p.face], c = m.f2[p.face];
+    const double e1[3] = {m.x[b] - m.x[a], m.y[b] - m.y[a], m.z[b] - m.z[a]};
+    const double e2[3] = {m.x[c] - m.x[a], m.y[c] - m.y[a], m.z[c] - m.z[a]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  } else {
+    for (int k = 0; k < 3; ++k) nrm[k] = g.normals[3 * static_cast<size_t>(p.vertex) + k];
+  }
+  const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  double d[3] = {q[0] - x[0], q[1] - x[1], q[2] - x[2]};
+  if (len > 0) {
+    const double dn = (d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2]) / (len * len);
+    for (int k = 0; k < 3; ++k) d[k] -= dn * nrm[k];
+  }
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+struct CentroidScratch {
+  HeatBatch batch;
+  std::vector<double> dense;  // n, zero between uses
+  std::vector<int32_t> cells, touched;
+  std::vector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
+  std::vector<double> weights;
+  std::vector<uint8_t> read_mark;   // count_reads scratch
+  std::vector<int32_t> label_support;
+  SolvePlan label_plan;
+  PlanWorkspace label_pws;
+};
+
+}  // namespace
+
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
+  if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
+  if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
+  if (opt.sites > m.num_vertices())
+    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(opt.sites) + " sites but only " +
+                                  std::to_string(m.num_vertices()) + " vertices (cells cannot be smaller than a vertex)");
+  BatchStopwatch sw;
+  std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
+  const double seed_s = sw.lap();
+  LloydResult r = cvt_lloyd(m, std::move(init), opt, ctx);
+  r.init_s += seed_s;
+  return r;
+}
+
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
+  if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
+    fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
+  if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
+  if (opt.fit_rings < 1 || opt.fit_rings > 4) fail(ErrorCode::BadUsage, "cvt: fit_rings must be 1 to 4");
+  if (!(opt.fit_sigma >= 0) || !std::isfinite(opt.fit_sigma))
+    fail(ErrorCode::BadUsage, "cvt: fit_sigma must be a finite number >= 0");
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  check_requirements(m, req);
+  for (int32_t s = 0; s < ns; ++s) check_surface_point(m, sites[s], "site", s);
+  // Heat never crosses components: a component without a site would have no
+  // cell (and labels of -1). Sites stay in their cell's component, so checking
+  // the initial sites is enough.
+  {
+    std::vector<int32_t> comp;
+    const int32_t nc = connected_components(m, comp);
+    if (nc > 1) {
+      std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
+      for (const SurfacePoint& p : sites) {
+        const int32_t v = p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])];
+        has_site[static_cast<size_t>(comp[v])] = 1;
+      }
+      for (int32_t v = 0; v < n; ++v)
+        if (comp[v] >= 0 && !has_site[static_cast<size_t>(comp[v])])
+          fail(ErrorCode::BadInput, "cvt: the connected component containing vertex " + std::to_string(v) +
+                                        " has no site (the mesh has " + std::to_string(nc) +
+                                        " components; every component needs at least one site)");
+    }
+  }
+  const bool local = opt.solver == LloydOptions::Solver::Local;
+
+  LloydResult r;
+  BatchStopwatch sw;
+  HeatDiffusion H_own;
+  const std::vector<double> area_r3 = face_areas(m);
+  std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
+  // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
+  std::vector<double> lifted;
+  if (opt.anisotropy > 0) lifted = lifted_positions(m, opt.anisotropy);
+  auto build = [&](double t, std::vector<double>& mass, double& h) {
+    if (opt.anisotropy > 0) return heat_operator_from_positions(m, lifted, 6, t, mass, h);
+    mass = lumped_mass(m);
+    h = mean_edge_length(m);
+    return heat_operator(m, t);
+  };
+  if (!(opt.t_abs >= 0) || !std::isfinite(opt.t_abs) ||
+      (opt.t_abs == 0 && (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))))
+    fail(ErrorCode::BadUsage, "cvt: the diffusion time must be a finite positive number");
+  if (!(opt.t_centroid_factor >= 0) || !std::isfinite(opt.t_centroid_factor))
+    fail(ErrorCode::BadUsage, "cvt: the centroid diffusion time must be a finite number >= 0");
+  if (opt.prepared) {
+    if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
+    if (opt.prepared->n != n || opt.prepared->mass.size() != static_cast<size_t>(n))
+      fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
+    area_op = area_r3;
+  } else {
+    std::vector<double> mass;
+    double h = 0;
+    if (opt.anisotropy > 0) {
+      heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);  // h of the lifted metric first
+    } else {
+      h = mean_edge_length(m);
+    }
+    const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
+    const CscMatrix A = build(t, mass, h);
+    area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
+    const double op_s = sw.lap();
+    H_own = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
+    H_own.operator_s = op_s;
+  }
+  const HeatDiffusion& H = opt.prepared ? *opt.prepared : H_own;
+  // Centroids with their own diffusion time: same pattern, so the symbolic factor is shared.
+  HeatDiffusion Hc_own;
+  if (opt.t_centroid_factor > 0) {
+    sw.lap();
+    Hc_own.n = H.n;
+    Hc_own.h = H.h;
+    Hc_own.t = opt.t_centroid_factor * H.h * H.h;
+    double h = 0;
+    const CscMatrix A = build(Hc_own.t, Hc_own.mass, h);
+    Hc_own.factor = factorize(H.factor.symbolic, A, ctx);
+    Hc_own.factor_s = sw.lap();
+  }
+  const HeatDiffusion& Hc = opt.t_centroid_factor > 0 ? Hc_own : H;
+  sw.lap();
+  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + Hc_own.factor_s;
+  r.h = H.h;
+  r.t = H.t;
+  r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + Hc_own.factor.values.size()) * sizeof(double));
+  ctx.check_cancel();
+  const CentroidGeometry geo = prepare_centroid_geometry(m);
+  const Edges edges = unique_edges(m);
+  const VertexStars stars = vertex_stars(m, area_op);
+  ctx.check_cancel();
+  const std::vector<double> mass_r3 = lumped_mass(m);
+  const double h_r3 = mean_edge_length(m);
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
+  const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
+
+  // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
+  std::vector<std::vector<int32_t>> nb;
+  if (local) {
+    const std::vector<double> mass3 = lumped_mass(m);
+    const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
+    const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
+    nb.resize(ns);
+    tbb::enumerable_thread_specific<DijkstraScratch> scratch;
+    in_arena([&] {
+      tbb::parallel_for(0, ns, [&](int32_t s) {
+        if (!ctx.cancelled()) nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local());
+      });
+    });
+    ctx.check_cancel();
+  }
+  r.init_s = sw.lap();
+
+  HeatVoronoi V;
+  Cells cells;
+  tbb::enumerable_thread_specific<CentroidScratch> cscratch;
+  std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
+  // Batches (runs of 8 in `order`) and, localized, each batch's kept set: the union of
+  // its cells and their two rings of neighbor cells. Built by the centroid step from
+  // the labels of this iteration and reused by the next labels (same batches: the
+  // sites are the centroids of these cells), so no neighborhood is built twice.
+  std::vector<int32_t> order;
+  std::vector<std::vector<int32_t>> batch_kept;
+  auto labels_of_sites = [&]() {
+    BatchStopwatch psw;
+    if (order.empty()) order = spatial_order(m, sites);
+    if (local && !batch_kept.empty()) {
+      V = heat_voronoi_batched(H, m, sites, order, batch_kept, ctx);
+    } else {  // first labels: per-site Dijkstra balls (localized) or full solves
+      V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
+                                          : std::span<const std::vector<int32_t>>(),
+                       order, ctx);
+      nb = {};
+    }
+    r.unreached += V.unreached;
+    r.label_solve_cpu_s += V.solve_cpu_s;
+    r.labels_s += psw.lap();
+    for (int32_t v = 0; v < n; ++v)
+      if (V.label[v] < 0)
+        fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
+    in_arena([&] { cells = build_cells(edges, V.label, ns); });
+    r.partition_s += psw.lap();
+  };
+
+  const int64_t full_entries = opt.count_reads ? factor_entries(*H.factor.symbolic) : 0;
+  double centroid_read_sum = 0, label_read_sum = 0;
+  int64_t read_batches = 0;
+  for (int32_t it = 0; it < opt.iterations; ++it) {
+    ctx.check_cancel();
+    BatchStopwatch isw;
+    labels_of_sites();
+    BatchStopwatch psw;
+    // New batches from the new cells (compact patches of the cell graph).
+    order = cluster_order(cells, spatial_order(m, sites));
+    r.neighborhood_s += psw.lap();
+    if (opt.track_quality) {
+      const CvtQuality q = cvt_quality(m, V.label, sites);
+      r.mean_angle.push_back(q.mean_angle_deg);
+      r.min_angle.push_back(q.min_angle_deg);
+    }
+    std::vector<std::array<double, 3>> before(ns);
+    for (int32_t s = 0; s < ns; ++s) before[s] = surface_point_position(m, sites[s]);
+    // Centroids: batches of 8 cells in the sites' spatial order.
+    std::vector<HeatCentroid> cent(ns);
+    std::vector<double> cell_energy(ns, 0.0);
+    std::vector<uint8_t> has(ns, 0);
+    std::vector<double> bias(ns, 0.0);
+    const int32_t nbatch = (ns + kLanes - 1) / kLanes;
+    if (local) batch_kept.assign(nbatch, {});
+    const size_t kept_base = kept_fraction.size();
+    std::vector<int64_t> centroid_reads(nbatch, 0), label_reads(nbatch, 0);
+    kept_fraction.resize(kept_base + nbatch, 0.0);
+    // sum_i b_i x_i / sum_i b_i: the exact area centroid (R^3) of a cell whose load is b
+    // (the hat functions reproduce x on every triangle).
+    auto area_centroid = [&](std::span<const int32_t> ids, std::span<const double> w, double out[3]) {
+      double s = 0, sx = 0, sy = 0, sz = 0;
+      for (size_t k = 0; k < ids.size(); ++k) {
+        s += w[k];
+        sx += w[k] * m.x[ids[k]];
+        sy += w[k] * m.y[ids[k]];
+        sz += w[k] * m.z[ids[k]];
+      }
+      out[0] = s > 0 ? sx / s : 0.0;
+      out[1] = s > 0 ? sy / s : 0.0;
+      out[2] = s > 0 ? sz / s : 0.0;
+    };
+    auto solve = [&](int32_t b) {
+      CentroidScratch& cs = cscratch.local();
+      if (cs.dense.size() != static_cast<size_t>(n)) cs.dense.assign(n, 0.0);
+      auto msg = std::make_shared<CentroidMsg>();
+      HeatBatch& hb = cs.batch;
+      hb.clear_sources();
+      hb.kept.clear();
+      cs.cells.clear();
+      msg->lanes = std::min(kLanes, ns - b * kLanes);
+      msg->batch = b;
+      for (int l = 0; l < msg->lanes; ++l) {
+        const int32_t c = order[b * kLanes + l];
+        msg->cells[l] = c;
+        const std::span<const int32_t> cv(cells.verts.data() + cells.offsets[c],
+                                          static_cast<size_t>(cells.offsets[c + 1] - cells.offsets[c]));
+        {  // Euclidean CVT energy of the cell w.r.t. its current site (diagnostic)
+          const auto p = before[c];
+          double e = 0;
+          for (int32_t v : cv)
+            e += mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
+                               (m.z[v] - p[2]) * (m.z[v] - p[2]));
+          msg->energy[l] = e;
+        }
+        cs.touched.clear();
+        cs.weights.clear();
+        if (opt.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
+          accumulate_cell_load(stars, V, c, cv, cs.dense, cs.touched,
+                               msg->fallback);
+          for (int32_t v : cs.touched) {
+            cs.weights.push_back(cs.dense[v]);
+            cs.dense[v] = 0.0;
+          }
+          hb.add_source(cs.touched, cs.weights);
+          area_centroid(cs.touched, cs.weights, msg->area_centroid[l]);
+        } else {
+          for (int32_t v : cv) cs.weights.push_back(Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
+          hb.add_source(cv, cs.weights);
+          area_centroid(cv, cs.weights, msg->area_centroid[l]);
+        }
+        if (local) two_ring_cells(cells, c, cs.cells);
+      }
+      if (local) {
+        cells_to_vertices(cells, cs.cells, hb.kept);
+        batch_kept[b] = hb.kept;  // this batch's slot: the next labels solve on it
+      }
+      const double c0 = thread_cpu_seconds();
+      solve_heat_batch(Hc, hb);
+      msg->solve_cpu_s = thread_cpu_seconds() - c0;
+      if (opt.count_reads && local) {
+        msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
+        // The next labels' solve of this batch: the sites' supports on the same kept set.
+        cs.label_support.clear();
+        for (int l = 0; l < msg->lanes; ++l) {
+          int32_t sv[3];
+          double sw[3];
+          const int c = surface_point_support(m, sites[order[b * kLanes + l]], sv, sw);
+          cs.label_support.insert(cs.label_support.end(), sv, sv + c);
+        }
+        plan_selective_solve(*H.factor.symbolic, cs.label_support, hb.kept, cs.label_plan, cs.label_pws);
+        msg->label_reads = selective_solve_reads(*H.factor.symbolic, cs.label_plan, cs.read_mark);
+      }
+      msg->kept = hb.count();
+      const int32_t cnt = hb.count();
+      // Hottest vertex of every lane in one pass: largest heat, smallest id on ties (deterministic).
+      int32_t best[kLanes];
+      double bv[kLanes];
+      std::fill(best, best + kLanes, -1);
+      std::fill(bv, bv + kLanes, -INFINITY);
+      for (int32_t k = 0; k < cnt; ++k) {
+        const double* row = hb.values.data() + static_cast<size_t>(k) * kLanes;
+        const int32_t id = hb.id(k);
+        for (int l = 0; l < kLanes; ++l)
+          if (row[l] > bv[l] || (row[l] == bv[l] && id < best[l])) {
+            bv[l] = row[l];
+            best[l] = id;
+          }
+      }
+      // Positions of the kept vertices in the solution (localized): the fits read
+      // their rings through it (-1 = not kept, heat zero).
+      if (local && opt.refine) {
+        if (cs.pos.size() != static_cast<size_t>(n)) cs.pos.assign(n, -1);
+        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = k;
+      }
+      for (int l = 0; l < msg->lanes; ++l) {
+        const int32_t c = msg->cells[l];
+        if (cells.offsets[c + 1] == cells.offsets[c]) {
+          msg->result[l].hottest = -1;  // empty cell: the site stays
+          continue;
+        }
+        if (!opt.refine) {
+          msg->result[l].hottest = best[l];
+          msg->result[l].point = vertex_point(best[l]);
+        } else if (local) {
+          msg->result[l] = refine_heat_maximum(m, geo, hb.values, cs.pos, l, best[l], opt.fit_rings, opt.fit_sigma);
+        } else {
+          for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
+          msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best[l], opt.fit_rings, opt.fit_sigma);
+        }
+      }
+      if (local && opt.refine)
+        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = -1;
+      if (!local) std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
+      return msg;
+    };
+    int64_t fallback = 0;
+    auto store = [&](const std::shared_ptr<CentroidMsg>& msg) {  // one slot per cell: arrival order is irrelevant
+      for (int l = 0; l < msg->lanes; ++l) {
+        cent[msg->cells[l]] = msg->result[l];
+        cell_energy[msg->cells[l]] = msg->energy[l];
+        has[msg->cells[l]] = 1;
+        if (msg->result[l].hottest >= 0)
+          bias[msg->cells[l]] = tangential_distance(m, geo, msg->result[l].point, msg->area_centroid[l]);
+      }
+      fallback += msg->fallback;  // integer: order-independent
+      kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
+      centroid_reads[msg->batch] = msg->reads;
+      r.centroid_solve_cpu_s += msg->solve_cpu_s;
+      label_reads[msg->batch] = msg->label_reads;
+    };
+    psw.lap();
+    run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
+    r.centroids_s += psw.lap();
+    r.fallback_faces += fallback;
+    if (opt.count_reads && local) {  // batch order: deterministic sums
+      const double full = 2.0 * static_cast<double>(full_entries);
+      for (int32_t b = 0; b < nbatch; ++b) {
+        centroid_read_sum += static_cast<double>(centroid_reads[b]) / full;
+        label_read_sum += static_cast<double>(label_reads[b]) / full;
+      }
+      read_batches += nbatch;
+    }
+    r.energy.push_back(std::accumulate(cell_energy.begin(), cell_energy.end(), 0.0));  // fixed cell order
+    {
+      double b2 = 0;
+      for (double b : bias) b2 += b * b;  // fixed cell order
+      r.centroid_bias.push_back(std::sqrt(b2 / ns) / h_r3);
+      std::nth_element(bias.begin(), bias.begin() + ns / 2, bias.end());
+      r.centroid_bias_median.push_back(bias[ns / 2] / h_r3);
+    }
+    for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
+      if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
+      if (cent[s].hottest < 0) {
+        ++r.empty_cells;
+        continue;
+      }
+      sites[s] = cent[s].point;
+    }
+    double mv = 0;
+    for (int32_t s = 0; s < ns; ++s) {
+      const auto p = surface_point_position(m, sites[s]);
+      mv += (p[0] - before[s][0]) * (p[0] - before[s][0]) + (p[1] - before[s][1]) * (p[1] - before[s][1]) +
+            (p[2] - before[s][2]) * (p[2] - before[s][2]);
+    }
+    r.moved.push_back(std::sqrt(mv / ns) / h_r3);
+    r.iter_s.push_back(isw.lap());
+    ctx.report(static_cast<double>(it + 1) / std::max(1, opt.iterations), "lloyd");
+  }
+  ctx.check_cancel();
+  BatchStopwatch fsw;
+  labels_of_sites();
+  r.final_labels_s = fsw.lap();
+  r.label = V.label;
+  in_arena([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
+  r.sites = std::move(sites);
+  if (read_batches > 0) {
+    r.centroid_read_fraction = centroid_read_sum / static_cast<double>(read_batches);
+    r.label_read_fraction = label_read_sum / static_cast<double>(read_batches);
+  }
+  r.mean_kept_fraction = kept_fraction.empty() ? 1.0
+                                              : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /
+                                                    static_cast<double>(kept_fraction.size());
+  return r;
+}
+
+}  // namespace locus

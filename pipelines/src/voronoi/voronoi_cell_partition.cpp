@@ -1,0 +1,321 @@
+// Fractional partition of triangles among heat-Voronoi cells
+// (pipelines/include/locus/pipelines/voronoi/voronoi_cell_partition.hpp; thesis eqs. 3.19-3.21, 3.9-3.11).
+#include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/error.hpp"
+
+namespace locus {
+
+namespace {
+
+// A convex polygon in barycentric coordinates (b1, b2); b0 = 1 - b1 - b2.
+struct Polygon {
+  std::array<std::array<double, 2>, 8> p;  // a triangle clipped twice has at most 5 corners
+  int size = 0;
+};
+
+// Keeps the part where g(b) = g0 b0 + g1 b1 + g2 b2 > 0 (or == 0 when keep_zero).
+Polygon clip(const Polygon& in, const double g[3], bool keep_zero) {
+  Polygon out;
+  auto val = [&](const std::array<double, 2>& q) { return g[0] * (1 - q[0] - q[1]) + g[1] * q[0] + g[2] * q[1]; };
+  auto inside = [&](double v) { return v > 0 || (v == 0 && keep_zero); };
+  for (int i = 0; i < in.size; ++i) {
+    const auto& a = in.p[i];
+    const auto& b = in.p[(i + 1) % in.size];
+    const double ga = val(a), gb = val(b);
+    if (inside(ga)) out.p[out.size++] = a;
+    if (inside(ga) != inside(gb)) {
+      const double s = ga / (ga - gb);  // ga != gb here
+      out.p[out.size++] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])};
+    }
+  }
+  return out;
+}
+
+// Area fraction of the reference triangle (area 1/2) and centroid of a polygon.
+void moments(const Polygon& P, double& fraction, double& c1, double& c2) {
+  double a = 0, x = 0, y = 0;
+  for (int i = 0; i < P.size; ++i) {
+    const auto& p = P.p[i];
+    const auto& q = P.p[(i + 1) % P.size];
+    const double cr = p[0] * q[1] - q[0] * p[1];
+    a += cr;
+    x += (p[0] + q[0]) * cr;
+    y += (p[1] + q[1]) * cr;
+  }
+  fraction = std::max(0.0, a);  // shoelace gives twice the area = the fraction of 1/2
+  if (a > 0) {
+    c1 = x / (3 * a);
+    c2 = y / (3 * a);
+  } else {
+    c1 = c2 = 1.0 / 3;
+  }
+}
+
+struct Entry {
+  int32_t cell, vertex;
+  double w;
+};
+
+double heron(double l2a, double l2b, double l2c) {
+  double l[3] = {std::sqrt(l2a), std::sqrt(l2b), std::sqrt(l2c)};
+  std::sort(l, l + 3, std::greater<double>());
+  const double a = l[0], b = l[1], c = l[2];
+  const double q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+  return q > 0 ? 0.25 * std::sqrt(q) : 0.0;
+}
+
+}  // namespace
+
+namespace {
+
+// Label a's part of the triangle (see split_triangle).
+void split_part(int nl, const int32_t* lab, const double (*u)[3], int a, double& fraction, double* centroid) {
+  Polygon poly;
+  poly.p[0] = {0, 0};
+  poly.p[1] = {1, 0};
+  poly.p[2] = {0, 1};
+  poly.size = 3;
+  for (int b = 0; b < nl && poly.size >= 3; ++b) {
+    if (b == a) continue;
+    const double g[3] = {u[a][0] - u[b][0], u[a][1] - u[b][1], u[a][2] - u[b][2]};
+    poly = clip(poly, g, lab[a] < lab[b]);
+  }
+  double frac = 0, c1 = 1.0 / 3, c2 = 1.0 / 3;
+  if (poly.size >= 3) moments(poly, frac, c1, c2);
+  fraction = frac;
+  centroid[0] = 1 - c1 - c2;
+  centroid[1] = c1;
+  centroid[2] = c2;
+}
+
+// Heat of site s at vertex v from the top-K lists; ok = false when it is not there.
+inline double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
+  const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
+  for (int i = 0; i < kVoronoiTopK; ++i)
+    if (V.top_site[base + i] == s) return V.top_value[base + i];
+  ok = false;
+  return 0.0;
+}
+
+}  // namespace
+
+void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]) {
+  for (int a = 0; a < nl; ++a) split_part(nl, lab, u, a, fraction[a], centroid[a]);
+}
+
+VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": vertex stars need a triangle mesh");
+  if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+  VertexStars st;
+  st.offsets.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++st.offsets[v + 1];
+  for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
+  st.faces.resize(st.offsets[n]);
+  std::vector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
+  return st;
+}
+
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback) {
+  double area = 0;
+  auto add = [&](int32_t v, double w) {
+    if (acc[v] == 0.0) touched.push_back(v);
+    acc[v] += w;
+    area += w;
+  };
+  const size_t nc = cell.size();
+  for (size_t i = 0; i < nc; ++i) {
+    // The cell's vertices are scattered in memory: fetch ahead (offsets 8 vertices
+    // ahead, the star blocks 4 ahead) so the misses overlap instead of stalling.
+    if (i + 8 < nc) __builtin_prefetch(stars.offsets.data() + cell[i + 8]);
+    if (i + 4 < nc) {
+      const StarFace* ahead = stars.faces.data() + stars.offsets[cell[i + 4]];
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 64);
+      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 128);
+    }
+    const int32_t cv = cell[i];
+    for (int64_t p = stars.offsets[cv]; p < stars.offsets[cv + 1]; ++p) {
+      const StarFace& sf = stars.faces[p];
+      const int32_t* v = sf.v;
+      const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+      int first = 0;
+      while (l[first] != c) ++first;  // cv is a corner labelled c
+      if (v[first] != cv) continue;   // visited from its first corner labelled c
+      const double A = sf.area;
+      if (l[0] == l[1] && l[1] == l[2]) {
+        for (int k = 0; k < 3; ++k) add(v[k], A / 3);
+        continue;
+      }
+      int32_t lab[3];
+      int nl = 0, mine = 0;
+      for (int k = 0; k < 3; ++k)
+        if (std::find(lab, lab + nl, l[k]) == lab + nl) {
+          if (l[k] == c) mine = nl;
+          lab[nl++] = l[k];
+        }
+      double u[3][3];
+      bool ok = true;
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k) u[a][k] = top_heat(V, v[k], lab[a], ok);
+      if (!ok) {  // split by vertex labels: the corners labelled c keep their third
+        if (c == *std::min_element(lab, lab + nl)) ++fallback;
+        for (int k = 0; k < 3; ++k)
+          if (l[k] == c) add(v[k], A / 3);
+        continue;
+      }
+      double frac = 0, cen[3];
+      split_part(nl, lab, u, mine, frac, cen);
+      if (frac > 0)
+        for (int k = 0; k < 3; ++k)
+          if (cen[k] > 0) add(v[k], A * frac * cen[k]);
+    }
+  }
+  return area;
+}
+
+std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": face areas need a triangle mesh");
+  if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
+    fail(ErrorCode::BadUsage, "face areas: expected " + std::to_string(dim) + " values per vertex");
+  auto len2 = [&](int32_t a, int32_t b) {
+    double s = 0;
+    for (int c = 0; c < dim; ++c) {
+      const double d = pos[static_cast<size_t>(a) * dim + c] - pos[static_cast<size_t>(b) * dim + c];
+      s += d * d;
+    }
+    return s;
+  };
+  std::vector<double> area(nf);
+  for (int32_t f = 0; f < nf; ++f)
+    area[f] = heron(len2(m.f1[f], m.f2[f]), len2(m.f2[f], m.f0[f]), len2(m.f0[f], m.f1[f]));
+  return area;
+}
+
+std::vector<double> face_areas(const Mesh& m) {
+  std::vector<double> p(3 * static_cast<size_t>(m.num_vertices()));
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    p[3 * static_cast<size_t>(v)] = m.x[v];
+    p[3 * static_cast<size_t>(v) + 1] = m.y[v];
+    p[3 * static_cast<size_t>(v) + 2] = m.z[v];
+  }
+  return face_areas_from_positions(m, p, 3);
+}
+
+CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, const HeatVoronoi& V, int32_t cells) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
+  if (face_area.size() != static_cast<size_t>(nf))
+    fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
+  if (V.label.size() != static_cast<size_t>(n) || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
+    fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
+  if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");
+  for (int32_t v = 0; v < n; ++v)
+    if (V.label[v] < 0 || V.label[v] >= cells)
+      fail(ErrorCode::BadUsage, "cell partition: vertex " + std::to_string(v) + " has label " +
+                                    std::to_string(V.label[v]) + ", outside 0.." + std::to_string(cells - 1));
+  CellPartition P;
+  // Faces in fixed chunks, processed in parallel and concatenated in chunk order:
+  // the result does not depend on the thread count.
+  constexpr int32_t kChunk = 4096;
+  const int32_t nchunks = (nf + kChunk - 1) / kChunk;
+  std::vector<std::vector<Entry>> chunk_entries(nchunks);
+  std::vector<int64_t> chunk_split(nchunks, 0), chunk_fallback(nchunks, 0);
+  tbb::parallel_for(0, nchunks, [&](int32_t ch) {
+    std::vector<Entry>& entries = chunk_entries[ch];
+    entries.reserve(4 * static_cast<size_t>(kChunk));
+    for (int32_t f = ch * kChunk; f < std::min(nf, (ch + 1) * kChunk); ++f) {
+      const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+      const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+      const double A = face_area[f];
+      if (l[0] == l[1] && l[1] == l[2]) {
+        for (int k = 0; k < 3; ++k) entries.push_back({l[0], v[k], A / 3});
+        continue;
+      }
+      ++chunk_split[ch];
+      // Distinct labels and their heat at the three corners.
+      int32_t lab[3];
+      int nl = 0;
+      for (int k = 0; k < 3; ++k)
+        if (std::find(lab, lab + nl, l[k]) == lab + nl) lab[nl++] = l[k];
+      double u[3][3];
+      bool ok = true;
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k) u[a][k] = top_heat(V, v[k], lab[a], ok);
+      if (!ok) {
+        ++chunk_fallback[ch];
+        for (int k = 0; k < 3; ++k) entries.push_back({l[k], v[k], A / 3});
+        continue;
+      }
+      double frac[3], cen[3][3];
+      split_triangle(nl, lab, u, frac, cen);
+      for (int a = 0; a < nl; ++a)
+        for (int k = 0; k < 3; ++k)
+          if (frac[a] > 0 && cen[a][k] > 0) entries.push_back({lab[a], v[k], A * frac[a] * cen[a][k]});
+    }
+  });
+  for (int32_t ch = 0; ch < nchunks; ++ch) {
+    P.split_faces += chunk_split[ch];
+    P.fallback_faces += chunk_fallback[ch];
+  }
+  // Counting sort by cell (chunk order kept), then by vertex within each cell; merge equal vertices.
+  std::vector<int64_t> start(static_cast<size_t>(cells) + 1, 0);
+  for (const auto& entries : chunk_entries)
+    for (const Entry& e : entries) ++start[e.cell + 1];
+  for (int32_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+  std::vector<Entry> sorted(start[cells]);
+  {
+    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    for (const auto& entries : chunk_entries)
+      for (const Entry& e : entries) sorted[fill[e.cell]++] = e;
+  }
+  // Per cell: sort by vertex (then weight) and merge in place (parallel over cells, each cell's
+  // arithmetic in a fixed order), then compact.
+  std::vector<int64_t> kept(cells, 0);
+  P.area.assign(cells, 0.0);
+  tbb::parallel_for(0, cells, [&](int32_t c) {
+    auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];
+    // (vertex, weight) is a total order up to identical entries, so the merged sums
+    // do not depend on how the unstable sort permutes ties.
+    std::sort(first, last, [](const Entry& a, const Entry& b) { return a.vertex != b.vertex ? a.vertex < b.vertex : a.w < b.w; });
+    int64_t w = start[c];
+    double area = 0;
+    for (auto it = first; it != last; ++it) {
+      if (w > start[c] && sorted[w - 1].vertex == it->vertex) {
+        sorted[w - 1].w += it->w;
+      } else {
+        sorted[w++] = *it;
+      }
+      area += it->w;
+    }
+    kept[c] = w - start[c];
+    P.area[c] = area;
+  });
+  P.offsets.assign(static_cast<size_t>(cells) + 1, 0);
+  for (int32_t c = 0; c < cells; ++c) P.offsets[c + 1] = P.offsets[c] + kept[c];
+  P.vertex.resize(P.offsets[cells]);
+  P.load.resize(P.offsets[cells]);
+  for (int32_t c = 0; c < cells; ++c)
+    for (int64_t k = 0; k < kept[c]; ++k) {
+      P.vertex[P.offsets[c] + k] = sorted[start[c] + k].vertex;
+      P.load[P.offsets[c] + k] = sorted[start[c] + k].w;
+    }
+  return P;
+}
+
+}  // namespace locus
