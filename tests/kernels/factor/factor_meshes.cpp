@@ -14,7 +14,7 @@
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/mesh_io.hpp"
-#include "matrix_fixtures.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
 

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "locus/error.hpp"
-#include "matrix_fixtures.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
 

@@ -17,7 +17,7 @@
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/error.hpp"
-#include "matrix_fixtures.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
 

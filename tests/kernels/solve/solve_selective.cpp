@@ -18,7 +18,7 @@
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
-#include "matrix_fixtures.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
 

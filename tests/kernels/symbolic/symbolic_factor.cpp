@@ -9,7 +9,7 @@
 
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/error.hpp"
-#include "matrix_fixtures.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
 
