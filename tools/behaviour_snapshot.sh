@@ -5,9 +5,10 @@
 #
 #   bash tools/behaviour_snapshot.sh BUILD_DIR OUT_DIR        # run one build
 #   bash tools/behaviour_snapshot.sh --compare DIR_A DIR_B    # diff two snapshots
+#   SNAP_ONLY=REGEX bash tools/behaviour_snapshot.sh ...      # only the matching commands, keeping the rest
 #
 # Inputs: cache/meshes/armadillo.off (tools/fetch_meshes.sh) and a polygon mesh
-# (cache/meshes/cube_quad.off). Wall-clock fields are taken out of the JSON
+# (cache/meshes/cube_quad.off, and a generated quad grid). Wall-clock fields are taken out of the JSON
 # (keys ending in _s, "timings", "seconds", throughput rates, peak RSS,
 # "version" and "load", which describe the run, not the result); everything
 # else, and every output file, must be identical. --threads 2 everywhere.
@@ -30,9 +31,15 @@ OUT=${2:?usage: behaviour_snapshot.sh BUILD_DIR OUT_DIR}
 L="$B/locus"
 A=cache/meshes/armadillo.off
 Q=cache/meshes/cube_quad.off
+G=$(mktemp -d)/quad_grid.off  # a 13x13-vertex quad grid with a bump: a polygon disk
+trap 'rm -rf "$(dirname "$G")"' EXIT
+awk 'BEGIN { n = 13; print "OFF"; print n*n, (n-1)*(n-1), 0
+  for (j = 0; j < n; j++) for (i = 0; i < n; i++) { x = i / (n-1) - 0.5; y = j / (n-1) - 0.5
+    printf "%.6f %.6f %.6f\n", x, y, 0.2 * exp(-8 * (x*x + y*y)) + 0.01 * ((i * 7 + j * 3) % 5) / 5 }
+  for (j = 0; j < n-1; j++) for (i = 0; i < n-1; i++) { v = j*n + i; print 4, v, v+1, v+n+1, v+n } }' > "$G"
 [ -x "$L" ] || { echo "no $L" >&2; exit 2; }
 [ -f "$A" ] || { echo "no $A (run tools/fetch_meshes.sh)" >&2; exit 2; }
-rm -rf "$OUT"; mkdir -p "$OUT"
+[ -z "${SNAP_ONLY:-}" ] && rm -rf "$OUT"; mkdir -p "$OUT"
 
 # Drops run-dependent keys from a JSON object (one line on stdin).
 strip_json() {
@@ -50,6 +57,7 @@ print(json.dumps(clean(json.load(sys.stdin)), indent=1, sort_keys=True))'
 
 run() {  # run NAME EXT ARGS...: locus ARGS --json -o OUT/NAME.EXT
   local name=$1 ext=$2; shift 2
+  [[ "$name" =~ ${SNAP_ONLY:-.} ]] || return 0
   local o=()
   [ "$ext" != "-" ] && o=(-o "$OUT/$name.$ext")
   if "$L" "$@" --threads 2 --json "${o[@]}" > "$OUT/$name.raw.json" 2> "$OUT/$name.stderr"; then
@@ -74,12 +82,13 @@ run deform ply deform "$A" --roi-seed 0 --roi-fraction 0.1 --handle 0 --offset 0
 run param_patch ply param "$A" --center 0 --fraction 0.1
 run param_circle ply param "$A" --center 0 --fraction 0.1 --boundary circle
 run adf ply adf "$A" --all
-run hks ply hks "$A" --all
-run heat - heat "$A" --from 0,1,2 --to 100,200
+run hks ply hks "$A" --ts 1h2,10h2,100h2 --all
+run heat - heat "$A" --source 0,1,2 --target 100,200
 run nncoords - nncoords "$A" --sites 0,100,200,300,400,500 --point 10,0.2,0.3,0.5
-run skinweights ply skinweights "$A" --handles 0,5000,10000
+run skinweights ply skinweights cache/meshes/elephant.off --handles 0,100,200
 run perfect_laplacian_quad obj perfect-laplacian "$Q"
 run info_quad - info "$Q"
-run param_quad obj param cache/meshes/quad.off
-run selfsupport_quad obj selfsupport "$Q"
+run param_quad obj param "$G"
+run selfsupport_quad obj selfsupport "$G"
+run perfect_laplacian_grid obj perfect-laplacian "$G"
 echo "behaviour_snapshot: $(ls "$OUT" | wc -l) files"
