@@ -9,8 +9,9 @@
 #
 # Inputs: cache/meshes/armadillo.off (tools/fetch_meshes.sh) and a polygon mesh
 # (cache/meshes/cube_quad.off, and a generated quad grid). Wall-clock fields are taken out of the JSON
-# (keys ending in _s, "timings", "seconds", throughput rates, peak RSS,
-# "version" and "load", which describe the run, not the result); everything
+# (keys ending in _s or _s_all, "timings", "seconds", speedups and iter_ratio,
+# peak RSS, "version" and "load", which describe the run, not the result; the
+# output and temporary paths are replaced by OUT and TMP); everything
 # else, and every output file, must be identical. --threads 2 everywhere.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -45,14 +46,19 @@ awk 'BEGIN { n = 13; print "OFF"; print n*n, (n-1)*(n-1), 0
 strip_json() {
   python3 -c '
 import json, sys
-RUN = {"timings", "seconds", "version", "load", "peak_rss_mb", "rss_mb", "progress_calls"}
+RUN = {"timings", "seconds", "version", "load", "peak_rss_mb", "rss_mb", "progress_calls", "iter_ratio"}
+OUT, TMP = sys.argv[1], sys.argv[2]
+def timing(k):
+    return k in RUN or k.endswith(("_s", "_ms", "_s_all")) or k.startswith(("timing", "speedup"))
 def clean(x):
     if isinstance(x, dict):
-        return {k: clean(v) for k, v in x.items() if not (k in RUN or k.endswith("_s") or k.endswith("_ms") or k.startswith("timing"))}
+        return {k: clean(v) for k, v in x.items() if not timing(k)}
     if isinstance(x, list):
         return [clean(v) for v in x]
+    if isinstance(x, str):
+        return x.replace(OUT, "OUT").replace(TMP, "TMP")
     return x
-print(json.dumps(clean(json.load(sys.stdin)), indent=1, sort_keys=True))'
+print(json.dumps(clean(json.load(sys.stdin)), indent=1, sort_keys=True))' "$OUT" "$(dirname "$G")"
 }
 
 run() {  # run NAME EXT ARGS...: locus ARGS --json -o OUT/NAME.EXT
