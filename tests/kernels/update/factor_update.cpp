@@ -1,12 +1,13 @@
-// Tests for kernels/factor_update (thesis chapter 5): the updated factor L' of
-// A_II against independent oracles — the residual of A_II x = b with A_II
-// assembled here from A by hand; entry-by-entry equality with a from-scratch
+// Tests for the factor-once update, kernels/src/update/factor_update.cpp
+// (thesis chapter 5): the updated factor L' of A_II against independent
+// oracles — the residual of A_II x = b with A_II assembled here from A by hand; entry-by-entry equality with a from-scratch
 // locus factorization of A_II in the same elimination order (the Cholesky factor
 // is unique; entries are compared by vertex pair since a postorder of the
 // elimination tree may move columns); an Eigen SimplicialLLT solve of A_II.
 // Operators: -L_C + eps M and the bi-Laplacian K M^{-1} K (built with Eigen).
 // Sets: BFS patches of 10/25/50%, scattered random sets, single vertex, all
-// vertices, two components, a 2-step cascade; bad sets; a non-positive pivot.
+// vertices, two components, a 2-step cascade; bad sets; a non-positive pivot;
+// non-finite entries (also one met inside the recomputation).
 #include "locus/kernels/update/factor_update.hpp"
 
 #include <Eigen/SparseCholesky>
