@@ -129,8 +129,8 @@ struct Restricted {
 // restricted structure; its size is known once the supernodes are restricted).
 // Only for results of at least FactorUpdateOptions::prefault_min_bytes (32 MB):
 // glibc serves smaller blocks again from the heap, already mapped, while
-// larger ones are always a fresh mapping whose every page faults (~0.45 ms per
-// MB on one thread, and the faults of two threads overlap). Every value is
+// larger ones are always a fresh mapping whose every page faults, and the
+// faults of two threads overlap (costs: docs/factor_update.md). Every value is
 // written again later (copied or recomputed), so what this writes never shows;
 // it stops before anything else writes the values.
 class Prefault {
@@ -159,7 +159,8 @@ class Prefault {
 };
 
 // A structure pass is split over two threads only when it handles at least
-// this many rows: below, waking the second thread could cost what the half saves.
+// this many rows: below, waking the second thread could cost what the half
+// saves (not tuned; docs/factor_update.md).
 constexpr int64_t kSplitRows = int64_t{1} << 14;
 
 // Rows of the global supernodes holding gcol[c0, c1): a bound of their restricted rows.
@@ -177,9 +178,9 @@ int64_t rows_bound(const SymbolicFactor& S, const std::vector<int32_t>& gcol, in
 // gcol[c0, c1) (c0 and c1 at supernode boundaries), in lists of their own
 // (gsuper, first_col and row_ptr without the leading entries, rows, rowpos;
 // rows reserved for `reserve` entries); colpos is written at [c0, c1). The
-// lists live in this call's frame, not beside another thread's: two halves
-// appending to neighboring vectors shared the cache lines of their end
-// pointers, which made the two-thread restriction slower than one thread.
+// lists live in this call's frame, not beside the other half's: vectors side
+// by side share the cache lines of their end pointers (false sharing, see
+// docs/factor_update.md).
 Restricted restrict_range(const SymbolicFactor& S, const std::vector<int32_t>& col_new, const std::vector<int32_t>& gcol,
                           int32_t* colpos, int32_t c0, int32_t c1, int64_t reserve) {
   Restricted H;
@@ -412,12 +413,21 @@ void complete_structure(SymbolicFactor& S, bool two_threads) {
   }
 }
 
+// Error(Numerical) for a non-finite entry of A_II. A type of its own so that
+// the recomputation, whose assembler may raise it, passes it on unchanged
+// instead of renaming it as a pivot failure; update() hands it to the caller
+// as a plain Error.
+class NotFiniteEntry : public Error {
+ public:
+  using Error::Error;
+};
+
 // A non-finite entry of A_II, named by its vertices (local indices a and b,
 // in A's numbering or the caller's ids): a NaN or infinity would pass the
 // pivots silently and poison every solve.
 [[noreturn]] void fail_not_finite(std::span<const int32_t> vertices, std::span<const int32_t> ids, int32_t a, int32_t b) {
   auto nm = [&](int32_t x) { return std::to_string(ids.empty() ? vertices[x] : ids[vertices[x]]); };
-  fail(ErrorCode::Numerical, "submatrix entry of vertices " + nm(a) + " and " + nm(b) + " is not finite");
+  throw NotFiniteEntry(ErrorCode::Numerical, "submatrix entry of vertices " + nm(a) + " and " + nm(b) + " is not finite");
 }
 
 // A_II (lower CSC, local numbering) and the assembly map of the restricted
@@ -612,197 +622,258 @@ FactorUpdate FactorUpdater::update(std::span<const int32_t> I, const RunContext&
   // splits its passes too: run the whole update in the arena once instead of
   // entering it for every parallel step.
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
-  if (threads < 2 || ap_ptr_.empty()) return update_impl(I, ctx, false);
+  try {
+    if (threads < 2 || ap_ptr_.empty()) return update_impl(I, ctx, false);
+    FactorUpdate out;
+    run_with_threads(threads, [&] { out = update_impl(I, ctx, true); });
+    return out;
+  } catch (const NotFiniteEntry& e) {
+    throw Error(e);  // callers see the library's one exception type
+  }
+}
+
+// One call of update(I). The steps hand each other the result being built, I's
+// factor columns, the restricted structure and the marks; they run in the order
+// update_impl lists. The destructor leaves the updater's maps all -1 / 0 again
+// however the call ends (a refused set, a failed pivot, a cancellation).
+struct FactorUpdater::Call {
+  using clock = std::chrono::steady_clock;
+
+  Call(FactorUpdater& updater, std::span<const int32_t> set, const RunContext& context, bool two)
+      : u(updater), L(updater.L_), S(*updater.L_.symbolic), opt(updater.opt_), I(set), ctx(context),
+        two_threads(two), prepared(!updater.ap_ptr_.empty()), borrow(updater.lender_ != nullptr) {}
+  Call(const Call&) = delete;
+  Call& operator=(const Call&) = delete;
+  ~Call();
+
+  void plan();
+  void copy_whole();
+  void list_factor_columns();
+  void refactor_fresh();
+  void restrict_to_set();
+  std::shared_ptr<SymbolicFactor> restricted_symbolic();
+  void finish_prepared();
+  void finish_one_shot();
+  void mark_and_copy();
+  void mark_changed();
+  void walk(int32_t c);
+  void count_marked();
+  void lay_out_borrowed();
+  void copy_unmarked();
+  void copy_supernodes(int32_t s0, int32_t s1);
+  void extract_submatrix();
+  void assemble_direct(int32_t s, int32_t c0, int32_t c1, double* block, const int32_t* rowmap) const;
+  void refactor_marked(const SupernodeAssembler* direct);
+  template <class Factorize>
+  void factor_naming_vertices(const SymbolicFactor& Sf, Factorize&& run);
+  int32_t local_of(int32_t v) const;
+
+  FactorUpdater& u;
+  const NumericFactor& L;
+  const SymbolicFactor& S;  // L's
+  const FactorUpdateOptions& opt;
+  const std::span<const int32_t> I;
+  const RunContext& ctx;
+  const bool two_threads;  // see update_impl
+  const bool prepared;     // index_rows: row index and A in factor order
+  const bool borrow;       // sharing form
+  const clock::time_point t0 = clock::now();
   FactorUpdate out;
-  run_with_threads(threads, [&] { out = update_impl(I, ctx, true); });
-  return out;
+  FactorUpdateStats& st = out.stats;
+  int32_t m = 0;              // |I|
+  std::vector<int32_t> gcol;  // I's factor columns, ascending
+  bool cbits_clear = false;   // cbits_ cleared from gcol already (sequential, unlike iperm of I)
+  bool maps_filled = false;   // col_new_ and in_super_ were set for gcol
+  Restricted R;                         // the restricted structure, with positions in L's blocks
+  std::shared_ptr<SymbolicFactor> Sp;   // the result's symbolic factor
+  std::vector<uint8_t> cmark, smark;    // marked columns / supernodes of Sp
+};
+
+FactorUpdater::Call::~Call() {
+  const int32_t n = static_cast<int32_t>(u.local_.size());
+  for (const int32_t v : I)
+    if (v >= 0 && v < n) {
+      if (!prepared) u.local_[v] = -1;  // only the one-shot path fills the map
+      u.vbits_[static_cast<size_t>(v) >> 6] = 0;
+      if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
+    }
+  if (maps_filled)
+    for (const int32_t c : gcol) {
+      u.col_new_[c] = -1;
+      u.in_super_[S.col_to_super[c]] = 0;
+    }
 }
 
 FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunContext& ctx, bool two_threads) {
-  using clock = std::chrono::steady_clock;
-  const NumericFactor& L = L_;
-  const CscMatrix& A = A_;
-  const FactorUpdateOptions& opt = opt_;
-  const SymbolicFactor& S = *L.symbolic;
-  const int32_t n = S.n;
   if (I.empty()) fail(ErrorCode::BadUsage, "update_factor: the vertex set is empty");
-  auto name = [&](int32_t v) { return std::to_string(opt.vertex_ids.empty() ? v : opt.vertex_ids[v]); };
-
-  const auto t0 = clock::now();
-  std::vector<int32_t>& local = local_;
-  std::vector<int32_t>& col_new = col_new_;
-  FactorUpdate out;
-  std::vector<int32_t> gcol;  // I's factor columns, ascending
-  // Leave the maps all -1 / 0 again however this call ends.
-  struct Reset {
-    FactorUpdater& u;
-    std::span<const int32_t> I;
-    const std::vector<int32_t>& gcol;
-    const SymbolicFactor& S;
-    bool cbits_clear = false;  // cleared from gcol already (sequential, unlike iperm of I)
-    bool maps_filled = false;  // col_new_ and in_super_ were set for gcol
-    ~Reset() {
-      const int32_t n = static_cast<int32_t>(u.local_.size());
-      for (const int32_t v : I)
-        if (v >= 0 && v < n) {
-          if (u.ap_ptr_.empty()) u.local_[v] = -1;  // only the one-shot path fills the map
-          u.vbits_[static_cast<size_t>(v) >> 6] = 0;
-          if (!cbits_clear) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] = 0;
-        }
-      if (maps_filled)
-        for (const int32_t c : gcol) {
-          u.col_new_[c] = -1;
-          u.in_super_[S.col_to_super[c]] = 0;
-        }
+  Call call(*this, I, ctx, two_threads);
+  call.plan();
+  if (call.m == L_.symbolic->n) {
+    call.copy_whole();
+  } else {
+    call.list_factor_columns();
+    if (call.st.touched_share < opt_.refactor_below_share) {
+      call.refactor_fresh();
+    } else {
+      call.restrict_to_set();
+      if (call.prepared) call.finish_prepared();
+      else call.finish_one_shot();
     }
-  } reset{*this, I, gcol, S};
-  // Sorted I and its sorted factor columns, from bit sets: O(m + n/64).
+  }
+  return std::move(call.out);
+}
+
+// Local index of a vertex of I = its rank in the bit set: a popcount over a
+// prefix table of n/64 entries, which stays in cache where the n-sized map
+// (random in vertex order) does not. The gather of A_II from A (one-shot
+// path) still uses the map.
+int32_t FactorUpdater::Call::local_of(int32_t v) const {
+  const size_t wi = static_cast<size_t>(v) >> 6;
+  return u.vrank_[wi] + std::popcount(u.vbits_[wi] & ((uint64_t{1} << (v & 63)) - 1));
+}
+
+// Runs a factorization of A_II. A numerical failure (a pivot) is re-raised
+// naming the vertex in A's numbering; a non-finite entry (NotFiniteEntry, from
+// the direct assembler) names its vertices already and passes unchanged.
+template <class Factorize>
+void FactorUpdater::Call::factor_naming_vertices(const SymbolicFactor& Sf, Factorize&& run) {
+  try {
+    run();
+  } catch (const NotFiniteEntry&) {
+    throw;
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::Numerical) throw;
+    rethrow_numerical(e, Sf, out.vertices, opt.vertex_ids);
+  }
+}
+
+// Checks I and sorts it, with its factor columns, through bit sets: O(m + n/64).
+void FactorUpdater::Call::plan() {
+  const int32_t n = S.n;
+  auto name = [&](int32_t v) { return std::to_string(opt.vertex_ids.empty() ? v : opt.vertex_ids[v]); };
   for (size_t a = 0; a < I.size(); ++a) {
     const int32_t v = I[a];
     if (v < 0 || v >= n)
       fail(ErrorCode::BadUsage, "update_factor: vertex " + std::to_string(v) + " (entry " + std::to_string(a) +
                                     ") is out of range [0, " + std::to_string(n) + ")");
-    uint64_t& w = vbits_[static_cast<size_t>(v) >> 6];
+    uint64_t& w = u.vbits_[static_cast<size_t>(v) >> 6];
     const uint64_t bit = uint64_t{1} << (v & 63);
     if (w & bit) fail(ErrorCode::BadUsage, "update_factor: vertex " + name(v) + " appears twice in the set");
     w |= bit;
   }
-  const int32_t m = static_cast<int32_t>(I.size());
+  m = static_cast<int32_t>(I.size());
   out.vertices.reserve(m);
-  append_set_bits(vbits_, out.vertices);
+  append_set_bits(u.vbits_, out.vertices);
   // Factor columns from the sorted vertices: iperm is then read in ascending
   // order (prefetchable) instead of in I's order (a cache miss per vertex).
-  for (const int32_t v : out.vertices) cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
-  const bool prepared = !ap_ptr_.empty();
-  // Local index of a vertex of I = its rank in the bit set: a popcount over a
-  // prefix table of n/64 entries, which stays in cache where the n-sized map
-  // (random in vertex order) does not. The gather of A_II from A (one-shot
-  // path) still uses the map.
-  for (size_t wi = 0, r = 0; wi < vbits_.size(); ++wi) {
-    vrank_[wi] = static_cast<int32_t>(r);
-    r += static_cast<size_t>(std::popcount(vbits_[wi]));
+  for (const int32_t v : out.vertices) u.cbits_[static_cast<size_t>(S.iperm[v]) >> 6] |= uint64_t{1} << (S.iperm[v] & 63);
+  for (size_t wi = 0, r = 0; wi < u.vbits_.size(); ++wi) {  // the rank table of local_of
+    u.vrank_[wi] = static_cast<int32_t>(r);
+    r += static_cast<size_t>(std::popcount(u.vbits_[wi]));
   }
-  auto local_of = [&](int32_t v) {
-    const size_t wi = static_cast<size_t>(v) >> 6;
-    return vrank_[wi] + std::popcount(vbits_[wi] & ((uint64_t{1} << (v & 63)) - 1));
-  };
   if (!prepared)
-    for (int32_t a = 0; a < m; ++a) local[out.vertices[a]] = a;
-  FactorUpdateStats& st = out.stats;
+    for (int32_t a = 0; a < m; ++a) u.local_[out.vertices[a]] = a;
   st.n = n;
   st.n_sub = m;
+}
 
-  if (m == n) {  // nothing is removed: L is the factor (same numbering)
-    out.A_sub = A;
-    st.supernodes = S.ns;
-    st.values_stored = S.super_value_ptr[S.ns];
-    if (lender_) {  // every block is borrowed
-      out.factor.symbolic = L.symbolic;
-      out.factor.borrowed.resize(S.ns);
-      for (int32_t s = 0; s < S.ns; ++s) out.factor.borrowed[s] = L.block(s);
-      out.factor.own_offset.assign(S.ns, -1);
-      out.factor.lender = lender_;
-      st.values_borrowed = st.values_stored;
-    } else {
-      out.factor = L;  // (with its borrowed blocks and their lender, if L borrows)
-    }
-    st.nnz_stored = S.nnz_L;
-    st.copied_whole = true;
-    st.copy_s = seconds_since(t0);
-    return out;
+// I = all indices: nothing is removed, L is the factor (same numbering).
+void FactorUpdater::Call::copy_whole() {
+  out.A_sub = u.A_;
+  st.supernodes = S.ns;
+  st.values_stored = S.super_value_ptr[S.ns];
+  if (borrow) {  // every block is borrowed
+    out.factor.symbolic = L.symbolic;
+    out.factor.borrowed.resize(S.ns);
+    for (int32_t s = 0; s < S.ns; ++s) out.factor.borrowed[s] = L.block(s);
+    out.factor.own_offset.assign(S.ns, -1);
+    out.factor.lender = u.lender_;
+    st.values_borrowed = st.values_stored;
+  } else {
+    out.factor = L;  // (with its borrowed blocks and their lender, if L borrows)
   }
+  st.nnz_stored = S.nnz_L;
+  st.copied_whole = true;
+  st.copy_s = seconds_since(t0);
+}
 
-  // (1) Restricted structure, in L's order.
+// I's factor columns, ascending (gcol), and the share of the columns of the
+// global supernodes holding them that I keeps (which chooses the fresh path).
+void FactorUpdater::Call::list_factor_columns() {
   gcol.reserve(m);
-  append_set_bits(cbits_, gcol);
-  for (const int32_t c : gcol) cbits_[static_cast<size_t>(c) >> 6] = 0;
-  reset.cbits_clear = true;
-  {
-    int64_t touched = 0;  // columns of the global supernodes that hold I's columns
-    for (int32_t c = 0, prev = -1; c < m; ++c) {
-      const int32_t s = S.col_to_super[gcol[c]];
-      if (s != prev) touched += S.ncols(s);
-      prev = s;
-    }
-    st.touched_share = static_cast<double>(m) / static_cast<double>(touched);
+  append_set_bits(u.cbits_, gcol);
+  for (const int32_t c : gcol) u.cbits_[static_cast<size_t>(c) >> 6] = 0;
+  cbits_clear = true;
+  int64_t touched = 0;  // columns of the global supernodes that hold I's columns
+  for (int32_t c = 0, prev = -1; c < m; ++c) {
+    const int32_t s = S.col_to_super[gcol[c]];
+    if (s != prev) touched += S.ncols(s);
+    prev = s;
   }
-  if (st.touched_share < opt.refactor_below_share) {
-    // A scattered set: A_II from scratch, in L's relative order (I's factor columns ascending).
-    // Membership and rank from the bit set (n/64 words, in cache), not the n-sized map.
-    out.A_sub = submatrix_with(A, out.vertices,
-                               [&](int32_t v) { return (vbits_[static_cast<size_t>(v) >> 6] >> (v & 63)) & 1 ? local_of(v) : -1; });
-    for (int32_t a = 0; a < m; ++a)
-      for (int64_t p = out.A_sub.colptr[a]; p < out.A_sub.colptr[a + 1]; ++p)
-        if (!std::isfinite(out.A_sub.values[p])) fail_not_finite(out.vertices, opt.vertex_ids, out.A_sub.rowind[p], a);
-    Ordering order;
-    order.perm.resize(m);
-    order.iperm.resize(m);
-    for (int32_t c = 0; c < m; ++c) {
-      order.perm[c] = local_of(S.perm[gcol[c]]);
-      order.iperm[order.perm[c]] = c;
-    }
-    auto Sx = analyze(out.A_sub, order);
-    st.structure_s = seconds_since(t0);
-    const auto t3 = clock::now();
-    try {
-      out.factor = factorize(Sx, out.A_sub, ctx);
-    } catch (const Error& e) {
-      if (e.code() != ErrorCode::Numerical) throw;  // (A_II's entries were checked above)
-      rethrow_numerical(e, *Sx, out.vertices, opt.vertex_ids);
-    }
-    st.factor_s = seconds_since(t3);
-    st.refactored = true;
-    st.supernodes = st.supernodes_recomputed = Sx->ns;
-    st.columns_marked = st.columns_recomputed = m;
-    st.columns_updated_fraction = 1.0;
-    st.values_stored = st.values_recomputed = Sx->super_value_ptr[Sx->ns];
-    st.nnz_stored = Sx->nnz_L;
-    st.flops_recomputed = Sx->flops();
-    return out;
+  st.touched_share = static_cast<double>(m) / static_cast<double>(touched);
+}
+
+// A scattered set (touched_share below refactor_below_share): A_II analysed and
+// factored from scratch, in L's relative order (I's factor columns ascending).
+// Membership and rank come from the bit set (n/64 words, in cache), not the
+// n-sized map; the column map and per-supernode counts are never filled.
+void FactorUpdater::Call::refactor_fresh() {
+  out.A_sub = submatrix_with(u.A_, out.vertices, [&](int32_t v) {
+    return (u.vbits_[static_cast<size_t>(v) >> 6] >> (v & 63)) & 1 ? local_of(v) : -1;
+  });
+  for (int32_t a = 0; a < m; ++a)
+    for (int64_t p = out.A_sub.colptr[a]; p < out.A_sub.colptr[a + 1]; ++p)
+      if (!std::isfinite(out.A_sub.values[p])) fail_not_finite(out.vertices, opt.vertex_ids, out.A_sub.rowind[p], a);
+  Ordering order;
+  order.perm.resize(m);
+  order.iperm.resize(m);
+  for (int32_t c = 0; c < m; ++c) {
+    order.perm[c] = local_of(S.perm[gcol[c]]);
+    order.iperm[order.perm[c]] = c;
   }
-  // The column map and per-supernode counts (not needed by the fresh path above).
-  reset.maps_filled = true;
+  auto Sx = analyze(out.A_sub, order);
+  st.structure_s = seconds_since(t0);
+  const auto t3 = clock::now();
+  factor_naming_vertices(*Sx, [&] { out.factor = factorize(Sx, out.A_sub, ctx); });
+  st.factor_s = seconds_since(t3);
+  st.refactored = true;
+  st.supernodes = st.supernodes_recomputed = Sx->ns;
+  st.columns_marked = st.columns_recomputed = m;
+  st.columns_updated_fraction = 1.0;
+  st.values_stored = st.values_recomputed = Sx->super_value_ptr[Sx->ns];
+  st.nnz_stored = Sx->nnz_L;
+  st.flops_recomputed = Sx->flops();
+}
+
+// (1) The restricted structure in L's order (then postordered if needed), the
+// result's storage and its symbolic factor; the one-shot path also gathers
+// A_II here (the prepared one extracts it beside the later steps).
+void FactorUpdater::Call::restrict_to_set() {
+  std::vector<int32_t>& col_new = u.col_new_;
+  maps_filled = true;
   for (int32_t c = 0; c < m; ++c) {
     col_new[gcol[c]] = c;
-    ++in_super_[S.col_to_super[gcol[c]]];
+    ++u.in_super_[S.col_to_super[gcol[c]]];
   }
-  Restricted R = restrict_structure(S, col_new, gcol, two_threads);
-  NumericFactor& F = out.factor;
+  R = restrict_structure(S, col_new, gcol, two_threads);
   int64_t values_total = 0;
   for (int32_t s = 0; s < R.ns; ++s)
     values_total += (R.row_ptr[s + 1] - R.row_ptr[s]) * (R.first_col[s + 1] - R.first_col[s]);
   // The result's storage, sized once: the postorder below permutes the
   // supernodes but keeps their total. Not initialized (DefaultInitAllocator).
   // A borrowing update sizes its own blocks after marking instead.
-  const bool borrow = lender_ != nullptr;
-  if (!borrow) F.values.resize(static_cast<size_t>(values_total));
-  Prefault prefault(F.values.data(), values_total,
+  if (!borrow) out.factor.values.resize(static_cast<size_t>(values_total));
+  Prefault prefault(out.factor.values.data(), values_total,
                     !borrow && two_threads &&
                         values_total * static_cast<int64_t>(sizeof(double)) >= opt.prefault_min_bytes);
   st.reordered = postorder_in_place(R, two_threads);
   if (st.reordered)
     for (int32_t c = 0; c < m; ++c) col_new[R.gcol[c]] = c;
-
-  auto Sp = std::make_shared<SymbolicFactor>();
-  Sp->n = m;
-  Sp->perm.resize(m);
-  Sp->iperm.resize(m);
-  for (int32_t c = 0; c < m; ++c) {
-    Sp->perm[c] = local_of(S.perm[R.gcol[c]]);
-    Sp->iperm[Sp->perm[c]] = c;
-  }
-  Sp->ns = R.ns;
-  Sp->super_first_col = R.first_col;
-  Sp->col_to_super.resize(m);
-  for (int32_t s = 0; s < R.ns; ++s)
-    for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) Sp->col_to_super[c] = s;
-  Sp->super_parent = R.parent;
-  Sp->super_row_ptr = R.row_ptr;
-  Sp->super_rows = std::move(R.rows);  // R keeps row_ptr/rowpos for the copy
+  Sp = restricted_symbolic();
   if (prepared) {
-    complete_structure(*Sp, two_threads);  // A_II and its assembly map come below, next to marking and copying
+    complete_structure(*Sp, two_threads);  // A_II and its assembly map come later, beside marking and copying
   } else {
-    out.A_sub = submatrix_from_map(A, out.vertices, local);
+    out.A_sub = submatrix_from_map(u.A_, out.vertices, u.local_);
     complete_symbolic(*Sp, out.A_sub);  // value offsets, assembly map, update lists, column etree
   }
   st.supernodes = Sp->ns;
@@ -810,206 +881,253 @@ FactorUpdate FactorUpdater::update_impl(std::span<const int32_t> I, const RunCon
   st.values_stored = Sp->super_value_ptr[Sp->ns];
   st.structure_s = seconds_since(t0);
   ctx.check_cancel();
-
-  // Marking, copying and (with the prepared updater) the recomputation do not
-  // read A_II: they run beside its extraction (independent outputs, so the
-  // result does not depend on the threads).
   prefault.stop();  // before anything else writes the values
-  std::vector<uint8_t> cmark(m, 0), smark(Sp->ns, 0);
-  auto mark_and_copy = [&] {
-    // (2) Marking (§5.5): the changed columns are the ancestors, in the
-    // restricted etree, of the first I-row of every column of L_IB. All I-rows of
-    // a column lie on one etree path, so starting from every I-row of a B column
-    // marks the same set, and those rows are found from the I side in time that
-    // depends on I: an I column is such a row when a B column precedes it in its
-    // own supernode, or when a supernode with a B column has it among its rows
-    // below the diagonal block (below_super_ lists those per row).
-    const auto t1 = clock::now();
-    auto walk = [&](int32_t c) {
-      for (; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
-        cmark[c] = 1;
-        ++st.columns_marked;
-        smark[Sp->col_to_super[c]] = 1;
-      }
-    };
-    for (size_t q = 0; q < gcol.size();) {
-      const int32_t s = S.col_to_super[gcol[q]];
-      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-      size_t q2 = q;
-      while (q2 < gcol.size() && gcol[q2] < l) ++q2;
-      for (size_t t = q; t < q2; ++t)
-        if (gcol[t] - f > static_cast<int32_t>(t - q)) {  // fewer I columns than positions before it: a B column
-          walk(col_new[gcol[t]]);
-          break;  // the later columns of s are its ancestors
-        }
-      q = q2;
-    }
-    if (below_ptr_.empty()) {
-      // Without the row index (one-shot updates): scan the rows of every global
-      // supernode with a B column for its first I-row — O(structure of L), still
-      // cheaper than building the index for a single update.
-      for (int32_t s = 0; s < S.ns; ++s) {
-        if (in_super_[s] == S.ncols(s)) continue;  // no column of s is in B
-        const int64_t r0 = S.super_row_ptr[s] + S.ncols(s);
-        for (int64_t t = r0; t < S.super_row_ptr[s + 1]; ++t)
-          if (col_new[S.super_rows[t]] >= 0) {
-            walk(col_new[S.super_rows[t]]);
-            break;  // its later I-rows are ancestors of this one
-          }
-      }
-    }
-    for (const int32_t c : gcol) {
-      if (below_ptr_.empty() || cmark[col_new[c]]) continue;
-      for (int64_t p = below_ptr_[c]; p < below_ptr_[c + 1]; ++p) {
-        const int32_t d = below_super_[p];
-        if (in_super_[d] < S.ncols(d)) {
-          walk(col_new[c]);
-          break;
-        }
-      }
-    }
-    for (int32_t s = 0; s < Sp->ns; ++s)
-      if (smark[s]) {
-        ++st.supernodes_recomputed;
-        st.columns_recomputed += Sp->ncols(s);
-        st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
-        st.flops_recomputed += Sp->flops(s);
-      }
-    st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
-    F.symbolic = Sp;
-    if (borrow) {
-      // An unmarked supernode that keeps every row and column of its global
-      // supernode has exactly that block (same rows, same order, same values):
-      // borrow it. The others (recomputed, or restricted) are own blocks.
-      F.borrowed.assign(Sp->ns, nullptr);
-      F.own_offset.assign(Sp->ns, -1);
-      int64_t own = 0;
-      for (int32_t s = 0; s < Sp->ns; ++s) {
-        const int32_t gs = R.gsuper[s];
-        const int64_t size = Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
-        if (!smark[s] && Sp->ncols(s) == S.ncols(gs) && Sp->nrows(s) == S.nrows(gs)) {
-          F.borrowed[s] = L.block(gs);
-          st.values_borrowed += size;
-        } else {
-          F.own_offset[s] = own;
-          own += size;
-        }
-      }
-      F.values.resize(static_cast<size_t>(own));
-      F.lender = lender_;
-    }
-    st.mark_s = seconds_since(t1);
-    ctx.check_cancel();
+}
 
-    // (3) Copy the unmarked supernodes' restricted blocks from L.
-    const auto t2 = clock::now();
-    auto copy_range = [&](int32_t s0, int32_t s1) {
-      for (int32_t s = s0; s < s1; ++s) {
-        if (smark[s] || (borrow && F.borrowed[s])) continue;
-        const int32_t gs = R.gsuper[s];
-        const int64_t gm = S.nrows(gs);
-        const double* src = L.block(gs);
-        double* dst = F.block(s);
-        const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
-        const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
-        // Kept rows that are one run of the global rows (a supernode inside the
-        // patch) are copied as runs, the others gathered.
-        const bool run = rp[mr - 1] - rp[0] == mr - 1;
-        for (int32_t j = 0; j < k; ++j) {
-          const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
-          double* dc = dst + static_cast<int64_t>(j) * mr;
-          for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
-          if (run) {
-            const double* sr = sc + rp[0];
-            for (int32_t t = j; t < mr; ++t) dc[t] = sr[t];
-          } else {
-            for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
-          }
-        }
-      }
-    };
-    // Threads only pay off for large copies (a gather, memory-bound), except in
-    // the prepared two-thread update: there the other thread extracts A_II
-    // meanwhile and takes over part of the copy once it is done (work stealing;
-    // each supernode is copied by one thread, so the result is the same).
-    const int64_t copied = st.values_stored - st.values_recomputed - st.values_borrowed;
-    const bool steal = two_threads && copied >= (int64_t{1} << 16);
-    if (!steal && copied < (int64_t{1} << 22)) {
-      copy_range(0, Sp->ns);
-    } else {
-      in_arena(ctx, [&](int) {
-        tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64),
-                          [&](const tbb::blocked_range<int32_t>& rg) { copy_range(rg.begin(), rg.end()); });
-      });
-    }
-    st.copy_s = seconds_since(t2);
-  };
-  if (prepared) {
-    auto assemble = [&] {
-      if (!opt.submatrix) return;
-      const auto ta = clock::now();
-      assemble_from_factor_order(*Sp, R.gcol, col_new, ap_ptr_, ap_row_, ap_val_, out.vertices, opt.vertex_ids,
-                                 out.A_sub);
-      st.assemble_s = seconds_since(ta);
-      st.structure_s += st.assemble_s;
-    };
-    // The recomputed supernodes are assembled straight from the copy of A in
-    // factor order (the same entries A_II's map would place), so that they
-    // need not wait for A_II.
-    const SupernodeAssembler direct = [&](int32_t s, int32_t c0, int32_t c1, double* block, const int32_t* rowmap) {
-      const int32_t f = Sp->super_first_col[s], nr = Sp->nrows(s);
-      for (int32_t c = f + c0; c < f + c1; ++c) {
-        const int32_t gc = R.gcol[c];
-        double* col = block + static_cast<int64_t>(c - f) * nr;
-        for (int64_t p = ap_ptr_[gc]; p < ap_ptr_[gc + 1]; ++p) {
-          const int32_t r = col_new[ap_row_[p]];
-          if (r < 0) continue;
-          const double v = ap_val_[p];
-          if (!std::isfinite(v)) {  // as A_II's extraction reports it (whichever comes first)
-            const int32_t a = Sp->perm[r], b = Sp->perm[c];
-            fail_not_finite(out.vertices, opt.vertex_ids, std::max(a, b), std::min(a, b));
-          }
-          col[rowmap[r]] = v;
-        }
-      }
-    };
-    auto mark_copy_factor = [&] {
-      mark_and_copy();
-      const auto t3 = clock::now();
-      if (st.supernodes_recomputed > 0) {
-        try {
-          factorize_supernodes_assembled(F, smark, direct, ctx);
-        } catch (const Error& e) {
-          if (e.code() != ErrorCode::Numerical || std::string(e.what()).find("not finite") != std::string::npos) throw;
-          rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);
-        }
-      }
-      st.factor_s = seconds_since(t3);
-    };
-    const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
-    if (threads >= 2) {
-      in_arena(ctx, [&](int) { tbb::parallel_invoke(assemble, mark_copy_factor); });
-    } else {
-      mark_copy_factor();
-      assemble();
-    }
-    return out;
+// The symbolic factor of A_II from R: perm in local indices, supernodes, rows
+// (moved out of R, which keeps row_ptr and rowpos for the copy).
+std::shared_ptr<SymbolicFactor> FactorUpdater::Call::restricted_symbolic() {
+  auto F = std::make_shared<SymbolicFactor>();
+  F->n = m;
+  F->perm.resize(m);
+  F->iperm.resize(m);
+  for (int32_t c = 0; c < m; ++c) {
+    F->perm[c] = local_of(S.perm[R.gcol[c]]);
+    F->iperm[F->perm[c]] = c;
   }
+  F->ns = R.ns;
+  F->super_first_col = R.first_col;
+  F->col_to_super.resize(m);
+  for (int32_t s = 0; s < R.ns; ++s)
+    for (int32_t c = R.first_col[s]; c < R.first_col[s + 1]; ++c) F->col_to_super[c] = s;
+  F->super_parent = R.parent;
+  F->super_row_ptr = R.row_ptr;
+  F->super_rows = std::move(R.rows);
+  return F;
+}
+
+// Prepared updater: marking, copying and the recomputation do not read A_II,
+// so they run beside its extraction (independent outputs: the result does not
+// depend on the threads). The recomputed supernodes are assembled straight
+// from the copy of A in factor order (the entries A_II's map would place), so
+// that they need not wait for A_II.
+void FactorUpdater::Call::finish_prepared() {
+  const SupernodeAssembler direct = [this](int32_t s, int32_t c0, int32_t c1, double* block, const int32_t* rowmap) {
+    assemble_direct(s, c0, c1, block, rowmap);
+  };
+  auto mark_copy_factor = [&] {
+    mark_and_copy();
+    refactor_marked(&direct);
+  };
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  if (threads >= 2) {
+    in_arena(ctx, [&](int) { tbb::parallel_invoke([&] { extract_submatrix(); }, mark_copy_factor); });
+  } else {
+    mark_copy_factor();
+    extract_submatrix();
+  }
+}
+
+// One-shot updater: A_II was gathered with the structure.
+void FactorUpdater::Call::finish_one_shot() {
   mark_and_copy();
   ctx.check_cancel();
+  refactor_marked(nullptr);
+}
 
-  // (4) Recompute the marked supernodes (left-looking, skipping the others).
-  const auto t3 = clock::now();
-  if (st.supernodes_recomputed > 0) {
-    try {
-      factorize_supernodes(F, out.A_sub, smark, ctx);
-    } catch (const Error& e) {
-      if (e.code() != ErrorCode::Numerical) throw;
-      rethrow_numerical(e, *Sp, out.vertices, opt.vertex_ids);
+// (2) marking, then (3) each unmarked supernode copied from L or borrowed.
+void FactorUpdater::Call::mark_and_copy() {
+  const auto t1 = clock::now();
+  mark_changed();
+  count_marked();
+  out.factor.symbolic = Sp;
+  if (borrow) lay_out_borrowed();
+  st.mark_s = seconds_since(t1);
+  ctx.check_cancel();
+  const auto t2 = clock::now();
+  copy_unmarked();
+  st.copy_s = seconds_since(t2);
+}
+
+// Marks the etree path from restricted column c up to the first marked column.
+void FactorUpdater::Call::walk(int32_t c) {
+  for (; c >= 0 && !cmark[c]; c = Sp->parent[c]) {
+    cmark[c] = 1;
+    ++st.columns_marked;
+    smark[Sp->col_to_super[c]] = 1;
+  }
+}
+
+// (2) Marking (§5.5): the changed columns are the ancestors, in the restricted
+// etree, of the first I-row of every column of L_IB. All I-rows of a column lie
+// on one etree path, so starting from every I-row of a B column marks the same
+// set, and those rows are found from the I side in time that depends on I: an I
+// column is such a row when a B column precedes it in its own supernode, or
+// when a supernode with a B column has it among its rows below the diagonal
+// block (below_super_ lists those per row).
+void FactorUpdater::Call::mark_changed() {
+  const std::vector<int32_t>& col_new = u.col_new_;
+  cmark.assign(m, 0);
+  smark.assign(Sp->ns, 0);
+  for (size_t q = 0; q < gcol.size();) {
+    const int32_t s = S.col_to_super[gcol[q]];
+    const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+    size_t q2 = q;
+    while (q2 < gcol.size() && gcol[q2] < l) ++q2;
+    for (size_t t = q; t < q2; ++t)
+      if (gcol[t] - f > static_cast<int32_t>(t - q)) {  // fewer I columns than positions before it: a B column
+        walk(col_new[gcol[t]]);
+        break;  // the later columns of s are its ancestors
+      }
+    q = q2;
+  }
+  if (u.below_ptr_.empty()) {
+    // Without the row index (one-shot updates): scan the rows of every global
+    // supernode with a B column for its first I-row — O(structure of L), still
+    // cheaper than building the index for a single update.
+    for (int32_t s = 0; s < S.ns; ++s) {
+      if (u.in_super_[s] == S.ncols(s)) continue;  // no column of s is in B
+      const int64_t r0 = S.super_row_ptr[s] + S.ncols(s);
+      for (int64_t t = r0; t < S.super_row_ptr[s + 1]; ++t)
+        if (col_new[S.super_rows[t]] >= 0) {
+          walk(col_new[S.super_rows[t]]);
+          break;  // its later I-rows are ancestors of this one
+        }
     }
   }
+  for (const int32_t c : gcol) {
+    if (u.below_ptr_.empty() || cmark[col_new[c]]) continue;
+    for (int64_t p = u.below_ptr_[c]; p < u.below_ptr_[c + 1]; ++p) {
+      const int32_t d = u.below_super_[p];
+      if (u.in_super_[d] < S.ncols(d)) {
+        walk(col_new[c]);
+        break;
+      }
+    }
+  }
+}
+
+// The work the marks imply (FactorUpdateStats).
+void FactorUpdater::Call::count_marked() {
+  for (int32_t s = 0; s < Sp->ns; ++s)
+    if (smark[s]) {
+      ++st.supernodes_recomputed;
+      st.columns_recomputed += Sp->ncols(s);
+      st.values_recomputed += Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+      st.flops_recomputed += Sp->flops(s);
+    }
+  st.columns_updated_fraction = static_cast<double>(st.columns_recomputed) / m;
+}
+
+// Sharing form: an unmarked supernode that keeps every row and column of its
+// global supernode has exactly that block (same rows, same order, same values):
+// borrow it. The others (recomputed, or restricted) are own blocks.
+void FactorUpdater::Call::lay_out_borrowed() {
+  NumericFactor& F = out.factor;
+  F.borrowed.assign(Sp->ns, nullptr);
+  F.own_offset.assign(Sp->ns, -1);
+  int64_t own = 0;
+  for (int32_t s = 0; s < Sp->ns; ++s) {
+    const int32_t gs = R.gsuper[s];
+    const int64_t size = Sp->super_value_ptr[s + 1] - Sp->super_value_ptr[s];
+    if (!smark[s] && Sp->ncols(s) == S.ncols(gs) && Sp->nrows(s) == S.nrows(gs)) {
+      F.borrowed[s] = L.block(gs);
+      st.values_borrowed += size;
+    } else {
+      F.own_offset[s] = own;
+      own += size;
+    }
+  }
+  F.values.resize(static_cast<size_t>(own));
+  F.lender = u.lender_;
+}
+
+// (3) Copies the unmarked, not borrowed supernodes' restricted blocks from L.
+// Threads only pay off for large copies (a gather, memory-bound), except in the
+// prepared two-thread update: there the other thread extracts A_II meanwhile
+// and takes over part of the copy once it is done (work stealing; each
+// supernode is copied by one thread, so the result is the same).
+void FactorUpdater::Call::copy_unmarked() {
+  const int64_t copied = st.values_stored - st.values_recomputed - st.values_borrowed;
+  const bool steal = two_threads && copied >= (int64_t{1} << 16);
+  if (!steal && copied < (int64_t{1} << 22)) {
+    copy_supernodes(0, Sp->ns);
+  } else {
+    in_arena(ctx, [&](int) {
+      tbb::parallel_for(tbb::blocked_range<int32_t>(0, Sp->ns, 64),
+                        [&](const tbb::blocked_range<int32_t>& rg) { copy_supernodes(rg.begin(), rg.end()); });
+    });
+  }
+}
+
+void FactorUpdater::Call::copy_supernodes(int32_t s0, int32_t s1) {
+  NumericFactor& F = out.factor;
+  for (int32_t s = s0; s < s1; ++s) {
+    if (smark[s] || (borrow && F.borrowed[s])) continue;
+    const int32_t gs = R.gsuper[s];
+    const int64_t gm = S.nrows(gs);
+    const double* src = L.block(gs);
+    double* dst = F.block(s);
+    const int32_t k = Sp->ncols(s), mr = Sp->nrows(s), f = Sp->super_first_col[s];
+    const int32_t* rp = R.rowpos.data() + R.row_ptr[s];
+    // Kept rows that are one run of the global rows (a supernode inside the
+    // patch) are copied as runs, the others gathered.
+    const bool run = rp[mr - 1] - rp[0] == mr - 1;
+    for (int32_t j = 0; j < k; ++j) {
+      const double* sc = src + static_cast<int64_t>(R.colpos[f + j]) * gm;
+      double* dc = dst + static_cast<int64_t>(j) * mr;
+      for (int32_t t = 0; t < j; ++t) dc[t] = 0.0;  // unused upper triangle, kept defined
+      if (run) {
+        const double* sr = sc + rp[0];
+        for (int32_t t = j; t < mr; ++t) dc[t] = sr[t];
+      } else {
+        for (int32_t t = j; t < mr; ++t) dc[t] = sc[rp[t]];
+      }
+    }
+  }
+}
+
+// Prepared updater: A_II and its assembly map (FactorUpdateOptions::submatrix).
+void FactorUpdater::Call::extract_submatrix() {
+  if (!opt.submatrix) return;
+  const auto ta = clock::now();
+  assemble_from_factor_order(*Sp, R.gcol, u.col_new_, u.ap_ptr_, u.ap_row_, u.ap_val_, out.vertices, opt.vertex_ids,
+                             out.A_sub);
+  st.assemble_s = seconds_since(ta);
+  st.structure_s += st.assemble_s;
+}
+
+// Prepared updater: columns [c0, c1) of marked supernode s assembled from the
+// copy of A in factor order (a SupernodeAssembler).
+void FactorUpdater::Call::assemble_direct(int32_t s, int32_t c0, int32_t c1, double* block,
+                                          const int32_t* rowmap) const {
+  const int32_t f = Sp->super_first_col[s], nr = Sp->nrows(s);
+  for (int32_t c = f + c0; c < f + c1; ++c) {
+    const int32_t gc = R.gcol[c];
+    double* col = block + static_cast<int64_t>(c - f) * nr;
+    for (int64_t p = u.ap_ptr_[gc]; p < u.ap_ptr_[gc + 1]; ++p) {
+      const int32_t r = u.col_new_[u.ap_row_[p]];
+      if (r < 0) continue;
+      const double v = u.ap_val_[p];
+      if (!std::isfinite(v)) {  // as A_II's extraction reports it (whichever comes first)
+        const int32_t a = Sp->perm[r], b = Sp->perm[c];
+        fail_not_finite(out.vertices, opt.vertex_ids, std::max(a, b), std::min(a, b));
+      }
+      col[rowmap[r]] = v;
+    }
+  }
+}
+
+// (4) Recomputes the marked supernodes (left-looking, skipping the others),
+// assembled by `direct` (prepared) or from A_II (one-shot).
+void FactorUpdater::Call::refactor_marked(const SupernodeAssembler* direct) {
+  const auto t3 = clock::now();
+  if (st.supernodes_recomputed > 0)
+    factor_naming_vertices(*Sp, [&] {
+      if (direct) factorize_supernodes_assembled(out.factor, smark, *direct, ctx);
+      else factorize_supernodes(out.factor, out.A_sub, smark, ctx);
+    });
   st.factor_s = seconds_since(t3);
-  return out;
 }
 
 }  // namespace locus

@@ -1,12 +1,13 @@
-// Tests for kernels/factor_update (thesis chapter 5): the updated factor L' of
-// A_II against independent oracles — the residual of A_II x = b with A_II
-// assembled here from A by hand; entry-by-entry equality with a from-scratch
+// Tests for the factor-once update, kernels/src/update/factor_update.cpp
+// (thesis chapter 5): the updated factor L' of A_II against independent
+// oracles — the residual of A_II x = b with A_II assembled here from A by hand; entry-by-entry equality with a from-scratch
 // locus factorization of A_II in the same elimination order (the Cholesky factor
 // is unique; entries are compared by vertex pair since a postorder of the
 // elimination tree may move columns); an Eigen SimplicialLLT solve of A_II.
 // Operators: -L_C + eps M and the bi-Laplacian K M^{-1} K (built with Eigen).
 // Sets: BFS patches of 10/25/50%, scattered random sets, single vertex, all
-// vertices, two components, a 2-step cascade; bad sets; a non-positive pivot.
+// vertices, two components, a 2-step cascade; bad sets; a non-positive pivot;
+// non-finite entries (also one met inside the recomputation).
 #include "locus/kernels/update/factor_update.hpp"
 
 #include <Eigen/SparseCholesky>
@@ -17,6 +18,7 @@
 #include <numeric>
 #include <random>
 #include <string>
+#include <typeinfo>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
@@ -590,6 +592,54 @@ TEST_CASE("a non-finite entry of A_II is refused naming its vertices") {
       CHECK(std::string(e.what()).find("not finite") != std::string::npos);
       if (prepared) CHECK(std::string(e.what()).find("vertices " + std::to_string(std::max(v, row))) != std::string::npos);
     }
+  }
+}
+
+TEST_CASE("a non-finite entry in a recomputed supernode keeps its message (prepared updater, 1 and 2 threads)") {
+  // The prepared updater assembles the recomputed supernodes straight from A,
+  // inside the factorization, beside A_II's extraction: a NaN there surfaces
+  // from the factorization but is not a pivot failure. It must reach the caller
+  // unchanged, naming both vertices, as a plain Error, whichever thread count;
+  // and the updater's maps must be left clean for the next set. The vertex
+  // has a neighbor in B eliminated before it, so its column is recomputed.
+  const Problem P = make_problem(make_icosphere(3), false);
+  const int32_t n = P.A.ncols;
+  const std::vector<int32_t> I = bfs_patch(P.adj, 40, n / 4);
+  std::vector<uint8_t> in(n, 0);
+  for (int32_t v : I) in[v] = 1;
+  const std::vector<int32_t>& ip = P.L.symbolic->iperm;
+  int32_t root = -1;
+  for (int32_t v : I)
+    for (int64_t p = P.adj.offsets[v]; p < P.adj.offsets[v + 1]; ++p)
+      if (!in[P.adj.neighbors[p]] && ip[P.adj.neighbors[p]] < ip[v] && root < 0) root = v;
+  REQUIRE(root >= 0);
+  CscMatrix bad = P.A;
+  for (int64_t p = bad.colptr[root]; p < bad.colptr[root + 1]; ++p)
+    if (bad.rowind[p] == root) bad.values[p] = std::nan("");
+  const std::string expected =
+      "submatrix entry of vertices " + std::to_string(root) + " and " + std::to_string(root) + " is not finite";
+  for (const int threads : {1, 2}) {
+    CAPTURE(threads);
+    RunContext ctx;
+    ctx.threads = threads;
+    FactorUpdater up(P.L, bad);
+    for (int round = 0; round < 2; ++round) {  // the second round finds the maps reset
+      try {
+        up.update(I, ctx);
+        FAIL("expected Error(Numerical)");
+      } catch (const Error& e) {
+        CHECK(typeid(e) == typeid(Error));
+        CHECK(e.code() == ErrorCode::Numerical);
+        CHECK(std::string(e.what()) == expected);
+      }
+    }
+    // A set without the vertex is still updated by the same updater.
+    std::vector<int32_t> rest;
+    for (int32_t v : I)
+      if (v != root) rest.push_back(v);
+    const FactorUpdate ok = up.update(rest, ctx);
+    CHECK_FALSE(ok.stats.refactored);
+    CHECK(ok.stats.n_sub == static_cast<int32_t>(rest.size()));
   }
 }
 

@@ -45,8 +45,9 @@ struct FactorUpdateOptions {
   std::span<const int32_t> vertex_ids;
   // Prepared updater with two threads: a result of at least this many bytes
   // has its fresh pages first touched by the second thread while the first one
-  // finishes the structure (page faults cost ~0.45 ms per MB). Smaller results
-  // usually reuse heap memory that is already mapped. 0: always (tests).
+  // finishes the structure (a fresh mapping faults on every page; see
+  // docs/factor_update.md). Smaller results usually reuse heap memory that is
+  // already mapped. 0: always (tests).
   int64_t prefault_min_bytes = int64_t{32} << 20;
   // Also extract A_II (FactorUpdate::A_sub, and the result's assembly map).
   // Needed to update the result again (a cascade's next updater) or to
@@ -59,12 +60,8 @@ struct FactorUpdateOptions {
   // structure then holds far more fill than the factor of A_II needs, and the
   // update costs more than factoring A_II afresh. Below this share, A_II is
   // extracted, analysed and factored from scratch in L's relative order
-  // (FactorUpdateStats::refactored). Measured on armadillo 104k, Laplacian, 2
-  // threads, against (b) = analyse + factor of an A_II handed over: random
-  // vertices and clumps of 5-20 at shares 0.13-0.26 cost the update path
-  // 1.4-3.3x (b), this path 1.3-1.7x (the extraction of a scattered A_II is a
-  // cache miss per column); at shares 0.30-0.36 the update path was 0.89-1.04x
-  // and this one 1.0-1.3x; BFS patches have shares of 0.77-0.91. 0: never.
+  // (FactorUpdateStats::refactored). 0.28 is the measured crossover, well
+  // below the shares of BFS patches: see docs/factor_update.md. 0: never.
   double refactor_below_share = 0.28;
 };
 
@@ -108,8 +105,8 @@ class FactorUpdater {
   // (NumericFactor::borrowed) instead of copying it, and holds L (hence its
   // storage) alive through NumericFactor::lender. Same values as the copying
   // form, bit for bit; it allocates and writes only the recomputed and the
-  // restricted blocks (16-47% of the result on armadillo BFS patches of 10-50%,
-  // Laplacian and bi-Laplacian).
+  // restricted blocks (a fraction of the result on patches: see
+  // docs/factor_update.md).
   FactorUpdater(std::shared_ptr<const NumericFactor> L, const CscMatrix& A, const FactorUpdateOptions& opt = {},
                 bool index_rows = true);
   // index_rows: prepare for many updates (O(nnz(A) + structure of L), once):
@@ -129,6 +126,10 @@ class FactorUpdater {
   FactorUpdate update(std::span<const int32_t> I, const RunContext& ctx = {});
 
  private:
+  // One call of update(): its state and steps (plan, restrict, mark, copy or
+  // borrow, refactor the marked supernodes; or the whole copy, or the fresh
+  // factorization of a scattered set), in factor_update.cpp.
+  struct Call;
   // two_threads: inside an arena of >= 2 threads, with the prepared updater
   // (the structure passes may then run side by side).
   FactorUpdate update_impl(std::span<const int32_t> I, const RunContext& ctx, bool two_threads);
