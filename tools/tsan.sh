@@ -112,7 +112,7 @@ run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'
 run "factor update" --source-file='*tests/kernels/*/factor_update*'
 run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
 run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
-run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*,*log map: two threads inside a query*'
+run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
 run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*'
 say "done"

@@ -105,7 +105,6 @@ struct TimingOptions {
   int queries = 10;
   double t_factor = 1.0;
   bool no_full = false;
-  int query_threads = 1;  // 2: also time the localized query with a helper thread (LogMapWorkspace::threads)
   std::string angle = "auto";
   std::string lattice = "default";
   std::string recenter = "default";
@@ -132,11 +131,10 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   // query's exact solves read (plan_traffic), a floor on their time.
   const StreamBandwidth stream = measure_stream_read();
 
-  LogMapWorkspace lws, lws2;
-  lws2.threads = 2;
+  LogMapWorkspace lws;
   DemWorkspace dws;
   std::vector<int32_t> patch(n), dem_patch(n), scratch;
-  Maps local, full, local2;
+  Maps local, full;
   std::vector<double> du(n), dv(n);
   Json rows = Json::array();
   double crossover = -1;
@@ -144,9 +142,6 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   for (double f : fractions) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(f * n)));
     std::vector<double> t_local, t_full, t_dem, t_patch, c_local, c_full, c_dem;
-    std::vector<double> t_local2, c_local2_main, c_local2_helper;
-    std::vector<double> w2_serial, w2_first, w2_helper_start, w2_helper, w2_main, w2_wait;
-    int64_t mismatch2 = 0;
     std::vector<double> mb_heat_read, mb_heat_distinct, mb_poisson_read, mb_poisson_distinct, mb_distinct;
     std::vector<double> ph_region, ph_center, ph_plan, ph_heat, ph_distance, ph_poisson, ph_angles;
     double max_dd = 0, max_da = 0, sum_dd = 0, radius = 0;
@@ -166,24 +161,6 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
       t_local.push_back(sw.seconds());
       c_local.push_back(thread_cpu_seconds() - c0);
       max_sources = std::max(max_sources, st.sources);
-      if (to.query_threads >= 2) {
-        local2.resize(k);
-        const double c2 = thread_cpu_seconds();
-        sw.restart();
-        const LogMapStats st2 = heat.query(c, P, local2.out(), lws2);
-        t_local2.push_back(sw.seconds());
-        c_local2_main.push_back(thread_cpu_seconds() - c2);
-        c_local2_helper.push_back(st2.distance_s);
-        w2_serial.push_back(st2.wall2.serial);
-        w2_first.push_back(st2.wall2.center_lane);
-        w2_helper_start.push_back(st2.wall2.helper_start);
-        w2_helper.push_back(st2.wall2.helper);
-        w2_main.push_back(st2.wall2.main);
-        w2_wait.push_back(st2.wall2.join_wait);
-        for (int32_t p = 0; p < k; ++p)
-          mismatch2 += local2.d[p] != local.d[p] || local2.a[p] != local.a[p] || local2.u[p] != local.u[p] ||
-                       local2.v[p] != local.v[p];
-      }
       {
         // Factor bytes of this query's two exact solves (the wide heat solve
         // makes st.passes passes over its plan; the Poisson solve one).
@@ -238,26 +215,6 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     if (!to.no_full) {
       row["heat_full_s"] = cli::median(t_full);
       row["full_over_local"] = cli::median(t_full) / ml;
-    }
-    if (to.query_threads >= 2) {
-      // Second figure: the same localized query with a helper thread (wall time;
-      // DEM stays single-threaded). Outputs must equal the one-thread map exactly.
-      row["heat_local_2t_s"] = cli::median(t_local2);
-      row["dem_over_local_2t"] = md / cli::median(t_local2);
-      row["two_thread_mismatches"] = mismatch2;
-      // Thread CPU time of the two-thread query: the caller's and the helper's
-      // (medians; their sum against heat_local_cpu_s shows the extra work).
-      row["heat_local_2t_cpu_main_s"] = cli::median(c_local2_main);
-      row["heat_local_2t_cpu_helper_s"] = cli::median(c_local2_helper);
-      // Wall-clock timeline of the two-thread query (medians, seconds from the query start;
-      // LogMapStats::wall2): serial part, the helper's center solve done, the helper's task
-      // start and length, the caller's angles done, its wait for the helper.
-      row["phases_2t_wall_s"] = Json{{"serial", cli::median(w2_serial)},
-                                     {"center_lane", cli::median(w2_first)},
-                                     {"helper_start", cli::median(w2_helper_start)},
-                                     {"helper", cli::median(w2_helper)},
-                                     {"main", cli::median(w2_main)},
-                                     {"join_wait", cli::median(w2_wait)}};
     }
     row["dem_s"] = md;
     row["dem_over_local"] = md / ml;
@@ -668,8 +625,6 @@ void register_logmap_bench(cli::CommandTable& table) {
   app->add_option("--queries", to->queries, "Random centers (seeded by --seed), default 10");
   app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
-  app->add_option("--query-threads", to->query_threads,
-                  "2: also time the localized query with a helper thread (heat_local_2t_s; the headline stays 1 thread)");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
   app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring, path (default: the library's)");
   app->add_option("--recenter,--recentre", to->recenter, "Recenter the gradients: on, off (default: the library's)");

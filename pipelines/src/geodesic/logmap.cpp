@@ -1,13 +1,11 @@
-// Smoothed log map by heat diffusion (pipelines/include/locus/pipelines/geodesic/logmap.hpp; thesis §6.5-6.6).
+// Smoothed log map by heat diffusion (pipelines/include/locus/pipelines/geodesic/logmap.hpp; thesis §6.5-6.6;
+// measurements behind the choices here: docs/logmap.md).
 #include "locus/pipelines/geodesic/logmap.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cmath>
-#include <atomic>
-#include <chrono>
-#include <memory>
 #include <utility>
 #include <limits>
 #include <numbers>
@@ -165,7 +163,7 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   // Auto: the two-ring fit at irregular stars, the one-ring log estimator elsewhere.
   // The lattice correction only at regular stars: an irregular star (or ring of
   // them) is no lattice, and on random-point spheres the correction doubled the
-  // error (`locus-bench logmap-accuracy random-sphere:160000`).
+  // error (docs/logmap.md, "Angle estimators").
   const bool irregular = irregular_star(i);
   if (est.angle == LogMapAngle::Auto) est.angle = irregular ? LogMapAngle::LogHeatTwoRing : LogMapAngle::LogHeat;
   if (irregular) est.lattice = LatticeCorrection::None;
@@ -205,7 +203,16 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   if (angle != LogMapAngle::HeatAverage && est.lattice != LatticeCorrection::None)
     prepare_lattice(e1, e2, est.lattice, ring1, ws);
   ws.coef2.clear();
-  if (angle != LogMapAngle::LogHeatTwoRing) return est;
+  if (angle == LogMapAngle::LogHeatTwoRing) two_ring_coefficients(i, e1, e2, ws);
+  return est;
+}
+
+// LogHeatTwoRing: ws.coef2, the gradient at i of the least-squares quadratic
+// through the values at the sources (i, its ring, its two-ring) in the
+// tangent-plane frame (e1, e2); left empty for a degenerate stencil.
+void HeatLogMap::two_ring_coefficients(int32_t i, const double e1[3], const double e2[3], LogMapWorkspace& ws) const {
+  const std::vector<int32_t>& S = ws.sources;
+  const size_t d = S.size();
   // Normal equations of the quadratic fit in coordinates scaled by 1/h, solved
   // by a 6x6 Cholesky factorization (SPD unless the stencil is degenerate).
   const double inv_h = 1.0 / geo_.mean_edge_length();
@@ -225,7 +232,7 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   for (int c = 0; c < 6; ++c) {
     double diag = N[c][c];
     for (int k = 0; k < c; ++k) diag -= Lc[c][k] * Lc[c][k];
-    if (!(diag > 0)) return est;  // degenerate stencil: one-ring estimator only
+    if (!(diag > 0)) return;  // degenerate stencil: one-ring estimator only
     Lc[c][c] = std::sqrt(diag);
     dmax = std::max(dmax, diag);
     dmin = std::min(dmin, diag);
@@ -235,7 +242,7 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
       Lc[r][c] = v / Lc[c][c];
     }
   }
-  if (!(dmin > 1e-12 * dmax)) return est;
+  if (!(dmin > 1e-12 * dmax)) return;
   ws.coef2.resize(2 * d);
   for (size_t k = 0; k < d; ++k) {
     double y[6];
@@ -253,7 +260,6 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
     ws.coef2[2 * k] = y[1] * inv_h;
     ws.coef2[2 * k + 1] = y[2] * inv_h;
   }
-  return est;
 }
 
 // Lattice (dispersion) correction. Far from its source j the discrete heat
@@ -497,6 +503,109 @@ void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
 // from the center's own offset at r = 0.
 namespace {
 constexpr int kPathSectors = 64, kPathBins = 6, kPathDegree = 10;
+// Edge moments per (sector, radius) cell: monomials of degree 0..kPathDegree,
+// x^a y^(d - a) at path_monomial(d, a), then the cell's weighted mass.
+constexpr int kPathMonomials = (kPathDegree + 1) * (kPathDegree + 2) / 2;
+constexpr int path_monomial(int d, int a) { return d * (d + 1) / 2 + a; }
+
+// Adds sum w x^a y^(d - a) over the edges (x, y, w) of exyw to
+// cell[path_monomial(d, a)], degrees 1..kPathDegree.
+void add_edge_moments(const std::vector<double>& exyw, double* cell) {
+  constexpr int D = kPathDegree;
+  double px[D + 1], py[D + 1];
+  for (size_t e = 0; e < exyw.size() / 3; ++e) {
+    // py stored reversed (py[D - k] = y^k): one degree's monomials are a contiguous product.
+    px[0] = exyw[3 * e + 2];  // px[a] = w x^a
+    py[D] = 1;
+    for (int d = 1; d <= D; ++d) px[d] = px[d - 1] * exyw[3 * e], py[D - d] = py[D - d + 1] * exyw[3 * e + 1];
+    for (int d = 1; d <= D; ++d) {
+      double* out = cell + path_monomial(d, 0);
+      const double* yr = py + D - d;  // yr[a] = y^(d - a)
+      for (int a2 = 0; a2 <= d; ++a2) out[a2] += px[a2] * yr[a2];
+    }
+  }
+}
+
+// Binomial coefficients and factorials up to kPathDegree (exact in double).
+// Compile-time constants: the compiler folds them into the sums below (a
+// division by 0! = 1! = 1 disappears and its product may fuse into an FMA),
+// as it did when they were computed inside one function; the same folding
+// keeps the results bit-identical to that version.
+struct PathTaylorTables {
+  double binom[kPathDegree + 1][kPathDegree + 1] = {};
+  double fact[kPathDegree + 1] = {};
+  constexpr PathTaylorTables() {
+    constexpr int D = kPathDegree;
+    for (int d = 0; d <= D; ++d) {
+      binom[d][0] = 1;
+      for (int a = 1; a <= d; ++a) binom[d][a] = binom[d - 1][a - 1] + (a < d ? binom[d - 1][a] : 0);
+    }
+    fact[0] = 1;
+    for (int d = 1; d <= D; ++d) fact[d] = fact[d - 1] * d;
+  }
+};
+
+// The Path table of one sector: for radius bins 0..kPathBins, the cumulative
+// sum of its and its two neighbors' cells of `mom` (from the center's cell at
+// bin 0), the dispersion set's radius in the sector's direction (Newton on the
+// Taylor series through the moments) and the offset of the direction to j,
+// into out[0..kPathBins] (0 where Newton fails or the offset is not small).
+constexpr PathTaylorTables kPathTaylor;
+
+void path_sector_offsets(int sct, const double* mom, double h, double tt, double* out) {
+  constexpr int D = kPathDegree, NM = kPathMonomials;
+  constexpr const PathTaylorTables& tb = kPathTaylor;
+  const double dtheta = 2 * std::numbers::pi / kPathSectors;
+  const double* center_cell = mom + static_cast<size_t>(kPathSectors) * kPathBins * (NM + 1);
+  const double psi = (sct + 0.5) * dtheta, ux = std::cos(psi), uy = std::sin(psi);
+  double pux[D + 1], puy[D + 1];
+  pux[0] = puy[0] = 1;
+  for (int d = 1; d <= D; ++d) pux[d] = pux[d - 1] * ux, puy[d] = puy[d - 1] * uy;
+  double acc[NM + 1];
+  std::copy_n(center_cell, NM + 1, acc);
+  double rho = h / std::sqrt(tt);  // scaled: rho h
+  for (int b = 0; b <= kPathBins; ++b) {
+    if (b > 0)
+      for (int ds = -1; ds <= 1; ++ds) {
+        const double* cl =
+            mom + (static_cast<size_t>((sct + ds + kPathSectors) % kPathSectors) * kPathBins + b - 1) * (NM + 1);
+        for (int m = 0; m <= NM; ++m) acc[m] += cl[m];
+      }
+    // P[d] = sum w (u.e)^d; Gx[d], Gy[d] = sum w e_x (u.e)^d, sum w e_y (u.e)^d.
+    double P[D + 1] = {}, Gx[D] = {}, Gy[D] = {};
+    for (int d = 1; d <= D; ++d)
+      for (int a = 0; a <= d; ++a) P[d] += tb.binom[d][a] * pux[a] * puy[d - a] * acc[path_monomial(d, a)];
+    for (int d = 0; d < D; ++d)
+      for (int a = 0; a <= d; ++a) {
+        const double cu = tb.binom[d][a] * pux[a] * puy[d - a];
+        Gx[d] += cu * acc[path_monomial(d + 1, a + 1)];
+        Gy[d] += cu * acc[path_monomial(d + 1, a)];
+      }
+    // Phi(-rho u) = sum_d (-rho)^d P[d] / d! = mass / t (Newton in rho).
+    const double target = acc[NM] / tt;
+    const bool ok = newton_dispersion_radius(rho, 1e-12, [&](double r) {
+      double f = -target, df = 0, pw = 1;  // pw = (-r)^(d-1)
+      for (int d = 1; d <= D; ++d) {
+        df -= d * pw * P[d] / tb.fact[d];
+        pw *= -r;
+        f += pw * P[d] / tb.fact[d];
+      }
+      return std::pair{f, df};
+    });
+    double off = 0;
+    if (ok) {
+      double gx = 0, gy = 0, pw = 1;
+      for (int d = 0; d < D; ++d) {
+        gx -= pw * Gx[d] / tb.fact[d];
+        gy -= pw * Gy[d] / tb.fact[d];
+        pw *= -rho;
+      }
+      off = std::remainder(std::atan2(gy, gx) - psi, 2 * std::numbers::pi);
+      if (!(std::abs(off) < 0.5)) off = 0;
+    }
+    out[b] = off;
+  }
+}
 }  // namespace
 
 double HeatLogMap::path_offset_at(const std::vector<double>& table, double th, double r, double rmax) {
@@ -513,8 +622,70 @@ double HeatLogMap::path_offset_at(const std::vector<double>& table, double th, d
   return (1 - ws) * o0 + ws * o1;
 }
 
-void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const {
+// One star's dispersion relation for the Path table: the edges of v's star
+// (interior edges met from two faces once, weights summed) turned into i's
+// tangent plane (normal n, frame e1, e2) by the minimal rotation of v's normal
+// onto n, projected and rescaled to their length, in units of h (inv_h = 1 / h);
+// their moments, times `weight`, go to `cell`, weight * v's lumped mass to its
+// last entry.
+void HeatLogMap::add_path_star(int32_t v, double weight, const double n[3], const double e1[3], const double e2[3],
+                               double inv_h, double* cell, LogMapWorkspace& ws) const {
   const TriangleGradients& g = geo_.gradients();
+  const double* nv = normal_.data() + 3 * static_cast<size_t>(v);
+  const double c[3] = {nv[1] * n[2] - nv[2] * n[1], nv[2] * n[0] - nv[0] * n[2], nv[0] * n[1] - nv[1] * n[0]};
+  const double cosa = dot3(nv, n);
+  const double k = cosa > -0.9 ? 1 / (1 + cosa) : 0.0;
+  std::vector<int32_t>& ends = ws.star_ends;
+  std::vector<double>& exyw = ws.star;  // (x, y, weight) per edge
+  ends.clear();
+  exyw.clear();
+  for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) {
+    const int32_t f = g.vf_faces[q];
+    const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(f);
+    const int s = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+    const int32_t a = t[(s + 1) % 3], b = t[(s + 2) % 3];
+    cell[kPathMonomials] += weight * g.area[f] / 3;
+    const double pa[3] = {x_[a] - x_[v], y_[a] - y_[v], z_[a] - z_[v]};
+    const double pb[3] = {x_[b] - x_[v], y_[b] - y_[v], z_[b] - z_[v]};
+    const double twice = 2 * g.area[f];
+    // Edge (v, a) gets half the cotangent at b, edge (v, b) half the one at a.
+    const double w[2] = {0.5 * (dot3(pb, pb) - dot3(pa, pb)) / twice, 0.5 * (dot3(pa, pa) - dot3(pa, pb)) / twice};
+    const double* edges[2] = {pa, pb};
+    const int32_t ends_of[2] = {a, b};
+    for (int e = 0; e < 2; ++e) {
+      const size_t seen = static_cast<size_t>(std::find(ends.begin(), ends.end(), ends_of[e]) - ends.begin());
+      if (seen < ends.size()) {
+        exyw[3 * seen + 2] += weight * w[e];
+        continue;
+      }
+      const double* x = edges[e];
+      // R x = x + c x x + c x (c x x) / (1 + cos): the minimal rotation taking n_v to n_i.
+      const double cx[3] = {c[1] * x[2] - c[2] * x[1], c[2] * x[0] - c[0] * x[2], c[0] * x[1] - c[1] * x[0]};
+      const double ccx[3] = {c[1] * cx[2] - c[2] * cx[1], c[2] * cx[0] - c[0] * cx[2], c[0] * cx[1] - c[1] * cx[0]};
+      const double rx[3] = {x[0] + cx[0] + k * ccx[0], x[1] + cx[1] + k * ccx[1], x[2] + cx[2] + k * ccx[2]};
+      double ex = dot3(rx, e1), ey = dot3(rx, e2);
+      const double l2 = ex * ex + ey * ey;
+      if (l2 > 0) {  // projected, rescaled to the edge's length
+        const double sc = std::sqrt(dot3(x, x) / l2) * inv_h;
+        ex *= sc;
+        ey *= sc;
+      }
+      ends.push_back(ends_of[e]);
+      exyw.push_back(ex);
+      exyw.push_back(ey);
+      exyw.push_back(weight * w[e]);
+    }
+  }
+  add_edge_moments(exyw, cell);
+}
+
+// Phi(k) = sum w (exp(k.e) - 1) and its gradient, summed over many stars,
+// through the moments M[d][a] = sum w x^a y^(d-a) of the edges (x, y) = e / h,
+// degrees 1..kPathDegree (Taylor series of exp; |k.e| <~ 1.5 at t = h^2, so the
+// remainder is below 1.5^11 / 11! ~ 2e-6 of the sum; same E_a as the direct
+// sums to 4 digits, docs/logmap.md): one pass over each star, and every
+// (sector, radius) sum is a sum of a few cells' moments.
+void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const {
   const int32_t i = ws.sources[0];
   double n[3], e1[3], e2[3];
   frame(i, n, e1, e2);
@@ -524,235 +695,117 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
     if (std::isfinite(radius[p])) rmax = std::max(rmax, radius[p]);
   ws.path_rmax = rmax > 0 ? rmax : 1.0;
   const double h = geo_.mean_edge_length(), inv_h = 1 / h, dtheta = 2 * std::numbers::pi / kPathSectors;
-  // Phi(k) = sum w (exp(k.e) - 1) and its gradient, summed over many stars,
-  // through the moments M[d][a] = sum w x^a y^(d-a) of the edges (x, y) = e / h,
-  // degrees 1..kPathDegree (Taylor series of exp; |k.e| <~ 1.5 at t = h^2, so the
-  // remainder is below 1.5^11 / 11! ~ 2e-6 of the sum; E_a equal to the direct
-  // sums to 4 digits on icosphere 7 and the bump): one pass over each star,
-  // and every (sector, radius) sum is a sum of a few cells' moments.
-  constexpr int D = kPathDegree, NM = (D + 1) * (D + 2) / 2;  // monomials of degree 0..D
-  auto mono = [](int d, int a) { return d * (d + 1) / 2 + a; };
+  constexpr int NM = kPathMonomials;
   const size_t cells = static_cast<size_t>(kPathSectors) * kPathBins;
   std::vector<double>& mom = ws.path_moments;
   mom.assign((cells + 1) * (NM + 1), 0.0);  // per cell: NM moments, then the weighted mass; last: the center
-  auto add_star = [&](int32_t v, double weight, double* cell) {
-    const double* nv = normal_.data() + 3 * static_cast<size_t>(v);
-    const double c[3] = {nv[1] * n[2] - nv[2] * n[1], nv[2] * n[0] - nv[0] * n[2], nv[0] * n[1] - nv[1] * n[0]};
-    const double cosa = dot3(nv, n);
-    const double k = cosa > -0.9 ? 1 / (1 + cosa) : 0.0;
-    double px[D + 1], py[D + 1];
-    // Each interior edge is met from its two faces: weights summed first, one moment pass per edge.
-    std::vector<int32_t>& ends = ws.star_ends;
-    std::vector<double>& exyw = ws.star;  // (x, y, weight) per edge
-    ends.clear();
-    exyw.clear();
-    for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) {
-      const int32_t f = g.vf_faces[q];
-      const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(f);
-      const int s = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-      const int32_t a = t[(s + 1) % 3], b = t[(s + 2) % 3];
-      cell[NM] += weight * g.area[f] / 3;
-      const double pa[3] = {x_[a] - x_[v], y_[a] - y_[v], z_[a] - z_[v]};
-      const double pb[3] = {x_[b] - x_[v], y_[b] - y_[v], z_[b] - z_[v]};
-      const double twice = 2 * g.area[f];
-      // Edge (v, a) gets half the cotangent at b, edge (v, b) half the one at a.
-      const double w[2] = {0.5 * (dot3(pb, pb) - dot3(pa, pb)) / twice, 0.5 * (dot3(pa, pa) - dot3(pa, pb)) / twice};
-      const double* edges[2] = {pa, pb};
-      const int32_t ends_of[2] = {a, b};
-      for (int e = 0; e < 2; ++e) {
-        const size_t seen = static_cast<size_t>(std::find(ends.begin(), ends.end(), ends_of[e]) - ends.begin());
-        if (seen < ends.size()) {
-          exyw[3 * seen + 2] += weight * w[e];
-          continue;
-        }
-        const double* x = edges[e];
-        // R x = x + c x x + c x (c x x) / (1 + cos): the minimal rotation taking n_v to n_i.
-        const double cx[3] = {c[1] * x[2] - c[2] * x[1], c[2] * x[0] - c[0] * x[2], c[0] * x[1] - c[1] * x[0]};
-        const double ccx[3] = {c[1] * cx[2] - c[2] * cx[1], c[2] * cx[0] - c[0] * cx[2], c[0] * cx[1] - c[1] * cx[0]};
-        const double rx[3] = {x[0] + cx[0] + k * ccx[0], x[1] + cx[1] + k * ccx[1], x[2] + cx[2] + k * ccx[2]};
-        double ex = dot3(rx, e1), ey = dot3(rx, e2);
-        const double l2 = ex * ex + ey * ey;
-        if (l2 > 0) {  // projected, rescaled to the edge's length
-          const double sc = std::sqrt(dot3(x, x) / l2) * inv_h;
-          ex *= sc;
-          ey *= sc;
-        }
-        ends.push_back(ends_of[e]);
-        exyw.push_back(ex);
-        exyw.push_back(ey);
-        exyw.push_back(weight * w[e]);
-      }
-    }
-    for (size_t e = 0; e < ends.size(); ++e) {
-      // py stored reversed (py[D - k] = y^k): one degree's monomials are a contiguous product.
-      px[0] = exyw[3 * e + 2];  // px[a] = w x^a
-      py[D] = 1;
-      for (int d = 1; d <= D; ++d) px[d] = px[d - 1] * exyw[3 * e], py[D - d] = py[D - d + 1] * exyw[3 * e + 1];
-      for (int d = 1; d <= D; ++d) {
-        double* out = cell + mono(d, 0);
-        const double* yr = py + D - d;  // yr[a] = y^(d - a)
-        for (int a2 = 0; a2 <= d; ++a2) out[a2] += px[a2] * yr[a2];
-      }
-    }
-  };
   // The center's star (weight: the length h it stands for), then each patch
   // vertex in its cell, weight ~ 1 / (r * 3 sectors' angle): uniform per unit
   // length along the ray.
-  double* center_cell = mom.data() + cells * (NM + 1);
-  add_star(i, h, center_cell);
+  add_path_star(i, h, n, e1, e2, inv_h, mom.data() + cells * (NM + 1), ws);
   for (size_t p = 0; p < patch.size(); ++p) {
     if (patch[p] == i || !std::isfinite(radius[p])) continue;
     const double r = radius[p], th = ws.path_angle[p];
     const int sct = static_cast<int>(std::floor((th < 0 ? th + 2 * std::numbers::pi : th) / dtheta)) % kPathSectors;
     const int b = std::min(kPathBins - 1, static_cast<int>(r / ws.path_rmax * kPathBins));
-    add_star(patch[p], 1.0 / (std::max(r, h) * 3 * dtheta),
-             mom.data() + (static_cast<size_t>(sct) * kPathBins + b) * (NM + 1));
+    add_path_star(patch[p], 1.0 / (std::max(r, h) * 3 * dtheta), n, e1, e2, inv_h,
+                  mom.data() + (static_cast<size_t>(sct) * kPathBins + b) * (NM + 1), ws);
   }
   // Per sector: the cumulative sum over radius bins of its and its neighbors' cells.
-  double binom[D + 1][D + 1] = {};
-  for (int d = 0; d <= D; ++d) {
-    binom[d][0] = 1;
-    for (int a = 1; a <= d; ++a) binom[d][a] = binom[d - 1][a - 1] + (a < d ? binom[d - 1][a] : 0);
-  }
-  double fact[D + 1];
-  fact[0] = 1;
-  for (int d = 1; d <= D; ++d) fact[d] = fact[d - 1] * d;
   ws.path.assign(static_cast<size_t>(kPathSectors) * (kPathBins + 1), 0.0);
-  const double tt = geo_.time();
-  std::vector<double> acc(NM + 1);
-  for (int sct = 0; sct < kPathSectors; ++sct) {
-    const double psi = (sct + 0.5) * dtheta, ux = std::cos(psi), uy = std::sin(psi);
-    double pux[D + 1], puy[D + 1];
-    pux[0] = puy[0] = 1;
-    for (int d = 1; d <= D; ++d) pux[d] = pux[d - 1] * ux, puy[d] = puy[d - 1] * uy;
-    std::copy_n(center_cell, NM + 1, acc.begin());
-    double rho = h / std::sqrt(tt);  // scaled: rho h
-    for (int b = 0; b <= kPathBins; ++b) {
-      if (b > 0)
-        for (int ds = -1; ds <= 1; ++ds) {
-          const double* cl =
-              mom.data() + (static_cast<size_t>((sct + ds + kPathSectors) % kPathSectors) * kPathBins + b - 1) * (NM + 1);
-          for (int m = 0; m <= NM; ++m) acc[m] += cl[m];
-        }
-      // P[d] = sum w (u.e)^d; Gx[d], Gy[d] = sum w e_x (u.e)^d, sum w e_y (u.e)^d.
-      double P[D + 1] = {}, Gx[D] = {}, Gy[D] = {};
-      for (int d = 1; d <= D; ++d)
-        for (int a = 0; a <= d; ++a) P[d] += binom[d][a] * pux[a] * puy[d - a] * acc[mono(d, a)];
-      for (int d = 0; d < D; ++d)
-        for (int a = 0; a <= d; ++a) {
-          const double cu = binom[d][a] * pux[a] * puy[d - a];
-          Gx[d] += cu * acc[mono(d + 1, a + 1)];
-          Gy[d] += cu * acc[mono(d + 1, a)];
-        }
-      // Phi(-rho u) = sum_d (-rho)^d P[d] / d! = mass / t (Newton in rho).
-      const double target = acc[NM] / tt;
-      const bool ok = newton_dispersion_radius(rho, 1e-12, [&](double r) {
-        double f = -target, df = 0, pw = 1;  // pw = (-r)^(d-1)
-        for (int d = 1; d <= D; ++d) {
-          df -= d * pw * P[d] / fact[d];
-          pw *= -r;
-          f += pw * P[d] / fact[d];
-        }
-        return std::pair{f, df};
-      });
-      double off = 0;
-      if (ok) {
-        double gx = 0, gy = 0, pw = 1;
-        for (int d = 0; d < D; ++d) {
-          gx -= pw * Gx[d] / fact[d];
-          gy -= pw * Gy[d] / fact[d];
-          pw *= -rho;
-        }
-        off = std::remainder(std::atan2(gy, gx) - psi, 2 * std::numbers::pi);
-        if (!(std::abs(off) < 0.5)) off = 0;
-      }
-      ws.path[static_cast<size_t>(sct) * (kPathBins + 1) + b] = off;
-    }
-  }
+  for (int sct = 0; sct < kPathSectors; ++sct)
+    path_sector_offsets(sct, mom.data(), h, geo_.time(), ws.path.data() + static_cast<size_t>(sct) * (kPathBins + 1));
 }
 
-// Pass 2, after every vertex_gradient of the patch and the distances: the
-// corrections and the polar-to-Cartesian output.
-void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
-                               LogMapStats& st, LogMapWorkspace& ws) const {
-  const bool use_log = est.angle != LogMapAngle::HeatAverage;
+namespace {
+// Recenter: far from the stencil, grad log h_j at i is k*(direction of j) plus
+// a part b that does not depend on j (the heat kernel's vertex-level factors
+// around i on irregular meshes). The k* lie on a closed convex curve around
+// 0, centrally symmetric for a symmetric operator; a least-squares circle
+// through the gradients (Kasa: |g|^2 = 2 b.g + c) estimates b. Only with
+// directions all around the center (resultant of the unit directions < 0.25)
+// and beyond the near field (ws.grad[3p + 2] == 2, see vertex_gradient).
+// False (b untouched) when those conditions fail.
+bool fit_recenter(std::span<const int32_t> patch, const LogMapWorkspace& ws, double& bx, double& by) {
   const bool two_ring = !ws.coef2.empty();
-  // Recenter: far from the stencil, grad log h_j at i is k*(direction of j) plus
-  // a part b that does not depend on j (the heat kernel's vertex-level factors
-  // around i on irregular meshes). The k* lie on a closed convex curve around
-  // 0, centrally symmetric for a symmetric operator; a least-squares circle
-  // through the gradients (Kasa: |g|^2 = 2 b.g + c) estimates b. Only with
-  // directions all around the center (resultant of the unit directions < 0.25)
-  // and beyond the near field (see above).
-  double bx = 0, by = 0;
-  if (est.recenter && use_log) {
-    double N[3][3] = {}, r[3] = {}, ux = 0, uy = 0;
-    int64_t cnt = 0;
-    for (size_t p = 0; p < patch.size(); ++p) {
-      if (ws.grad[3 * p + 2] != 2.0) continue;
-      if (two_ring && std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p])) continue;
-      const double gx = ws.grad[3 * p], gy = ws.grad[3 * p + 1];
-      const double g2 = gx * gx + gy * gy;
-      if (!(g2 > 0)) continue;
-      const double a[3] = {2 * gx, 2 * gy, 1.0};
-      for (int i = 0; i < 3; ++i) {
-        r[i] += a[i] * g2;
-        for (int j = 0; j < 3; ++j) N[i][j] += a[i] * a[j];
-      }
-      const double il = 1 / std::sqrt(g2);
-      ux += gx * il;
-      uy += gy * il;
-      ++cnt;
+  double N[3][3] = {}, r[3] = {}, ux = 0, uy = 0;
+  int64_t cnt = 0;
+  for (size_t p = 0; p < patch.size(); ++p) {
+    if (ws.grad[3 * p + 2] != 2.0) continue;
+    if (two_ring && std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p])) continue;
+    const double gx = ws.grad[3 * p], gy = ws.grad[3 * p + 1];
+    const double g2 = gx * gx + gy * gy;
+    if (!(g2 > 0)) continue;
+    const double a[3] = {2 * gx, 2 * gy, 1.0};
+    for (int i = 0; i < 3; ++i) {
+      r[i] += a[i] * g2;
+      for (int j = 0; j < 3; ++j) N[i][j] += a[i] * a[j];
     }
-    if (cnt >= 16 && std::hypot(ux, uy) < 0.25 * static_cast<double>(cnt)) {
-      // 3x3 solve by Cramer's rule (well conditioned when the directions go all round).
-      auto det3 = [](const double M[3][3]) {
-        return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-               M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
-      };
-      const double D = det3(N);
-      if (std::abs(D) > 0 && std::isfinite(D)) {
-        double sol[3];
-        for (int k = 0; k < 3; ++k) {
-          double M[3][3];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) M[i][j] = j == k ? r[i] : N[i][j];
-          sol[k] = det3(M) / D;
-        }
-        const double radius2 = sol[2] + sol[0] * sol[0] + sol[1] * sol[1];
-        // A center shift beyond a third of the radius is no small vertex-level bias: keep the raw gradients.
-        if (radius2 > 0 && sol[0] * sol[0] + sol[1] * sol[1] < radius2 / 9) {
-          bx = sol[0];
-          by = sol[1];
-          st.recentered = true;
-        }
-      }
-    }
+    const double il = 1 / std::sqrt(g2);
+    ux += gx * il;
+    uy += gy * il;
+    ++cnt;
   }
-  // Raw angles of the (recentered) gradient directions, a SIMD batch of vertices
-  // at a time (xsimd::atan2; one libm call per vertex was ~7 % of a query).
-  // gxs, gys: the recentered gradient per patch vertex, read again below.
-  const size_t np = patch.size();
+  if (!(cnt >= 16 && std::hypot(ux, uy) < 0.25 * static_cast<double>(cnt))) return false;
+  // 3x3 solve by Cramer's rule (well conditioned when the directions go all round).
+  auto det3 = [](const double M[3][3]) {
+    return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+           M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
+  };
+  const double D = det3(N);
+  if (!(std::abs(D) > 0 && std::isfinite(D))) return false;
+  double sol[3];
+  for (int k = 0; k < 3; ++k) {
+    double M[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) M[i][j] = j == k ? r[i] : N[i][j];
+    sol[k] = det3(M) / D;
+  }
+  const double radius2 = sol[2] + sol[0] * sol[0] + sol[1] * sol[1];
+  // A center shift beyond a third of the radius is no small vertex-level bias: keep the raw gradients.
+  if (!(radius2 > 0 && sol[0] * sol[0] + sol[1] * sol[1] < radius2 / 9)) return false;
+  bx = sol[0];
+  by = sol[1];
+  return true;
+}
+
+// Raw angles of the (recentered by (bx, by)) gradient directions, a SIMD batch
+// of vertices at a time (xsimd::atan2, see docs/logmap.md): ws.theta holds the
+// angle per patch vertex, then the recentered gradients' x and y (each padded
+// to whole batches; returned: the padded length).
+size_t raw_angles(size_t np, double bx, double by, LogMapWorkspace& ws) {
   using batch = xsimd::batch<double>;
   constexpr size_t Bw = batch::size;
   const size_t npad = (np + Bw - 1) / Bw * Bw;
   ws.theta.resize(3 * npad);
   double* gxs = ws.theta.data() + npad;
   double* gys = gxs + npad;
-  {
-    for (size_t p = 0; p < np; ++p) {
-      const bool usable = ws.grad[3 * p + 2] != 0;
-      gxs[p] = ws.grad[3 * p] - (usable ? bx : 0.0);
-      gys[p] = ws.grad[3 * p + 1] - (usable ? by : 0.0);
-    }
-    std::fill(gxs + np, gxs + npad, 0.0);
-    std::fill(gys + np, gys + npad, 0.0);
-    for (size_t p = 0; p < npad; p += Bw) {
-      const batch gx = batch::load_unaligned(gxs + p), gy = batch::load_unaligned(gys + p);
-      const auto zero = gx == batch(0.0) && gy == batch(0.0);
-      xsimd::select(zero, batch(0.0), xsimd::atan2(gy, gx)).store_unaligned(ws.theta.data() + p);
-    }
+  for (size_t p = 0; p < np; ++p) {
+    const bool usable = ws.grad[3 * p + 2] != 0;
+    gxs[p] = ws.grad[3 * p] - (usable ? bx : 0.0);
+    gys[p] = ws.grad[3 * p + 1] - (usable ? by : 0.0);
   }
+  std::fill(gxs + np, gxs + npad, 0.0);
+  std::fill(gys + np, gys + npad, 0.0);
+  for (size_t p = 0; p < npad; p += Bw) {
+    const batch gx = batch::load_unaligned(gxs + p), gy = batch::load_unaligned(gys + p);
+    const auto zero = gx == batch(0.0) && gy == batch(0.0);
+    xsimd::select(zero, batch(0.0), xsimd::atan2(gy, gx)).store_unaligned(ws.theta.data() + p);
+  }
+  return npad;
+}
+}  // namespace
+
+// Pass 2, after every vertex_gradient of the patch and the distances: the
+// corrections and the polar-to-Cartesian output.
+void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
+                               LogMapStats& st, LogMapWorkspace& ws) const {
+  const bool use_log = est.angle != LogMapAngle::HeatAverage;
+  double bx = 0, by = 0;
+  if (est.recenter && use_log && fit_recenter(patch, ws, bx, by)) st.recentered = true;
+  const size_t npad = raw_angles(patch.size(), bx, by, ws);
+  const double* gxs = ws.theta.data() + npad;  // the recentered gradient per patch vertex
+  const double* gys = gxs + npad;
   const double* lattice = use_log && !ws.lattice.empty() ? ws.lattice.data() : nullptr;
   // Path correction: first-pass angles (raw + the center's table), then the
   // offsets of the lattice along each ray replace the table's.
@@ -788,12 +841,97 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
 }
 
 // Polar to Cartesian: finish_angles left the unit direction in (u, v), which
-// needs no distance, so with two threads it runs before the Poisson solve ends.
+// needs no distance.
 void HeatLogMap::scale_by_distance(const LogMapOutput& out) {
   for (size_t p = 0; p < out.u.size(); ++p) {
     out.u[p] *= out.distance[p];
     out.v[p] *= out.distance[p];
   }
+}
+
+namespace {
+// Thread CPU time per phase of a query (LogMapStats): lap(phase) stores the
+// time since the previous lap.
+struct PhaseClock {
+  double tick = thread_cpu_seconds();
+  void lap(double& phase) {
+    const double now = thread_cpu_seconds();
+    phase = now - tick;
+    tick = now;
+  }
+};
+}  // namespace
+
+// All sources in one pass over the plan's supernodes (kernels/include/locus/kernels/solve/solve_wide.hpp),
+// W lanes (|S| rounded up to a multiple of 8): the results stay in ws.wide's rows.
+void HeatLogMap::solve_heat_one_pass(int32_t W, LogMapWorkspace& ws) const {
+  const int32_t d = static_cast<int32_t>(ws.sources.size());
+  ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
+  for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
+  solve_planned_wide(geo_.heat_factor(), ws.plan, W, ws.rhs_wide, {}, ws.wide);
+}
+
+// After solve_heat_one_pass: the solver's rows are read once, in memory order,
+// instead of gathered into region order first (see docs/logmap.md, "Kernel
+// tuning"): each row gives the center's heat (lane 0, into ws.geo.h) for the
+// distance and, at patch vertices, the gradient estimate.
+void HeatLogMap::gradients_from_rows(int32_t W, int32_t center_local, const LogMapEstimator& est, LogMapStats& st,
+                                     LogMapWorkspace& ws) const {
+  const PatchRegion& r = ws.geo.region;
+  const size_t nloc = r.verts.size();
+  const int32_t np = r.patch_size;
+  const std::vector<int32_t>& rows = ws.wide.out_rows;
+  const double* X = ws.wide.x.data();
+  const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
+  // Owner of each row: its region index, with kSourceBit set for the
+  // sources (no lookups by vertex id inside the loop: those were cache misses).
+  constexpr int32_t kSourceBit = 1 << 30;
+  ws.row_owner.assign(xrows, -1);
+  for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
+  for (int32_t v : ws.sources)  // (the two-ring may reach beyond a tiny patch's region)
+    if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
+  const double h_center = X[static_cast<size_t>(rows[center_local]) * W];
+  for (size_t row = 0; row < xrows; ++row) {
+    const int32_t o = ws.row_owner[row];
+    if (o < 0) continue;
+    const int32_t k = o & (kSourceBit - 1);
+    const double* f = X + row * static_cast<size_t>(W);
+    ws.geo.h[k] = f[0];
+    if (k < np)
+      vertex_gradient(static_cast<size_t>(k), k == center_local, (o & kSourceBit) != 0, f, true, h_center, est, st, ws);
+  }
+}
+
+// More than kMaxWideLanes sources (valence > 31): `passes` wide solves of W
+// lanes, gathered into ws.heat (region order, W * passes values per vertex).
+void HeatLogMap::solve_heat_passes(int32_t W, int32_t passes, LogMapWorkspace& ws) const {
+  const int32_t d = static_cast<int32_t>(ws.sources.size());
+  const size_t nloc = ws.geo.region.verts.size();
+  ws.heat.resize(nloc * static_cast<size_t>(W) * passes);
+  const int64_t stride = static_cast<int64_t>(W) * passes;
+  for (int32_t ps = 0; ps < passes; ++ps) {
+    const int32_t k0 = ps * W, lanes = std::min(W, d - k0);
+    ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
+    for (int32_t l = 0; l < lanes; ++l) ws.rhs_wide[static_cast<size_t>(k0 + l) * W + l] = 1.0;
+    ws.out_wide.resize(nloc * static_cast<size_t>(W));
+    solve_planned_wide(geo_.heat_factor(), ws.plan, W, ws.rhs_wide, ws.out_wide, ws.wide);
+    for (size_t v = 0; v < nloc; ++v)
+      std::copy_n(ws.out_wide.begin() + static_cast<int64_t>(v) * W, W, ws.heat.begin() + static_cast<int64_t>(v) * stride + k0);
+  }
+}
+
+// After solve_heat_passes: the center's heat per region vertex and the
+// gradient estimate per patch vertex (patch index = region index).
+void HeatLogMap::gradients_from_passes(std::span<const int32_t> patch, int32_t center, int32_t center_local,
+                                       size_t stride, const LogMapEstimator& est, LogMapStats& st,
+                                       LogMapWorkspace& ws) const {
+  const size_t nloc = ws.geo.region.verts.size();
+  for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
+  const double h_center = ws.heat[static_cast<size_t>(center_local) * stride];
+  for (size_t p = 0; p < patch.size(); ++p)
+    vertex_gradient(p, patch[p] == center,
+                    std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
+                    ws.heat.data() + p * stride, false, h_center, est, st, ws);
 }
 
 LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, const LogMapOutput& out,
@@ -803,196 +941,49 @@ LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, co
     fail(ErrorCode::BadUsage, "center " + std::to_string(center) + " is not a vertex (the mesh has " +
                                   std::to_string(n) + " vertices)");
   check_outputs(out, patch.size());
-  double tick = thread_cpu_seconds();
-  auto lap = [&tick](double& phase) {
-    const double now = thread_cpu_seconds();
-    phase = now - tick;
-    tick = now;
-  };
-  const auto w_query = std::chrono::steady_clock::now();
+  PhaseClock clock;
   PatchRegion& r = ws.geo.region;
-  // Two threads, one pass: the region's face list (only the helper's
-  // divergence needs it) is built after the helper has started (see below).
-  const bool faces_later = ws.threads >= 2;
-  geo_.build_region(patch, r, !faces_later);
+  geo_.build_region(patch, r);
   LogMapStats st;
-  lap(st.region_s);
+  clock.lap(st.region_s);
   try {
     const int32_t cl = r.local[center];
     if (cl < 0 || cl >= r.patch_size)
       fail(ErrorCode::BadUsage, "the center vertex " + std::to_string(center) + " is not in the patch");
     check_same_component(geo_, center, patch);
     const LogMapEstimator est = prepare_center(center, estimator, ws);
-    lap(st.center_s);
+    clock.lap(st.center_s);
     st.two_ring = !ws.coef2.empty();
-    const std::vector<int32_t>& S = ws.sources;
-    const int32_t d = static_cast<int32_t>(S.size());
+    const int32_t d = static_cast<int32_t>(ws.sources.size());
     const size_t nloc = r.verts.size();
     st.sources = d;
     st.batches = (d + kLanes - 1) / kLanes;
     st.region_size = static_cast<int32_t>(nloc);
-    const NumericFactor& F = geo_.heat_factor();
-    plan_subset_solve(*F.symbolic, geo_.vertex_supernodes(), S, r.verts, ws.plan, ws.plan_ws);
-    lap(st.plan_s);
-    const double wall_serial = std::chrono::duration<double>(std::chrono::steady_clock::now() - w_query).count();
-    // All sources in one pass over the plan's supernodes (kernels/include/locus/kernels/solve/solve_wide.hpp),
-    // lanes rounded up to a multiple of 8; more than kMaxWideLanes sources
+    plan_subset_solve(*geo_.heat_factor().symbolic, geo_.vertex_supernodes(), ws.sources, r.verts, ws.plan,
+                      ws.plan_ws);
+    clock.lap(st.plan_s);
+    // Lanes rounded up to a multiple of 8; more than kMaxWideLanes sources
     // (valence > 31) take further passes into the same rows.
     const int32_t W = std::min(kMaxWideLanes, (d + kLanes - 1) / kLanes * kLanes);
     st.passes = (d + W - 1) / W;
     ws.geo.h.resize(nloc);
     begin_gradients(patch.size(), ws);
-    double t_gradients = 0;
-    bool distance_done = false;
     if (st.passes == 1) {
-      // One pass: the results stay in the solver's rows (factor order). They are
-      // read once, in memory order, instead of gathered into region order first
-      // (at 50 % of 416k the rows are ~44 MB, a random gather cost ~10 ms): each
-      // row gives the center's heat (lane 0) for the distance and, at patch
-      // vertices, the gradient estimate.
-      // Two threads: the heat from the center is all the distance (divergence,
-      // Poisson) needs. The helper thread solves it alone (solve_planned_lane:
-      // the same numbers as lane 0 of the wide solve) and goes on with the
-      // distance, while this thread makes the wide solve of all sources and
-      // computes the gradients and angles. (Measured alternatives, same-process
-      // A/B under load: the helper solving lanes 0-7 beside this thread's other
-      // lanes was 5 % slower, this thread solving lanes 0-7 first 20 % slower.)
-      // center_lane_alone = false: the helper waits for the wide solve and takes
-      // its lane 0 (no second read of the factor; under load 2.7 it was faster
-      // at 5 % and slower at 50 %, both within that load's noise).
-      const bool two = ws.threads >= 2;
-      const int32_t np = r.patch_size;
-      double t_distance = 0;
-      using clock = std::chrono::steady_clock;
-      auto since = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
-      const clock::time_point w_start = w_query;
-      clock::time_point w_helper_end{}, w_helper_start{};
-      // The helper's task: the center's heat alone, then the distance.
-      auto center_then_distance = [&] {
-        w_helper_start = clock::now();
-        const double c0 = thread_cpu_seconds();
-        if (ws.center_lane_alone) {
-          solve_planned_lane(F, ws.plan, ws.rhs_lane, ws.lane);
-          st.wall2.center_lane = since(w_start, clock::now());
-          for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = ws.lane.x[static_cast<size_t>(ws.lane.out_rows[k])];
-        }  // (otherwise the caller filled ws.geo.h from its wide solve's lane 0)
-        int ready = ws.faces_ready.load(std::memory_order_acquire);
-        for (; ready == 0; ready = ws.faces_ready.load(std::memory_order_acquire)) ws.faces_ready.wait(0, std::memory_order_acquire);
-        if (ready != 1) return;  // the caller left by an exception before the faces were built
-        geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-        t_distance = thread_cpu_seconds() - c0;
-        w_helper_end = clock::now();
-      };
-      HelperThread* helper = nullptr;
-      // The helper reads this query's stack: join before leaving, also on an
-      // exception here (then first release it from waiting for the faces).
-      struct JoinGuard {
-        HelperThread* h = nullptr;
-        std::atomic<int>* faces_ready = nullptr;
-        ~JoinGuard() {
-          if (!h) return;
-          int pending = 0;
-          if (faces_ready->compare_exchange_strong(pending, 2, std::memory_order_release)) faces_ready->notify_one();
-          try {
-            h->join();
-          } catch (...) {
-          }
-        }
-      } guard{nullptr, &ws.faces_ready};
-      if (two) {
-        if (!ws.helper) ws.helper = std::make_unique<HelperThread>();
-        helper = ws.helper.get();
-        ws.faces_ready.store(0, std::memory_order_relaxed);
-        if (ws.center_lane_alone) {
-          ws.rhs_lane.assign(static_cast<size_t>(d), 0.0);
-          ws.rhs_lane[0] = 1.0;
-          helper->run(center_then_distance);
-          guard.h = helper;
-        }
-        // The faces, while the helper solves; it waits for them before the divergence.
-        geo_.build_region_faces(r);
-        ws.faces_ready.store(1, std::memory_order_release);
-        ws.faces_ready.notify_one();
-      }
-      ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
-      for (int32_t l = 0; l < d; ++l) ws.rhs_wide[static_cast<size_t>(l) * W + l] = 1.0;
-      solve_planned_wide(F, ws.plan, W, ws.rhs_wide, {}, ws.wide);
-      if (two && !ws.center_lane_alone) {
-        // The helper takes the distance from this solve's lane 0.
-        const double* X0 = ws.wide.x.data();
-        for (size_t k = 0; k < nloc; ++k) ws.geo.h[k] = X0[static_cast<size_t>(ws.wide.out_rows[k]) * W];
-        helper->run(center_then_distance);
-        guard.h = helper;
-      }
-      lap(st.heat_s);
-      const std::vector<int32_t>& rows = ws.wide.out_rows;
-      const double* X = ws.wide.x.data();
-      const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
-      // Owner of each row: its region index, with kSourceBit set for the
-      // sources (no lookups by vertex id inside the loop: those were cache misses).
-      constexpr int32_t kSourceBit = 1 << 30;
-      ws.row_owner.assign(xrows, -1);
-      for (size_t k = 0; k < nloc; ++k) ws.row_owner[rows[k]] = static_cast<int32_t>(k);
-      for (int32_t v : S)  // (the two-ring may reach beyond a tiny patch's region)
-        if (r.local[v] >= 0) ws.row_owner[rows[r.local[v]]] |= kSourceBit;
-      const double h_center = X[static_cast<size_t>(rows[cl]) * W];
-      // with_heat: also the center's heat per region vertex (one thread; with two
-      // the helper has its own copy of it).
-      for (size_t row = 0; row < xrows; ++row) {
-        const int32_t o = ws.row_owner[row];
-        if (o < 0) continue;
-        const int32_t k = o & (kSourceBit - 1);
-        const double* f = X + row * static_cast<size_t>(W);
-        if (!two) ws.geo.h[k] = f[0];
-        if (k < np) vertex_gradient(static_cast<size_t>(k), k == cl, (o & kSourceBit) != 0, f, true, h_center, est, st, ws);
-      }
-      if (two) {
-        finish_angles(patch, out, est, st, ws);
-        lap(t_gradients);
-        const clock::time_point w_main_end = clock::now();
-        helper->join();
-        guard.h = nullptr;
-        const clock::time_point w_joined = clock::now();
-        st.wall2.serial = wall_serial;
-        st.wall2.helper_start = since(w_start, w_helper_start);
-        st.wall2.helper = since(w_helper_start, w_helper_end);
-        st.wall2.main = since(w_start, w_main_end);
-        st.wall2.join_wait = since(w_main_end, w_joined);
-        lap(st.wait_s);  // (waiting for the helper is no CPU time; ~0)
-        st.distance_s = t_distance;  // the helper's CPU time (its center solve and the distance)
-        st.poisson_s = ws.geo.poisson_s;
-        distance_done = true;
-      }
+      solve_heat_one_pass(W, ws);
+      clock.lap(st.heat_s);
+      gradients_from_rows(W, cl, est, st, ws);
     } else {
-      // More than kMaxWideLanes sources (valence > 31): further passes into the same rows.
-      ws.heat.resize(nloc * static_cast<size_t>(W) * st.passes);
-      const int64_t stride = static_cast<int64_t>(W) * st.passes;
-      for (int32_t ps = 0; ps < st.passes; ++ps) {
-        const int32_t k0 = ps * W, lanes = std::min(W, d - k0);
-        ws.rhs_wide.assign(static_cast<size_t>(d) * W, 0.0);
-        for (int32_t l = 0; l < lanes; ++l) ws.rhs_wide[static_cast<size_t>(k0 + l) * W + l] = 1.0;
-        ws.out_wide.resize(nloc * static_cast<size_t>(W));
-        solve_planned_wide(F, ws.plan, W, ws.rhs_wide, ws.out_wide, ws.wide);
-        for (size_t v = 0; v < nloc; ++v)
-          std::copy_n(ws.out_wide.begin() + static_cast<int64_t>(v) * W, W, ws.heat.begin() + static_cast<int64_t>(v) * stride + k0);
-      }
-      lap(st.heat_s);
-      for (size_t v = 0; v < nloc; ++v) ws.geo.h[v] = ws.heat[v * stride];
-      const double h_center = ws.heat[static_cast<size_t>(cl) * stride];
-      for (size_t p = 0; p < patch.size(); ++p)
-        vertex_gradient(p, patch[p] == center,
-                        std::binary_search(ws.sorted_sources.begin(), ws.sorted_sources.end(), patch[p]),
-                        ws.heat.data() + p * stride, false, h_center, est, st, ws);
+      solve_heat_passes(W, st.passes, ws);
+      clock.lap(st.heat_s);
+      gradients_from_passes(patch, center, cl, static_cast<size_t>(W) * st.passes, est, st, ws);
     }
-    if (!distance_done) {
-      lap(t_gradients);
-      if (r.faces_pending) geo_.build_region_faces(r);  // (two threads asked, several passes)
-      // Distance from lane 0 (the heat from the center).
-      geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
-      lap(st.distance_s);
-      st.poisson_s = ws.geo.poisson_s;
-      finish_angles(patch, out, est, st, ws);
-    }
+    double t_gradients = 0;
+    clock.lap(t_gradients);
+    // Distance from lane 0 (the heat from the center).
+    geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
+    clock.lap(st.distance_s);
+    st.poisson_s = ws.geo.poisson_s;
+    finish_angles(patch, out, est, st, ws);
     scale_by_distance(out);
     st.angles_s = t_gradients;
   } catch (...) {
@@ -1001,7 +992,7 @@ LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, co
   }
   geo_.release_region(r);
   double t_finish = 0;
-  lap(t_finish);  // (with the region's release)
+  clock.lap(t_finish);  // (finish_angles and the output, with the region's release)
   st.angles_s += t_finish;
   return st;
 }

@@ -55,132 +55,22 @@
 //    dispersion set, centrally symmetric), used only when the patch surrounds
 //    the center.
 //
-// Measured (mean over centers of the per-center mean error, after the best
-// global rotation; geodesic disk of radius 0.5, t = h^2; worst center in
-// brackets; `locus-bench logmap-accuracy SURFACE --centers 10`):
-//   icosphere level 7 (h = 0.0094), 10 random centers, E_d 1.4e-3:
-//     E_a LogHeat 3.9e-3 (5.9e-3), TwoRing 3.9e-3 (5.7e-3), LogHeat + Ring 3.1e-3 (4.4e-3),
-//     LogHeat + Star 2.9e-3 (4.4e-3); DEM 2.9e-3 (4.0e-3);
-//     vertex 0 (icosahedron corner) 3.2e-3, vertex 13 (edge midpoint) 1.2e-2, with Ring 8.3e-3.
-//   random-point sphere 160k (h = 0.010), 10 centers, E_d 3.7e-3 (4.4e-3):
-//     E_a LogHeat 4.2e-2 (8.0e-2), TwoRing 2.0e-2 (4.5e-2), TwoRing + recenter 1.7e-2 (2.9e-2),
-//     TwoRing + Ring 5.1e-2 (the lattice correction at irregular stars: worse, hence not applied there).
-// Why generic centers are worse than the corners (per-center harmonics of the
-// error against the azimuth, --dump): at vertex 0 the error is a pure
-// harmonic 5 (5e-3), at vertex 13 a harmonic 2 (1.9e-2) that grows with the
-// distance, at generic vertices harmonics 1-4. Every estimator shares them
-// (one-ring, two-ring, full solves alike): they are in the heat values, not in
-// the gradient estimate, the tangent frame or the rotation fit. The discrete
-// heat kernel is anisotropic: far from j, h_j is locally a plane wave
-// exp(k . x) whose k solves the lattice's dispersion relation; at t = h^2 the
-// star spans one decay length, so the set of admissible k is not a disk where
-// the triangles are sheared, and the gradient (k) is not parallel to the
-// direction of j (the normal of that set at k). Mapping the direction through
-// the dispersion relation of the center's ring removes the local part (sheared
-// planar lattice: E_a 1.0e-2 -> 3.5e-3, tests/pipelines/logmap.cpp); what
-// remains on icospheres grows with the distance: the lattice changes along the
-// path and the heat's rays bend, which a correction at the center cannot undo.
-// A half lumped, half consistent mass (HeatGeodesicOptions::mass_blend, meant
-// to cancel the h^2 / t term of the decay rate) did not help (vertex 13:
-// 1.29e-2 against 1.23e-2). The error falls with t (level 6: 2.7e-3 at 2 h^2,
-// 1.7e-3 at 4 h^2, 1.1e-3 at 8 h^2).
-//
-// Session 6: the correction along the ray (LatticeCorrection::Path). The error
-// left by the center's correction grew with the distance (icosphere 7, Star:
-// 1.2e-3 at r = 0.1-0.2, 3-6e-3 at r = 0.4-0.5, mostly harmonic 2 with a phase
-// constant in r) and scales like h^2 / t (E_a 3.0 / 1.7 / 0.97e-3 at t = 1, 2,
-// 4 h^2; 4.3 / 3.0 / 3.2e-3 at levels 6 / 7 / 8 with t = h^2): the lattice's
-// anisotropy varies coherently over an icosahedron face, and the direction of
-// grad log h_j at i is, to first order, the dual direction of the lattice's
-// Finsler norm averaged along the ray from j to i (plus a transverse term from
-// its variation, not modelled). Summing the stars' dispersion relations along
-// the ray (logmap.cpp, path_offsets) instead of the center's alone gives, over
-// the same 10 random centers at t = h^2 (`locus-bench logmap-accuracy SPEC
-// --centers 10`; tests/pipelines/logmap_accuracy.cpp):
-//   icosphere 7:   E_a 1.71e-3 (worst 2.6e-3), E_d 1.40e-3, no flips (Ring: 3.04e-3);
-//   bump 150:      E_a 1.11e-3, E_d 1.34e-3 (Ring: 5.44e-3; DEM 5.28e-2, 1.06e-3);
-//   random sphere: unchanged, E_a 1.70e-2, E_d 3.73e-3 (its centers are irregular:
-//                  no lattice correction there).
-//   other resolutions (E_a, default vs Ring + recenter): icosphere 6 2.56e-3 vs
-//   4.32e-3, icosphere 8 1.79e-3 vs 3.19e-3; icosphere 7 at t = 2 h^2 0.99e-3 vs
-//   1.69e-3. Allowing Path at irregular centers made the random sphere worse
-//   (two-ring + Path + recenter 2.0e-2, ~94 flipped triangles), so Auto keeps
-//   the lattice correction to regular stars.
-// Its cost is per query and linear in the patch: one pass over every patch
-// vertex's star into edge moments (degree <= 10) of its (sector, radius) cell,
-// then a 1-D Newton per sector and bin. 10k-vertex patch on icosphere 7, thread
-// CPU 10-15 ms against 6.5-9 ms with Ring under load 4 (`logmap-accuracy ...
-// variants.*.query_cpu_s`; direct exponential sums took 31 ms). Irregular
-// centers (most of subdivided armadillo's) skip it with the lattice correction.
-//
-// Where the "plain §6.5 implementation, E_a 1.1e-3 on icospheres" comes
-// from (session 4, full solves, no corrections, radius 0.5, t = h^2): it is the
-// thesis estimator (HeatAverage) at vertex 0, an icosahedron corner (valence 5,
-// a symmetric star): 1.10e-3 at level 6 (h = 0.019), 1.08e-3 at level 7. At
-// generic vertices the same estimator gives 3.3e-3 to 6.4e-3 (level 6: mean of
-// 5 centers 5.3e-3; level 7: 4.5e-3), and over the 10 random centers of
-// `logmap-accuracy icosphere:7` 4.28e-3. The error hardly falls from level 6
-// to level 7 (t = h^2 keeps h^2 / t fixed, so the lattice anisotropy stays),
-// and at the corner the log estimators are worse than the plain one (3.2e-3:
-// the convexity bias of grad h there happens to cancel part of the
-// anisotropy). Before the Path correction no estimator reached 2e-3 over
-// random centers at t = h^2 (best: two-ring + Star 2.87e-3, the session-5
-// default Auto + Ring + recenter 3.04e-3).
-//
-// Cost of a localized query (LogMapStats phases, thread CPU; `locus-bench
-// logmap` phases_s; 416k vertices, 5 % patch = 21k vertices, two-ring center
-// with 19-22 sources, session 5 under load 3-5): region 1.8 ms, heat plan 0.3,
-// heat solve 4.2-4.8 (24 lanes; the region's ancestors, 25.8k columns, 1.6k of
-// them the root path), distance 4.6-5.4 (Poisson plan + solve 3.3-4.0, one
-// lane; divergence ~1.2), angles 2.0-2.5. At 50 %: 11 / 2.5 / 25 / 32 / 23 ms.
-// Factor traffic, counted from the plans (kernels/include/locus/kernels/solve/solve_plan.hpp, plan_traffic;
-// bench keys factor_traffic_mb, stream_floor_s; session 6, median of 30
-// centers): at 5 % the heat solve reads 23.7 MB (17.3 MB distinct: the root
-// path is read by both passes), the Poisson solve 34.5 MB (17.3 distinct);
-// 34.5 MB distinct in all. This machine streams 23-30 GB/s on one core
-// (stream_read_gbs; 512 MB buffer), so the bytes alone take 1.2-1.5 ms, against
-// DEM's 6.4 ms: memory bandwidth does not rule out parity (the session-5 note
-// said it did, from a 10 GB/s guess). The solves run at 6 GB/s (heat) and
-// 12.5 GB/s (Poisson): latency and per-supernode work, not bandwidth, bound
-// them; with the non-solve phases (region, plan, divergence, angles: ~5 ms)
-// that is where the time to DEM parity is. At 50 %: 110 / 209 MB read, 209 MB
-// distinct, floor 7.0 ms against DEM's 65-93 ms.
-// Session 7 (`locus-bench logmap ... --query-threads 2`; the machine was loaded
-// 2-3.5 by other jobs throughout, so these are indicative):
-//  * the wide solve's row loops spilled their accumulators (perf: 11 of 12 in
-//    the 24-lane backward loop; GCC assumed the accumulators alias x); with
-//    local copies the heat solve fell from ~5.2 to ~3.9 ms at 5 % (same results);
-//  * the log of a heat row is taken in registers (a store-forwarding stall on
-//    the log buffer took half of the gradient time) and the raw angles with a
-//    vector atan2: angles phase 2.3 -> 1.3 ms at 5 %, 15.8 -> 8.4 ms at 25 %;
-//  * one thread, 5 %: region 1.9, plan 0.3, heat solve 4.0, distance 4.8
-//    (Poisson 3.5), angles 1.3 ms; DEM 6.4-6.9 ms. A one-lane vectorized Poisson
-//    kernel, 8-lane Poisson solves, software prefetch of the next supernodes'
-//    blocks or of the x rows did not help (same-process A/B): the solves wait
-//    on the factor stream, not on arithmetic;
-//  * two threads (LogMapWorkspace::threads): the helper's path (the center's
-//    heat alone, then the distance) is the longer one. On this VM two threads
-//    of AVX-512 FMAs sometimes ran at half speed each and sometimes at full
-//    speed (other tenants on the host), and under load 2-3.5 the second
-//    thread mostly waits for a core: two threads were as fast as one at 5 %
-//    and slower at 25 %. bench JSON phases_2t_wall_s and heat_local_2t_cpu_*_s
-//    show the timeline and each thread's CPU time.
+// Why these defaults, what they cost and what was tried and dropped (with the
+// commands that reproduce every figure): docs/logmap.md.
 //
 // Reference direction: the projection into the tangent plane of the edge from
 // i to its lowest-numbered neighbor; e2 = n_i x e1 with n_i on the side of the
 // face normals, so consistently oriented triangles keep their orientation.
 //
-// Thread safety: const after construction; concurrent queries each need their
-// own LogMapWorkspace.
+// Thread safety: const after construction; concurrent queries (from oneTBB
+// tasks or the caller's threads) each need their own LogMapWorkspace. A query
+// itself runs on the calling thread only.
 #pragma once
-#include <atomic>
 #include <cstdint>
-#include <memory>
 #include <span>
 #include <vector>
 
 #include "locus/mesh.hpp"
-#include "locus/kernels/parallel/helper_thread.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
 #include "locus/kernels/solve/solve_wide.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
@@ -192,7 +82,7 @@ enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 // Plane-wave (dispersion) correction of the log estimators' direction, see above.
 // None: the gradient direction itself. Star: dispersion relation of the center's
 // own star. Ring: the stars of the center and its one ring summed (an average
-// lattice for irregular meshes). Path (the default since session 6): per patch vertex j, the
+// lattice for irregular meshes). Path (the default): per patch vertex j, the
 // dispersion relation summed over the stars of the patch vertices near the ray
 // from i to j (a sector of the first-pass map, radius below j's), weighted per
 // unit length, each star turned into i's tangent plane by the minimal rotation
@@ -231,34 +121,10 @@ struct LogMapStats {
   // region (patch + ring + faces), center (sources, estimator), heat plan, heat
   // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
   // poisson_s), angles (gradients, logs, corrections, output).
-  // With LogMapWorkspace::threads = 2, distance_s is the helper thread's CPU time.
-  double region_s = 0, center_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0, wait_s = 0;
-  // LogMapWorkspace::threads = 2, one-pass queries: wall-clock timeline (steady_clock, seconds).
-  // serial: query start to the heat solves (region, center, plan), on the caller;
-  // center_lane: query start to the end of the helper's solve of the center's heat;
-  // helper_start / helper: when the helper's task (that solve, then the distance)
-  // began (from the query start) and how long it ran; main: query start to the
-  // caller's angles done;
-  // join_wait: the caller's wait for the helper after that.
-  struct {
-    double serial = 0, center_lane = 0, helper_start = 0, helper = 0, main = 0, join_wait = 0;
-  } wall2;
+  double region_s = 0, center_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0;
 };
 
 struct LogMapWorkspace {
-  // Threads inside one localized query: 2 runs a persistent helper thread
-  // (kernels/include/locus/kernels/parallel/helper_thread.hpp) that solves the center's heat alone (the same
-  // numbers as lane 0 of the wide solve: kernels/include/locus/kernels/solve/solve_wide.hpp,
-  // solve_planned_lane) and then the distance (divergence and Poisson solve),
-  // while this thread makes the wide solve and computes the gradients and
-  // angles. They share no writes and do the same arithmetic, so the results
-  // are identical to 1 thread.
-  int threads = 1;
-  std::unique_ptr<HelperThread> helper;  // threads = 2: created on first use, kept across queries
-  // threads = 2: the helper solves the center's heat itself beside the wide
-  // solve (true), or takes lane 0 of the wide solve when it is done (false).
-  bool center_lane_alone = true;
-  std::atomic<int> faces_ready{0};  // threads = 2: 0 faces pending, 1 built, 2 abandoned (the caller failed)
   HeatGeodesicWorkspace geo;
   std::vector<int32_t> sources;
   std::vector<int32_t> ring2, sorted_sources;
@@ -278,8 +144,7 @@ struct LogMapWorkspace {
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/include/locus/kernels/solve/solve_wide.hpp)
-  WideSolveWorkspace lane;         // threads = 2: the center's heat alone, on the helper thread
-  std::vector<double> rhs_wide, out_wide, rhs_lane;
+  std::vector<double> rhs_wide, out_wide;
   std::vector<double> out8;        // full variant: one 8-lane batch
   std::vector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
   std::vector<double> dist_full;   // n, full variant
@@ -341,8 +206,19 @@ class HeatLogMap {
   // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
   void vertex_gradient(size_t p, bool is_center, bool is_source, const double* f, bool padded, double h_center,
                        const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
+  void two_ring_coefficients(int32_t i, const double e1[3], const double e2[3], LogMapWorkspace& ws) const;
+  // Steps of a localized query: the heat from every source, then the gradients
+  // (one wide solve read in the solver's row order, or several passes gathered).
+  void solve_heat_one_pass(int32_t lanes, LogMapWorkspace& ws) const;
+  void gradients_from_rows(int32_t lanes, int32_t center_local, const LogMapEstimator& est, LogMapStats& st,
+                           LogMapWorkspace& ws) const;
+  void solve_heat_passes(int32_t lanes, int32_t passes, LogMapWorkspace& ws) const;
+  void gradients_from_passes(std::span<const int32_t> patch, int32_t center, int32_t center_local, size_t stride,
+                             const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
   // LatticeCorrection::Path: offsets per (sector, radius) from the first-pass angles.
   void path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const;
+  void add_path_star(int32_t v, double weight, const double n[3], const double e1[3], const double e2[3], double inv_h,
+                     double* cell, LogMapWorkspace& ws) const;
   static double path_offset_at(const std::vector<double>& table, double th, double r, double rmax);
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;
