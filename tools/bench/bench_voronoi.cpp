@@ -1,7 +1,7 @@
 // `locus-bench voronoi-convergence random-sphere`: the bisector convergence study of
 // thesis §3.4 (Fig. 3.1, eq. 3.22). On random-point hulls of the unit sphere of
 // increasing size, generators at (1,0,0), (-1,0,0), (0,1,0) (as surface points on
-// the faces the axis rays cross); the heat Voronoi diagram (pipelines/heat_voronoi)
+// the faces the axis rays cross); the heat Voronoi diagram (pipelines/voronoi/heat_voronoi)
 // and the RMS over its edge points of the distance to the exact bisector plane
 // (all bisectors of the sphere lie in planes through the origin). Reports h, RMS
 // per size and t, and the least-squares slope of log RMS against log h (quadratic
@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/solve/solve_selective.hpp"

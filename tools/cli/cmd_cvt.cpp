@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/pipelines/voronoi/cvt_quality.hpp"
@@ -38,7 +40,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   if (o.solver != "local" && o.solver != "full")
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
   // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
-  // (measurements in pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp).
+  // (measurements in docs/cvt.md).
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
   check_preview_path(o.preview);

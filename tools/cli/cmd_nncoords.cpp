@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/site_args.hpp"

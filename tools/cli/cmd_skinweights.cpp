@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 #include "tools/cli/cli_common.hpp"

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"

@@ -10,19 +10,24 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <queue>
 #include <string>
 
+#include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_selective.hpp"
+#include "locus/kernels/parallel/batch_graph.hpp"
+#include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/cvt_quality.hpp"
 #include "locus/pipelines/voronoi/heat_centroid.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
 
 namespace locus {
@@ -344,24 +349,60 @@ struct CentroidScratch {
   PlanWorkspace label_pws;
 };
 
-}  // namespace
 
-LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
-  if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
-  if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
-  if (opt.sites > m.num_vertices())
-    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(opt.sites) + " sites but only " +
-                                  std::to_string(m.num_vertices()) + " vertices (cells cannot be smaller than a vertex)");
-  BatchStopwatch sw;
-  std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
-  const double seed_s = sw.lap();
-  LloydResult r = cvt_lloyd(m, std::move(init), opt, ctx);
-  r.init_s += seed_s;
-  return r;
+// sum_i b_i x_i / sum_i b_i: the exact area centroid (R^3) of a cell whose load is b
+// (the hat functions reproduce x on every triangle).
+void area_centroid(const Mesh& m, std::span<const int32_t> ids, std::span<const double> w, double out[3]) {
+  double s = 0, sx = 0, sy = 0, sz = 0;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    s += w[k];
+    sx += w[k] * m.x[ids[k]];
+    sy += w[k] * m.y[ids[k]];
+    sz += w[k] * m.z[ids[k]];
+  }
+  out[0] = s > 0 ? sx / s : 0.0;
+  out[1] = s > 0 ? sy / s : 0.0;
+  out[2] = s > 0 ? sz / s : 0.0;
 }
 
-LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+// Hottest vertex of every lane in one pass: largest heat, smallest id on ties (deterministic).
+void hottest_vertices(const HeatBatch& hb, int32_t best[kLanes]) {
+  double bv[kLanes];
+  std::fill(best, best + kLanes, -1);
+  std::fill(bv, bv + kLanes, -INFINITY);
+  const int32_t cnt = hb.count();
+  for (int32_t k = 0; k < cnt; ++k) {
+    const double* row = hb.values.data() + static_cast<size_t>(k) * kLanes;
+    const int32_t id = hb.id(k);
+    for (int l = 0; l < kLanes; ++l)
+      if (row[l] > bv[l] || (row[l] == bv[l] && id < best[l])) {
+        bv[l] = row[l];
+        best[l] = id;
+      }
+  }
+}
+
+// Heat never crosses components: a component without a site would have no
+// cell (and labels of -1). Sites stay in their cell's component, so checking
+// the initial sites is enough.
+void check_components_have_sites(const Mesh& m, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
+  std::vector<int32_t> comp;
+  const int32_t nc = connected_components(m, comp);
+  if (nc <= 1) return;
+  std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
+  for (const SurfacePoint& p : sites) {
+    const int32_t v = p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])];
+    has_site[static_cast<size_t>(comp[v])] = 1;
+  }
+  for (int32_t v = 0; v < n; ++v)
+    if (comp[v] >= 0 && !has_site[static_cast<size_t>(comp[v])])
+      fail(ErrorCode::BadInput, "cvt: the connected component containing vertex " + std::to_string(v) +
+                                    " has no site (the mesh has " + std::to_string(nc) +
+                                    " components; every component needs at least one site)");
+}
+
+void check_lloyd_input(const Mesh& m, std::span<const SurfacePoint> sites, const LloydOptions& opt) {
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
@@ -375,32 +416,23 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   check_requirements(m, req);
   for (int32_t s = 0; s < ns; ++s) check_surface_point(m, sites[s], "site", s);
-  // Heat never crosses components: a component without a site would have no
-  // cell (and labels of -1). Sites stay in their cell's component, so checking
-  // the initial sites is enough.
-  {
-    std::vector<int32_t> comp;
-    const int32_t nc = connected_components(m, comp);
-    if (nc > 1) {
-      std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
-      for (const SurfacePoint& p : sites) {
-        const int32_t v = p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])];
-        has_site[static_cast<size_t>(comp[v])] = 1;
-      }
-      for (int32_t v = 0; v < n; ++v)
-        if (comp[v] >= 0 && !has_site[static_cast<size_t>(comp[v])])
-          fail(ErrorCode::BadInput, "cvt: the connected component containing vertex " + std::to_string(v) +
-                                        " has no site (the mesh has " + std::to_string(nc) +
-                                        " components; every component needs at least one site)");
-    }
-  }
-  const bool local = opt.solver == LloydOptions::Solver::Local;
+  check_components_have_sites(m, sites);
+}
 
-  LloydResult r;
-  BatchStopwatch sw;
-  HeatDiffusion H_own;
-  const std::vector<double> area_r3 = face_areas(m);
+// The operators of one run: the cells' (opt.prepared, or M - t L of the mesh or of
+// its R^6 lift) and the centroids' (the same, or with t_centroid_factor a second
+// numeric factor on the same symbolic factor), and the face areas in the cells'
+// metric. Filled in place: H and Hc may point at H_own and Hc_own.
+struct LloydOperators {
+  HeatDiffusion H_own, Hc_own;
+  const HeatDiffusion* H = nullptr;
+  const HeatDiffusion* Hc = nullptr;
   std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
+};
+
+void prepare_lloyd_operators(const Mesh& m, const LloydOptions& opt, const std::vector<double>& area_r3,
+                             BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops) {
+  const int32_t n = m.num_vertices();
   // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
   std::vector<double> lifted;
   if (opt.anisotropy > 0) lifted = lifted_positions(m, opt.anisotropy);
@@ -419,7 +451,7 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
     if (opt.prepared->n != n || opt.prepared->mass.size() != static_cast<size_t>(n))
       fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
-    area_op = area_r3;
+    ops.area_op = area_r3;
   } else {
     std::vector<double> mass;
     double h = 0;
@@ -430,14 +462,15 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     }
     const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
     const CscMatrix A = build(t, mass, h);
-    area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
+    ops.area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
     const double op_s = sw.lap();
-    H_own = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
-    H_own.operator_s = op_s;
+    ops.H_own = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
+    ops.H_own.operator_s = op_s;
   }
-  const HeatDiffusion& H = opt.prepared ? *opt.prepared : H_own;
+  ops.H = opt.prepared ? opt.prepared : &ops.H_own;
+  const HeatDiffusion& H = *ops.H;
   // Centroids with their own diffusion time: same pattern, so the symbolic factor is shared.
-  HeatDiffusion Hc_own;
+  HeatDiffusion& Hc_own = ops.Hc_own;
   if (opt.t_centroid_factor > 0) {
     sw.lap();
     Hc_own.n = H.n;
@@ -448,16 +481,379 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
     Hc_own.factor = factorize(H.factor.symbolic, A, ctx);
     Hc_own.factor_s = sw.lap();
   }
-  const HeatDiffusion& Hc = opt.t_centroid_factor > 0 ? Hc_own : H;
+  ops.Hc = opt.t_centroid_factor > 0 ? &Hc_own : ops.H;
+}
+
+// What the Lloyd iterations read and never change.
+struct LloydInputs {
+  const Mesh& m;
+  const LloydOptions& opt;
+  const RunContext& ctx;
+  const HeatDiffusion& H;   // cells (labels)
+  const HeatDiffusion& Hc;  // centroids
+  const CentroidGeometry& geo;
+  const Edges& edges;
+  const VertexStars& stars;          // in the operator's metric
+  const std::vector<double>& area_r3;
+  const std::vector<double>& mass_r3;
+  double h_r3;
+  int threads;                       // of the arena of the cell partitions (>= 1)
+};
+
+// This iteration's centroid step: one slot per cell, filled as the batches arrive
+// (arrival order is irrelevant), and per-batch factor reads (count_reads).
+struct CentroidSlots {
+  std::vector<HeatCentroid> cent;
+  std::vector<double> cell_energy;
+  std::vector<uint8_t> has;
+  std::vector<double> bias;
+  std::vector<int64_t> centroid_reads, label_reads;
+  size_t kept_base = 0;  // this iteration's first entry of kept_fraction_
+  int64_t fallback = 0;
+};
+
+// Lloyd's iterations on the current sites: labels, batches of neighboring cells,
+// their sources, heat centroids and refinement, statistics, the move; then the
+// final labels. Writes the result's per-iteration series and totals.
+class LloydLoop {
+ public:
+  LloydLoop(const LloydInputs& in, std::vector<SurfacePoint>& sites, std::vector<std::vector<int32_t>> nb,
+            LloydResult& r)
+      : in_(in), m_(in.m), opt_(in.opt), ctx_(in.ctx), local_(in.opt.solver == LloydOptions::Solver::Local),
+        n_(in.m.num_vertices()), ns_(static_cast<int32_t>(sites.size())), sites_(sites), nb_(std::move(nb)), r_(r),
+        full_entries_(in.opt.count_reads ? factor_entries(*in.H.factor.symbolic) : 0) {}
+
+  void iterate(int32_t it);
+  void finish();
+
+ private:
+  template <class F>
+  void in_arena(F&& f) {  // reused per (thread, concurrency): an arena per call leaks inside oneTBB
+    run_with_threads(in_.threads, f);
+  }
+  void labels_of_sites();
+  CentroidSlots centroid_slots(int32_t nbatch);
+  std::shared_ptr<CentroidMsg> solve_centroid_batch(int32_t b, std::span<const std::array<double, 3>> before);
+  void add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, int32_t c, const std::array<double, 3>& p);
+  void count_batch_reads(CentroidScratch& cs, CentroidMsg& msg, int32_t b);
+  void refine_centroids(CentroidScratch& cs, CentroidMsg& msg);
+  void store(const CentroidMsg& msg, CentroidSlots& slots);
+  void record_statistics(CentroidSlots& slots, int32_t nbatch);
+  void move_sites(const CentroidSlots& slots, std::span<const std::array<double, 3>> before);
+
+  const LloydInputs in_;
+  const Mesh& m_;
+  const LloydOptions& opt_;
+  const RunContext& ctx_;
+  const bool local_;
+  const int32_t n_, ns_;
+  std::vector<SurfacePoint>& sites_;
+  std::vector<std::vector<int32_t>> nb_;  // first neighborhoods (localized), until the first labels
+  LloydResult& r_;
+  HeatVoronoi V_;
+  Cells cells_;
+  tbb::enumerable_thread_specific<CentroidScratch> cscratch_;
+  std::vector<double> kept_fraction_;  // per centroid batch, summed in batch order at the end
+  // Batches (runs of 8 in `order_`) and, localized, each batch's kept set: the union of
+  // its cells and their two rings of neighbor cells. Built by the centroid step from
+  // the labels of this iteration and reused by the next labels (same batches: the
+  // sites are the centroids of these cells), so no neighborhood is built twice.
+  std::vector<int32_t> order_;
+  std::vector<std::vector<int32_t>> batch_kept_;
+  const int64_t full_entries_;
+  double centroid_read_sum_ = 0, label_read_sum_ = 0;
+  int64_t read_batches_ = 0;
+};
+
+void LloydLoop::labels_of_sites() {
+  BatchStopwatch psw;
+  if (order_.empty()) order_ = spatial_order(m_, sites_);
+  if (local_ && !batch_kept_.empty()) {
+    V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, ctx_);
+  } else {  // first labels: per-site Dijkstra balls (localized) or full solves
+    V_ = heat_voronoi(in_.H, m_, sites_, local_ ? std::span<const std::vector<int32_t>>(nb_)
+                                                 : std::span<const std::vector<int32_t>>(),
+                      order_, ctx_);
+    nb_ = {};
+  }
+  r_.unreached += V_.unreached;
+  r_.label_solve_cpu_s += V_.solve_cpu_s;
+  r_.labels_s += psw.lap();
+  for (int32_t v = 0; v < n_; ++v)
+    if (V_.label[v] < 0)
+      fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
+  in_arena([&] { cells_ = build_cells(in_.edges, V_.label, ns_); });
+  r_.partition_s += psw.lap();
+}
+
+CentroidSlots LloydLoop::centroid_slots(int32_t nbatch) {
+  CentroidSlots s;
+  s.cent.resize(ns_);
+  s.cell_energy.assign(ns_, 0.0);
+  s.has.assign(ns_, 0);
+  s.bias.assign(ns_, 0.0);
+  if (local_) batch_kept_.assign(nbatch, {});
+  s.kept_base = kept_fraction_.size();
+  s.centroid_reads.assign(nbatch, 0);
+  s.label_reads.assign(nbatch, 0);
+  kept_fraction_.resize(s.kept_base + nbatch, 0.0);
+  return s;
+}
+
+// Lane l of a centroid batch: cell c's Euclidean CVT energy w.r.t. its current site
+// p (diagnostic), its source (the split triangles or the vertex masses of the cell)
+// added to the batch, and that source's area centroid.
+void LloydLoop::add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, int32_t c,
+                                const std::array<double, 3>& p) {
+  const Mesh& m = m_;
+  const std::span<const int32_t> cv(cells_.verts.data() + cells_.offsets[c],
+                                    static_cast<size_t>(cells_.offsets[c + 1] - cells_.offsets[c]));
+  {  // Euclidean CVT energy of the cell w.r.t. its current site (diagnostic)
+    double e = 0;
+    for (int32_t v : cv)
+      e += in_.mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
+                             (m.z[v] - p[2]) * (m.z[v] - p[2]));
+    msg.energy[l] = e;
+  }
+  cs.touched.clear();
+  cs.weights.clear();
+  if (opt_.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
+    accumulate_cell_load(in_.stars, V_, c, cv, cs.dense, cs.touched, msg.fallback);
+    for (int32_t v : cs.touched) {
+      cs.weights.push_back(cs.dense[v]);
+      cs.dense[v] = 0.0;
+    }
+    cs.batch.add_source(cs.touched, cs.weights);
+    area_centroid(m, cs.touched, cs.weights, msg.area_centroid[l]);
+  } else {
+    for (int32_t v : cv) cs.weights.push_back(in_.Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
+    cs.batch.add_source(cv, cs.weights);
+    area_centroid(m, cv, cs.weights, msg.area_centroid[l]);
+  }
+}
+
+// count_reads: the factor entries this batch's centroid solve read and those the
+// next labels' solve of the same batch will read (the sites' supports on the same
+// kept set).
+void LloydLoop::count_batch_reads(CentroidScratch& cs, CentroidMsg& msg, int32_t b) {
+  const HeatBatch& hb = cs.batch;
+  msg.reads = selective_solve_reads(*in_.Hc.factor.symbolic, hb.plan(), cs.read_mark);
+  cs.label_support.clear();
+  for (int l = 0; l < msg.lanes; ++l) {
+    int32_t sv[3];
+    double sw[3];
+    const int c = surface_point_support(m_, sites_[order_[b * kLanes + l]], sv, sw);
+    cs.label_support.insert(cs.label_support.end(), sv, sv + c);
+  }
+  plan_selective_solve(*in_.H.factor.symbolic, cs.label_support, hb.kept, cs.label_plan, cs.label_pws);
+  msg.label_reads = selective_solve_reads(*in_.H.factor.symbolic, cs.label_plan, cs.read_mark);
+}
+
+// The centroid of every lane's cell from the batch's solution: its hottest vertex,
+// refined by the quadratic fit (heat_centroid.hpp); empty cells keep their site.
+void LloydLoop::refine_centroids(CentroidScratch& cs, CentroidMsg& msg) {
+  const HeatBatch& hb = cs.batch;
+  const int32_t cnt = hb.count();
+  int32_t best[kLanes];
+  hottest_vertices(hb, best);
+  // Positions of the kept vertices in the solution (localized): the fits read
+  // their rings through it (-1 = not kept, heat zero).
+  if (local_ && opt_.refine) {
+    if (cs.pos.size() != static_cast<size_t>(n_)) cs.pos.assign(n_, -1);
+    for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = k;
+  }
+  for (int l = 0; l < msg.lanes; ++l) {
+    const int32_t c = msg.cells[l];
+    if (cells_.offsets[c + 1] == cells_.offsets[c]) {
+      msg.result[l].hottest = -1;  // empty cell: the site stays
+      continue;
+    }
+    if (!opt_.refine) {
+      msg.result[l].hottest = best[l];
+      msg.result[l].point = vertex_point(best[l]);
+    } else if (local_) {
+      msg.result[l] = refine_heat_maximum(m_, in_.geo, hb.values, cs.pos, l, best[l], opt_.fit_rings, opt_.fit_sigma);
+    } else {
+      for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
+      msg.result[l] = refine_heat_maximum(m_, in_.geo, cs.dense, best[l], opt_.fit_rings, opt_.fit_sigma);
+    }
+  }
+  if (local_ && opt_.refine)
+    for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = -1;
+  if (!local_) std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
+}
+
+// Batch b of 8 cells (runs of 8 in order_): sources, kept set (localized), one
+// 8-lane solve, centroids.
+std::shared_ptr<CentroidMsg> LloydLoop::solve_centroid_batch(int32_t b,
+                                                             std::span<const std::array<double, 3>> before) {
+  CentroidScratch& cs = cscratch_.local();
+  if (cs.dense.size() != static_cast<size_t>(n_)) cs.dense.assign(n_, 0.0);
+  auto msg = std::make_shared<CentroidMsg>();
+  HeatBatch& hb = cs.batch;
+  hb.clear_sources();
+  hb.kept.clear();
+  cs.cells.clear();
+  msg->lanes = std::min(kLanes, ns_ - b * kLanes);
+  msg->batch = b;
+  for (int l = 0; l < msg->lanes; ++l) {
+    const int32_t c = order_[b * kLanes + l];
+    msg->cells[l] = c;
+    add_cell_source(cs, *msg, l, c, before[c]);
+    if (local_) two_ring_cells(cells_, c, cs.cells);
+  }
+  if (local_) {
+    cells_to_vertices(cells_, cs.cells, hb.kept);
+    batch_kept_[b] = hb.kept;  // this batch's slot: the next labels solve on it
+  }
+  const double c0 = thread_cpu_seconds();
+  solve_heat_batch(in_.Hc, hb);
+  msg->solve_cpu_s = thread_cpu_seconds() - c0;
+  if (opt_.count_reads && local_) count_batch_reads(cs, *msg, b);
+  msg->kept = hb.count();
+  refine_centroids(cs, *msg);
+  return msg;
+}
+
+void LloydLoop::store(const CentroidMsg& msg, CentroidSlots& slots) {  // one slot per cell
+  for (int l = 0; l < msg.lanes; ++l) {
+    slots.cent[msg.cells[l]] = msg.result[l];
+    slots.cell_energy[msg.cells[l]] = msg.energy[l];
+    slots.has[msg.cells[l]] = 1;
+    if (msg.result[l].hottest >= 0)
+      slots.bias[msg.cells[l]] = tangential_distance(m_, in_.geo, msg.result[l].point, msg.area_centroid[l]);
+  }
+  slots.fallback += msg.fallback;  // integer: order-independent
+  kept_fraction_[slots.kept_base + msg.batch] = static_cast<double>(msg.kept) / n_;
+  slots.centroid_reads[msg.batch] = msg.reads;
+  r_.centroid_solve_cpu_s += msg.solve_cpu_s;
+  slots.label_reads[msg.batch] = msg.label_reads;
+}
+
+// Read fractions (count_reads), the CVT energy and the centroid bias of the iteration.
+void LloydLoop::record_statistics(CentroidSlots& slots, int32_t nbatch) {
+  if (opt_.count_reads && local_) {  // batch order: deterministic sums
+    const double full = 2.0 * static_cast<double>(full_entries_);
+    for (int32_t b = 0; b < nbatch; ++b) {
+      centroid_read_sum_ += static_cast<double>(slots.centroid_reads[b]) / full;
+      label_read_sum_ += static_cast<double>(slots.label_reads[b]) / full;
+    }
+    read_batches_ += nbatch;
+  }
+  r_.energy.push_back(std::accumulate(slots.cell_energy.begin(), slots.cell_energy.end(), 0.0));  // fixed cell order
+  std::vector<double>& bias = slots.bias;
+  double b2 = 0;
+  for (double b : bias) b2 += b * b;  // fixed cell order
+  r_.centroid_bias.push_back(std::sqrt(b2 / ns_) / in_.h_r3);
+  std::nth_element(bias.begin(), bias.begin() + ns_ / 2, bias.end());
+  r_.centroid_bias_median.push_back(bias[ns_ / 2] / in_.h_r3);
+}
+
+// The sites move to their cells' centroids (empty cells keep theirs); RMS move.
+void LloydLoop::move_sites(const CentroidSlots& slots, std::span<const std::array<double, 3>> before) {
+  for (int32_t s = 0; s < ns_; ++s) {  // fixed cell order
+    if (!slots.has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
+    if (slots.cent[s].hottest < 0) {
+      ++r_.empty_cells;
+      continue;
+    }
+    sites_[s] = slots.cent[s].point;
+  }
+  double mv = 0;
+  for (int32_t s = 0; s < ns_; ++s) {
+    const auto p = surface_point_position(m_, sites_[s]);
+    mv += (p[0] - before[s][0]) * (p[0] - before[s][0]) + (p[1] - before[s][1]) * (p[1] - before[s][1]) +
+          (p[2] - before[s][2]) * (p[2] - before[s][2]);
+  }
+  r_.moved.push_back(std::sqrt(mv / ns_) / in_.h_r3);
+}
+
+void LloydLoop::iterate(int32_t it) {
+  ctx_.check_cancel();
+  BatchStopwatch isw;
+  labels_of_sites();
+  BatchStopwatch psw;
+  // New batches from the new cells (compact patches of the cell graph).
+  order_ = cluster_order(cells_, spatial_order(m_, sites_));
+  r_.neighborhood_s += psw.lap();
+  if (opt_.track_quality) {
+    const CvtQuality q = cvt_quality(m_, V_.label, sites_);
+    r_.mean_angle.push_back(q.mean_angle_deg);
+    r_.min_angle.push_back(q.min_angle_deg);
+  }
+  std::vector<std::array<double, 3>> before(ns_);
+  for (int32_t s = 0; s < ns_; ++s) before[s] = surface_point_position(m_, sites_[s]);
+  // Centroids: batches of 8 cells in the sites' spatial order.
+  const int32_t nbatch = (ns_ + kLanes - 1) / kLanes;
+  CentroidSlots slots = centroid_slots(nbatch);
+  psw.lap();
+  run_batch_graph<CentroidMsg>(
+      ctx_, nbatch, [&](int32_t b) { return solve_centroid_batch(b, before); },
+      [&](const std::shared_ptr<CentroidMsg>& msg) { store(*msg, slots); }, nullptr);
+  r_.centroids_s += psw.lap();
+  r_.fallback_faces += slots.fallback;
+  record_statistics(slots, nbatch);
+  move_sites(slots, before);
+  r_.iter_s.push_back(isw.lap());
+  ctx_.report(static_cast<double>(it + 1) / std::max(1, opt_.iterations), "lloyd");
+}
+
+// After the last iteration: the labels of the final sites, so that `label` and
+// `sites` belong together, their split-triangle cell areas and the mean fractions.
+void LloydLoop::finish() {
+  ctx_.check_cancel();
+  BatchStopwatch fsw;
+  labels_of_sites();
+  r_.final_labels_s = fsw.lap();
+  r_.label = V_.label;
+  in_arena([&] { r_.cell_area = partition_cells(m_, in_.area_r3, V_, ns_).area; });
+  r_.sites = std::move(sites_);
+  if (read_batches_ > 0) {
+    r_.centroid_read_fraction = centroid_read_sum_ / static_cast<double>(read_batches_);
+    r_.label_read_fraction = label_read_sum_ / static_cast<double>(read_batches_);
+  }
+  r_.mean_kept_fraction = kept_fraction_.empty() ? 1.0
+                                                 : std::accumulate(kept_fraction_.begin(), kept_fraction_.end(), 0.0) /
+                                                       static_cast<double>(kept_fraction_.size());
+}
+
+}  // namespace
+
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
+  if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
+  if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
+  if (opt.sites > m.num_vertices())
+    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(opt.sites) + " sites but only " +
+                                  std::to_string(m.num_vertices()) + " vertices (cells cannot be smaller than a vertex)");
+  BatchStopwatch sw;
+  std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
+  const double seed_s = sw.lap();
+  LloydResult r = cvt_lloyd(m, std::move(init), opt, ctx);
+  r.init_s += seed_s;
+  return r;
+}
+
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  check_lloyd_input(m, sites, opt);
+  const bool local = opt.solver == LloydOptions::Solver::Local;
+
+  LloydResult r;
+  BatchStopwatch sw;
+  const std::vector<double> area_r3 = face_areas(m);
+  LloydOperators ops;
+  prepare_lloyd_operators(m, opt, area_r3, sw, ctx, ops);
+  const HeatDiffusion& H = *ops.H;
+  const HeatDiffusion& Hc = *ops.Hc;
   sw.lap();
-  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + Hc_own.factor_s;
+  r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + ops.Hc_own.factor_s;
   r.h = H.h;
   r.t = H.t;
-  r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + Hc_own.factor.values.size()) * sizeof(double));
+  r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
   const CentroidGeometry geo = prepare_centroid_geometry(m);
   const Edges edges = unique_edges(m);
-  const VertexStars stars = vertex_stars(m, area_op);
+  const VertexStars stars = vertex_stars(m, ops.area_op);
   ctx.check_cancel();
   const std::vector<double> mass_r3 = lumped_mass(m);
   const double h_r3 = mean_edge_length(m);
@@ -482,250 +878,10 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   }
   r.init_s = sw.lap();
 
-  HeatVoronoi V;
-  Cells cells;
-  tbb::enumerable_thread_specific<CentroidScratch> cscratch;
-  std::vector<double> kept_fraction;  // per centroid batch, summed in batch order at the end
-  // Batches (runs of 8 in `order`) and, localized, each batch's kept set: the union of
-  // its cells and their two rings of neighbor cells. Built by the centroid step from
-  // the labels of this iteration and reused by the next labels (same batches: the
-  // sites are the centroids of these cells), so no neighborhood is built twice.
-  std::vector<int32_t> order;
-  std::vector<std::vector<int32_t>> batch_kept;
-  auto labels_of_sites = [&]() {
-    BatchStopwatch psw;
-    if (order.empty()) order = spatial_order(m, sites);
-    if (local && !batch_kept.empty()) {
-      V = heat_voronoi_batched(H, m, sites, order, batch_kept, ctx);
-    } else {  // first labels: per-site Dijkstra balls (localized) or full solves
-      V = heat_voronoi(H, m, sites, local ? std::span<const std::vector<int32_t>>(nb)
-                                          : std::span<const std::vector<int32_t>>(),
-                       order, ctx);
-      nb = {};
-    }
-    r.unreached += V.unreached;
-    r.label_solve_cpu_s += V.solve_cpu_s;
-    r.labels_s += psw.lap();
-    for (int32_t v = 0; v < n; ++v)
-      if (V.label[v] < 0)
-        fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
-    in_arena([&] { cells = build_cells(edges, V.label, ns); });
-    r.partition_s += psw.lap();
-  };
-
-  const int64_t full_entries = opt.count_reads ? factor_entries(*H.factor.symbolic) : 0;
-  double centroid_read_sum = 0, label_read_sum = 0;
-  int64_t read_batches = 0;
-  for (int32_t it = 0; it < opt.iterations; ++it) {
-    ctx.check_cancel();
-    BatchStopwatch isw;
-    labels_of_sites();
-    BatchStopwatch psw;
-    // New batches from the new cells (compact patches of the cell graph).
-    order = cluster_order(cells, spatial_order(m, sites));
-    r.neighborhood_s += psw.lap();
-    if (opt.track_quality) {
-      const CvtQuality q = cvt_quality(m, V.label, sites);
-      r.mean_angle.push_back(q.mean_angle_deg);
-      r.min_angle.push_back(q.min_angle_deg);
-    }
-    std::vector<std::array<double, 3>> before(ns);
-    for (int32_t s = 0; s < ns; ++s) before[s] = surface_point_position(m, sites[s]);
-    // Centroids: batches of 8 cells in the sites' spatial order.
-    std::vector<HeatCentroid> cent(ns);
-    std::vector<double> cell_energy(ns, 0.0);
-    std::vector<uint8_t> has(ns, 0);
-    std::vector<double> bias(ns, 0.0);
-    const int32_t nbatch = (ns + kLanes - 1) / kLanes;
-    if (local) batch_kept.assign(nbatch, {});
-    const size_t kept_base = kept_fraction.size();
-    std::vector<int64_t> centroid_reads(nbatch, 0), label_reads(nbatch, 0);
-    kept_fraction.resize(kept_base + nbatch, 0.0);
-    // sum_i b_i x_i / sum_i b_i: the exact area centroid (R^3) of a cell whose load is b
-    // (the hat functions reproduce x on every triangle).
-    auto area_centroid = [&](std::span<const int32_t> ids, std::span<const double> w, double out[3]) {
-      double s = 0, sx = 0, sy = 0, sz = 0;
-      for (size_t k = 0; k < ids.size(); ++k) {
-        s += w[k];
-        sx += w[k] * m.x[ids[k]];
-        sy += w[k] * m.y[ids[k]];
-        sz += w[k] * m.z[ids[k]];
-      }
-      out[0] = s > 0 ? sx / s : 0.0;
-      out[1] = s > 0 ? sy / s : 0.0;
-      out[2] = s > 0 ? sz / s : 0.0;
-    };
-    auto solve = [&](int32_t b) {
-      CentroidScratch& cs = cscratch.local();
-      if (cs.dense.size() != static_cast<size_t>(n)) cs.dense.assign(n, 0.0);
-      auto msg = std::make_shared<CentroidMsg>();
-      HeatBatch& hb = cs.batch;
-      hb.clear_sources();
-      hb.kept.clear();
-      cs.cells.clear();
-      msg->lanes = std::min(kLanes, ns - b * kLanes);
-      msg->batch = b;
-      for (int l = 0; l < msg->lanes; ++l) {
-        const int32_t c = order[b * kLanes + l];
-        msg->cells[l] = c;
-        const std::span<const int32_t> cv(cells.verts.data() + cells.offsets[c],
-                                          static_cast<size_t>(cells.offsets[c + 1] - cells.offsets[c]));
-        {  // Euclidean CVT energy of the cell w.r.t. its current site (diagnostic)
-          const auto p = before[c];
-          double e = 0;
-          for (int32_t v : cv)
-            e += mass_r3[v] * ((m.x[v] - p[0]) * (m.x[v] - p[0]) + (m.y[v] - p[1]) * (m.y[v] - p[1]) +
-                               (m.z[v] - p[2]) * (m.z[v] - p[2]));
-          msg->energy[l] = e;
-        }
-        cs.touched.clear();
-        cs.weights.clear();
-        if (opt.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
-          accumulate_cell_load(stars, V, c, cv, cs.dense, cs.touched,
-                               msg->fallback);
-          for (int32_t v : cs.touched) {
-            cs.weights.push_back(cs.dense[v]);
-            cs.dense[v] = 0.0;
-          }
-          hb.add_source(cs.touched, cs.weights);
-          area_centroid(cs.touched, cs.weights, msg->area_centroid[l]);
-        } else {
-          for (int32_t v : cv) cs.weights.push_back(Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
-          hb.add_source(cv, cs.weights);
-          area_centroid(cv, cs.weights, msg->area_centroid[l]);
-        }
-        if (local) two_ring_cells(cells, c, cs.cells);
-      }
-      if (local) {
-        cells_to_vertices(cells, cs.cells, hb.kept);
-        batch_kept[b] = hb.kept;  // this batch's slot: the next labels solve on it
-      }
-      const double c0 = thread_cpu_seconds();
-      solve_heat_batch(Hc, hb);
-      msg->solve_cpu_s = thread_cpu_seconds() - c0;
-      if (opt.count_reads && local) {
-        msg->reads = selective_solve_reads(*Hc.factor.symbolic, hb.plan_, cs.read_mark);
-        // The next labels' solve of this batch: the sites' supports on the same kept set.
-        cs.label_support.clear();
-        for (int l = 0; l < msg->lanes; ++l) {
-          int32_t sv[3];
-          double sw[3];
-          const int c = surface_point_support(m, sites[order[b * kLanes + l]], sv, sw);
-          cs.label_support.insert(cs.label_support.end(), sv, sv + c);
-        }
-        plan_selective_solve(*H.factor.symbolic, cs.label_support, hb.kept, cs.label_plan, cs.label_pws);
-        msg->label_reads = selective_solve_reads(*H.factor.symbolic, cs.label_plan, cs.read_mark);
-      }
-      msg->kept = hb.count();
-      const int32_t cnt = hb.count();
-      // Hottest vertex of every lane in one pass: largest heat, smallest id on ties (deterministic).
-      int32_t best[kLanes];
-      double bv[kLanes];
-      std::fill(best, best + kLanes, -1);
-      std::fill(bv, bv + kLanes, -INFINITY);
-      for (int32_t k = 0; k < cnt; ++k) {
-        const double* row = hb.values.data() + static_cast<size_t>(k) * kLanes;
-        const int32_t id = hb.id(k);
-        for (int l = 0; l < kLanes; ++l)
-          if (row[l] > bv[l] || (row[l] == bv[l] && id < best[l])) {
-            bv[l] = row[l];
-            best[l] = id;
-          }
-      }
-      // Positions of the kept vertices in the solution (localized): the fits read
-      // their rings through it (-1 = not kept, heat zero).
-      if (local && opt.refine) {
-        if (cs.pos.size() != static_cast<size_t>(n)) cs.pos.assign(n, -1);
-        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = k;
-      }
-      for (int l = 0; l < msg->lanes; ++l) {
-        const int32_t c = msg->cells[l];
-        if (cells.offsets[c + 1] == cells.offsets[c]) {
-          msg->result[l].hottest = -1;  // empty cell: the site stays
-          continue;
-        }
-        if (!opt.refine) {
-          msg->result[l].hottest = best[l];
-          msg->result[l].point = vertex_point(best[l]);
-        } else if (local) {
-          msg->result[l] = refine_heat_maximum(m, geo, hb.values, cs.pos, l, best[l], opt.fit_rings, opt.fit_sigma);
-        } else {
-          for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
-          msg->result[l] = refine_heat_maximum(m, geo, cs.dense, best[l], opt.fit_rings, opt.fit_sigma);
-        }
-      }
-      if (local && opt.refine)
-        for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = -1;
-      if (!local) std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
-      return msg;
-    };
-    int64_t fallback = 0;
-    auto store = [&](const std::shared_ptr<CentroidMsg>& msg) {  // one slot per cell: arrival order is irrelevant
-      for (int l = 0; l < msg->lanes; ++l) {
-        cent[msg->cells[l]] = msg->result[l];
-        cell_energy[msg->cells[l]] = msg->energy[l];
-        has[msg->cells[l]] = 1;
-        if (msg->result[l].hottest >= 0)
-          bias[msg->cells[l]] = tangential_distance(m, geo, msg->result[l].point, msg->area_centroid[l]);
-      }
-      fallback += msg->fallback;  // integer: order-independent
-      kept_fraction[kept_base + msg->batch] = static_cast<double>(msg->kept) / n;
-      centroid_reads[msg->batch] = msg->reads;
-      r.centroid_solve_cpu_s += msg->solve_cpu_s;
-      label_reads[msg->batch] = msg->label_reads;
-    };
-    psw.lap();
-    run_batch_graph<CentroidMsg>(ctx, nbatch, solve, store, nullptr);
-    r.centroids_s += psw.lap();
-    r.fallback_faces += fallback;
-    if (opt.count_reads && local) {  // batch order: deterministic sums
-      const double full = 2.0 * static_cast<double>(full_entries);
-      for (int32_t b = 0; b < nbatch; ++b) {
-        centroid_read_sum += static_cast<double>(centroid_reads[b]) / full;
-        label_read_sum += static_cast<double>(label_reads[b]) / full;
-      }
-      read_batches += nbatch;
-    }
-    r.energy.push_back(std::accumulate(cell_energy.begin(), cell_energy.end(), 0.0));  // fixed cell order
-    {
-      double b2 = 0;
-      for (double b : bias) b2 += b * b;  // fixed cell order
-      r.centroid_bias.push_back(std::sqrt(b2 / ns) / h_r3);
-      std::nth_element(bias.begin(), bias.begin() + ns / 2, bias.end());
-      r.centroid_bias_median.push_back(bias[ns / 2] / h_r3);
-    }
-    for (int32_t s = 0; s < ns; ++s) {  // fixed cell order
-      if (!has[s]) fail(ErrorCode::Numerical, "cvt: cell " + std::to_string(s) + " got no centroid");
-      if (cent[s].hottest < 0) {
-        ++r.empty_cells;
-        continue;
-      }
-      sites[s] = cent[s].point;
-    }
-    double mv = 0;
-    for (int32_t s = 0; s < ns; ++s) {
-      const auto p = surface_point_position(m, sites[s]);
-      mv += (p[0] - before[s][0]) * (p[0] - before[s][0]) + (p[1] - before[s][1]) * (p[1] - before[s][1]) +
-            (p[2] - before[s][2]) * (p[2] - before[s][2]);
-    }
-    r.moved.push_back(std::sqrt(mv / ns) / h_r3);
-    r.iter_s.push_back(isw.lap());
-    ctx.report(static_cast<double>(it + 1) / std::max(1, opt.iterations), "lloyd");
-  }
-  ctx.check_cancel();
-  BatchStopwatch fsw;
-  labels_of_sites();
-  r.final_labels_s = fsw.lap();
-  r.label = V.label;
-  in_arena([&] { r.cell_area = partition_cells(m, area_r3, V, ns).area; });
-  r.sites = std::move(sites);
-  if (read_batches > 0) {
-    r.centroid_read_fraction = centroid_read_sum / static_cast<double>(read_batches);
-    r.label_read_fraction = label_read_sum / static_cast<double>(read_batches);
-  }
-  r.mean_kept_fraction = kept_fraction.empty() ? 1.0
-                                              : std::accumulate(kept_fraction.begin(), kept_fraction.end(), 0.0) /
-                                                    static_cast<double>(kept_fraction.size());
+  const LloydInputs in{m, opt, ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
+  LloydLoop loop(in, sites, std::move(nb), r);
+  for (int32_t it = 0; it < opt.iterations; ++it) loop.iterate(it);
+  loop.finish();
   return r;
 }
 

@@ -66,6 +66,36 @@ bool split_face(double A, const int32_t l[3], Heat&& heat, Add&& add) {
   return true;
 }
 
+// Heat of site s at vertex v from v's top-K list; ok = false when the list lacks s.
+double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
+  const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
+  for (int i = 0; i < kVoronoiTopK; ++i)
+    if (V.top_site[base + i] == s) return V.top_value[base + i];
+  ok = false;
+  return 0.0;
+}
+
+// The site whose cell contains q: among the labels of q's support vertices, the one
+// whose heat interpolated at q is largest (smallest id on ties).
+int32_t containing_cell(const HeatVoronoi& V, const Mesh& m, const SurfacePoint& q) {
+  int32_t sv[3];
+  double sw[3];
+  const int c = surface_point_support(m, q, sv, sw);
+  int32_t best = V.label[sv[0]];
+  double bv = -INFINITY;
+  for (int a = 0; a < c; ++a) {
+    const int32_t s = V.label[sv[a]];
+    double val = 0;
+    bool ok = true;
+    for (int k = 0; k < c; ++k) val += sw[k] * top_heat(V, sv[k], s, ok);
+    if (ok && (val > bv || (val == bv && s < best))) {
+      bv = val;
+      best = s;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
@@ -98,30 +128,9 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
     if (!std::isfinite(heat_q[v])) fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
     if (heat_q[v] > V.top_value[static_cast<size_t>(v) * kVoronoiTopK]) taken.push_back(v);
   }
-  auto site_heat = [&](int32_t v, int32_t s, bool& ok) {
-    const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
-    for (int i = 0; i < kVoronoiTopK; ++i)
-      if (V.top_site[base + i] == s) return V.top_value[base + i];
-    ok = false;
-    return 0.0;
-  };
+  auto site_heat = [&](int32_t v, int32_t s, bool& ok) { return top_heat(V, v, s, ok); };
   if (taken.empty()) {  // q's cell holds no vertex: the cell containing q
-    int32_t sv[3];
-    double sw[3];
-    const int c = surface_point_support(m, q, sv, sw);
-    int32_t best = V.label[sv[0]];
-    double bv = -INFINITY;
-    for (int a = 0; a < c; ++a) {
-      const int32_t s = V.label[sv[a]];
-      double val = 0;
-      bool ok = true;
-      for (int k = 0; k < c; ++k) val += sw[k] * site_heat(sv[k], s, ok);
-      if (ok && (val > bv || (val == bv && s < best))) {
-        bv = val;
-        best = s;
-      }
-    }
-    r.weight[best] = 1.0;
+    r.weight[containing_cell(V, m, q)] = 1.0;
     r.degenerate = true;
     return r;
   }

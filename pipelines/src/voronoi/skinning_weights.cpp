@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <memory>
 
+#include "locus/kernels/heat/heat_batch.hpp"
+#include "locus/kernels/parallel/batch_graph.hpp"
+#include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"

@@ -13,9 +13,11 @@
 #include <cmath>
 #include <vector>
 
+#include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/solve/solve_selective.hpp"
 #include "locus/error.hpp"
 
 using namespace locus;
@@ -224,4 +226,31 @@ TEST_CASE("heat voronoi: bad generators are usage errors naming the generator") 
   sites[1] = SurfacePoint{2, -1, {0.5, 0.6, 0.1}};
   CHECK_THROWS_WITH_AS(heat_voronoi(H, m, sites, {}, {}, {}), doctest::Contains("sum to 1"), Error);
   CHECK_THROWS_AS(heat_voronoi(H, m, std::vector<SurfacePoint>{}, {}, {}, {}), Error);
+}
+
+TEST_CASE("heat batch (kernels/heat): repeated kept ids removed, localized count and ids, plan() reads") {
+  const Mesh m = make_icosphere(3);
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
+  const int32_t v[1] = {0};
+  const double w[1] = {1.0};
+  HeatBatch full;
+  full.add_source(v, w);
+  solve_heat_batch(H, full);
+  CHECK(full.count() == H.n);
+  CHECK(full.id(7) == 7);
+  HeatBatch local;
+  local.add_source(v, w);
+  local.kept = {5, 0, 2, 5, 0, 9};
+  dedupe_kept(local, H.n);
+  CHECK(local.kept == std::vector<int32_t>{5, 0, 2, 9});  // first occurrences, in order
+  solve_heat_batch(H, local);
+  REQUIRE(local.count() == 4);
+  CHECK(local.id(1) == 0);
+  CHECK(local.values.size() == 4 * static_cast<size_t>(kLanes));
+  std::vector<uint8_t> mark;
+  const int64_t reads = selective_solve_reads(*H.factor.symbolic, local.plan(), mark);
+  CHECK(reads > 0);
+  CHECK(reads <= 2 * factor_entries(*H.factor.symbolic));
+  local.kept = {H.n};
+  CHECK_THROWS_AS(dedupe_kept(local, H.n), Error);
 }

@@ -6,7 +6,7 @@
 // Anisotropic (lambda > 0): the mesh is scaled to a unit bounding box (largest side
 // 1) and lifted to R^6 by (p, lambda n) with area-weighted vertex normals n; the
 // cotan weights, lumped masses and h of the lifted mesh come from its 6-D edge
-// lengths (cotan_from_lengths below), so cells and centroids follow the metric
+// lengths (heat_operator_from_positions below), so cells and centroids follow the metric
 // that also measures normal variation (thesis: lambda = 0.05).
 // iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve;
 // (2) batches of 8 neighboring cells (breadth-first patches of the cell adjacency
@@ -24,41 +24,13 @@
 // vertex (the thesis fits one ring; the default 2 averages the piecewise-linear heat
 // over ~19 values instead of ~7, so the centroid jumps less when the hottest vertex
 // changes), then refitted with Gaussian weights of width fit_sigma one-ring
-// distances centered at that first maximizer (heat_centroid.hpp; default 1, 0 = off).
-// Why the refit (measured, armadillo 26k, 1000 sites, 100 iterations, 1 thread):
-// mean smallest dual angle, seeds 1-10, fit_sigma 0 -> 1: 49.81/49.60/50.00/49.70/
-// 49.61/49.63/50.02/49.80/49.45/49.69 -> 50.12/50.20/50.24/49.97/50.38/50.02/49.86/
-// 50.09/49.90/50.38 (seeds 1-5: 49.74 -> 50.18; 9 of 10 seeds higher); minimum angle
-// 20.4-23.5 -> 19.5-23.4 over seeds 1-5 (one triangle in ~1990; not systematic:
-// seed 7 goes 18.8 -> 19.2). The sites' last moves shrink from ~0.055h to ~0.020h per
-// iteration (less jitter at the fixed point); on the same cells (locus-bench cvt-bias,
-// after 60 iterations) the RMS distance of the heat centroid to the cell's area
-// centroid goes 0.157h -> 0.148h, the median 0.068h -> 0.062h. Other meshes, seeds
-// 1/2, 0 -> 1: bunny 37.7k (1450 sites) 50.57/50.67 -> 50.96/50.83; diplodocus 24k
-// (920) 50.99/50.35 -> 51.09/50.97; man 17.5k (670) 43.13/43.15 -> 44.61/44.73;
-// camel 9.8k (375) 44.76/44.73 -> 46.54/46.26. Tried and not kept (same measures):
-// k implicit steps of the centroid diffusion with the same factor (kernel closer to
-// a Gaussian; 2 steps of 4h^2 or of 2h^2: RMS bias 0.188h / 0.158h vs 0.150h, mean
-// angle 49.03 / 49.35 vs 49.81 on seed 1), more fit rings (3: 0.181h, 4: 0.240h),
-// a cubic fit (0.19-0.34h: the true maximum of the discrete heat lies farther from
-// the area centroid than the 2-ring estimate), a damped Lloyd step (0.5 from
-// iteration 0 or 50: 49.17-49.66 on seed 1), searching the maximizer in the next
-// ring's triangles (clamped fits 3.4% -> 0.2%, angles unchanged within noise).
+// distances centered at that first maximizer (heat_centroid.hpp; default 1, 0 = off:
+// less jitter at the fixed point, higher dual angles).
 // Diffusion time: t = kLloydTFactor h^2 = 4h^2 by default (library, engine Session,
-// C API and `locus cvt` alike; the thesis uses h^2, `locus voronoi` keeps h^2).
-// Why (measured, 100 iterations, defaults otherwise): at t = h^2 Lloyd does not
-// converge slowly but stalls: on armadillo (26k vertices, 1000 sites) the mean
-// smallest dual angle is 48.6 deg from iteration ~80 to 300, the sites keep moving
-// 0.07h per iteration and the CVT energy is flat, so acceleration cannot help. With
-// the exact centroids of the same heat cells (diagnostic, not a method here) it stalls
-// at 49.8 (t = h^2), 50.3 (2h^2), 50.5 (4h^2): the cells' bisectors get better with t
-// on irregular meshes, as thesis §3.4 expects ("the approximation is better for larger
-// values of t"), and the heat centroid loses ~0.8 deg to them. Larger centroid times
-// (t_centroid_factor 2..16, or 2-4 implicit steps) and fitting log(u) did not help.
-// Mean dual angle, seeds 1/2, default -> t = 4h^2 with two rings: armadillo 26k
-// (1000 sites, seeds 1-5) 48.75 -> 49.75 mean; bunny 37.7k (1450 sites) 49.17/49.47 ->
-// 50.57/50.67; diplodocus 24k (920) 49.75/49.46 -> 50.99/50.35; man 17.5k (670)
-// 41.87/41.17 -> 43.13/43.15; camel 9.8k (375) 43.96/43.84 -> 44.76/44.73.
+// C API and `locus cvt` alike; the thesis uses h^2, `locus voronoi` keeps h^2): at
+// t = h^2 Lloyd stalls on irregular meshes, whose heat bisectors get better with t.
+// The measurements behind these defaults, with the commands that reproduce them,
+// are in docs/cvt.md.
 // Localized solver (default): every solve is the approximate selective solve
 // restricted to the union over the batch of the cells, their neighbor cells and
 // their neighbors (from the latest labels; before the first labels, the vertices
@@ -78,7 +50,8 @@
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 
 namespace locus {
 

@@ -9,11 +9,8 @@
 // interior angle phi_m; reported: min and mean of phi_m in degrees (the thesis
 // reports means of 50.6-53.6 degrees after 100 iterations, 60 is the equilateral
 // optimum). Angles are those of the R^3 chords between the sites: at thin parts the
-// chord across can be much shorter than the way along the surface. Measured on
-// armadillo (1000 sites, 100 iterations): the worst triangles of seeds 2 and 7
-// (19.5, 19.2 deg) each have two sites 4.5 / 3.3 apart in R^3 but 10.8 / 7.6 apart
-// along the mesh edges, with normals 93 / 144 deg apart; with the along-the-surface
-// lengths those triangles' smallest angles would be ~35 / ~43 deg.
+// chord across can be much shorter than the way along the surface, so the minimum
+// angle is often set by two sites close across a thin part (docs/cvt.md).
 // Cell areas: the lumped mass of the cell's vertices (one third of the incident
 // triangle areas, kernels/mesh_operators), in the mesh's own R^3 metric. Reported:
 // the coefficient of variation std/mean and the variance of area / total area
@@ -25,7 +22,7 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 
 namespace locus {
 

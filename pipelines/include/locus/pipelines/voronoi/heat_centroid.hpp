@@ -12,7 +12,7 @@
 // coordinates (the closest point of those triangles when it lies outside them; the
 // vertex itself when the quadratic has no maximum). Optionally (sigma > 0) the
 // maximizer is refined once by a Gaussian-weighted refit centered at it, which makes
-// the centroid vary more smoothly with the cell (Lloyd jitters less; cvt_lloyd.hpp).
+// the centroid vary more smoothly with the cell (Lloyd jitters less; docs/cvt.md).
 //
 // Thread safety: CentroidGeometry is immutable; all functions are re-entrant.
 #pragma once
@@ -22,7 +22,8 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 
 namespace locus {
 

@@ -15,7 +15,8 @@
 
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 
 namespace locus {
 
