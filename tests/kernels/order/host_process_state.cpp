@@ -5,6 +5,7 @@
 // metis_no_process_symbols checks liblocus.a too), and the host's SIGTERM/SIGABRT
 // handlers stay installed while orderings run, in parallel or not.
 #include <dlfcn.h>
+#include <metis.h>
 #include <signal.h>
 
 #include <doctest/doctest.h>
@@ -121,4 +122,24 @@ TEST_CASE("host signals: the host's SIGTERM and SIGABRT handlers stay installed 
   CHECK(g_host_signals.load() == 1);
   sigaction(SIGTERM, &old_term, nullptr);
   sigaction(SIGABRT, &old_abrt, nullptr);
+}
+
+TEST_CASE("host signals: a METIS error raised inside METIS returns an error status, with no signal") {
+  // GKlib reports this error with raise(SIGTERM); renamed, it returns to the
+  // METIS call, which reports METIS_ERROR. (nparts = 0 is rejected by the
+  // partitioner that METIS_PartMeshNodal calls; it prints a line to stdout.)
+  struct sigaction mine {}, old_term {};
+  mine.sa_handler = host_handler;
+  sigemptyset(&mine.sa_mask);
+  sigaction(SIGTERM, &mine, &old_term);
+  g_host_signals = 0;
+  idx_t ne = 2, nn = 4, nparts = 0;
+  idx_t eptr[] = {0, 3, 6}, eind[] = {0, 1, 2, 1, 3, 2};
+  idx_t objval = 0, epart[2], npart[4];
+  const int rc = METIS_PartMeshNodal(&ne, &nn, eptr, eind, nullptr, nullptr, &nparts, nullptr, nullptr, &objval,
+                                     epart, npart);
+  CHECK(rc == METIS_ERROR);
+  CHECK(g_host_signals.load() == 0);  // no SIGTERM reached the process
+  CHECK(host_handler_installed(SIGTERM));
+  sigaction(SIGTERM, &old_term, nullptr);
 }
