@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Installs every Debian package locus needs to build, test and benchmark.
 # Idempotent: when everything is present it prints nothing and does not touch apt.
+# Then fetches the METIS sources locus compiles into itself (tools/fetch_metis.sh,
+# Debian's source package; silent when cached), so later builds need no network.
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config
-  libtbb-dev libeigen3-dev libmetis-dev libopenblas-dev liblapacke-dev
+  dpkg-dev                           # dpkg-source: unpacks Debian's metis source package
+  libtbb-dev libeigen3-dev libopenblas-dev liblapacke-dev
   libxsimd-dev libflatbuffers-dev flatbuffers-compiler doctest-dev
   libcli11-dev nlohmann-json3-dev libstb-dev
   libsuitesparse-dev                 # CHOLMOD: test/benchmark peer only
@@ -14,8 +17,10 @@ missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
-SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-echo "locus setup: installing ${missing[*]}" >&2
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "locus setup: installing ${missing[*]}" >&2
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+bash "$(dirname "$0")/fetch_metis.sh"

@@ -115,11 +115,15 @@ void EmbeddingSystem::factor(std::span<const double> weights, const RunContext& 
   } else {
     refactorize(F_, K_, ctx);
   }
-  work_.resize(solve_work_size(F_, kLanes));
-  rhs8_.resize(static_cast<size_t>(nfree_) * kLanes);
 }
 
 void EmbeddingSystem::solve(int dims, const Coords& fixed_pos, const Coords& b, double rhs_scale, Coords& out) const {
+  EmbeddingSolveWorkspace ws;
+  solve(dims, fixed_pos, b, rhs_scale, out, ws);
+}
+
+void EmbeddingSystem::solve(int dims, const Coords& fixed_pos, const Coords& b, double rhs_scale, Coords& out,
+                            EmbeddingSolveWorkspace& ws) const {
   if (!factored_) fail(ErrorCode::Internal, "embedding system: solve() before factor()");
   if (dims < 1 || dims > 3) fail(ErrorCode::BadUsage, "embedding system: dims must be 1, 2 or 3");
   const size_t nv = static_cast<size_t>(nv_);
@@ -128,12 +132,14 @@ void EmbeddingSystem::solve(int dims, const Coords& fixed_pos, const Coords& b, 
     if (!b[k].empty() && b[k].size() != nv) fail(ErrorCode::BadInput, "embedding system: b needs nv values or none");
   }
   // Lanes 0..dims-1 carry the coordinates; the other lanes stay zero (padding).
-  std::fill(rhs8_.begin(), rhs8_.end(), 0.0);
+  std::vector<double>& rhs8 = ws.rhs8;
+  rhs8.assign(static_cast<size_t>(nfree_) * kLanes, 0.0);
+  ws.work.resize(solve_work_size(F_, kLanes));
   for (int32_t v = 0; v < nv_; ++v) {
     const int32_t f = free_index_[v];
     if (f < 0) continue;
     for (int k = 0; k < dims; ++k)
-      if (!b[k].empty()) rhs8_[static_cast<size_t>(f) * kLanes + k] = -rhs_scale * b[k][v];
+      if (!b[k].empty()) rhs8[static_cast<size_t>(f) * kLanes + k] = -rhs_scale * b[k][v];
   }
   const size_t ne = e0_.size();
   for (size_t e = 0; e < ne; ++e) {
@@ -141,14 +147,14 @@ void EmbeddingSystem::solve(int dims, const Coords& fixed_pos, const Coords& b, 
     if ((a >= 0) == (c >= 0)) continue;  // both free (in K) or both fixed (irrelevant)
     const int32_t fr = a >= 0 ? a : c;
     const int32_t fixed_v = a >= 0 ? e1_[e] : e0_[e];
-    for (int k = 0; k < dims; ++k) rhs8_[static_cast<size_t>(fr) * kLanes + k] += wa_[e] * fixed_pos[k][fixed_v];
+    for (int k = 0; k < dims; ++k) rhs8[static_cast<size_t>(fr) * kLanes + k] += wa_[e] * fixed_pos[k][fixed_v];
   }
-  solve8(F_, rhs8_, work_);
+  solve8(F_, rhs8, ws.work);
   for (int k = 0; k < dims; ++k) {
     out[k].resize(nv);
     for (int32_t v = 0; v < nv_; ++v) {
       const int32_t f = free_index_[v];
-      out[k][v] = f < 0 ? fixed_pos[k][v] : rhs8_[static_cast<size_t>(f) * kLanes + k];
+      out[k][v] = f < 0 ? fixed_pos[k][v] : rhs8[static_cast<size_t>(f) * kLanes + k];
     }
   }
 }

@@ -5,8 +5,8 @@
 // it every factor and every result downstream, is reproducible.
 //
 // Large graphs are dissected once here: METIS finds the top separator, and
-// the two halves are ordered by METIS_NodeND at the same time on two threads
-// (each half's random numbers come from its own thread's generator, see
+// the two halves are ordered by METIS_NodeND at the same time on two oneTBB
+// threads (each half's random numbers come from its own generator, see
 // kernels/include/locus/kernels/order/metis_random.hpp). The split depends on the graph only, never on the
 // thread count, so one thread gives the same ordering, one half after the
 // other. Graph compression is off: mesh graphs have no vertices with identical
@@ -15,14 +15,12 @@
 
 #include <metis.h>
 
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
-#include <chrono>
-#include <condition_variable>
-#include <memory>
-#include <mutex>
 #include <numeric>
 #include <string>
-#include <thread>
 
 #include "locus/kernels/order/metis_random.hpp"
 #include "locus/error.hpp"
@@ -59,6 +57,10 @@ struct Graph {
   idx_t n() const { return static_cast<idx_t>(xadj.size()) - 1; }
 };
 
+void check_cancel_during_metis(const RunContext& ctx) {
+  if (ctx.cancelled()) fail(ErrorCode::Cancelled, "cancelled (during the METIS ordering)");
+}
+
 // Nested dissection of g into perm (perm[k] = vertex of g eliminated k-th).
 int node_nd(Graph& g, const idx_t* base_options, idx_t* perm) {
   idx_t nv = g.n();
@@ -89,70 +91,50 @@ Graph induced(const Graph& g, const std::vector<idx_t>& part, idx_t which, const
   return h;
 }
 
-// Everything one ordering touches, shared with a helper thread that may outlive the caller.
-struct MetisJob {
-  Graph g;
-  idx_t options[METIS_NOPTIONS];
-  bool parallel = false;  // may order the two halves on two threads
-  std::vector<int32_t> perm;
-  int rc = METIS_OK;
-  std::mutex m;
-  std::condition_variable cv;
-  bool done = false;
-
-  void run() {
-    std::unique_lock<std::mutex> serial(metis_serial_mutex(), std::defer_lock);
-    const bool is_private = metis_random_is_private();
-    if (!is_private) serial.lock();
-    const idx_t n = g.n();
-    std::vector<idx_t> order(static_cast<size_t>(n));
-    if (n < kSplitMinVertices) {
-      rc = node_nd(g, options, order.data());
-    } else {
-      rc = split_and_order(is_private && parallel, order);
-    }
-    perm.assign(order.begin(), order.end());
+// Top separator, then the halves (at once when allowed); separator last.
+// Between the METIS calls a raised cancel flag stops the ordering.
+int split_and_order(Graph& g, const idx_t* options, bool two_threads, const RunContext& ctx, idx_t* order) {
+  idx_t nv = g.n();
+  std::vector<idx_t> part(static_cast<size_t>(nv));
+  idx_t sepsize = 0;
+  idx_t sep_options[METIS_NOPTIONS];
+  std::copy(options, options + METIS_NOPTIONS, sep_options);
+  int r;
+  {
+    MetisRandomScope rng;
+    r = METIS_ComputeVertexSeparator(&nv, g.xadj.data(), g.adjncy.data(), nullptr, sep_options, &sepsize, part.data());
   }
-
-  // Top separator, then the halves (at once when allowed); separator last.
-  int split_and_order(bool two_threads, std::vector<idx_t>& order) {
-    idx_t nv = g.n();
-    std::vector<idx_t> part(static_cast<size_t>(nv));
-    idx_t sepsize = 0;
-    idx_t sep_options[METIS_NOPTIONS];
-    std::copy(options, options + METIS_NOPTIONS, sep_options);
-    int r;
-    {
-      MetisRandomScope rng;
-      r = METIS_ComputeVertexSeparator(&nv, g.xadj.data(), g.adjncy.data(), nullptr, sep_options, &sepsize, part.data());
+  if (r != METIS_OK) return r;
+  check_cancel_during_metis(ctx);
+  std::vector<idx_t> local(static_cast<size_t>(nv));
+  idx_t count[3] = {0, 0, 0};
+  for (idx_t v = 0; v < nv; ++v) local[v] = count[part[v]]++;
+  std::vector<idx_t> global0, global1;
+  Graph h0 = induced(g, part, 0, local, global0);
+  Graph h1 = induced(g, part, 1, local, global1);
+  std::vector<idx_t> p0(global0.size()), p1(global1.size());
+  int r1 = METIS_OK;
+  if (two_threads && !global0.empty() && !global1.empty()) {
+    // oneTBB threads of the caller's arena; one METIS call never waits on
+    // oneTBB, so a thread cannot start the other half inside this one's scope.
+    tbb::parallel_invoke([&] { r = node_nd(h0, options, p0.data()); },
+                         [&] { r1 = node_nd(h1, options, p1.data()); });
+  } else {
+    r = node_nd(h0, options, p0.data());
+    if (r == METIS_OK) {
+      check_cancel_during_metis(ctx);
+      r1 = node_nd(h1, options, p1.data());
     }
-    if (r != METIS_OK) return r;
-    std::vector<idx_t> local(static_cast<size_t>(nv));
-    idx_t count[3] = {0, 0, 0};
-    for (idx_t v = 0; v < nv; ++v) local[v] = count[part[v]]++;
-    std::vector<idx_t> global0, global1;
-    Graph h0 = induced(g, part, 0, local, global0);
-    Graph h1 = induced(g, part, 1, local, global1);
-    std::vector<idx_t> p0(global0.size()), p1(global1.size());
-    int r1 = METIS_OK;
-    if (two_threads && !global0.empty() && !global1.empty()) {
-      std::thread other([&] { r1 = node_nd(h1, options, p1.data()); });
-      r = node_nd(h0, options, p0.data());
-      other.join();
-    } else {
-      r = node_nd(h0, options, p0.data());
-      if (r == METIS_OK) r1 = node_nd(h1, options, p1.data());
-    }
-    if (r != METIS_OK) return r;
-    if (r1 != METIS_OK) return r1;
-    size_t k = 0;
-    for (const idx_t v : p0) order[k++] = global0[v];
-    for (const idx_t v : p1) order[k++] = global1[v];
-    for (idx_t v = 0; v < nv; ++v)
-      if (part[v] == 2) order[k++] = v;
-    return METIS_OK;
   }
-};
+  if (r != METIS_OK) return r;
+  if (r1 != METIS_OK) return r1;
+  size_t k = 0;
+  for (const idx_t v : p0) order[k++] = global0[v];
+  for (const idx_t v : p1) order[k++] = global1[v];
+  for (idx_t v = 0; v < nv; ++v)
+    if (part[v] == 2) order[k++] = v;
+  return METIS_OK;
+}
 
 }  // namespace
 
@@ -167,44 +149,24 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
     o.iperm = o.perm;
     return o;
   }
-  auto job = std::make_shared<MetisJob>();
-  matrix_graph(A, job->g.xadj, job->g.adjncy);
-  METIS_SetDefaultOptions(job->options);
-  job->options[METIS_OPTION_NUMBERING] = 0;
-  job->options[METIS_OPTION_SEED] = opt.seed;
-  job->options[METIS_OPTION_COMPRESS] = 0;
-  job->parallel = ctx.threads != 1 && (ctx.threads > 1 || std::thread::hardware_concurrency() > 1);
+  Graph g;
+  matrix_graph(A, g.xadj, g.adjncy);
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  options[METIS_OPTION_SEED] = opt.seed;
+  options[METIS_OPTION_COMPRESS] = 0;
+  const bool parallel = ctx.threads != 1 && (ctx.threads > 1 || tbb::this_task_arena::max_concurrency() > 1);
   ctx.check_cancel();
-  if (!ctx.cancel) {
-    job->run();
-  } else {
-    std::thread worker([job] {
-      job->run();
-      {
-        std::lock_guard<std::mutex> lk(job->m);
-        job->done = true;
-      }
-      job->cv.notify_all();
-    });
-    std::unique_lock<std::mutex> lk(job->m);
-    while (!job->done) {
-      if (ctx.cancelled()) {
-        lk.unlock();
-        worker.detach();  // finishes on its own; `job` lives until then
-        fail(ErrorCode::Cancelled, "cancelled (during the METIS ordering)");
-      }
-      job->cv.wait_for(lk, std::chrono::milliseconds(5));
-    }
-    lk.unlock();
-    worker.join();
-  }
-  const int rc = job->rc;
+  std::vector<idx_t> order(static_cast<size_t>(n));
+  const int rc = n < kSplitMinVertices ? node_nd(g, options, order.data())
+                                       : split_and_order(g, options, parallel, ctx, order.data());
   if (rc != METIS_OK)
     fail(rc == METIS_ERROR_MEMORY ? ErrorCode::ResourceLimit : ErrorCode::Internal,
          "METIS_NodeND failed with status " + std::to_string(rc) + " on a graph of " + std::to_string(n) + " vertices");
   // METIS manual: row i of the permuted matrix is row perm[i] of the original,
   // which is our convention too.
-  o.perm = std::move(job->perm);
+  o.perm.assign(order.begin(), order.end());
   for (int32_t k = 0; k < n; ++k) o.iperm[o.perm[k]] = k;
   return o;
 }

@@ -1,15 +1,15 @@
 // METIS ordering (kernels/ordering): concurrent calls from several threads give
 // the orderings of sequential calls (each METIS call draws from a generator of
-// its own thread), the split ordering does not depend on the thread count, and a
+// its own), the split ordering does not depend on the thread count, and a
 // cancel flag stops a caller during METIS without disturbing later orderings.
+// The host's rand() is tested in host_rand.cpp.
 #include "locus/kernels/order/ordering.hpp"
-
-#include "locus/kernels/order/metis_random.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <thread>
 #include <vector>
@@ -46,8 +46,8 @@ TEST_CASE("ordering: a cancel flag stops the caller; later orderings are unchang
   } catch (const Error& e) {
     CHECK(e.code() == ErrorCode::Cancelled);
   }
-  // Raised while METIS runs on the helper thread: the caller returns, the
-  // abandoned call finishes in the background, the next call waits for it.
+  // Raised while METIS runs: the caller returns after the running METIS call,
+  // leaving nothing behind that could disturb the next call.
   cancel = false;
   std::thread raiser([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
@@ -64,11 +64,10 @@ TEST_CASE("ordering: a cancel flag stops the caller; later orderings are unchang
   raiser.join();
   CHECK(order_matrix(a).perm == ref.perm);
   cancel = false;
-  CHECK(order_matrix(a, {}, ctx).perm == ref.perm);  // the helper-thread path gives the same ordering
+  CHECK(order_matrix(a, {}, ctx).perm == ref.perm);  // a cancel flag that stays down changes nothing
 }
 
 TEST_CASE("ordering: the same permutation with 1 and 2 threads; the host's rand() is untouched") {
-  CHECK(metis_random_is_private());  // locus' rand()/srand() are the ones libmetis calls
   const CscMatrix a = test::grid_laplacian(150, 140, 0.01);  // above the split size
   RunContext one, two;
   one.threads = 1;

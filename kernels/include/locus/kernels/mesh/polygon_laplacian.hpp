@@ -45,6 +45,11 @@ struct EmbeddingSystemOptions {
   bool allow_negative_weights = false;
 };
 
+// Scratch of EmbeddingSystem::solve, owned by the caller (sized on first use).
+struct EmbeddingSolveWorkspace {
+  std::vector<double> rhs8, work;
+};
+
 class EmbeddingSystem {
  public:
   // e0/e1: unique edges (any order, no duplicates, no self loops), fixed[v] != 0
@@ -70,7 +75,11 @@ class EmbeddingSystem {
   // Solves for `dims` (1..3) coordinates: out[k][v] = fixed_pos[k][v] at fixed
   // vertices, the solution of K V_F = -rhs_scale · b_F + Σ ω_ij v_j elsewhere.
   // `b` may hold empty vectors (zero right-hand side). Uses the weights of the
-  // last factor().
+  // last factor(). Re-entrant: the scratch is the caller's `ws` (reused across
+  // calls, one per thread) or, in the overload without it, local to the call;
+  // both give the same result. Not concurrent with factor().
+  void solve(int dims, const Coords& fixed_pos, const Coords& b, double rhs_scale, Coords& out,
+             EmbeddingSolveWorkspace& ws) const;
   void solve(int dims, const Coords& fixed_pos, const Coords& b, double rhs_scale, Coords& out) const;
 
   // The floor of the next factor() calls (>= 0; 0 assembles the weights as given).
@@ -93,7 +102,6 @@ class EmbeddingSystem {
   std::vector<double> wa_;
   EmbeddingSystemOptions opt_;
   double order_s_ = 0, analyze_s_ = 0;
-  mutable std::vector<double> rhs8_, work_;
 };
 
 // Applies the weighted Laplacian: out[k][i] = Σ_j ω_ij (p[k][j] - p[k][i]) for

@@ -24,12 +24,14 @@ struct OrderingOptions {
 // Orders the graph of a lower-stored symmetric matrix.
 //
 // Graphs of 4000 vertices or more are split by a METIS vertex separator and
-// the two halves ordered at once on two threads when ctx.threads allows.
-// Concurrent calls are safe and reproducible (kernels/include/locus/kernels/order/metis_random.hpp); if
-// the private generator is not in effect they are serialized instead.
-// METIS cannot be interrupted; with a cancel flag in ctx it runs on a helper
-// thread and a cancel returns at once (Error Cancelled) while the abandoned
-// call finishes in the background.
+// the two halves ordered at once on two oneTBB threads of the caller's arena
+// when ctx.threads allows. Concurrent calls are safe and reproducible: every
+// METIS call draws from a generator of its own
+// (kernels/include/locus/kernels/order/metis_random.hpp).
+// METIS cannot be interrupted: a cancel flag in ctx is checked before METIS
+// and between its calls (after the separator, between sequential halves), so
+// a cancel returns (Error Cancelled) once the running METIS call ends. No work
+// is left running in the background.
 Ordering order_matrix(const CscMatrix& lower, const OrderingOptions& opt = {}, const RunContext& ctx = {});
 
 }  // namespace locus

@@ -6,28 +6,39 @@
 // 10,000 short-lived arenas; cf. oneTBB issue #967), so "one task_arena per
 // factorization" grows a long-running host process without bound. Instead:
 //  * threads <= 0, or equal to the caller's current concurrency: run in place;
-//  * otherwise, on an application thread: one arena per (thread, concurrency),
-//    created on first use and destroyed when that thread exits;
+//  * otherwise, on an application thread: an arena of that concurrency
+//    borrowed from a process-wide pool for the call and returned after it.
+//    (Arenas used to be thread_local, one per (thread, concurrency): a host
+//    that starts a thread per request created, and leaked inside oneTBB, one
+//    arena per thread; and every host thread kept its arenas until it exited.)
+//    The pool holds at most as many arenas of a concurrency as calls ever ran
+//    at once with it; an idle arena holds no threads (oneTBB's workers leave
+//    arenas without work), only its bookkeeping.
 //  * otherwise (a oneTBB worker asking for another concurrency, which locus'
 //    own pipelines never do): a fresh arena for the call.
 // Results never depend on the arena: every parallel kernel schedules by size.
 #pragma once
 #include <memory>
 #include <utility>
-#include <vector>
 
 #include <tbb/task_arena.h>
 
 namespace locus {
 
 namespace detail {
-inline tbb::task_arena& thread_arena(int threads) {
-  thread_local std::vector<std::unique_ptr<tbb::task_arena>> arenas;
-  if (arenas.size() <= static_cast<size_t>(threads)) arenas.resize(static_cast<size_t>(threads) + 1);
-  std::unique_ptr<tbb::task_arena>& a = arenas[static_cast<size_t>(threads)];
-  if (!a) a = std::make_unique<tbb::task_arena>(threads);
-  return *a;
-}
+// An arena of `threads` concurrency, exclusively the caller's while alive.
+class BorrowedArena {
+ public:
+  explicit BorrowedArena(int threads);
+  ~BorrowedArena();
+  BorrowedArena(const BorrowedArena&) = delete;
+  BorrowedArena& operator=(const BorrowedArena&) = delete;
+  tbb::task_arena& get() { return *arena_; }
+
+ private:
+  int threads_;
+  std::unique_ptr<tbb::task_arena> arena_;
+};
 }  // namespace detail
 
 // Calls f() so that oneTBB algorithms inside it use at most `threads` threads
@@ -42,7 +53,8 @@ void run_with_threads(int threads, F&& f) {
   // oneTBB workers never take the slot reserved for them.
   const int slot = tbb::this_task_arena::current_thread_index();
   if (slot == tbb::task_arena::not_initialized || slot == 0) {
-    detail::thread_arena(threads).execute(std::forward<F>(f));
+    detail::BorrowedArena arena(threads);
+    arena.get().execute(std::forward<F>(f));
     return;
   }
   tbb::task_arena arena(threads);
