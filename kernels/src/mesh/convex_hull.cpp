@@ -11,6 +11,7 @@
 #include "locus/kernels/mesh/convex_hull.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <climits>
 #include <string>
@@ -94,8 +95,10 @@ int orient3d_exact(const int64_t a[3], const int64_t b[3], const int64_t c[3], c
   return compare(pos, neg);
 }
 
-std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const int64_t> Y,
-                                    std::span<const int64_t> Z) {
+namespace {
+
+// Checked copy of the input as flat (x, y, z) triples.
+std::vector<int64_t> load_points(std::span<const int64_t> X, std::span<const int64_t> Y, std::span<const int64_t> Z) {
   if (X.size() != Y.size() || X.size() != Z.size())
     fail(ErrorCode::BadUsage, "convex_hull_3d: coordinate arrays differ in length");
   if (X.size() > static_cast<size_t>(INT32_MAX / 8))
@@ -111,10 +114,14 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
       P[3 * static_cast<size_t>(i) + k] = c[k];
     }
   }
-  auto pt = [&](int32_t i) { return P.data() + 3 * static_cast<size_t>(i); };
+  return P;
+}
 
-  // Initial tetrahedron from the first points in general position.
-  int32_t s[4] = {0, -1, -1, -1};
+// Initial tetrahedron from the first points in general position (input
+// indices), ordered so that s[3] lies below the plane of (s0, s1, s2).
+std::array<int32_t, 4> initial_simplex(const std::vector<int64_t>& P, int32_t n) {
+  auto pt = [&](int32_t i) { return P.data() + 3 * static_cast<size_t>(i); };
+  std::array<int32_t, 4> s = {0, -1, -1, -1};
   for (int32_t i = 1; i < n && s[1] < 0; ++i)
     if (pt(i)[0] != pt(0)[0] || pt(i)[1] != pt(0)[1] || pt(i)[2] != pt(0)[2]) s[1] = i;
   if (s[1] >= 0) {
@@ -132,74 +139,119 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
       if (orient3d_exact(pt(s[0]), pt(s[1]), pt(s[2]), pt(i)) != 0) s[3] = i;
   if (s[3] < 0) fail(ErrorCode::BadInput, "convex_hull_3d: all " + std::to_string(n) + " points are coplanar");
   if (orient3d_exact(pt(s[0]), pt(s[1]), pt(s[2]), pt(s[3])) > 0) std::swap(s[1], s[2]);
+  return s;
+}
 
-  // Insertion follows the input order, but the points are stored in Morton (Z-curve)
-  // order: the points re-filed together after an insertion are spatially close, and
-  // now also close in memory. Halves the running time on large inputs (cache misses
-  // dominated). `orig` maps storage position to input index, `internal` the reverse.
-  std::vector<int32_t> orig(static_cast<size_t>(n)), internal(static_cast<size_t>(n));
-  {
-    auto spread = [](uint64_t v) {  // 21 bits -> every third bit of 63
-      v &= 0x1fffff;
-      v = (v | v << 32) & 0x1f00000000ffffULL;
-      v = (v | v << 16) & 0x1f0000ff0000ffULL;
-      v = (v | v << 8) & 0x100f00f00f00f00fULL;
-      v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-      v = (v | v << 2) & 0x1249249249249249ULL;
-      return v;
-    };
-    std::vector<std::pair<uint64_t, int32_t>> key(static_cast<size_t>(n));
-    for (int32_t i = 0; i < n; ++i) {
-      const int64_t* c = pt(i);
-      uint64_t k = 0;
-      for (int d = 0; d < 3; ++d) k |= spread(static_cast<uint64_t>(c[d] + kConvexHullMaxCoordinate) >> 32) << d;
-      key[i] = {k, i};
-    }
-    std::sort(key.begin(), key.end());
-    std::vector<int64_t> sorted(P.size());
-    for (int32_t k = 0; k < n; ++k) {
-      orig[k] = key[k].second;
-      internal[key[k].second] = k;
-      for (int d = 0; d < 3; ++d) sorted[3 * static_cast<size_t>(k) + d] = P[3 * static_cast<size_t>(key[k].second) + d];
-    }
-    P.swap(sorted);
-    for (int32_t& v : s) v = internal[v];
+// Insertion follows the input order, but the points are stored in Morton (Z-curve)
+// order: the points re-filed together after an insertion are spatially close, and
+// now also close in memory. Halves the running time on large inputs (cache misses
+// dominated). Reorders P; `orig` maps storage position to input index, `internal`
+// the reverse.
+void sort_morton(std::vector<int64_t>& P, int32_t n, std::vector<int32_t>& orig, std::vector<int32_t>& internal) {
+  auto spread = [](uint64_t v) {  // 21 bits -> every third bit of 63
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  orig.resize(static_cast<size_t>(n));
+  internal.resize(static_cast<size_t>(n));
+  std::vector<std::pair<uint64_t, int32_t>> key(static_cast<size_t>(n));
+  for (int32_t i = 0; i < n; ++i) {
+    const int64_t* c = P.data() + 3 * static_cast<size_t>(i);
+    uint64_t k = 0;
+    for (int d = 0; d < 3; ++d) k |= spread(static_cast<uint64_t>(c[d] + kConvexHullMaxCoordinate) >> 32) << d;
+    key[i] = {k, i};
   }
+  std::sort(key.begin(), key.end());
+  std::vector<int64_t> sorted(P.size());
+  for (int32_t k = 0; k < n; ++k) {
+    orig[k] = key[k].second;
+    internal[key[k].second] = k;
+    for (int d = 0; d < 3; ++d) sorted[3 * static_cast<size_t>(k) + d] = P[3 * static_cast<size_t>(key[k].second) + d];
+  }
+  P.swap(sorted);
+}
 
-  std::vector<int32_t> fv, nb, head, stamp;
-  std::vector<char> alive;
+// The incremental construction on points in storage order: faces, their
+// neighbors and conflict lists (the data layout of the file comment).
+class HullBuilder {
+ public:
+  HullBuilder(std::vector<int64_t> P, int32_t n)
+      : P_(std::move(P)), n_(n), next_point_(static_cast<size_t>(n), -1), conflict_(static_cast<size_t>(n), -1),
+        new_face_from_(static_cast<size_t>(n), -1) {}
+
+  // The tetrahedron s (storage indices, oriented as initial_simplex returns it)
+  // and every other point filed under the first of its faces it sees.
+  void start(const std::array<int32_t, 4>& s);
+  // Inserts point p (storage index) if it lies outside the current hull.
+  void insert(int32_t p);
+  // Triangles of the alive faces, vertices mapped through orig.
+  std::vector<int32_t> triangles(const std::vector<int32_t>& orig) const;
+
+ private:
+  struct HorizonEdge {
+    int32_t u, w, outside;
+  };
+  const int64_t* pt(int32_t i) const { return P_.data() + 3 * static_cast<size_t>(i); }
+  int32_t new_face(int32_t a, int32_t b, int32_t c);
+  bool sees(int32_t f, int32_t q) const;
+  void file_under(int32_t q, int32_t f) {
+    conflict_[q] = f;
+    next_point_[q] = head_[f];
+    head_[f] = q;
+  }
+  void find_visible(int32_t p, int32_t f0);
+  void cone_horizon(int32_t p);
+  void refile_points(int32_t p);
+
+  std::vector<int64_t> P_;
+  int32_t n_;
+  std::vector<int32_t> fv_, nb_, head_, stamp_;
+  std::vector<char> alive_;
   // Per face a rounded normal and the coefficients of the permanent, so that most
   // visibility tests cost one dot product. n_k = u_i w_j - u_j w_i is off by at most
   // 2 eps (|u_i w_j| + |u_j w_i|) = 2 eps perm_k; with the dot product's own rounding
   // the error of n . (q - a) stays below 5 eps sum_k perm_k |q_k - a_k| (5 eps = 5.6e-16),
   // so 2e-15 times that sum is a safe filter; anything closer is decided exactly.
-  std::vector<double> plane;  // 6 per face: n, perm
-  auto new_face = [&](int32_t a, int32_t b, int32_t c) {
-    const int32_t f = static_cast<int32_t>(alive.size());
-    fv.insert(fv.end(), {a, b, c});
-    nb.insert(nb.end(), {-1, -1, -1});
-    alive.push_back(1);
-    head.push_back(-1);
-    stamp.push_back(-1);
-    const int64_t *pa = pt(a), *pb = pt(b), *pc = pt(c);
-    const double ux = double(pb[0] - pa[0]), uy = double(pb[1] - pa[1]), uz = double(pb[2] - pa[2]);
-    const double wx = double(pc[0] - pa[0]), wy = double(pc[1] - pa[1]), wz = double(pc[2] - pa[2]);
-    plane.insert(plane.end(), {uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx,
+  std::vector<double> plane_;  // 6 per face: n, perm
+  std::vector<int32_t> next_point_, conflict_;
+  std::vector<int32_t> visible_, created_, new_face_from_;
+  std::vector<HorizonEdge> horizon_;
+};
+
+int32_t HullBuilder::new_face(int32_t a, int32_t b, int32_t c) {
+  const int32_t f = static_cast<int32_t>(alive_.size());
+  fv_.insert(fv_.end(), {a, b, c});
+  nb_.insert(nb_.end(), {-1, -1, -1});
+  alive_.push_back(1);
+  head_.push_back(-1);
+  stamp_.push_back(-1);
+  const int64_t *pa = pt(a), *pb = pt(b), *pc = pt(c);
+  const double ux = double(pb[0] - pa[0]), uy = double(pb[1] - pa[1]), uz = double(pb[2] - pa[2]);
+  const double wx = double(pc[0] - pa[0]), wy = double(pc[1] - pa[1]), wz = double(pc[2] - pa[2]);
+  plane_.insert(plane_.end(), {uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx,
                                std::fabs(uy * wz) + std::fabs(uz * wy), std::fabs(uz * wx) + std::fabs(ux * wz),
                                std::fabs(ux * wy) + std::fabs(uy * wx)});
-    return f;
-  };
-  auto sees = [&](int32_t f, int32_t q) {
-    const int64_t* a = pt(fv[3 * f]);
-    const int64_t* p = pt(q);
-    const double dx = double(p[0] - a[0]), dy = double(p[1] - a[1]), dz = double(p[2] - a[2]);
-    const double* pl = plane.data() + 6 * static_cast<size_t>(f);
-    const double det = pl[0] * dx + pl[1] * dy + pl[2] * dz;
-    const double bound = 2e-15 * (pl[3] * std::fabs(dx) + pl[4] * std::fabs(dy) + pl[5] * std::fabs(dz));
-    if (det > bound) return true;
-    if (det < -bound) return false;
-    return orient3d_exact(a, pt(fv[3 * f + 1]), pt(fv[3 * f + 2]), p) > 0;
-  };
+  return f;
+}
+
+bool HullBuilder::sees(int32_t f, int32_t q) const {
+  const int64_t* a = pt(fv_[3 * f]);
+  const int64_t* p = pt(q);
+  const double dx = double(p[0] - a[0]), dy = double(p[1] - a[1]), dz = double(p[2] - a[2]);
+  const double* pl = plane_.data() + 6 * static_cast<size_t>(f);
+  const double det = pl[0] * dx + pl[1] * dy + pl[2] * dz;
+  const double bound = 2e-15 * (pl[3] * std::fabs(dx) + pl[4] * std::fabs(dy) + pl[5] * std::fabs(dz));
+  if (det > bound) return true;
+  if (det < -bound) return false;
+  return orient3d_exact(a, pt(fv_[3 * f + 1]), pt(fv_[3 * f + 2]), p) > 0;
+}
+
+void HullBuilder::start(const std::array<int32_t, 4>& s) {
   // s[3] lies below (s0, s1, s2); these four faces then all face outward.
   new_face(s[0], s[1], s[2]);
   new_face(s[0], s[3], s[1]);
@@ -207,19 +259,12 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
   new_face(s[2], s[3], s[0]);
   for (int32_t f = 0; f < 4; ++f)
     for (int k = 0; k < 3; ++k) {
-      const int32_t u = fv[3 * f + k], w = fv[3 * f + (k + 1) % 3];
+      const int32_t u = fv_[3 * f + k], w = fv_[3 * f + (k + 1) % 3];
       for (int32_t g = 0; g < 4; ++g)
         for (int l = 0; l < 3; ++l)
-          if (fv[3 * g + l] == w && fv[3 * g + (l + 1) % 3] == u) nb[3 * f + k] = g;
+          if (fv_[3 * g + l] == w && fv_[3 * g + (l + 1) % 3] == u) nb_[3 * f + k] = g;
     }
-
-  std::vector<int32_t> next_point(static_cast<size_t>(n), -1), conflict(static_cast<size_t>(n), -1);
-  auto file_under = [&](int32_t q, int32_t f) {
-    conflict[q] = f;
-    next_point[q] = head[f];
-    head[f] = q;
-  };
-  for (int32_t q = 0; q < n; ++q) {
+  for (int32_t q = 0; q < n_; ++q) {
     if (q == s[0] || q == s[1] || q == s[2] || q == s[3]) continue;
     for (int32_t f = 0; f < 4; ++f)
       if (sees(f, q)) {
@@ -227,76 +272,100 @@ std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const 
         break;
       }
   }
+}
 
-  std::vector<int32_t> visible, created, new_face_from(static_cast<size_t>(n), -1);
-  struct HorizonEdge {
-    int32_t u, w, outside;
-  };
-  std::vector<HorizonEdge> horizon;
-  for (int32_t i = 0; i < n; ++i) {
-    const int32_t p = internal[i];
-    const int32_t f0 = conflict[p];
-    if (f0 < 0) continue;  // inside the hull (or a simplex vertex)
-    // Visible faces: the region around f0 whose planes have p strictly above. stamp =
-    // 2p marks visible, 2p + 1 tested and not visible.
-    visible.assign(1, f0);
-    stamp[f0] = 2 * p;
-    horizon.clear();
-    for (size_t i = 0; i < visible.size(); ++i) {
-      const int32_t f = visible[i];
-      for (int k = 0; k < 3; ++k) {
-        const int32_t g = nb[3 * f + k];
-        if (stamp[g] != 2 * p && stamp[g] != 2 * p + 1) {
-          if (sees(g, p)) {
-            stamp[g] = 2 * p;
-            visible.push_back(g);
-          } else {
-            stamp[g] = 2 * p + 1;
-          }
+// Visible faces: the region around f0 whose planes have p strictly above, and
+// the horizon edges around it. stamp = 2p marks visible, 2p + 1 tested and not visible.
+void HullBuilder::find_visible(int32_t p, int32_t f0) {
+  visible_.assign(1, f0);
+  stamp_[f0] = 2 * p;
+  horizon_.clear();
+  for (size_t i = 0; i < visible_.size(); ++i) {
+    const int32_t f = visible_[i];
+    for (int k = 0; k < 3; ++k) {
+      const int32_t g = nb_[3 * f + k];
+      if (stamp_[g] != 2 * p && stamp_[g] != 2 * p + 1) {
+        if (sees(g, p)) {
+          stamp_[g] = 2 * p;
+          visible_.push_back(g);
+        } else {
+          stamp_[g] = 2 * p + 1;
         }
-        if (stamp[g] == 2 * p + 1) horizon.push_back({fv[3 * f + k], fv[3 * f + (k + 1) % 3], g});
       }
-    }
-    // Cone the horizon to p; new face (u, w, p) keeps the orientation of the deleted face.
-    created.clear();
-    for (const HorizonEdge& h : horizon) {
-      const int32_t F = new_face(h.u, h.w, p);
-      created.push_back(F);
-      nb[3 * F] = h.outside;
-      for (int l = 0; l < 3; ++l)
-        if (fv[3 * h.outside + l] == h.w && fv[3 * h.outside + (l + 1) % 3] == h.u) nb[3 * h.outside + l] = F;
-      new_face_from[h.u] = F;
-    }
-    for (const int32_t F : created) {
-      const int32_t G = new_face_from[fv[3 * F + 1]];  // the new face on edge (w, p)
-      // The visible region of a convex polytope is a disc, so its horizon is one cycle.
-      if (G < 0) fail(ErrorCode::Internal, "convex_hull_3d: horizon is not a cycle at point " + std::to_string(p));
-      nb[3 * F + 1] = G;
-      nb[3 * G + 2] = F;
-    }
-    for (const HorizonEdge& h : horizon) new_face_from[h.u] = -1;
-    // Re-file the points of the deleted faces.
-    for (const int32_t f : visible) {
-      alive[f] = 0;
-      for (int32_t q = head[f]; q >= 0;) {
-        const int32_t after = next_point[q];
-        conflict[q] = -1;
-        if (q != p)
-          for (const int32_t F : created)
-            if (sees(F, q)) {
-              file_under(q, F);
-              break;
-            }
-        q = after;
-      }
-      head[f] = -1;
+      if (stamp_[g] == 2 * p + 1) horizon_.push_back({fv_[3 * f + k], fv_[3 * f + (k + 1) % 3], g});
     }
   }
+}
 
+// Cone the horizon to p; new face (u, w, p) keeps the orientation of the deleted face.
+void HullBuilder::cone_horizon(int32_t p) {
+  created_.clear();
+  for (const HorizonEdge& h : horizon_) {
+    const int32_t F = new_face(h.u, h.w, p);
+    created_.push_back(F);
+    nb_[3 * F] = h.outside;
+    for (int l = 0; l < 3; ++l)
+      if (fv_[3 * h.outside + l] == h.w && fv_[3 * h.outside + (l + 1) % 3] == h.u) nb_[3 * h.outside + l] = F;
+    new_face_from_[h.u] = F;
+  }
+  for (const int32_t F : created_) {
+    const int32_t G = new_face_from_[fv_[3 * F + 1]];  // the new face on edge (w, p)
+    // The visible region of a convex polytope is a disc, so its horizon is one cycle.
+    if (G < 0) fail(ErrorCode::Internal, "convex_hull_3d: horizon is not a cycle at point " + std::to_string(p));
+    nb_[3 * F + 1] = G;
+    nb_[3 * G + 2] = F;
+  }
+  for (const HorizonEdge& h : horizon_) new_face_from_[h.u] = -1;
+}
+
+// Re-file the points of the deleted (visible) faces under the new faces.
+void HullBuilder::refile_points(int32_t p) {
+  for (const int32_t f : visible_) {
+    alive_[f] = 0;
+    for (int32_t q = head_[f]; q >= 0;) {
+      const int32_t after = next_point_[q];
+      conflict_[q] = -1;
+      if (q != p)
+        for (const int32_t F : created_)
+          if (sees(F, q)) {
+            file_under(q, F);
+            break;
+          }
+      q = after;
+    }
+    head_[f] = -1;
+  }
+}
+
+void HullBuilder::insert(int32_t p) {
+  const int32_t f0 = conflict_[p];
+  if (f0 < 0) return;  // inside the hull (or a simplex vertex)
+  find_visible(p, f0);
+  cone_horizon(p);
+  refile_points(p);
+}
+
+std::vector<int32_t> HullBuilder::triangles(const std::vector<int32_t>& orig) const {
   std::vector<int32_t> tri;
-  for (size_t f = 0; f < alive.size(); ++f)
-    if (alive[f]) tri.insert(tri.end(), {orig[fv[3 * f]], orig[fv[3 * f + 1]], orig[fv[3 * f + 2]]});
+  for (size_t f = 0; f < alive_.size(); ++f)
+    if (alive_[f]) tri.insert(tri.end(), {orig[fv_[3 * f]], orig[fv_[3 * f + 1]], orig[fv_[3 * f + 2]]});
   return tri;
+}
+
+}  // namespace
+
+std::vector<int32_t> convex_hull_3d(std::span<const int64_t> X, std::span<const int64_t> Y,
+                                    std::span<const int64_t> Z) {
+  std::vector<int64_t> P = load_points(X, Y, Z);
+  const int32_t n = static_cast<int32_t>(X.size());
+  std::array<int32_t, 4> s = initial_simplex(P, n);
+  std::vector<int32_t> orig, internal;
+  sort_morton(P, n, orig, internal);
+  for (int32_t& v : s) v = internal[v];
+  HullBuilder hull(std::move(P), n);
+  hull.start(s);
+  for (int32_t i = 0; i < n; ++i) hull.insert(internal[i]);
+  return hull.triangles(orig);
 }
 
 }  // namespace locus

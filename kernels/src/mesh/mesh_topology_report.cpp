@@ -38,31 +38,28 @@ double face_area(const Mesh& m, int32_t b, int32_t e) {
   return 0.5 * std::sqrt(ax * ax + ay * ay + az * az);
 }
 
-}  // namespace
-
-MeshReport analyze_mesh(const Mesh& m) {
-  validate_mesh_arrays(m);
-  MeshReport r;
-  const int32_t nv = m.num_vertices(), nf = m.num_faces();
+// Face degree histogram and first non-triangle; corner_face[c] = face of corner c.
+void count_faces(const Mesh& m, MeshReport& r, std::vector<int32_t>& corner_face) {
+  const int32_t nf = m.num_faces();
   const int32_t* off = m.face_offsets.data();
-  const int32_t* fv = m.face_vertices.data();
-  const size_t nc = m.face_vertices.size();
-  r.n_vertices = nv;
-  r.n_faces = nf;
-
-  // Face degrees and referenced vertices.
   int32_t max_degree = 0;
   for (int32_t f = 0; f < nf; ++f) max_degree = std::max(max_degree, off[f + 1] - off[f]);
   r.face_degree_histogram.assign(static_cast<size_t>(max_degree) + 1, 0);
-  std::vector<int32_t> corner_face(nc);
+  corner_face.resize(m.face_vertices.size());
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t d = off[f + 1] - off[f];
     ++r.face_degree_histogram[d];
     if (d != 3 && r.first_non_triangle_face < 0) r.first_non_triangle_face = f;
     for (int32_t c = off[f]; c < off[f + 1]; ++c) corner_face[c] = f;
   }
-  std::vector<char> referenced(static_cast<size_t>(nv), 0);
-  for (size_t c = 0; c < nc; ++c) referenced[fv[c]] = 1;
+}
+
+// Unreferenced and non-finite vertices, bounding box; referenced[v] != 0 for
+// vertices of some face. Returns how many are referenced.
+int64_t count_vertices(const Mesh& m, MeshReport& r, std::vector<char>& referenced) {
+  const int32_t nv = m.num_vertices();
+  referenced.assign(static_cast<size_t>(nv), 0);
+  for (int32_t v : m.face_vertices) referenced[v] = 1;
   int64_t n_referenced = 0;
   for (int32_t v = 0; v < nv; ++v) {
     if (referenced[v]) {
@@ -84,20 +81,23 @@ MeshReport analyze_mesh(const Mesh& m) {
     r.bbox_min[0] = *xlo; r.bbox_min[1] = *ylo; r.bbox_min[2] = *zlo;
     r.bbox_max[0] = *xhi; r.bbox_max[1] = *yhi; r.bbox_max[2] = *zhi;
   }
+  return n_referenced;
+}
 
-  const EdgeIncidence inc = edge_incidence(m);
+// Edges: boundary, non-manifold (> 2 faces or same direction twice), and the
+// corner unions that decide the fans around each vertex; then the vertices
+// with more than one fan, and r.manifold.
+void check_manifold(const Mesh& m, const EdgeIncidence& inc, const std::vector<int32_t>& corner_face, MeshReport& r) {
+  const int32_t nv = m.num_vertices();
+  const int32_t* off = m.face_offsets.data();
+  const int32_t* fv = m.face_vertices.data();
+  const size_t nc = m.face_vertices.size();
   const Edges& E = inc.edges;
   const int64_t ne = static_cast<int64_t>(E.e0.size());
-  r.n_edges = ne;
-  r.mean_edge_length = mean_edge_length(m, E);
-
   auto next_corner = [&](int32_t c) {
     const int32_t f = corner_face[c];
     return c + 1 == off[f + 1] ? off[f] : c + 1;
   };
-
-  // Edges: boundary, non-manifold (> 2 faces or same direction twice), and the
-  // corner unions that decide the fans around each vertex.
   // fans[v] starts at the number of corners at v; every union that joins two of its
   // classes removes one.
   std::vector<int32_t> corner_parent(nc);
@@ -134,22 +134,23 @@ MeshReport analyze_mesh(const Mesh& m) {
       }
     }
   }
-  {
-    for (int32_t v = 0; v < nv; ++v)
-      if (fans[v] > 1) {
-        ++r.non_manifold_vertices;
-        if (r.first_non_manifold_vertex < 0) {
-          r.first_non_manifold_vertex = v;
-          r.first_non_manifold_vertex_fans = fans[v];
-        }
+  for (int32_t v = 0; v < nv; ++v)
+    if (fans[v] > 1) {
+      ++r.non_manifold_vertices;
+      if (r.first_non_manifold_vertex < 0) {
+        r.first_non_manifold_vertex = v;
+        r.first_non_manifold_vertex_fans = fans[v];
       }
-  }
+    }
   r.manifold = r.non_manifold_edges == 0 && r.non_manifold_vertices == 0;
+}
 
-  // Degenerate faces: (near-)zero area relative to the mesh scale, non-finite area, or
-  // a repeated consecutive vertex.
+// Degenerate faces: (near-)zero area relative to the mesh scale, non-finite area, or
+// a repeated consecutive vertex.
+void count_degenerate_faces(const Mesh& m, const EdgeIncidence& inc, MeshReport& r) {
+  const int32_t* off = m.face_offsets.data();
   const double threshold = kDegenerateAreaRelative * r.mean_edge_length * r.mean_edge_length;
-  for (int32_t f = 0; f < nf; ++f) {
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
     bool degenerate = !(face_area(m, off[f], off[f + 1]) > threshold);
     for (int32_t c = off[f]; c < off[f + 1] && !degenerate; ++c) degenerate = inc.corner_edge[c] < 0;
     if (degenerate) {
@@ -157,15 +158,39 @@ MeshReport analyze_mesh(const Mesh& m) {
       if (r.first_degenerate_face < 0) r.first_degenerate_face = f;
     }
   }
+}
 
-  // Components over referenced vertices.
-  {
-    std::vector<int32_t> parent(static_cast<size_t>(nv));
-    for (int32_t v = 0; v < nv; ++v) parent[v] = v;
-    for (int64_t e = 0; e < ne; ++e) uf_unite(parent, E.e0[e], E.e1[e]);
-    for (int32_t v = 0; v < nv; ++v)
-      if (referenced[v] && uf_find(parent, v) == v) ++r.components;
-  }
+// Components over referenced vertices.
+int32_t count_components(int32_t nv, const Edges& E, const std::vector<char>& referenced) {
+  std::vector<int32_t> parent(static_cast<size_t>(nv));
+  for (int32_t v = 0; v < nv; ++v) parent[v] = v;
+  for (size_t e = 0; e < E.e0.size(); ++e) uf_unite(parent, E.e0[e], E.e1[e]);
+  int32_t components = 0;
+  for (int32_t v = 0; v < nv; ++v)
+    if (referenced[v] && uf_find(parent, v) == v) ++components;
+  return components;
+}
+
+}  // namespace
+
+MeshReport analyze_mesh(const Mesh& m) {
+  validate_mesh_arrays(m);
+  MeshReport r;
+  const int32_t nv = m.num_vertices(), nf = m.num_faces();
+  r.n_vertices = nv;
+  r.n_faces = nf;
+  std::vector<int32_t> corner_face;
+  count_faces(m, r, corner_face);
+  std::vector<char> referenced;
+  const int64_t n_referenced = count_vertices(m, r, referenced);
+
+  const EdgeIncidence inc = edge_incidence(m);
+  const int64_t ne = static_cast<int64_t>(inc.edges.e0.size());
+  r.n_edges = ne;
+  r.mean_edge_length = mean_edge_length(m, inc.edges);
+  check_manifold(m, inc, corner_face, r);
+  count_degenerate_faces(m, inc, r);
+  r.components = count_components(nv, inc.edges, referenced);
 
   const auto loops = boundary_loops(m, inc);
   r.boundary_loops = static_cast<int32_t>(loops.size());

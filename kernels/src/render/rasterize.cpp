@@ -63,25 +63,11 @@ Vec3 label_color(int64_t label) {
   return hsv(h, label % 2 ? 0.55 : 0.8, label % 3 == 0 ? 0.95 : 0.8);
 }
 
-}  // namespace
+using Triangles = std::vector<std::array<int32_t, 3>>;
 
-RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const RasterOptions& opt) {
-  if (opt.width < 1 || opt.height < 1 || opt.width > 16384 || opt.height > 16384)
-    fail(ErrorCode::BadUsage, "rasterize: image size " + std::to_string(opt.width) + " x " +
-                                  std::to_string(opt.height) + " is outside 1..16384");
-  const int64_t nv = m.num_vertices();
-  const int64_t per_vertex = opt.coloring == Coloring::Checker ? 2 : 1;
-  if (static_cast<int64_t>(values.size()) != per_vertex * nv)
-    fail(ErrorCode::BadUsage, "rasterize: " + std::to_string(values.size()) + " values for " + std::to_string(nv) +
-                                  " vertices (expected " + std::to_string(per_vertex * nv) + ")");
-  const int W = opt.width, H = opt.height;
-  RasterImage img;
-  img.width = W;
-  img.height = H;
-  img.rgb.assign(static_cast<size_t>(W) * H * 3, 242);
-
-  // Fan triangles of every face with valid ids.
-  std::vector<std::array<int32_t, 3>> tris;
+// Fan triangles of every face with valid ids.
+Triangles fan_triangles(const Mesh& m, int64_t nv) {
+  Triangles tris;
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const auto fv = m.face(f);
     bool ok = fv.size() >= 3;
@@ -89,8 +75,14 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
     if (!ok) continue;
     for (size_t k = 1; k + 1 < fv.size(); ++k) tris.push_back({fv[0], fv[k], fv[k + 1]});
   }
-  if (nv == 0 || tris.empty()) return img;
+  return tris;
+}
 
+// View-space positions vp (camera of the header) and screen positions sp3 (x
+// right, y down, depth = view z, larger is nearer), the used vertices' box
+// filling 90% of the smaller side. False when no used vertex is finite.
+bool project(const Mesh& m, const Triangles& tris, int W, int H, std::vector<Vec3>& vp, std::vector<Vec3>& sp3) {
+  const int64_t nv = m.num_vertices();
   // View rotation: yaw 210 degrees about y, then pitch 20 degrees about x.
   const double yaw = 210.0 * M_PI / 180, pitch = 20.0 * M_PI / 180;
   const double cy = std::cos(yaw), sy = std::sin(yaw), cp = std::cos(pitch), sp = std::sin(pitch);
@@ -101,7 +93,7 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
   double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                   std::numeric_limits<double>::infinity()};
   double hi[3] = {-lo[0], -lo[1], -lo[2]};
-  std::vector<Vec3> vp(static_cast<size_t>(nv));
+  vp.resize(static_cast<size_t>(nv));
   std::vector<uint8_t> used(static_cast<size_t>(nv), 0);
   for (const auto& t : tris)
     for (int32_t v : t) used[v] = 1;
@@ -114,17 +106,19 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
         hi[d] = std::max(hi[d], vp[v][d]);
       }
   }
-  if (!(hi[0] >= lo[0]) || !(hi[1] >= lo[1])) return img;  // no finite vertex
+  if (!(hi[0] >= lo[0]) || !(hi[1] >= lo[1])) return false;  // no finite vertex
   const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
   const double scale = extent > 0 ? 0.9 * std::min(W, H) / extent : 1.0;
   const double cx = 0.5 * (lo[0] + hi[0]), cyv = 0.5 * (lo[1] + hi[1]);
-  // Screen position: x right, y down; depth = view z (larger is nearer).
-  std::vector<Vec3> sp3(static_cast<size_t>(nv));
+  sp3.resize(static_cast<size_t>(nv));
   for (int64_t v = 0; v < nv; ++v)
     sp3[v] = {0.5 * W + (vp[v][0] - cx) * scale, 0.5 * H - (vp[v][1] - cyv) * scale, vp[v][2]};
+  return true;
+}
 
-  // Area-weighted vertex normals in view space.
-  std::vector<Vec3> normal(static_cast<size_t>(nv), Vec3{0, 0, 0});
+// Area-weighted vertex normals in view space.
+std::vector<Vec3> vertex_normals(const Triangles& tris, const std::vector<Vec3>& vp) {
+  std::vector<Vec3> normal(vp.size(), Vec3{0, 0, 0});
   for (const auto& t : tris) {
     const Vec3 n = cross(sub(vp[t[1]], vp[t[0]]), sub(vp[t[2]], vp[t[0]]));
     if (!std::isfinite(n[0] + n[1] + n[2])) continue;
@@ -132,42 +126,62 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
       for (int d = 0; d < 3; ++d) normal[v][d] += n[d];
   }
   for (Vec3& n : normal) n = normalized(n);
+  return normal;
+}
 
-  // Pass 1: z-buffer of (face, barycentrics).
-  const size_t npix = static_cast<size_t>(W) * H;
-  std::vector<double> depth(npix, -std::numeric_limits<double>::infinity());
-  std::vector<int32_t> face(npix, -1);
-  std::vector<float> bary(2 * npix, 0.f);
-  for (size_t ti = 0; ti < tris.size(); ++ti) {
-    const Vec3 &a = sp3[tris[ti][0]], &b = sp3[tris[ti][1]], &c = sp3[tris[ti][2]];
-    const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    if (!(std::abs(area) > 1e-12) || !std::isfinite(area + a[2] + b[2] + c[2])) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a[0], b[0], c[0]}))));
-    const int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({a[0], b[0], c[0]}))));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a[1], b[1], c[1]}))));
-    const int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({a[1], b[1], c[1]}))));
-    for (int y = y0; y <= y1; ++y) {
-      const double py = y + 0.5;
-      for (int x = x0; x <= x1; ++x) {
-        const double px = x + 0.5;
-        // Barycentrics from the edge functions (any winding).
-        const double w0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
-        const double w1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const double z = w0 * a[2] + w1 * b[2] + w2 * c[2];
-        const size_t p = static_cast<size_t>(y) * W + x;
-        if (z > depth[p]) {
-          depth[p] = z;
-          face[p] = static_cast<int32_t>(ti);
-          bary[2 * p] = static_cast<float>(w0);
-          bary[2 * p + 1] = static_cast<float>(w1);
-        }
+// Pass 1: per pixel the nearest triangle and two of its barycentrics.
+struct ZBuffer {
+  std::vector<double> depth;
+  std::vector<int32_t> face;  // -1: background
+  std::vector<float> bary;    // 2 per pixel
+};
+
+void scan_triangle(const Vec3& a, const Vec3& b, const Vec3& c, int32_t ti, int W, int H, ZBuffer& zb) {
+  const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  if (!(std::abs(area) > 1e-12) || !std::isfinite(area + a[2] + b[2] + c[2])) return;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a[0], b[0], c[0]}))));
+  const int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({a[0], b[0], c[0]}))));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a[1], b[1], c[1]}))));
+  const int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({a[1], b[1], c[1]}))));
+  for (int y = y0; y <= y1; ++y) {
+    const double py = y + 0.5;
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5;
+      // Barycentrics from the edge functions (any winding).
+      const double w0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
+      const double w1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+      const double w2 = 1 - w0 - w1;
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      const double z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+      const size_t p = static_cast<size_t>(y) * W + x;
+      if (z > zb.depth[p]) {
+        zb.depth[p] = z;
+        zb.face[p] = ti;
+        zb.bary[2 * p] = static_cast<float>(w0);
+        zb.bary[2 * p + 1] = static_cast<float>(w1);
       }
     }
   }
+}
 
-  // Ranges for the colourings.
+ZBuffer scan_triangles(const Triangles& tris, const std::vector<Vec3>& sp3, int W, int H) {
+  const size_t npix = static_cast<size_t>(W) * H;
+  ZBuffer zb;
+  zb.depth.assign(npix, -std::numeric_limits<double>::infinity());
+  zb.face.assign(npix, -1);
+  zb.bary.assign(2 * npix, 0.f);
+  for (size_t ti = 0; ti < tris.size(); ++ti)
+    scan_triangle(sp3[tris[ti][0]], sp3[tris[ti][1]], sp3[tris[ti][2]], static_cast<int32_t>(ti), W, H, zb);
+  return zb;
+}
+
+// Ranges for the colourings: Scalar maps [vmin, vmin + vspan] onto the colour
+// map, Checker cells of side `cell` start at (umin, wmin).
+struct ColorRanges {
+  double vmin = 0, vspan = 1, umin = 0, wmin = 0, cell = 1;
+};
+
+ColorRanges color_ranges(std::span<const double> values, int64_t nv, const RasterOptions& opt) {
   double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
   double umin = vmin, umax = -vmin, wmin = vmin, wmax = -vmin;
   if (opt.coloring == Coloring::Scalar) {
@@ -186,58 +200,100 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
       wmax = std::max(wmax, w);
     }
   }
-  const double vspan = vmax > vmin ? vmax - vmin : 1.0;
+  ColorRanges cr;
+  cr.vmin = vmin;
+  cr.vspan = vmax > vmin ? vmax - vmin : 1.0;
   const double uvspan = std::max(umax - umin, wmax - wmin);
-  const double cell = uvspan > 0 && std::isfinite(uvspan) ? uvspan / opt.checker_cells : 1.0;
-  const Vec3 light = normalized({-0.35, 0.45, 1.0});
-  const Vec3 grey{0.62, 0.62, 0.62};
+  cr.cell = uvspan > 0 && std::isfinite(uvspan) ? uvspan / opt.checker_cells : 1.0;
+  cr.umin = umin;
+  cr.wmin = wmin;
+  return cr;
+}
 
-  // Pass 2: shade.
+// Unshaded colour of a pixel of triangle t at barycentrics w.
+Vec3 surface_color(const std::array<int32_t, 3>& t, const double w[3], std::span<const double> values,
+                   const RasterOptions& opt, const ColorRanges& cr) {
+  const Vec3 grey{0.62, 0.62, 0.62};
+  Vec3 col = grey;
+  if (opt.coloring == Coloring::Scalar) {
+    double s = 0;
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      ok = ok && std::isfinite(values[t[k]]);
+      s += w[k] * values[t[k]];
+    }
+    if (ok) {
+      const double f = (s - cr.vmin) / cr.vspan;
+      col = scalar_color(f);
+      if (opt.bands > 0 && static_cast<int64_t>(std::floor(f * opt.bands)) % 2 == 1)
+        for (double& c : col) c *= 0.82;
+    }
+  } else if (opt.coloring == Coloring::Labels) {
+    const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
+    const double label = values[t[k]];
+    col = std::isfinite(label) ? label_color(static_cast<int64_t>(std::llround(std::clamp(label, -1.0, 9.0e15))))
+                               : grey;
+  } else {
+    double u = 0, v = 0;
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      ok = ok && std::isfinite(values[2 * t[k]]) && std::isfinite(values[2 * t[k] + 1]);
+      u += w[k] * values[2 * t[k]];
+      v += w[k] * values[2 * t[k] + 1];
+    }
+    if (ok) {
+      const int64_t cu = static_cast<int64_t>(std::floor((u - cr.umin) / cr.cell));
+      const int64_t cv = static_cast<int64_t>(std::floor((v - cr.wmin) / cr.cell));
+      col = (cu + cv) % 2 == 0 ? Vec3{0.95, 0.95, 0.92} : Vec3{0.75, 0.18, 0.15};
+    }
+  }
+  return col;
+}
+
+// Pass 2: shade each covered pixel once (interpolated normal, two-sided Lambert).
+void shade_pixels(const ZBuffer& zb, const Triangles& tris, const std::vector<Vec3>& normal,
+                  std::span<const double> values, const RasterOptions& opt, const ColorRanges& cr, RasterImage& img) {
+  const Vec3 light = normalized({-0.35, 0.45, 1.0});
+  const size_t npix = zb.face.size();
   for (size_t p = 0; p < npix; ++p) {
-    if (face[p] < 0) continue;
-    const auto& t = tris[face[p]];
-    const double w[3] = {bary[2 * p], bary[2 * p + 1], 1.0 - bary[2 * p] - bary[2 * p + 1]};
+    if (zb.face[p] < 0) continue;
+    const auto& t = tris[zb.face[p]];
+    const double w[3] = {zb.bary[2 * p], zb.bary[2 * p + 1], 1.0 - zb.bary[2 * p] - zb.bary[2 * p + 1]};
     Vec3 n{0, 0, 0};
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) n[d] += w[k] * normal[t[k]][d];
     n = normalized(n);
     const double shade = 0.28 + 0.72 * std::abs(dot(n, light));
-    Vec3 col = grey;
-    if (opt.coloring == Coloring::Scalar) {
-      double s = 0;
-      bool ok = true;
-      for (int k = 0; k < 3; ++k) {
-        ok = ok && std::isfinite(values[t[k]]);
-        s += w[k] * values[t[k]];
-      }
-      if (ok) {
-        const double f = (s - vmin) / vspan;
-        col = scalar_color(f);
-        if (opt.bands > 0 && static_cast<int64_t>(std::floor(f * opt.bands)) % 2 == 1)
-          for (double& c : col) c *= 0.82;
-      }
-    } else if (opt.coloring == Coloring::Labels) {
-      const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
-      const double label = values[t[k]];
-      col = std::isfinite(label) ? label_color(static_cast<int64_t>(std::llround(std::clamp(label, -1.0, 9.0e15))))
-                                 : grey;
-    } else {
-      double u = 0, v = 0;
-      bool ok = true;
-      for (int k = 0; k < 3; ++k) {
-        ok = ok && std::isfinite(values[2 * t[k]]) && std::isfinite(values[2 * t[k] + 1]);
-        u += w[k] * values[2 * t[k]];
-        v += w[k] * values[2 * t[k] + 1];
-      }
-      if (ok) {
-        const int64_t cu = static_cast<int64_t>(std::floor((u - umin) / cell));
-        const int64_t cv = static_cast<int64_t>(std::floor((v - wmin) / cell));
-        col = (cu + cv) % 2 == 0 ? Vec3{0.95, 0.95, 0.92} : Vec3{0.75, 0.18, 0.15};
-      }
-    }
+    const Vec3 col = surface_color(t, w, values, opt, cr);
     for (int d = 0; d < 3; ++d)
       img.rgb[3 * p + d] = static_cast<uint8_t>(std::lround(std::clamp(col[d] * shade, 0.0, 1.0) * 255));
   }
+}
+
+}  // namespace
+
+RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const RasterOptions& opt) {
+  if (opt.width < 1 || opt.height < 1 || opt.width > 16384 || opt.height > 16384)
+    fail(ErrorCode::BadUsage, "rasterize: image size " + std::to_string(opt.width) + " x " +
+                                  std::to_string(opt.height) + " is outside 1..16384");
+  const int64_t nv = m.num_vertices();
+  const int64_t per_vertex = opt.coloring == Coloring::Checker ? 2 : 1;
+  if (static_cast<int64_t>(values.size()) != per_vertex * nv)
+    fail(ErrorCode::BadUsage, "rasterize: " + std::to_string(values.size()) + " values for " + std::to_string(nv) +
+                                  " vertices (expected " + std::to_string(per_vertex * nv) + ")");
+  const int W = opt.width, H = opt.height;
+  RasterImage img;
+  img.width = W;
+  img.height = H;
+  img.rgb.assign(static_cast<size_t>(W) * H * 3, 242);
+
+  const Triangles tris = fan_triangles(m, nv);
+  if (nv == 0 || tris.empty()) return img;
+  std::vector<Vec3> vp, sp3;
+  if (!project(m, tris, W, H, vp, sp3)) return img;
+  const std::vector<Vec3> normal = vertex_normals(tris, vp);
+  const ZBuffer zb = scan_triangles(tris, sp3, W, H);
+  shade_pixels(zb, tris, normal, values, opt, color_ranges(values, nv, opt), img);
   return img;
 }
 

@@ -11,6 +11,131 @@
 
 namespace locus {
 
+namespace {
+
+// Supported vertices: every boundary loop. Every component needs a support, or
+// its heights are undetermined (BadInput naming a vertex of it).
+std::vector<uint8_t> boundary_supports(const Mesh& m, const std::vector<std::vector<int32_t>>& loops) {
+  const int32_t nv = m.num_vertices();
+  std::vector<uint8_t> supported(static_cast<size_t>(nv), 0);
+  for (const auto& L : loops)
+    for (int32_t v : L) supported[v] = 1;
+  std::vector<int32_t> comp;
+  const int32_t nc = connected_components(m, comp);
+  std::vector<uint8_t> comp_ok(static_cast<size_t>(std::max(nc, 0)), 0);
+  for (int32_t v = 0; v < nv; ++v)
+    if (supported[v]) comp_ok[comp[v]] = 1;
+  for (int32_t v = 0; v < nv; ++v)
+    if (!comp_ok[comp[v]])
+      fail(ErrorCode::BadInput, mesh_name(m) + ": the component of vertex " + std::to_string(v) + " has no boundary to support it");
+  return supported;
+}
+
+// Dead load: vertex share of the incident face areas; 0 at supports.
+std::vector<double> dead_load(const Mesh& m, double load_density, const std::vector<uint8_t>& supported) {
+  std::vector<double> load(static_cast<size_t>(m.num_vertices()), 0.0);
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const auto fv = m.face(f);
+    const int32_t o = fv[0];
+    double ax = 0, ay = 0, az = 0;
+    for (size_t c = 1; c + 1 < fv.size(); ++c) {
+      const int32_t p = fv[c], q = fv[c + 1];
+      const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
+      const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
+      ax += uy * wz - uz * wy;
+      ay += uz * wx - ux * wz;
+      az += ux * wy - uy * wx;
+    }
+    const double area = 0.5 * std::sqrt(ax * ax + ay * ay + az * az);
+    for (int32_t v : fv) load[v] += load_density * area / static_cast<double>(fv.size());
+  }
+  for (int32_t v = 0; v < m.num_vertices(); ++v)
+    if (supported[v]) load[v] = 0.0;  // carried by the support directly
+  return load;
+}
+
+// Algorithm 1 in space: supports fixed, b = (0, 0, -F), the input edge lengths as targets.
+PerfectLaplacianProblem support_problem(const Mesh& m, const SelfSupportResult& R) {
+  const int32_t nv = m.num_vertices();
+  const size_t ne = R.e0.size();
+  PerfectLaplacianProblem P;
+  P.nv = nv;
+  P.dims = 3;
+  P.e0 = R.e0;
+  P.e1 = R.e1;
+  P.fixed = R.supported;
+  P.fixed_pos = Coords{m.x, m.y, m.z};
+  P.b[0].assign(static_cast<size_t>(nv), 0.0);
+  P.b[1].assign(static_cast<size_t>(nv), 0.0);
+  P.b[2].resize(static_cast<size_t>(nv));
+  for (int32_t v = 0; v < nv; ++v) P.b[2][v] = -R.load[v];
+  P.target_length.resize(ne);
+  for (size_t e = 0; e < ne; ++e) {
+    const int32_t a = R.e0[e], b = R.e1[e];
+    P.target_length[e] = std::sqrt((m.x[b] - m.x[a]) * (m.x[b] - m.x[a]) + (m.y[b] - m.y[a]) * (m.y[b] - m.y[a]) +
+                                   (m.z[b] - m.z[a]) * (m.z[b] - m.z[a]));
+    if (!(P.target_length[e] > 0))
+      fail(ErrorCode::BadInput, mesh_name(m) + ": edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has zero length");
+  }
+  return P;
+}
+
+// Forces f_e = ω_raw ||e|| and their range over edges with an unsupported end.
+void measure_forces(const std::vector<double>& raw, SelfSupportResult& R) {
+  const size_t ne = R.e0.size();
+  R.forces.resize(ne);
+  R.min_force = HUGE_VAL;
+  for (size_t e = 0; e < ne; ++e) {
+    const int32_t a = R.e0[e], b = R.e1[e];
+    double l2 = 0;
+    for (int k = 0; k < 3; ++k) l2 += (R.pos[k][b] - R.pos[k][a]) * (R.pos[k][b] - R.pos[k][a]);
+    R.forces[e] = raw[e] * std::sqrt(l2);
+    if (R.supported[a] && R.supported[b]) continue;  // support to support: carried by the supports
+    R.min_force = std::min(R.min_force, R.forces[e]);
+    R.max_force = std::max(R.max_force, R.forces[e]);
+  }
+  if (R.min_force == HUGE_VAL) R.min_force = 0;
+  for (size_t e = 0; e < ne; ++e)
+    if (!(R.supported[R.e0[e]] && R.supported[R.e1[e]]) && R.forces[e] <= 1e-8 * R.max_force) ++R.zero_forces;
+}
+
+// Equilibrium residual, edge by edge (eq. 2.12), relative to the largest load.
+void measure_residual(int32_t nv, const std::vector<double>& raw, SelfSupportResult& R) {
+  Coords lv;
+  apply_edge_laplacian(nv, R.e0, R.e1, raw, 3, R.pos, lv);
+  double worst = 0, fmax = 0;
+  for (int32_t v = 0; v < nv; ++v) {
+    if (R.supported[v]) continue;
+    fmax = std::max(fmax, R.load[v]);
+    const double rz = lv[2][v] + R.load[v];
+    worst = std::max(worst, std::sqrt(lv[0][v] * lv[0][v] + lv[1][v] * lv[1][v] + rz * rz));
+  }
+  R.residual_rel = fmax > 0 ? worst / fmax : worst;
+}
+
+// Displacement from the input relative to its bounding-box diagonal (no alignment: supports fixed).
+void measure_displacement(const Mesh& m, SelfSupportResult& R) {
+  const int32_t nv = m.num_vertices();
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<double>& c = k == 0 ? m.x : k == 1 ? m.y : m.z;
+    const auto [lo, hi] = std::minmax_element(c.begin(), c.end());
+    d2 += (*hi - *lo) * (*hi - *lo);
+  }
+  const double diag = d2 > 0 ? std::sqrt(d2) : 1.0;
+  double sum = 0, mx = 0;
+  for (int32_t v = 0; v < nv; ++v) {
+    const double d = std::sqrt((R.pos[0][v] - m.x[v]) * (R.pos[0][v] - m.x[v]) + (R.pos[1][v] - m.y[v]) * (R.pos[1][v] - m.y[v]) +
+                               (R.pos[2][v] - m.z[v]) * (R.pos[2][v] - m.z[v]));
+    sum += d;
+    mx = std::max(mx, d);
+  }
+  R.max_displacement_rel = mx / diag;
+  R.mean_displacement_rel = sum / (nv * diag);
+}
+
+}  // namespace
+
 SelfSupportResult self_supporting(const Mesh& m, const SelfSupportOptions& opt, const RunContext& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   if (opt.support != "boundary")
@@ -32,59 +157,9 @@ SelfSupportResult self_supporting(const Mesh& m, const SelfSupportOptions& opt, 
   R.e0 = inc.edges.e0;
   R.e1 = inc.edges.e1;
   const size_t ne = R.e0.size();
-  R.supported.assign(static_cast<size_t>(nv), 0);
-  for (const auto& L : loops)
-    for (int32_t v : L) R.supported[v] = 1;
-  // Every component needs a support, or its heights are undetermined.
-  std::vector<int32_t> comp;
-  const int32_t nc = connected_components(m, comp);
-  std::vector<uint8_t> comp_ok(static_cast<size_t>(std::max(nc, 0)), 0);
-  for (int32_t v = 0; v < nv; ++v)
-    if (R.supported[v]) comp_ok[comp[v]] = 1;
-  for (int32_t v = 0; v < nv; ++v)
-    if (!comp_ok[comp[v]])
-      fail(ErrorCode::BadInput, mesh_name(m) + ": the component of vertex " + std::to_string(v) + " has no boundary to support it");
-
-  // Dead load: vertex share of the incident face areas.
-  R.load.assign(static_cast<size_t>(nv), 0.0);
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const auto fv = m.face(f);
-    const int32_t o = fv[0];
-    double ax = 0, ay = 0, az = 0;
-    for (size_t c = 1; c + 1 < fv.size(); ++c) {
-      const int32_t p = fv[c], q = fv[c + 1];
-      const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
-      const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
-      ax += uy * wz - uz * wy;
-      ay += uz * wx - ux * wz;
-      az += ux * wy - uy * wx;
-    }
-    const double area = 0.5 * std::sqrt(ax * ax + ay * ay + az * az);
-    for (int32_t v : fv) R.load[v] += opt.load_density * area / static_cast<double>(fv.size());
-  }
-  for (int32_t v = 0; v < nv; ++v)
-    if (R.supported[v]) R.load[v] = 0.0;  // carried by the support directly
-
-  PerfectLaplacianProblem P;
-  P.nv = nv;
-  P.dims = 3;
-  P.e0 = R.e0;
-  P.e1 = R.e1;
-  P.fixed = R.supported;
-  P.fixed_pos = Coords{m.x, m.y, m.z};
-  P.b[0].assign(static_cast<size_t>(nv), 0.0);
-  P.b[1].assign(static_cast<size_t>(nv), 0.0);
-  P.b[2].resize(static_cast<size_t>(nv));
-  for (int32_t v = 0; v < nv; ++v) P.b[2][v] = -R.load[v];
-  P.target_length.resize(ne);
-  for (size_t e = 0; e < ne; ++e) {
-    const int32_t a = R.e0[e], b = R.e1[e];
-    P.target_length[e] = std::sqrt((m.x[b] - m.x[a]) * (m.x[b] - m.x[a]) + (m.y[b] - m.y[a]) * (m.y[b] - m.y[a]) +
-                                   (m.z[b] - m.z[a]) * (m.z[b] - m.z[a]));
-    if (!(P.target_length[e] > 0))
-      fail(ErrorCode::BadInput, mesh_name(m) + ": edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has zero length");
-  }
-  PerfectLaplacianResult run = run_perfect_laplacian(P, opt.iteration, ctx);
+  R.supported = boundary_supports(m, loops);
+  R.load = dead_load(m, opt.load_density, R.supported);
+  PerfectLaplacianResult run = run_perfect_laplacian(support_problem(m, R), opt.iteration, ctx);
   R.converged = run.converged;
   R.iterations = run.iterations;
   R.first_iter_s = run.first_iter_s;
@@ -94,49 +169,9 @@ SelfSupportResult self_supporting(const Mesh& m, const SelfSupportOptions& opt, 
   // Raw weights balance the actual loads: ω_raw = ω / rhs_scale.
   std::vector<double> raw(ne);
   for (size_t e = 0; e < ne; ++e) raw[e] = run.weights[e] / run.rhs_scale;
-  R.forces.resize(ne);
-  R.min_force = HUGE_VAL;
-  for (size_t e = 0; e < ne; ++e) {
-    const int32_t a = R.e0[e], b = R.e1[e];
-    double l2 = 0;
-    for (int k = 0; k < 3; ++k) l2 += (R.pos[k][b] - R.pos[k][a]) * (R.pos[k][b] - R.pos[k][a]);
-    R.forces[e] = raw[e] * std::sqrt(l2);
-    if (R.supported[a] && R.supported[b]) continue;  // support to support: carried by the supports
-    R.min_force = std::min(R.min_force, R.forces[e]);
-    R.max_force = std::max(R.max_force, R.forces[e]);
-  }
-  if (R.min_force == HUGE_VAL) R.min_force = 0;
-  for (size_t e = 0; e < ne; ++e)
-    if (!(R.supported[R.e0[e]] && R.supported[R.e1[e]]) && R.forces[e] <= 1e-8 * R.max_force) ++R.zero_forces;
-
-  // Equilibrium residual, edge by edge (eq. 2.12).
-  Coords lv;
-  apply_edge_laplacian(nv, R.e0, R.e1, raw, 3, R.pos, lv);
-  double worst = 0, fmax = 0;
-  for (int32_t v = 0; v < nv; ++v) {
-    if (R.supported[v]) continue;
-    fmax = std::max(fmax, R.load[v]);
-    const double rz = lv[2][v] + R.load[v];
-    worst = std::max(worst, std::sqrt(lv[0][v] * lv[0][v] + lv[1][v] * lv[1][v] + rz * rz));
-  }
-  R.residual_rel = fmax > 0 ? worst / fmax : worst;
-
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::vector<double>& c = k == 0 ? m.x : k == 1 ? m.y : m.z;
-    const auto [lo, hi] = std::minmax_element(c.begin(), c.end());
-    d2 += (*hi - *lo) * (*hi - *lo);
-  }
-  const double diag = d2 > 0 ? std::sqrt(d2) : 1.0;
-  double sum = 0, mx = 0;
-  for (int32_t v = 0; v < nv; ++v) {
-    const double d = std::sqrt((R.pos[0][v] - m.x[v]) * (R.pos[0][v] - m.x[v]) + (R.pos[1][v] - m.y[v]) * (R.pos[1][v] - m.y[v]) +
-                               (R.pos[2][v] - m.z[v]) * (R.pos[2][v] - m.z[v]));
-    sum += d;
-    mx = std::max(mx, d);
-  }
-  R.max_displacement_rel = mx / diag;
-  R.mean_displacement_rel = sum / (nv * diag);
+  measure_forces(raw, R);
+  measure_residual(nv, raw, R);
+  measure_displacement(m, R);
   R.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return R;
 }

@@ -41,8 +41,8 @@
 //    against the steady state (g_e <= kkt_tol, i.e. their length ratio does not
 //    exceed the common one); violators come back and the iteration resumes.
 //    Weights that fall below floor_rel · max are dropped too.
-//  * Acceleration. Anderson acceleration (depth 6, pipelines/
-//    anderson_acceleration.hpp) of the map U <- U + g on the ACTIVE edges only,
+//  * Acceleration. Anderson acceleration (depth 6, kernels/include/locus/kernels/
+//    optim/anderson_acceleration.hpp) of the map U <- U + g on the ACTIVE edges only,
 //    restarted whenever the active set changes; it keeps every weight positive
 //    by construction; a step never changes a weight by more than e^4, and the
 //    history is dropped when ||g|| grows 10x over its best.
@@ -85,11 +85,9 @@ struct PerfectLaplacianOptions {
   double eps = 1e-6;            // stop when max vertex change < eps · bbox diagonal of the embedding
   int anderson_depth = 6;       // 0 = the plain update of eq. 2.8
   double relaxation = 1.0;      // the log-space step is relaxation · g (1 = eq. 2.8)
-  // b = 0: residual relative to the common ratio (see above). Measured: without it
-  // the Schoenhardt shadow stops after 12 iterations with no zero weight and a 3%
-  // ratio spread, and 3 instead of 6 of the 10 polygon meshes of the tests
-  // converge; with it 5 of the 1000 regular planar meshes stop (change < eps) at a
-  // displacement of 1.1e-4..5.7e-4 instead of < 1e-4.
+  // b = 0: residual relative to the common ratio (see above). Without it the
+  // iteration stops short of the steady state (no zero weights, a spread of
+  // length ratios); figures in docs/perfect_laplacian.md.
   bool center_residual = true;
   double anderson_restart = 10; // drop the history when ||f|| exceeds this · best ||f|| so far
   double max_log_step = 4.0;    // no weight changes by more than e^4 in one iteration
@@ -102,24 +100,22 @@ struct PerfectLaplacianOptions {
   // Newton (interior point, pipelines/include/locus/pipelines/laplacian/perfect_laplacian_newton.hpp): maximizes
   // Ψ + τ Σ log ω with τ = mu · (the mean ω_e ||ê_e||² scale); mu goes from
   // newton_barrier_start down to newton_barrier_end by newton_barrier_factor after
-  // each full Newton step, and convergence needs the end value. Measured on the
-  // tests' planar meshes: end 1e-14 let one of the 1000 regular meshes end with 3
-  // weights <= 1e-8 (that mesh nearly needs them at 0), 1e-10 took up to 601
-  // iterations on a polygon mesh; 1e-12 neither.
+  // each full Newton step, and convergence needs the end value. A lower end
+  // leaves weights a mesh needs near 0 numerically zero, a higher one slows the
+  // polygon meshes; 1e-12 avoids both (docs/perfect_laplacian.md).
   double newton_barrier_start = 0.1;
   double newton_barrier_end = 1e-12;
   // With b != 0 (meshes in space) the end value is 1e-10: ratios are pinned to 1
   // and the barrier's relative error there is far below the displacement
-  // targets; measured: polygon_mesh.off did not reach 1e-12 within 1000
-  // iterations (360 to reach 1e-10), noisy armadillo took 494 (234).
+  // targets, while 1e-12 takes far more iterations (docs/perfect_laplacian.md).
   double newton_barrier_end_rhs = 1e-10;
   double newton_barrier_factor = 0.1;
   double newton_zero_rel = 1e-10;  // weights <= this · max at the end are exactly 0 (vanished)
   // CG steps (one solve each, no factorization) per iteration: newton_cg_work /
   // (iterated edges), clamped to [newton_cg_min, newton_cg_max]. Small meshes get
-  // (nearly) exact Newton steps: with 20 instead of 100 only 4 of the 10 polygon
-  // test meshes converged. Large ones get 10: noisy armadillo (78k edges) then
-  // costs 0.13 s per iteration instead of 1.1 s with 100 and converges.
+  // (nearly) exact Newton steps, which the polygon meshes need to converge;
+  // large ones get 10, which keeps an iteration near the cost of a factorization
+  // and still converges (figures in docs/perfect_laplacian.md).
   int newton_cg_max = 100;
   int newton_cg_min = 10;
   int64_t newton_cg_work = 500000;

@@ -19,8 +19,8 @@
 // M = diag(||e||² / ω_e) (to first order, ω_e · log(||e|| / ||ê||)); it converges
 // linearly with a rate that goes to 1 where weights vanish (hundreds to thousands
 // of iterations), and heuristic extrapolation of the vanishing weights proved
-// fragile (polygon meshes with non-convex faces: 6 of 10 converged in Release,
-// 2 of 10 under the sanitizers). The Hessian of E is available exactly and
+// fragile on polygon meshes with non-convex faces (figures in
+// docs/perfect_laplacian.md). The Hessian of E is available exactly and
 // cheaply as a product:
 //
 //     -∇²E v = Q,  Q_e = e_V · (z_q - z_p),  K z = y,  y_i = Σ_{e ∋ i} v_e (V_i - V_j),

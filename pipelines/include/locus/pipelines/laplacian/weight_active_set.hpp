@@ -7,9 +7,8 @@
 // such a weight shrinks by a factor exp(g_e) < 1 per iteration, with g_e the
 // edge's log-length excess over the common ratio (g_e = log(||e|| / ||ê||) -
 // log μ^-1), often only 0.3-3% per iteration, and the vertices keep moving by
-// O(ω_e · g_e) long after everything else has settled (measured on planar
-// polygon meshes with non-convex faces: 750+ iterations to reach ε = 1e-6, and
-// weights still decaying by 1e-2 per 1000 iterations).
+// O(ω_e · g_e) long after everything else has settled (hundreds of iterations
+// on planar polygon meshes with non-convex faces; docs/perfect_laplacian.md).
 //
 // Why the limit is well defined: the steady states that are stable under a small
 // positive perturbation of a zero weight are exactly the maximizers of the
@@ -65,10 +64,10 @@ namespace locus {
 enum class WeightState : uint8_t { active = 0, dropped = 1, passive = 2 };
 
 struct WeightActiveSetOptions {
-  // Defaults from a sweep on 50 random planar polygon meshes with non-convex faces
-  // (tests/pipelines/perfect_laplacian.cpp, "convergence study"): shorter windows
-  // push edges whose residual later changes sign (pushes undone by the thousand,
-  // chaotic iterates); 60 / 2e-3 / 0.3 converged the most.
+  // Defaults from a sweep of the "convergence study" in
+  // tests/pipelines/laplacian/perfect_laplacian.cpp: shorter windows push edges
+  // whose residual later changes sign (chaotic iterates); these converged the
+  // most (docs/perfect_laplacian.md).
   int window = 60;              // iterations of established decay before an edge is pushed
   double min_rate = 2e-3;       // decay: g_e < -min_rate (log-length excess per iteration)
   double fade = 0.3;            // decay fades when |g_e| < (1 - fade) · |g_e at the streak start|
