@@ -41,6 +41,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
@@ -84,6 +85,10 @@ struct HeatDiffusion {
 // Isotropic operator M - t L_C of m; t = t_abs when t_abs > 0, else t_factor * h^2.
 // Requires a manifold triangle mesh without degenerate faces or unreferenced vertices.
 HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_abs, const RunContext& ctx);
+// The same with m's derived data (kernels/include/locus/kernels/mesh/mesh_derived.hpp): h and the
+// lumped mass are taken from d, and the requirements are checked unless d.checked covers them.
+HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double t_factor, double t_abs,
+                                     const RunContext& ctx);
 // Any operator A = M - t L already built (e.g. on a lifted metric, pipelines/cvt_lloyd),
 // with its lumped mass, mean edge length and t.
 HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mass, double h, double t,
