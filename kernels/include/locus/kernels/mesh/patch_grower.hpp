@@ -137,7 +137,6 @@ PatchGrower prepare_patch_grower(const Mesh& m, const Adjacency& adjacency);
 struct PatchWorkspace {
   std::vector<int32_t> local;  // nv: local index of a global vertex during a call; all -1 between calls
   GrowWorkspace grow;
-  std::vector<int32_t> selected;
 };
 
 struct MeshPatch {
