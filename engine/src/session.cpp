@@ -25,8 +25,10 @@
 #include <utility>
 
 #include "locus/kernels/update/factor_update.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
@@ -36,7 +38,6 @@
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/pipelines/deform/deform.hpp"
-#include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
 
@@ -124,19 +125,20 @@ struct SymbolicCache {
 
 struct State {
   Mesh mesh;
-  double h = 0;
+  std::shared_ptr<const MeshDerived> derived;  // edges, adjacency, h, mass, components: once per positions
+  double h = 0;                                // derived->h
   int64_t version = 0;
   std::shared_ptr<SymbolicCache> symbolic;
   std::shared_ptr<Counters> counters;
   OnceMap<uint64_t, HeatLogMap> engines;                             // t_factor bits
   OnceMap<std::pair<int, uint64_t>, NumericFactor> factors;          // (kind, t bits)
   OnceMap<int, DeformOperator> deform_ops;                           // energy
-  OnceMap<int, DemLogMap> dem;                                       // single entry
-  OnceMap<int, Adjacency> adjacency;                                 // single entry
+  OnceMap<int, PatchGrower> grower;                                  // single entry: log map patches
   OnceMap<int, HeatDiffusion> cvt_heat;                              // single entry: M - h^2 L for CVT cells
 };
 
-void check_mesh(const Mesh& m) {
+// Checks the mesh (once per positions) and derives its data; d.checked records the check.
+std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
   validate_mesh_arrays(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no faces");
@@ -144,6 +146,9 @@ void check_mesh(const Mesh& m) {
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   req.finite_coordinates = true;
   check_requirements(m, req);
+  auto d = std::make_shared<MeshDerived>(derive_mesh(m));
+  d->checked = req;
+  return d;
 }
 
 void check_vertex(const State& s, int64_t v, const char* what) {
@@ -200,26 +205,27 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
 std::shared_ptr<const HeatDiffusion> cvt_heat(State& s, const RunContext& ctx) {
   return s.cvt_heat.get(0, ctx, [&] {
     ctx.report(0.0, "factor heat operator (cvt)");
-    auto H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, kLloydTFactor, 0.0, ctx));
+    auto H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, *s.derived, kLloydTFactor, 0.0, ctx));
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor heat operator (cvt)");
     return H;
   });
 }
 
-std::shared_ptr<const DemLogMap> dem(State& s, const RunContext& ctx) {
-  return s.dem.get(0, ctx, [&] { return std::make_shared<const DemLogMap>(s.mesh); });
+// Log map patches: geodesic disks (patch_grower.hpp), on the derived adjacency.
+std::shared_ptr<const PatchGrower> grower(State& s, const RunContext& ctx) {
+  return s.grower.get(0, ctx, [&] {
+    return std::make_shared<const PatchGrower>(prepare_patch_grower(s.mesh, s.derived->adjacency));
+  });
 }
 
-std::shared_ptr<const Adjacency> adjacency(State& s, const RunContext& ctx) {
-  return s.adjacency.get(0, ctx, [&] { return std::make_shared<const Adjacency>(vertex_adjacency(s.mesh)); });
-}
-
-std::shared_ptr<State> make_state(Mesh mesh, int64_t version, std::shared_ptr<SymbolicCache> symbolic,
-                                  std::shared_ptr<Counters> counters) {
+// `derived`: of `mesh`, from check_and_derive.
+std::shared_ptr<State> make_state(Mesh mesh, std::shared_ptr<const MeshDerived> derived, int64_t version,
+                                  std::shared_ptr<SymbolicCache> symbolic, std::shared_ptr<Counters> counters) {
   auto s = std::make_shared<State>();
   s->mesh = std::move(mesh);
-  s->h = locus::mean_edge_length(s->mesh);
+  s->derived = std::move(derived);
+  s->h = s->derived->h;
   s->version = version;
   s->symbolic = std::move(symbolic);
   s->counters = std::move(counters);
@@ -241,12 +247,12 @@ struct Session::Impl {
 };
 
 Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
-  check_mesh(mesh);
+  std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh);
   impl_->nv = mesh.num_vertices();
   impl_->nf = mesh.num_faces();
-  std::vector<int32_t> component;
-  impl_->components = connected_components(mesh, component);
-  impl_->state = make_state(std::move(mesh), 0, std::make_shared<SymbolicCache>(), std::make_shared<Counters>());
+  impl_->components = derived->components;
+  impl_->state = make_state(std::move(mesh), std::move(derived), 0, std::make_shared<SymbolicCache>(),
+                            std::make_shared<Counters>());
 }
 
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
@@ -298,13 +304,12 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
   const int32_t n = impl_->nv;
   const int32_t count = std::clamp<int32_t>(static_cast<int32_t>(std::lround(fraction * n)), 1, n);
   const auto e = engine(*s, q, ctx);
-  const auto disk = dem(*s, ctx);
+  const auto g = grower(*s, ctx);
   ctx.check_cancel();
   LogMapResult r;
-  r.patch.resize(static_cast<size_t>(count));
-  DemWorkspace dws;
-  const int32_t k = disk->disk(center, count, r.patch, dws);
-  r.patch.resize(static_cast<size_t>(k));
+  PatchWorkspace pws;
+  grow_patch_vertices(*g, center, geodesic_disk(count), pws, r.patch);
+  const int32_t k = static_cast<int32_t>(r.patch.size());
   r.distance.resize(r.patch.size());
   r.angle.resize(r.patch.size());
   r.u.resize(r.patch.size());
@@ -380,7 +385,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   o.seed = seed;
   const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, ctx);
   o.prepared = H.get();  // kLloydTFactor = cvt_lloyd's default: the same operator, bit for bit
-  const LloydResult lr = cvt_lloyd(s->mesh, o, ctx);
+  const LloydResult lr = cvt_lloyd(s->mesh, *s->derived, o, ctx);  // the mesh was checked once, by the Session
   CvtResult r;
   r.label = lr.label;
   r.empty_cells = lr.empty_cells;
@@ -411,9 +416,8 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
     s->counters->deform.fetch_add(1);
     return o;
   });
-  const auto adj = adjacency(*s, ctx);
   const DeformRegion region =
-      make_deform_region(*adj, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
+      make_deform_region(s->derived->adjacency, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
   const DeformSystem sys = prepare_deform_system(*op, region, ctx);
   const Mesh target = handle_target(s->mesh, region, req.offset);
   Mesh out;
@@ -449,10 +453,11 @@ void Session::set_positions(std::span<const double> xyz) {
     m.y[i] = xyz[3 * static_cast<size_t>(i) + 1];
     m.z[i] = xyz[3 * static_cast<size_t>(i) + 2];
   }
-  check_mesh(m);  // zero-area faces
+  std::shared_ptr<const MeshDerived> derived = check_and_derive(m);  // zero-area faces
   std::lock_guard<std::mutex> lock(impl_->mu);
   // Versions count calls; concurrent set_positions calls are serialized here (the last one wins).
-  impl_->state = make_state(std::move(m), impl_->state->version + 1, impl_->state->symbolic, impl_->state->counters);
+  impl_->state = make_state(std::move(m), std::move(derived), impl_->state->version + 1, impl_->state->symbolic,
+                            impl_->state->counters);
 }
 
 SessionStats Session::stats() const {

@@ -97,7 +97,7 @@ TEST_CASE("session: log map equals HeatLogMap on the same Dijkstra disk; one eng
   const DemLogMap dem(m);
   DemWorkspace dws;
   std::vector<int32_t> patch(count);
-  dem.disk(c, count, patch, dws);
+  dem.query(c, count, std::numeric_limits<double>::infinity(), patch, {}, {}, dws);
   CHECK(patch == r.patch);
   const HeatLogMap direct(m);
   std::vector<double> dd(count), a(count), u(count), v(count);

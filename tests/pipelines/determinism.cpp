@@ -36,7 +36,7 @@
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/pipelines/heat/adf.hpp"
-#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
@@ -305,7 +305,7 @@ TEST_CASE("determinism: heat Voronoi (full and localized), diagram, heat centroi
     std::vector<int32_t> patch(300);
     for (size_t s = 0; s < sites.size(); ++s) {
       const int32_t v = sites[s].face >= 0 ? m.f0[sites[s].face] : sites[s].vertex;
-      const int32_t k = dem.disk(v, 300, patch, dws);
+      const int32_t k = dem.query(v, 300, std::numeric_limits<double>::infinity(), patch, {}, {}, dws);
       hoods[s].assign(patch.begin(), patch.begin() + k);
       std::sort(hoods[s].begin(), hoods[s].end());
     }
@@ -378,7 +378,7 @@ TEST_CASE("determinism: heat geodesic (full and localized) and heat log map") {
     const DemLogMap dem(m);
     DemWorkspace dws;
     std::vector<int32_t> patch(150);
-    patch.resize(dem.disk(3, 150, patch, dws));
+    patch.resize(dem.query(3, 150, std::numeric_limits<double>::infinity(), patch, {}, {}, dws));
     std::vector<double> d(patch.size()), a(patch.size()), u(patch.size()), v(patch.size());
     geo.query(3, patch, d, gws);
     out.add_vec(d);

@@ -46,7 +46,7 @@
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/heat/adf.hpp"
-#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
@@ -340,7 +340,7 @@ TEST_CASE("faults: meshes with several components") {
     const DemLogMap dem(m);
     DemWorkspace dws;
     std::vector<int32_t> patch(n);
-    patch.resize(dem.disk(0, n, patch, dws));
+    patch.resize(dem.query(0, n, std::numeric_limits<double>::infinity(), patch, {}, {}, dws));
     CHECK(static_cast<int32_t>(patch.size()) == na);  // the Dijkstra disk stops at its component
     std::vector<double> d(patch.size()), ang(patch.size()), u(patch.size()), v(patch.size());
     LogMapWorkspace ws;

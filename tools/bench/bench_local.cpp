@@ -454,7 +454,7 @@ Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, co
       solve_s.push_back(P.solve_s);
       // (patch system) extract, assemble, order, factor, solve.
       sw.restart();
-      const MeshPatch patch = grow_bfs_patch(g, center, size, pws);
+      const MeshPatch patch = grow_patch(g, center, ring_patch(size), pws);
       const std::vector<std::vector<int32_t>> loops = boundary_loops(patch.mesh);
       size_t best = 0;
       for (size_t l = 1; l < loops.size(); ++l)

@@ -38,6 +38,7 @@
 #include <sstream>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
@@ -126,6 +127,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
   sw.restart();
   const DemLogMap dem(in.mesh);
   const double dem_prepare_s = sw.seconds();
+  const PatchGrower grower = prepare_patch_grower(in.mesh);  // the patches: geodesic disks
   const std::vector<int32_t> centers = pick_centers(n, to.queries, opt.seed);
   // This machine's single-core streaming read rate: with the factor bytes a
   // query's exact solves read (plan_traffic), a floor on their time.
@@ -133,6 +135,7 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
 
   LogMapWorkspace lws;
   DemWorkspace dws;
+  PatchWorkspace pws;
   std::vector<int32_t> patch(n), dem_patch(n), scratch;
   Maps local, full;
   std::vector<double> du(n), dv(n);
@@ -150,7 +153,8 @@ int run_logmap(const cli::CommonOptions& opt, const TimingOptions& to, const Run
     for (int32_t c : centers) {
       ctx.check_cancel();
       sw.restart();
-      const int32_t k = dem.disk(c, count, patch, dws);
+      grow_patch_vertices(grower, c, geodesic_disk(count), pws, patch);
+      const int32_t k = static_cast<int32_t>(patch.size());
       t_patch.push_back(sw.seconds());
       const std::span<const int32_t> P(patch.data(), k);
       local.resize(k);

@@ -42,6 +42,7 @@
 #include "locus/kernels/update/factor_update.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
@@ -270,7 +271,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
       const int32_t seed = static_cast<int32_t>(rng() % static_cast<uint64_t>(n));
       std::vector<int32_t> I;
       if (bo.sets == "bfs") {
-        I = bfs_patch(adj, seed, count);
+        I = grow_ring_vertices(adj, seed, count);
       } else {  // scattered: uniformly random vertices (thesis Fig. 5.11's extreme)
         std::vector<uint8_t> in(static_cast<size_t>(n), 0);
         std::mt19937_64 pick(static_cast<uint64_t>(seed));

@@ -13,7 +13,7 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
-#include "locus/pipelines/geodesic/dem_logmap.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
@@ -58,13 +58,13 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   const bool local = go.fraction < 1.0;
   if (local) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(go.fraction * n)));
-    const DemLogMap disk(in.mesh);
-    DemWorkspace dws;
-    std::vector<int32_t> patch(static_cast<size_t>(count));
+    const PatchGrower grower = prepare_patch_grower(in.mesh);  // local distances on a geodesic disk
+    PatchWorkspace pws;
+    std::vector<int32_t> patch;
     sw.restart();
-    patch_size = disk.disk(source, count, patch, dws);
+    grow_patch_vertices(grower, source, geodesic_disk(count), pws, patch);
     patch_s = sw.seconds();
-    patch.resize(static_cast<size_t>(patch_size));
+    patch_size = static_cast<int32_t>(patch.size());
     std::vector<double> d(patch.size());
     sw.restart();
     geo.query(source, patch, d, ws);

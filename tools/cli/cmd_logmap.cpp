@@ -14,6 +14,7 @@
 #include <ostream>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
@@ -59,7 +60,14 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
 
   Stopwatch sw;
-  const DemLogMap dem(in.mesh);
+  // The DEM is a method of its own (a baseline); the heat methods' patches are
+  // geodesic disks of the patch grower (the same vertices, in the same order).
+  std::optional<DemLogMap> dem;
+  PatchGrower grower;
+  if (lo.method == "dem")
+    dem.emplace(in.mesh);
+  else
+    grower = prepare_patch_grower(in.mesh);
   double precompute_s = sw.seconds();
   std::unique_ptr<HeatLogMap> heat;
   Factors cache_info;
@@ -78,6 +86,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   ctx.check_cancel();
 
   DemWorkspace dws;
+  PatchWorkspace pws;
   std::vector<int32_t> patch(static_cast<size_t>(count));
   std::vector<double> d, a, u, v;
   LogMapStats st;
@@ -87,7 +96,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     u.resize(static_cast<size_t>(count));
     v.resize(static_cast<size_t>(count));
     sw.restart();
-    k = dem.query(center, count, std::numeric_limits<double>::infinity(), patch, u, v, dws);
+    k = dem->query(center, count, std::numeric_limits<double>::infinity(), patch, u, v, dws);
     query_s = sw.seconds();
     u.resize(static_cast<size_t>(k));
     v.resize(static_cast<size_t>(k));
@@ -97,7 +106,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     }
   } else {
     sw.restart();
-    k = dem.disk(center, count, patch, dws);
+    grow_patch_vertices(grower, center, geodesic_disk(count), pws, patch);
+    k = static_cast<int32_t>(patch.size());
     patch_s = sw.seconds();
     d.resize(static_cast<size_t>(k));
     a.resize(static_cast<size_t>(k));

@@ -2,7 +2,7 @@
 //
 // The whole mesh's regularized cotan Laplacian -L_C + eps M is ordered and
 // factored once; the patch is the BFS patch of round(fraction * n) vertices
-// around --center (pipelines/bfs_patch); its boundary loop on a circle gives the
+// around --center (kernels/mesh/patch_grower, Rings mode); its boundary loop on a circle gives the
 // Neumann data of eq. 4.6; u and v come from one 8-lane subset solve with the
 // patch vertices as the wanted set (exact: the full solve's values there), then
 // are centered and scaled into the unit disk. --method does not apply: the patch

@@ -51,4 +51,24 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_ab
   return H;
 }
 
+HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double t_factor, double t_abs,
+                                     const RunContext& ctx) {
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  if (!requirements_checked(d, req)) check_requirements(m, req);
+  check_derived_of(d, m, "heat diffusion");
+  if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
+  if (!(t_abs >= 0) || !std::isfinite(t_abs) || (t_abs == 0 && (!(t_factor > 0) || !std::isfinite(t_factor))))
+    fail(ErrorCode::BadUsage, "heat diffusion: the diffusion time must be a finite positive number");
+  BatchStopwatch sw;
+  const double h = d.h;  // mean_edge_length(m), summed in the same order
+  const double t = t_abs > 0 ? t_abs : t_factor * h * h;
+  const CscMatrix A = heat_operator(m, t);
+  std::vector<double> mass = d.mass;
+  const double op_s = sw.lap();
+  HeatDiffusion H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
+  H.operator_s = op_s;
+  return H;
+}
+
 }  // namespace locus

@@ -11,6 +11,11 @@ namespace locus {
 
 TriangleGradients triangle_gradients(const Mesh& m) {
   validate_mesh_arrays(m);
+  return triangle_gradients(m, m.num_faces() > 0 ? mean_edge_length(m) : 0.0);
+}
+
+TriangleGradients triangle_gradients(const Mesh& m, double h) {
+  validate_mesh_arrays(m);
   if (!m.is_triangle_mesh())
     for (int32_t f = 0; f < m.num_faces(); ++f)
       if (m.face(f).size() != 3)
@@ -23,7 +28,6 @@ TriangleGradients triangle_gradients(const Mesh& m) {
   g.tri.resize(3 * nf);
   g.area.resize(nf);
   g.basis.resize(9 * nf);
-  const double h = g.nf > 0 ? mean_edge_length(m) : 0.0;
   for (int32_t k = 0; k < g.nf; ++k) {
     const int32_t v[3] = {m.f0[k], m.f1[k], m.f2[k]};
     for (int s = 0; s < 3; ++s) g.tri[3 * k + s] = v[s];

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
@@ -141,25 +142,6 @@ DeformOperator prepare_deform_operator(const Mesh& m, DeformEnergy energy, doubl
   return op;
 }
 
-std::vector<int32_t> bfs_patch(const Adjacency& adj, int32_t seed, int32_t count) {
-  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1;
-  if (seed < 0 || seed >= n) fail(ErrorCode::BadUsage, "seed vertex " + std::to_string(seed) + " is out of range [0, " + std::to_string(n) + ")");
-  std::vector<int32_t> order{seed};
-  if (count <= 1) return order;
-  order.reserve(static_cast<size_t>(count));
-  std::vector<uint8_t> seen(n, 0);
-  seen[seed] = 1;
-  for (size_t h = 0; h < order.size() && static_cast<int32_t>(order.size()) < count; ++h)
-    for (int64_t p = adj.offsets[order[h]]; p < adj.offsets[order[h] + 1] && static_cast<int32_t>(order.size()) < count; ++p) {
-      const int32_t w = adj.neighbors[p];
-      if (!seen[w]) {
-        seen[w] = 1;
-        order.push_back(w);
-      }
-    }
-  return order;
-}
-
 DeformRegion make_deform_region(const Adjacency& adj, int32_t roi_seed, double roi_fraction, int32_t handle_vertex,
                                 int32_t handle_ring) {
   const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1;
@@ -170,7 +152,9 @@ DeformRegion make_deform_region(const Adjacency& adj, int32_t roi_seed, double r
   if (handle_ring < 0) fail(ErrorCode::BadUsage, "handle ring must be >= 0");
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(roi_fraction * n)));
   DeformRegion r;
-  r.roi = bfs_patch(adj, roi_seed, count);
+  if (roi_seed < 0 || roi_seed >= n)
+    fail(ErrorCode::BadUsage, "seed vertex " + std::to_string(roi_seed) + " is out of range [0, " + std::to_string(n) + ")");
+  r.roi = grow_ring_vertices(adj, roi_seed, count);  // BFS rings (patch_grower.hpp)
   std::vector<uint8_t> in_roi(n, 0);
   for (int32_t v : r.roi) in_roi[v] = 1;
   if (!in_roi[handle_vertex])

@@ -10,6 +10,7 @@
 
 #include "locus/core/bit_set.hpp"
 #include "locus/kernels/simd/log_array.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/order/ordering.hpp"
@@ -123,15 +124,17 @@ void HeatGeodesic::prepare(const Mesh& m) {
   check_requirements(m, req);
   check_needles(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
-  num_components_ = connected_components(m, component_);
-  grad_ = triangle_gradients(m);
+  MeshDerived d = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
+  num_components_ = d.components;
+  component_ = std::move(d.component);
+  grad_ = triangle_gradients(m, d.h);
   // Corner records in vertex-face order (see build_region).
   vf_corners_.resize(4 * grad_.vf_faces.size());
   for (size_t q = 0; q < grad_.vf_faces.size(); ++q) {
     for (int s = 0; s < 3; ++s) vf_corners_[4 * q + s] = grad_.tri[3 * static_cast<int64_t>(grad_.vf_faces[q]) + s];
     vf_corners_[4 * q + 3] = grad_.vf_faces[q];
   }
-  h_ = locus::mean_edge_length(m);
+  h_ = d.h;
   t_ = opt.t_factor * h_ * h_;
 }
 

@@ -160,7 +160,7 @@ PatchParam parameterize_patch(const NumericFactor& F, const PatchGrower& g, int3
                                   " columns but the mesh has " + std::to_string(m.num_vertices()) + " vertices");
   PatchParam P;
   auto t0 = std::chrono::steady_clock::now();
-  P.patch = grow_bfs_patch(g, center, count, pws);
+  P.patch = grow_patch(g, center, ring_patch(count), pws);  // BFS rings (patch_grower.hpp)
   P.grow_s = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();

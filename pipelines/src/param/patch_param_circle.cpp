@@ -40,7 +40,7 @@ DiskPatch grow_disk_patch(const PatchGrower& g, int32_t center, int32_t count, D
   if (!g.mesh) fail(ErrorCode::BadUsage, "disk patch: the grower was not prepared");
   const Mesh& m = *g.mesh;
   DiskPatch d;
-  d.patch = grow_bfs_patch(g, center, count, ws.grow);
+  d.patch = grow_patch(g, center, ring_patch(count), ws.grow);  // BFS rings (patch_grower.hpp)
   if (d.patch.mesh.num_faces() == 0)
     fail(ErrorCode::BadInput, mesh_name(m) + ": the BFS patch of " + std::to_string(count) + " vertices around vertex " +
                                   std::to_string(center) + " holds no whole face; use a larger fraction");

@@ -18,6 +18,7 @@
 #include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_selective.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
@@ -148,51 +149,25 @@ std::vector<int32_t> spatial_order(const Mesh& m, std::span<const SurfacePoint> 
   return order;
 }
 
-// Vertices within graph distance `radius` of a surface point (Dijkstra on edge lengths),
-// sorted. Scratch `dist` is all +inf between calls.
-struct DijkstraScratch {
-  std::vector<double> dist;
-  std::vector<int32_t> touched;
-};
-std::vector<int32_t> dijkstra_ball(const Mesh& m, const Adjacency& adj, const SurfacePoint& s, double radius,
-                                   DijkstraScratch& w) {
-  const int32_t n = m.num_vertices();
-  if (w.dist.size() != static_cast<size_t>(n)) w.dist.assign(n, INFINITY);
-  using Entry = std::pair<double, int32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> pq;
+// Vertices within graph distance `radius` of a surface point, sorted: the patch
+// grower's geodesic ball from the corners of the point's support, each at its
+// distance from the point (kernels/include/locus/kernels/mesh/patch_grower.hpp).
+std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::span<const double> edge_length,
+                                   const SurfacePoint& s, double radius, GrowWorkspace& w) {
   const auto p = surface_point_position(m, s);
   int32_t sv[3];
   double sw[3];
   const int cnt = surface_point_support(m, s, sv, sw);
-  for (int k = 0; k < cnt; ++k) {
-    const double d = std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
-                               (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2]));
-    if (d < w.dist[sv[k]]) {
-      if (w.dist[sv[k]] == INFINITY) w.touched.push_back(sv[k]);
-      w.dist[sv[k]] = d;
-      pq.push({d, sv[k]});
-    }
-  }
+  GrowSeed seeds[3];
+  for (int k = 0; k < cnt; ++k)
+    seeds[k] = {sv[k], std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
+                                 (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2]))};
+  GrowOptions o;
+  o.mode = GrowMode::Geodesic;
+  o.max_radius = radius;
+  o.radius_rule = RadiusRule::PruneBeyond;
   std::vector<int32_t> out;
-  while (!pq.empty()) {
-    const auto [d, v] = pq.top();
-    pq.pop();
-    if (d > w.dist[v]) continue;
-    out.push_back(v);
-    for (int64_t q = adj.offsets[v]; q < adj.offsets[v + 1]; ++q) {
-      const int32_t u = adj.neighbors[q];
-      const double e = std::sqrt((m.x[u] - m.x[v]) * (m.x[u] - m.x[v]) + (m.y[u] - m.y[v]) * (m.y[u] - m.y[v]) +
-                                 (m.z[u] - m.z[v]) * (m.z[u] - m.z[v]));
-      const double nd = d + e;
-      if (nd <= radius && nd < w.dist[u]) {
-        if (w.dist[u] == INFINITY) w.touched.push_back(u);
-        w.dist[u] = nd;
-        pq.push({nd, u});
-      }
-    }
-  }
-  for (int32_t v : w.touched) w.dist[v] = INFINITY;
-  w.touched.clear();
+  grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -385,10 +360,10 @@ void hottest_vertices(const HeatBatch& hb, int32_t best[kLanes]) {
 // Heat never crosses components: a component without a site would have no
 // cell (and labels of -1). Sites stay in their cell's component, so checking
 // the initial sites is enough.
-void check_components_have_sites(const Mesh& m, std::span<const SurfacePoint> sites) {
+void check_components_have_sites(const Mesh& m, const MeshDerived& d, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
-  std::vector<int32_t> comp;
-  const int32_t nc = connected_components(m, comp);
+  const std::vector<int32_t>& comp = d.component;
+  const int32_t nc = d.components;
   if (nc <= 1) return;
   std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
   for (const SurfacePoint& p : sites) {
@@ -402,7 +377,10 @@ void check_components_have_sites(const Mesh& m, std::span<const SurfacePoint> si
                                     " components; every component needs at least one site)");
 }
 
-void check_lloyd_input(const Mesh& m, std::span<const SurfacePoint> sites, const LloydOptions& opt) {
+// given: m's derived data, or null to derive it here (after the requirement checks,
+// so the errors come in the same order); `own` holds it then.
+const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, std::span<const SurfacePoint> sites,
+                                     const LloydOptions& opt, MeshDerived& own) {
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
@@ -414,9 +392,13 @@ void check_lloyd_input(const Mesh& m, std::span<const SurfacePoint> sites, const
     fail(ErrorCode::BadUsage, "cvt: fit_sigma must be a finite number >= 0");
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  check_requirements(m, req);
+  if (!given || !requirements_checked(*given, req)) check_requirements(m, req);
+  if (given) check_derived_of(*given, m, "cvt");
+  if (!given) own = derive_mesh(m);
+  const MeshDerived& derived = given ? *given : own;
   for (int32_t s = 0; s < ns; ++s) check_surface_point(m, sites[s], "site", s);
-  check_components_have_sites(m, sites);
+  check_components_have_sites(m, derived, sites);
+  return derived;
 }
 
 // The operators of one run: the cells' (opt.prepared, or M - t L of the mesh or of
@@ -430,7 +412,7 @@ struct LloydOperators {
   std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
 };
 
-void prepare_lloyd_operators(const Mesh& m, const LloydOptions& opt, const std::vector<double>& area_r3,
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const std::vector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops) {
   const int32_t n = m.num_vertices();
   // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
@@ -438,8 +420,8 @@ void prepare_lloyd_operators(const Mesh& m, const LloydOptions& opt, const std::
   if (opt.anisotropy > 0) lifted = lifted_positions(m, opt.anisotropy);
   auto build = [&](double t, std::vector<double>& mass, double& h) {
     if (opt.anisotropy > 0) return heat_operator_from_positions(m, lifted, 6, t, mass, h);
-    mass = lumped_mass(m);
-    h = mean_edge_length(m);
+    mass = d.mass;
+    h = d.h;
     return heat_operator(m, t);
   };
   if (!(opt.t_abs >= 0) || !std::isfinite(opt.t_abs) ||
@@ -458,7 +440,7 @@ void prepare_lloyd_operators(const Mesh& m, const LloydOptions& opt, const std::
     if (opt.anisotropy > 0) {
       heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);  // h of the lifted metric first
     } else {
-      h = mean_edge_length(m);
+      h = d.h;
     }
     const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
     const CscMatrix A = build(t, mass, h);
@@ -819,7 +801,11 @@ void LloydLoop::finish() {
 
 }  // namespace
 
-LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
+namespace {
+LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<SurfacePoint> sites,
+                           const LloydOptions& opt, const RunContext& ctx);
+
+LloydResult cvt_lloyd_random(const Mesh& m, const MeshDerived* given, const LloydOptions& opt, const RunContext& ctx) {
   if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
   if (opt.sites > m.num_vertices())
@@ -828,21 +814,23 @@ LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& 
   BatchStopwatch sw;
   std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
   const double seed_s = sw.lap();
-  LloydResult r = cvt_lloyd(m, std::move(init), opt, ctx);
+  LloydResult r = cvt_lloyd_impl(m, given, std::move(init), opt, ctx);
   r.init_s += seed_s;
   return r;
 }
 
-LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<SurfacePoint> sites,
+                           const LloydOptions& opt, const RunContext& ctx) {
   const int32_t ns = static_cast<int32_t>(sites.size());
-  check_lloyd_input(m, sites, opt);
+  MeshDerived own;
+  const MeshDerived& derived = check_lloyd_input(m, given, sites, opt, own);
   const bool local = opt.solver == LloydOptions::Solver::Local;
 
   LloydResult r;
   BatchStopwatch sw;
   const std::vector<double> area_r3 = face_areas(m);
   LloydOperators ops;
-  prepare_lloyd_operators(m, opt, area_r3, sw, ctx, ops);
+  prepare_lloyd_operators(m, derived, opt, area_r3, sw, ctx, ops);
   const HeatDiffusion& H = *ops.H;
   const HeatDiffusion& Hc = *ops.Hc;
   sw.lap();
@@ -852,11 +840,11 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
   const CentroidGeometry geo = prepare_centroid_geometry(m);
-  const Edges edges = unique_edges(m);
+  const Edges& edges = derived.edges;
   const VertexStars stars = vertex_stars(m, ops.area_op);
   ctx.check_cancel();
-  const std::vector<double> mass_r3 = lumped_mass(m);
-  const double h_r3 = mean_edge_length(m);
+  const std::vector<double>& mass_r3 = derived.mass;
+  const double h_r3 = derived.h;
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
   const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
@@ -864,14 +852,15 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
   if (local) {
-    const std::vector<double> mass3 = lumped_mass(m);
+    const std::vector<double>& mass3 = derived.mass;
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
     nb.resize(ns);
-    tbb::enumerable_thread_specific<DijkstraScratch> scratch;
+    const std::vector<double> edge_length = adjacency_edge_lengths(m, geo.adj);
+    tbb::enumerable_thread_specific<GrowWorkspace> scratch;
     in_arena([&] {
       tbb::parallel_for(0, ns, [&](int32_t s) {
-        if (!ctx.cancelled()) nb[s] = dijkstra_ball(m, geo.adj, sites[s], radius, scratch.local());
+        if (!ctx.cancelled()) nb[s] = geodesic_ball(m, geo.adj, edge_length, sites[s], radius, scratch.local());
       });
     });
     ctx.check_cancel();
@@ -883,6 +872,22 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const Lloy
   for (int32_t it = 0; it < opt.iterations; ++it) loop.iterate(it);
   loop.finish();
   return r;
+}
+
+}  // namespace
+
+LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
+  return cvt_lloyd_random(m, nullptr, opt, ctx);
+}
+LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const RunContext& ctx) {
+  return cvt_lloyd_random(m, &d, opt, ctx);
+}
+LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> sites, const LloydOptions& opt, const RunContext& ctx) {
+  return cvt_lloyd_impl(m, nullptr, std::move(sites), opt, ctx);
+}
+LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, std::vector<SurfacePoint> sites, const LloydOptions& opt,
+                      const RunContext& ctx) {
+  return cvt_lloyd_impl(m, &d, std::move(sites), opt, ctx);
 }
 
 }  // namespace locus

@@ -15,6 +15,7 @@
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
@@ -190,7 +191,7 @@ TEST_CASE("bad regions are usage errors") {
   CHECK_THROWS_AS(make_deform_region(adj, 0, 0.0, 0, 1), Error);        // empty ROI
   CHECK_THROWS_AS(make_deform_region(adj, 0, 1.5, 0, 1), Error);        // fraction > 1
   CHECK_THROWS_AS(make_deform_region(adj, 0, 0.05, 0, 10), Error);      // handle covers the ROI
-  const std::vector<int32_t> far = bfs_patch(adj, 0, n);                // last vertex reached from 0
+  const std::vector<int32_t> far = grow_ring_vertices(adj, 0, n);       // last vertex reached from 0
   CHECK_THROWS_AS(make_deform_region(adj, 0, 0.1, far.back(), 0), Error);  // handle outside the ROI
   try {
     make_deform_region(adj, 0, 0.1, far.back(), 0);

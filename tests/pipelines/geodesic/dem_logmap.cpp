@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
@@ -47,6 +48,29 @@ std::vector<double> dijkstra(const Mesh& m, int32_t s) {
 }
 
 }  // namespace
+
+TEST_CASE("DEM: the patch grower's geodesic disk is the DEM's disk, vertex for vertex (ties included)") {
+  // Regular meshes have many equal distances: the order of ties is the heap's,
+  // which the grower reproduces operation for operation.
+  for (const Mesh& m : {make_grid(20), make_icosphere(3), make_disk(12), make_random_sphere(2000, 8)}) {
+    const DemLogMap dem(m);
+    const PatchGrower g = prepare_patch_grower(m);
+    DemWorkspace dws;
+    PatchWorkspace pws;
+    const int32_t n = m.num_vertices();
+    std::vector<int32_t> want(n), got;
+    for (int32_t c : {0, n / 3, n - 1})
+      for (int32_t count : {1, 9, n / 7, n / 2, n}) {
+        CAPTURE(n);
+        CAPTURE(c);
+        CAPTURE(count);
+        want.resize(n);
+        want.resize(dem.query(c, count, std::numeric_limits<double>::infinity(), want, {}, {}, dws));
+        grow_patch_vertices(g, c, geodesic_disk(count), pws, got);
+        CHECK(got == want);
+      }
+  }
+}
 
 TEST_CASE("DEM: exact polar coordinates on a plane (up to the reference rotation)") {
   Mesh m = make_disk(30, 0.3, 9);  // flipped diagonals: irregular, still planar
@@ -85,7 +109,7 @@ TEST_CASE("DEM: the disk is the Dijkstra disk, in order") {
   const std::vector<double> d = dijkstra(m, c);
   std::vector<int32_t> patch(count);
   for (int rep = 0; rep < 2; ++rep) {  // the workspace is clean for the second query
-    const int32_t k = dem.disk(c, count, patch, ws);
+    const int32_t k = dem.query(c, count, std::numeric_limits<double>::infinity(), patch, {}, {}, ws);
     REQUIRE(k == count);
     for (int32_t p = 1; p < k; ++p) CHECK(d[patch[p - 1]] <= d[patch[p]]);
     std::vector<double> sorted = d;
@@ -93,7 +117,7 @@ TEST_CASE("DEM: the disk is the Dijkstra disk, in order") {
     CHECK(d[patch[k - 1]] == sorted[count - 1]);
   }
   // Radius limit.
-  const int32_t k = dem.disk(c, m.num_vertices(), patch = std::vector<int32_t>(m.num_vertices()), ws, 0.2);
+  const int32_t k = dem.query(c, m.num_vertices(), 0.2, patch = std::vector<int32_t>(m.num_vertices()), {}, {}, ws);
   int32_t inside = 0;
   for (double x : d) inside += x <= 0.2;
   CHECK(k == inside);

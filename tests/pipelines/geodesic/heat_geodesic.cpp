@@ -185,7 +185,7 @@ TEST_CASE("heat geodesic: planar disk, Euclidean distance from the center") {
   const DemLogMap dem(m);
   DemWorkspace dws;
   std::vector<int32_t> patch(m.num_vertices());
-  const int32_t k = dem.disk(0, m.num_vertices() / 4, patch, dws);
+  const int32_t k = dem.query(0, m.num_vertices() / 4, std::numeric_limits<double>::infinity(), patch, {}, {}, dws);
   patch.resize(k);
   std::vector<double> d(k);
   geo.query(0, patch, d, ws);

@@ -1,4 +1,4 @@
-// Tests for pipelines/patch_param and pipelines/bfs_patch (thesis §4.4, eq. 4.6).
+// Tests for pipelines/patch_param and the patch grower (kernels/mesh/patch_grower) (thesis §4.4, eq. 4.6).
 // Oracles: an Eigen SimplicialLDLT solve of the SAME global system
 // (-L_C + eps M) [u v] = b, with b written out from eq. 4.6 here (independently
 // of circle_neumann_rhs), read at the patch vertices; an independent BFS for

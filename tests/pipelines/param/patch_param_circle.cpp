@@ -160,7 +160,7 @@ TEST_CASE("circle patch map: holes of the BFS patch are filled") {
   int with_holes = 0;
   for (int32_t count = 40; count <= 1200; count += 23) {
     CAPTURE(count);
-    const MeshPatch bfs = grow_bfs_patch(g, 7, count, pws);
+    const MeshPatch bfs = grow_patch(g, 7, ring_patch(count), pws);
     const size_t bfs_loops = boundary_loops(bfs.mesh).size();
     DiskPatch d;
     try {

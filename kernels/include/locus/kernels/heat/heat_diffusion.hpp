@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
@@ -28,6 +29,10 @@ struct HeatDiffusion {
 // Isotropic operator M - t L_C of m; t = t_abs when t_abs > 0, else t_factor * h^2.
 // Requires a manifold triangle mesh without degenerate faces or unreferenced vertices.
 HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_abs, const RunContext& ctx);
+// The same with m's derived data (locus/kernels/mesh/mesh_derived.hpp): h and the lumped
+// mass are taken from d, and the requirements are checked unless d.checked covers them.
+HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double t_factor, double t_abs,
+                                     const RunContext& ctx);
 // Any operator A = M - t L already built (e.g. on a lifted metric, pipelines/voronoi/cvt_lloyd),
 // with its lumped mass, mean edge length and t.
 HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mass, double h, double t,

@@ -37,5 +37,8 @@ struct TriangleGradients {
 // Needs a triangle mesh without zero-area faces (throws Error(BadInput) naming
 // the first offending face); positions must be finite. O(nv + nf).
 TriangleGradients triangle_gradients(const Mesh& m);
+// The same with the mean edge length h of m already known (MeshDerived::h):
+// h only scales the zero-area threshold.
+TriangleGradients triangle_gradients(const Mesh& m, double h);
 
 }  // namespace locus

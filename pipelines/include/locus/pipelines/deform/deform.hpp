@@ -64,17 +64,13 @@ struct DeformOperator {
 DeformOperator prepare_deform_operator(const Mesh& m, DeformEnergy energy, double rel = 1e-6,
                                        const RunContext& ctx = {});
 
-// Breadth-first patch: `seed` first, then its neighbors ring by ring
-// (neighbors in ascending id), until `count` vertices or the seed's component
-// is exhausted. Vertex ids in BFS order.
-std::vector<int32_t> bfs_patch(const Adjacency& adj, int32_t seed, int32_t count);
-
 struct DeformRegion {
   std::vector<int32_t> roi;     // sorted
   std::vector<int32_t> handle;  // sorted, subset of roi
   std::vector<int32_t> free;    // sorted, roi \ handle
 };
-// ROI = bfs_patch(seed, round(fraction * nv)); handle = vertices within
+// ROI = the first round(fraction * nv) vertices of the BFS from the seed
+// (kernels/include/locus/kernels/mesh/patch_grower.hpp, Rings mode); handle = vertices within
 // `handle_ring` edges of `handle_vertex` that lie in the ROI. Error(BadUsage)
 // for ids out of range, a fraction outside (0, 1], a handle vertex outside the
 // ROI, or no free vertex left.

@@ -1,6 +1,8 @@
 // Discrete exponential map (DEM) by Dijkstra propagation — the baseline of
 // thesis §6.7 (Schmidt, Grimm & Wyvill 2006, with the neighbor averaging of
-// Schmidt 2010) — and the geodesic-disk patches it grows.
+// Schmidt 2010). Patches for other methods come from the patch grower
+// (kernels/include/locus/kernels/mesh/patch_grower.hpp, Geodesic mode), which
+// selects the same vertices in the same order as query() does here.
 //
 // Dijkstra from the center c over edge lengths finalizes vertices in order of
 // graph distance. Each vertex carries a tangent frame (n, e1, e2 = n x e1): the
@@ -54,16 +56,11 @@ class DemLogMap {
   // the component is exhausted. Writes the vertices in the order finalized
   // (center first) to patch[0..k) and returns k. With u and v non-empty (at least
   // `count` entries each) also computes the DEM coordinates of those vertices;
-  // with empty u, v it only selects the patch (a geodesic disk in graph metric).
+  // with empty u, v it only selects the patch (a geodesic disk in graph metric:
+  // grow_patch_vertices with geodesic_disk(count) picks the same vertices).
   // patch must have at least `count` entries; count >= 1.
   int32_t query(int32_t center, int32_t count, double max_radius, std::span<int32_t> patch, std::span<double> u,
                 std::span<double> v, DemWorkspace& ws) const;
-
-  // Convenience: the patch only.
-  int32_t disk(int32_t center, int32_t count, std::span<int32_t> patch, DemWorkspace& ws,
-               double max_radius = std::numeric_limits<double>::infinity()) const {
-    return query(center, count, max_radius, patch, {}, {}, ws);
-  }
 
  private:
   std::vector<double> x_, y_, z_;

@@ -34,7 +34,7 @@
 
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
-#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 
 namespace locus {
 

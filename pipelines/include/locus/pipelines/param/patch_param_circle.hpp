@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "locus/kernels/update/factor_update.hpp"
-#include "locus/kernels/mesh/bfs_patch.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/param/patch_param.hpp"
 
 namespace locus {

@@ -51,6 +51,7 @@
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
 
 namespace locus {
@@ -131,6 +132,11 @@ LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& 
 // The same from given initial sites (opt.sites and opt.seed are ignored).
 LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const LloydOptions& opt,
                       const RunContext& ctx);
+// Both with m's derived data (kernels/include/locus/kernels/mesh/mesh_derived.hpp): edges, h, lumped mass
+// and components are taken from d, the mesh check is skipped when d.checked covers it.
+LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const RunContext& ctx);
+LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, std::vector<SurfacePoint> initial,
+                      const LloydOptions& opt, const RunContext& ctx);
 
 // Heat operator M - t L of a triangle mesh whose vertex positions are given in
 // `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed
