@@ -181,7 +181,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGe
 // How many patch vertices (or faces) ahead the region walks prefetch.
 constexpr int32_t kAhead = 8;
 
-void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r, bool with_faces) const {
+void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) const {
   const int32_t n = grad_.nv;
   if (r.local.size() != static_cast<size_t>(n)) r.local.assign(n, -1);
   r.verts.clear();
@@ -238,8 +238,7 @@ void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r, 
       }
     }
   }
-  r.faces_pending = true;
-  if (with_faces) build_region_faces(r);
+  build_region_faces(r);
 }
 
 void HeatGeodesic::build_region_faces(PatchRegion& r) const {
@@ -248,7 +247,6 @@ void HeatGeodesic::build_region_faces(PatchRegion& r) const {
   r.faces.clear();
   append_set_bits(r.face_bits, r.faces);
   std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
-  r.faces_pending = false;
   // Corner indices into verts; the corners' entries of `local` are fetched ahead.
   const size_t nfl = r.faces.size();
   r.face_local.resize(3 * nfl);
@@ -263,10 +261,6 @@ void HeatGeodesic::build_region_faces(PatchRegion& r) const {
 }
 
 void HeatGeodesic::release_region(PatchRegion& r) const {
-  // Face marks not yet turned into r.faces (a failure between build_region
-  // without faces and build_region_faces) must not reach the next query.
-  if (r.faces_pending) std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
-  r.faces_pending = false;
   for (int32_t v : r.verts) r.local[v] = -1;
   r.verts.clear();
   r.faces.clear();

@@ -96,7 +96,6 @@ struct PatchRegion {
   std::vector<int32_t> order;      // the patch in ascending vertex order (scratch of build_region)
   std::vector<uint64_t> bits;      // n bits, all zero between queries (scratch of build_region)
   std::vector<uint64_t> face_bits;  // one bit per face, all zero between queries (scratch of build_region)
-  bool faces_pending = false;      // face_bits marked, r.faces not built yet (build_region_faces)
 };
 
 struct HeatGeodesicWorkspace {
@@ -155,10 +154,9 @@ class HeatGeodesic {
   void query_full(int32_t source, std::span<double> distance, HeatGeodesicWorkspace& ws) const;
 
   // Building blocks shared with the log map (pipelines/include/locus/pipelines/geodesic/logmap.hpp).
-  // with_faces = false leaves r.faces and r.face_local (only the divergence
-  // needs them) to a later build_region_faces, e.g. on another thread while
-  // the solves start; nothing else may touch r in between.
-  void build_region(std::span<const int32_t> patch, PatchRegion& r, bool with_faces = true) const;
+  // build_region lists the patch, its one ring and the faces touching the patch
+  // (build_region_faces: the faces and their corners' local indices).
+  void build_region(std::span<const int32_t> patch, PatchRegion& r) const;
   void build_region_faces(PatchRegion& r) const;
   void release_region(PatchRegion& r) const;
   // From heat values at r.verts (h[k] at r.verts[k]) to distances at the patch,
