@@ -1,6 +1,8 @@
 // The patch grower (kernels/include/locus/kernels/mesh/patch_grower.hpp; thesis §4.4).
 #include "locus/kernels/mesh/patch_grower.hpp"
 
+#include "locus/kernels/mesh/index_min_heap.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -11,48 +13,9 @@ namespace locus {
 
 namespace {
 
-// Binary min-heap on ws.dist with positions in ws.level (decrease-key). The
-// same operations as DemLogMap's heap, so ties settle in the DEM's order.
-inline void sift_up(GrowWorkspace& ws, int32_t pos) {
-  int32_t* h = ws.heap.data();
-  const double* d = ws.dist.data();
-  const int32_t v = h[pos];
-  const double key = d[v];
-  while (pos > 0) {
-    const int32_t up = (pos - 1) >> 1;
-    if (!(key < d[h[up]])) break;
-    h[pos] = h[up];
-    ws.level[h[pos]] = pos;
-    pos = up;
-  }
-  h[pos] = v;
-  ws.level[v] = pos;
-}
-
-inline int32_t pop_min(GrowWorkspace& ws) {
-  int32_t* h = ws.heap.data();
-  const double* d = ws.dist.data();
-  const int32_t top = h[0];
-  const int32_t last = h[ws.heap.size() - 1];
-  ws.heap.pop_back();
-  const int32_t size = static_cast<int32_t>(ws.heap.size());
-  if (size > 0) {
-    const double key = d[last];
-    int32_t pos = 0;
-    for (;;) {
-      int32_t c = 2 * pos + 1;
-      if (c >= size) break;
-      if (c + 1 < size && d[h[c + 1]] < d[h[c]]) ++c;
-      if (!(d[h[c]] < key)) break;
-      h[pos] = h[c];
-      ws.level[h[pos]] = pos;
-      pos = c;
-    }
-    h[pos] = last;
-    ws.level[last] = pos;
-  }
-  return top;
-}
+// The shared index heap (locus/kernels/mesh/index_min_heap.hpp) on ws.dist, positions in ws.level.
+inline void sift_up(GrowWorkspace& ws, int32_t pos) { index_heap_sift_up(ws.heap, ws.dist.data(), ws.level.data(), pos); }
+inline int32_t pop_min(GrowWorkspace& ws) { return index_heap_pop_min(ws.heap, ws.dist.data(), ws.level.data()); }
 
 void prepare_workspace(GrowWorkspace& ws, int32_t n, bool geodesic) {
   if (ws.state.size() != static_cast<size_t>(n)) {

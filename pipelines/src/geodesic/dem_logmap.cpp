@@ -1,6 +1,8 @@
 // Discrete exponential map by Dijkstra propagation (pipelines/include/locus/pipelines/geodesic/dem_logmap.hpp).
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 
+#include "locus/kernels/mesh/index_min_heap.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -14,47 +16,9 @@ namespace {
 
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// Binary min-heap on ws.dist with positions in ws.heap_pos (decrease-key).
-inline void sift_up(DemWorkspace& ws, int32_t pos) {
-  int32_t* h = ws.heap.data();
-  const double* d = ws.dist.data();
-  const int32_t v = h[pos];
-  const double key = d[v];
-  while (pos > 0) {
-    const int32_t up = (pos - 1) >> 1;
-    if (!(key < d[h[up]])) break;
-    h[pos] = h[up];
-    ws.heap_pos[h[pos]] = pos;
-    pos = up;
-  }
-  h[pos] = v;
-  ws.heap_pos[v] = pos;
-}
-
-inline int32_t pop_min(DemWorkspace& ws) {
-  int32_t* h = ws.heap.data();
-  const double* d = ws.dist.data();
-  const int32_t top = h[0];
-  const int32_t last = h[ws.heap.size() - 1];
-  ws.heap.pop_back();
-  const int32_t size = static_cast<int32_t>(ws.heap.size());
-  if (size > 0) {
-    const double key = d[last];
-    int32_t pos = 0;
-    for (;;) {
-      int32_t c = 2 * pos + 1;
-      if (c >= size) break;
-      if (c + 1 < size && d[h[c + 1]] < d[h[c]]) ++c;
-      if (!(d[h[c]] < key)) break;
-      h[pos] = h[c];
-      ws.heap_pos[h[pos]] = pos;
-      pos = c;
-    }
-    h[pos] = last;
-    ws.heap_pos[last] = pos;
-  }
-  return top;
-}
+// The shared index heap (locus/kernels/mesh/index_min_heap.hpp) on ws.dist, positions in ws.heap_pos.
+inline void sift_up(DemWorkspace& ws, int32_t pos) { index_heap_sift_up(ws.heap, ws.dist.data(), ws.heap_pos.data(), pos); }
+inline int32_t pop_min(DemWorkspace& ws) { return index_heap_pop_min(ws.heap, ws.dist.data(), ws.heap_pos.data()); }
 
 }  // namespace
 
