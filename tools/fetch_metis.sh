@@ -49,27 +49,15 @@ echo "tools/fetch_metis.sh: fetching Debian's metis $version source package into
 work="$dest.tmp.$$"
 trap 'rm -rf "$work"' EXIT
 rm -rf "$work"
-mkdir -p "$work/apt/lists/partial" "$work/apt/cache/archives/partial" "$work/apt/sources.list.d" "$work/src"
+mkdir -p "$work/src"
 # Source entries for the archives this machine already uses (deb -> deb-src),
 # plus bookworm's (the release that carries the pinned version) if absent.
-: > "$work/apt/sources.list"
-if [ -f /etc/apt/sources.list ]; then
-  sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' /etc/apt/sources.list >> "$work/apt/sources.list"
-fi
-for f in /etc/apt/sources.list.d/*.sources; do
-  [ -f "$f" ] || continue
-  sed 's/^Types:.*/Types: deb-src/' "$f" > "$work/apt/sources.list.d/$(basename "$f")"
-done
-for f in /etc/apt/sources.list.d/*.list; do
-  [ -f "$f" ] || continue
-  sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' "$f" > "$work/apt/sources.list.d/$(basename "$f")"
-done
+. "$root/tools/private_apt_sources.sh"
+private_apt_sources "$work"
 if ! grep -rqsE '(^|[[:space:]])bookworm([[:space:]]|$)' "$work/apt/sources.list" "$work/apt/sources.list.d"; then
   echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm main" \
     >> "$work/apt/sources.list"
 fi
-apt_opts=(-o "Dir::Etc::SourceList=$work/apt/sources.list" -o "Dir::Etc::SourceParts=$work/apt/sources.list.d"
-          -o "Dir::State::Lists=$work/apt/lists" -o "Dir::Cache=$work/apt/cache" -o "APT::Sandbox::User=root")
 apt-get "${apt_opts[@]}" -qq update >"$work/apt.log" 2>&1 || { cat "$work/apt.log" >&2; die "apt-get update failed"; }
 (cd "$work/src" && apt-get "${apt_opts[@]}" -qq source --download-only "metis=$version") >>"$work/apt.log" 2>&1 ||
   { cat "$work/apt.log" >&2; die "apt-get source metis=$version failed"; }

@@ -40,23 +40,11 @@ if [ -f "$prefix/lib/cmake/TBB/TBBConfig.cmake" ] && [ "$(cat "$prefix/.locus-st
 else
   say "building oneTBB $version with -fsanitize=thread"
   rm -rf "$tbb_dir"
-  mkdir -p "$tbb_dir/apt/lists/partial" "$tbb_dir/apt/cache/archives/partial" "$tbb_dir/apt/sources.list.d" "$tbb_dir/src"
+  mkdir -p "$tbb_dir/src"
   # Source entries for the archives this machine already uses (deb -> deb-src),
   # in a private apt state directory: the system's apt configuration is untouched.
-  : > "$tbb_dir/apt/sources.list"
-  if [ -f /etc/apt/sources.list ]; then
-    sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' /etc/apt/sources.list >> "$tbb_dir/apt/sources.list"
-  fi
-  for f in /etc/apt/sources.list.d/*.sources; do
-    [ -f "$f" ] || continue
-    sed 's/^Types:.*/Types: deb-src/' "$f" > "$tbb_dir/apt/sources.list.d/$(basename "$f")"
-  done
-  for f in /etc/apt/sources.list.d/*.list; do
-    [ -f "$f" ] || continue
-    sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' "$f" > "$tbb_dir/apt/sources.list.d/$(basename "$f")"
-  done
-  apt_opts=(-o "Dir::Etc::SourceList=$tbb_dir/apt/sources.list" -o "Dir::Etc::SourceParts=$tbb_dir/apt/sources.list.d"
-            -o "Dir::State::Lists=$tbb_dir/apt/lists" -o "Dir::Cache=$tbb_dir/apt/cache" -o "APT::Sandbox::User=root")
+  . "$root/tools/private_apt_sources.sh"
+  private_apt_sources "$tbb_dir"
   apt-get "${apt_opts[@]}" -qq update
   (cd "$tbb_dir/src" && apt-get "${apt_opts[@]}" -qq source --download-only "$srcpkg=$version")
   dsc=$(ls "$tbb_dir"/src/*.dsc)
