@@ -170,7 +170,7 @@ std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const Run
     ctx.report(0.0, "prepare heat method");
     LogMapOptions o;
     o.geodesic.t_factor = q.t_factor;
-    auto e = std::make_shared<const HeatLogMap>(s.mesh, o, ctx);
+    auto e = std::make_shared<const HeatLogMap>(s.mesh, o, ctx, s.derived.get());
     s.counters->engines.fetch_add(1);
     ctx.report(1.0, "prepare heat method");
     return e;

@@ -110,7 +110,7 @@ void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
 
 }  // namespace
 
-void HeatGeodesic::prepare(const Mesh& m) {
+void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
     fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
@@ -121,12 +121,15 @@ void HeatGeodesic::prepare(const Mesh& m) {
     fail(ErrorCode::BadUsage, "heat geodesic: mass_blend must be in [0, 1] (got " + std::to_string(opt.mass_blend) + ")");
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  check_requirements(m, req);
+  if (!given || !requirements_checked(*given, req)) check_requirements(m, req);
+  if (given) check_derived_of(*given, m, "heat geodesic");
   check_needles(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
-  MeshDerived d = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
+  MeshDerived own;
+  if (!given) own = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
+  const MeshDerived& d = given ? *given : own;
   num_components_ = d.components;
-  component_ = std::move(d.component);
+  component_ = d.component;
   grad_ = triangle_gradients(m, d.h);
   // Corner records in vertex-face order (see build_region).
   vf_corners_.resize(4 * grad_.vf_faces.size());
@@ -147,8 +150,10 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
   return t;
 }
 
-HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx) : opt_(opt) {
-  prepare(m);
+HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx,
+                           const MeshDerived* derived)
+    : opt_(opt) {
+  prepare(m, derived);
   CscMatrix A = heat_operator(m, t_);
   blend_mass(m, opt.mass_blend, A);
   const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);

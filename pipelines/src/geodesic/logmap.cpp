@@ -46,8 +46,8 @@ void check_same_component(const HeatGeodesic& geo, int32_t center, std::span<con
 
 }  // namespace
 
-HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, const RunContext& ctx)
-    : opt_(opt), geo_(m, opt.geodesic, ctx), x_(m.x), y_(m.y), z_(m.z) {
+HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, const RunContext& ctx, const MeshDerived* derived)
+    : opt_(opt), geo_(m, opt.geodesic, ctx, derived), x_(m.x), y_(m.y), z_(m.z) {
   prepare(m);
 }
 

@@ -60,6 +60,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
@@ -122,7 +123,10 @@ class HeatGeodesic {
   // accuracy) or unreferenced vertices (Error(BadInput) naming the element
   // otherwise); boundaries are
   // allowed (natural boundary conditions). Factorization runs on ctx's threads.
-  explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {});
+  // `derived`, when given, is m's derived data (a Session's): its components and
+  // h are used instead of deriving them again, its checks instead of repeating them.
+  explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {},
+                        const MeshDerived* derived = nullptr);
   // The same with given factors instead of factoring (Error(BadUsage) when their
   // size or pattern is not this mesh's; that they hold these t / eps values is the
   // caller's to check, as the factor cache does with its labels).
@@ -174,7 +178,7 @@ class HeatGeodesic {
                                HeatGeodesicWorkspace& ws) const;
 
  private:
-  void prepare(const Mesh& m);  // checks and per-mesh data shared by both constructors
+  void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // checks and per-mesh data shared by both constructors
 
   HeatGeodesicOptions opt_;
   TriangleGradients grad_;

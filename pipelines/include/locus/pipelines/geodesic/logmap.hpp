@@ -154,7 +154,9 @@ struct LogMapWorkspace {
 class HeatLogMap {
  public:
   // Needs what HeatGeodesic needs (manifold triangle mesh, no zero-area faces).
-  explicit HeatLogMap(const Mesh& m, const LogMapOptions& opt = {}, const RunContext& ctx = {});
+  // `derived`: m's derived data when the caller has it (see HeatGeodesic).
+  explicit HeatLogMap(const Mesh& m, const LogMapOptions& opt = {}, const RunContext& ctx = {},
+                      const MeshDerived* derived = nullptr);
   // With the heat geodesic's factors given (see HeatGeodesic).
   HeatLogMap(const Mesh& m, const LogMapOptions& opt, HeatGeodesicFactors factors);
 
