@@ -1,7 +1,7 @@
 // Memory budget of a numeric factorization (kernels/include/locus/kernels/factor/memory_budget.hpp).
 //
 // The terms mirror what kernels/src/factor/supernodal_factor.cpp and kernels/src/solve/solve_full.cpp
-// allocate; keep them in step when those change (tests/kernels/memory_budget.cpp
+// allocate; keep them in step when those change (tests/kernels/factor/memory_budget.cpp
 // compares the estimate with the heap growth of a real factorization).
 #include "locus/kernels/factor/memory_budget.hpp"
 

@@ -28,7 +28,7 @@
 //    exactly and, by Gauss' law, leaves a radially symmetric field exact inside
 //    P; what remains is the effect of the divergence outside T(P) on the
 //    Helmholtz projection inside, which is small when X is nearly curl-free.
-//    Both are measured against the full solve in tests/pipelines/heat_geodesic.cpp
+//    Both are measured against the full solve in tests/pipelines/geodesic/heat_geodesic.cpp
 //    and by `locus-bench logmap`.
 // Per-triangle direction (HeatGeodesicOptions::log_heat_gradient, default on):
 // the normalized gradient of log h instead of h. Normalization makes the two
