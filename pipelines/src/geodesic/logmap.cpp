@@ -934,12 +934,18 @@ void HeatLogMap::gradients_from_passes(std::span<const int32_t> patch, int32_t c
                     ws.heat.data() + p * stride, false, h_center, est, st, ws);
 }
 
-LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, const LogMapOutput& out,
-                              LogMapWorkspace& ws, const LogMapEstimator& estimator) const {
-  const int32_t n = num_vertices();
+namespace {
+void check_center_vertex(int32_t center, int32_t n) {
   if (center < 0 || center >= n)
     fail(ErrorCode::BadUsage, "center " + std::to_string(center) + " is not a vertex (the mesh has " +
                                   std::to_string(n) + " vertices)");
+}
+}  // namespace
+
+LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, const LogMapOutput& out,
+                              LogMapWorkspace& ws, const LogMapEstimator& estimator) const {
+  const int32_t n = num_vertices();
+  check_center_vertex(center, n);
   check_outputs(out, patch.size());
   PhaseClock clock;
   PatchRegion& r = ws.geo.region;
@@ -1000,9 +1006,7 @@ LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, co
 LogMapStats HeatLogMap::query_full(int32_t center, std::span<const int32_t> patch, const LogMapOutput& out,
                                    LogMapWorkspace& ws, const LogMapEstimator& estimator) const {
   const int32_t n = num_vertices();
-  if (center < 0 || center >= n)
-    fail(ErrorCode::BadUsage, "center " + std::to_string(center) + " is not a vertex (the mesh has " +
-                                  std::to_string(n) + " vertices)");
+  check_center_vertex(center, n);
   check_outputs(out, patch.size());
   bool has_center = false;
   for (int32_t v : patch) {
