@@ -14,7 +14,9 @@
 
 namespace locus {
 
-CentroidGeometry prepare_centroid_geometry(const Mesh& m) {
+CentroidGeometry prepare_centroid_geometry(const Mesh& m) { return prepare_centroid_geometry(m, vertex_adjacency(m)); }
+
+CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjacency) {
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": heat centroids need a triangle mesh");
   CentroidGeometry g;
   g.n = m.num_vertices();
@@ -27,7 +29,7 @@ CentroidGeometry prepare_centroid_geometry(const Mesh& m) {
   std::vector<int64_t> fill(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f)
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[fill[v]++] = f;
-  g.adj = vertex_adjacency(m);
+  g.adj = adjacency;
   g.normals = area_weighted_normals(m);
   return g;
 }

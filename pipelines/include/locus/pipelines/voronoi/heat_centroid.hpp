@@ -35,6 +35,8 @@ struct CentroidGeometry {
   std::vector<double> normals;      // 3n, area-weighted unit normals
 };
 CentroidGeometry prepare_centroid_geometry(const Mesh& m);
+// The same with m's vertex adjacency already built (MeshDerived::adjacency).
+CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjacency);
 
 struct HeatCentroid {
   SurfacePoint point;       // refined centroid (or the hottest vertex)
