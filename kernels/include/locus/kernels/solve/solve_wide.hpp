@@ -44,8 +44,8 @@ void solve_planned_wide(const NumericFactor& f, const SolvePlan& plan, int lanes
 
 // One right-hand side (rhs[k] at plan.rhs[k]) with exactly the arithmetic of one
 // lane of solve_planned_wide: the same numbers, bit for bit, as that lane of a
-// wide solve of any width with this right-hand side in it (the log map's two
-// threads solve the center's heat alone beside the wide solve). Results stay
+// wide solve of any width with this right-hand side in it (one source can be
+// solved apart from its batch and still agree with it exactly). Results stay
 // in ws.x, output k at row ws.out_rows[k].
 void solve_planned_lane(const NumericFactor& f, const SolvePlan& plan, std::span<const double> rhs,
                         WideSolveWorkspace& ws);
