@@ -184,7 +184,7 @@ void save_factors(const std::string& path, uint64_t mesh_hash, std::span<const F
   }
   const std::vector<uint8_t> meta = build_meta(S, mesh_hash, entries, value_names, arrays, offsets, sums);
   if (meta.size() != meta_size) fail(ErrorCode::Internal, "factor cache metadata changed size between passes");
-  io::write_file_atomically(path, [&](std::ofstream& out) {
+  io::write_file_atomically(path, [&](std::ostream& out) {
     const uint32_t fmt = kFactorCacheFormat, reserved = 0;
     out.write(kMagic, 8);
     out.write(reinterpret_cast<const char*>(&fmt), 4);

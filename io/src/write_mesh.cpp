@@ -6,13 +6,17 @@
 // Exact round trips: coordinates are written as double in binary PLY, and in
 // the text formats with std::to_chars' shortest representation, which is
 // guaranteed to parse back to the same double (the same bits as printing
-// max_digits10 digits, usually fewer characters). OBJ and OFF have no slot for
-// named vertex properties; those are written to PLY only. OFF has no uv.
+// max_digits10 digits, usually fewer characters). OBJ has no slot for named
+// vertex properties: they go to a comment block after the faces; OFF shows the
+// first one as vertex colours; OFF has no uv (refused).
 //
-// The whole file is built in memory and written with one fwrite. Caller
+// The whole file is built in memory and written atomically
+// (io/atomic_file_write.hpp: temporary + fsync + rename). Caller
 // mistakes (inconsistent mesh arrays, property arrays of the wrong length,
 // non-finite coordinates that no reader would accept back) are
 // ErrorCode::BadUsage naming what is wrong.
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -23,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/io/atomic_file_write.hpp"
 #include "locus/io/file_extension.hpp"
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
@@ -112,6 +117,39 @@ const char* ply_type(VertexProperty::Type t) {
   return "double";
 }
 
+// OBJ has no vertex properties: they follow the faces as a comment block every
+// OBJ reader skips (documented in README "Output formats"):
+//   #locus vertex-properties NAME:TYPE ...
+//   #vp VALUE ...        (one line per vertex, in vertex order; nan for none)
+void append_obj_properties(std::string& out, const std::vector<VertexProperty>& props, size_t nv) {
+  if (props.empty()) return;
+  out += "#locus vertex-properties";
+  for (const VertexProperty& p : props) out += " " + p.name + ":" + ply_type(p.type);
+  out += '\n';
+  for (size_t v = 0; v < nv; ++v) {
+    out += "#vp";
+    for (const VertexProperty& p : props) {
+      out += ' ';
+      if (p.type == VertexProperty::Type::Int) put_num(out, static_cast<int64_t>(p.values[v]));
+      else if (p.type == VertexProperty::Type::Float) put_num(out, static_cast<float>(p.values[v]));
+      else put_num(out, p.values[v]);
+    }
+    out += '\n';
+  }
+}
+
+// Viridis-like ramp (five anchors, linear between) for OFF colours.
+std::array<uint8_t, 3> scalar_colour(double value, double lo, double hi) {
+  if (!std::isfinite(value)) return {128, 128, 128};
+  static const double anchors[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  const double s = hi > lo ? std::clamp((value - lo) / (hi - lo), 0.0, 1.0) * 4.0 : 0.0;
+  const int k = std::min(3, static_cast<int>(s));
+  const double w = s - k;
+  std::array<uint8_t, 3> c{};
+  for (int i = 0; i < 3; ++i) c[i] = static_cast<uint8_t>(std::lround(anchors[k][i] * (1 - w) + anchors[k + 1][i] * w));
+  return c;
+}
+
 std::string ply(const Mesh& m, const WriteOptions& opt) {
   const size_t nv = m.x.size();
   const int64_t nf = m.num_faces();
@@ -197,15 +235,33 @@ std::string obj(const Mesh& m, const WriteOptions& opt) {
     }
     out += '\n';
   }
+  append_obj_properties(out, opt.vertex_properties, nv);
   return out;
 }
 
-std::string off(const Mesh& m) {
+// OFF has no named properties: the first vertex property is written as COFF
+// colours (viridis over its finite range, grey for NaN/inf), so a viewer shows
+// the result; the exact values need PLY or OBJ.
+std::string off(const Mesh& m, const WriteOptions& opt) {
   const size_t nv = m.x.size();
   const int64_t nf = m.num_faces();
-  std::string out = "OFF\n" + std::to_string(nv) + " " + std::to_string(nf) + " 0\n";
+  const VertexProperty* shown = opt.vertex_properties.empty() ? nullptr : &opt.vertex_properties.front();
+  std::string out = std::string(shown ? "COFF\n# colour: " + shown->name + "\n" : "OFF\n") + std::to_string(nv) +
+                    " " + std::to_string(nf) + " 0\n";
+  double lo = 0, hi = 0;
+  if (shown) {
+    bool any = false;
+    for (double v : shown->values)
+      if (std::isfinite(v)) { lo = any ? std::min(lo, v) : v; hi = any ? std::max(hi, v) : v; any = true; }
+  }
   for (size_t v = 0; v < nv; ++v) {
-    put_num(out, m.x[v]); out += ' '; put_num(out, m.y[v]); out += ' '; put_num(out, m.z[v]); out += '\n';
+    put_num(out, m.x[v]); out += ' '; put_num(out, m.y[v]); out += ' '; put_num(out, m.z[v]);
+    if (shown) {
+      const std::array<uint8_t, 3> c = scalar_colour(shown->values[v], lo, hi);
+      for (uint8_t ch : c) { out += ' '; put_num(out, int64_t(ch)); }
+      out += " 255";
+    }
+    out += '\n';
   }
   for (int64_t f = 0; f < nf; ++f) {
     put_num(out, int64_t(m.face_offsets[f + 1] - m.face_offsets[f]));
@@ -222,12 +278,9 @@ void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& o
   if (ext != "ply" && ext != "obj" && ext != "off")
     usage(path, "unknown mesh file extension '" + ext + "' (expected .obj, .off or .ply)");
   validate(path, mesh, opt);
-  const std::string bytes = ext == "ply" ? ply(mesh, opt) : ext == "obj" ? obj(mesh, opt) : off(mesh);
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) usage(path, std::string("cannot open for writing: ") + std::strerror(errno));
-  const size_t wrote = std::fwrite(bytes.data(), 1, bytes.size(), f);
-  const bool closed = std::fclose(f) == 0;
-  if (wrote != bytes.size() || !closed) usage(path, std::string("write failed: ") + std::strerror(errno));
+  if (ext == "off" && opt.uv) usage(path, "OFF has no texture coordinates: write .obj or .ply");
+  const std::string bytes = ext == "ply" ? ply(mesh, opt) : ext == "obj" ? obj(mesh, opt) : off(mesh, opt);
+  io::write_file_atomically(path, bytes);
 }
 
 }  // namespace locus

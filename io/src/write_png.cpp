@@ -40,7 +40,7 @@ void write_png(const std::string& path, int width, int height, std::span<const u
   std::vector<uint8_t> encoded;
   if (!stbi_write_png_to_func(append, &encoded, width, height, 3, rgb.data(), width * 3))
     fail(ErrorCode::Internal, path + ": PNG encoding failed");
-  io::write_file_atomically(path, [&](std::ofstream& out) {
+  io::write_file_atomically(path, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
   });
 }

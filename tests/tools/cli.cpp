@@ -423,7 +423,7 @@ TEST_CASE("cli: bad usage exits 2 before touching the file") {
       "info",
       "info " + quoted(mesh) + " --bogus",
       "info " + quoted(mesh) + " extra-positional",
-      "info " + quoted(mesh) + " --threads 0",
+      "info " + quoted(mesh) + " --threads -1",
       "info " + quoted(mesh) + " --threads many",
       "info " + quoted(mesh) + " --subdivide -1",
       "factor " + quoted(mesh) + " --t abc",
@@ -434,6 +434,19 @@ TEST_CASE("cli: bad usage exits 2 before touching the file") {
       "factor " + quoted(mesh) + " --operator laplacian --t 2h2",
       "factor " + quoted(mesh) + " --repeat 0",
       "factor " + missing + " --t abc",  // usage is checked before the file is read
+      // Outputs are checked before the file is read too (issue 22): extension,
+      // folder, target kind, and formats that cannot hold the result.
+      "info " + missing + " -o " + quoted((dir.path / "x.stl").string()),
+      "info " + missing + " -o " + quoted((dir.path / "no" / "such" / "x.obj").string()),
+      "info " + missing + " -o " + quoted(dir.path.string()),
+      "geodesic " + missing + " --source 0 --preview " + quoted((dir.path / "no" / "p.png").string()),
+      "geodesic " + missing + " --source 0 --preview " + quoted((dir.path / "p.jpg").string()),
+      "factor " + missing + " --save " + quoted((dir.path / "no" / "f.locus").string()),
+      "logmap " + missing + " --center 0 -o " + quoted((dir.path / "l.off").string()),
+      "param " + missing + " -o " + quoted((dir.path / "p.off").string()),
+      "heat " + missing + " --source 0 --target 1 -o " + quoted((dir.path / "h.ply").string()),
+      "nncoords " + missing + " --sites 0,1,2 --point 0,1,0,0 -o " + quoted((dir.path / "n.ply").string()),
+      "voronoi " + missing + " --random 3 -o " + quoted((dir.path / "v.off").string()),
   };
   for (const std::string& args : bad) {
     CAPTURE(args);

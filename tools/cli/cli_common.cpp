@@ -18,7 +18,9 @@
 #include <new>
 #include <optional>
 
+#include "locus/io/atomic_file_write.hpp"
 #include "locus/io/factor_cache.hpp"
+#include "locus/io/file_extension.hpp"
 #include "locus/io/write_png.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
@@ -27,6 +29,7 @@
 #include "locus/kernels/render/rasterize.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
+#include "locus/locus.h"
 #include "locus/mesh_io.hpp"
 
 namespace locus::cli {
@@ -56,6 +59,7 @@ struct CommandTable::Command {
 
 CommandTable::CommandTable(std::string tool_name, std::string description)
     : tool_(std::move(tool_name)), app_(std::move(description), tool_) {
+  app_.set_version_flag("--version", std::string(tool_) + " " + locus_version(nullptr, nullptr, nullptr));
   app_.require_subcommand(1);
   app_.fallthrough(false);
   app_.footer("Usage: " + tool_ + " <command> <mesh-file> [options]; '" + tool_ +
@@ -73,8 +77,11 @@ CLI::App* CommandTable::add(const std::string& name, const std::string& descript
   CommonOptions& c = cmd->common;
   app->add_option("mesh-file", c.mesh_path, "Input mesh (.off .obj .ply)")->required();
   app->add_flag("--json", c.json, "Print one JSON object on stdout (logs go to stderr)");
-  app->add_option("-o,--output", c.output, "Result file; the format follows the extension (.ply .obj .off)");
-  app->add_option("--threads", c.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  app->add_option("-o,--output", c.output,
+                  "Result file; the format follows the extension: .ply (named vertex properties), .obj (properties "
+                  "in a '#vp' comment block, UVs as vt), .off (the first property as vertex colours)")
+      ->check(output_file({"ply", "obj", "off"}));
+  app->add_option("--threads", c.threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 4096));
   app->add_option("--seed", c.seed, "Seed of every random choice (default 1)");
   app->add_option("--subdivide", c.subdivide, "1:4 midpoint subdivision K times after loading")
       ->check(CLI::Range(0, 16));
@@ -122,6 +129,12 @@ int CommandTable::run(int argc, char** argv) {
 
     g_cancel.store(false);
     auto previous = std::signal(SIGINT, on_sigint);
+    // Past a file-size limit (ulimit -f) a write then fails with EFBIG, which
+    // the safe writer reports, instead of the signal killing the process.
+    std::signal(SIGXFSZ, SIG_IGN);
+    // Every file the command writes is staged and renamed into place only
+    // when the whole command succeeded (io/atomic_file_write.hpp).
+    io::CommitGroup outputs;
     RunContext ctx;
     if (!chosen->common.max_memory.empty()) ctx.max_memory_bytes = parse_memory_size(chosen->common.max_memory);
     ctx.threads = chosen->common.threads;
@@ -132,6 +145,7 @@ int CommandTable::run(int argc, char** argv) {
       std::cerr << tool_ << ": error: cancelled\n";
       return static_cast<int>(ErrorCode::Cancelled);
     }
+    if (status == 0) outputs.commit();
     return status;
   } catch (const Error& e) {
     std::cerr << tool_ << ": error: " << e.what() << "\n";
@@ -182,6 +196,21 @@ Json input_json(const CommonOptions& opt, const Input& in) {
           {"n_faces", in.mesh.num_faces()}};
 }
 
+int threads_used([[maybe_unused]] const CommonOptions& opt) {
+  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+void check_uv_output(const CommonOptions& opt, const std::string& command) {
+  if (!opt.output.empty() && io::lower_extension(opt.output) == "off")
+    fail(ErrorCode::BadUsage, command + ": -o " + opt.output +
+                                  ": OFF has no texture coordinates for the result's UVs; use .obj or .ply");
+}
+
+void refuse_output(const CommonOptions& opt, const std::string& command, const std::string& result) {
+  if (!opt.output.empty())
+    fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": this command writes no file; " + result);
+}
+
 void write_output_mesh(const CommonOptions& opt, const Mesh& m) {
   if (opt.output.empty()) return;
   write_mesh(opt.output, m);
@@ -190,7 +219,12 @@ void write_output_mesh(const CommonOptions& opt, const Mesh& m) {
 
 void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
-    std::cout << result.dump(2) << std::endl;
+    // Keys every command's JSON has (issue 22 item 8): the version that made
+    // it, and the -o file (null when none).
+    Json j = result;
+    if (!j.contains("output")) j["output"] = opt.output.empty() ? Json(nullptr) : Json(opt.output);
+    j["version"] = locus_version(nullptr, nullptr, nullptr);
+    std::cout << j.dump(2) << std::endl;
   } else {
     human(std::cout);
     std::cout.flush();
@@ -284,7 +318,8 @@ std::size_t parse_memory_size(const std::string& text) {
 }
 
 void add_factor_cache_options(CLI::App* app, FactorCacheOptions& fc) {
-  app->add_option("--save", fc.save, "Save the factor(s) to FILE (.locus) after factoring");
+  app->add_option("--save", fc.save, "Save the factor(s) to FILE (.locus) after factoring")
+      ->check(output_file({"locus"}));
   app->add_option("--load", fc.load,
                   "Load the factor(s) from FILE instead of factoring; refused (exit 3) if made for another mesh, "
                   "operator or t");
@@ -382,8 +417,32 @@ Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f) {
   return j;
 }
 
+CLI::Validator output_file(std::vector<std::string> extensions) {
+  return CLI::Validator(
+      [extensions](std::string& path) -> std::string {
+        if (path.empty()) return "must not be empty";
+        const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
+        std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash) ? ""
+                                                                                                   : path.substr(dot + 1);
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
+          std::string list;
+          for (const std::string& e : extensions) list += (list.empty() ? "." : ", .") + e;
+          return path + ": unsupported extension '" + ext + "' (expected " + list + ")";
+        }
+        try {
+          io::check_output_path(path);
+        } catch (const Error& e) {
+          return e.what();
+        }
+        return std::string();
+      },
+      "OUTPUT-FILE");
+}
+
 void add_preview_option(CLI::App* app, std::string& path) {
-  app->add_option("--preview", path, "Render a shaded PNG of the mesh coloured by the result (800x800)");
+  app->add_option("--preview", path, "Render a shaded PNG of the mesh coloured by the result (800x800)")
+      ->check(output_file({"png"}));
 }
 
 void check_preview_path(const std::string& path) {
@@ -391,6 +450,7 @@ void check_preview_path(const std::string& path) {
   std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != ".png") fail(ErrorCode::BadUsage, "--preview " + path + ": the preview is a PNG image; name it *.png");
+  io::check_output_path(path);
 }
 
 void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path) {

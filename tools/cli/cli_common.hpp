@@ -98,8 +98,19 @@ struct Input {
 // Error(BadUsage) when the subdivision would overflow 32-bit face indices.
 Input load_input(const CommonOptions& opt, const RunContext& ctx);
 
+// The worker threads a command runs with: --threads N, or all cores for 0
+// (what the JSON key `threads` reports).
+int threads_used(const CommonOptions& opt);
+
 // {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input.
 Json input_json(const CommonOptions& opt, const Input& in);
+
+// Up-front checks of -o for commands whose result a format cannot hold
+// (Error(BadUsage) naming the alternative, before the input is read):
+// results with texture coordinates refuse .off; commands whose result is only
+// the JSON refuse -o altogether.
+void check_uv_output(const CommonOptions& opt, const std::string& command);
+void refuse_output(const CommonOptions& opt, const std::string& command, const std::string& result);
 
 // Writes `m` to -o FILE when one was given (format from the extension).
 void write_output_mesh(const CommonOptions& opt, const Mesh& m);
@@ -214,6 +225,12 @@ enum class PreviewKind {
   Labels,   // values: nv integer labels (cvt cells), one distinct colour per label, negative = grey
   Checker,  // values: 2 nv numbers, (u, v) per vertex interleaved; a checkerboard of the UVs, NaN = grey
 };
+// A CLI11 check for options naming a file the command writes: the extension
+// is one of `extensions` (lower case, no dot) and io::check_output_path()
+// accepts the path (folder exists and is writable; the target is absent or a
+// regular file). It runs at parse time, so a bad output path is exit 2 before
+// any input is read.
+CLI::Validator output_file(std::vector<std::string> extensions);
 void add_preview_option(CLI::App* app, std::string& path);
 void check_preview_path(const std::string& path);
 // Renders and writes the PNG (Error(BadUsage) if values has the wrong size,

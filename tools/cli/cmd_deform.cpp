@@ -135,7 +135,7 @@ int run_deform(const CommonOptions& opt, const DeformOptions& o, const RunContex
   j["handle"] = o.handle;
   j["handle_ring"] = o.handle_ring;
   j["offset"] = {offset[0], offset[1], offset[2]};
-  j["threads"] = opt.threads;
+  j["threads"] = threads_used(opt);
   j["n"] = nv;
   j["roi_vertices"] = region.roi.size();
   j["handle_vertices"] = region.handle.size();

@@ -122,7 +122,7 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   j["t"] = op.t;
   j["h"] = op.h;
   j["seed"] = opt.seed;
-  j["threads"] = opt.threads;
+  j["threads"] = threads_used(opt);
   j["repeats"] = fo.repeat;
   j["n"] = n;
   j["nnz_A"] = A.nnz();

@@ -29,6 +29,8 @@ struct GeodesicOptions {
   FactorCacheOptions cache;
 };
 
+bool local_fraction(double fraction) { return fraction < 1.0; }
+
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
   if (!(go.fraction > 0 && go.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(go.fraction) + ")");
@@ -51,12 +53,14 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   const double precompute_s = sw.seconds();
   ctx.check_cancel();
 
-  std::vector<double> distance(static_cast<size_t>(n), -1.0);
+  // No value (outside the patch, or in another component than the source) is
+  // NaN in every output, with the mask property `valid` (README "Output formats").
+  std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> valid(static_cast<size_t>(n), local_fraction(go.fraction) ? 0.0 : 1.0);
   HeatGeodesicWorkspace ws;
   double query_s = 0, patch_s = 0;
   int32_t patch_size = n;
-  const bool local = go.fraction < 1.0;
-  if (local) {
+  if (local_fraction(go.fraction)) {
     const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(go.fraction * n)));
     const PatchGrower grower = prepare_patch_grower(in.mesh);  // local distances on a geodesic disk
     PatchWorkspace pws;
@@ -69,36 +73,43 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     sw.restart();
     geo.query(source, patch, d, ws);
     query_s = sw.seconds();
-    for (size_t k = 0; k < patch.size(); ++k) distance[patch[k]] = d[k];
+    for (size_t k = 0; k < patch.size(); ++k) {
+      distance[patch[k]] = d[k];
+      valid[patch[k]] = 1;
+    }
   } else {
     sw.restart();
     geo.query_full(source, distance, ws);
     query_s = sw.seconds();
   }
-  // +infinity = another connected component than the source (no path): written
-  // as -1 like the vertices outside the patch, and counted. NaN never is an answer.
+  // +infinity = another connected component than the source (no path): no
+  // value, counted. A NaN from the solver never is an answer.
   double dmax = 0;
   int64_t unreachable = 0;
-  for (double& d : distance) {
-    if (d == std::numeric_limits<double>::infinity()) {
-      d = -1;
+  for (size_t i = 0; i < distance.size(); ++i) {
+    if (valid[i] == 0) continue;
+    if (distance[i] == std::numeric_limits<double>::infinity()) {
+      distance[i] = std::numeric_limits<double>::quiet_NaN();
+      valid[i] = 0;
       ++unreachable;
+      continue;
     }
-    if (!std::isfinite(d))
+    if (!std::isfinite(distance[i]))
       fail(ErrorCode::Numerical, "the heat geodesic distance is not finite (t = " + format_number(geo.time()) + ")");
-    dmax = std::max(dmax, d);
+    dmax = std::max(dmax, distance[i]);
   }
 
   if (!opt.output.empty()) {
     WriteOptions wo;
     wo.vertex_properties.push_back({"distance", VertexProperty::Type::Double, distance});
+    wo.vertex_properties.push_back({"valid", VertexProperty::Type::Int, valid});
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
-  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);  // -1 outside the patch: grey
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);  // NaN (no value): grey
   Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
   j["source"] = source;
-  j["method"] = local ? "heat-local" : "heat-full";
+  j["method"] = local_fraction(go.fraction) ? "heat-local" : "heat-full";
   j["fraction"] = go.fraction;
   j["t_factor"] = go.t_factor;
   j["t"] = geo.time();

@@ -30,6 +30,7 @@ struct HeatCliOptions {
 };
 
 int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContext& ctx) {
+  refuse_output(opt, "heat", "the heat values are in the JSON (--json)");
   const HeatExchangeMethod method = parse_heat_exchange_method(ho.method);
   const TimeSpec spec = parse_time_spec(ho.t_text);
   validate_factor_cache_options(ho.cache);

@@ -22,6 +22,7 @@
 
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/io/file_extension.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/heat/adf.hpp"
 #include "tools/cli/heat_signature.hpp"
@@ -30,13 +31,6 @@
 namespace locus::cli {
 
 namespace {
-
-bool has_ply_extension(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".ply";
-}
 
 }  // namespace
 
@@ -62,8 +56,9 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
   if (!opt.output.empty() && !so.all)
     fail(ErrorCode::BadUsage, command + ": -o writes a value for every vertex; use it with --all (with --vertices the "
                                         "values are in the JSON)");
-  if (!opt.output.empty() && !has_ply_extension(opt.output))
-    fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": per-vertex properties need a .ply file");
+  if (!opt.output.empty() && io::lower_extension(opt.output) == "off" && specs.size() > 1)
+    fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": OFF shows one value per vertex (as colours), not " +
+                                  std::to_string(specs.size()) + " diffusion times; use .ply or .obj");
   validate_factor_cache_options(so.cache);
   check_preview_path(so.preview);
   if (!so.preview.empty() && !so.all)
@@ -142,7 +137,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
     j["t"] = ts;
     j["t_spec"] = so.t_texts;
   }
-  j["threads"] = opt.threads;
+  j["threads"] = threads_used(opt);
   j["nnz_L"] = H.symbolic->nnz_L;
   j["supernodes"] = H.symbolic->ns;
   j["etree_height"] = H.symbolic->etree_height;

@@ -38,6 +38,7 @@ struct LogmapOptions {
 };
 
 int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunContext& ctx) {
+  check_uv_output(opt, "logmap");
   if (!(lo.fraction > 0 && lo.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(lo.fraction) + ")");
   if (!(lo.t_factor > 0) || !std::isfinite(lo.t_factor))
@@ -128,8 +129,11 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   const int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
 
   if (!opt.output.empty()) {
-    std::vector<double> uv(2 * static_cast<size_t>(n), 0.0), dist(static_cast<size_t>(n), -1.0),
-        ang(static_cast<size_t>(n), 0.0), in_patch(static_cast<size_t>(n), 0.0);
+    // Outside the patch: NaN in every field, 0 in the masks `valid` and
+    // `in_patch` (the older name, kept for scripts).
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> uv(2 * static_cast<size_t>(n), nan), dist(static_cast<size_t>(n), nan),
+        ang(static_cast<size_t>(n), nan), in_patch(static_cast<size_t>(n), 0.0);
     for (int32_t p = 0; p < k; ++p) {
       const size_t i = static_cast<size_t>(patch[p]);
       uv[2 * i] = u[p];
@@ -142,6 +146,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     wo.uv = &uv;
     wo.vertex_properties.push_back({"distance", VertexProperty::Type::Double, dist});
     wo.vertex_properties.push_back({"angle", VertexProperty::Type::Double, ang});
+    wo.vertex_properties.push_back({"valid", VertexProperty::Type::Int, in_patch});
     wo.vertex_properties.push_back({"in_patch", VertexProperty::Type::Int, in_patch});
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);

@@ -24,6 +24,7 @@ struct NnOptions {
 };
 
 int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext& ctx) {
+  refuse_output(opt, "nncoords", "the coordinates are in the JSON (--json)");
   if (o.sites_text.empty()) fail(ErrorCode::BadUsage, "--sites is required (comma-separated vertex ids)");
   if (o.point_text.empty()) fail(ErrorCode::BadUsage, "--point is required (FACE,B0,B1,B2)");
   const std::vector<int32_t> ids = parse_vertex_list("--sites", o.sites_text);

@@ -53,6 +53,7 @@ ParamRun parameterize(const Mesh& mesh, const ParamCliOptions& po, const RunCont
 }
 
 int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunContext& ctx) {
+  check_uv_output(opt, "param");
   if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, po.boundary, po.cache, ctx);
   if (po.boundary != "neumann")
     fail(ErrorCode::BadUsage, "param: --boundary applies to the patch mode (--center V)");

@@ -110,6 +110,7 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
   if (!(fraction > 0.0 && fraction <= 1.0))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1], got " + format_number(fraction));
   validate_factor_cache_options(cache);
+  check_uv_output(opt, "param");
   Input in = load_input(opt, ctx);
   const Mesh& m = in.mesh;
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;

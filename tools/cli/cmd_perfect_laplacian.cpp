@@ -37,6 +37,8 @@
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/laplacian/perfect_laplacian.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "locus/io/atomic_file_write.hpp"
+#include "locus/io/file_extension.hpp"
 
 namespace locus::cli {
 namespace {
@@ -77,11 +79,10 @@ void add_noise(Mesh& m, double a, uint64_t seed) {
 }
 
 void write_weights(const std::string& path, const MeshPerfectLaplacianResult& R) {
-  std::ofstream os(path);
-  if (!os) fail(ErrorCode::BadUsage, "cannot write " + path);
-  os << std::setprecision(17);
-  for (size_t e = 0; e < R.e0.size(); ++e) os << R.e0[e] << ' ' << R.e1[e] << ' ' << R.run.weights[e] << '\n';
-  if (!os) fail(ErrorCode::BadUsage, "error while writing " + path);
+  io::write_file_atomically(path, [&](std::ostream& os) {
+    os << std::setprecision(17);
+    for (size_t e = 0; e < R.e0.size(); ++e) os << R.e0[e] << ' ' << R.e1[e] << ' ' << R.run.weights[e] << '\n';
+  });
 }
 
 int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const RunContext& ctx) {

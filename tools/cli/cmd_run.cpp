@@ -66,6 +66,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/io/atomic_file_write.hpp"
+#include "locus/locus.h"
 #include "tools/cli/cli_common.hpp"
 
 extern char** environ;
@@ -104,14 +106,23 @@ struct RunOptions {
   int threads = 0;
   std::string ext;  // "" = the pipeline's default
   bool json = false;
+  bool recursive = false;  // --recursive: folders include their subfolders
+  bool resume = false;     // --resume: skip items whose report says ok for the same command line
+  int shard = 1, shards = 1;  // --shard K/N: every N-th input of the sorted list, from the K-th
+  std::vector<std::string> merge;  // --merge DIR...: combine shard summaries, run nothing
 };
 
 const char* kUsage =
     "Usage: locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR [--jobs J] [--threads N]\n"
-    "                 [--ext EXT|none] [--json]\n"
-    "Runs `locus PIPELINE` on every input (folders: the .off/.obj/.ply files inside, sorted), J at a time with\n"
-    "N/J threads each. Writes DIR/<name>.<EXT> (the pipeline's -o output), DIR/<name>.json (one report per\n"
-    "input) and DIR/summary.json (also on stdout with --json). A failing input is reported and skipped.\n"
+    "                 [--ext EXT|none] [--recursive] [--resume] [--shard K/N] [--json]\n"
+    "       locus run --merge DIR... [--out DIR] [--json]\n"
+    "Runs `locus PIPELINE` on every input (folders: the .off/.obj/.ply files inside, sorted; with --recursive\n"
+    "their subfolders too), J at a time with N/J threads each. Writes DIR/<name>.<EXT> (the pipeline's -o\n"
+    "output), DIR/<name>.json (one report per input) and DIR/summary.json (also on stdout with --json). A\n"
+    "failing input is reported and skipped. --resume skips inputs whose report in DIR says ok for the same\n"
+    "pipeline and options. --shard K/N runs the K-th of N deterministic parts of the sorted inputs and writes\n"
+    "DIR/summary-K-of-N.json; --merge combines the summaries found in the given folders into one\n"
+    "(DIR/summary.json of --out, default the first folder), as if one run had done everything.\n"
     "Exit status: 0 all inputs ok, 3 some input failed, 2 bad usage, 5 cancelled (Ctrl-C; results so far kept).\n";
 
 [[noreturn]] void usage_error(const std::string& msg) { fail(ErrorCode::BadUsage, "run: " + msg); }
@@ -140,6 +151,19 @@ RunOptions parse_run_args(int argc, char** argv, const std::vector<std::string>&
   if (!args.empty() && (args[0] == "-h" || args[0] == "--help")) {
     std::cout << kUsage;
     std::exit(0);
+  }
+  if (!args.empty() && args[0] == "--merge") {
+    size_t k = 1;
+    for (; k < args.size() && !(args[k].size() > 1 && args[k][0] == '-'); ++k) o.merge.push_back(args[k]);
+    for (; k < args.size(); ++k) {
+      if (args[k] == "--json") o.json = true;
+      else if (args[k] == "--out" && k + 1 < args.size()) o.out = args[++k];
+      else if (args[k].rfind("--out=", 0) == 0) o.out = args[k].substr(6);
+      else usage_error("--merge: unexpected argument " + args[k]);
+    }
+    if (o.merge.empty()) usage_error("--merge needs at least one folder holding shard summaries");
+    if (o.out.empty()) o.out = o.merge.front();
+    return o;
   }
   if (args.empty() || args[0].empty() || args[0][0] == '-') usage_error("expected a PIPELINE (a locus command) first\n" + std::string(kUsage));
   o.pipeline = args[0];
@@ -171,6 +195,16 @@ RunOptions parse_run_args(int argc, char** argv, const std::vector<std::string>&
       o.ext = value(i, name, inline_value, has_inline);
     } else if (name == "--json") {
       o.json = true;
+    } else if (name == "--recursive" || name == "-r") {
+      o.recursive = true;
+    } else if (name == "--resume") {
+      o.resume = true;
+    } else if (name == "--shard") {
+      const std::string v = value(i, name, inline_value, has_inline);
+      const size_t slash = v.find('/');
+      if (slash == std::string::npos) usage_error("--shard " + v + ": expected K/N, e.g. 2/8");
+      o.shards = parse_int("--shard N", v.substr(slash + 1), 1, 1000000);
+      o.shard = parse_int("--shard K", v.substr(0, slash), 1, o.shards);
     } else if (name == "-h" || name == "--help") {
       std::cout << kUsage;
       std::exit(0);
@@ -196,6 +230,7 @@ bool is_mesh_file(const fs::path& p) {
 }
 
 struct Item {
+  size_t index = 0;  // position in the sorted list of every input (before --shard)
   std::string input;
   std::string stem;  // unique within DIR
   std::string missing;  // non-empty: the input could not be listed (reported as failed, not run)
@@ -205,25 +240,39 @@ struct Item {
   double seconds = 0;
   pid_t pid = -1;
   std::chrono::steady_clock::time_point start;
+  std::string out_capture, err_capture;  // the child's stdout / stderr, unique temporary files in DIR
+  bool resumed = false;  // --resume found an ok report for this item
 };
 
-std::vector<Item> expand_inputs(const std::vector<std::string>& inputs, int64_t& ignored) {
+// The files under a folder: directly inside it, or (recursive) at any depth.
+// Meshes go to `files`, everything else to `ignored`; an unreadable entry sets ec.
+void list_folder(const std::string& in, bool recursive, std::vector<std::string>& files,
+                 std::vector<std::string>& ignored, std::error_code& ec) {
+  auto take = [&](const fs::directory_entry& e) {
+    std::error_code fec;
+    if (e.is_directory(fec)) return;
+    if (is_mesh_file(e.path())) files.push_back(e.path().string());
+    else ignored.push_back(e.path().string());
+  };
+  if (recursive) {
+    for (fs::recursive_directory_iterator it(in, fs::directory_options::skip_permission_denied, ec), end; !ec && it != end;
+         it.increment(ec))
+      take(*it);
+  } else {
+    for (fs::directory_iterator it(in, ec), end; !ec && it != end; it.increment(ec)) take(*it);
+  }
+}
+
+std::vector<Item> expand_inputs(const std::vector<std::string>& inputs, bool recursive,
+                                std::vector<std::string>& ignored) {
   std::vector<Item> items;
-  ignored = 0;
+  ignored.clear();
   for (const std::string& in : inputs) {
     std::error_code ec;
     const fs::file_status st = fs::status(in, ec);
     if (!ec && fs::is_directory(st)) {
       std::vector<std::string> files;
-      for (fs::directory_iterator it(in, ec), end; !ec && it != end; it.increment(ec)) {
-        std::error_code fec;
-        if (it->is_directory(fec)) continue;
-        if (is_mesh_file(it->path())) {
-          files.push_back(it->path().string());
-        } else {
-          ++ignored;
-        }
-      }
+      list_folder(in, recursive, files, ignored, ec);
       if (ec) {
         Item bad;
         bad.input = in;
@@ -243,8 +292,10 @@ std::vector<Item> expand_inputs(const std::vector<std::string>& inputs, int64_t&
       items.push_back(it);
     }
   }
-  // Unique stems, in input order.
+  std::sort(ignored.begin(), ignored.end());
+  // Unique stems, in input order (before --shard, so every shard names an input alike).
   std::set<std::string> used{"summary"};
+  for (size_t k = 0; k < items.size(); ++k) items[k].index = k;
   for (Item& it : items) {
     std::string base = fs::path(it.input).stem().string();
     if (base.empty() || base == "." || base == "..") base = "input";
@@ -330,7 +381,16 @@ std::string self_exe() {
   return ec ? std::string("/proc/self/exe") : p.string();
 }
 
-pid_t spawn_item(const std::string& exe, const RunOptions& o, const Item& it, const fs::path& out_dir,
+// A unique, empty capture file in DIR: two runs over one folder never share one.
+std::string make_capture(const fs::path& out_dir, const std::string& stem, const char* kind) {
+  std::string tmpl = (out_dir / ("." + stem + "." + kind + ".XXXXXX")).string();
+  const int fd = ::mkostemp(tmpl.data(), O_CLOEXEC);
+  if (fd < 0) fail(ErrorCode::BadInput, "run: cannot create a capture file in " + out_dir.string() + ": " + std::strerror(errno));
+  ::close(fd);
+  return tmpl;
+}
+
+pid_t spawn_item(const std::string& exe, const RunOptions& o, Item& it, const fs::path& out_dir,
                  int threads_per_item) {
   std::vector<std::string> args = {exe, o.pipeline, it.input};
   args.insert(args.end(), o.pipeline_args.begin(), o.pipeline_args.end());
@@ -348,13 +408,13 @@ pid_t spawn_item(const std::string& exe, const RunOptions& o, const Item& it, co
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
 
-  const std::string out_path = (out_dir / ("." + it.stem + ".stdout")).string();
-  const std::string err_path = (out_dir / ("." + it.stem + ".stderr")).string();
+  it.out_capture = make_capture(out_dir, it.stem, "stdout");
+  it.err_capture = make_capture(out_dir, it.stem, "stderr");
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, it.out_capture.c_str(), O_WRONLY | O_TRUNC, 0);
+  posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, it.err_capture.c_str(), O_WRONLY | O_TRUNC, 0);
   // The child starts with default SIGINT handling (its own handler then turns Ctrl-C into exit 5).
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
@@ -375,15 +435,15 @@ pid_t spawn_item(const std::string& exe, const RunOptions& o, const Item& it, co
   return pid;
 }
 
+Json summary_line(const Item& it, const fs::path& report_path, const Json& report);
+
 // Reads the child's stdout/stderr, writes DIR/STEM.json, returns the item's summary line.
 Json finish_item(Item& it, const RunOptions& o, const fs::path& out_dir) {
-  const fs::path out_path = out_dir / ("." + it.stem + ".stdout");
-  const fs::path err_path = out_dir / ("." + it.stem + ".stderr");
-  std::string out = it.missing.empty() ? slurp(out_path) : "";
-  std::string err = it.missing.empty() ? slurp(err_path) : it.missing;
+  std::string out = it.out_capture.empty() ? "" : slurp(it.out_capture);
+  std::string err = it.missing.empty() ? slurp(it.err_capture) : it.missing;
   std::error_code ec;
-  fs::remove(out_path, ec);
-  fs::remove(err_path, ec);
+  if (!it.out_capture.empty()) fs::remove(it.out_capture, ec);
+  if (!it.err_capture.empty()) fs::remove(it.err_capture, ec);
   Json result = nullptr;
   if (!out.empty()) {
     try {
@@ -402,7 +462,8 @@ Json finish_item(Item& it, const RunOptions& o, const fs::path& out_dir) {
     const fs::path p = out_dir / (it.stem + "." + o.ext);
     if (fs::exists(p, ec)) output = p.string();
   }
-  Json report{{"input", it.input}, {"pipeline", o.pipeline}, {"status", it.status}, {"exit_status", it.exit_status}};
+  Json report{{"input", it.input}, {"pipeline", o.pipeline}, {"pipeline_options", o.pipeline_args}, {"ext", o.ext},
+              {"status", it.status}, {"exit_status", it.exit_status}};
   report["signal"] = it.signal;
   report["seconds"] = it.seconds;
   report["output"] = output.empty() ? Json(nullptr) : Json(output);
@@ -411,16 +472,173 @@ Json finish_item(Item& it, const RunOptions& o, const fs::path& out_dir) {
   if (result.is_null() && !out.empty()) report["stdout"] = out.substr(0, kMaxStderr);
   report["result"] = result;
   const fs::path report_path = out_dir / (it.stem + ".json");
-  {
-    std::ofstream f(report_path, std::ios::trunc);
-    f << report.dump(2) << "\n";
-    if (!f) fail(ErrorCode::BadInput, "run: cannot write " + report_path.string());
-  }
-  Json line{{"input", it.input}, {"status", it.status}, {"exit_status", it.exit_status}, {"seconds", it.seconds}};
+  io::write_file_atomically(report_path.string(), report.dump(2) + "\n");
+  return summary_line(it, report_path, report);
+}
+
+Json summary_line(const Item& it, const fs::path& report_path, const Json& report) {
+  Json line{{"index", it.index}, {"input", it.input}, {"status", it.status}, {"exit_status", it.exit_status},
+            {"seconds", it.seconds}};
   line["report"] = report_path.string();
-  line["output"] = report["output"];
-  line["error"] = report["error"];
+  line["output"] = report.value("output", Json(nullptr));
+  line["error"] = report.value("error", Json(nullptr));
+  line["resumed"] = it.resumed;
   return line;
+}
+
+// --resume: the item's report in DIR says ok for this input, pipeline, options and extension.
+bool resume_item(Item& it, const RunOptions& o, const fs::path& out_dir, Json& line) {
+  const fs::path report_path = out_dir / (it.stem + ".json");
+  std::error_code ec;
+  if (!it.missing.empty() || !fs::is_regular_file(report_path, ec)) return false;
+  Json report;
+  try {
+    report = Json::parse(slurp(report_path));
+  } catch (const std::exception&) {
+    return false;  // unreadable report: run the item again
+  }
+  if (!report.is_object() || report.value("status", "") != "ok" || report.value("input", "") != it.input ||
+      report.value("pipeline", "") != o.pipeline || report.value("ext", "") != o.ext ||
+      report.value("pipeline_options", Json::array()) != Json(o.pipeline_args))
+    return false;
+  if (report["output"].is_string() && !fs::exists(report["output"].get<std::string>(), ec)) return false;
+  it.status = "ok";
+  it.exit_status = 0;
+  it.seconds = report.value("seconds", 0.0);
+  it.resumed = true;
+  line = summary_line(it, report_path, report);
+  return true;
+}
+
+// Counts of a summary's items and its exit status (0 all ok, 5 cancelled, 2
+// every item refused as bad usage, 3 some failed), written into it.
+int count_summary(Json& summary, bool cancelled, size_t usage_failures) {
+  size_t ok = 0, failed = 0, n_cancelled = 0, not_run = 0, resumed = 0;
+  for (const Json& line : summary["items"]) {
+    const std::string s = line.value("status", "");
+    if (s == "ok") ++ok;
+    else if (s == "cancelled") ++n_cancelled;
+    else if (s == "not_run") ++not_run;
+    else ++failed;
+    resumed += line.value("resumed", false) ? 1 : 0;
+  }
+  const size_t n = summary["items"].size();
+  int status = 0;
+  if (cancelled) status = static_cast<int>(ErrorCode::Cancelled);
+  else if (n > 0 && usage_failures == n) status = static_cast<int>(ErrorCode::BadUsage);
+  else if (failed > 0) status = static_cast<int>(ErrorCode::BadInput);
+  summary["inputs"] = n;
+  summary["ignored_files"] = summary["ignored"].size();
+  summary["succeeded"] = ok;
+  summary["failed"] = failed;
+  summary["cancelled"] = n_cancelled;
+  summary["not_run"] = not_run;
+  summary["resumed"] = resumed;
+  summary["exit_status"] = status;
+  summary["version"] = locus_version(nullptr, nullptr, nullptr);
+  return status;
+}
+
+void print_summary(const RunOptions& o, const Json& summary, const fs::path& summary_path) {
+  if (o.json) {
+    std::cout << summary.dump(2) << std::endl;
+    return;
+  }
+  std::cout << summary["pipeline"].get<std::string>() << " on " << summary["inputs"] << " input(s): "
+            << summary["succeeded"] << " ok, " << summary["failed"] << " failed, " << summary["cancelled"]
+            << " cancelled, " << summary["not_run"] << " not run";
+  if (summary["resumed"].get<size_t>() > 0) std::cout << " (" << summary["resumed"] << " resumed)";
+  std::cout << ", in " << format_number(summary["seconds"].get<double>()) << " s\n";
+  for (const Json& line : summary["items"])
+    if (line["status"] != "ok")
+      std::cout << "  " << line["status"].get<std::string>() << ": " << line["input"].get<std::string>()
+                << (line["error"].is_string() ? " (" + line["error"].get<std::string>() + ")" : "") << "\n";
+  if (!summary["ignored"].empty()) {
+    std::cout << "  ignored (not .off/.obj/.ply):";
+    for (const Json& f : summary["ignored"]) std::cout << " " << f.get<std::string>();
+    std::cout << "\n";
+  }
+  std::cout << "summary: " << summary_path.string() << "\n";
+}
+
+// The summaries of one folder: its shard summaries, or else its summary.json.
+std::vector<fs::path> summaries_in(const std::string& dir) {
+  std::vector<fs::path> shards;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind("summary-", 0) == 0 && name.find("-of-") != std::string::npos && it->path().extension() == ".json")
+      shards.push_back(it->path());
+  }
+  if (ec) fail(ErrorCode::BadInput, "run --merge: cannot list " + dir + " (" + ec.message() + ")");
+  std::sort(shards.begin(), shards.end());
+  if (shards.empty() && fs::is_regular_file(fs::path(dir) / "summary.json", ec)) shards.push_back(fs::path(dir) / "summary.json");
+  if (shards.empty()) fail(ErrorCode::BadInput, "run --merge: " + dir + " holds no summary.json or summary-K-of-N.json");
+  return shards;
+}
+
+// --merge DIR...: one summary of every item of the shards' runs, in the order
+// of the unsharded run. Refuses summaries of different pipelines or options,
+// and a missing or repeated shard (a partial merge would silently drop items).
+int merge_summaries(const RunOptions& o) {
+  std::vector<Json> parts;
+  for (const std::string& dir : o.merge)
+    for (const fs::path& p : summaries_in(dir)) {
+      try {
+        parts.push_back(Json::parse(slurp(p)));
+      } catch (const std::exception& e) {
+        fail(ErrorCode::BadInput, "run --merge: " + p.string() + " is not valid JSON (" + e.what() + ")");
+      }
+      parts.back()["_path"] = p.string();
+    }
+  const Json& first = parts.front();
+  std::set<std::string> seen_shards;
+  int shards = 0;
+  Json items = Json::array();
+  std::set<std::string> ignored;
+  double seconds = 0;
+  bool cancelled = false;
+  for (const Json& part : parts) {
+    const std::string where = part["_path"].get<std::string>();
+    if (part.value("command", "") != "run" || !part.contains("items"))
+      fail(ErrorCode::BadInput, "run --merge: " + where + " is not a locus run summary");
+    if (part["pipeline"] != first["pipeline"] || part["pipeline_options"] != first["pipeline_options"] ||
+        part.value("ext", Json()) != first.value("ext", Json()))
+      fail(ErrorCode::BadInput, "run --merge: " + where + " ran another pipeline or other options than " +
+                                    first["_path"].get<std::string>());
+    const std::string shard = part["shard"].is_string() ? part["shard"].get<std::string>() : "1/1";
+    const int n = std::stoi(shard.substr(shard.find('/') + 1));
+    if (shards != 0 && n != shards) fail(ErrorCode::BadInput, "run --merge: " + where + " is shard " + shard + " of another split");
+    shards = n;
+    if (!seen_shards.insert(shard).second) fail(ErrorCode::BadInput, "run --merge: shard " + shard + " given twice");
+    for (const Json& line : part["items"]) items.push_back(line);
+    for (const Json& f : part["ignored"]) ignored.insert(f.get<std::string>());
+    seconds = std::max(seconds, part.value("seconds", 0.0));
+    cancelled = cancelled || part["stopped"].is_string();
+  }
+  for (int k = 1; k <= shards; ++k)
+    if (!seen_shards.count(std::to_string(k) + "/" + std::to_string(shards)))
+      fail(ErrorCode::BadInput, "run --merge: shard " + std::to_string(k) + "/" + std::to_string(shards) + " is missing");
+  std::sort(items.begin(), items.end(),
+            [](const Json& a, const Json& b) { return a["index"].get<size_t>() < b["index"].get<size_t>(); });
+  Json summary{{"command", "run"}, {"pipeline", first["pipeline"]}, {"pipeline_options", first["pipeline_options"]}};
+  summary["ext"] = first.value("ext", Json(""));
+  summary["out"] = o.out;
+  summary["jobs"] = first["jobs"];
+  summary["threads_per_item"] = first["threads_per_item"];
+  summary["shard"] = nullptr;
+  summary["merged_from"] = shards;
+  summary["ignored"] = std::vector<std::string>(ignored.begin(), ignored.end());
+  summary["stopped"] = cancelled ? Json("cancelled") : Json(nullptr);
+  summary["seconds"] = seconds;
+  summary["items"] = items;
+  size_t usage_failures = 0;
+  for (const Json& line : items) usage_failures += line["exit_status"] == static_cast<int>(ErrorCode::BadUsage);
+  const int status = count_summary(summary, cancelled, usage_failures);
+  const fs::path summary_path = fs::path(o.out) / "summary.json";
+  io::write_file_atomically(summary_path.string(), summary.dump(2) + "\n");
+  print_summary(o, summary, summary_path);
+  return status;
 }
 
 }  // namespace
@@ -433,8 +651,15 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
     fs::create_directories(out_dir, ec);
     if (ec || !fs::is_directory(out_dir)) usage_error("--out " + o.out + ": cannot create the folder (" + ec.message() + ")");
   }
-  int64_t ignored = 0;
-  std::vector<Item> items = expand_inputs(o.inputs, ignored);
+  if (!o.merge.empty()) return merge_summaries(o);
+  std::vector<std::string> ignored;
+  std::vector<Item> items = expand_inputs(o.inputs, o.recursive, ignored);
+  if (o.shards > 1) {  // a deterministic split of the sorted inputs: every N-th from the K-th
+    std::vector<Item> mine;
+    for (Item& it : items)
+      if (it.index % static_cast<size_t>(o.shards) == static_cast<size_t>(o.shard - 1)) mine.push_back(std::move(it));
+    items = std::move(mine);
+  }
   const int total_threads = o.threads > 0 ? o.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const int per_item = std::max(1, total_threads / o.jobs);
   const std::string exe = self_exe();
@@ -466,11 +691,18 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
     }
   };
 
+  if (o.resume)
+    for (size_t k = 0; k < items.size(); ++k)
+      if (resume_item(items[k], o, out_dir, lines[k])) ++done;
   while (true) {
     const bool stopping = g_stop.load() != 0;
     // Start items while there is room.
     while (!stopping && running.size() < static_cast<size_t>(o.jobs) && next < items.size()) {
       Item& it = items[next];
+      if (it.resumed) {
+        ++next;
+        continue;
+      }
       if (!it.missing.empty()) {
         it.status = "failed";
         it.exit_status = static_cast<int>(ErrorCode::BadInput);
@@ -535,54 +767,30 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
   std::signal(SIGTERM, prev_term);
 
   const bool cancelled = g_stop.load() != 0;
-  size_t ok = 0, n_failed = 0, n_cancelled = 0, not_run = 0;
   Json item_list = Json::array();
   for (size_t k = 0; k < items.size(); ++k) {
-    const std::string& s = items[k].status;
-    if (s == "ok") ++ok;
-    else if (s == "cancelled") ++n_cancelled;
-    else if (s == "not_run") ++not_run;
-    else ++n_failed;
-    if (lines[k].is_null()) lines[k] = {{"input", items[k].input}, {"status", s}, {"exit_status", nullptr}, {"seconds", 0.0},
-                                        {"report", nullptr}, {"output", nullptr}, {"error", nullptr}};
+    if (lines[k].is_null())
+      lines[k] = {{"index", items[k].index}, {"input", items[k].input}, {"status", items[k].status},
+                  {"exit_status", nullptr}, {"seconds", 0.0}, {"report", nullptr}, {"output", nullptr},
+                  {"error", nullptr}, {"resumed", false}};
     item_list.push_back(lines[k]);
   }
-  int status = 0;
-  if (cancelled) status = static_cast<int>(ErrorCode::Cancelled);
-  else if (!items.empty() && usage_failures == items.size()) status = static_cast<int>(ErrorCode::BadUsage);
-  else if (n_failed > 0) status = static_cast<int>(ErrorCode::BadInput);
-
   Json summary{{"command", "run"}, {"pipeline", o.pipeline}, {"pipeline_options", o.pipeline_args}};
+  summary["ext"] = o.ext;
   summary["out"] = o.out;
   summary["jobs"] = o.jobs;
   summary["threads_per_item"] = per_item;
-  summary["inputs"] = items.size();
-  summary["ignored_files"] = ignored;
-  summary["succeeded"] = ok;
-  summary["failed"] = n_failed;
-  summary["cancelled"] = n_cancelled;
-  summary["not_run"] = not_run;
-  summary["exit_status"] = status;
+  summary["shard"] = o.shards > 1 ? Json(std::to_string(o.shard) + "/" + std::to_string(o.shards)) : Json(nullptr);
+  summary["ignored"] = ignored;
   summary["stopped"] = cancelled ? Json("cancelled") : Json(nullptr);
   summary["seconds"] = elapsed();
   summary["items"] = item_list;
-  const fs::path summary_path = out_dir / "summary.json";
-  {
-    std::ofstream f(summary_path, std::ios::trunc);
-    f << summary.dump(2) << "\n";
-    if (!f) fail(ErrorCode::BadInput, "run: cannot write " + summary_path.string());
-  }
-  if (o.json) {
-    std::cout << summary.dump(2) << std::endl;
-  } else {
-    std::cout << o.pipeline << " on " << items.size() << " input(s): " << ok << " ok, " << n_failed << " failed, "
-              << n_cancelled << " cancelled, " << not_run << " not run, in " << format_number(elapsed()) << " s\n";
-    for (size_t k = 0; k < items.size(); ++k)
-      if (items[k].status != "ok")
-        std::cout << "  " << items[k].status << ": " << items[k].input
-                  << (lines[k]["error"].is_string() ? " (" + lines[k]["error"].get<std::string>() + ")" : "") << "\n";
-    std::cout << "summary: " << summary_path.string() << "\n";
-  }
+  const int status = count_summary(summary, cancelled, usage_failures);
+  const fs::path summary_path =
+      out_dir / (o.shards > 1 ? "summary-" + std::to_string(o.shard) + "-of-" + std::to_string(o.shards) + ".json"
+                              : std::string("summary.json"));
+  io::write_file_atomically(summary_path.string(), summary.dump(2) + "\n");
+  print_summary(o, summary, summary_path);
   if (status == static_cast<int>(ErrorCode::BadUsage))
     std::cerr << "locus: error: run: " << o.pipeline << " refused its options on every input (see " << summary_path.string()
               << ")\n";

@@ -13,6 +13,8 @@
 
 #include "locus/pipelines/laplacian/self_supporting.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "locus/io/atomic_file_write.hpp"
+#include "locus/io/file_extension.hpp"
 
 namespace locus::cli {
 namespace {
@@ -39,10 +41,10 @@ int run_selfsupport(const CommonOptions& opt, const SelfSupportCliOptions& so, c
     out.y = r.pos[1];
     out.z = r.pos[2];
     write_output_mesh(opt, out);
-    std::ofstream os(opt.output + ".forces.txt");
-    if (!os) fail(ErrorCode::BadUsage, "cannot write " + opt.output + ".forces.txt");
-    os << std::setprecision(17);
-    for (size_t e = 0; e < r.e0.size(); ++e) os << r.e0[e] << ' ' << r.e1[e] << ' ' << r.forces[e] << '\n';
+    io::write_file_atomically(opt.output + ".forces.txt", [&](std::ostream& os) {
+      os << std::setprecision(17);
+      for (size_t e = 0; e < r.e0.size(); ++e) os << r.e0[e] << ' ' << r.e1[e] << ' ' << r.forces[e] << '\n';
+    });
   }
   Json j{{"command", "selfsupport"}, {"input", input_json(opt, in)}};
   j["support"] = so.support;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <climits>
 #include <fstream>
+#include <sstream>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "locus/io/atomic_file_write.hpp"
+#include "locus/io/file_extension.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
 namespace locus::cli {
@@ -50,23 +53,37 @@ std::vector<int32_t> parse_ids(const std::string& text) {
   return ids;
 }
 
+// The diagram's bisector polylines: OBJ `l` lines, or PLY vertices plus an
+// `edge` element (vertex1, vertex2), which MeshLab and Blender's importer read.
 void write_polylines(const std::string& path, const VoronoiDiagram& D) {
-  std::ofstream os(path);
-  if (!os) fail(ErrorCode::BadInput, "cannot open '" + path + "' for writing");
+  std::ostringstream os;
   os.precision(17);
-  os << "# heat Voronoi diagram (locus voronoi): " << D.points.size() / 3 << " points, " << D.polylines.size()
-     << " polylines\n";
-  for (size_t p = 0; p < D.points.size() / 3; ++p)
-    os << "v " << D.points[3 * p] << ' ' << D.points[3 * p + 1] << ' ' << D.points[3 * p + 2] << '\n';
-  for (const auto& line : D.polylines) {
-    os << 'l';
-    for (int32_t p : line) os << ' ' << p + 1;
-    os << '\n';
+  const size_t np = D.points.size() / 3;
+  if (io::lower_extension(path) == "ply") {
+    size_t edges = 0;
+    for (const auto& line : D.polylines) edges += line.size() > 1 ? line.size() - 1 : 0;
+    os << "ply\nformat ascii 1.0\ncomment heat Voronoi diagram (locus voronoi): bisector polylines\nelement vertex "
+       << np << "\nproperty double x\nproperty double y\nproperty double z\nelement edge " << edges
+       << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+    for (size_t p = 0; p < np; ++p) os << D.points[3 * p] << ' ' << D.points[3 * p + 1] << ' ' << D.points[3 * p + 2] << '\n';
+    for (const auto& line : D.polylines)
+      for (size_t k = 1; k < line.size(); ++k) os << line[k - 1] << ' ' << line[k] << '\n';
+  } else {
+    os << "# heat Voronoi diagram (locus voronoi): " << np << " points, " << D.polylines.size() << " polylines\n";
+    for (size_t p = 0; p < np; ++p)
+      os << "v " << D.points[3 * p] << ' ' << D.points[3 * p + 1] << ' ' << D.points[3 * p + 2] << '\n';
+    for (const auto& line : D.polylines) {
+      os << 'l';
+      for (int32_t p : line) os << ' ' << p + 1;
+      os << '\n';
+    }
   }
-  if (!os) fail(ErrorCode::BadInput, "writing '" + path + "' failed");
+  io::write_file_atomically(path, os.str());
 }
 
 int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunContext& ctx) {
+  if (!opt.output.empty() && io::lower_extension(opt.output) == "off")
+    fail(ErrorCode::BadUsage, "-o " + opt.output + ": OFF cannot hold the diagram's polylines; use .obj or .ply");
   if (o.sites_text.empty() == (o.random <= 0)) fail(ErrorCode::BadUsage, "give either --sites or --random N (N > 0)");
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
