@@ -145,3 +145,21 @@ TEST_CASE("outputs: geodesic -o .obj and .off carry the distances; NaN outside t
   CHECK(fields == 7);
   CHECK(locus::read_mesh(dir / "g.off").num_vertices() == sphere.num_vertices());
 }
+
+TEST_CASE("resources: --subdivide and --load beyond --max-memory are refused with exit 3 before allocating") {
+  if (!have_locus()) return;
+  Scratch dir("memlimit");
+  const std::string mesh = dir / "sphere.off";
+  locus::write_mesh(mesh, locus::make_icosphere(2));  // 320 faces
+  // 320 * 4^8 = 21M faces: about 2.7 GiB, over a 100M limit.
+  const Run big = run_locus(dir, {"info", mesh, "--subdivide", "8", "--max-memory", "100M"});
+  CHECK(big.status == 3);
+  CHECK(big.err.find("--subdivide 8") != std::string::npos);
+  CHECK(big.err.find("--max-memory") != std::string::npos);
+  const std::string cache = dir / "f.locus";
+  REQUIRE(run_locus(dir, {"factor", mesh, "--save", cache}).status == 0);
+  const Run load = run_locus(dir, {"factor", mesh, "--load", cache, "--max-memory", "1K"});
+  CHECK(load.status == 3);
+  CHECK(load.err.find("more than the memory limit") != std::string::npos);
+  CHECK(run_locus(dir, {"factor", mesh, "--load", cache}).status == 0);
+}

@@ -13,12 +13,14 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <new>
 #include <optional>
 
 #include "locus/io/atomic_file_write.hpp"
+#include "locus/kernels/factor/memory_budget.hpp"
 #include "locus/io/factor_cache.hpp"
 #include "locus/io/file_extension.hpp"
 #include "locus/io/write_png.hpp"
@@ -182,6 +184,18 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
       fail(ErrorCode::BadUsage, "--subdivide " + std::to_string(opt.subdivide) + " would make " +
                                     std::to_string(static_cast<long long>(faces_after)) + " faces from " +
                                     opt.mesh_path + " (limit 715827882)");
+    // The subdivided mesh, the subdivision's edge table and the topology
+    // analysis every command runs: about 130 bytes per resulting face (peak RSS
+    // of `locus info sphere.off --subdivide 9`: 11 GB for 84M faces). Refused
+    // before allocating, like a factor too large.
+    const double mesh_bytes = 130.0 * faces_after;
+    if (mesh_bytes > static_cast<double>(memory_limit_bytes(ctx)))
+      fail(ErrorCode::ResourceLimit, "--subdivide " + std::to_string(opt.subdivide) + " of " + opt.mesh_path +
+                                         " would need about " + format_number(mesh_bytes / 1073741824.0) +
+                                         " GiB for its " + std::to_string(static_cast<long long>(faces_after)) +
+                                         " faces, more than the memory limit of " +
+                                         format_number(memory_limit_bytes(ctx) / 1073741824.0) +
+                                         " GiB (raise it with --max-memory)");
     sw.restart();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = sw.seconds();
@@ -352,6 +366,14 @@ Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<co
   Factors F;
   Stopwatch sw;
   if (!fc.load.empty()) {
+    // The loaded factor lives in memory whole: its file size is what it costs.
+    std::error_code size_ec;
+    const uintmax_t bytes = std::filesystem::file_size(fc.load, size_ec);
+    if (!size_ec && bytes > memory_limit_bytes(ctx))
+      fail(ErrorCode::ResourceLimit, fc.load + ": loading it needs " + format_number(bytes / 1073741824.0) +
+                                         " GiB, more than the memory limit of " +
+                                         format_number(memory_limit_bytes(ctx) / 1073741824.0) +
+                                         " GiB (raise it with --max-memory)");
     const uint64_t hash = mesh_content_hash(m);
     LoadedFactors L = load_factors(fc.load, hash);
     std::vector<std::string> want_kinds;

@@ -21,6 +21,7 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
       if (m.face(f).size() != 3)
         fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has " +
                                       std::to_string(m.face(f).size()) + " vertices; gradients need triangles");
+  const double sc = power_of_two_scale(h);
   TriangleGradients g;
   g.nv = m.num_vertices();
   g.nf = m.num_faces();
@@ -34,28 +35,29 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
     double e[3][3];  // e[s] = v_{s+2} - v_{s+1}: the edge opposite corner s
     for (int s = 0; s < 3; ++s) {
       const int32_t a = v[(s + 1) % 3], b = v[(s + 2) % 3];
-      e[s][0] = m.x[b] - m.x[a];
-      e[s][1] = m.y[b] - m.y[a];
-      e[s][2] = m.z[b] - m.z[a];
+      e[s][0] = (m.x[b] - m.x[a]) * sc;
+      e[s][1] = (m.y[b] - m.y[a]) * sc;
+      e[s][2] = (m.z[b] - m.z[a]) * sc;
     }
     // Vector area (twice the area times the unit normal): (v1 - v0) x (v2 - v0).
-    const double ux = m.x[v[1]] - m.x[v[0]], uy = m.y[v[1]] - m.y[v[0]], uz = m.z[v[1]] - m.z[v[0]];
-    const double wx = m.x[v[2]] - m.x[v[0]], wy = m.y[v[2]] - m.y[v[0]], wz = m.z[v[2]] - m.z[v[0]];
+    // Scaled by sc (power_of_two_scale): exact, and no under/overflow at any mesh scale.
+    const double ux = (m.x[v[1]] - m.x[v[0]]) * sc, uy = (m.y[v[1]] - m.y[v[0]]) * sc, uz = (m.z[v[1]] - m.z[v[0]]) * sc;
+    const double wx = (m.x[v[2]] - m.x[v[0]]) * sc, wy = (m.y[v[2]] - m.y[v[0]]) * sc, wz = (m.z[v[2]] - m.z[v[0]]) * sc;
     const double ax = uy * wz - uz * wy, ay = uz * wx - ux * wz, az = ux * wy - uy * wx;
     const double twice = std::sqrt(ax * ax + ay * ay + az * az);
     // Same threshold as the mesh report: an area not above 1e-14 h^2 has no usable normal.
-    if (!(twice * 0.5 > kDegenerateAreaRelative * h * h) || !std::isfinite(twice))
+    if (!(twice * 0.5 > kDegenerateAreaRelative * (h * sc) * (h * sc)) || !std::isfinite(twice))
       fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(k) + " (vertices " + std::to_string(v[0]) +
                                     ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) +
                                     ") has zero area; its gradient is undefined");
-    g.area[k] = 0.5 * twice;
+    g.area[k] = 0.5 * twice / (sc * sc);
     const double nx = ax / twice, ny = ay / twice, nz = az / twice;
     const double inv = 1.0 / twice;  // 1 / (2 A_k)
     double* b = g.basis.data() + 9 * static_cast<int64_t>(k);
     for (int s = 0; s < 3; ++s) {
-      b[3 * s + 0] = (ny * e[s][2] - nz * e[s][1]) * inv;
-      b[3 * s + 1] = (nz * e[s][0] - nx * e[s][2]) * inv;
-      b[3 * s + 2] = (nx * e[s][1] - ny * e[s][0]) * inv;
+      b[3 * s + 0] = (ny * e[s][2] - nz * e[s][1]) * inv * sc;
+      b[3 * s + 1] = (nz * e[s][0] - nx * e[s][2]) * inv * sc;
+      b[3 * s + 2] = (nx * e[s][1] - ny * e[s][0]) * inv * sc;
     }
   }
   // Vertex -> face CSR by counting sort: faces come out ascending per vertex.

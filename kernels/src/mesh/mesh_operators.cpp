@@ -68,7 +68,8 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what) {
   const Edges& E = inc.edges;
   const int64_t ne = static_cast<int64_t>(E.e0.size());
   const double h = mean_edge_length(m, E);
-  const double min_double_area = 2.0 * kDegenerateAreaRelative * h * h;
+  const double sc = power_of_two_scale(h), inv_sc2 = 1.0 / (sc * sc);
+  const double min_double_area = 2.0 * kDegenerateAreaRelative * (h * sc) * (h * sc);  // of the scaled triangle
   CotanAndMass out;
   out.L = edge_pattern(nv, E);
   out.mass.assign(static_cast<size_t>(nv), 0.0);
@@ -79,9 +80,9 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what) {
     const int32_t v[3] = {fv[c0], fv[c0 + 1], fv[c0 + 2]};
     double px[3], py[3], pz[3];
     for (int k = 0; k < 3; ++k) {
-      px[k] = m.x[v[k]];
-      py[k] = m.y[v[k]];
-      pz[k] = m.z[v[k]];
+      px[k] = m.x[v[k]] * sc;
+      py[k] = m.y[v[k]] * sc;
+      pz[k] = m.z[v[k]] * sc;
     }
     const double ux = px[1] - px[0], uy = py[1] - py[0], uz = pz[1] - pz[0];
     const double wx = px[2] - px[0], wy = py[2] - py[0], wz = pz[2] - pz[0];
@@ -97,7 +98,7 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what) {
       const double cot = (ax * bx + ay * by + az * bz) / double_area;  // cos/sin, |a x b| = 2 area
       const int32_t e = inc.corner_edge[c0 + k1];                       // edge opposite corner k
       val[e + E.e0[e] + 1] += 0.5 * cot;
-      out.mass[v[k]] += double_area / 6.0;
+      out.mass[v[k]] += double_area * inv_sc2 / 6.0;
     }
   }
   for (int64_t e = 0; e < ne; ++e) {
@@ -125,10 +126,14 @@ std::vector<double> lumped_mass(const Mesh& m) {
   const int32_t* fv = m.face_vertices.data();
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t a = fv[3 * f], b = fv[3 * f + 1], c = fv[3 * f + 2];
-    const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
-    const double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
+    double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
+    double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
+    // Exact power-of-two scaling: no under/overflow in the squares at any mesh scale.
+    const double sc = power_of_two_scale(std::max({std::abs(ux), std::abs(uy), std::abs(uz), std::abs(wx),
+                                                   std::abs(wy), std::abs(wz)}));
+    ux *= sc, uy *= sc, uz *= sc, wx *= sc, wy *= sc, wz *= sc;
     const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
-    const double third = std::sqrt(cx * cx + cy * cy + cz * cz) / 6.0;
+    const double third = std::sqrt(cx * cx + cy * cy + cz * cz) / (sc * sc) / 6.0;
     if (!std::isfinite(third))
       fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has a non-finite area");
     mass[a] += third;

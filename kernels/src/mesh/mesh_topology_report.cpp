@@ -24,13 +24,15 @@ namespace {
 // Area of a polygon as half the norm of its vector area (exact for planar polygons;
 // for a triangle the usual half cross product). Relative to the first vertex to
 // limit cancellation far from the origin.
-double face_area(const Mesh& m, int32_t b, int32_t e) {
+// Area of the face times sc^2 (sc: power_of_two_scale, so that tiny and huge
+// meshes neither underflow nor overflow).
+double face_area(const Mesh& m, int32_t b, int32_t e, double sc) {
   const int32_t* fv = m.face_vertices.data();
   const double ox = m.x[fv[b]], oy = m.y[fv[b]], oz = m.z[fv[b]];
   double ax = 0, ay = 0, az = 0;
   for (int32_t c = b + 1; c + 1 < e; ++c) {
-    const double ux = m.x[fv[c]] - ox, uy = m.y[fv[c]] - oy, uz = m.z[fv[c]] - oz;
-    const double wx = m.x[fv[c + 1]] - ox, wy = m.y[fv[c + 1]] - oy, wz = m.z[fv[c + 1]] - oz;
+    const double ux = (m.x[fv[c]] - ox) * sc, uy = (m.y[fv[c]] - oy) * sc, uz = (m.z[fv[c]] - oz) * sc;
+    const double wx = (m.x[fv[c + 1]] - ox) * sc, wy = (m.y[fv[c + 1]] - oy) * sc, wz = (m.z[fv[c + 1]] - oz) * sc;
     ax += uy * wz - uz * wy;
     ay += uz * wx - ux * wz;
     az += ux * wy - uy * wx;
@@ -149,9 +151,10 @@ void check_manifold(const Mesh& m, const EdgeIncidence& inc, const std::vector<i
 // a repeated consecutive vertex.
 void count_degenerate_faces(const Mesh& m, const EdgeIncidence& inc, MeshReport& r) {
   const int32_t* off = m.face_offsets.data();
-  const double threshold = kDegenerateAreaRelative * r.mean_edge_length * r.mean_edge_length;
+  const double sc = power_of_two_scale(r.mean_edge_length), hs = r.mean_edge_length * sc;
+  const double threshold = kDegenerateAreaRelative * hs * hs;
   for (int32_t f = 0; f < m.num_faces(); ++f) {
-    bool degenerate = !(face_area(m, off[f], off[f + 1]) > threshold);
+    bool degenerate = !(face_area(m, off[f], off[f + 1], sc) > threshold);
     for (int32_t c = off[f]; c < off[f + 1] && !degenerate; ++c) degenerate = inc.corner_edge[c] < 0;
     if (degenerate) {
       ++r.degenerate_faces;

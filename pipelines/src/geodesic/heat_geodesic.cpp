@@ -62,8 +62,11 @@ void check_needles(const Mesh& m) {
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     for (int k = 0; k < 3; ++k) {
       const int32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-      const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
-      const double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
+      double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
+      double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
+      const double sc = power_of_two_scale(std::max({std::abs(ux), std::abs(uy), std::abs(uz), std::abs(wx),
+                                                     std::abs(wy), std::abs(wz)}));
+      ux *= sc, uy *= sc, uz *= sc, wx *= sc, wy *= sc, wz *= sc;  // exact; no underflow at tiny scales
       const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
       const double angle = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ux * wx + uy * wy + uz * wz);
       if (angle < kMinAngle || angle > M_PI - kMinAngle) {

@@ -6,7 +6,9 @@
 // and throws locus::Error(BadInput) naming the face and vertex when an index is out
 // of range, so hostile meshes built through the API never read out of bounds.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -94,6 +96,14 @@ struct MeshReport {
 // Degenerate-face threshold: a face is degenerate when its area is not above
 // kDegenerateAreaRelative * h^2 (h = mean edge length), or not finite.
 inline constexpr double kDegenerateAreaRelative = 1e-14;
+
+// 2^-k with h * 2^-k in [1, 2): area and angle computations multiply edge
+// vectors by it so that cross products neither underflow (a mesh scaled by
+// 1e-150) nor overflow (1e150). A power of two scales exactly, so results on
+// ordinary meshes are bit-identical to the unscaled formulas (issue 22 item 3).
+inline double power_of_two_scale(double h) {
+  return h > 0 && h <= std::numeric_limits<double>::max() ? std::ldexp(1.0, -std::ilogb(h)) : 1.0;
+}
 
 MeshReport analyze_mesh(const Mesh& m);
 
