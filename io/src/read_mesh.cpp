@@ -25,11 +25,13 @@ namespace {
 
 using io::lower_extension;
 
-Mesh dispatch(std::string_view data, const std::string& format, const std::string& name, const ReadOptions& opt) {
+Mesh dispatch(std::string_view data, const std::string& format, const std::string& name, const ReadOptions& opt,
+              MeshAttributes* attributes) {
   if (data.empty()) fail(ErrorCode::BadInput, name + ": the file is empty");
+  if (attributes) *attributes = {};
   if (format == "obj") return io::read_obj(data, name, opt);
   if (format == "off") return io::read_off(data, name, opt);
-  if (format == "ply") return io::read_ply(data, name, opt);
+  if (format == "ply") return io::read_ply(data, name, opt, attributes);
   fail(ErrorCode::BadInput, name + ": unknown mesh format '" + format + "' (expected .obj, .off or .ply)");
 }
 
@@ -43,7 +45,9 @@ struct Fd {
 
 }  // namespace
 
-Mesh read_mesh(const std::string& path, const ReadOptions& opt) {
+Mesh read_mesh(const std::string& path, const ReadOptions& opt) { return read_mesh(path, opt, nullptr); }
+
+Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes) {
   const std::string ext = lower_extension(path);
   if (ext != "obj" && ext != "off" && ext != "ply")
     fail(ErrorCode::BadInput, path + ": unknown mesh file extension '" + ext + "' (expected .obj, .off or .ply)");
@@ -71,17 +75,17 @@ Mesh read_mesh(const std::string& path, const ReadOptions& opt) {
     if (r == 0) break;  // the file shrank while we read it: parse what is there
     got += static_cast<size_t>(r);
   }
-  return dispatch(std::string_view(buf.data(), got), ext, path, opt);
+  return dispatch(std::string_view(buf.data(), got), ext, path, opt, attributes);
 }
 
 Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
-                           const ReadOptions& opt) {
+                           const ReadOptions& opt, MeshAttributes* attributes) {
   std::string fmt = format;
   for (char& c : fmt)
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
   if (!fmt.empty() && fmt[0] == '.') fmt.erase(0, 1);
   if (data == nullptr && size != 0) fail(ErrorCode::BadUsage, name + ": null buffer with nonzero size");
-  return dispatch(std::string_view(data ? data : "", data ? size : 0), fmt, name, opt);
+  return dispatch(std::string_view(data ? data : "", data ? size : 0), fmt, name, opt, attributes);
 }
 
 }  // namespace locus

@@ -4,7 +4,8 @@
 // `face`, list property `vertex_indices` or `vertex_index` with any integer
 // count and index types. Every other element and property (normals, colours,
 // edges, materials, list properties such as texcoord) is skipped by its
-// declared size. `comment` and `obj_info` lines are ignored. Not from the
+// declared size, except that the vertex element's scalar properties are
+// returned as MeshAttributes when asked (issue 22 item 2). `comment` and `obj_info` lines are ignored. Not from the
 // thesis: file plumbing.
 //
 // Hostile input: before anything is allocated, the header counts are checked
@@ -263,7 +264,28 @@ class BinaryBody {
   const std::string& name_;
 };
 
-void read_binary_body(std::string_view data, const Header& h, const std::string& name, Mesh& m) {
+// The vertex element's scalar properties other than x, y, z, as attributes to
+// fill (attr_of[property] = index in attrs->vertex, or -1).
+std::vector<int> prepare_attributes(const Header& h, MeshAttributes* attrs) {
+  const Layout& L = h.layout;
+  const Element& e = h.elements[L.vertex_elem];
+  std::vector<int> attr_of(e.props.size(), -1);
+  if (!attrs) return attr_of;
+  attrs->float_positions = L.px >= 0 && e.props[L.px].type == Type::F32;
+  for (size_t pi = 0; pi < e.props.size(); ++pi) {
+    const Property& p = e.props[pi];
+    if (p.list || int(pi) == L.px || int(pi) == L.py || int(pi) == L.pz) continue;
+    using VT = VertexProperty::Type;
+    static constexpr VT kTypes[] = {VT::Int8, VT::UInt8, VT::Int16, VT::UInt16, VT::Int, VT::UInt32, VT::Float, VT::Double};
+    attr_of[pi] = static_cast<int>(attrs->vertex.size());
+    attrs->vertex.push_back({p.name, kTypes[static_cast<int>(p.type)], {}});
+    attrs->vertex.back().values.reserve(static_cast<size_t>(e.count));
+  }
+  return attr_of;
+}
+
+void read_binary_body(std::string_view data, const Header& h, const std::string& name, Mesh& m, MeshAttributes* attrs) {
+  const std::vector<int> attr_of = prepare_attributes(h, attrs);
   const bool file_le = h.format == Format::BinaryLE;
   const bool swap = file_le != (std::endian::native == std::endian::little);
   BinaryBody in(data, h.body_offset, swap, name);
@@ -291,6 +313,8 @@ void read_binary_body(std::string_view data, const Header& h, const std::string&
           if (has_list) in.need(type_size(p.type), e, item);
           if (is_vertex && (int(pi) == L.px || int(pi) == L.py || int(pi) == L.pz)) {
             c[int(pi) == L.px ? 0 : int(pi) == L.py ? 1 : 2] = in.as_double(p.type);
+          } else if (is_vertex && attr_of[pi] >= 0) {
+            attrs->vertex[attr_of[pi]].values.push_back(in.as_double(p.type));
           } else {
             in.skip(type_size(p.type));
           }
@@ -361,7 +385,8 @@ class TokenStream {
   int64_t base_;
 };
 
-void read_ascii_body(std::string_view data, const Header& h, const std::string& name, Mesh& m) {
+void read_ascii_body(std::string_view data, const Header& h, const std::string& name, Mesh& m, MeshAttributes* attrs) {
+  const std::vector<int> attr_of = prepare_attributes(h, attrs);
   // Line number of the first body line, for messages.
   int64_t header_lines = 0;
   for (size_t i = 0; i < h.body_offset; ++i) header_lines += data[i] == '\n';
@@ -390,6 +415,11 @@ void read_ascii_body(std::string_view data, const Header& h, const std::string& 
           if (is_vertex && (int(pi) == L.px || int(pi) == L.py || int(pi) == L.pz)) {
             const std::string bad = parse_coordinate(t, item, c[int(pi) == L.px ? 0 : int(pi) == L.py ? 1 : 2]);
             if (!bad.empty()) in.fail(bad);
+          } else if (is_vertex && attr_of[pi] >= 0) {
+            double v = 0;
+            if (!parse_double(t, v))
+              in.fail("vertex " + std::to_string(item) + ": property " + quote(p.name) + " is not a number: " + quote(t));
+            attrs->vertex[attr_of[pi]].values.push_back(v);
           }
           continue;
         }
@@ -436,7 +466,7 @@ void read_ascii_body(std::string_view data, const Header& h, const std::string& 
 
 }  // namespace
 
-Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt) {
+Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
   const Header h = parse_header(data, name);
   check_counts(h, data.size() - h.body_offset, name, opt);
   const int64_t nv = h.elements[h.layout.vertex_elem].count;
@@ -445,8 +475,8 @@ Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions&
   m.x.reserve(nv); m.y.reserve(nv); m.z.reserve(nv);
   m.face_offsets.reserve(nf + 1);
   m.face_vertices.reserve(3 * nf);
-  if (h.format == Format::Ascii) read_ascii_body(data, h, name, m);
-  else read_binary_body(data, h, name, m);
+  if (h.format == Format::Ascii) read_ascii_body(data, h, name, m, attributes);
+  else read_binary_body(data, h, name, m, attributes);
   finish_mesh(m, name);
   return m;
 }

@@ -42,6 +42,43 @@ using io::lower_extension;
   fail(ErrorCode::BadUsage, "write_mesh " + path + ": " + msg);
 }
 
+const char* ply_type(VertexProperty::Type t) {
+  switch (t) {
+    case VertexProperty::Type::Float: return "float";
+    case VertexProperty::Type::Double: return "double";
+    case VertexProperty::Type::Int: return "int";
+    case VertexProperty::Type::Int8: return "char";
+    case VertexProperty::Type::UInt8: return "uchar";
+    case VertexProperty::Type::Int16: return "short";
+    case VertexProperty::Type::UInt16: return "ushort";
+    case VertexProperty::Type::UInt32: return "uint";
+  }
+  return "double";
+}
+
+bool is_integer(VertexProperty::Type t) { return t != VertexProperty::Type::Float && t != VertexProperty::Type::Double; }
+
+size_t type_bytes(VertexProperty::Type t) {
+  switch (t) {
+    case VertexProperty::Type::Double: return 8;
+    case VertexProperty::Type::Int8: case VertexProperty::Type::UInt8: return 1;
+    case VertexProperty::Type::Int16: case VertexProperty::Type::UInt16: return 2;
+    default: return 4;
+  }
+}
+
+// The value range of an integer type, for validation.
+std::pair<double, double> int_range(VertexProperty::Type t) {
+  switch (t) {
+    case VertexProperty::Type::Int8: return {-128.0, 127.0};
+    case VertexProperty::Type::UInt8: return {0.0, 255.0};
+    case VertexProperty::Type::Int16: return {-32768.0, 32767.0};
+    case VertexProperty::Type::UInt16: return {0.0, 65535.0};
+    case VertexProperty::Type::UInt32: return {0.0, 4294967295.0};
+    default: return {-2147483648.0, 2147483647.0};
+  }
+}
+
 void validate(const std::string& path, const Mesh& m, const WriteOptions& opt) {
   const size_t nv = m.x.size();
   if (m.y.size() != nv || m.z.size() != nv) usage(path, "x, y, z have different lengths");
@@ -71,11 +108,13 @@ void validate(const std::string& path, const Mesh& m, const WriteOptions& opt) {
     if (p.values.size() != nv)
       usage(path, "vertex property '" + p.name + "' has " + std::to_string(p.values.size()) + " values, expected " +
                       std::to_string(nv));
-    if (p.type == VertexProperty::Type::Int)
+    if (is_integer(p.type)) {
+      const auto [lo, hi] = int_range(p.type);
       for (size_t v = 0; v < nv; ++v)
-        if (!(p.values[v] == std::trunc(p.values[v]) && p.values[v] >= -2147483648.0 && p.values[v] <= 2147483647.0))
-          usage(path, "int vertex property '" + p.name + "' has the non-integer or out-of-range value at vertex " +
-                          std::to_string(v));
+        if (!(p.values[v] == std::trunc(p.values[v]) && p.values[v] >= lo && p.values[v] <= hi))
+          usage(path, std::string(ply_type(p.type)) + " vertex property '" + p.name +
+                          "' has a non-integer or out-of-range value at vertex " + std::to_string(v));
+    }
   }
 }
 
@@ -108,13 +147,23 @@ void put_le(std::string& out, T v) {
   out.append(b, sizeof(T));
 }
 
-const char* ply_type(VertexProperty::Type t) {
+void put_property_le(std::string& out, VertexProperty::Type t, double v) {
   switch (t) {
-    case VertexProperty::Type::Float: return "float";
-    case VertexProperty::Type::Double: return "double";
-    case VertexProperty::Type::Int: return "int";
+    case VertexProperty::Type::Float: put_le(out, static_cast<float>(v)); break;
+    case VertexProperty::Type::Double: put_le(out, v); break;
+    case VertexProperty::Type::Int: put_le(out, static_cast<int32_t>(v)); break;
+    case VertexProperty::Type::Int8: put_le(out, static_cast<int8_t>(v)); break;
+    case VertexProperty::Type::UInt8: put_le(out, static_cast<uint8_t>(v)); break;
+    case VertexProperty::Type::Int16: put_le(out, static_cast<int16_t>(v)); break;
+    case VertexProperty::Type::UInt16: put_le(out, static_cast<uint16_t>(v)); break;
+    case VertexProperty::Type::UInt32: put_le(out, static_cast<uint32_t>(v)); break;
   }
-  return "double";
+}
+
+void put_property_text(std::string& out, VertexProperty::Type t, double v) {
+  if (is_integer(t)) put_num(out, static_cast<int64_t>(v));
+  else if (t == VertexProperty::Type::Float) put_num(out, static_cast<float>(v));
+  else put_num(out, v);
 }
 
 // OBJ has no vertex properties: they follow the faces as a comment block every
@@ -130,9 +179,7 @@ void append_obj_properties(std::string& out, const std::vector<VertexProperty>& 
     out += "#vp";
     for (const VertexProperty& p : props) {
       out += ' ';
-      if (p.type == VertexProperty::Type::Int) put_num(out, static_cast<int64_t>(p.values[v]));
-      else if (p.type == VertexProperty::Type::Float) put_num(out, static_cast<float>(p.values[v]));
-      else put_num(out, p.values[v]);
+      put_property_text(out, p.type, p.values[v]);
     }
     out += '\n';
   }
@@ -160,8 +207,9 @@ std::string ply(const Mesh& m, const WriteOptions& opt) {
   std::string out;
   out += "ply\nformat ";
   out += opt.binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
-  out += "comment written by locus\nelement vertex " + std::to_string(nv) +
-         "\nproperty double x\nproperty double y\nproperty double z\n";
+  const char* pos_type = opt.float_positions ? "float" : "double";
+  out += "comment written by locus\nelement vertex " + std::to_string(nv) + "\nproperty " + pos_type + " x\nproperty " +
+         pos_type + " y\nproperty " + pos_type + " z\n";
   if (opt.uv) out += "property double u\nproperty double v\n";
   for (const VertexProperty& p : opt.vertex_properties)
     out += std::string("property ") + ply_type(p.type) + " " + p.name + "\n";
@@ -169,19 +217,17 @@ std::string ply(const Mesh& m, const WriteOptions& opt) {
          " int vertex_indices\nend_header\n";
 
   if (opt.binary) {
-    size_t vbytes = 24 + (opt.uv ? 16 : 0);
-    for (const VertexProperty& p : opt.vertex_properties) vbytes += p.type == VertexProperty::Type::Double ? 8 : 4;
+    size_t vbytes = (opt.float_positions ? 12 : 24) + (opt.uv ? 16 : 0);
+    for (const VertexProperty& p : opt.vertex_properties) vbytes += type_bytes(p.type);
     out.reserve(out.size() + nv * vbytes + nf * (uchar_count ? 1 : 4) + m.face_vertices.size() * 4);
     for (size_t v = 0; v < nv; ++v) {
-      put_le(out, m.x[v]); put_le(out, m.y[v]); put_le(out, m.z[v]);
-      if (opt.uv) { put_le(out, (*opt.uv)[2 * v]); put_le(out, (*opt.uv)[2 * v + 1]); }
-      for (const VertexProperty& p : opt.vertex_properties) {
-        switch (p.type) {
-          case VertexProperty::Type::Float: put_le(out, static_cast<float>(p.values[v])); break;
-          case VertexProperty::Type::Double: put_le(out, p.values[v]); break;
-          case VertexProperty::Type::Int: put_le(out, static_cast<int32_t>(p.values[v])); break;
-        }
+      if (opt.float_positions) {
+        put_le(out, static_cast<float>(m.x[v])); put_le(out, static_cast<float>(m.y[v])); put_le(out, static_cast<float>(m.z[v]));
+      } else {
+        put_le(out, m.x[v]); put_le(out, m.y[v]); put_le(out, m.z[v]);
       }
+      if (opt.uv) { put_le(out, (*opt.uv)[2 * v]); put_le(out, (*opt.uv)[2 * v + 1]); }
+      for (const VertexProperty& p : opt.vertex_properties) put_property_le(out, p.type, p.values[v]);
     }
     for (int64_t f = 0; f < nf; ++f) {
       const int32_t k = m.face_offsets[f + 1] - m.face_offsets[f];
@@ -193,15 +239,16 @@ std::string ply(const Mesh& m, const WriteOptions& opt) {
   }
 
   for (size_t v = 0; v < nv; ++v) {
-    put_num(out, m.x[v]); out += ' '; put_num(out, m.y[v]); out += ' '; put_num(out, m.z[v]);
+    if (opt.float_positions) {
+      put_num(out, static_cast<float>(m.x[v])); out += ' '; put_num(out, static_cast<float>(m.y[v])); out += ' ';
+      put_num(out, static_cast<float>(m.z[v]));
+    } else {
+      put_num(out, m.x[v]); out += ' '; put_num(out, m.y[v]); out += ' '; put_num(out, m.z[v]);
+    }
     if (opt.uv) { out += ' '; put_num(out, (*opt.uv)[2 * v]); out += ' '; put_num(out, (*opt.uv)[2 * v + 1]); }
     for (const VertexProperty& p : opt.vertex_properties) {
       out += ' ';
-      switch (p.type) {
-        case VertexProperty::Type::Float: put_num(out, static_cast<float>(p.values[v])); break;
-        case VertexProperty::Type::Double: put_num(out, p.values[v]); break;
-        case VertexProperty::Type::Int: put_num(out, static_cast<int64_t>(p.values[v])); break;
-      }
+      put_property_text(out, p.type, p.values[v]);
     }
     out += '\n';
   }

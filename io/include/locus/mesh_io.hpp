@@ -19,23 +19,37 @@ struct ReadOptions {
   uint64_t max_bytes = uint64_t(8) << 30;
 };
 
-Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});
-// Parses an in-memory buffer; `format` is "obj", "off" or "ply"; `name` is used in messages.
-Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
-                           const ReadOptions& opt = {});
-
-// A named per-vertex property for writers.
+// A named per-vertex property (readers' attributes, writers' results).
 struct VertexProperty {
-  enum class Type { Float, Double, Int };
+  // The PLY scalar types; Int is int32.
+  enum class Type { Float, Double, Int, Int8, UInt8, Int16, UInt16, UInt32 };
   std::string name;
   Type type = Type::Double;
-  std::vector<double> values;  // nv values (ints stored exactly as doubles)
+  std::vector<double> values;  // nv values (integers and floats stored exactly as doubles)
 };
 
+// What a file holds beyond positions and faces, for carrying it to outputs
+// that keep the input's vertices (issue 22 item 2): every scalar vertex
+// property of a PLY other than x, y, z (normals nx ny nz, colours red green
+// blue alpha, texture coordinates, custom ones), in file order with their
+// types; and whether the positions were stored as float.
+struct MeshAttributes {
+  std::vector<VertexProperty> vertex;
+  bool float_positions = false;
+};
+
+Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});
+// Also fills `attributes` (when not null) with what the file holds beyond the mesh.
+Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes);
+// Parses an in-memory buffer; `format` is "obj", "off" or "ply"; `name` is used in messages.
+Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
+                           const ReadOptions& opt = {}, MeshAttributes* attributes = nullptr);
+
 struct WriteOptions {
-  std::vector<VertexProperty> vertex_properties;  // PLY: extra vertex properties
+  std::vector<VertexProperty> vertex_properties;  // PLY: extra vertex properties; OBJ: a '#vp' comment block
   const std::vector<double>* uv = nullptr;        // 2*nv texture coordinates (OBJ vt, PLY u/v)
   bool binary = true;                             // PLY: binary little endian or ascii
+  bool float_positions = false;                   // PLY: x y z as float (an input stored so stays so)
 };
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});

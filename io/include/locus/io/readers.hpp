@@ -12,6 +12,8 @@ namespace locus::io {
 
 Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt);
 Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt);
-Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt);
+// `attributes` (may be null) receives the vertex properties other than x, y, z.
+Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt,
+              MeshAttributes* attributes = nullptr);
 
 }  // namespace locus::io
