@@ -40,10 +40,16 @@ double dist2(const Mesh& m, int32_t v, const std::array<double, 3>& p) {
 struct Repairs {
   std::vector<uint8_t> taken;
   std::vector<int32_t>& out;
-  void add(int32_t v) {
-    if (taken[v]) return;
+  // The first untaken of the candidates (a defect may sit next to a site that
+  // an earlier round put on a vertex).
+  bool add(int32_t v) {
+    if (taken[v]) return false;
     taken[v] = 1;
     out.push_back(v);
+    return true;
+  }
+  void add(int32_t v, int32_t alt) {
+    if (!add(v)) add(alt);
   }
 };
 
@@ -149,7 +155,7 @@ void check_interfaces(const Mesh& m, const DualTopology& topo, std::span<const i
       ++d.defects.boundary_interfaces;
       bad = true;
     }
-    if (bad) rep.add(e.e0[r]);
+    if (bad) rep.add(e.e0[r], e.e1[r]);
   }
 }
 
@@ -215,9 +221,9 @@ void check_boundary(const Mesh& m, const DualTopology& topo, std::span<const int
       }
       i = j;
     }
-    if (runs < 3) {
+    if (runs < 3) {  // sites a third of the loop apart (small holes need one per vertex)
       ++d.defects.short_boundary_loops;
-      rep.add(loop[longest_mid]);
+      for (size_t k = 0; k < 3 && k < len; ++k) rep.add(loop[(longest_mid + k * len / 3) % len]);
     }
   }
 }
