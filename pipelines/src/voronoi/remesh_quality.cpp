@@ -13,6 +13,7 @@
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
 
@@ -23,133 +24,6 @@ using V3 = std::array<double, 3>;
 V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
-
-// Squared distance from p to triangle abc (closest point by Voronoi regions of
-// the triangle's features, Ericson "Real-Time Collision Detection" §5.1.5).
-double point_triangle_dist2(const V3& p, const V3& a, const V3& b, const V3& c) {
-  const V3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-  auto d2 = [&](const V3& q) {
-    const V3 d = sub(p, q);
-    return dot(d, d);
-  };
-  const double d1 = dot(ab, ap), d2v = dot(ac, ap);
-  if (d1 <= 0 && d2v <= 0) return d2(a);
-  const V3 bp = sub(p, b);
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return d2(b);
-  const double vc = d1 * d4 - d3 * d2v;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    return d2({a[0] + v * ab[0], a[1] + v * ab[1], a[2] + v * ab[2]});
-  }
-  const V3 cp = sub(p, c);
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return d2(c);
-  const double vb = d5 * d2v - d1 * d6;
-  if (vb <= 0 && d2v >= 0 && d6 <= 0) {
-    const double w = d2v / (d2v - d6);
-    return d2({a[0] + w * ac[0], a[1] + w * ac[1], a[2] + w * ac[2]});
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return d2({b[0] + w * (c[0] - b[0]), b[1] + w * (c[1] - b[1]), b[2] + w * (c[2] - b[2])});
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  const double v = vb * denom, w = vc * denom;
-  return d2({a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w});
-}
-
-// Uniform grid over the triangles of a mesh (each triangle in every cell its
-// bounding box overlaps); nearest-triangle queries search shells of cells
-// outward until the shell is farther than the best distance found.
-class TriangleGrid {
- public:
-  explicit TriangleGrid(const Mesh& m) : m_(m) {
-    const int32_t nf = m.num_faces();
-    for (int c = 0; c < 3; ++c) {
-      lo_[c] = INFINITY;
-      hi_[c] = -INFINITY;
-    }
-    for (int32_t v = 0; v < m.num_vertices(); ++v) {
-      const V3 p = pos(m, v);
-      for (int c = 0; c < 3; ++c) {
-        lo_[c] = std::min(lo_[c], p[c]);
-        hi_[c] = std::max(hi_[c], p[c]);
-      }
-    }
-    const double ext = std::max({hi_[0] - lo_[0], hi_[1] - lo_[1], hi_[2] - lo_[2], 1e-300});
-    // About two triangles per cell along the surface: cells of side ~ 2 sqrt(area / nf).
-    const double side = ext / std::clamp(std::cbrt(static_cast<double>(std::max(nf, 1))) * 2.0, 1.0, 256.0);
-    cell_ = side;
-    for (int c = 0; c < 3; ++c) dim_[c] = std::max(1, static_cast<int>((hi_[c] - lo_[c]) / side) + 1);
-    const size_t ncell = static_cast<size_t>(dim_[0]) * dim_[1] * dim_[2];
-    std::vector<int64_t> count(ncell + 1, 0);
-    auto each_cell = [&](int32_t f, const std::function<void(size_t)>& g) {
-      const auto fv = m.face(f);
-      int lo[3], hi[3];
-      for (int c = 0; c < 3; ++c) {
-        double a = INFINITY, b = -INFINITY;
-        for (int32_t v : fv) {
-          const double x = c == 0 ? m.x[v] : c == 1 ? m.y[v] : m.z[v];
-          a = std::min(a, x);
-          b = std::max(b, x);
-        }
-        lo[c] = index(c, a);
-        hi[c] = index(c, b);
-      }
-      for (int i = lo[0]; i <= hi[0]; ++i)
-        for (int j = lo[1]; j <= hi[1]; ++j)
-          for (int k = lo[2]; k <= hi[2]; ++k) g((static_cast<size_t>(i) * dim_[1] + j) * dim_[2] + k);
-    };
-    for (int32_t f = 0; f < nf; ++f) each_cell(f, [&](size_t c) { ++count[c + 1]; });
-    for (size_t c = 0; c < ncell; ++c) count[c + 1] += count[c];
-    offsets_ = count;
-    faces_.resize(static_cast<size_t>(offsets_[ncell]));
-    for (int32_t f = 0; f < nf; ++f) each_cell(f, [&](size_t c) { faces_[count[c]++] = f; });
-  }
-
-  // Distance from p to the nearest triangle (fan-triangulated polygons).
-  double distance(const V3& p) const {
-    int ci[3];
-    for (int c = 0; c < 3; ++c) ci[c] = index(c, p[c]);
-    double best = INFINITY;
-    const int maxr = std::max({dim_[0], dim_[1], dim_[2]});
-    for (int r = 0; r <= maxr; ++r) {
-      // Points outside the box: the shell bound counts from the clamped cell.
-      double out = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double d = std::max({lo_[c] - p[c], p[c] - hi_[c], 0.0});
-        out += d * d;
-      }
-      const double shell = std::max(0.0, (r - 1) * cell_);
-      if (best < INFINITY && best <= shell * shell + out) break;
-      for (int i = ci[0] - r; i <= ci[0] + r; ++i)
-        for (int j = ci[1] - r; j <= ci[1] + r; ++j)
-          for (int k = ci[2] - r; k <= ci[2] + r; ++k) {
-            if (std::max({std::abs(i - ci[0]), std::abs(j - ci[1]), std::abs(k - ci[2])}) != r) continue;
-            if (i < 0 || j < 0 || k < 0 || i >= dim_[0] || j >= dim_[1] || k >= dim_[2]) continue;
-            const size_t c = (static_cast<size_t>(i) * dim_[1] + j) * dim_[2] + k;
-            for (int64_t q = offsets_[c]; q < offsets_[c + 1]; ++q) {
-              const auto fv = m_.face(faces_[q]);
-              for (size_t t = 1; t + 1 < fv.size(); ++t)
-                best = std::min(best, point_triangle_dist2(p, pos(m_, fv[0]), pos(m_, fv[t]), pos(m_, fv[t + 1])));
-            }
-          }
-    }
-    return std::sqrt(best);
-  }
-
- private:
-  int index(int c, double x) const {
-    return std::clamp(static_cast<int>(std::floor((x - lo_[c]) / cell_)), 0, dim_[c] - 1);
-  }
-  const Mesh& m_;
-  double lo_[3], hi_[3], cell_ = 1;
-  int dim_[3] = {1, 1, 1};
-  std::vector<int64_t> offsets_;
-  std::vector<int32_t> faces_;
-};
 
 double max_over(int64_t count, const std::function<double(int64_t)>& f) {
   return tbb::parallel_reduce(
@@ -197,7 +71,7 @@ double hausdorff_distance(const Mesh& a, const Mesh& b) {
   };
   const double ba = std::max(max_over(b.num_vertices(), [&](int64_t v) { return ga.distance(pos(b, static_cast<int32_t>(v))); }),
                              samples_to(b, ga));
-  return std::max({ab, ba, samples_to(a, gb)});
+  return std::max(ab, ba);
 }
 
 RemeshStats mesh_topology_stats(const Mesh& m) {

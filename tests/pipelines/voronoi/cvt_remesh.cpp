@@ -343,7 +343,7 @@ double brute_to_mesh(const std::array<double, 3>& p, const Mesh& m) {
   return best;
 }
 
-// The header's samples: vertices both ways, seven points per triangle both ways.
+// The header's samples: vertices both ways, seven points per triangle of b.
 double brute_hausdorff(const Mesh& a, const Mesh& b) {
   const double w[7][3] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},      {4 / 6., 1 / 6., 1 / 6.},
                           {1 / 6., 4 / 6., 1 / 6.}, {1 / 6., 1 / 6., 4 / 6.}, {1 / 3., 1 / 3., 1 / 3.}};
@@ -352,6 +352,7 @@ double brute_hausdorff(const Mesh& a, const Mesh& b) {
     const Mesh& s = dir ? b : a;
     const Mesh& t = dir ? a : b;
     for (int32_t v = 0; v < s.num_vertices(); ++v) h = std::max(h, brute_to_mesh(P(s, v), t));
+    if (dir == 0) continue;
     for (int32_t f = 0; f < s.num_faces(); ++f)
       for (const auto& c : w) {
         const auto p0 = P(s, s.f0[f]), p1 = P(s, s.f1[f]), p2 = P(s, s.f2[f]);

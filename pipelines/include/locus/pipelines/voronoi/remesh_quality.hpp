@@ -4,13 +4,13 @@
 // geogram's vorpalite and the thesis' Table 3.7.1 report) and the two-sided
 // Hausdorff distance to the input relative to its bounding-box diagonal.
 //
-// Hausdorff: max of (a) the distance from every input vertex to the remesh and
-// (b) the distance from samples of every remesh triangle (its corners, edge
-// midpoints and the barycentric points (4,1,1)/6, (1,4,1)/6, (1,1,4)/6, (1,1,1)/3)
-// to the input; distances to triangles are exact, found through a uniform grid
-// over the other mesh's triangles. Sampled, so a lower bound of the true
-// Hausdorff distance, tight to within the samples' spacing of a remesh triangle's
-// deviation (which is smooth over a triangle).
+// Hausdorff between a (the input) and b (the remesh): max of (a) the distance
+// from every vertex of a to b and (b) the distance from b's vertices and samples
+// of every triangle of b (edge midpoints and the barycentric points (4,1,1)/6,
+// (1,4,1)/6, (1,1,4)/6, (1,1,1)/3) to a; distances to triangles are exact, found
+// through a uniform grid (triangle_grid.hpp). Sampled, so a lower bound of the
+// true Hausdorff distance: the input, much finer than the remesh, is sampled at
+// its vertices, the remesh's deviation (smooth over a triangle) at seven points.
 #pragma once
 #include <cstdint>
 
