@@ -45,6 +45,7 @@ struct CvtOptions {
   std::string labels_out, sites_out;
   int repair_rounds = RemeshOptions{}.max_repair_rounds;
   bool no_hausdorff = false;
+  int optimize_rounds = RemeshOptions{}.optimize_rounds;
 };
 
 LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts) {
@@ -113,6 +114,10 @@ Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
          {"pct_below_30_deg", st.pct_below_30_deg},
          {"hausdorff_rel", st.hausdorff_rel},
          {"added_sites", rr.added_sites}};
+  j["dual_mean_min_angle_deg"] = rr.dual_mean_min_angle_deg;  // before the optimization
+  j["dual_min_angle_deg"] = rr.dual_min_angle_deg;
+  j["flips"] = rr.optimize.flips;
+  j["smoothing_moves"] = rr.optimize.moves;
   j["repair_rounds"] = rr.repair_rounds;
   j["lloyd_iterations"] = rr.lloyd_iterations;
   j["defects_before_repair"] = defects_json(rr.first_defects);
@@ -206,6 +211,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   RemeshOptions ro;
   ro.lloyd = lloyd_options(opt, o, ts);
   ro.max_repair_rounds = o.repair_rounds;
+  ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
   const bool json = opt.json;
   run.progress = [json](double f, std::string_view phase) {
@@ -257,7 +263,8 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["remesh"]["input"] = {{"genus", in_st.genus}, {"components", in_st.components},
                           {"boundary_loops", in_st.boundary_loops}};
   j["timings_s"] = {{"load", load_s},          {"factor", factor_s + rr.factor_s}, {"lloyd", rr.lloyd_s},
-                    {"repair", rr.repair_s},   {"dual", rr.dual_s},                {"write", write_s},
+                    {"repair", rr.repair_s},   {"dual", rr.dual_s},                {"optimize", rr.optimize_s},
+                    {"write", write_s},
                     {"total", total_s},        {"stats", stats_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": CVT of " << o.sites << " sites on " << mesh.num_vertices() << " vertices, "
@@ -318,6 +325,9 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--repair-rounds", o->repair_rounds,
                   "Rounds of added sites that make the remesh a manifold (default 12)")
       ->check(CLI::Range(0, 1000));
+  app->add_option("--optimize", o->optimize_rounds,
+                  "Rounds of edge flips and tangential smoothing of the remesh on the input (default 4; 0 = the dual as is)")
+      ->check(CLI::Range(0, 100));
   app->add_flag("--no-hausdorff", o->no_hausdorff, "Skip the Hausdorff distance of the remesh (JSON -1)");
   app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }

@@ -8,6 +8,8 @@
 #include "locus/error.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
+#include "locus/pipelines/voronoi/remesh_quality.hpp"
+#include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
 
@@ -50,6 +52,18 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.complete = dual.defects.total() == 0;
   if (r.complete) r.remesh = dual_mesh(m, dual, r.lloyd.sites, r.vertex_site);
   r.dual_s += sw.lap();
+  if (r.complete) {
+    const RemeshStats raw = remesh_stats(m, r.remesh, false);
+    r.dual_mean_min_angle_deg = raw.mean_min_angle_deg;
+    r.dual_min_angle_deg = raw.min_angle_deg;
+    if (o.optimize_rounds > 0) {
+      const TriangleGrid grid(m);
+      RemeshOptimizeOptions oo;
+      oo.rounds = o.optimize_rounds;
+      r.optimize = optimize_remesh(m, grid, r.remesh, oo);
+    }
+    r.optimize_s = sw.lap();
+  }
   return r;
 }
 

@@ -8,7 +8,8 @@
 // sites (so the new cells take their share of the surface), and the labels of
 // the final sites are checked again; at most `max_repair_rounds` rounds, the
 // last one without relaxation. The isotropic operator is factored once and
-// shared by every round (or taken from LloydOptions::prepared).
+// shared by every round (or taken from LloydOptions::prepared). The manifold
+// dual is then optimized on the input (remesh_optimize.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/remesh_optimize.hpp"
 #include "locus/pipelines/voronoi/restricted_dual.hpp"
 #include "locus/run_context.hpp"
 
@@ -24,7 +26,9 @@ namespace locus {
 struct RemeshOptions {
   LloydOptions lloyd;
   int max_repair_rounds = 12;
-  int relax_iterations = 2;
+  int relax_iterations = 0;
+  // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
+  int optimize_rounds = RemeshOptimizeOptions{}.rounds;
 };
 
 struct RemeshResult {
@@ -41,6 +45,10 @@ struct RemeshResult {
   double lloyd_s = 0;             // the first Lloyd run
   double repair_s = 0;            // repair rounds (their Lloyd iterations and labels)
   double dual_s = 0;              // defect checks and the dual mesh, all rounds
+  // The dual before optimization: mean and min over triangles of the smallest angle.
+  double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;
+  RemeshOptimizeStats optimize;
+  double optimize_s = 0;          // the input's triangle grid, flips and smoothing
 };
 
 RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx);
