@@ -46,12 +46,14 @@ struct CvtOptions {
   int repair_rounds = RemeshOptions{}.max_repair_rounds;
   bool no_hausdorff = false;
   int optimize_rounds = RemeshOptions{}.optimize_rounds;
+  double stop_energy = 0.0;
 };
 
 LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts) {
   LloydOptions lo;
   lo.sites = o.sites;
   lo.iterations = o.iterations;
+  lo.stop_energy = o.stop_energy;
   lo.seed = opt.seed;
   lo.solver = o.solver == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
   lo.anisotropy = o.anisotropy;
@@ -143,6 +145,7 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
   j["n"] = mesh.num_vertices();
   j["sites"] = o.sites;
   j["iterations"] = o.iterations;
+  j["stop_energy"] = o.stop_energy;
   j["seed"] = opt.seed;
   j["solver"] = o.solver;
   j["anisotropy"] = o.anisotropy;
@@ -303,6 +306,9 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--sites", o->sites, "Number of sites (random initial positions, --seed)")
       ->check(CLI::Range(1, 100000000));
   app->add_option("--iters", o->iterations, "Lloyd iterations (default 10)")->check(CLI::Range(0, 1000000));
+  app->add_option("--stop-energy", o->stop_energy,
+                  "Stop Lloyd once an iteration lowers the CVT energy by less than this fraction (default 0: all --iters)")
+      ->check(CLI::Range(0.0, 1.0));
   app->add_option("--anisotropy", o->anisotropy, "lambda of the R^6 lift (p, lambda n); 0 = isotropic (thesis: 0.05)")
       ->check(CLI::Range(0.0, 1e6));
   app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");

@@ -384,6 +384,8 @@ const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, st
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (!(opt.stop_energy >= 0) || !std::isfinite(opt.stop_energy))
+    fail(ErrorCode::BadUsage, "cvt: stop_energy must be a finite number >= 0");
   if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
     fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
   if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
@@ -902,7 +904,11 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   const LloydInputs in{m, opt, ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
   LloydLoop loop(in, sites, std::move(nb), r);
-  for (int32_t it = 0; it < opt.iterations; ++it) loop.iterate(it);
+  for (int32_t it = 0; it < opt.iterations; ++it) {
+    loop.iterate(it);
+    const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
+    if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
+  }
   loop.finish();
   return r;
 }

@@ -27,7 +27,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     r.factor_s = sw.lap();
   }
   r.lloyd = cvt_lloyd(m, d, lo, ctx);
-  r.lloyd_iterations = lo.iterations;
+  r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   r.lloyd_s = sw.lap();
   const DualTopology topo = dual_topology(m);
   RestrictedDual dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
@@ -41,8 +41,8 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     LloydOptions ro = lo;
     // The last rounds only relabel: relaxation could open new defects elsewhere.
     ro.iterations = round + 2 < o.max_repair_rounds ? o.relax_iterations : 0;
-    r.lloyd_iterations += ro.iterations;
     r.lloyd = cvt_lloyd(m, d, std::move(sites), ro, ctx);
+    r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     ++r.repair_rounds;
     r.repair_s += sw.lap();
     dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);

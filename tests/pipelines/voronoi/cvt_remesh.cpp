@@ -387,3 +387,26 @@ TEST_CASE("remesh quality: Hausdorff distance equals brute force; angles of a kn
   CHECK(s.boundary_loops == 1);
   CHECK(s.genus == 0);
 }
+
+TEST_CASE("cvt: the energy stopping rule stops at the first iteration that lowers the energy by less than the fraction") {
+  const Mesh m = make_icosphere(4);
+  LloydOptions o;
+  o.sites = 60;
+  o.iterations = 200;
+  o.stop_energy = 2e-3;
+  const LloydResult r = cvt_lloyd(m, o, {});
+  const std::vector<double>& e = r.energy;
+  REQUIRE(e.size() >= 2);
+  CHECK(e.size() < 200);
+  CHECK(r.iter_s.size() == e.size());
+  CHECK(e[e.size() - 2] - e.back() < 2e-3 * e.back());
+  for (size_t k = 1; k + 1 < e.size(); ++k) CHECK(e[k - 1] - e[k] >= 2e-3 * e[k]);
+  // Without the rule: all iterations, the same first ones (the rule only stops).
+  o.stop_energy = 0;
+  o.iterations = static_cast<int32_t>(e.size()) + 3;
+  const LloydResult full = cvt_lloyd(m, o, {});
+  CHECK(full.energy.size() == e.size() + 3);
+  for (size_t k = 0; k < e.size(); ++k) CHECK(full.energy[k] == e[k]);
+  o.stop_energy = -1;
+  CHECK_THROWS_AS(cvt_lloyd(m, o, {}), Error);
+}
