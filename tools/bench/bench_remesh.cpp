@@ -2,7 +2,8 @@
 // `locus cvt MESH --sites N -o out.obj` runs it, timed from loading the mesh to
 // the written file (read, --subdivide, factor, Lloyd, repair, dual,
 // optimization, write), --repeats times per site count; medians of the wall
-// time and of every phase, the remesh's quality (remesh_quality.hpp: topology,
+// time, of the process CPU time (which the machine's load does not inflate)
+// and of every phase, the remesh's quality (remesh_quality.hpp: topology,
 // per-triangle smallest angles, Hausdorff distance; computed after the timed
 // part) and the issue's targets: geogram vorpalite's wall time measured on this
 // machine for the same input and point count (quoted from issue 23: armadillo
@@ -11,6 +12,7 @@
 // mean smallest angle >= 51, global smallest >= 25 at 2,000 sites,
 // hausdorff_rel <= 1% at 5,000, mean >= 51 at 416k). One JSON object.
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -57,6 +59,7 @@ double geogram_wall(int32_t nv, int32_t sites) {
 }
 
 struct Run {
+  double cpu = 0;  // process CPU seconds (all threads) of the timed part: a figure the machine's load does not inflate
   double total = 0, load = 0, factor = 0, lloyd = 0, repair = 0, dual = 0, optimize = 0, write = 0;
   RemeshResult rr;
   Mesh mesh;
@@ -65,6 +68,7 @@ struct Run {
 Run run_once(const cli::CommonOptions& opt, const RemeshBenchOptions& o, int32_t sites, const std::string& out,
              const RunContext& ctx) {
   Run r;
+  const std::clock_t cpu0 = std::clock();
   const cli::Stopwatch total;
   cli::Input in = cli::load_input(opt, ctx);
   r.load = total.seconds();
@@ -83,6 +87,7 @@ Run run_once(const cli::CommonOptions& opt, const RemeshBenchOptions& o, int32_t
   write_mesh(out, r.rr.remesh);
   r.write = phase.seconds();
   r.total = total.seconds();
+  r.cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   r.lloyd = r.rr.lloyd_s;
   r.repair = r.rr.repair_s;
   r.dual = r.rr.dual_s;
@@ -112,11 +117,12 @@ int run_remesh_bench(const cli::CommonOptions& opt, const RemeshBenchOptions& o,
   Json rows = Json::array();
   for (int32_t sites : counts) {
     const std::string out = dir + "/locus_bench_remesh_" + std::to_string(sites) + ".obj";
-    std::vector<double> total, load, factor, lloyd, repair, dual, optimize, write;
+    std::vector<double> cpu, total, load, factor, lloyd, repair, dual, optimize, write;
     Run last;
     for (int rep = 0; rep < o.repeats; ++rep) {
       last = run_once(opt, o, sites, out, ctx);
       total.push_back(last.total);
+      cpu.push_back(last.cpu);
       load.push_back(last.load);
       factor.push_back(last.factor);
       lloyd.push_back(last.lloyd);
@@ -134,6 +140,7 @@ int run_remesh_bench(const cli::CommonOptions& opt, const RemeshBenchOptions& o,
     Json row{{"sites", sites},
              {"input_vertices", last.mesh.num_vertices()},
              {"wall_s", wall},
+             {"cpu_s", cli::median(cpu)},
              {"phase_s",
               {{"load", cli::median(load)}, {"factor", cli::median(factor)}, {"lloyd", cli::median(lloyd)},
                {"repair", cli::median(repair)}, {"dual", cli::median(dual)}, {"optimize", cli::median(optimize)},
