@@ -132,26 +132,40 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
       const V3 p0 = pos(m, t[0]), p1 = pos(m, t[1]), p2 = pos(m, t[2]);
       const V3 nn = tri_normal(p0, p1, p2);
       const double a = 0.5 * norm(nn);
-      for (int k = 0; k < 3; ++k) {
-        c[k] += a * (p0[k] + p1[k] + p2[k]) / 3;
-        nv[k] += nn[k];
-      }
+      for (int k = 0; k < 3; ++k) nv[k] += nn[k];
       area += a;
     }
     const double ln = norm(nv);
     if (!(area > 0) || !(ln > 0)) return;
-    for (int k = 0; k < 3; ++k) {
-      c[k] /= area;
-      nv[k] /= ln;
+    for (int k = 0; k < 3; ++k) nv[k] /= ln;
+    {  // the target: the mean of the ring's vertices (each counted once per incident triangle)
+      V3 u{0, 0, 0};
+      int cnt = 0;
+      for (int64_t q = off[v]; q < off[v + 1]; ++q)
+        for (int32_t w : F[vf[q]])
+          if (w != v) {
+            u[0] += m.x[w];
+            u[1] += m.y[w];
+            u[2] += m.z[w];
+            ++cnt;
+          }
+      for (int k = 0; k < 3; ++k) c[k] = u[k] / cnt;
     }
     V3 d = sub(c, next[v]);
     const double dn = dot(d, nv);
     for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
     const V3 target = {next[v][0] + d[0], next[v][1] + d[1], next[v][2] + d[2]};
     // Tips and ridges (an incident triangle turned more than 60 degrees from the
-    // vertex normal) keep their vertex: moving it would cut the feature off.
+    // vertex normal) keep their vertex: moving it would cut the feature off;
+    // unless one of its triangles has an angle below 20 degrees (docs/cvt.md).
     const double cos_pin = 0.5;
+    const double unpin = M_PI / 9;
+    double worst = M_PI;
     for (int64_t q = off[v]; q < off[v + 1]; ++q) {
+      const auto& t = F[vf[q]];
+      worst = std::min(worst, min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])));
+    }
+    for (int64_t q = off[v]; q < off[v + 1] && worst >= unpin; ++q) {
       const auto& t = F[vf[q]];
       const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
       if (dot(nn, nv) < cos_pin * norm(nn)) {

@@ -10,14 +10,17 @@
 //       remeshing does; no new angle below min(old, 20 degrees)); every flip
 //       needs the two triangles nearly coplanar (normals within 30 degrees),
 //       and its new edge must not exist yet;
-//   (2) tangential Lloyd smoothing: each interior vertex moves, in its tangent
-//       plane, to the area-weighted centroid of its triangles, then back onto
+//   (2) tangential smoothing: each interior vertex moves, in its tangent
+//       plane, to the mean of its ring's vertices (each once per incident
+//       triangle; it beat the area-weighted centroid of the triangles and the
+//       ODT circumcenter mean on armadillo, docs/cvt.md), then back onto
 //       the input (nearest point, triangle_grid.hpp); a move is kept only if no
 //       incident triangle turns over and the input's normal there agrees with
 //       the vertex normal (so a vertex never jumps across a thin part); tips
 //       and ridges (an incident triangle more than 60 degrees off the vertex
-//       normal) stay, which keeps the Hausdorff distance near the dual's;
-// raise the mean smallest angle by ~4 degrees and the smallest by ~15 on
+//       normal) stay unless one of their triangles has an angle below 20
+//       degrees, which keeps the Hausdorff distance near the dual's;
+// raise the mean smallest angle by ~5 degrees and the smallest by ~15 on
 // armadillo (docs/cvt.md). Neither step changes the topology: flips keep every edge in two triangles and never duplicate an
 // edge; moves change no connectivity. Boundary vertices stay where the dual put
 // them (on the input's boundary).
