@@ -84,9 +84,14 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
     const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
     const V3 n1 = tri_normal(pc, pa, pd), n2 = tri_normal(pd, pb, pc);
     const double la = norm(na), lb = norm(nb), l1 = norm(n1), l2 = norm(n2);
-    if (!(la > 0 && lb > 0 && l1 > 0 && l2 > 0)) continue;
-    if (dot(na, nb) < cos30 * la * lb || dot(n1, n2) < cos30 * l1 * l2) continue;
-    const V3 navg = {na[0] / la + nb[0] / lb, na[1] / la + nb[1] / lb, na[2] / la + nb[2] / lb};
+    if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
+    if (dot(n1, n2) < cos30 * l1 * l2) continue;
+    // A degenerate triangle (collinear sites, e.g. added on a straight input
+    // edge) has no normal: its neighbor's orients the flip that removes it.
+    if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) continue;
+    const V3 navg = {(la > 0 ? na[0] / la : 0) + (lb > 0 ? nb[0] / lb : 0),
+                     (la > 0 ? na[1] / la : 0) + (lb > 0 ? nb[1] / lb : 0),
+                     (la > 0 ? na[2] / la : 0) + (lb > 0 ? nb[2] / lb : 0)};
     if (dot(n1, navg) <= 0 || dot(n2, navg) <= 0) continue;
     const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
     const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
@@ -154,7 +159,6 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
     V3 d = sub(c, next[v]);
     const double dn = dot(d, nv);
     for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
-    const V3 target = {next[v][0] + d[0], next[v][1] + d[1], next[v][2] + d[2]};
     // Tips and ridges (an incident triangle turned more than 60 degrees from the
     // vertex normal) keep their vertex: moving it would cut the feature off;
     // unless one of its triangles has an angle below 20 degrees (docs/cvt.md).
@@ -173,24 +177,34 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
         return;
       }
     }
-    const ClosestPoint cp = grid.closest(target);
-    bool ok = cp.face >= 0;
-    if (ok) {
-      const auto fv = input.face(cp.face);
-      const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
-      ok = dot(ni, nv) > 0.5 * norm(ni);
-    }
-    for (int64_t q = off[v]; ok && q < off[v + 1]; ++q) {  // no incident triangle turns over
-      std::array<V3, 3> p, p_new;
-      for (int k = 0; k < 3; ++k) {
-        p[k] = pos(m, F[vf[q]][k]);
-        p_new[k] = F[vf[q]][k] == v ? cp.point : p[k];
+    // The full move, else half, else a quarter (a vertex squeezed between close
+    // neighbors can still spread out).
+    for (double step : {1.0, 0.5, 0.25}) {
+      const V3 goal = {next[v][0] + step * d[0], next[v][1] + step * d[1], next[v][2] + step * d[2]};
+      const ClosestPoint cp = grid.closest(goal);
+      bool ok = cp.face >= 0;
+      if (ok) {
+        const auto fv = input.face(cp.face);
+        const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+        ok = dot(ni, nv) > 0.5 * norm(ni);
       }
-      const V3 n0 = tri_normal(p[0], p[1], p[2]), n1 = tri_normal(p_new[0], p_new[1], p_new[2]);
-      ok = dot(n0, n1) > 0.5 * norm(n0) * norm(n1);
+      for (int64_t q = off[v]; ok && q < off[v + 1]; ++q) {  // no incident triangle turns over
+        std::array<V3, 3> p, p_new;
+        for (int k = 0; k < 3; ++k) {
+          p[k] = pos(m, F[vf[q]][k]);
+          p_new[k] = F[vf[q]][k] == v ? cp.point : p[k];
+        }
+        const V3 n0 = tri_normal(p[0], p[1], p[2]), n1 = tri_normal(p_new[0], p_new[1], p_new[2]);
+        // A degenerate triangle (no normal) may open up in the vertex normal's direction.
+        ok = norm(n0) > 0 ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
+      }
+      if (ok) {
+        state[v] = 1;
+        next[v] = cp.point;
+        return;
+      }
     }
-    state[v] = ok ? 1 : 2;
-    if (ok) next[v] = cp.point;
+    state[v] = 2;
   });
   for (int32_t v = 0; v < n; ++v) {
     m.x[v] = next[v][0];

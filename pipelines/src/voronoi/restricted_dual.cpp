@@ -264,8 +264,12 @@ RestrictedDual restricted_dual(const Mesh& m, const DualTopology& topo, std::spa
                                     std::to_string(label[v]) + ", outside 0.." + std::to_string(ns - 1));
   RestrictedDual d;
   Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices};
-  for (const SurfacePoint& p : sites)
+  for (const SurfacePoint& p : sites) {  // a site at a vertex (or at a face's corner) takes it
     if (p.face < 0 && p.vertex >= 0 && p.vertex < n) rep.taken[p.vertex] = 1;
+    if (p.face >= 0)
+      for (int k = 0; k < 3; ++k)
+        if (p.bary[k] >= 1 - 1e-9) rep.taken[m.face(p.face)[k]] = 1;
+  }
   check_cells(m, topo, label, sites, d, rep);
   check_interfaces(m, topo, label, d, rep);
   check_corners(m, label, d, rep);
