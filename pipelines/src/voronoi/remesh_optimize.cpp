@@ -83,7 +83,10 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
     }
     const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
     const V3 n1 = tri_normal(pc, pa, pd), n2 = tri_normal(pd, pb, pc);
-    const double la = norm(na), lb = norm(nb), l1 = norm(n1), l2 = norm(n2);
+    // Degenerate (collinear) triangles have only a rounding-noise normal: zero it.
+    const double scale = std::max({dot(sub(pa, pb), sub(pa, pb)), dot(sub(pc, pa), sub(pc, pa)), dot(sub(pd, pa), sub(pd, pa))});
+    auto tiny = [&](double l) { return l <= 1e-12 * scale ? 0.0 : l; };
+    const double la = tiny(norm(na)), lb = tiny(norm(nb)), l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
     if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
     if (dot(n1, n2) < cos30 * l1 * l2) continue;
     // A degenerate triangle (collinear sites, e.g. added on a straight input
@@ -195,8 +198,11 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
           p_new[k] = F[vf[q]][k] == v ? cp.point : p[k];
         }
         const V3 n0 = tri_normal(p[0], p[1], p[2]), n1 = tri_normal(p_new[0], p_new[1], p_new[2]);
-        // A degenerate triangle (no normal) may open up in the vertex normal's direction.
-        ok = norm(n0) > 0 ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
+        // A degenerate triangle (no normal beyond rounding noise) may open up in
+        // the vertex normal's direction.
+        const double scale = std::max({dot(sub(p[1], p[0]), sub(p[1], p[0])), dot(sub(p[2], p[0]), sub(p[2], p[0])),
+                                       dot(sub(p[2], p[1]), sub(p[2], p[1]))});
+        ok = norm(n0) > 1e-12 * scale ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
       }
       if (ok) {
         state[v] = 1;
