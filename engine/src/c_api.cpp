@@ -8,6 +8,7 @@
 #include "locus/locus.h"
 
 #include <algorithm>
+#include <memory>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -335,6 +336,66 @@ locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, 
 locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed, int32_t* out_labels_nv) {
   return locus_cvt_ex(session, sites, iters, seed, out_labels_nv, nullptr, nullptr);
 }
+
+}  // extern "C"
+
+struct locus_remesh {
+  locus::CvtResult r;
+};
+
+extern "C" {
+
+locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                              const locus_run_options* opts, locus_remesh** out) {
+  return guarded("locus_cvt_remesh", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    if (sites < 1 || sites > s.num_vertices())
+      fail(ErrorCode::BadUsage, "sites = " + std::to_string(sites) + " is not in 1.." +
+                                    std::to_string(s.num_vertices()) + " (the vertex count)");
+    if (iters < 0 || iters > kMaxIterations)
+      fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
+    CallContext cc(opts);
+    if (cc.t_factor != 1.0)
+      fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
+    auto h = std::make_unique<locus_remesh>();
+    h->r = s.cvt(sites, iters, seed, cc.ctx, true);
+    if (!h->r.remeshed)
+      fail(ErrorCode::Numerical, "the cells still break the closed-ball property after the repair rounds; "
+                                 "no manifold remesh (try more sites)");
+    *out = h.release();
+  });
+}
+
+locus_status locus_remesh_get(const locus_remesh* remesh, double* out_xyz, int32_t* out_tris) {
+  return guarded("locus_remesh_get", [&] {
+    require(remesh != nullptr, "remesh is NULL");
+    if (out_xyz) std::copy(remesh->r.remesh_xyz.begin(), remesh->r.remesh_xyz.end(), out_xyz);
+    if (out_tris) std::copy(remesh->r.remesh_triangles.begin(), remesh->r.remesh_triangles.end(), out_tris);
+  });
+}
+
+locus_status locus_remesh_get_stats(const locus_remesh* remesh, locus_remesh_stats* out) {
+  return guarded("locus_remesh_get_stats", [&] {
+    require(remesh != nullptr, "remesh is NULL");
+    require(out != nullptr, "out is NULL");
+    const locus::CvtResult& r = remesh->r;
+    *out = locus_remesh_stats{};
+    out->vertices = static_cast<int64_t>(r.remesh_xyz.size() / 3);
+    out->faces = static_cast<int64_t>(r.remesh_triangles.size() / 3);
+    out->manifold = r.remeshed ? 1 : 0;
+    out->genus = r.remesh_genus;
+    out->components = r.remesh_components;
+    out->boundary_loops = r.remesh_boundary_loops;
+    out->mean_min_angle_deg = r.mean_min_angle_deg;
+    out->min_angle_deg = r.min_angle_deg;
+    out->pct_below_30_deg = r.pct_below_30_deg;
+    out->hausdorff_rel = r.hausdorff_rel;
+    out->added_sites = r.added_sites;
+  });
+}
+
+void locus_remesh_destroy(locus_remesh* remesh) { delete remesh; }
 
 locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
                                const int64_t* targets, int64_t n_targets, double* out,

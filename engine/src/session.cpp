@@ -37,6 +37,8 @@
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/cvt_remesh.hpp"
+#include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
@@ -366,27 +368,50 @@ std::vector<double> Session::heat_values(std::span<const int32_t> sources, std::
   return out;
 }
 
-CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx) const {
+CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx, bool remesh) const {
   const std::shared_ptr<State> s = impl_->current();
   if (sites < 1 || sites > impl_->nv)
     fail(ErrorCode::BadUsage, "cvt: the number of sites must be in 1.." + std::to_string(impl_->nv) +
                                   " (the vertex count), got " + std::to_string(sites));
   if (iterations < 0)
     fail(ErrorCode::BadUsage, "cvt: the number of iterations must be >= 0, got " + std::to_string(iterations));
-  // Random initial sites can miss a small component, which cvt_lloyd refuses
-  // (every component needs a site); the Session asks for a connected mesh up
-  // front so the answer does not depend on the seed.
-  if (impl_->components > 1)
-    fail(ErrorCode::BadInput, "cvt: " + mesh_name(s->mesh) + " has " + std::to_string(impl_->components) +
-                                  " connected components; cvt needs a connected mesh");
+  // Every component gets a site (cvt_lloyd moves random sites into missed ones).
+  if (sites < impl_->components)
+    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(sites) + " sites for the " +
+                                  std::to_string(impl_->components) + " connected components of " +
+                                  mesh_name(s->mesh) + "; every component needs a site");
   LloydOptions o;
   o.sites = sites;
   o.iterations = iterations;
   o.seed = seed;
   const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, ctx);
   o.prepared = H.get();  // kLloydTFactor = cvt_lloyd's default: the same operator, bit for bit
-  const LloydResult lr = cvt_lloyd(s->mesh, *s->derived, o, ctx);  // the mesh was checked once, by the Session
   CvtResult r;
+  LloydResult lr;
+  if (remesh) {
+    RemeshOptions ro;
+    ro.lloyd = o;
+    RemeshResult rr = cvt_remesh(s->mesh, *s->derived, ro, ctx);
+    lr = std::move(rr.lloyd);
+    r.remeshed = rr.complete;
+    r.added_sites = rr.added_sites;
+    if (rr.complete) {
+      const RemeshStats st = remesh_stats(s->mesh, rr.remesh, true);
+      for (int32_t v = 0; v < rr.remesh.num_vertices(); ++v)
+        r.remesh_xyz.insert(r.remesh_xyz.end(), {rr.remesh.x[v], rr.remesh.y[v], rr.remesh.z[v]});
+      r.remesh_triangles = rr.remesh.face_vertices;
+      r.remesh_site = rr.vertex_site;
+      r.remesh_genus = st.genus;
+      r.remesh_components = st.components;
+      r.remesh_boundary_loops = st.boundary_loops;
+      r.mean_min_angle_deg = st.mean_min_angle_deg;
+      r.min_angle_deg = st.min_angle_deg;
+      r.pct_below_30_deg = st.pct_below_30_deg;
+      r.hausdorff_rel = st.hausdorff_rel;
+    }
+  } else {
+    lr = cvt_lloyd(s->mesh, *s->derived, o, ctx);  // the mesh was checked once, by the Session
+  }
   r.label = lr.label;
   r.empty_cells = lr.empty_cells;
   r.unreached = lr.unreached;

@@ -280,3 +280,43 @@ TEST_CASE("c api: progress callback, cancellation, per-thread error messages") {
   CHECK(theirs != mine);
   CHECK(!theirs.empty());
 }
+
+TEST_CASE("c api: cvt remesh equals the Session's; stats; bad arguments") {
+  const Mesh m = make_icosphere(3);
+  const Arrays a = arrays_of(m);
+  SessionGuard g;
+  REQUIRE(locus_session_create(a.xyz.data(), a.nv, a.tris.data(), a.nf, &g.s) == LOCUS_OK);
+  const Session ref(m);
+  locus_remesh* r = nullptr;
+  REQUIRE(locus_cvt_remesh(g.s, 60, 4, 2, nullptr, &r) == LOCUS_OK);
+  REQUIRE(r != nullptr);
+  locus_remesh_stats st;
+  REQUIRE(locus_remesh_get_stats(r, &st) == LOCUS_OK);
+  const CvtResult want = ref.cvt(60, 4, 2, {}, true);
+  REQUIRE(want.remeshed);
+  CHECK(st.vertices == static_cast<int64_t>(want.remesh_xyz.size() / 3));
+  CHECK(st.faces == 2 * st.vertices - 4);  // a closed genus-0 surface
+  CHECK(st.manifold == 1);
+  CHECK(st.genus == 0);
+  CHECK(st.components == 1);
+  CHECK(st.boundary_loops == 0);
+  CHECK(st.added_sites == want.added_sites);
+  CHECK(st.mean_min_angle_deg == want.mean_min_angle_deg);
+  CHECK(st.hausdorff_rel > 0);
+  std::vector<double> xyz(3 * static_cast<size_t>(st.vertices));
+  std::vector<int32_t> tris(3 * static_cast<size_t>(st.faces));
+  REQUIRE(locus_remesh_get(r, xyz.data(), tris.data()) == LOCUS_OK);
+  CHECK(xyz == want.remesh_xyz);
+  CHECK(tris == want.remesh_triangles);
+  CHECK(locus_remesh_get(r, nullptr, nullptr) == LOCUS_OK);
+  locus_remesh_destroy(r);
+  locus_remesh_destroy(nullptr);
+  locus_remesh* none = nullptr;
+  CHECK(locus_cvt_remesh(g.s, 0, 4, 2, nullptr, &none) == LOCUS_BAD_USAGE);
+  CHECK(locus_cvt_remesh(g.s, 60, -1, 2, nullptr, &none) == LOCUS_BAD_USAGE);
+  CHECK(locus_cvt_remesh(g.s, 60, 4, 2, nullptr, nullptr) == LOCUS_BAD_USAGE);
+  CHECK(locus_cvt_remesh(nullptr, 60, 4, 2, nullptr, &none) == LOCUS_BAD_USAGE);
+  CHECK(none == nullptr);
+  CHECK(locus_remesh_get(nullptr, xyz.data(), tris.data()) == LOCUS_BAD_USAGE);
+  CHECK(locus_remesh_get_stats(nullptr, &st) == LOCUS_BAD_USAGE);
+}

@@ -331,7 +331,7 @@ TEST_CASE("session: bad meshes and bad arguments raise the right error; cancella
   CHECK(s.stats().heat_engines == 1);
 }
 
-TEST_CASE("session: two components (distance +inf across, cvt refused), one-vertex log-map patch") {
+TEST_CASE("session: two components (distance +inf across, cvt and its remesh per component), one-vertex log-map patch") {
   Mesh m = make_icosphere(2);
   const Mesh other = make_icosphere(2);
   const int32_t n1 = m.num_vertices();
@@ -343,7 +343,34 @@ TEST_CASE("session: two components (distance +inf across, cvt refused), one-vert
   for (int32_t i = n1; i < m.num_vertices(); ++i) inf += d[i] == INFINITY;
   CHECK(inf == m.num_vertices() - n1);
   for (int32_t i = 0; i < n1; ++i) CHECK(std::isfinite(d[i]));
-  CHECK(code_of([&] { s.cvt(10, 1, 1); }) == ErrorCode::BadInput);
+  // cvt: random sites that miss a component are moved into it (every component
+  // needs one), so both spheres get cells; one site for two components is refused.
+  const CvtResult c = s.cvt(10, 1, 1);
+  std::vector<int> cells_in(2, 0);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    REQUIRE(c.label[v] >= 0);
+    REQUIRE(c.label[v] < 10);
+  }
+  std::vector<int32_t> side(10, -1);  // every cell lies in one component
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    const int32_t comp = v < n1 ? 0 : 1;
+    if (side[c.label[v]] < 0) ++cells_in[comp];
+    CHECK((side[c.label[v]] < 0 || side[c.label[v]] == comp));
+    side[c.label[v]] = comp;
+  }
+  CHECK(cells_in[0] >= 1);
+  CHECK(cells_in[1] >= 1);
+  CHECK(code_of([&] { s.cvt(1, 1, 1); }) == ErrorCode::BadUsage);
+  // The remesh of both: two spheres (chi = 4: F = 2V - 8), each vertex at its site.
+  const CvtResult rm = s.cvt(80, 3, 2, {}, true);
+  REQUIRE(rm.remeshed);
+  const int64_t rv = static_cast<int64_t>(rm.remesh_xyz.size() / 3);
+  CHECK(static_cast<int64_t>(rm.remesh_triangles.size() / 3) == 2 * rv - 8);
+  CHECK(rm.remesh_components == 2);
+  CHECK(rm.remesh_genus == 0);
+  CHECK(rm.remesh_boundary_loops == 0);
+  CHECK(rm.remesh_site.size() == static_cast<size_t>(rv));
+  CHECK(rm.site_xyz.size() == 3 * (80 + static_cast<size_t>(rm.added_sites)));
   const LogMapResult r = s.logmap(n1 + 4, 0.5);  // the disk stays in the center's component
   for (int32_t v : r.patch) CHECK(v >= n1);
 

@@ -564,8 +564,10 @@ TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refu
 // reaches it and the breadth-first fallback cannot cross components), and
 // pipelines/src/voronoi/cvt_lloyd.cpp build_cells then indexes offsets[label + 1] and
 // fill[label] with label -1: a heap-buffer-overflow (ASan), silent memory
-// corruption in Release. cvt_lloyd now refuses such meshes up front (BadInput
-// naming a vertex of the siteless component).
+// corruption in Release. cvt_lloyd now refuses given sites that leave a
+// component without one (BadInput naming a vertex of it), and its random sites
+// reach every component (issue 23: a missed component takes a site from the
+// component with the most).
 TEST_CASE("faults: CVT on a mesh with a component that receives no site") {
   // A tiny sphere next to a big one: sites are drawn by area, so all land on the big one.
   const Mesh big = make_icosphere(2);
@@ -576,11 +578,23 @@ TEST_CASE("faults: CVT on a mesh with a component that receives no site") {
     o.sites = 4;
     o.iterations = 1;
     o.solver = solver;
+    std::vector<SurfacePoint> on_big = {vertex_point(0), vertex_point(1), vertex_point(2), vertex_point(3)};
     LloydResult R;
-    const Outcome out = attempt([&] { R = cvt_lloyd(m, o, {}); });
+    const Outcome out = attempt([&] { R = cvt_lloyd(m, on_big, o, {}); });
     INFO(out.message);
     REQUIRE(out.threw);
     CHECK(out.code == ErrorCode::BadInput);
     CHECK(out.message.find("component") != std::string::npos);
+    // Random sites: the tiny sphere gets one, every vertex a valid label.
+    R = cvt_lloyd(m, o, {});
+    bool tiny_labelled = true;
+    for (int32_t v = 0; v < m.num_vertices(); ++v) {
+      REQUIRE(R.label[v] >= 0);
+      REQUIRE(R.label[v] < 4);
+      if (v >= big.num_vertices()) tiny_labelled = tiny_labelled && R.label[v] == R.label[big.num_vertices()];
+    }
+    CHECK(tiny_labelled);
+    o.sites = 1;
+    CHECK(attempt([&] { R = cvt_lloyd(m, o, {}); }).code == ErrorCode::BadUsage);
   }
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh_io.hpp"
 #include "tests/tools/cli_support.hpp"
 
@@ -55,4 +56,70 @@ TEST_CASE("cvt CLI: default t = 4h^2, --t h2, the issue's JSON keys, bad --t exi
   CHECK(t1.json()["t"].get<double>() == doctest::Approx(h * h).epsilon(1e-9));
 
   CHECK(run_locus(dir, {"cvt", sphere, "--sites", "30", "--t", "-1", "--json"}).status == 2);
+}
+
+namespace {
+
+// `locus cvt MESH -o FILE` and the file read back (the project's reader) and by
+// `locus info`: a manifold with the input's Euler characteristic, components
+// and boundary loops; the JSON `remesh` object says the same.
+void check_remesh_cli(const Scratch& dir, const std::string& mesh, const std::string& sites, const std::string& ext) {
+  const locus::Mesh in = locus::read_mesh(mesh);
+  const locus::MeshReport want = locus::analyze_mesh(in);
+  const std::string out = dir / ("remesh." + ext), labels = dir / "labels.ply", pts = dir / "sites.ply",
+                    png = dir / "remesh.png";
+  const Run r = run_locus(dir, {"cvt", mesh, "--sites", sites, "--iters", "3", "-o", out, "--labels", labels,
+                                "--sites-out", pts, "--preview", png, "--json"});
+  REQUIRE_MESSAGE(r.status == 0, r.err);
+  const auto j = r.json()["remesh"];
+  for (const char* k : {"vertices", "faces", "manifold", "genus", "components", "boundary_loops", "mean_min_angle_deg",
+                        "min_angle_deg", "pct_below_30_deg", "hausdorff_rel", "added_sites"})
+    CHECK_MESSAGE(j.contains(k), k);
+  for (const char* k : {"load", "factor", "lloyd", "repair", "dual", "optimize", "write", "total"})
+    CHECK_MESSAGE(r.json()["timings_s"].contains(k), k);
+  const locus::Mesh back = locus::read_mesh(out);
+  const locus::MeshReport got = locus::analyze_mesh(back);
+  CHECK(got.manifold);
+  CHECK(got.unreferenced_vertices == 0);
+  CHECK(got.degenerate_faces == 0);
+  CHECK(got.euler_characteristic == want.euler_characteristic);
+  CHECK(got.components == want.components);
+  CHECK(got.boundary_loops == want.boundary_loops);
+  CHECK(j["vertices"] == back.num_vertices());
+  CHECK(j["faces"] == back.num_faces());
+  CHECK(j["manifold"] == true);
+  CHECK(j["components"] == want.components);
+  CHECK(j["boundary_loops"] == want.boundary_loops);
+  CHECK(j["hausdorff_rel"].get<double>() > 0);
+  CHECK(j["hausdorff_rel"].get<double>() < 0.05);
+  CHECK(j["min_angle_deg"].get<double>() <= j["mean_min_angle_deg"].get<double>());
+  const Run info = run_locus(dir, {"info", out, "--json"});
+  REQUIRE_MESSAGE(info.status == 0, info.err);
+  CHECK(info.json()["manifold"] == true);
+  CHECK(info.json()["euler_characteristic"] == want.euler_characteristic);
+  CHECK(info.json()["boundary_loops"] == want.boundary_loops);
+  CHECK(info.json()["components"] == want.components);
+  // Labels on the input, sites as points (the added ones included), the preview.
+  const locus::Mesh lab = locus::read_mesh(labels);
+  CHECK(lab.num_vertices() == in.num_vertices());
+  CHECK(lab.num_faces() == in.num_faces());
+  CHECK(locus::read_mesh(pts).num_vertices() == std::stoi(sites) + j["added_sites"].get<int>());
+  CHECK(fs::file_size(png) > 1000);
+}
+
+}  // namespace
+
+TEST_CASE("cvt CLI: -o writes the manifold remesh (OBJ, PLY, OFF) with the input's topology") {
+  if (!have_locus()) return;
+  Scratch dir("cvt-remesh-cli");
+  const std::string torus = dir / "torus.off";
+  locus::write_mesh(torus, locus::make_torus(120, 48));  // genus 1
+  check_remesh_cli(dir, torus, "300", "obj");
+  check_remesh_cli(dir, torus, "300", "ply");
+  if (fs::exists("cache/meshes/armadillo.off")) check_remesh_cli(dir, "cache/meshes/armadillo.off", "1000", "off");
+  // Too few sites for a genus-1 surface: no manifold remesh; -o fails and writes nothing.
+  const Run few = run_locus(dir, {"cvt", torus, "--sites", "3", "--repair-rounds", "0", "-o", dir / "few.obj"});
+  CHECK(few.status == 4);
+  CHECK(few.err.find("closed-ball") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "few.obj"));
 }

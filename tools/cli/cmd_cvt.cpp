@@ -1,9 +1,12 @@
 // `locus cvt MESH`: centroidal Voronoi tessellation by Lloyd's method with heat
 // cells and centroids (thesis §3.7.1; pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp), localized
 // (approximate selective solves, default) or with full solves (--solver full, for
-// comparison), isotropic or anisotropic (--anisotropy lambda). -o writes the mesh
-// with a per-vertex `label` property (the cell); --json reports the timings and the
-// quality of the dual triangulation and of the cell areas (pipelines/include/locus/pipelines/voronoi/cvt_quality.hpp).
+// comparison), isotropic or anisotropic (--anisotropy lambda). -o writes the
+// remesh: the restricted-Delaunay dual of the final cells, repaired into a
+// manifold with the input's topology (pipelines/.../voronoi/cvt_remesh.hpp, issue
+// 23); --labels writes the input with a per-vertex `label` property (the cell),
+// --sites-out the sites; --json reports the timings, the `remesh` object
+// (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
 #include <ostream>
 #include <string>
 #include <vector>
@@ -14,6 +17,11 @@
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/pipelines/voronoi/cvt_quality.hpp"
+#include "locus/pipelines/voronoi/cvt_remesh.hpp"
+#include "locus/pipelines/voronoi/remesh_quality.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/render/rasterize.hpp"
+#include "locus/io/write_png.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
@@ -34,26 +42,18 @@ struct CvtOptions {
   int fit_rings = LloydOptions{}.fit_rings;
   FactorCacheOptions fc;
   std::string preview;
+  std::string labels_out, sites_out;
+  int repair_rounds = RemeshOptions{}.max_repair_rounds;
+  bool no_hausdorff = false;
+  int optimize_rounds = RemeshOptions{}.optimize_rounds;
+  double stop_energy = 0.0;
 };
 
-int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
-  if (o.solver != "local" && o.solver != "full")
-    fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
-  // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
-  // (measurements in docs/cvt.md).
-  const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
-  validate_factor_cache_options(o.fc);
-  check_preview_path(o.preview);
-  if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
-    fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");
-  Input in = load_input(opt, ctx);
-  const Mesh& mesh = in.mesh;
-  if (o.sites > mesh.num_vertices())
-    fail(ErrorCode::BadUsage, "--sites " + std::to_string(o.sites) + " exceeds the " +
-                                  std::to_string(mesh.num_vertices()) + " vertices of the mesh");
+LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts) {
   LloydOptions lo;
   lo.sites = o.sites;
   lo.iterations = o.iterations;
+  lo.stop_energy = o.stop_energy;
   lo.seed = opt.seed;
   lo.solver = o.solver == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
   lo.anisotropy = o.anisotropy;
@@ -68,32 +68,84 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   } else {
     lo.t_abs = ts.value;
   }
-  RunContext run = ctx;
-  const bool json = opt.json;
-  run.progress = [json](double f, std::string_view phase) {
-    if (!json) log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
-  };
-  // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
-  Factors cache;
-  HeatDiffusion prepared;
-  if (o.anisotropy == 0) {
-    prepared = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
-    lo.prepared = &prepared;
-  }
-  const LloydResult r = cvt_lloyd(mesh, lo, run);
-  const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
+  return lo;
+}
 
-  if (!opt.output.empty()) {
-    WriteOptions wo;
-    wo.vertex_properties.push_back(
-        {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
-    write_mesh(opt.output, mesh, wo);
+// The final sites as a point set (no faces): PLY keeps each site's face and
+// barycentric weights (-1 and the vertex for sites on a vertex).
+void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r) {
+  if (path.empty()) return;
+  Mesh pts;
+  WriteOptions wo;
+  VertexProperty face{"face", VertexProperty::Type::Int, {}}, vert{"vertex", VertexProperty::Type::Int, {}};
+  VertexProperty b[3] = {{"b0", VertexProperty::Type::Double, {}}, {"b1", VertexProperty::Type::Double, {}},
+                         {"b2", VertexProperty::Type::Double, {}}};
+  for (const SurfacePoint& p : r.sites) {
+    const auto x = surface_point_position(mesh, p);
+    pts.add_vertex(x[0], x[1], x[2]);
+    face.values.push_back(p.face);
+    vert.values.push_back(p.face < 0 ? p.vertex : -1);
+    for (int k = 0; k < 3; ++k) b[k].values.push_back(p.bary[k]);
   }
-  write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, o.preview);
-  Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
+  wo.vertex_properties = {face, vert, b[0], b[1], b[2]};
+  write_mesh(path, pts, wo);
+  log("wrote " + path);
+}
+
+Json defects_json(const DualDefects& d) {
+  return {{"split_cells", d.split_cells},
+          {"non_disk_cells", d.non_disk_cells},
+          {"split_interfaces", d.split_interfaces},
+          {"loop_interfaces", d.loop_interfaces},
+          {"boundary_interfaces", d.boundary_interfaces},
+          {"repeated_corners", d.repeated_corners},
+          {"split_boundary_runs", d.split_boundary_runs},
+          {"short_boundary_loops", d.short_boundary_loops}};
+}
+
+// The issue's `remesh` object (keys in its order) and the repair's counts.
+Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
+  Json j{{"vertices", st.vertices},
+         {"faces", st.faces},
+         {"manifold", st.manifold && rr.complete},
+         {"genus", st.genus},
+         {"components", st.components},
+         {"boundary_loops", st.boundary_loops},
+         {"mean_min_angle_deg", st.mean_min_angle_deg},
+         {"min_angle_deg", st.min_angle_deg},
+         {"pct_below_30_deg", st.pct_below_30_deg},
+         {"hausdorff_rel", st.hausdorff_rel},
+         {"added_sites", rr.added_sites}};
+  j["dual_mean_min_angle_deg"] = rr.dual_mean_min_angle_deg;  // before the optimization
+  j["dual_min_angle_deg"] = rr.dual_min_angle_deg;
+  j["flips"] = rr.optimize.flips;
+  j["smoothing_moves"] = rr.optimize.moves;
+  j["repair_rounds"] = rr.repair_rounds;
+  j["lloyd_iterations"] = rr.lloyd_iterations;
+  j["defects_before_repair"] = defects_json(rr.first_defects);
+  j["defects_left"] = defects_json(rr.defects);
+  return j;
+}
+
+// --preview: the remesh, shaded in one colour, its edges drawn dark.
+void write_remesh_preview(const Mesh& remesh, const std::string& path) {
+  if (path.empty()) return;
+  RasterOptions ro;
+  ro.coloring = Coloring::Labels;
+  ro.edges = true;
+  const std::vector<double> one(remesh.num_vertices(), 0.0);
+  const RasterImage img = rasterize_mesh(remesh, one, ro);
+  write_png(path, img.width, img.height, img.rgb);
+  log("wrote " + path);
+}
+
+Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh, const LloydResult& r,
+                const CvtQuality& q) {
+  Json j;
   j["n"] = mesh.num_vertices();
   j["sites"] = o.sites;
   j["iterations"] = o.iterations;
+  j["stop_energy"] = o.stop_energy;
   j["seed"] = opt.seed;
   j["solver"] = o.solver;
   j["anisotropy"] = o.anisotropy;
@@ -102,7 +154,6 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["t"] = r.t;
   j["init_s"] = r.init_s;
   j["factor_s"] = r.factor_s;  // includes the prepared operator's phases (0 when loaded)
-  j["factor_cache"] = factor_cache_json(o.fc, cache);
   j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
@@ -140,13 +191,101 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     j["mean_angle_all"] = r.mean_angle;
     j["min_angle_all"] = r.min_angle;
   }
+  return j;
+}
+
+int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
+  if (o.solver != "local" && o.solver != "full")
+    fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
+  // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
+  // (measurements in docs/cvt.md).
+  const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
+  validate_factor_cache_options(o.fc);
+  check_preview_path(o.preview);
+  if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
+    fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");
+  const Stopwatch total;
+  Input in = load_input(opt, ctx);
+  const Mesh& mesh = in.mesh;
+  const double load_s = total.seconds();
+  if (o.sites > mesh.num_vertices())
+    fail(ErrorCode::BadUsage, "--sites " + std::to_string(o.sites) + " exceeds the " +
+                                  std::to_string(mesh.num_vertices()) + " vertices of the mesh");
+  RemeshOptions ro;
+  ro.lloyd = lloyd_options(opt, o, ts);
+  ro.max_repair_rounds = o.repair_rounds;
+  ro.optimize_rounds = o.optimize_rounds;
+  RunContext run = ctx;
+  const bool json = opt.json;
+  run.progress = [json](double f, std::string_view phase) {
+    if (!json) log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
+  };
+  // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
+  Stopwatch phase;
+  Factors cache;
+  HeatDiffusion prepared;
+  if (o.anisotropy == 0) {
+    prepared = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
+    ro.lloyd.prepared = &prepared;
+  }
+  const double factor_s = phase.seconds();
+  const MeshDerived derived = derive_mesh(mesh);
+  const RemeshResult rr = cvt_remesh(mesh, derived, ro, run);
+  const LloydResult& r = rr.lloyd;
+  if (!opt.output.empty() && !rr.complete)
+    fail(ErrorCode::Numerical, "cvt: the cells still break the closed-ball property after " +
+                                   std::to_string(rr.repair_rounds) + " repair rounds (" +
+                                   defects_json(rr.defects).dump() + "); no manifold remesh to write to " +
+                                   opt.output + " (try more --sites or --repair-rounds)");
+  phase.restart();
+  write_output_mesh(opt, rr.remesh);
+  const double write_s = phase.seconds();
+  const double total_s = total.seconds();
+  phase.restart();
+  const RemeshStats st = rr.complete ? remesh_stats(mesh, rr.remesh, !o.no_hausdorff) : RemeshStats{};
+  const RemeshStats in_st = mesh_topology_stats(mesh);
+  const double stats_s = phase.seconds();
+  if (!o.labels_out.empty()) {
+    WriteOptions wo;
+    wo.vertex_properties.push_back(
+        {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
+    write_mesh(o.labels_out, mesh, wo);
+    log("wrote " + o.labels_out);
+  }
+  write_sites(o.sites_out, mesh, r);
+  if (rr.complete) {
+    write_remesh_preview(rr.remesh, o.preview);
+  } else {
+    write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, o.preview);
+  }
+  const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
+  Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
+  j.update(lloyd_json(opt, o, mesh, r, q));
+  j["factor_cache"] = factor_cache_json(o.fc, cache);
+  j["remesh"] = remesh_json(st, rr);
+  j["remesh"]["input"] = {{"genus", in_st.genus}, {"components", in_st.components},
+                          {"boundary_loops", in_st.boundary_loops}};
+  j["timings_s"] = {{"load", load_s},          {"factor", factor_s + rr.factor_s}, {"lloyd", rr.lloyd_s},
+                    {"repair", rr.repair_s},   {"dual", rr.dual_s},                {"optimize", rr.optimize_s},
+                    {"write", write_s},
+                    {"total", total_s},        {"stats", stats_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": CVT of " << o.sites << " sites on " << mesh.num_vertices() << " vertices, "
-       << o.iterations << " Lloyd iterations (" << o.solver << " solves" << (o.anisotropy > 0 ? ", anisotropic" : "")
-       << ")\n"
-       << "  factor " << r.factor_s << " s, init " << r.init_s << " s, median iteration " << j["iter_s"] << " s\n"
-       << "  dual triangles " << q.dual_triangles << ": smallest angle min " << q.min_angle_deg << ", mean "
-       << q.mean_angle_deg << " deg; cell area cv " << cv << "\n";
+       << rr.lloyd_iterations << " Lloyd iterations (" << o.solver << " solves"
+       << (o.anisotropy > 0 ? ", anisotropic" : "") << ")\n";
+    if (rr.complete) {
+      os << "  remesh: " << st.vertices << " vertices, " << st.faces << " triangles ("
+         << rr.added_sites << " sites added), genus " << st.genus << ", " << st.components << " component(s), "
+         << st.boundary_loops << " boundary loop(s)" << (st.manifold ? ", manifold" : ", NOT manifold") << "\n"
+         << "  smallest angle per triangle: mean " << st.mean_min_angle_deg << " deg, min " << st.min_angle_deg
+         << " deg, " << st.pct_below_30_deg << "% below 30; Hausdorff " << st.hausdorff_rel
+         << " of the bounding-box diagonal\n";
+    } else {
+      os << "  no manifold remesh: defects left " << defects_json(rr.defects).dump() << "\n";
+    }
+    os << "  total " << total_s << " s (load to written file)\n";
+    if (!opt.output.empty()) os << "  remesh written to " << opt.output << "\n";
+    if (!o.preview.empty()) os << "  preview written to " << o.preview << "\n";
   });
   return 0;
 }
@@ -167,6 +306,9 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--sites", o->sites, "Number of sites (random initial positions, --seed)")
       ->check(CLI::Range(1, 100000000));
   app->add_option("--iters", o->iterations, "Lloyd iterations (default 10)")->check(CLI::Range(0, 1000000));
+  app->add_option("--stop-energy", o->stop_energy,
+                  "Stop Lloyd once an iteration lowers the CVT energy by less than this fraction (default 0: all --iters)")
+      ->check(CLI::Range(0.0, 1.0));
   app->add_option("--anisotropy", o->anisotropy, "lambda of the R^6 lift (p, lambda n); 0 = isotropic (thesis: 0.05)")
       ->check(CLI::Range(0.0, 1e6));
   app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");
@@ -182,6 +324,17 @@ void register_cvt_command(CommandTable& table) {
                   "Weighted refit of the centroid's maximizer, Gaussian width in one-ring distances (default 1; 0 = none)")
       ->check(CLI::Range(0.0, 100.0));
   app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
+  app->add_option("--labels", o->labels_out, "Write the input mesh with a per-vertex `label` property (the cell) (PLY)")
+      ->check(non_empty());
+  app->add_option("--sites-out", o->sites_out, "Write the final sites as points (PLY keeps face and barycentrics)")
+      ->check(non_empty());
+  app->add_option("--repair-rounds", o->repair_rounds,
+                  "Rounds of added sites that make the remesh a manifold (default 12)")
+      ->check(CLI::Range(0, 1000));
+  app->add_option("--optimize", o->optimize_rounds,
+                  "Rounds of edge flips and tangential smoothing of the remesh on the input (default 4; 0 = the dual as is)")
+      ->check(CLI::Range(0, 100));
+  app->add_flag("--no-hausdorff", o->no_hausdorff, "Skip the Hausdorff distance of the remesh (JSON -1)");
   app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }
 

@@ -140,8 +140,8 @@ locus_status locus_logmap_ex(locus_session* session, int64_t center, double frac
 
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
  * §3.7; cells and centroids by M - 4h^2 L): `sites` seeded random initial
- * sites (1 <= sites <= vertex count), 0 <= iters <= 10000 iterations; the mesh
- * must be connected (LOCUS_BAD_INPUT otherwise). out_labels_nv: vertex-count
+ * sites (1 <= sites <= vertex count, at least one per connected component:
+ * LOCUS_BAD_USAGE otherwise), 0 <= iters <= 10000 iterations. out_labels_nv: vertex-count
  * int32 labels in [0, sites). The same seed gives the same labels for any
  * thread count. */
 locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
@@ -150,6 +150,32 @@ locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uin
  * final site positions. opts may be NULL. */
 locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                           int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts);
+
+/* CVT remeshing (issue 23): the heat CVT as above, then the restricted-Delaunay
+ * dual of its cells, made a closed manifold with the mesh's genus, components
+ * and boundary loops by adding sites where needed, and optimized on the surface.
+ * The result is an opaque handle (free it with locus_remesh_destroy); *out is
+ * set only on LOCUS_OK. LOCUS_NUMERICAL when the cells still break the
+ * closed-ball property after the repair rounds (e.g. far too few sites for the
+ * mesh's handles or holes). opts may be NULL; its t_factor must be 0. */
+typedef struct locus_remesh locus_remesh;
+typedef struct locus_remesh_stats {
+  int64_t vertices, faces;
+  int32_t manifold;            /* 1 when the remesh is a manifold */
+  int64_t genus;               /* summed over components */
+  int32_t components, boundary_loops;
+  double mean_min_angle_deg;   /* mean over triangles of the smallest angle */
+  double min_angle_deg;
+  double pct_below_30_deg;
+  double hausdorff_rel;        /* to the input, relative to its bounding-box diagonal */
+  int32_t added_sites;
+} locus_remesh_stats;
+locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                              const locus_run_options* opts, locus_remesh** out);
+/* out_xyz: 3 * vertices doubles; out_tris: 3 * faces int32 (either may be NULL). */
+locus_status locus_remesh_get(const locus_remesh* remesh, double* out_xyz, int32_t* out_tris);
+locus_status locus_remesh_get_stats(const locus_remesh* remesh, locus_remesh_stats* out);
+void locus_remesh_destroy(locus_remesh* remesh);
 
 /* Entries of the inverse heat operator (M - tL)^{-1} between vertex sets, by
  * exact local solves: out[s * n_targets + k] = value at targets[k] of the heat

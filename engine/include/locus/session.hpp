@@ -71,6 +71,18 @@ struct CvtResult {
   std::vector<double> site_bary;   // 3 per site: barycentric weights in site_face
   int64_t empty_cells = 0;         // cells without vertices over all iterations (their sites stayed)
   int64_t unreached = 0;           // labels filled by the breadth-first fallback
+  // With remesh (issue 23; pipelines/.../voronoi/cvt_remesh.hpp): the remeshed
+  // surface, one vertex per non-empty cell, made a manifold with the input's
+  // topology by added sites (label and the site arrays then cover them too).
+  bool remeshed = false;             // a remesh was asked for and is a manifold
+  std::vector<double> remesh_xyz;    // 3 per remesh vertex
+  std::vector<int32_t> remesh_triangles;  // 3 per triangle, oriented like the input
+  std::vector<int32_t> remesh_site;  // per remesh vertex: its site
+  int32_t added_sites = 0;
+  int64_t remesh_genus = -1;         // summed over components
+  int32_t remesh_components = 0, remesh_boundary_loops = 0;
+  double mean_min_angle_deg = 0, min_angle_deg = 0, pct_below_30_deg = 0;  // per-triangle smallest angles
+  double hausdorff_rel = -1;         // to the input, relative to its bounding-box diagonal
 };
 
 enum class DeformEnergyKind { Laplacian, Bilaplacian };
@@ -144,10 +156,11 @@ class Session {
   std::vector<double> heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
                                   const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
-  // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv),
-  // `iterations` >= 0 localized Lloyd steps, t = h^2. Needs a connected mesh
-  // (Error(BadInput) otherwise, for now).
-  CvtResult cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx = {}) const;
+  // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv,
+  // at least one per connected component), `iterations` >= 0 localized Lloyd
+  // steps, t = 4h^2. With `remesh`, also the remeshed surface (CvtResult).
+  CvtResult cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx = {},
+                bool remesh = false) const;
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;

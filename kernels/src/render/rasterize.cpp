@@ -270,6 +270,28 @@ void shade_pixels(const ZBuffer& zb, const Triangles& tris, const std::vector<Ve
   }
 }
 
+// Wireframe: darkens pixels closer than 0.8 pixel to an edge of their triangle
+// (barycentric w_k times the screen height of corner k over its edge).
+void draw_edges(const ZBuffer& zb, const Triangles& tris, const std::vector<Vec3>& sp3, RasterImage& img) {
+  const size_t npix = zb.face.size();
+  for (size_t p = 0; p < npix; ++p) {
+    if (zb.face[p] < 0) continue;
+    const auto& t = tris[zb.face[p]];
+    const Vec3 &a = sp3[t[0]], &b = sp3[t[1]], &c = sp3[t[2]];
+    const double area2 = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    const double w[3] = {zb.bary[2 * p], zb.bary[2 * p + 1], 1.0 - zb.bary[2 * p] - zb.bary[2 * p + 1]};
+    const Vec3* q[3] = {&a, &b, &c};
+    bool near = false;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &u = *q[(k + 1) % 3], &v = *q[(k + 2) % 3];
+      const double len = std::hypot(u[0] - v[0], u[1] - v[1]);
+      near = near || (len > 0 && w[k] * area2 / len < 0.8);
+    }
+    if (near)
+      for (int d = 0; d < 3; ++d) img.rgb[3 * p + d] = static_cast<uint8_t>(img.rgb[3 * p + d] / 4);
+  }
+}
+
 }  // namespace
 
 RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const RasterOptions& opt) {
@@ -294,6 +316,7 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
   const std::vector<Vec3> normal = vertex_normals(tris, vp);
   const ZBuffer zb = scan_triangles(tris, sp3, W, H);
   shade_pixels(zb, tris, normal, values, opt, color_ranges(values, nv, opt), img);
+  if (opt.edges) draw_edges(zb, tris, sp3, img);
   return img;
 }
 

@@ -384,6 +384,8 @@ const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, st
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (!(opt.stop_energy >= 0) || !std::isfinite(opt.stop_energy))
+    fail(ErrorCode::BadUsage, "cvt: stop_energy must be a finite number >= 0");
   if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
     fail(ErrorCode::BadUsage, "cvt: the anisotropy must be a finite number >= 0");
   if (!(opt.init_radius > 0)) fail(ErrorCode::BadUsage, "cvt: init_radius must be positive");
@@ -805,6 +807,38 @@ namespace {
 LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<SurfacePoint> sites,
                            const LloydOptions& opt, const RunContext& ctx);
 
+// Random sites can miss a small component (whose vertices would then get no
+// heat): each component without a site takes one from the component with the
+// most sites (its last one), placed at the component's lowest vertex. Seeded
+// draws stay as they were wherever every component was hit.
+void give_every_component_a_site(const Mesh& m, const MeshDerived* given, std::vector<SurfacePoint>& sites) {
+  std::vector<int32_t> own;
+  const int32_t nc = given ? given->components : connected_components(m, own);
+  if (nc <= 1) return;
+  const std::vector<int32_t>& comp = given ? given->component : own;
+  if (static_cast<int32_t>(sites.size()) < nc)
+    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(sites.size()) + " sites for " + std::to_string(nc) +
+                                  " connected components; every component needs at least one site");
+  auto comp_of = [&](const SurfacePoint& p) {
+    return comp[p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])]];
+  };
+  std::vector<int32_t> count(nc, 0), first_vertex(nc, -1);
+  for (const SurfacePoint& p : sites) ++count[comp_of(p)];
+  for (int32_t v = 0; v < m.num_vertices(); ++v)
+    if (comp[v] >= 0 && first_vertex[comp[v]] < 0) first_vertex[comp[v]] = v;
+  for (int32_t c = 0; c < nc; ++c) {
+    if (count[c] > 0) continue;
+    const int32_t donor = static_cast<int32_t>(std::max_element(count.begin(), count.end()) - count.begin());
+    for (size_t i = sites.size(); i-- > 0;)
+      if (comp_of(sites[i]) == donor) {
+        sites[i] = vertex_point(first_vertex[c]);
+        break;
+      }
+    --count[donor];
+    ++count[c];
+  }
+}
+
 LloydResult cvt_lloyd_random(const Mesh& m, const MeshDerived* given, const LloydOptions& opt, const RunContext& ctx) {
   if (opt.sites < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (!m.is_triangle_mesh() || m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": cvt needs a triangle mesh");
@@ -813,6 +847,7 @@ LloydResult cvt_lloyd_random(const Mesh& m, const MeshDerived* given, const Lloy
                                   std::to_string(m.num_vertices()) + " vertices (cells cannot be smaller than a vertex)");
   BatchStopwatch sw;
   std::vector<SurfacePoint> init = random_surface_points(m, opt.sites, opt.seed);
+  give_every_component_a_site(m, given, init);
   const double seed_s = sw.lap();
   LloydResult r = cvt_lloyd_impl(m, given, std::move(init), opt, ctx);
   r.init_s += seed_s;
@@ -869,7 +904,11 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   const LloydInputs in{m, opt, ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
   LloydLoop loop(in, sites, std::move(nb), r);
-  for (int32_t it = 0; it < opt.iterations; ++it) loop.iterate(it);
+  for (int32_t it = 0; it < opt.iterations; ++it) {
+    loop.iterate(it);
+    const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
+    if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
+  }
   loop.finish();
   return r;
 }

@@ -19,6 +19,8 @@
 //    of its face, one colour per label (golden-ratio hues); negative = grey.
 //  * Checker: 2 nv values (u, v interleaved); a checkerboard with `checker_cells`
 //    squares across the larger UV extent; NaN = grey.
+// With `edges`, pixels within 0.8 pixel of their triangle's edges are darkened
+// (the wireframe of a remesh over its shaded surface, issue 23).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -35,6 +37,7 @@ struct RasterOptions {
   Coloring coloring = Coloring::Scalar;
   int bands = 12;                 // Scalar: number of iso-bands (0 = smooth)
   double checker_cells = 12;      // Checker: squares across the UV extent
+  bool edges = false;             // draw the (fan) triangle edges dark, about one pixel wide (remesh previews)
 };
 
 struct RasterImage {

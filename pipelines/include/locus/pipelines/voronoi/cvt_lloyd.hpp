@@ -61,7 +61,12 @@ inline constexpr double kLloydTFactor = 4.0;
 
 struct LloydOptions {
   int32_t sites = 100;       // number of generators (random initial sites)
-  int32_t iterations = 10;
+  int32_t iterations = 10;   // at most (see stop_energy)
+  // Stopping rule: after an iteration whose CVT energy (LloydResult::energy) fell
+  // by less than stop_energy times its value (or rose: the discrete centroids'
+  // jitter), stop. 0 = always `iterations`. Lloyd's energy falls ~0.3% per
+  // iteration after 10 on armadillo with 2,000 sites, ~0.1% after 20 (docs/cvt.md).
+  double stop_energy = 0.0;
   uint64_t seed = 1;         // initial sites
   enum class Solver { Local, Full } solver = Solver::Local;
   double t_factor = kLloydTFactor;  // t = t_factor * h^2 unless t_abs > 0 (thesis §3.7: h^2; see above)

@@ -1,0 +1,56 @@
+// CVT remeshing (issue 23; thesis §3.7.1): Lloyd's method with heat cells and
+// centroids (cvt_lloyd.hpp), then the restricted-Delaunay dual of the final
+// cells (restricted_dual.hpp), made a manifold with the input's topology by
+// adding sites where the cells break the closed-ball property.
+//
+// Repair rounds: while the partition has defects, one site is added at each
+// defect's repair vertex, Lloyd runs `relax_iterations` more iterations on all
+// sites (so the new cells take their share of the surface), and the labels of
+// the final sites are checked again; at most `max_repair_rounds` rounds, the
+// last one without relaxation. The isotropic operator is factored once and
+// shared by every round (or taken from LloydOptions::prepared). The manifold
+// dual is then optimized on the input (remesh_optimize.hpp).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/remesh_optimize.hpp"
+#include "locus/pipelines/voronoi/restricted_dual.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+struct RemeshOptions {
+  LloydOptions lloyd;
+  int max_repair_rounds = 12;
+  int relax_iterations = 0;
+  // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
+  int optimize_rounds = RemeshOptimizeOptions{}.rounds;
+};
+
+struct RemeshResult {
+  LloydResult lloyd;              // the final sites and their labels (the last round's run)
+  Mesh remesh;                    // the dual; no faces when defects remain
+  std::vector<int32_t> vertex_site;  // per remesh vertex: its site
+  bool complete = false;          // no defects left: remesh is the manifold dual
+  int32_t added_sites = 0;
+  int32_t repair_rounds = 0;
+  int32_t lloyd_iterations = 0;   // all rounds
+  DualDefects first_defects;      // of the partition after the first Lloyd run
+  DualDefects defects;            // left after the last round (all zero when complete)
+  double factor_s = 0;            // the shared operator (0 when prepared by the caller)
+  double lloyd_s = 0;             // the first Lloyd run
+  double repair_s = 0;            // repair rounds (their Lloyd iterations and labels)
+  double dual_s = 0;              // defect checks and the dual mesh, all rounds
+  // The dual before optimization: mean and min over triangles of the smallest angle.
+  double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;
+  RemeshOptimizeStats optimize;
+  double optimize_s = 0;          // the input's triangle grid, flips and smoothing
+};
+
+RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx);
+
+}  // namespace locus

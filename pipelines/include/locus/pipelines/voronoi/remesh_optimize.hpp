@@ -1,0 +1,52 @@
+// Angle optimization of a remesh on its input surface (issue 23): the dual of
+// the heat CVT is already well shaped (~48 degrees mean smallest angle on
+// armadillo), but its vertices are the cells' heat centroids and its
+// connectivity that of discrete cells (a Voronoi edge shorter than the input's
+// edges can come out flipped); rounds of
+//   (1) edge flips, in the first and last round by the Delaunay criterion (an
+//       interior edge whose opposite angles sum to more than 180 degrees, when
+//       the smaller smallest angle of its two triangles grows), in the rounds
+//       between by valence (towards 6 inside, 4 on the boundary, as isotropic
+//       remeshing does; no new angle below min(old, 20 degrees)); every flip
+//       needs the two triangles nearly coplanar (normals within 30 degrees),
+//       and its new edge must not exist yet;
+//   (2) tangential smoothing: each interior vertex moves, in its tangent
+//       plane, to the mean of its ring's vertices (each once per incident
+//       triangle; it beat the area-weighted centroid of the triangles and the
+//       ODT circumcenter mean on armadillo, docs/cvt.md), then back onto
+//       the input (nearest point, triangle_grid.hpp); a move is kept only if no
+//       incident triangle turns over and the input's normal there agrees with
+//       the vertex normal (so a vertex never jumps across a thin part); tips
+//       and ridges (an incident triangle more than 60 degrees off the vertex
+//       normal) stay unless one of their triangles has an angle below 20
+//       degrees, which keeps the Hausdorff distance near the dual's;
+// raise the mean smallest angle by ~5 degrees and the smallest by ~15 on
+// armadillo (docs/cvt.md). Neither step changes the topology: flips keep every edge in two triangles and never duplicate an
+// edge; moves change no connectivity. Boundary vertices stay where the dual put
+// them (on the input's boundary).
+//
+// Deterministic: flips visit edges in a fixed order; moves are computed from
+// the previous positions (Jacobi) and applied together.
+#pragma once
+#include <cstdint>
+
+#include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/triangle_grid.hpp"
+
+namespace locus {
+
+struct RemeshOptimizeOptions {
+  int rounds = 6;  // flip + smooth rounds (a final flip pass follows)
+};
+
+struct RemeshOptimizeStats {
+  int64_t flips = 0;
+  int64_t moves = 0;     // vertex moves kept, all rounds
+  int64_t refused = 0;   // moves refused (a triangle would turn over, or the projection crossed a thin part)
+};
+
+// `remesh` is a triangle mesh whose vertices lie on `input` (grid built over it).
+RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
+                                    const RemeshOptimizeOptions& opt = {});
+
+}  // namespace locus

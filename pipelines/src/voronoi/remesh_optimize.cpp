@@ -1,0 +1,264 @@
+// Edge flips and tangential smoothing of a remesh on its input
+// (pipelines/include/locus/pipelines/voronoi/remesh_optimize.hpp; issue 23).
+#include "locus/pipelines/voronoi/remesh_optimize.hpp"
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "locus/error.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+
+namespace locus {
+
+namespace {
+
+using V3 = std::array<double, 3>;
+V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+V3 cross(const V3& a, const V3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
+
+double angle(const V3& o, const V3& u, const V3& w) {  // at o, radians
+  const V3 a = sub(u, o), b = sub(w, o);
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+double min_angle(const V3& a, const V3& b, const V3& c) {
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
+V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
+
+uint64_t key(int32_t a, int32_t b) {
+  return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+}
+
+// One sweep of flips over the edges in sorted order; returns the number of flips.
+int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<int32_t>& valence,
+                  const std::vector<int32_t>& target, bool by_valence) {
+  std::unordered_map<uint64_t, std::array<int32_t, 2>> ef;
+  ef.reserve(F.size() * 2);
+  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = ef.try_emplace(key(F[f][k], F[f][(k + 1) % 3]), std::array<int32_t, 2>{f, -1});
+      if (!fresh) it->second[1] = f;
+    }
+  std::vector<uint64_t> edges;
+  edges.reserve(ef.size());
+  for (const auto& [k, v] : ef)
+    if (v[1] >= 0) edges.push_back(k);
+  std::sort(edges.begin(), edges.end());
+  const double cos30 = std::cos(M_PI / 6);
+  int64_t flips = 0;
+  for (uint64_t e : edges) {
+    const auto it = ef.find(e);
+    if (it == ef.end() || it->second[1] < 0) continue;
+    const int32_t fa = it->second[0], fb = it->second[1];
+    const int32_t u = static_cast<int32_t>(e >> 32), w = static_cast<int32_t>(e & 0xffffffffu);
+    // fa = (a, b, c) with the edge running a -> b in fa; fb = (b, a, d).
+    int ka = 0;
+    while (!((F[fa][ka] == u && F[fa][(ka + 1) % 3] == w) || (F[fa][ka] == w && F[fa][(ka + 1) % 3] == u))) ++ka;
+    const int32_t a = F[fa][ka], b = F[fa][(ka + 1) % 3], c = F[fa][(ka + 2) % 3];
+    int32_t d = -1;
+    for (int k = 0; k < 3; ++k)
+      if (F[fb][k] != a && F[fb][k] != b) d = F[fb][k];
+    if (d < 0 || c == d || ef.count(key(c, d))) continue;
+    const V3 pa = pos(m, a), pb = pos(m, b), pc = pos(m, c), pd = pos(m, d);
+    if (by_valence) {
+      auto dev = [&](int32_t v, int delta) {
+        const int x = valence[v] + delta - target[v];
+        return x * x;
+      };
+      const int before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+      const int after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
+      if (after >= before) continue;
+    } else if (angle(pc, pa, pb) + angle(pd, pa, pb) <= M_PI + 1e-9) {
+      continue;
+    }
+    const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
+    const V3 n1 = tri_normal(pc, pa, pd), n2 = tri_normal(pd, pb, pc);
+    // Degenerate (collinear) triangles have only a rounding-noise normal: zero it.
+    const double scale = std::max({dot(sub(pa, pb), sub(pa, pb)), dot(sub(pc, pa), sub(pc, pa)), dot(sub(pd, pa), sub(pd, pa))});
+    auto tiny = [&](double l) { return l <= 1e-12 * scale ? 0.0 : l; };
+    const double la = tiny(norm(na)), lb = tiny(norm(nb)), l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
+    if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
+    if (dot(n1, n2) < cos30 * l1 * l2) continue;
+    // A degenerate triangle (collinear sites, e.g. added on a straight input
+    // edge) has no normal: its neighbor's orients the flip that removes it.
+    if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) continue;
+    const V3 navg = {(la > 0 ? na[0] / la : 0) + (lb > 0 ? nb[0] / lb : 0),
+                     (la > 0 ? na[1] / la : 0) + (lb > 0 ? nb[1] / lb : 0),
+                     (la > 0 ? na[2] / la : 0) + (lb > 0 ? nb[2] / lb : 0)};
+    if (dot(n1, navg) <= 0 || dot(n2, navg) <= 0) continue;
+    const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
+    const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
+    if (by_valence ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;
+    --valence[a];
+    --valence[b];
+    ++valence[c];
+    ++valence[d];
+    F[fa] = {c, a, d};
+    F[fb] = {d, b, c};
+    ef.erase(it);
+    ef[key(c, d)] = {fa, fb};
+    auto& ad = ef[key(a, d)];
+    (ad[0] == fb ? ad[0] : ad[1]) = fa;
+    auto& bc = ef[key(b, c)];
+    (bc[0] == fa ? bc[0] : bc[1]) = fb;
+    ++flips;
+  }
+  return flips;
+}
+
+// One Jacobi sweep of tangential smoothing with projection onto the input.
+void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
+                 const std::vector<uint8_t>& fixed, RemeshOptimizeStats& st) {
+  const int32_t n = m.num_vertices();
+  std::vector<int64_t> off(static_cast<size_t>(n) + 1, 0);
+  for (const auto& t : F)
+    for (int32_t v : t) ++off[v + 1];
+  for (int32_t v = 0; v < n; ++v) off[v + 1] += off[v];
+  std::vector<int32_t> vf(static_cast<size_t>(off[n]));
+  std::vector<int64_t> fill(off.begin(), off.end() - 1);
+  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
+    for (int32_t v : F[f]) vf[fill[v]++] = f;
+  std::vector<V3> next(n);
+  std::vector<uint8_t> state(n, 0);  // 0 unchanged, 1 moved, 2 refused, 3 pinned
+  tbb::parallel_for(0, n, [&](int32_t v) {
+    next[v] = pos(m, v);
+    if (fixed[v] || off[v] == off[v + 1]) return;
+    V3 c{0, 0, 0}, nv{0, 0, 0};
+    double area = 0;
+    for (int64_t q = off[v]; q < off[v + 1]; ++q) {
+      const auto& t = F[vf[q]];
+      const V3 p0 = pos(m, t[0]), p1 = pos(m, t[1]), p2 = pos(m, t[2]);
+      const V3 nn = tri_normal(p0, p1, p2);
+      const double a = 0.5 * norm(nn);
+      for (int k = 0; k < 3; ++k) nv[k] += nn[k];
+      area += a;
+    }
+    const double ln = norm(nv);
+    if (!(area > 0) || !(ln > 0)) return;
+    for (int k = 0; k < 3; ++k) nv[k] /= ln;
+    {  // the target: the mean of the ring's vertices (each counted once per incident triangle)
+      V3 u{0, 0, 0};
+      int cnt = 0;
+      for (int64_t q = off[v]; q < off[v + 1]; ++q)
+        for (int32_t w : F[vf[q]])
+          if (w != v) {
+            u[0] += m.x[w];
+            u[1] += m.y[w];
+            u[2] += m.z[w];
+            ++cnt;
+          }
+      for (int k = 0; k < 3; ++k) c[k] = u[k] / cnt;
+    }
+    V3 d = sub(c, next[v]);
+    const double dn = dot(d, nv);
+    for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
+    // Tips and ridges (an incident triangle turned more than 60 degrees from the
+    // vertex normal) keep their vertex: moving it would cut the feature off;
+    // unless one of its triangles has an angle below 20 degrees (docs/cvt.md).
+    const double cos_pin = 0.5;
+    const double unpin = M_PI / 9;
+    double worst = M_PI;
+    for (int64_t q = off[v]; q < off[v + 1]; ++q) {
+      const auto& t = F[vf[q]];
+      worst = std::min(worst, min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])));
+    }
+    for (int64_t q = off[v]; q < off[v + 1] && worst >= unpin; ++q) {
+      const auto& t = F[vf[q]];
+      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+      if (dot(nn, nv) < cos_pin * norm(nn)) {
+        state[v] = 3;
+        return;
+      }
+    }
+    // The full move, else half, else a quarter (a vertex squeezed between close
+    // neighbors can still spread out).
+    for (double step : {1.0, 0.5, 0.25}) {
+      const V3 goal = {next[v][0] + step * d[0], next[v][1] + step * d[1], next[v][2] + step * d[2]};
+      const ClosestPoint cp = grid.closest(goal);
+      bool ok = cp.face >= 0;
+      if (ok) {
+        const auto fv = input.face(cp.face);
+        const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+        ok = dot(ni, nv) > 0.5 * norm(ni);
+      }
+      for (int64_t q = off[v]; ok && q < off[v + 1]; ++q) {  // no incident triangle turns over
+        std::array<V3, 3> p, p_new;
+        for (int k = 0; k < 3; ++k) {
+          p[k] = pos(m, F[vf[q]][k]);
+          p_new[k] = F[vf[q]][k] == v ? cp.point : p[k];
+        }
+        const V3 n0 = tri_normal(p[0], p[1], p[2]), n1 = tri_normal(p_new[0], p_new[1], p_new[2]);
+        // A degenerate triangle (no normal beyond rounding noise) may open up in
+        // the vertex normal's direction.
+        const double scale = std::max({dot(sub(p[1], p[0]), sub(p[1], p[0])), dot(sub(p[2], p[0]), sub(p[2], p[0])),
+                                       dot(sub(p[2], p[1]), sub(p[2], p[1]))});
+        ok = norm(n0) > 1e-12 * scale ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
+      }
+      if (ok) {
+        state[v] = 1;
+        next[v] = cp.point;
+        return;
+      }
+    }
+    state[v] = 2;
+  });
+  for (int32_t v = 0; v < n; ++v) {
+    m.x[v] = next[v][0];
+    m.y[v] = next[v][1];
+    m.z[v] = next[v][2];
+    st.moves += state[v] == 1;
+    st.refused += state[v] == 2;
+  }
+}
+
+}  // namespace
+
+RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
+                                    const RemeshOptimizeOptions& opt) {
+  if (!remesh.is_triangle_mesh()) fail(ErrorCode::BadUsage, "optimize remesh: a triangle mesh expected");
+  if (opt.rounds < 0) fail(ErrorCode::BadUsage, "optimize remesh: rounds must be >= 0");
+  RemeshOptimizeStats st;
+  const int32_t n = remesh.num_vertices();
+  std::vector<uint8_t> fixed(n, 0);
+  for (const auto& loop : boundary_loops(remesh))
+    for (int32_t v : loop) fixed[v] = 1;
+  std::vector<std::array<int32_t, 3>> F(remesh.num_faces());
+  for (int32_t f = 0; f < remesh.num_faces(); ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
+  std::vector<int32_t> valence(n, 0), target(n, 6);
+  for (const auto& t : F)
+    for (int32_t v : t) ++valence[v];
+  for (int32_t v = 0; v < n; ++v)
+    if (fixed[v]) target[v] = 4;
+  // Delaunay flips first (the discrete cells' connectivity) and last; valence
+  // flips in the rounds between (both at once undo each other: docs/cvt.md).
+  for (int r = 0; r <= opt.rounds; ++r) {
+    for (int by_valence = 1; by_valence >= 0; --by_valence) {
+      if (by_valence != (r > 0 && r < opt.rounds)) continue;
+      for (int pass = 0; pass < 8; ++pass) {
+        const int64_t k = flip_pass(remesh, F, valence, target, by_valence);
+        st.flips += k;
+        if (k == 0) break;
+      }
+    }
+    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, st);
+  }
+  for (int32_t f = 0; f < remesh.num_faces(); ++f) {
+    remesh.f0[f] = F[f][0];
+    remesh.f1[f] = F[f][1];
+    remesh.f2[f] = F[f][2];
+    for (int k = 0; k < 3; ++k) remesh.face_vertices[3 * static_cast<size_t>(f) + k] = F[f][k];
+  }
+  return st;
+}
+
+}  // namespace locus

@@ -1,0 +1,131 @@
+// Uniform grid of triangles, nearest-point queries
+// (pipelines/include/locus/pipelines/voronoi/triangle_grid.hpp; issue 23).
+#include "locus/pipelines/voronoi/triangle_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace locus {
+
+namespace {
+using V3 = std::array<double, 3>;
+V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+V3 axpy(const V3& a, double s, const V3& d) { return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]}; }
+V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
+}  // namespace
+
+V3 closest_point_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c) {
+  const V3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return axpy(a, d1 / (d1 - d3), ab);
+  const V3 cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return axpy(a, d2 / (d2 - d6), ac);
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return axpy(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), sub(c, b));
+  const double denom = 1.0 / (va + vb + vc);
+  return axpy(axpy(a, vb * denom, ab), vc * denom, ac);
+}
+
+TriangleGrid::TriangleGrid(const Mesh& m) : m_(m) {
+  const int32_t nf = m.num_faces();
+  for (int c = 0; c < 3; ++c) {
+    lo_[c] = INFINITY;
+    hi_[c] = -INFINITY;
+  }
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    const V3 p = pos(m, v);
+    for (int c = 0; c < 3; ++c) {
+      lo_[c] = std::min(lo_[c], p[c]);
+      hi_[c] = std::max(hi_[c], p[c]);
+    }
+  }
+  if (m.num_vertices() == 0)
+    for (int c = 0; c < 3; ++c) lo_[c] = hi_[c] = 0;
+  const double ext = std::max({hi_[0] - lo_[0], hi_[1] - lo_[1], hi_[2] - lo_[2], 1e-300});
+  // A surface of nf triangles in a box of side ext: about nf^(1/2) triangles
+  // across, so cells of ext / sqrt(nf / 4) hold a few triangles each.
+  const double across = std::clamp(std::sqrt(std::max(nf, 1) / 4.0), 1.0, 512.0);
+  cell_ = ext / across;
+  for (int c = 0; c < 3; ++c) dim_[c] = std::max(1, static_cast<int>((hi_[c] - lo_[c]) / cell_) + 1);
+  const size_t ncell = static_cast<size_t>(dim_[0]) * dim_[1] * dim_[2];
+  std::vector<int64_t> count(ncell + 1, 0);
+  auto each_cell = [&](int32_t f, const std::function<void(size_t)>& g) {
+    const auto fv = m.face(f);
+    int lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) {
+      double a = INFINITY, b = -INFINITY;
+      for (int32_t v : fv) {
+        const double x = c == 0 ? m.x[v] : c == 1 ? m.y[v] : m.z[v];
+        a = std::min(a, x);
+        b = std::max(b, x);
+      }
+      lo[c] = index(c, a);
+      hi[c] = index(c, b);
+    }
+    for (int i = lo[0]; i <= hi[0]; ++i)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int k = lo[2]; k <= hi[2]; ++k) g((static_cast<size_t>(i) * dim_[1] + j) * dim_[2] + k);
+  };
+  for (int32_t f = 0; f < nf; ++f) each_cell(f, [&](size_t c) { ++count[c + 1]; });
+  for (size_t c = 0; c < ncell; ++c) count[c + 1] += count[c];
+  offsets_ = count;
+  faces_.resize(static_cast<size_t>(offsets_[ncell]));
+  for (int32_t f = 0; f < nf; ++f) each_cell(f, [&](size_t c) { faces_[count[c]++] = f; });
+}
+
+int TriangleGrid::index(int c, double x) const {
+  const double f = std::floor((x - lo_[c]) / cell_);
+  return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(dim_[c] - 1)));
+}
+
+ClosestPoint TriangleGrid::closest(const V3& p) const {
+  ClosestPoint best;
+  double best2 = INFINITY;
+  int ci[3];
+  double out2 = 0;  // squared distance from p to the grid's box
+  for (int c = 0; c < 3; ++c) {
+    ci[c] = index(c, p[c]);
+    const double d = std::max({lo_[c] - p[c], p[c] - hi_[c], 0.0});
+    out2 += d * d;
+  }
+  const int maxr = std::max({dim_[0], dim_[1], dim_[2]});
+  for (int r = 0; r <= maxr; ++r) {
+    // Cells of shell r or farther are at least (r - 1) cells from p (p inside its
+    // clamped cell; outside the box, the box distance adds in quadrature at least).
+    const double shell = std::max(0, r - 1) * cell_;
+    if (best2 < INFINITY && best2 <= shell * shell + out2) break;
+    for (int i = std::max(0, ci[0] - r); i <= std::min(dim_[0] - 1, ci[0] + r); ++i)
+      for (int j = std::max(0, ci[1] - r); j <= std::min(dim_[1] - 1, ci[1] + r); ++j)
+        for (int k = std::max(0, ci[2] - r); k <= std::min(dim_[2] - 1, ci[2] + r); ++k) {
+          if (std::max({std::abs(i - ci[0]), std::abs(j - ci[1]), std::abs(k - ci[2])}) != r) continue;
+          const size_t c = (static_cast<size_t>(i) * dim_[1] + j) * dim_[2] + k;
+          for (int64_t q = offsets_[c]; q < offsets_[c + 1]; ++q) {
+            const auto fv = m_.face(faces_[q]);
+            for (size_t t = 1; t + 1 < fv.size(); ++t) {
+              const V3 x = closest_point_on_triangle(p, pos(m_, fv[0]), pos(m_, fv[t]), pos(m_, fv[t + 1]));
+              const V3 d = sub(p, x);
+              const double d2 = dot(d, d);
+              if (d2 < best2 || (d2 == best2 && faces_[q] < best.face)) {  // ties: lowest face (deterministic)
+                best2 = d2;
+                best.point = x;
+                best.face = faces_[q];
+              }
+            }
+          }
+        }
+  }
+  best.distance = std::sqrt(best2);
+  return best;
+}
+
+}  // namespace locus
