@@ -286,13 +286,16 @@ std::string obj(const Mesh& m, const WriteOptions& opt) {
   return out;
 }
 
-// OFF has no named properties: the first vertex property is written as COFF
+// OFF has no named properties: one vertex property (opt.off_colour, else the
+// first) is written as COFF
 // colours (viridis over its finite range, grey for NaN/inf), so a viewer shows
 // the result; the exact values need PLY or OBJ.
 std::string off(const Mesh& m, const WriteOptions& opt) {
   const size_t nv = m.x.size();
   const int64_t nf = m.num_faces();
   const VertexProperty* shown = opt.vertex_properties.empty() ? nullptr : &opt.vertex_properties.front();
+  for (const VertexProperty& p : opt.vertex_properties)
+    if (p.name == opt.off_colour) shown = &p;
   std::string out = std::string(shown ? "COFF\n# colour: " + shown->name + "\n" : "OFF\n") + std::to_string(nv) +
                     " " + std::to_string(nf) + " 0\n";
   double lo = 0, hi = 0;

@@ -168,7 +168,7 @@ int CommandTable::run(int argc, char** argv) {
 Input load_input(const CommonOptions& opt, const RunContext& ctx) {
   Input in;
   Stopwatch sw;
-  in.mesh = read_mesh(opt.mesh_path);
+  in.mesh = read_mesh(opt.mesh_path, {}, &in.attributes);
   in.load_s = sw.seconds();
   if (opt.subdivide > 0) {
     ctx.check_cancel();
@@ -196,6 +196,11 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
                                          " faces, more than the memory limit of " +
                                          format_number(memory_limit_bytes(ctx) / 1073741824.0) +
                                          " GiB (raise it with --max-memory)");
+    if (!in.attributes.vertex.empty()) {
+      log("--subdivide: the input's " + std::to_string(in.attributes.vertex.size()) +
+          " vertex attribute(s) are not carried to the outputs (subdivision makes new vertices)");
+      in.attributes.vertex.clear();
+    }
     sw.restart();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = sw.seconds();
@@ -225,9 +230,29 @@ void refuse_output(const CommonOptions& opt, const std::string& command, const s
     fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": this command writes no file; " + result);
 }
 
-void write_output_mesh(const CommonOptions& opt, const Mesh& m) {
+WriteOptions carried_attributes(const Input& in, bool positions_changed, bool result_uv) {
+  WriteOptions wo;
+  wo.float_positions = in.attributes.float_positions;
+  for (const VertexProperty& p : in.attributes.vertex) {
+    if (static_cast<int32_t>(p.values.size()) != in.mesh.num_vertices()) continue;
+    if (positions_changed && (p.name == "nx" || p.name == "ny" || p.name == "nz")) continue;
+    if (result_uv && (p.name == "u" || p.name == "v")) continue;
+    wo.vertex_properties.push_back(p);
+  }
+  return wo;
+}
+
+void add_result(WriteOptions& wo, VertexProperty p) {
+  auto& props = wo.vertex_properties;
+  props.erase(std::remove_if(props.begin(), props.end(), [&](const VertexProperty& q) { return q.name == p.name; }),
+              props.end());
+  if (wo.off_colour.empty()) wo.off_colour = p.name;  // OFF shows the first result, not an input attribute
+  props.push_back(std::move(p));
+}
+
+void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptions& wo) {
   if (opt.output.empty()) return;
-  write_mesh(opt.output, m);
+  write_mesh(opt.output, m, wo);
   log("wrote " + opt.output);
 }
 

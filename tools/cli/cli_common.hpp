@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
+#include "locus/mesh_io.hpp"
 #include "locus/run_context.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
 #include "locus/sparse_matrix.hpp"
@@ -89,6 +90,7 @@ class Stopwatch {
 // The mesh a command works on: read from <mesh-file>, then subdivided.
 struct Input {
   Mesh mesh;
+  MeshAttributes attributes;  // the file's vertex attributes (PLY), carried to outputs on its vertices
   double load_s = 0;       // reading and parsing the file
   double subdivide_s = 0;  // --subdivide (0 when not asked)
 };
@@ -112,8 +114,16 @@ Json input_json(const CommonOptions& opt, const Input& in);
 void check_uv_output(const CommonOptions& opt, const std::string& command);
 void refuse_output(const CommonOptions& opt, const std::string& command, const std::string& result);
 
+// Write options for an output on the input's vertices (issue 22 item 2): the
+// input file's vertex attributes with their types, float positions kept as
+// float. Normals are dropped when the command moved the vertices; u/v when
+// the result has UVs of its own (they replace them).
+WriteOptions carried_attributes(const Input& in, bool positions_changed = false, bool result_uv = false);
+// Adds a result property, replacing an input attribute of the same name.
+void add_result(WriteOptions& wo, VertexProperty p);
+
 // Writes `m` to -o FILE when one was given (format from the extension).
-void write_output_mesh(const CommonOptions& opt, const Mesh& m);
+void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptions& wo = {});
 
 // With --json prints `result` as one JSON object on stdout; otherwise calls
 // `human` with stdout.

@@ -246,9 +246,8 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   const RemeshStats in_st = mesh_topology_stats(mesh);
   const double stats_s = phase.seconds();
   if (!o.labels_out.empty()) {
-    WriteOptions wo;
-    wo.vertex_properties.push_back(
-        {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
+    WriteOptions wo = carried_attributes(in);
+    add_result(wo, {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
     write_mesh(o.labels_out, mesh, wo);
     log("wrote " + o.labels_out);
   }

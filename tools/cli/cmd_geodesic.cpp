@@ -100,9 +100,9 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   }
 
   if (!opt.output.empty()) {
-    WriteOptions wo;
-    wo.vertex_properties.push_back({"distance", VertexProperty::Type::Double, distance});
-    wo.vertex_properties.push_back({"valid", VertexProperty::Type::Int, valid});
+    WriteOptions wo = carried_attributes(in);
+    add_result(wo, {"distance", VertexProperty::Type::Double, distance});
+    add_result(wo, {"valid", VertexProperty::Type::Int, valid});
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }

@@ -111,14 +111,14 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
     }
 
   if (!opt.output.empty()) {
-    WriteOptions wo;
+    WriteOptions wo = carried_attributes(in);
     for (size_t j = 0; j < nt; ++j) {
       VertexProperty p;
       p.name = command == "adf" ? std::string("adf") : "hks_" + std::to_string(j);
       p.type = VertexProperty::Type::Double;
       p.values.resize(count);
       for (size_t k = 0; k < count; ++k) p.values[k] = values[k * nt + j];
-      wo.vertex_properties.push_back(std::move(p));
+      add_result(wo, std::move(p));
     }
     write_mesh(opt.output, m, wo);
     log("wrote " + opt.output);

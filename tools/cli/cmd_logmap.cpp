@@ -142,12 +142,12 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
       ang[i] = a[p];
       in_patch[i] = 1;
     }
-    WriteOptions wo;
+    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
     wo.uv = &uv;
-    wo.vertex_properties.push_back({"distance", VertexProperty::Type::Double, dist});
-    wo.vertex_properties.push_back({"angle", VertexProperty::Type::Double, ang});
-    wo.vertex_properties.push_back({"valid", VertexProperty::Type::Int, in_patch});
-    wo.vertex_properties.push_back({"in_patch", VertexProperty::Type::Int, in_patch});
+    add_result(wo, {"distance", VertexProperty::Type::Double, dist});
+    add_result(wo, {"angle", VertexProperty::Type::Double, ang});
+    add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
+    add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }

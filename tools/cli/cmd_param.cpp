@@ -65,7 +65,7 @@ int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunCont
   const ParamRun run = parameterize(in.mesh, po, ctx);
   const FlipFreeParamResult& r = run.result;
   if (!opt.output.empty()) {
-    WriteOptions wo;
+    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
     wo.uv = &r.uv;
     write_mesh(opt.output, in.mesh, wo);
   }

@@ -106,7 +106,7 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
     out.x = p[0];
     out.y = p[1];
     out.z = p[2];
-    write_output_mesh(opt, out);
+    write_output_mesh(opt, out, carried_attributes(in, /*positions_changed=*/true));
     write_weights(opt.output + ".weights.txt", R);
   }
   const auto& r = R.run;

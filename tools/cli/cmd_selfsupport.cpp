@@ -40,7 +40,7 @@ int run_selfsupport(const CommonOptions& opt, const SelfSupportCliOptions& so, c
     out.x = r.pos[0];
     out.y = r.pos[1];
     out.z = r.pos[2];
-    write_output_mesh(opt, out);
+    write_output_mesh(opt, out, carried_attributes(in, /*positions_changed=*/true));
     io::write_file_atomically(opt.output + ".forces.txt", [&](std::ostream& os) {
       os << std::setprecision(17);
       for (size_t e = 0; e < r.e0.size(); ++e) os << r.e0[e] << ' ' << r.e1[e] << ' ' << r.forces[e] << '\n';

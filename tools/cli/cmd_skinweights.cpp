@@ -42,11 +42,11 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   const SkinningWeights W = skinning_weights(H, mesh, handles, run);
   const int32_t n = mesh.num_vertices(), k = W.handles;
   if (!opt.output.empty()) {
-    WriteOptions wo;
+    WriteOptions wo = carried_attributes(in);
     for (int32_t j = 0; j < k; ++j) {
       std::vector<double> col(n);
       for (int32_t v = 0; v < n; ++v) col[v] = W.weight[static_cast<size_t>(v) * k + j];
-      wo.vertex_properties.push_back({"w" + std::to_string(j), VertexProperty::Type::Double, std::move(col)});
+      add_result(wo, {"w" + std::to_string(j), VertexProperty::Type::Double, std::move(col)});
     }
     write_mesh(opt.output, mesh, wo);
   }

@@ -50,6 +50,7 @@ struct WriteOptions {
   const std::vector<double>* uv = nullptr;        // 2*nv texture coordinates (OBJ vt, PLY u/v)
   bool binary = true;                             // PLY: binary little endian or ascii
   bool float_positions = false;                   // PLY: x y z as float (an input stored so stays so)
+  std::string off_colour;                         // OFF: the property shown as colours ("" = the first)
 };
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});
