@@ -38,7 +38,8 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
   o.iperm.resize(n);
   using M = OrderingOptions::Method;
   M method = opt.method;
-  if (method == M::Auto) method = n <= opt.amd_max_vertices ? M::Amd : M::NestedDissection;
+  if (method == M::Auto)
+    method = n < opt.amd_min_vertices ? M::Metis : n <= opt.amd_max_vertices ? M::Amd : M::NestedDissection;
   if (method == M::Natural || n <= 2) {
     o.perm.resize(n);
     std::iota(o.perm.begin(), o.perm.end(), 0);

@@ -25,7 +25,7 @@ struct Ordering {
 
 struct OrderingOptions {
   enum class Method {
-    Auto,              // Amd up to amd_max_vertices, else NestedDissection
+    Auto,              // Metis below amd_min_vertices, Amd up to amd_max_vertices, NestedDissection above
     NestedDissection,  // task tree with (C)AMD leaves, separators as chosen below
     Amd,               // approximate minimum degree of the whole graph
     Metis,             // METIS_NodeND, one top split on two threads (the pre-task-tree ordering)
@@ -45,6 +45,10 @@ struct OrderingOptions {
   // above it nested dissection's shorter etrees and lower fill pay for it
   // (local solves, numeric time). Measurements: docs/ordering.md.
   int32_t amd_max_vertices = 120000;
+  // Auto: below this size the ordering costs milliseconds whatever the
+  // method, so the one with the shorter etree (METIS_NodeND) is kept, and
+  // small systems factor exactly as before issue 26.
+  int32_t amd_min_vertices = 4000;
   int32_t leaf_size = 256;  // NestedDissection: leaves of at most this many vertices by (C)AMD
   bool halo = true;         // NestedDissection: leaves ordered with their separator halo (CAMD)
 };
