@@ -8,6 +8,8 @@
 #include <amd.h>
 #include <camd.h>
 
+#include <algorithm>
+#include <climits>
 #include <numeric>
 #include <string>
 
@@ -23,14 +25,21 @@ std::vector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
     std::iota(perm.begin(), perm.end(), 0);
     return perm;
   }
+  // amd_2 directly: amd_order would check the input, form A + A^T and copy
+  // it, all of which an AdjacencyGraph already is (symmetric, no diagonal,
+  // no duplicates); amd_2 needs a copy it may overwrite, with elbow room.
   double control[AMD_CONTROL], info[AMD_INFO];
   amd_defaults(control);
-  const int rc = amd_order(n, g.xadj.data(), g.adj.data(), perm.data(), control, info);
-  if (rc == AMD_OUT_OF_MEMORY)
-    fail(ErrorCode::ResourceLimit, "AMD ordering: out of memory on a graph of " + std::to_string(n) + " vertices");
-  if (rc != AMD_OK && rc != AMD_OK_BUT_JUMBLED)
-    fail(ErrorCode::Internal, "AMD ordering failed with status " + std::to_string(rc) + " on a graph of " +
-                                  std::to_string(n) + " vertices");
+  const int64_t nnz = g.xadj[n];
+  const int64_t iwlen = nnz + nnz / 5 + 2 * static_cast<int64_t>(n);  // amd_2 needs >= nnz + n
+  if (iwlen > INT32_MAX)
+    fail(ErrorCode::ResourceLimit, "AMD ordering: a graph of " + std::to_string(nnz) + " edges exceeds 32-bit indices");
+  std::vector<int32_t> pe(g.xadj.begin(), g.xadj.end() - 1), len(n), iw(static_cast<size_t>(iwlen));
+  std::vector<int32_t> nv(n), next(n), head(n), elen(n), degree(n), w(n);
+  for (int32_t v = 0; v < n; ++v) len[v] = g.degree(v);
+  std::copy(g.adj.begin(), g.adj.end(), iw.begin());
+  amd_2(n, pe.data(), iw.data(), len.data(), static_cast<int>(iwlen), static_cast<int>(nnz), nv.data(), next.data(),
+        perm.data(), head.data(), elen.data(), degree.data(), w.data(), control, info);
   return perm;
 }
 
