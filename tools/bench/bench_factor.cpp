@@ -54,6 +54,7 @@ struct Options {
   int32_t leaf_size = 0;                      // --leaf-size (0: OrderingOptions' default)
   bool orderings_only = false;                // skip the peers (ordering experiments)
   std::string threads_list;                   // "1,2,4": the "scaling" section
+  std::string scaling_ordering = "auto";      // the ordering of the "scaling" section
 };
 
 // The vertex positions of the operator's mesh, for geometric orderings.
@@ -517,7 +518,7 @@ cli::Json run_scaling(const CscMatrix& A, double operator_s, const Positions& po
     c.threads = t;
     PeerRun lr, cr;
     for (int r = 0; r < bo.repeats; ++r) {
-      run_locus(A, ordering_options("auto", pos), rhs, c, lr);
+      run_locus(A, ordering_options(bo.scaling_ordering, pos), rhs, c, lr);
       lr.close_repeat(operator_s);
 #ifdef LOCUS_HAVE_CHOLMOD
       openblas_set_num_threads(t);
@@ -531,6 +532,7 @@ cli::Json run_scaling(const CscMatrix& A, double operator_s, const Positions& po
       ctx.check_cancel();
     }
     cli::Json row{{"threads", t}, {"locus", lr.medians()}};
+    row["locus"]["ordering"] = bo.scaling_ordering;
 #ifdef LOCUS_HAVE_CHOLMOD
     row["cholmod"] = cr.medians();
 #endif
@@ -599,6 +601,8 @@ void register_factor_bench(cli::CommandTable& table) {
   app->add_option("--threads-list", bo->threads_list,
                   "Comma-separated thread counts (1,2,4,8,16): every phase of locus and CHOLMOD at each, "
                   "in the \"scaling\" section");
+  app->add_option("--scaling-ordering", bo->scaling_ordering,
+                  "locus' ordering in the \"scaling\" section (names as --orderings; default auto)");
   app->add_option("--cholmod-ordering", bo->cholmod_ordering,
                   "CHOLMOD's ordering: default (its own choice), metis or amd (default: default)")
       ->check(CLI::IsMember({"default", "metis", "amd"}));
