@@ -32,8 +32,8 @@ struct OrderingOptions {
     Natural            // identity
   } method = Method::Auto;
   // NestedDissection's separators: METIS' multilevel ones, or plane cuts from
-  // the vertex positions below (Geometric: 2-3x cheaper, ~1.3x the fill on
-  // meshes, docs/ordering.md; without usable positions METIS is used).
+  // the vertex positions below (Geometric: ~0.85x the time, 1.1-1.25x the
+  // fill on armadillo, docs/ordering.md; without usable positions METIS is used).
   enum class Separator { Metis, Geometric } separator = Separator::Metis;
   int seed = 7;  // METIS random seed (fixed: same input, same ordering)
   // Vertex positions, one per matrix column (a mesh's x, y, z when the matrix
