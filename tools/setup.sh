@@ -10,7 +10,7 @@ PKGS=(
   libtbb-dev libeigen3-dev libopenblas-dev liblapacke-dev
   libxsimd-dev libflatbuffers-dev flatbuffers-compiler doctest-dev
   libcli11-dev nlohmann-json3-dev libstb-dev
-  libsuitesparse-dev                 # CHOLMOD: test/benchmark peer only
+  libsuitesparse-dev                 # AMD, CAMD (BSD-3): orderings; CHOLMOD (GPL): test/benchmark peer only
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
 )
 missing=()

@@ -13,7 +13,8 @@
 # only redone when the installed version changes.
 #
 # Test subset (fits ~20 minutes on 2 shared cores, build included): the
-# factorization, solve, selected-inversion and factor-update kernels, and the
+# ordering, symbolic analysis, factorization, solve, selected-inversion and
+# factor-update kernels, and the
 # pipelines that run threads or parallel loops: CVT (flow graph), heat
 # geodesic and log map (concurrent queries), heat Voronoi, ADF, and the
 # Session's concurrent queries. OpenBLAS stays single-threaded
@@ -93,7 +94,8 @@ run() {  # run NAME DOCTEST-ARGS...: one group of test cases
     status=1
   fi
 }
-run "ordering (halves on two threads, per-thread METIS random numbers)" --source-file='*tests/kernels/*/ordering*'
+run "ordering (nested dissection task tree at 1/2/3/8 threads, per-thread METIS random numbers)" --source-file='*tests/kernels/*/ordering*'
+run "symbolic analysis (assembly map and update lists as two tasks)" --source-file='*tests/kernels/*/symbolic_factor*'
 run "factorization" --source-file='*tests/kernels/*/supernodal_factor*'
 run "solves" --source-file='*tests/kernels/*/solve_*'
 run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'

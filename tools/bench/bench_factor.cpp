@@ -23,7 +23,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <sstream>
+#include <thread>
 
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
@@ -48,25 +50,58 @@ struct Options {
   cli::OperatorSpec op;
   int repeats = 5;
   std::string cholmod_ordering = "default";  // default (AMD, METIS only if AMD fills badly) | metis | amd
+  std::vector<std::string> orderings{"auto", "metis", "amd", "nd", "nd_geometric"};  // the "orderings" section
+  int32_t leaf_size = 0;                      // --leaf-size (0: OrderingOptions' default)
+  bool orderings_only = false;                // skip the peers (ordering experiments)
+  std::string threads_list;                   // "1,2,4": the "scaling" section
+  std::string scaling_ordering = "auto";      // the ordering of the "scaling" section
 };
+
+// The vertex positions of the operator's mesh, for geometric orderings.
+struct Positions {
+  std::span<const double> x, y, z;
+};
+
+OrderingOptions ordering_options(const std::string& name, const Positions& pos, int32_t leaf_size = 0) {
+  OrderingOptions o;
+  if (leaf_size > 0) o.leaf_size = leaf_size;
+  o.x = pos.x;
+  o.y = pos.y;
+  o.z = pos.z;
+  using M = OrderingOptions::Method;
+  if (name == "metis") o.method = M::Metis;
+  else if (name == "amd") o.method = M::Amd;
+  else if (name == "nd") o.method = M::NestedDissection;
+  else if (name == "nd_geometric") { o.method = M::NestedDissection; o.separator = OrderingOptions::Separator::Geometric; }
+  else if (name == "nd_nohalo") { o.method = M::NestedDissection; o.halo = false; }
+  else if (name != "auto") fail(ErrorCode::BadUsage, "unknown ordering '" + name + "'");
+  return o;
+}
 
 // Per-peer samples (one entry per repeat) and final figures.
 struct PeerRun {
-  std::vector<double> analyze_s, factor_first_s, factor_repeat_s, solve_s, solve8_s;
+  std::vector<double> analyze_s, order_s, symbolic_s, factor_first_s, factor_repeat_s, solve_s, solve8_s;
+  std::vector<double> first_answer_s;  // operator + analyze + first factorization + one solve, per repeat
   double nnz_L = 0;         // entries of the exact (pure) factor L
   double nnz_L_stored = 0;  // entries stored, including supernodal amalgamation zeros
   std::vector<double> x;    // solution of the 1-lane system
   std::vector<double> x8;   // solutions of the 8-lane system, column-major n x 8
   cli::Json extra = cli::Json::object();
 
+  void close_repeat(double operator_s) {
+    first_answer_s.push_back(operator_s + analyze_s.back() + factor_first_s.back() + solve_s.back());
+  }
   cli::Json medians() const {
-    cli::Json j{{"analyze_s", cli::median(analyze_s)},
-                     {"factor_first_s", cli::median(factor_first_s)},
-                     {"factor_repeat_s", cli::median(factor_repeat_s)},
-                     {"solve_s", cli::median(solve_s)},
-                     {"solve8_s", cli::median(solve8_s)},
-                     {"nnz_L", nnz_L},
-                     {"nnz_L_stored", nnz_L_stored}};
+    cli::Json j{{"analyze_s", cli::median(analyze_s)}};
+    if (!order_s.empty()) j["order_s"] = cli::median(order_s);
+    if (!symbolic_s.empty()) j["symbolic_s"] = cli::median(symbolic_s);
+    j["factor_first_s"] = cli::median(factor_first_s);
+    j["factor_repeat_s"] = cli::median(factor_repeat_s);
+    j["solve_s"] = cli::median(solve_s);
+    j["solve8_s"] = cli::median(solve8_s);
+    j["first_answer_s"] = cli::median(first_answer_s);
+    j["nnz_L"] = nnz_L;
+    j["nnz_L_stored"] = nnz_L_stored;
     j.update(extra);
     return j;
   }
@@ -89,14 +124,15 @@ double rel_diff(const std::vector<double>& a, const std::vector<double>& ref) {
 
 // ---------------------------------------------------------------- locus ----
 
-void run_locus(const CscMatrix& A, const Rhs& rhs, const RunContext& ctx, PeerRun& out) {
+void run_locus(const CscMatrix& A, const OrderingOptions& oo, const Rhs& rhs, const RunContext& ctx, PeerRun& out) {
   const size_t n = static_cast<size_t>(rhs.n);
   Stopwatch sw;
-  const Ordering ord = order_matrix(A, {}, ctx);
-  const double order_s = sw.seconds();
+  const Ordering ord = order_matrix(A, oo, ctx);
+  out.order_s.push_back(sw.seconds());
+  sw.restart();
   std::shared_ptr<const SymbolicFactor> sym = analyze(A, ord);
-  out.analyze_s.push_back(sw.seconds());
-  out.extra["order_s"] = order_s;  // last repeat's split of analyze_s, for orientation
+  out.symbolic_s.push_back(sw.seconds());
+  out.analyze_s.push_back(out.order_s.back() + out.symbolic_s.back());
   ctx.check_cancel();
 
   sw.restart();
@@ -229,6 +265,17 @@ class Cholmod {
     L_ = cholmod_analyze(A_, &c_);
     out.analyze_s.push_back(sw.seconds());
     check("cholmod_analyze");
+    // Its ordering alone, timed by a second call of the method it chose:
+    // symbolic_s is the rest of cholmod_analyze (postorder, counts, supernodes).
+    std::vector<int> perm(n);
+    sw.restart();
+    if (L_->ordering == CHOLMOD_METIS)
+      cholmod_metis(A_, nullptr, 0, /*postorder=*/1, perm.data(), &c_);
+    else
+      cholmod_amd(A_, nullptr, 0, perm.data(), &c_);
+    out.order_s.push_back(std::min(sw.seconds(), out.analyze_s.back()));
+    out.symbolic_s.push_back(out.analyze_s.back() - out.order_s.back());
+    check("cholmod ordering");
     sw.restart();
     cholmod_factorize(A_, L_, &c_);
     out.factor_first_s.push_back(sw.seconds());
@@ -284,7 +331,9 @@ class Cholmod {
 
 cli::Json ratios(const cli::Json& mine, const cli::Json& peer) {
   cli::Json r;
-  for (const char* k : {"analyze_s", "factor_first_s", "factor_repeat_s", "solve_s", "solve8_s", "nnz_L", "nnz_L_stored"}) {
+  for (const char* k : {"analyze_s", "order_s", "symbolic_s", "factor_first_s", "factor_repeat_s", "solve_s", "solve8_s",
+                        "first_answer_s", "nnz_L", "nnz_L_stored"}) {
+    if (!mine.contains(k) || !peer.contains(k)) continue;
     const double a = mine[k].get<double>(), b = peer[k].get<double>();
     std::string key(k);
     if (key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0) key.resize(key.size() - 2);
@@ -300,17 +349,21 @@ void print_table(std::ostream& os, const cli::Json& j) {
                 "locus/CHOLMOD", "locus/Eigen");
   os << line;
   const std::pair<const char*, const char*> rows[] = {
-      {"analyze_s", "analyze [s]"},         {"factor_first_s", "factor [s]"}, {"factor_repeat_s", "refactor [s]"},
+      {"analyze_s", "analyze [s]"},         {"order_s", "  ordering [s]"}, {"symbolic_s", "  symbolic [s]"},
+      {"factor_first_s", "factor [s]"}, {"factor_repeat_s", "refactor [s]"}, {"first_answer_s", "first answer [s]"},
       {"solve_s", "solve 1 lane [s]"},      {"solve8_s", "solve 8 lanes [s]"}, {"nnz_L", "nnz(L) exact"},
       {"nnz_L_stored", "nnz(L) stored"}};
   for (const auto& [key, label] : rows) {
     std::string k(key);
     const std::string rk = k.size() > 2 && k.compare(k.size() - 2, 2, "_s") == 0 ? k.substr(0, k.size() - 2) : k;
-    const double c = have_cholmod ? j["cholmod"][key].get<double>() : NAN;
-    const double e = j["eigen"][key].get<double>(), l = j["locus"][key].get<double>();
+    const double c = have_cholmod && j["cholmod"].contains(key) ? j["cholmod"][key].get<double>() : NAN;
+    const auto get = [&](const char* peer) {
+      return j[peer].contains(key) ? j[peer][key].get<double>() : NAN;
+    };
+    const double e = get("eigen"), l = get("locus");
     const auto ratio = [&](const char* peer) {
       const cli::Json& r = j[peer];
-      return r.is_null() || r[rk].is_null() ? NAN : r[rk].get<double>();
+      return r.is_null() || !r.contains(rk) || r[rk].is_null() ? NAN : r[rk].get<double>();
     };
     std::snprintf(line, sizeof line, "%-18s %12.4g %12.4g %12.4g %14.3f %12.3f\n", label, c, e, l,
                   ratio("ratio_locus_cholmod"), ratio("ratio_locus_eigen"));
@@ -319,42 +372,188 @@ void print_table(std::ostream& os, const cli::Json& j) {
   os << "solutions: " << j["agreement"].dump() << "\n";
 }
 
-int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
-  cli::validate_operator_spec(bo.op);
-  cli::Input in = cli::load_input(opt, ctx);
-  const cli::BuiltOperator op = cli::build_operator(in.mesh, bo.op);
-  const CscMatrix& A = op.A;
-  Rhs rhs;
-  rhs.n = A.ncols;
-  const size_t n = static_cast<size_t>(rhs.n);
-  rhs.b = cli::random_vector(n, opt.seed);
-  rhs.b8.resize(n * kLanes);
-  std::copy(rhs.b.begin(), rhs.b.end(), rhs.b8.begin());
-  for (int l = 1; l < kLanes; ++l) {
-    const std::vector<double> col = cli::random_vector(n, opt.seed + l);
-    std::copy(col.begin(), col.end(), rhs.b8.begin() + static_cast<std::ptrdiff_t>(l * n));
+// CHOLMOD at each BLAS thread count of `candidates`, kept: the one with the
+// fastest first answer (median) is reported.
+struct CholmodRuns {
+  std::vector<int> candidates;
+  std::vector<PeerRun> runs;
+  size_t best() const {
+    size_t b = 0;
+    for (size_t k = 1; k < runs.size(); ++k)
+      if (cli::median(runs[k].first_answer_s) < cli::median(runs[b].first_answer_s)) b = k;
+    return b;
   }
+};
 
-  const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+// The peers on the same matrix, alternating within each repeat.
+void run_peers(const CscMatrix& A, double operator_s, const Positions& pos, const Rhs& rhs, const Options& bo,
+               int threads, const RunContext& ctx, cli::Json& j) {
   const int blas_default = openblas_get_num_threads();
-  PeerRun cholmod_run, eigen_run, locus_run;
+  PeerRun eigen_run, locus_run;
+  CholmodRuns chol, chol_metis;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  chol.candidates = {1};
+  if (std::min(threads, std::max(cores, 1)) > 1) chol.candidates.push_back(std::min(threads, cores));
+  chol_metis.candidates = chol.candidates;
+  chol.runs.resize(chol.candidates.size());
+  chol_metis.runs.resize(chol.candidates.size());
+  const bool extra_metis = bo.cholmod_ordering != "metis";
   for (int r = 0; r < bo.repeats; ++r) {
 #ifdef LOCUS_HAVE_CHOLMOD
-    openblas_set_num_threads(threads);
-    {
-      Cholmod ch(bo.cholmod_ordering);
-      ch.run(A, rhs, cholmod_run);
+    for (size_t k = 0; k < chol.candidates.size(); ++k) {
+      openblas_set_num_threads(chol.candidates[k]);
+      {
+        Cholmod ch(bo.cholmod_ordering);
+        ch.run(A, rhs, chol.runs[k]);
+        chol.runs[k].close_repeat(operator_s);
+      }
+      if (extra_metis) {
+        Cholmod ch("metis");
+        ch.run(A, rhs, chol_metis.runs[k]);
+        chol_metis.runs[k].close_repeat(operator_s);
+      }
+      openblas_set_num_threads(blas_default);
+      ctx.check_cancel();
     }
-    openblas_set_num_threads(blas_default);
-    ctx.check_cancel();
 #endif
     run_eigen(A, rhs, eigen_run);
+    eigen_run.close_repeat(operator_s);
     ctx.check_cancel();
-    run_locus(A, rhs, ctx, locus_run);
+    run_locus(A, ordering_options("auto", pos), rhs, ctx, locus_run);
+    locus_run.close_repeat(operator_s);
     ctx.check_cancel();
     cli::log("bench factor: repeat " + std::to_string(r + 1) + "/" + std::to_string(bo.repeats) + " done");
   }
+  j["locus"] = locus_run.medians();
+  j["eigen"] = eigen_run.medians();
+  j["ratio_locus_eigen"] = ratios(j["locus"], j["eigen"]);
+  cli::Json agree{{"locus_vs_eigen", rel_diff(locus_run.x, eigen_run.x)},
+                  {"locus_vs_eigen_8", rel_diff(locus_run.x8, eigen_run.x8)},
+                  {"residual_locus", cli::relative_residual(A, locus_run.x.data(), rhs.b.data())},
+                  {"residual_eigen", cli::relative_residual(A, eigen_run.x.data(), rhs.b.data())}};
+#ifdef LOCUS_HAVE_CHOLMOD
+  const PeerRun& cholmod_run = chol.runs[chol.best()];
+  j["cholmod"] = cholmod_run.medians();
+  j["cholmod"]["ordering_requested"] = bo.cholmod_ordering;
+  j["cholmod"]["blas_threads"] = chol.candidates[chol.best()];
+  j["cholmod"]["blas_threads_tried"] = chol.candidates;
+  j["ratio_locus_cholmod"] = ratios(j["locus"], j["cholmod"]);
+  if (extra_metis) {
+    j["cholmod_metis"] = chol_metis.runs[chol_metis.best()].medians();
+    j["cholmod_metis"]["blas_threads"] = chol_metis.candidates[chol_metis.best()];
+    j["ratio_locus_cholmod_metis"] = ratios(j["locus"], j["cholmod_metis"]);
+  }
+  agree["locus_vs_cholmod"] = rel_diff(locus_run.x, cholmod_run.x);
+  agree["locus_vs_cholmod_8"] = rel_diff(locus_run.x8, cholmod_run.x8);
+  agree["cholmod_vs_eigen"] = rel_diff(cholmod_run.x, eigen_run.x);
+  agree["residual_cholmod"] = cli::relative_residual(A, cholmod_run.x.data(), rhs.b.data());
+#else
+  (void)threads;
+  j["cholmod"] = nullptr;
+  j["ratio_locus_cholmod"] = nullptr;
+  cli::log("bench factor: built without CHOLMOD (LOCUS_WITH_CHOLMOD_BENCH=OFF); CHOLMOD column empty");
+#endif
+  j["agreement"] = agree;
+}
 
+Rhs make_rhs(int32_t n, uint64_t seed) {
+  Rhs rhs;
+  rhs.n = n;
+  const size_t un = static_cast<size_t>(n);
+  rhs.b = cli::random_vector(un, seed);
+  rhs.b8.resize(un * kLanes);
+  std::copy(rhs.b.begin(), rhs.b.end(), rhs.b8.begin());
+  for (int l = 1; l < kLanes; ++l) {
+    const std::vector<double> col = cli::random_vector(un, seed + l);
+    std::copy(col.begin(), col.end(), rhs.b8.begin() + static_cast<std::ptrdiff_t>(l * un));
+  }
+  return rhs;
+}
+
+// The "orderings" section: analysis alone per ordering (medians), with the
+// fill and etree heights each gives.
+cli::Json run_orderings(const CscMatrix& A, const Positions& pos, const Options& bo, const RunContext& ctx) {
+  cli::Json out = cli::Json::object();
+  for (const std::string& name : bo.orderings) {
+    const OrderingOptions oo = ordering_options(name, pos, bo.leaf_size);
+    std::vector<double> order_s, symbolic_s;
+    std::shared_ptr<const SymbolicFactor> sym;
+    for (int r = 0; r < bo.repeats; ++r) {
+      Stopwatch sw;
+      const Ordering ord = order_matrix(A, oo, ctx);
+      order_s.push_back(sw.seconds());
+      sw.restart();
+      sym = analyze(A, ord);
+      symbolic_s.push_back(sw.seconds());
+      ctx.check_cancel();
+    }
+    out[name] = {{"order_s", cli::median(order_s)},
+                 {"symbolic_s", cli::median(symbolic_s)},
+                 {"nnz_L", sym->nnz_exact},
+                 {"nnz_L_stored", sym->nnz_L},
+                 {"etree_height", sym->etree_height},
+                 {"super_etree_height", sym->super_etree_height},
+                 {"supernodes", sym->ns},
+                 {"flops", static_cast<double>(sym->flops())}};
+    cli::log("bench factor: ordering " + name + " " + out[name].dump());
+  }
+  return out;
+}
+
+// The "scaling" section: every phase of locus (ctx.threads = T) and of
+// CHOLMOD (T BLAS threads) for each T of --threads-list, medians.
+cli::Json run_scaling(const CscMatrix& A, double operator_s, const Positions& pos, const Rhs& rhs,
+                      const Options& bo, const RunContext& ctx) {
+  std::vector<int> list;
+  std::stringstream ss(bo.threads_list);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const int t = std::stoi(item);
+    if (t < 1) fail(ErrorCode::BadUsage, "--threads-list: thread counts must be >= 1");
+    list.push_back(t);
+  }
+  cli::Json rows = cli::Json::array();
+  const int blas_default = openblas_get_num_threads();
+  for (const int t : list) {
+    RunContext c = ctx;
+    c.threads = t;
+    PeerRun lr, cr;
+    for (int r = 0; r < bo.repeats; ++r) {
+      run_locus(A, ordering_options(bo.scaling_ordering, pos), rhs, c, lr);
+      lr.close_repeat(operator_s);
+#ifdef LOCUS_HAVE_CHOLMOD
+      openblas_set_num_threads(t);
+      {
+        Cholmod ch("default");
+        ch.run(A, rhs, cr);
+      }
+      cr.close_repeat(operator_s);
+      openblas_set_num_threads(blas_default);
+#endif
+      ctx.check_cancel();
+    }
+    cli::Json row{{"threads", t}, {"locus", lr.medians()}};
+    row["locus"]["ordering"] = bo.scaling_ordering;
+#ifdef LOCUS_HAVE_CHOLMOD
+    row["cholmod"] = cr.medians();
+#endif
+    cli::log("bench factor: scaling " + row.dump());
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
+  cli::validate_operator_spec(bo.op);
+  cli::Input in = cli::load_input(opt, ctx);
+  Stopwatch op_sw;
+  const cli::BuiltOperator op = cli::build_operator(in.mesh, bo.op);
+  const double operator_s = op_sw.seconds();
+  const CscMatrix& A = op.A;
+  const Rhs rhs = make_rhs(A.ncols, opt.seed);
+  Positions pos;
+  if (in.mesh.num_vertices() == A.ncols) pos = {in.mesh.x, in.mesh.y, in.mesh.z};
+
+  const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   cli::Json j{{"command", "bench factor"}, {"input", cli::input_json(opt, in)}};
   j["operator"] = bo.op.kind;
   j["t"] = op.t;
@@ -364,34 +563,19 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
   j["threads"] = threads;
   j["repeats"] = bo.repeats;
   j["seed"] = opt.seed;
-  j["locus"] = locus_run.medians();
-  j["eigen"] = eigen_run.medians();
-  j["ratio_locus_eigen"] = ratios(j["locus"], j["eigen"]);
-  cli::Json agree{{"locus_vs_eigen", rel_diff(locus_run.x, eigen_run.x)},
-                       {"locus_vs_eigen_8", rel_diff(locus_run.x8, eigen_run.x8)},
-                       {"residual_locus", cli::relative_residual(A, locus_run.x.data(), rhs.b.data())},
-                       {"residual_eigen", cli::relative_residual(A, eigen_run.x.data(), rhs.b.data())}};
-#ifdef LOCUS_HAVE_CHOLMOD
-  j["cholmod"] = cholmod_run.medians();
-  j["cholmod"]["ordering_requested"] = bo.cholmod_ordering;
-  j["ratio_locus_cholmod"] = ratios(j["locus"], j["cholmod"]);
-  agree["locus_vs_cholmod"] = rel_diff(locus_run.x, cholmod_run.x);
-  agree["locus_vs_cholmod_8"] = rel_diff(locus_run.x8, cholmod_run.x8);
-  agree["cholmod_vs_eigen"] = rel_diff(cholmod_run.x, eigen_run.x);
-  agree["residual_cholmod"] = cli::relative_residual(A, cholmod_run.x.data(), rhs.b.data());
-#else
-  j["cholmod"] = nullptr;
-  j["ratio_locus_cholmod"] = nullptr;
-  cli::log("bench factor: built without CHOLMOD (LOCUS_WITH_CHOLMOD_BENCH=OFF); CHOLMOD column empty");
-#endif
-  j["agreement"] = agree;
+  j["operator_s"] = operator_s;
+  if (!bo.orderings_only) run_peers(A, operator_s, pos, rhs, bo, threads, ctx, j);
+  j["orderings"] = run_orderings(A, pos, bo, ctx);
+  if (!bo.threads_list.empty()) j["scaling"] = run_scaling(A, operator_s, pos, rhs, bo, ctx);
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
 
   // The table always goes to stderr; stdout carries the JSON object only.
   std::ostringstream table;
   table << opt.mesh_path << ": n " << rhs.n << ", nnz(A) " << A.nnz() << ", " << bo.op.kind << " operator, threads "
         << threads << ", " << bo.repeats << " repeats\n";
-  print_table(table, j);
+  if (!bo.orderings_only) print_table(table, j);
+  for (const auto& [name, o] : j["orderings"].items())
+    table << "ordering " << name << ": " << o.dump() << "\n";
   std::cerr << table.str();
   if (opt.json) cli::emit(opt, j, {});
   return 0;
@@ -408,6 +592,17 @@ void register_factor_bench(cli::CommandTable& table) {
   cli::add_operator_options(app, bo->op);
   app->add_option("--repeats,--repeat", bo->repeats, "Repeats; medians are reported (default 5)")
       ->check(CLI::Range(1, 1000));
+  app->add_option("--orderings", bo->orderings,
+                  "Orderings analysed in the \"orderings\" section: auto metis amd nd nd_geometric nd_nohalo "
+                  "(default: all but nd_nohalo)")
+      ->delimiter(',');
+  app->add_option("--leaf-size", bo->leaf_size, "Nested dissection leaf size in the \"orderings\" section");
+  app->add_flag("--orderings-only", bo->orderings_only, "Only the \"orderings\" section (no peers)");
+  app->add_option("--threads-list", bo->threads_list,
+                  "Comma-separated thread counts (1,2,4,8,16): every phase of locus and CHOLMOD at each, "
+                  "in the \"scaling\" section");
+  app->add_option("--scaling-ordering", bo->scaling_ordering,
+                  "locus' ordering in the \"scaling\" section (names as --orderings; default auto)");
   app->add_option("--cholmod-ordering", bo->cholmod_ordering,
                   "CHOLMOD's ordering: default (its own choice), metis or amd (default: default)")
       ->check(CLI::IsMember({"default", "metis", "amd"}));

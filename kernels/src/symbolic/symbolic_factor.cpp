@@ -1,12 +1,17 @@
 // Symbolic analysis driver (kernels/include/locus/kernels/symbolic/symbolic_factor.hpp).
 //
-// Order of work: (1) etree of the METIS-ordered graph and its postorder; the
-// final ordering is METIS composed with that postorder, which changes no fill
+// Order of work: (1) etree of the ordered graph and its postorder; the
+// final ordering is the given one composed with that postorder, which changes no fill
 // but makes every subtree a contiguous range of columns; (2) column counts
 // (Gilbert–Ng–Peyton); (3) relaxed supernodes; (4) supernode row structures,
 // from the graph and the children's structures, in O(sum of supernode rows);
 // (5) the A -> L assembly map, the left-looking update lists and workspace size.
+// (1), (2) and (4) read half of the permuted graph each (neighbors below,
+// resp. above, a column: all they use), which halves building it; the two
+// parts of (5) are independent and run as two tasks (issue 26).
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
+
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <string>
@@ -40,15 +45,22 @@ void check_lower(const CscMatrix& A) {
   }
 }
 
-// Symmetric adjacency (no diagonal) of P A P^T, where pos[i] is the new index of original i.
-void permuted_graph(const CscMatrix& A, const std::vector<int32_t>& pos, std::vector<int64_t>& ptr,
-                    std::vector<int32_t>& idx) {
+// Half of the symmetric adjacency (no diagonal) of P A P^T, where pos[i] is
+// the new index of original i: for each new index k, its neighbors below k
+// (Below: what the etree needs) or above k (Above: what the column counts and
+// row structures need). Half the entries of the full graph, so half the work.
+enum class Half { Below, Above };
+void permuted_half_graph(const CscMatrix& A, const std::vector<int32_t>& pos, Half half, std::vector<int64_t>& ptr,
+                         std::vector<int32_t>& idx) {
   const int32_t n = A.ncols;
   ptr.assign(static_cast<size_t>(n) + 1, 0);
+  const bool below = half == Half::Below;
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
-      if (i != j) { ++ptr[pos[i] + 1]; ++ptr[pos[j] + 1]; }
+      if (i == j) continue;
+      const int32_t a = pos[i], b = pos[j];
+      ++ptr[(below ? std::max(a, b) : std::min(a, b)) + 1];
     }
   for (int32_t k = 0; k < n; ++k) ptr[k + 1] += ptr[k];
   idx.resize(static_cast<size_t>(ptr[n]));
@@ -56,10 +68,13 @@ void permuted_graph(const CscMatrix& A, const std::vector<int32_t>& pos, std::ve
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
-      if (i != j) {
-        idx[next[pos[i]]++] = pos[j];
-        idx[next[pos[j]]++] = pos[i];
-      }
+      if (i == j) continue;
+      const int32_t a = pos[i], b = pos[j];
+      const int32_t lo = std::min(a, b), hi = std::max(a, b);
+      if (below)
+        idx[next[hi]++] = lo;
+      else
+        idx[next[lo]++] = hi;
     }
 }
 
@@ -120,40 +135,12 @@ void compute_update_lists(SymbolicFactor& S) {
   }
 }
 
-void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
-  const int32_t n = S.n, ns = S.ns;
-  if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
-  S.a_nnz = A.nnz();
-  S.a_pattern_hash = pattern_hash(A);
-  S.super_etree_height = tree_height(S.super_parent);
-  if (static_cast<int32_t>(S.parent.size()) != n) {  // column etree from the supernodal structure
-    S.parent.assign(n, -1);
-    S.col_count.assign(n, 0);
-    for (int32_t s = 0; s < ns; ++s) {
-      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
-      for (int32_t c = f; c < l; ++c) {
-        S.col_count[c] = S.nrows(s) - (c - f);
-        if (c + 1 < l) S.parent[c] = c + 1;
-        else if (S.nrows(s) > S.ncols(s)) S.parent[c] = S.super_rows[S.super_row_ptr[s] + S.ncols(s)];
-      }
-    }
-    S.nnz_exact = 0;
-    for (int32_t c : S.col_count) S.nnz_exact += c;
-    S.etree_height = tree_height(S.parent);
-  }
-  std::vector<int32_t> mark(n, -1);
-  S.max_super_rows = 0;
-  S.max_update_entries = 0;
-  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  S.nnz_L = 0;
-  for (int32_t s = 0; s < ns; ++s) {
-    const int64_t r = S.nrows(s), c = S.ncols(s);
-    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
-    S.nnz_L += r * c - c * (c - 1) / 2;
-    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
-  }
+namespace {
 
-  // (5a) assembly map, grouped by supernode.
+// (5a) Where A's entries go in L's values, grouped by supernode.
+void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
+  const int32_t n = S.n, ns = S.ns;
+  std::vector<int32_t> rowpos(n, -1);  // row -> local index within the current supernode
   const int64_t nnzA = A.nnz();
   S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
   std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
@@ -171,7 +158,6 @@ void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
     std::vector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
     for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
   }
-  std::vector<int32_t>& rowpos = mark;  // reuse: row -> local index within the current supernode
   for (int32_t s = 0; s < ns; ++s) {
     const int32_t f = S.super_first_col[s], nr = S.nrows(s);
     for (int32_t t = 0; t < nr; ++t) rowpos[S.super_rows[S.super_row_ptr[s] + t]] = t;
@@ -184,9 +170,45 @@ void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
       S.a_dst[k] = S.super_value_ptr[s] + static_cast<int64_t>(entry_col[p] - f) * nr + rowpos[entry_row[p]];
     }
   }
+}
 
-  compute_update_lists(S);
+}  // namespace
 
+void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
+  const int32_t n = S.n, ns = S.ns;
+  if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
+  S.a_nnz = A.nnz();
+  S.super_etree_height = tree_height(S.super_parent);
+  if (static_cast<int32_t>(S.parent.size()) != n) {  // column etree from the supernodal structure
+    S.parent.assign(n, -1);
+    S.col_count.assign(n, 0);
+    for (int32_t s = 0; s < ns; ++s) {
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      for (int32_t c = f; c < l; ++c) {
+        S.col_count[c] = S.nrows(s) - (c - f);
+        if (c + 1 < l) S.parent[c] = c + 1;
+        else if (S.nrows(s) > S.ncols(s)) S.parent[c] = S.super_rows[S.super_row_ptr[s] + S.ncols(s)];
+      }
+    }
+    S.nnz_exact = 0;
+    for (int32_t c : S.col_count) S.nnz_exact += c;
+    S.etree_height = tree_height(S.parent);
+  }
+  S.max_super_rows = 0;
+  S.max_update_entries = 0;
+  S.super_value_ptr.assign(static_cast<size_t>(ns) + 1, 0);
+  S.nnz_L = 0;
+  for (int32_t s = 0; s < ns; ++s) {
+    const int64_t r = S.nrows(s), c = S.ncols(s);
+    S.super_value_ptr[s + 1] = S.super_value_ptr[s] + r * c;
+    S.nnz_L += r * c - c * (c - 1) / 2;
+    S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
+  }
+
+  // The assembly map and the update lists read the structure only and write
+  // disjoint fields: one task each.
+  tbb::parallel_invoke([&] { S.a_pattern_hash = pattern_hash(A); assembly_map(S, A); },
+                       [&] { compute_update_lists(S); });
 }
 
 void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
@@ -252,7 +274,9 @@ void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
   }
 }
 
-std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt) {
+std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt,
+                                              const RunContext& ctx) {
+  ctx.check_cancel();
   check_lower(A);
   const int32_t n = A.ncols;
   if (static_cast<int32_t>(ordering.perm.size()) != n || static_cast<int32_t>(ordering.iperm.size()) != n)
@@ -265,12 +289,11 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   auto S = std::make_shared<SymbolicFactor>();
   S->n = n;
   S->a_nnz = A.nnz();
-  S->a_pattern_hash = pattern_hash(A);
 
   // (1) etree in METIS order, then renumber by its postorder.
   std::vector<int64_t> gptr;
   std::vector<int32_t> gidx;
-  permuted_graph(A, ordering.iperm, gptr, gidx);
+  permuted_half_graph(A, ordering.iperm, Half::Below, gptr, gidx);
   std::vector<int32_t> parent0 = elimination_tree(n, gptr, gidx);
   std::vector<int32_t> post = tree_postorder(parent0);
   std::vector<int32_t> ipost(n);
@@ -288,7 +311,8 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   }
   parent0.clear();
   parent0.shrink_to_fit();
-  permuted_graph(A, S->iperm, gptr, gidx);
+  ctx.check_cancel();
+  permuted_half_graph(A, S->iperm, Half::Above, gptr, gidx);
 
   // (2) column counts; the postorder is now the identity.
   for (int32_t k = 0; k < n; ++k) post[k] = k;
@@ -297,6 +321,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   for (int32_t c : S->col_count) S->nnz_exact += c;
   S->etree_height = tree_height(S->parent);
 
+  ctx.check_cancel();
   // (3) supernodes.
   S->super_first_col = relaxed_supernodes(S->parent, S->col_count, opt);
   const int32_t ns = S->ns = static_cast<int32_t>(S->super_first_col.size()) - 1;
@@ -310,6 +335,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   }
   S->super_etree_height = tree_height(S->super_parent);
 
+  ctx.check_cancel();
   // (4) row structures: own columns, then A's rows below, then the children's rows below.
   std::vector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
   for (int32_t s = 0; s < ns; ++s)
@@ -343,6 +369,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
     S->super_row_ptr[s + 1] = static_cast<int64_t>(S->super_rows.size());
   }
   S->super_rows.shrink_to_fit();
+  ctx.check_cancel();
   complete_symbolic(*S, A);
   return S;
 }

@@ -1,9 +1,16 @@
-// Fill-reducing ordering: METIS nested dissection on the graph of a symmetric
-// matrix (thesis §4.2: the etree height it produces decides the cost of local
-// solves). Deterministic: METIS runs with a fixed seed and its own random
-// generator per call; the result does not depend on the thread count.
+// Fill-reducing orderings of the graph of a symmetric matrix (thesis §4.2: the
+// etree height an ordering produces decides the cost of local solves; issue
+// 26: the ordering is most of the time to a first answer on a new mesh).
+//
+// Methods: nested dissection as a oneTBB task tree with AMD leaves
+// (nested_dissection.hpp), its separators from the vertex positions when the
+// caller passes them, else from METIS; AMD alone; METIS_NodeND as it ran
+// before the task tree (the reference of docs/ordering.md); natural order.
+// Auto (the default) picks by size, from the measurements in docs/ordering.md.
+// Deterministic: the same input gives the same ordering for any thread count.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "locus/run_context.hpp"
@@ -17,21 +24,40 @@ struct Ordering {
 };
 
 struct OrderingOptions {
-  enum class Method { Metis, Natural } method = Method::Metis;
+  enum class Method {
+    Auto,              // Metis below amd_min_vertices, Amd up to amd_max_vertices, NestedDissection above
+    NestedDissection,  // task tree with (C)AMD leaves, separators as chosen below
+    Amd,               // approximate minimum degree of the whole graph
+    Metis,             // METIS_NodeND, one top split on two threads (the pre-task-tree ordering)
+    Natural            // identity
+  } method = Method::Auto;
+  // NestedDissection's separators: METIS' multilevel ones, or plane cuts from
+  // the vertex positions below (Geometric: ~0.85x the time, 1.1-1.25x the
+  // fill on armadillo, docs/ordering.md; without usable positions METIS is used).
+  enum class Separator { Metis, Geometric } separator = Separator::Metis;
   int seed = 7;  // METIS random seed (fixed: same input, same ordering)
+  // Vertex positions, one per matrix column (a mesh's x, y, z when the matrix
+  // is a vertex operator), for Separator::Geometric. Non-finite positions are
+  // ignored (as if none were given).
+  std::span<const double> x, y, z;
+  // Auto: AMD up to this size. Below it AMD's fill is within ~1.2x of nested
+  // dissection's at a fraction of the time, so the first answer comes sooner;
+  // above it nested dissection's shorter etrees and lower fill pay for it
+  // (local solves, numeric time). Measurements: docs/ordering.md.
+  int32_t amd_max_vertices = 120000;
+  // Auto: below this size the ordering costs milliseconds whatever the
+  // method, so the one with the shorter etree (METIS_NodeND) is kept, and
+  // small systems factor exactly as before issue 26.
+  int32_t amd_min_vertices = 4000;
+  int32_t leaf_size = 256;  // NestedDissection: leaves of at most this many vertices by (C)AMD
+  bool halo = true;         // NestedDissection: leaves ordered with their separator halo (CAMD)
 };
 
-// Orders the graph of a lower-stored symmetric matrix.
-//
-// Graphs of 4000 vertices or more are split by a METIS vertex separator and
-// the two halves ordered at once on two oneTBB threads of the caller's arena
-// when ctx.threads allows. Concurrent calls are safe and reproducible: every
-// METIS call draws from a generator of its own
-// (kernels/include/locus/kernels/order/metis_random.hpp).
-// METIS cannot be interrupted: a cancel flag in ctx is checked before METIS
-// and between its calls (after the separator, between sequential halves), so
-// a cancel returns (Error Cancelled) once the running METIS call ends. No work
-// is left running in the background.
+// Orders the graph of a lower-stored symmetric matrix with ctx.threads threads.
+// The cancel flag in ctx is polled between the tasks of the ordering (METIS
+// calls cannot be interrupted; a cancel during one takes effect when it
+// returns) and raises Error(Cancelled); nothing is left running.
+// Throws BadUsage if the matrix is not square or positions have the wrong size.
 Ordering order_matrix(const CscMatrix& lower, const OrderingOptions& opt = {}, const RunContext& ctx = {});
 
 }  // namespace locus

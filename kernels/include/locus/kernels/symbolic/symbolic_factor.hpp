@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "locus/kernels/order/ordering.hpp"
+#include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus {
@@ -77,8 +78,11 @@ struct SymbolicFactor {
 };
 
 // Throws BadInput if A is not square or not lower-stored with sorted rows.
+// The cancel flag in ctx is polled between the phases (each O(nnz(A)) or
+// O(nnz(L)) of work) and raises Error(Cancelled); the last phases run as
+// oneTBB tasks of the caller's arena.
 std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& lower, const Ordering& ordering,
-                                              const SymbolicOptions& opt = {});
+                                              const SymbolicOptions& opt = {}, const RunContext& ctx = {});
 
 // Fills the derived parts of a symbolic factor whose ordering (n, perm, iperm)
 // and supernodal structure (ns, super_first_col, col_to_super, super_parent,

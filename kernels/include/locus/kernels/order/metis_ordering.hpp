@@ -1,0 +1,25 @@
+// METIS behind the orderings (issue 26): its vertex separator for the nested
+// dissection task tree, and METIS_NodeND as it ran before the task tree (the
+// Method::Metis ordering, kept as the reference the new orderings are
+// measured against, docs/ordering.md). Every call draws its random numbers
+// from a generator of its own (metis_random.hpp), so concurrent calls are
+// reproducible.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "locus/kernels/order/adjacency_graph.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+// part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator.
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part);
+
+// METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
+// separator, the two halves ordered at once on two oneTBB threads of the
+// caller's arena when ctx.threads allows. The cancel flag is checked between
+// METIS calls (METIS itself cannot be interrupted).
+std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx);
+
+}  // namespace locus

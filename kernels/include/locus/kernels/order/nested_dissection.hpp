@@ -1,0 +1,39 @@
+// Nested dissection as a oneTBB task tree (issue 26; thesis §4.2): a vertex
+// separator splits the graph, the two sides are ordered as independent tasks,
+// the separator is numbered after both; below `leaf_size` vertices a side is
+// ordered by AMD (kernels/include/locus/kernels/order/minimum_degree.hpp).
+// The separators come from the vertex positions when the caller has them
+// (geometric_separator.hpp) or from METIS (METIS_ComputeVertexSeparator).
+//
+// Deterministic: every task's result depends on its subgraph only, and its
+// place in the ordering on the sizes of the subgraphs before it, never on
+// which thread ran it or when; 1, 2 or 16 threads give the same permutation.
+// Cancellation: the flag in ctx is polled at every node of the tree (at most
+// a few milliseconds of work apart); a raised flag throws Error(Cancelled)
+// once the running nodes end.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/kernels/order/adjacency_graph.hpp"
+#include "locus/kernels/order/geometric_separator.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+struct NestedDissectionOptions {
+  enum class Separator { Geometric, Metis } separator = Separator::Geometric;
+  int32_t leaf_size = 256;  // subgraphs of at most this many vertices are ordered by AMD
+  bool halo = true;         // leaves by CAMD with their separator halo (else AMD alone)
+  GeometricSeparatorOptions geometric;
+  int metis_seed = 7;
+};
+
+// perm[k] = vertex eliminated k-th. x, y, z: vertex positions (one per vertex
+// of g, finite), needed by the geometric separator only. Runs with ctx.threads.
+std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+                                       std::span<const double> z, const NestedDissectionOptions& opt,
+                                       const RunContext& ctx);
+
+}  // namespace locus

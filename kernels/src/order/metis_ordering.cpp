@@ -1,0 +1,117 @@
+// METIS separators and METIS_NodeND (kernels/include/locus/kernels/order/metis_ordering.hpp).
+//
+// METIS runs with a fixed seed so the ordering, and with it every factor and
+// every result downstream, is reproducible. Graph compression is off: mesh
+// graphs have no vertices with identical neighborhoods, so METIS' detection
+// pass only costs time. metis_nested_dissection splits once: METIS finds the
+// top separator, and the two halves are ordered by METIS_NodeND at the same
+// time on two oneTBB threads; the split depends on the graph only, never on
+// the thread count, so one thread gives the same ordering.
+#include "locus/kernels/order/metis_ordering.hpp"
+
+#include <metis.h>
+
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+#include "locus/error.hpp"
+#include "locus/kernels/order/metis_random.hpp"
+
+namespace locus {
+
+namespace {
+
+static_assert(sizeof(idx_t) == sizeof(int32_t), "METIS is compiled with 32-bit indices");
+
+// Below this size one METIS_NodeND call is cheaper than a split and a thread.
+constexpr int32_t kSplitMinVertices = 4000;
+
+void set_options(idx_t* options, int seed) {
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  options[METIS_OPTION_SEED] = seed;
+  options[METIS_OPTION_COMPRESS] = 0;
+}
+
+void check_status(int rc, int32_t n, const char* what) {
+  if (rc == METIS_OK) return;
+  fail(rc == METIS_ERROR_MEMORY ? ErrorCode::ResourceLimit : ErrorCode::Internal,
+       std::string(what) + " failed with status " + std::to_string(rc) + " on a graph of " + std::to_string(n) +
+           " vertices");
+}
+
+// METIS takes non-const arrays (it does not write them for these calls).
+idx_t* mut(const std::vector<int32_t>& v) { return const_cast<idx_t*>(v.data()); }
+
+// Nested dissection of g into perm (perm[k] = vertex of g eliminated k-th).
+void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm) {
+  idx_t nv = g.n();
+  if (nv == 0) return;
+  if (g.adj.empty()) {  // no edges: any order has no fill (and METIS rejects it)
+    std::iota(perm, perm + nv, 0);
+    return;
+  }
+  idx_t options[METIS_NOPTIONS];
+  set_options(options, seed);
+  std::vector<idx_t> iperm(static_cast<size_t>(nv));
+  MetisRandomScope rng;
+  check_status(METIS_NodeND(&nv, mut(g.xadj), mut(g.adj), nullptr, options, perm, iperm.data()), g.n(),
+               "METIS_NodeND");
+}
+
+}  // namespace
+
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part) {
+  idx_t nv = g.n();
+  part.assign(nv, 0);
+  if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
+  idx_t options[METIS_NOPTIONS];
+  set_options(options, seed);
+  std::vector<idx_t> where(static_cast<size_t>(nv));
+  idx_t sepsize = 0;
+  {
+    MetisRandomScope rng;
+    check_status(METIS_ComputeVertexSeparator(&nv, mut(g.xadj), mut(g.adj), nullptr, options, &sepsize, where.data()),
+                 g.n(), "METIS_ComputeVertexSeparator");
+  }
+  for (idx_t v = 0; v < nv; ++v) part[v] = static_cast<int8_t>(where[v]);
+}
+
+std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx) {
+  const int32_t n = g.n();
+  std::vector<int32_t> order(static_cast<size_t>(n));
+  ctx.check_cancel();
+  if (n < kSplitMinVertices) {
+    node_nd(g, seed, order.data());
+    return order;
+  }
+  std::vector<int8_t> part;
+  metis_vertex_separator(g, seed, part);
+  ctx.check_cancel();
+  std::vector<int32_t> global0, global1;
+  const AdjacencyGraph h0 = induced_subgraph(g, part, 0, global0);
+  const AdjacencyGraph h1 = induced_subgraph(g, part, 1, global1);
+  std::vector<int32_t> p0(global0.size()), p1(global1.size());
+  const bool two_threads = ctx.threads != 1 && (ctx.threads > 1 || tbb::this_task_arena::max_concurrency() > 1);
+  if (two_threads && !global0.empty() && !global1.empty()) {
+    // oneTBB threads of the caller's arena; one METIS call never waits on
+    // oneTBB, so a thread cannot start the other half inside this one's scope.
+    tbb::parallel_invoke([&] { node_nd(h0, seed, p0.data()); }, [&] { node_nd(h1, seed, p1.data()); });
+  } else {
+    node_nd(h0, seed, p0.data());
+    ctx.check_cancel();
+    node_nd(h1, seed, p1.data());
+  }
+  size_t k = 0;
+  for (const int32_t v : p0) order[k++] = global0[v];
+  for (const int32_t v : p1) order[k++] = global1[v];
+  for (int32_t v = 0; v < n; ++v)
+    if (part[v] == 2) order[k++] = v;
+  return order;
+}
+
+}  // namespace locus

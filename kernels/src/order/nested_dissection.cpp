@@ -1,0 +1,153 @@
+// Nested dissection task tree (kernels/include/locus/kernels/order/nested_dissection.hpp).
+//
+// Each node owns its induced subgraph (and positions) and writes its part of
+// the permutation: side 0 first, then side 1, then the separator. The parent's
+// graph is released before the children run, so the tree never holds more
+// than about twice the input graph. A separator larger than half its node
+// (graphs with no small separators: a geometric cut of a non-mesh graph)
+// means dissection does not pay there, and the node is ordered by AMD whole.
+#include "locus/kernels/order/nested_dissection.hpp"
+
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "locus/kernels/order/metis_ordering.hpp"
+#include "locus/kernels/order/minimum_degree.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
+
+namespace locus {
+
+namespace {
+
+struct Node {
+  AdjacencyGraph g;
+  std::vector<int32_t> global;  // original vertex of each local vertex
+  std::vector<double> x, y, z;  // positions (empty without geometry)
+};
+
+// Below this many vertices a node's two sides run in the same task: a task
+// switch costs more than ordering a few hundred vertices.
+constexpr int32_t kParallelMinVertices = 4000;
+
+class Dissector {
+ public:
+  Dissector(const AdjacencyGraph& root, const NestedDissectionOptions& opt, const RunContext& ctx, bool parallel)
+      : root_(root), opt_(opt), ctx_(ctx), parallel_(parallel) {}
+
+  void order(Node node, int32_t* out) const {
+    ctx_.check_cancel();
+    const int32_t m = node.g.n();
+    if (m <= opt_.leaf_size) return leaf(node, out);
+    std::vector<int8_t> part;
+    if (opt_.separator == NestedDissectionOptions::Separator::Geometric)
+      geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
+    else
+      metis_vertex_separator(node.g, opt_.metis_seed, part);
+    const int32_t nsep = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{2}));
+    if (2 * nsep > m) return leaf(node, out);
+    Node child[2];
+    for (int8_t s = 0; s < 2; ++s) {
+      child[s].g = induced_subgraph(node.g, part, s, child[s].global);
+      if (!node.x.empty()) {
+        const auto gather = [&ids = child[s].global](const std::vector<double>& from, std::vector<double>& to) {
+          to.resize(ids.size());
+          for (size_t k = 0; k < ids.size(); ++k) to[k] = from[ids[k]];
+        };
+        gather(node.x, child[s].x);
+        gather(node.y, child[s].y);
+        gather(node.z, child[s].z);
+      }
+      for (int32_t& v : child[s].global) v = node.global[v];
+    }
+    const int32_t n0 = child[0].g.n(), n1 = child[1].g.n();
+    int32_t* sep_out = out + n0 + n1;
+    for (int32_t v = 0; v < m; ++v)
+      if (part[v] == 2) *sep_out++ = node.global[v];
+    node = Node{};  // release before recursing
+    part = {};
+    if (parallel_ && std::min(n0, n1) >= kParallelMinVertices)
+      tbb::parallel_invoke([&] { order(std::move(child[0]), out); },
+                           [&] { order(std::move(child[1]), out + n0); });
+    else {
+      order(std::move(child[0]), out);
+      order(std::move(child[1]), out + n0);
+    }
+  }
+
+ private:
+  void leaf(const Node& node, int32_t* out) const {
+    if (!opt_.halo || node.global.size() == static_cast<size_t>(root_.n())) {
+      const std::vector<int32_t> p = minimum_degree_order(node.g);
+      for (size_t k = 0; k < p.size(); ++k) out[k] = node.global[p[k]];
+      return;
+    }
+    // The leaf plus its halo: root-graph neighbors outside the leaf (all in
+    // separators above it). node.global is ascending (induced subgraphs keep
+    // the order), so membership is a binary search.
+    const std::vector<int32_t>& ids = node.global;
+    const int32_t m = node.g.n();
+    std::vector<int32_t> halo;
+    for (const int32_t v : ids)
+      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
+        const int32_t w = root_.adj[p];
+        if (!std::binary_search(ids.begin(), ids.end(), w)) halo.push_back(w);
+      }
+    std::sort(halo.begin(), halo.end());
+    halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
+    const auto local_of = [&](int32_t w) -> int32_t {
+      auto it = std::lower_bound(ids.begin(), ids.end(), w);
+      if (it != ids.end() && *it == w) return static_cast<int32_t>(it - ids.begin());
+      it = std::lower_bound(halo.begin(), halo.end(), w);
+      return it != halo.end() && *it == w ? m + static_cast<int32_t>(it - halo.begin()) : -1;
+    };
+    AdjacencyGraph h;
+    const int32_t nh = m + static_cast<int32_t>(halo.size());
+    h.xadj.assign(1, 0);
+    for (int32_t k = 0; k < nh; ++k) {
+      const int32_t v = k < m ? ids[k] : halo[k - m];
+      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
+        const int32_t l = local_of(root_.adj[p]);
+        if (l >= 0) h.adj.push_back(l);
+      }
+      std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());
+      h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
+    }
+    std::vector<int32_t> constraint(nh, 0);
+    std::fill(constraint.begin() + m, constraint.end(), 1);
+    const std::vector<int32_t> p = constrained_minimum_degree_order(h, constraint);
+    int32_t k = 0;
+    for (const int32_t v : p)
+      if (v < m) out[k++] = ids[v];
+  }
+
+  const AdjacencyGraph& root_;
+  const NestedDissectionOptions& opt_;
+  const RunContext& ctx_;
+  bool parallel_;
+};
+
+}  // namespace
+
+std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+                                       std::span<const double> z, const NestedDissectionOptions& opt,
+                                       const RunContext& ctx) {
+  const int32_t n = g.n();
+  std::vector<int32_t> perm(static_cast<size_t>(n));
+  Node root;
+  root.g = g;
+  root.global.resize(n);
+  std::iota(root.global.begin(), root.global.end(), 0);
+  if (opt.separator == NestedDissectionOptions::Separator::Geometric) {
+    root.x.assign(x.begin(), x.end());
+    root.y.assign(y.begin(), y.end());
+    root.z.assign(z.begin(), z.end());
+  }
+  const bool parallel = ctx.threads != 1;
+  const Dissector d(g, opt, ctx, parallel);
+  run_with_threads(ctx.threads, [&] { d.order(std::move(root), perm.data()); });
+  return perm;
+}
+
+}  // namespace locus
