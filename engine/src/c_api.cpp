@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/session.hpp"
 
@@ -32,22 +33,31 @@ namespace {
 using locus::ErrorCode;
 using locus::fail;
 
+// The last error of this thread (issue 24 item 6): the whole message, and a
+// fixed buffer holding it (cut to its size) for locus_last_error_message(), so
+// that the pointer handed out never dangles: only its content changes.
 thread_local std::string t_last_error;
-thread_local bool t_error_unrecorded = false;  // the message itself could not be allocated
+constexpr size_t kMessageBuffer = 4096;
+thread_local char t_message[kMessageBuffer] = "";
+constexpr const char* kUnrecorded = "locus: out of memory while recording an error";
 
 void clear_error() noexcept {
   t_last_error.clear();
-  t_error_unrecorded = false;
+  t_message[0] = '\0';
 }
 
 // Never throws: when even the message cannot be allocated, a fixed one stands in.
 void set_error(const char* function, const char* what) noexcept {
   try {
     t_last_error = std::string(function) + ": " + what;
-    t_error_unrecorded = false;
   } catch (...) {
-    t_error_unrecorded = true;
+    t_last_error.clear();
+    std::strncpy(t_message, kUnrecorded, kMessageBuffer - 1);
+    return;
   }
+  const size_t n = std::min(t_last_error.size(), kMessageBuffer - 1);
+  std::memcpy(t_message, t_last_error.data(), n);
+  t_message[n] = '\0';
 }
 
 // Upper bounds that keep every derived size within int32 indices and sane memory.
@@ -113,6 +123,26 @@ struct CallContext {
       t_factor = o->t_factor;
     }
     ctx.threads = o->threads;
+    if (o->message) {
+      const locus_message_fn fn = o->message;
+      void* const user = o->user_data;
+      ctx.message = [this, fn, user](std::string_view text) {
+        std::lock_guard<std::mutex> lock(mu);
+        const std::string s(text);
+        try {
+          fn(s.c_str(), user);
+        } catch (...) {  // a C++ callback that throws: the note is dropped
+        }
+      };
+    }
+    // More threads than oneTBB allows this process: clamped, and said through
+    // the message callback (oneTBB would print a warning on stderr; issue 24 item 4).
+    if (ctx.threads > locus::max_arena_threads()) {
+      const int max = locus::max_arena_threads();
+      ctx.note("threads = " + std::to_string(ctx.threads) + " is more than this process allows (" +
+               std::to_string(max) + "); using " + std::to_string(max));
+      ctx.threads = max;
+    }
     ctx.max_memory_bytes = static_cast<std::size_t>(
         std::min<uint64_t>(o->max_memory_bytes, std::numeric_limits<std::size_t>::max()));
     if (o->progress) {
@@ -163,15 +193,21 @@ const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch) {
   if (major) *major = LOCUS_VERSION_MAJOR;
   if (minor) *minor = LOCUS_VERSION_MINOR;
   if (patch) *patch = LOCUS_VERSION_PATCH;
-#define LOCUS_STR2(x) #x
-#define LOCUS_STR(x) LOCUS_STR2(x)
-  return LOCUS_STR(LOCUS_VERSION_MAJOR) "." LOCUS_STR(LOCUS_VERSION_MINOR) "." LOCUS_STR(LOCUS_VERSION_PATCH);
-#undef LOCUS_STR
-#undef LOCUS_STR2
+  return LOCUS_VERSION_STRING;  // locus/version.h, generated from the CMake project version
 }
 
-const char* locus_last_error_message(void) {
-  return t_error_unrecorded ? "locus: out of memory while recording an error" : t_last_error.c_str();
+const char* locus_last_error_message(void) { return t_message; }
+
+int64_t locus_last_error_copy(char* buffer, int64_t capacity) {
+  // The whole message, unless recording it failed (then the buffer's stand-in).
+  const char* text = t_last_error.empty() ? t_message : t_last_error.c_str();
+  const size_t length = t_last_error.empty() ? std::strlen(t_message) : t_last_error.size();
+  if (buffer && capacity > 0) {
+    const size_t n = std::min(length, static_cast<size_t>(capacity - 1));
+    std::memcpy(buffer, text, n);
+    buffer[n] = '\0';
+  }
+  return static_cast<int64_t>(length);
 }
 
 locus_status locus_session_create_from_file(const char* path, locus_session** out) {
@@ -201,8 +237,8 @@ locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* 
         fail(ErrorCode::BadInput, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
                                       "xyz[" + std::to_string(i) + "] = " + std::to_string(xyz[i]) + ")");
     for (int64_t k = 0; k < 3 * nf; ++k)
-      if (tris[k] < 0 || tris[k] >= nv)
-        fail(ErrorCode::BadInput, "triangle " + std::to_string(k / 3) + " references vertex " +
+      if (tris[k] < 0 || tris[k] >= nv)  // an id out of range: a usage error, as locus.h says
+        fail(ErrorCode::BadUsage, "triangle " + std::to_string(k / 3) + " references vertex " +
                                       std::to_string(tris[k]) + " but the mesh has " + std::to_string(nv) +
                                       " vertices (tris[" + std::to_string(k) + "])");
     locus::Mesh m;
@@ -226,6 +262,24 @@ locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* 
       m.f2[f] = tris[3 * f + 2];
     }
     *out = new locus_session(locus::Session(std::move(m)));
+  });
+}
+
+locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_from_view", [&] {
+    require(out != nullptr, "out is NULL");
+    require(view != nullptr, "view is NULL");
+    locus::MeshView v;
+    v.positions = view->positions;
+    v.position_type = static_cast<locus::ScalarType>(view->position_type);
+    v.position_stride = view->position_stride;
+    v.vertex_count = view->vertex_count;
+    v.indices = view->indices;
+    v.index_type = static_cast<locus::IndexType>(view->index_type);
+    v.index_stride = view->index_stride;
+    v.triangle_count = view->triangle_count;
+    *out = new locus_session(locus::Session(v));
   });
 }
 

@@ -195,7 +195,8 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
     const CscMatrix A = heat_operator(s.mesh, t);
     auto S = symbolic_for(s, A, ctx);
     ctx.check_cancel();
-    auto F = std::make_shared<const NumericFactor>(factorize(S, A, ctx));
+    // Inside this phase's progress (the ordering before it takes most of the time, docs/shipping.md).
+    auto F = std::make_shared<const NumericFactor>(factorize(S, A, ctx.sub(0.7, 1.0)));
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor heat operator");
     return F;
@@ -259,6 +260,8 @@ Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
 
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
 
+Session::Session(const MeshView& view) : Session(mesh_from_view(view)) {}
+
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
 Session::~Session() = default;
@@ -273,7 +276,7 @@ void Session::prepare_heat(const HeatQuery& q, const RunContext& ctx) const {
   engine(*s, q, ctx);
 }
 
-void Session::geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q,
+void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuery& q,
                                 const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, source, "geodesic_distance: source");
@@ -325,7 +328,7 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
   return r;
 }
 
-std::vector<double> Session::heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
+std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                          const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   for (size_t k = 0; k < sources.size(); ++k)
@@ -463,7 +466,7 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
   return r;
 }
 
-void Session::set_positions(std::span<const double> xyz) {
+void Session::set_positions(ConstView<double> xyz) {
   const int32_t n = impl_->nv;
   if (xyz.size() != 3 * static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "set_positions: " + std::to_string(xyz.size()) + " coordinates, expected 3 * " +

@@ -11,7 +11,8 @@ void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accurac
 void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs refactoring
 void register_local_bench(cli::CommandTable& table);  // local: heat values, ADF at all vertices, patch parameterization
 void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (thesis Fig. 3.1)
-void register_stress_bench(cli::CommandTable& table);
-void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's figures (issue 23)  // stress: concurrent Session queries, RSS, cancellation; --big
+void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Session queries, RSS, cancellation; --big
+void register_cancel_bench(cli::CommandTable& table);  // cancel: C API cancel latency of the first geodesic query
+void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's figures (issue 23)
 
 }  // namespace locus::bench

@@ -1,5 +1,5 @@
 // locus::Session — one mesh and everything derived from it, for embedding
-// (DESIGN.md "Engine API"; issue 9 item 1).
+// (issue 9 item 1; README "Embedding").
 //
 // A Session validates its mesh once, then answers queries: heat geodesic
 // distance (thesis §6.4), heat log maps (§6.5–6.6), centroidal Voronoi
@@ -40,14 +40,18 @@
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <span>
 #include <string>
 #include <vector>
 
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
+#include "locus/mesh_view.hpp"
 #include "locus/run_context.hpp"
+#include "locus/view.hpp"
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 // Diffusion time of the heat operators: t = t_factor * h^2, h the mean edge
@@ -123,6 +127,10 @@ class Session {
   // unreferenced vertices (Error(BadInput) naming the first offender and
   // mesh.source). O(nv + nf); builds no operator.
   explicit Session(Mesh mesh);
+  // From the host's buffers (float/double positions, uint16/uint32/int32 ids,
+  // byte strides): read once into the Session's mesh, the only copy made
+  // (mesh_view.hpp). Same checks as Session(Mesh).
+  explicit Session(const MeshView& view);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -141,7 +149,7 @@ class Session {
   // Heat geodesic distance from `source` to every vertex (full solves);
   // +infinity at vertices in another connected component than the source.
   // out.size() must be num_vertices().
-  void geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q = {},
+  void geodesic_distance(int32_t source, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
   std::vector<double> geodesic_distance(int32_t source, const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
@@ -153,7 +161,7 @@ class Session {
   // subset solves (equal to the full solve's entries). Row-major
   // |sources| x |targets|: out[s * |targets| + k] = value at targets[k] of the
   // heat from sources[s]. Ids in range; repeats allowed.
-  std::vector<double> heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
+  std::vector<double> heat_values(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                   const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv,
@@ -169,7 +177,7 @@ class Session {
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),
   // the Session keeps its old positions then). Drops every cache that depends
   // on positions; keeps the symbolic factors.
-  void set_positions(std::span<const double> xyz);
+  void set_positions(ConstView<double> xyz);
 
   SessionStats stats() const;
 
@@ -179,3 +187,4 @@ class Session {
 };
 
 }  // namespace locus
+LOCUS_API_END
