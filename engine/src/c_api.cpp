@@ -360,3 +360,45 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
 }
 
 }  // extern "C"
+
+// ==== Pipelines added by issue 24 (locus.h, same order). ====
+
+namespace {
+
+std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_surface_point* p, int64_t n,
+                                          const char* what) {
+  require(p != nullptr, (std::string(what) + " is NULL").c_str());
+  if (n < 1 || n > kMaxVertices)
+    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 1.." + std::to_string(kMaxVertices) +
+                                  " (got " + std::to_string(n) + ")");
+  std::vector<locus::MeshPoint> out(static_cast<size_t>(n));
+  for (int64_t k = 0; k < n; ++k) {
+    const std::string name = std::string(what) + "[" + std::to_string(k) + "]";
+    if (p[k].face < 0) {
+      out[k] = locus::MeshPoint::at_vertex(vertex_id(s, p[k].vertex, (name + ".vertex =").c_str()));
+      continue;
+    }
+    if (p[k].face >= s.num_faces())
+      fail(ErrorCode::BadUsage, name + ".face = " + std::to_string(p[k].face) + " is not a face (the mesh has " +
+                                    std::to_string(s.num_faces()) + " triangles)");
+    out[k] = locus::MeshPoint::in_face(static_cast<int32_t>(p[k].face), p[k].bary[0], p[k].bary[1], p[k].bary[2]);
+  }
+  return out;
+}
+
+}  // namespace
+
+extern "C" {
+
+locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                           int64_t n_sources, double* out_nv, const locus_run_options* opts) {
+  return guarded("locus_geodesic_distance_multi", [&] {
+    locus::Session& s = session_of(session);
+    require(out_nv != nullptr, "out_nv is NULL");
+    const std::vector<locus::MeshPoint> pts = mesh_points(s, sources, n_sources, "sources");
+    CallContext cc(opts);
+    s.geodesic_distance(pts, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+  });
+}
+
+}  // extern "C"

@@ -159,6 +159,32 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
                                const int64_t* targets, int64_t n_targets, double* out,
                                const locus_run_options* opts);
 
+/* ==== Pipelines added by issue 24. Every call below reuses the session's
+ * cached factors: the heat operator M - tL once per t (shared by Voronoi,
+ * natural neighbors, skinning, ADF/HKS, heat exchange and heat values), the
+ * heat-method factors once per t_factor (geodesic distance, log map), -L + eps M
+ * once (patch parameterization). Ids out of range (vertices, faces, edges) are
+ * LOCUS_BAD_USAGE. ==== */
+
+/* A point on the surface: a vertex (face < 0: `vertex`), or a face and the
+ * barycentric weights of its three corners (in the order of the triangle as
+ * given), each >= 0, summing to 1. */
+typedef struct locus_surface_point {
+  int64_t face;
+  int64_t vertex;
+  double bary[3];
+} locus_surface_point;
+
+/* ---- Multi-source geodesic distance ----
+ * Heat geodesic distance from a set of sources (vertices and points in faces)
+ * at once: one heat solve with every source's hat weights, one Poisson solve.
+ * Per connected component the distance is shifted so that its minimum over the
+ * component's sources is 0; +infinity in components without a source.
+ * out_nv: vertex-count doubles. n_sources >= 1. opts->t_factor as for
+ * locus_geodesic_distance (the same cached factors). */
+locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                           int64_t n_sources, double* out_nv, const locus_run_options* opts);
+
 #ifdef __cplusplus
 }
 #endif

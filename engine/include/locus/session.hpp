@@ -52,8 +52,22 @@ namespace locus {
 
 // Diffusion time of the heat operators: t = t_factor * h^2, h the mean edge
 // length (Crane et al. and the thesis use t_factor = 1).
+// The diffusion pipelines (Voronoi, natural neighbors, skinning, ADF/HKS, heat
+// exchange, heat values) also take an absolute time: t > 0 overrides t_factor.
+// The heat method (geodesic distance, log map) uses t_factor only.
 struct HeatQuery {
   double t_factor = 1.0;
+  double t = 0.0;  // absolute diffusion time; 0 = t_factor * h^2
+};
+
+// A point on the surface: a vertex (face < 0), or a face and the barycentric
+// weights of its corners in the face's order (weights >= 0 summing to 1).
+struct MeshPoint {
+  int32_t face = -1;
+  int32_t vertex = -1;
+  std::array<double, 3> bary{1.0, 0.0, 0.0};
+  static MeshPoint at_vertex(int32_t v) { return MeshPoint{-1, v, {1.0, 0.0, 0.0}}; }
+  static MeshPoint in_face(int32_t f, double b0, double b1, double b2) { return MeshPoint{f, -1, {b0, b1, b2}}; }
 };
 
 struct LogMapResult {
@@ -93,6 +107,126 @@ struct DeformResult {
   double columns_updated_fraction = 0;  // of the submesh factor, recomputed rather than copied
   int refinement_steps = 0;
   double residual = 0;  // of the exact Dirichlet system
+};
+
+// ---- Results of the pipelines added by issue 24 (session_<pipeline>.cpp) ----
+
+// Heat-diffusion Voronoi diagram (thesis §3.4): labels and the bisector curves.
+struct VoronoiResult {
+  std::vector<int32_t> label;     // per vertex: the generator with the most heat (eq. 3.18)
+  std::vector<double> points;     // 3 per diagram point (on mesh edges, and Voronoi corners)
+  std::vector<int32_t> line_offsets;  // polyline k = line_points[line_offsets[k] .. line_offsets[k+1])
+  std::vector<int32_t> line_points;   // point ids
+  int64_t corners = 0;            // triangles where three cells meet
+  int64_t empty_cells = 0;        // generators labelling no vertex
+  int64_t vertices_without_heat = 0;  // heat underflowed to 0 there (raise t)
+};
+
+// Natural-neighbor (area-stealing) coordinates of one point (thesis §3.7.2).
+struct NaturalNeighborResult {
+  std::vector<double> weight;  // one per site, >= 0, summing to 1
+  double cell_area = 0;        // area of the point's own cell
+  bool at_site = false;        // the point is a site (indicator returned)
+  bool degenerate = false;     // the point's cell holds no vertex (indicator of the containing cell)
+};
+
+// A prepared natural-neighbor field: the sites' heat Voronoi diagram, computed
+// once, serving any number of point queries. Immutable; coordinates() may run
+// concurrently from any number of threads. Keeps the Session's mesh and heat
+// factor alive (it stays valid after set_positions, on the old positions).
+class NaturalNeighbors {
+ public:
+  NaturalNeighbors();
+  ~NaturalNeighbors();
+  NaturalNeighbors(NaturalNeighbors&&) noexcept;
+  NaturalNeighbors& operator=(NaturalNeighbors&&) noexcept;
+  int32_t num_sites() const;
+  // Error(BadUsage) for a point that is not on the mesh.
+  NaturalNeighborResult coordinates(const MeshPoint& q) const;
+  struct Impl;
+
+ private:
+  explicit NaturalNeighbors(std::shared_ptr<const Impl> impl);
+  std::shared_ptr<const Impl> impl_;
+  friend class Session;
+};
+
+struct SkinningWeightsResult {
+  int32_t handles = 0;
+  std::vector<double> weight;  // nv * handles, row-major: vertex v's weights at [v * handles, (v + 1) * handles)
+  int64_t degenerate_vertices = 0;
+  int64_t fallback_faces = 0;
+  double max_clamped = 0;
+};
+
+// Diagonal entries of (M - tL)^{-1}: Subset walks one etree path per vertex,
+// SelectedInversion computes every diagonal entry at once (faster for all vertices).
+enum class DiagonalMethod { Subset, SelectedInversion };
+
+// Flip-free parameterization of a disk-like mesh (thesis §2.6): boundary on the
+// unit circle by arc length; interior by perfect (Algorithm 1), cotan or uniform weights.
+enum class DiskParamMethod { Perfect, Cotan, Uniform };
+struct DiskParamRequest {
+  DiskParamMethod method = DiskParamMethod::Perfect;
+  int32_t max_iterations = 1000;  // Algorithm 1 (perfect)
+  double eps = 1e-6;              // Algorithm 1 tolerance (relative to the diagonal)
+};
+struct DiskParamResult {
+  std::vector<double> uv;  // 2 * nv, interleaved
+  int64_t flipped_faces = 0, degenerate_faces = 0;
+  int64_t negative_weights = 0;
+  bool converged = true;   // Algorithm 1 (perfect)
+  int32_t iterations = 0;
+};
+
+// Harmonic parameterization of the breadth-first patch of round(fraction * nv)
+// vertices around `center` (thesis §4.4) from the global factor of -L + eps M:
+// Neumann (eq. 4.6, an exact subset solve) or Circle (boundary fixed on a circle,
+// the patch's factor by the factor-once update; holes of the patch are filled).
+enum class PatchBoundary { Neumann, Circle };
+struct PatchParamRequest {
+  int32_t center = 0;
+  double fraction = 0.1;  // in (0, 1]
+  PatchBoundary boundary = PatchBoundary::Neumann;
+};
+struct PatchParamResult {
+  std::vector<int32_t> vertices;   // global ids of the patch, center first
+  std::vector<int32_t> triangles;  // 3 per patch face, indices into `vertices`
+  std::vector<double> uv;          // 2 per patch vertex, normalized into the unit disk
+  int32_t boundary_vertices = 0;
+  int64_t flipped_faces = 0, degenerate_faces = 0;
+  int32_t holes_filled = 0;        // Circle only
+};
+
+// Algorithm 1 of thesis chapter 2 on the Session's triangle mesh.
+struct PerfectLaplacianRequest {
+  bool planar = false;            // use x, y only (one boundary loop needed)
+  int32_t max_iterations = 1000;
+  double eps = 1e-6;
+  bool newton = true;             // false: the multiplicative update of eq. 2.8
+};
+struct PerfectLaplacianOutput {
+  std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
+  std::vector<double> weights;    // per edge, normalized to unit 2-norm; 0 where a weight decayed
+  std::vector<double> xyz;        // 3 * nv: the embedding (planar) or the embedding aligned onto the input (space)
+  bool converged = false;
+  int32_t iterations = 0;
+  double max_displacement_rel = 0, mean_displacement_rel = 0;
+};
+
+// Self-supporting surface (thesis §2.6, eq. 2.12): supports on the boundary.
+struct SelfSupportRequest {
+  double load_density = 1.0;
+  int32_t max_iterations = 1000;
+  double eps = 1e-6;
+};
+struct SelfSupportOutput {
+  std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
+  std::vector<double> forces;     // per edge, >= 0, in load units
+  std::vector<double> xyz;        // 3 * nv: the equilibrium surface
+  bool converged = false;
+  int32_t iterations = 0;
+  double residual_rel = 0;
 };
 
 // Counters of work done, for callers and tests that check "computed once".
@@ -151,6 +285,58 @@ class Session {
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
+
+  // ---- Pipelines added by issue 24. Each reuses the Session's caches: the
+  // heat operator M - tL is factored once per t and serves Voronoi diagrams,
+  // natural neighbors, skinning weights, ADF/HKS, heat exchange and heat
+  // values alike; -L + eps M once for the patch parameterizations. ----
+
+  // Heat geodesic distance from a set of sources (vertices and points on faces;
+  // thesis §6.4.1 with the heat of all sources at once, as Crane et al. and
+  // CGAL's Heat_method_3): per connected component the distance is shifted so
+  // that its minimum over the component's sources is 0; +infinity in components
+  // without a source. At least one source; out.size() == num_vertices().
+  void geodesic_distance(std::span<const MeshPoint> sources, std::span<double> out, const HeatQuery& q = {},
+                         const RunContext& ctx = {}) const;
+  std::vector<double> geodesic_distance(std::span<const MeshPoint> sources, const HeatQuery& q = {},
+                                        const RunContext& ctx = {}) const;
+  std::vector<double> geodesic_distance_from_vertices(std::span<const int32_t> sources, const HeatQuery& q = {},
+                                                      const RunContext& ctx = {}) const;
+
+  // Heat Voronoi diagram of 1..nv generators (default t = h^2).
+  VoronoiResult voronoi(std::span<const MeshPoint> generators, const HeatQuery& q = {},
+                        const RunContext& ctx = {}) const;
+
+  // Natural-neighbor coordinates: prepared field (many queries) and one-shot.
+  NaturalNeighbors prepare_natural_neighbors(std::span<const MeshPoint> sites, const HeatQuery& q = {},
+                                             const RunContext& ctx = {}) const;
+  NaturalNeighborResult natural_neighbor_coordinates(std::span<const MeshPoint> sites, const MeshPoint& point,
+                                                     const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+
+  // Skinning weights of handles at every vertex (natural-neighbor coordinates of the vertices).
+  SkinningWeightsResult skinning_weights(std::span<const MeshPoint> handles, const HeatQuery& q = {},
+                                         const RunContext& ctx = {}) const;
+
+  // Auto-diffusion function (M - tL)^{-1}_vv at `vertices` (empty: all vertices, in order).
+  std::vector<double> auto_diffusion(std::span<const int32_t> vertices, const HeatQuery& q = {},
+                                     DiagonalMethod method = DiagonalMethod::Subset,
+                                     const RunContext& ctx = {}) const;
+  // Heat kernel signature: out[k * times.size() + j] = ADF at vertices[k] (all when empty) for times[j].
+  std::vector<double> heat_kernel_signature(std::span<const HeatQuery> times, std::span<const int32_t> vertices,
+                                            DiagonalMethod method = DiagonalMethod::Subset,
+                                            const RunContext& ctx = {}) const;
+  // Pairwise heat exchange (thesis §4.6): unit heat at every source (repeats add),
+  // one step of M - tL; out[k] = heat at targets[k]. Both sets non-empty.
+  std::vector<double> heat_exchange(std::span<const int32_t> sources, std::span<const int32_t> targets,
+                                    const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+
+  DiskParamResult parameterize_disk(const DiskParamRequest& req = {}, const RunContext& ctx = {}) const;
+  PatchParamResult parameterize_patch(const PatchParamRequest& req, const RunContext& ctx = {}) const;
+
+  PerfectLaplacianOutput perfect_laplacian(const PerfectLaplacianRequest& req = {}, const RunContext& ctx = {}) const;
+  SelfSupportOutput self_supporting(const SelfSupportRequest& req = {}, const RunContext& ctx = {}) const;
+
+  int64_t num_edges() const;  // unique edges of the triangles
 
   // New positions, 3 * num_vertices() interleaved doubles, same connectivity.
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),
