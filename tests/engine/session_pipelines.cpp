@@ -1,0 +1,277 @@
+// Tests for the Session queries of the pipelines added by issue 24
+// (engine/src/session_{heat,voronoi,param,laplacian}.cpp).
+// Oracles: Eigen sparse LDLT solves of M - tL for the auto-diffusion function,
+// the heat kernel signature and the heat exchange (entries of the inverse);
+// the pipeline functions called directly on freshly prepared operators (the
+// Session must reproduce them bit for bit, whatever it cached before); the
+// defining properties of natural-neighbor coordinates and skinning weights
+// (non-negative, partition of unity, indicator at a site); and the Session's
+// counters for "one factorization per t serves every diffusion pipeline".
+#include <Eigen/SparseCholesky>
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <thread>
+#include <vector>
+
+#include "locus/error.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/pipelines/laplacian/flipfree_param.hpp"
+#include "locus/pipelines/laplacian/perfect_laplacian.hpp"
+#include "locus/pipelines/laplacian/self_supporting.hpp"
+#include "locus/pipelines/param/patch_param.hpp"
+#include "locus/pipelines/param/patch_param_circle.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/pipelines/voronoi/natural_neighbor.hpp"
+#include "locus/pipelines/voronoi/skinning_weights.hpp"
+#include "locus/session.hpp"
+
+using namespace locus;
+
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+SpMat to_eigen(const CscMatrix& L) {  // lower-stored symmetric -> full
+  std::vector<Eigen::Triplet<double>> t;
+  for (int32_t j = 0; j < L.ncols; ++j)
+    for (int64_t q = L.colptr[j]; q < L.colptr[j + 1]; ++q) {
+      t.emplace_back(L.rowind[q], j, L.values[q]);
+      if (L.rowind[q] != j) t.emplace_back(j, L.rowind[q], L.values[q]);
+    }
+  SpMat A(L.nrows, L.ncols);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+ErrorCode code_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return static_cast<ErrorCode>(0);
+}
+
+// The column of (M - t L)^{-1} for the right-hand side b, by Eigen.
+Eigen::VectorXd heat_solve(const Mesh& m, double t, const Eigen::VectorXd& b) {
+  Eigen::SimplicialLDLT<SpMat> ldlt(to_eigen(heat_operator(m, t)));
+  REQUIRE(ldlt.info() == Eigen::Success);
+  return ldlt.solve(b);
+}
+
+SurfacePoint kernel_point(const MeshPoint& p) { return SurfacePoint{p.face, p.face < 0 ? p.vertex : -1, p.bary}; }
+
+std::vector<SurfacePoint> kernel_points(const std::vector<MeshPoint>& p) {
+  std::vector<SurfacePoint> out;
+  for (const MeshPoint& q : p) out.push_back(kernel_point(q));
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("session ADF, HKS and heat exchange: entries of (M - tL)^{-1} by Eigen; one factor per t") {
+  const Mesh m = make_icosphere(3);
+  const Session s(m);
+  const int32_t n = m.num_vertices();
+  const double h = s.mean_edge_length();
+  const std::vector<int32_t> verts{0, 5, 77, 300, 641};
+  const std::vector<double> adf = s.auto_diffusion(verts);
+  for (size_t k = 0; k < verts.size(); ++k) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+    e[verts[k]] = 1;
+    CHECK(adf[k] == doctest::Approx(heat_solve(m, h * h, e)[verts[k]]).epsilon(1e-11));
+  }
+  // All vertices: subset walks and selected inversion agree.
+  const std::vector<double> all = s.auto_diffusion({});
+  const std::vector<double> all_selinv = s.auto_diffusion({}, {}, DiagonalMethod::SelectedInversion);
+  REQUIRE(all.size() == static_cast<size_t>(n));
+  for (int32_t i = 0; i < n; ++i) CHECK(all_selinv[i] == doctest::Approx(all[i]).epsilon(1e-10));
+  for (size_t k = 0; k < verts.size(); ++k) CHECK(all[verts[k]] == adf[k]);
+
+  // HKS over three times (one absolute): column j is the ADF at t_j.
+  const std::vector<HeatQuery> times{HeatQuery{1.0, 0.0}, HeatQuery{10.0, 0.0}, HeatQuery{1.0, 0.5 * h * h}};
+  const std::vector<double> hks = s.heat_kernel_signature(times, verts);
+  for (size_t j = 0; j < times.size(); ++j) {
+    const std::vector<double> col = s.auto_diffusion(verts, times[j]);
+    for (size_t k = 0; k < verts.size(); ++k) CHECK(hks[k * times.size() + j] == col[k]);
+  }
+  for (size_t k = 0; k < verts.size(); ++k) CHECK(hks[k * 3 + 1] < hks[k * 3]);  // ADF decreases in t
+
+  // Heat exchange: sum over sources (repeats add) of the columns, read at the targets.
+  const std::vector<int32_t> src{3, 9, 9}, tgt{100, 3, 600};
+  const std::vector<double> hx = s.heat_exchange(src, tgt);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  for (int32_t v : src) b[v] += 1;
+  const Eigen::VectorXd x = heat_solve(m, h * h, b);
+  for (size_t k = 0; k < tgt.size(); ++k) CHECK(hx[k] == doctest::Approx(x[tgt[k]]).epsilon(1e-11));
+  // t = h^2, 10 h^2 and 0.5 h^2: three factorizations, whatever else was asked.
+  CHECK(s.stats().numeric_factorizations == 3);
+  const std::vector<double> hv = s.heat_values(src, tgt);  // per-source values, on the same cached factor
+  CHECK(hv[0] + hv[3] + hv[6] == doctest::Approx(hx[0]).epsilon(1e-12));
+  CHECK(s.stats().numeric_factorizations == 3);
+
+  CHECK(code_of([&] { s.auto_diffusion(std::vector<int32_t>{n}); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.heat_exchange({}, tgt); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.heat_exchange(src, std::vector<int32_t>{-1}); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.heat_kernel_signature({}, verts); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.auto_diffusion(verts, HeatQuery{1.0, -1.0}); }) == ErrorCode::BadUsage);
+}
+
+TEST_CASE("session Voronoi, natural neighbors and skinning weights: the pipelines' numbers; properties") {
+  const Mesh m = make_icosphere(3);
+  const Session s(m);
+  const int32_t n = m.num_vertices();
+  const std::vector<MeshPoint> sites{MeshPoint::at_vertex(0), MeshPoint::at_vertex(100), MeshPoint::at_vertex(400),
+                                     MeshPoint::in_face(900, 0.3, 0.3, 0.4), MeshPoint::at_vertex(600)};
+  const std::vector<SurfacePoint> ks = kernel_points(sites);
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
+
+  const VoronoiResult V = s.voronoi(sites);
+  const HeatVoronoi PV = heat_voronoi(H, m, ks, {}, {}, {});
+  const VoronoiDiagram PD = extract_voronoi_diagram(H, m, ks, PV, {});
+  CHECK(V.label == PV.label);
+  CHECK(V.points == PD.points);
+  REQUIRE(V.line_offsets.size() == PD.polylines.size() + 1);
+  for (size_t k = 0; k < PD.polylines.size(); ++k)
+    CHECK(std::vector<int32_t>(V.line_points.begin() + V.line_offsets[k], V.line_points.begin() + V.line_offsets[k + 1]) ==
+          PD.polylines[k]);
+  CHECK(V.corners == PD.corners);
+  CHECK(V.corners > 0);
+  for (int32_t g : {0, 1, 2, 4}) CHECK(V.label[sites[g].vertex] == g);  // a vertex generator is in its own cell
+  CHECK(V.empty_cells == 0);
+
+  // Natural neighbors: the prepared field reproduces the pipeline, from several threads at once.
+  const NaturalNeighbors F = s.prepare_natural_neighbors(sites);
+  CHECK(F.num_sites() == 5);
+  const NaturalNeighborField PF = prepare_natural_neighbors(H, m, ks, {});
+  std::vector<MeshPoint> queries;
+  for (int32_t f = 0; f < m.num_faces(); f += 97) queries.push_back(MeshPoint::in_face(f, 0.2, 0.5, 0.3));
+  std::vector<NaturalNeighborResult> r1(queries.size()), r2(queries.size());
+  std::thread a([&] { for (size_t k = 0; k < queries.size(); ++k) r1[k] = F.coordinates(queries[k]); });
+  std::thread b([&] { for (size_t k = 0; k < queries.size(); ++k) r2[k] = F.coordinates(queries[k]); });
+  a.join();
+  b.join();
+  for (size_t k = 0; k < queries.size(); ++k) {
+    const NaturalCoordinates c = natural_neighbor_coordinates(PF, m, kernel_point(queries[k]));
+    CHECK(r1[k].weight == c.weight);
+    CHECK(r2[k].weight == c.weight);
+    double sum = 0;
+    for (double w : c.weight) {
+      CHECK(w >= 0.0);
+      sum += w;
+    }
+    CHECK(sum == doctest::Approx(1.0).epsilon(1e-9));
+  }
+  const NaturalNeighborResult at = s.natural_neighbor_coordinates(sites, MeshPoint::at_vertex(100));
+  CHECK(at.weight == std::vector<double>{0, 1, 0, 0, 0});
+  CHECK(code_of([&] { F.coordinates(MeshPoint::in_face(m.num_faces(), 1, 0, 0)); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.natural_neighbor_coordinates(sites, MeshPoint::at_vertex(n)); }) == ErrorCode::BadUsage);
+
+  // Skinning weights of three handles.
+  const std::vector<MeshPoint> handles{MeshPoint::at_vertex(0), MeshPoint::at_vertex(300), MeshPoint::at_vertex(641)};
+  const SkinningWeightsResult W = s.skinning_weights(handles);
+  const SkinningWeights PW = skinning_weights(H, m, kernel_points(handles), {});
+  CHECK(W.weight == PW.weight);
+  REQUIRE(W.weight.size() == 3 * static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v)
+    CHECK(W.weight[3 * v] + W.weight[3 * v + 1] + W.weight[3 * v + 2] == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(W.weight[3 * 300 + 1] == 1.0);
+  CHECK(s.stats().numeric_factorizations == 1);  // one factor of M - h^2 L served all three
+
+  CHECK(code_of([&] { s.voronoi({}); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.skinning_weights(std::vector<MeshPoint>{MeshPoint::in_face(0, 2, -1, 0)}); }) ==
+        ErrorCode::BadUsage);
+}
+
+TEST_CASE("session patch parameterization: the pipelines on a fresh factor of -L + eps M, bit for bit") {
+  const Mesh m = make_icosphere(4);
+  const Session s(m);
+  const CscMatrix K = regularized_laplacian(m);
+  const NumericFactor F = factorize(analyze(K, order_matrix(K)), K, {});
+  const PatchGrower g = prepare_patch_grower(m);
+  for (PatchBoundary b : {PatchBoundary::Neumann, PatchBoundary::Circle}) {
+    for (int32_t center : {0, 1234}) {
+      const PatchParamResult r = s.parameterize_patch({center, 0.05, b});
+      const int32_t count = patch_vertex_count(m.num_vertices(), 0.05);
+      std::vector<double> uv;
+      std::vector<int32_t> verts;
+      if (b == PatchBoundary::Neumann) {
+        PatchWorkspace pws;
+        SolveWorkspace ws;
+        const PatchParam P = parameterize_patch(F, g, center, count, pws, ws);
+        uv = P.uv;
+        verts = P.patch.vertices;
+      } else {
+        CirclePatchParameterizer cp(F, K, g);
+        const CirclePatchParam P = cp.parameterize(center, count);
+        uv = P.uv;
+        verts = P.disk.patch.vertices;
+      }
+      CHECK(r.uv == uv);
+      CHECK(r.vertices == verts);
+      CHECK(r.vertices[0] == center);
+      CHECK(r.triangles.size() % 3 == 0);
+      CHECK(r.flipped_faces == 0);
+    }
+  }
+  CHECK(s.stats().numeric_factorizations == 1);
+  CHECK(code_of([&] { s.parameterize_patch({m.num_vertices(), 0.1, PatchBoundary::Neumann}); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.parameterize_patch({0, 0.0, PatchBoundary::Neumann}); }) == ErrorCode::BadUsage);
+}
+
+TEST_CASE("session disk parameterization, perfect Laplacian and self-supporting surface: the pipelines' numbers") {
+  Mesh m = make_disk(5, 0.3, 7);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) m.z[v] = 0.4 * (1 - m.x[v] * m.x[v] - m.y[v] * m.y[v]);
+  const Session s(m);
+  for (DiskParamMethod method : {DiskParamMethod::Perfect, DiskParamMethod::Cotan, DiskParamMethod::Uniform}) {
+    const DiskParamResult r = s.parameterize_disk({method, 200, 1e-6});
+    FlipFreeParamOptions o;
+    o.method = method == DiskParamMethod::Cotan     ? ParamMethod::Cotan
+               : method == DiskParamMethod::Uniform ? ParamMethod::Uniform
+                                                    : ParamMethod::Perfect;
+    o.iteration.max_iterations = 200;
+    const FlipFreeParamResult p = flipfree_param(m, o);
+    CHECK(r.uv == p.uv);
+    CHECK(r.flipped_faces == p.faces.flipped_faces);
+    if (method != DiskParamMethod::Cotan) CHECK(r.flipped_faces == 0);
+  }
+
+  const PerfectLaplacianOutput pl = s.perfect_laplacian({false, 200, 1e-6, true});
+  MeshPerfectLaplacianOptions po;
+  po.iteration.max_iterations = 200;
+  const MeshPerfectLaplacianResult P = perfect_laplacian(m, po);
+  CHECK(pl.weights == P.run.weights);
+  REQUIRE(pl.edges.size() == 2 * P.e0.size());
+  CHECK(static_cast<int64_t>(P.e0.size()) == s.num_edges());
+  for (size_t e = 0; e < P.e0.size(); ++e) {
+    CHECK(pl.edges[2 * e] == P.e0[e]);
+    CHECK(pl.edges[2 * e + 1] == P.e1[e]);
+  }
+  for (int32_t i = 0; i < m.num_vertices(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(pl.xyz[3 * i + c] == P.aligned[c][i]);
+  CHECK(pl.converged == P.run.converged);
+
+  const SelfSupportOutput ss = s.self_supporting({1.0, 100, 1e-6});
+  SelfSupportOptions so;
+  so.iteration.max_iterations = 100;
+  const SelfSupportResult S = self_supporting(m, so);
+  CHECK(ss.forces == S.forces);
+  for (int32_t i = 0; i < m.num_vertices(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(ss.xyz[3 * i + c] == S.pos[c][i]);
+  for (double f : ss.forces) CHECK(f >= 0.0);
+  CHECK(ss.residual_rel < 1e-8);  // every iterate is an equilibrium of its own forces
+
+  const Session closed(make_icosphere(1));
+  CHECK(code_of([&] { closed.parameterize_disk(); }) == ErrorCode::BadInput);
+  CHECK(code_of([&] { closed.self_supporting(); }) == ErrorCode::BadInput);
+  CHECK(code_of([&] { s.perfect_laplacian({false, 0, 1e-6, true}); }) == ErrorCode::BadUsage);
+}
