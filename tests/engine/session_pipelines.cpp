@@ -11,6 +11,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <thread>
@@ -274,4 +275,46 @@ TEST_CASE("session disk parameterization, perfect Laplacian and self-supporting 
   CHECK(code_of([&] { closed.parameterize_disk(); }) == ErrorCode::BadInput);
   CHECK(code_of([&] { closed.self_supporting(); }) == ErrorCode::BadInput);
   CHECK(code_of([&] { s.perfect_laplacian({false, 0, 1e-6, true}); }) == ErrorCode::BadUsage);
+}
+
+TEST_CASE("session pipelines from several threads at once: the single-threaded answers; cancellation is not cached") {
+  const Mesh m = make_icosphere(3);
+  const std::vector<MeshPoint> sites{MeshPoint::at_vertex(1), MeshPoint::at_vertex(200), MeshPoint::at_vertex(500)};
+  const std::vector<int32_t> verts{0, 33, 400};
+  const std::vector<HeatQuery> times{HeatQuery{1.0, 0.0}, HeatQuery{4.0, 0.0}};
+  // Reference answers, each from a fresh Session on one thread.
+  const std::vector<double> geo = Session(m).geodesic_distance(sites);
+  const std::vector<int32_t> labels = Session(m).voronoi(sites).label;
+  const std::vector<double> hks = Session(m).heat_kernel_signature(times, verts);
+  const std::vector<double> uv = Session(m).parameterize_patch({3, 0.1, PatchBoundary::Circle}).uv;
+
+  const Session s(m);  // nothing cached: the threads race for the same factors
+  std::atomic<int> wrong{0};
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 4; ++k)
+    threads.emplace_back([&, k] {
+      for (int r = 0; r < 2; ++r) {
+        switch ((k + r) % 4) {
+          case 0: wrong += s.geodesic_distance(sites) != geo; break;
+          case 1: wrong += s.voronoi(sites).label != labels; break;
+          case 2: wrong += s.heat_kernel_signature(times, verts) != hks; break;
+          default: wrong += s.parameterize_patch({3, 0.1, PatchBoundary::Circle}).uv != uv; break;
+        }
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  CHECK(wrong == 0);
+  CHECK(s.stats().numeric_factorizations == 3);  // M - h^2 L, M - 4h^2 L, -L + eps M: each built once
+  CHECK(s.stats().heat_engines == 1);
+
+  // A cancelled build leaves the Session usable and caches nothing.
+  const Session c(m);
+  std::atomic<bool> cancel{true};
+  RunContext ctx;
+  ctx.cancel = &cancel;
+  CHECK(code_of([&] { c.voronoi(sites, {}, ctx); }) == ErrorCode::Cancelled);
+  CHECK(code_of([&] { c.heat_kernel_signature(times, verts, DiagonalMethod::Subset, ctx); }) == ErrorCode::Cancelled);
+  CHECK(code_of([&] { c.parameterize_patch({3, 0.1, PatchBoundary::Neumann}, ctx); }) == ErrorCode::Cancelled);
+  CHECK(c.voronoi(sites).label == labels);
+  CHECK(c.heat_kernel_signature(times, verts) == hks);
 }
