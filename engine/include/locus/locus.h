@@ -7,7 +7,9 @@
  * A session owns one triangle mesh and caches what is derived from it: the
  * first query factors the operators it needs (heat method: M - tL and
  * -L + eps M, t = h^2 with h the mean edge length), every later query reuses
- * those factors. See locus/session.hpp for the algorithms.
+ * those factors. Every pipeline of the `locus` CLI has a call here (the
+ * section "Pipelines added by issue 24" lists the later ones), returning the
+ * CLI's numbers for the same arguments. See locus/session.hpp for the algorithms.
  *
  * Status codes mirror the exit statuses of the `locus` command-line tool:
  *   LOCUS_OK (0), LOCUS_BAD_USAGE (2: a wrong argument — null pointer, count or

@@ -2,17 +2,23 @@
 // (DESIGN.md "Engine API"; issue 9 item 1).
 //
 // A Session validates its mesh once, then answers queries: heat geodesic
-// distance (thesis §6.4), heat log maps (§6.5–6.6), centroidal Voronoi
-// tessellations by Lloyd's method (§3.7), heat values between vertex sets by
-// exact subset solves (ch. 4), and region-of-interest deformation with the
-// factor-once submesh update (ch. 5). What a query needs is built on first use
-// and cached for the positions it was built from:
+// distance from a vertex or a set of sources (thesis §6.4), heat log maps
+// (§6.5–6.6), centroidal Voronoi tessellations by Lloyd's method (§3.7), heat
+// Voronoi diagrams, natural-neighbor coordinates and skinning weights (§3.4,
+// §3.7.2), heat values, ADF/HKS and heat exchange by exact subset solves
+// (ch. 4), region-of-interest deformation with the factor-once submesh update
+// (ch. 5), disk and patch parameterizations (§2.6, §4.4), perfect Laplacians
+// and self-supporting surfaces (ch. 2). Every pipeline of the `locus` CLI is
+// here, with the same numbers for the same arguments (ctest `package`). What a
+// query needs is built on first use and cached for the positions it was built from:
 //   * topology: adjacency, Dijkstra disks (built once);
 //   * the heat-method engine per t_factor (heat operator M - tL and Poisson
 //     operator -L + eps M, both factored) — serves geodesic distance and log
 //     maps;
-//   * numeric factors keyed by (operator kind, t), on symbolic factors keyed by
-//     the operator's sparsity pattern — serve heat values;
+//   * the heat operator M - tL factored per t, on symbolic factors keyed by the
+//     operator's sparsity pattern — serves Voronoi diagrams, natural neighbors,
+//     skinning weights, ADF/HKS, heat exchange and heat values;
+//   * -L + eps M factored once — serves the patch parameterizations;
 //   * the deformation operator (global factor of -L + eps M or K M^{-1} K) per
 //     energy — every deform() query derives its submesh factor from it.
 // One factorization serves every later query with the same key. prepare_*()
