@@ -520,26 +520,15 @@ void locus_nncoords_destroy(locus_nncoords_field* nn) {
 
 locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
                             const locus_surface_point* point, double* out_weights, const locus_run_options* opts) {
-  locus_nncoords_field* nn = nullptr;
-  locus_status st = LOCUS_OK;
-  {
-    // The point is checked before the diagram is computed (a typo fails fast).
-    st = guarded("locus_nncoords", [&] {
-      locus::Session& s = session_of(session);
-      require(point != nullptr, "point is NULL");
-      require(out_weights != nullptr, "out_weights is NULL");
-      mesh_points(s, point, 1, "point");
-    });
-    if (st != LOCUS_OK) return st;
-  }
-  st = locus_nncoords_prepare(session, sites, n_sites, opts, &nn);
-  if (st == LOCUS_OK) st = locus_nncoords_query(nn, point, out_weights);
-  if (nn) {
-    const std::string keep = locus_last_error_message();  // destroy clears the message
-    locus_nncoords_destroy(nn);
-    if (st != LOCUS_OK) set_error("locus_nncoords", keep.c_str());
-  }
-  return st;
+  return guarded("locus_nncoords", [&] {
+    locus::Session& s = session_of(session);
+    require(out_weights != nullptr, "out_weights is NULL");
+    const std::vector<locus::MeshPoint> q = mesh_points(s, point, 1, "point");  // before the diagram: fails fast
+    const std::vector<locus::MeshPoint> p = mesh_points(s, sites, n_sites, "sites");
+    CallContext cc(opts);
+    const locus::NaturalNeighborResult r = s.natural_neighbor_coordinates(p, q[0], cc.heat(), cc.ctx);
+    std::copy(r.weight.begin(), r.weight.end(), out_weights);
+  });
 }
 
 locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles, int64_t n_handles,

@@ -67,6 +67,7 @@ void check_t_factor(double t_factor) {
 
 std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   check_t_factor(q.t_factor);
+  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
   return s.engines.get(bits_of(q.t_factor), ctx, [&] {
     ctx.report(0.0, "prepare heat method");
     LogMapOptions o;

@@ -34,7 +34,6 @@ void Session::geodesic_distance(std::span<const MeshPoint> sources, std::span<do
   if (out.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(n));
-  if (q.t != 0.0) fail(ErrorCode::BadUsage, "geodesic_distance: the heat method takes t_factor, not an absolute t");
   const std::vector<SurfacePoint> pts = surface_points(*s, sources, "geodesic_distance: source");
   const auto e = engine(*s, q, ctx);
   ctx.check_cancel();

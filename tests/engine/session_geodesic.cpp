@@ -201,6 +201,8 @@ TEST_CASE("session multi-source geodesic: components, repeated sources and error
   CHECK(code_of([&] { s.geodesic_distance(bad_weights); }) == ErrorCode::BadUsage);
   const std::vector<MeshPoint> bad_vertex{MeshPoint::at_vertex(-1)};
   CHECK(code_of([&] { s.geodesic_distance(bad_vertex); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.geodesic_distance(both, HeatQuery{1.0, 0.01}); }) == ErrorCode::BadUsage);  // t_factor only
+  CHECK(code_of([&] { s.geodesic_distance(0, HeatQuery{1.0, 0.01}); }) == ErrorCode::BadUsage);
   std::vector<double> small(3);
   CHECK(code_of([&] { s.geodesic_distance(both, small); }) == ErrorCode::BadUsage);
 }
