@@ -420,6 +420,19 @@ struct locus_nncoords_field {
 
 extern "C" {
 
+locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts) {
+  return guarded("locus_session_prepare", [&] {
+    locus::Session& s = session_of(session);
+    const int32_t all = LOCUS_PREPARE_HEAT_METHOD | LOCUS_PREPARE_DIFFUSION | LOCUS_PREPARE_LAPLACIAN;
+    if (operators & ~all)
+      fail(ErrorCode::BadUsage, "operators = " + std::to_string(operators) + " has bits outside LOCUS_PREPARE_*");
+    CallContext cc(opts);
+    if (operators & LOCUS_PREPARE_HEAT_METHOD) s.prepare_heat(cc.heat(), cc.ctx);
+    if (operators & LOCUS_PREPARE_DIFFUSION) s.prepare_diffusion(cc.heat(), cc.ctx);
+    if (operators & LOCUS_PREPARE_LAPLACIAN) s.prepare_patch_parameterization(cc.ctx);
+  });
+}
+
 locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
                                            int64_t n_sources, double* out_nv, const locus_run_options* opts) {
   return guarded("locus_geodesic_distance_multi", [&] {

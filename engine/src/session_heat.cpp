@@ -101,6 +101,17 @@ void check_signature(std::span<const double> values, std::span<const int32_t> ve
 
 using namespace session_detail;
 
+void Session::prepare_diffusion(const HeatQuery& q, const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  diffusion(*s, q, ctx);
+}
+
+void Session::prepare_patch_parameterization(const RunContext& ctx) const {
+  const std::shared_ptr<State> s = impl_->current();
+  laplacian(*s, ctx);
+  grower(*s, ctx);
+}
+
 int64_t Session::num_edges() const { return static_cast<int64_t>(impl_->current()->derived->edges.e0.size()); }
 
 std::vector<double> Session::auto_diffusion(std::span<const int32_t> vertices, const HeatQuery& q,

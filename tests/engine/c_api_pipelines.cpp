@@ -232,3 +232,30 @@ TEST_CASE("C API deformation and parameterizations: the Session's numbers") {
   CHECK(locus_self_supporting(d.c, -1.0, 50, 1e-6, nullptr, nullptr, nullptr, nullptr, nullptr) == LOCUS_BAD_USAGE);
   CHECK(locus_session_edge_count(nullptr) == -1);
 }
+
+TEST_CASE("C API prepare: the operators are built once, eagerly; later queries factor nothing") {
+  Both b(make_icosphere(2));
+  REQUIRE(locus_session_prepare(b.c, LOCUS_PREPARE_HEAT_METHOD | LOCUS_PREPARE_DIFFUSION | LOCUS_PREPARE_LAPLACIAN,
+                                nullptr) == LOCUS_OK);
+  const int64_t v[2] = {0, 5};
+  double adf[2];
+  std::vector<double> uv(2 * b.nv()), d(b.nv());
+  const locus_surface_point src[1] = {at_vertex(3)};
+  // The same queries on the C++ Session after its prepare calls build nothing more.
+  b.cpp.prepare_heat();
+  b.cpp.prepare_diffusion();
+  b.cpp.prepare_patch_parameterization();
+  const locus::SessionStats before = b.cpp.stats();
+  CHECK(before.numeric_factorizations == 2);
+  CHECK(before.heat_engines == 1);
+  REQUIRE(locus_adf(b.c, v, 2, 0, adf, nullptr) == LOCUS_OK);
+  REQUIRE(locus_param_patch(b.c, 0, 0.2, 0, uv.data(), nullptr, nullptr, nullptr) == LOCUS_OK);
+  REQUIRE(locus_geodesic_distance_multi(b.c, src, 1, d.data(), nullptr) == LOCUS_OK);
+  CHECK(std::vector<double>(adf, adf + 2) == b.cpp.auto_diffusion(std::vector<int32_t>{0, 5}));
+  b.cpp.parameterize_patch({0, 0.2, PatchBoundary::Neumann});
+  b.cpp.geodesic_distance(3);
+  CHECK(b.cpp.stats().numeric_factorizations == before.numeric_factorizations);
+  CHECK(b.cpp.stats().heat_engines == before.heat_engines);
+  CHECK(locus_session_prepare(b.c, 8, nullptr) == LOCUS_BAD_USAGE);
+  CHECK(locus_session_prepare(nullptr, 1, nullptr) == LOCUS_BAD_USAGE);
+}

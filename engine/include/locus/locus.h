@@ -168,6 +168,14 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
  * once (patch parameterization). Ids out of range (vertices, faces, edges) are
  * LOCUS_BAD_USAGE. ==== */
 
+/* Builds cached operators now instead of at the first query that needs them
+ * (e.g. on a loading screen, before handing the session to worker threads):
+ * `operators` is a combination of the flags below; t from opts->t_factor. */
+#define LOCUS_PREPARE_HEAT_METHOD 1 /* geodesic distance, log map */
+#define LOCUS_PREPARE_DIFFUSION 2   /* M - tL: Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange/values */
+#define LOCUS_PREPARE_LAPLACIAN 4   /* -L + eps M: patch parameterization */
+locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts);
+
 /* A point on the surface: a vertex (face < 0: `vertex`), or a face and the
  * barycentric weights of its three corners (in the order of the triangle as
  * given), each >= 0, summing to 1. */

@@ -342,6 +342,12 @@ class Session {
   PerfectLaplacianOutput perfect_laplacian(const PerfectLaplacianRequest& req = {}, const RunContext& ctx = {}) const;
   SelfSupportOutput self_supporting(const SelfSupportRequest& req = {}, const RunContext& ctx = {}) const;
 
+  // The prepared tier, built eagerly (queries build them on first use): the
+  // heat operator M - tL for q (the diffusion pipelines) and -L + eps M (the
+  // patch parameterizations). prepare_heat() above builds the heat method's.
+  void prepare_diffusion(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+  void prepare_patch_parameterization(const RunContext& ctx = {}) const;
+
   int64_t num_edges() const;  // unique edges of the triangles
 
   // New positions, 3 * num_vertices() interleaved doubles, same connectivity.
