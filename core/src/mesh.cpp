@@ -3,7 +3,7 @@
 
 namespace locus {
 
-void Mesh::add_face(std::span<const int32_t> vs) {
+void Mesh::add_face(ConstView<int32_t> vs) {
   const bool was_tri = is_triangle_mesh();
   face_vertices.insert(face_vertices.end(), vs.begin(), vs.end());
   face_offsets.push_back(static_cast<int32_t>(face_vertices.size()));

@@ -31,22 +31,31 @@ namespace {
 using locus::ErrorCode;
 using locus::fail;
 
+// The last error of this thread (issue 24 item 6): the whole message, and a
+// fixed buffer holding it (cut to its size) for locus_last_error_message(), so
+// that the pointer handed out never dangles: only its content changes.
 thread_local std::string t_last_error;
-thread_local bool t_error_unrecorded = false;  // the message itself could not be allocated
+constexpr size_t kMessageBuffer = 4096;
+thread_local char t_message[kMessageBuffer] = "";
+constexpr const char* kUnrecorded = "locus: out of memory while recording an error";
 
 void clear_error() noexcept {
   t_last_error.clear();
-  t_error_unrecorded = false;
+  t_message[0] = '\0';
 }
 
 // Never throws: when even the message cannot be allocated, a fixed one stands in.
 void set_error(const char* function, const char* what) noexcept {
   try {
     t_last_error = std::string(function) + ": " + what;
-    t_error_unrecorded = false;
   } catch (...) {
-    t_error_unrecorded = true;
+    t_last_error.clear();
+    std::strncpy(t_message, kUnrecorded, kMessageBuffer - 1);
+    return;
   }
+  const size_t n = std::min(t_last_error.size(), kMessageBuffer - 1);
+  std::memcpy(t_message, t_last_error.data(), n);
+  t_message[n] = '\0';
 }
 
 // Upper bounds that keep every derived size within int32 indices and sane memory.
@@ -169,8 +178,18 @@ const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch) {
 #undef LOCUS_STR2
 }
 
-const char* locus_last_error_message(void) {
-  return t_error_unrecorded ? "locus: out of memory while recording an error" : t_last_error.c_str();
+const char* locus_last_error_message(void) { return t_message; }
+
+int64_t locus_last_error_copy(char* buffer, int64_t capacity) {
+  // The whole message, unless recording it failed (then the buffer's stand-in).
+  const char* text = t_last_error.empty() ? t_message : t_last_error.c_str();
+  const size_t length = t_last_error.empty() ? std::strlen(t_message) : t_last_error.size();
+  if (buffer && capacity > 0) {
+    const size_t n = std::min(length, static_cast<size_t>(capacity - 1));
+    std::memcpy(buffer, text, n);
+    buffer[n] = '\0';
+  }
+  return static_cast<int64_t>(length);
 }
 
 locus_status locus_session_create_from_file(const char* path, locus_session** out) {
@@ -200,8 +219,8 @@ locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* 
         fail(ErrorCode::BadInput, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
                                       "xyz[" + std::to_string(i) + "] = " + std::to_string(xyz[i]) + ")");
     for (int64_t k = 0; k < 3 * nf; ++k)
-      if (tris[k] < 0 || tris[k] >= nv)
-        fail(ErrorCode::BadInput, "triangle " + std::to_string(k / 3) + " references vertex " +
+      if (tris[k] < 0 || tris[k] >= nv)  // an id out of range: a usage error, as locus.h says
+        fail(ErrorCode::BadUsage, "triangle " + std::to_string(k / 3) + " references vertex " +
                                       std::to_string(tris[k]) + " but the mesh has " + std::to_string(nv) +
                                       " vertices (tris[" + std::to_string(k) + "])");
     locus::Mesh m;

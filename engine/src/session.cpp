@@ -156,7 +156,7 @@ void Session::prepare_heat(const HeatQuery& q, const RunContext& ctx) const {
   engine(*s, q, ctx);
 }
 
-void Session::geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q,
+void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuery& q,
                                 const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, source, "geodesic_distance: source");
@@ -208,7 +208,7 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
   return r;
 }
 
-std::vector<double> Session::heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
+std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                          const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   for (size_t k = 0; k < sources.size(); ++k)
@@ -323,7 +323,7 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
   return r;
 }
 
-void Session::set_positions(std::span<const double> xyz) {
+void Session::set_positions(ConstView<double> xyz) {
   const int32_t n = impl_->nv;
   if (xyz.size() != 3 * static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "set_positions: " + std::to_string(xyz.size()) + " coordinates, expected 3 * " +

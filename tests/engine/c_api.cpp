@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <thread>
@@ -74,12 +75,12 @@ TEST_CASE("c api: version, defaults, null and out-of-range arguments of session 
   CHECK(s == nullptr);
 
   Arrays bad = a;
-  bad.tris[7] = static_cast<int32_t>(a.nv);
-  CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
+  bad.tris[7] = static_cast<int32_t>(a.nv);  // ids out of range: usage errors, as locus.h promises
+  CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_USAGE);
   CHECK(message_has(("triangle 2 references vertex " + std::to_string(a.nv)).c_str()));
   bad = a;
   bad.tris[0] = -1;
-  CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
+  CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_USAGE);
   bad = a;
   bad.xyz[10] = std::numeric_limits<double>::quiet_NaN();
   CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
@@ -279,4 +280,51 @@ TEST_CASE("c api: progress callback, cancellation, per-thread error messages") {
   CHECK(locus_last_error_message() == mine);
   CHECK(theirs != mine);
   CHECK(!theirs.empty());
+}
+
+TEST_CASE("c api: the last-error pointer stays valid; the copy is whole, cut or sized on request") {
+  const char* p = locus_last_error_message();
+  CHECK(locus_session_vertex_count(nullptr) == -1);
+  const std::string first = locus_last_error_message();
+  CHECK(first == "locus_session_vertex_count: session is NULL");
+  CHECK(locus_last_error_message() == p);  // same buffer, new content
+  // The evaluation-order trap of issue 24: the pointer is read before the call
+  // that fails and used after it. It must not dangle, and holds that call's message.
+  locus_session* s = nullptr;
+  const char* early = locus_last_error_message();
+  const locus_status st = locus_session_create_from_file("/nonexistent/dir/with/a/long/name/mesh.off", &s);
+  CHECK(st == LOCUS_BAD_INPUT);
+  CHECK(std::string(early).find("/nonexistent/dir/with/a/long/name/mesh.off") != std::string::npos);
+
+  const std::string whole = locus_last_error_message();
+  const int64_t n = locus_last_error_copy(nullptr, 0);
+  CHECK(n == static_cast<int64_t>(whole.size()));
+  std::vector<char> buf(static_cast<size_t>(n) + 1, 'x');
+  CHECK(locus_last_error_copy(buf.data(), n + 1) == n);
+  CHECK(std::string(buf.data()) == whole);
+  char small[8];
+  std::fill(small, small + 8, 'x');
+  CHECK(locus_last_error_copy(small, 8) == n);
+  CHECK(std::string(small) == whole.substr(0, 7));
+  char one = 'x';
+  CHECK(locus_last_error_copy(&one, 1) == n);
+  CHECK(one == '\0');
+  CHECK(locus_last_error_copy(small, -3) == n);  // nothing written, nothing cleared
+  CHECK(std::string(locus_last_error_message()) == whole);
+
+  // A message longer than the pointer's buffer: the copy has it whole.
+  const std::string long_path = "/nonexistent/" + std::string(5000, 'a') + ".off";
+  CHECK(locus_session_create_from_file(long_path.c_str(), &s) == LOCUS_BAD_INPUT);
+  const int64_t m = locus_last_error_copy(nullptr, 0);
+  CHECK(m > 5000);
+  std::vector<char> big(static_cast<size_t>(m) + 1);
+  locus_last_error_copy(big.data(), m + 1);
+  CHECK(std::string(big.data()).find(long_path) != std::string::npos);
+  CHECK(std::strlen(locus_last_error_message()) == 4095);
+  CHECK(std::string(big.data()).compare(0, 4095, locus_last_error_message()) == 0);
+
+  // The next call clears it, for both forms.
+  locus_session_destroy(nullptr);
+  CHECK(locus_last_error_copy(nullptr, 0) == 0);
+  CHECK(locus_last_error_message()[0] == '\0');
 }

@@ -1,6 +1,6 @@
 # ctest entry `package` (CMakeLists.txt, install block): installs the build in
 # LOCUS_BUILD_DIR to a scratch prefix, configures and builds tests/package/c (a
-# C99 project that includes only locus/locus.h) and tests/package/cpp (C++20,
+# C99 project that includes only locus/locus.h) and tests/package/cpp (C++17,
 # locus/session.hpp) against it with find_package(locus), and runs both. The C
 # program reads LOCUS_MESH (armadillo, from tools/fetch_meshes.sh); without it
 # both programs run their generated-mesh checks only and the test reports

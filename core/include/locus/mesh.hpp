@@ -5,9 +5,10 @@
 // as a fast path (empty otherwise). Vertex ids are 0-based in input order.
 #pragma once
 #include <cstdint>
-#include <span>
 #include <string>
 #include <vector>
+
+#include "locus/view.hpp"
 
 namespace locus {
 
@@ -21,12 +22,12 @@ struct Mesh {
   int32_t num_vertices() const { return static_cast<int32_t>(x.size()); }
   int32_t num_faces() const { return static_cast<int32_t>(face_offsets.size()) - 1; }
   bool is_triangle_mesh() const { return num_faces() == 0 || static_cast<int32_t>(f0.size()) == num_faces(); }
-  std::span<const int32_t> face(int32_t f) const {
+  ConstView<int32_t> face(int32_t f) const {
     return {face_vertices.data() + face_offsets[f], static_cast<size_t>(face_offsets[f + 1] - face_offsets[f])};
   }
 
   // Appends a face (polygon); keeps the triangle fast path consistent.
-  void add_face(std::span<const int32_t> vs);
+  void add_face(ConstView<int32_t> vs);
   void add_triangle(int32_t a, int32_t b, int32_t c);
   void add_vertex(double px, double py, double pz) { x.push_back(px); y.push_back(py); z.push_back(pz); }
   // Rebuilds f0/f1/f2 from the CSR faces (clears them if any face is not a triangle).

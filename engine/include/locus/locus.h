@@ -79,9 +79,21 @@ locus_run_options locus_run_options_default(void);
 const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
 
 /* Message of the last failed call on this thread ("" after a successful call:
- * every function except this one clears it on entry). The pointer stays valid
- * until the next locus call on this thread. Never NULL. */
+ * every function except this one and locus_last_error_copy clears it on
+ * entry). Never NULL. The pointer is this thread's message buffer: it stays
+ * valid until the thread exits, but its content changes at the next locus call
+ * on this thread, so read it after the failed call and before the next one
+ * (not as an argument beside that call: C leaves the order of evaluation open).
+ * Messages longer than 4095 bytes are cut; locus_last_error_copy has them whole. */
 const char* locus_last_error_message(void);
+
+/* Copies the message of the last failed call on this thread into `buffer`
+ * (`capacity` bytes; cut to capacity - 1 bytes and NUL-terminated when
+ * capacity >= 1; nothing is written when buffer is NULL or capacity <= 0) and
+ * returns the message's whole length in bytes, without the NUL:
+ * locus_last_error_copy(NULL, 0) + 1 bytes hold it. Does not clear the message.
+ * Thread-safe; never fails. */
+int64_t locus_last_error_copy(char* buffer, int64_t capacity);
 
 /* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
  * The mesh must be a manifold triangle mesh with at least one face, finite

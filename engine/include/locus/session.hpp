@@ -46,13 +46,13 @@
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <span>
 #include <string>
 #include <vector>
 
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/run_context.hpp"
+#include "locus/view.hpp"
 
 namespace locus {
 
@@ -269,7 +269,7 @@ class Session {
   // Heat geodesic distance from `source` to every vertex (full solves);
   // +infinity at vertices in another connected component than the source.
   // out.size() must be num_vertices().
-  void geodesic_distance(int32_t source, std::span<double> out, const HeatQuery& q = {},
+  void geodesic_distance(int32_t source, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
   std::vector<double> geodesic_distance(int32_t source, const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
@@ -281,7 +281,7 @@ class Session {
   // subset solves (equal to the full solve's entries). Row-major
   // |sources| x |targets|: out[s * |targets| + k] = value at targets[k] of the
   // heat from sources[s]. Ids in range; repeats allowed.
-  std::vector<double> heat_values(std::span<const int32_t> sources, std::span<const int32_t> targets,
+  std::vector<double> heat_values(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                   const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv),
@@ -354,7 +354,7 @@ class Session {
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),
   // the Session keeps its old positions then). Drops every cache that depends
   // on positions; keeps the symbolic factors.
-  void set_positions(std::span<const double> xyz);
+  void set_positions(ConstView<double> xyz);
 
   SessionStats stats() const;
 
