@@ -26,7 +26,7 @@ namespace locus {
 
 using namespace session_detail;
 
-void Session::geodesic_distance(std::span<const MeshPoint> sources, std::span<double> out, const HeatQuery& q,
+void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, const HeatQuery& q,
                                 const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   const int32_t n = impl_->nv;
@@ -72,19 +72,19 @@ void Session::geodesic_distance(std::span<const MeshPoint> sources, std::span<do
   }
 }
 
-std::vector<double> Session::geodesic_distance(std::span<const MeshPoint> sources, const HeatQuery& q,
+std::vector<double> Session::geodesic_distance(ConstView<MeshPoint> sources, const HeatQuery& q,
                                                const RunContext& ctx) const {
   std::vector<double> d(static_cast<size_t>(impl_->nv));
-  geodesic_distance(sources, std::span<double>(d), q, ctx);
+  geodesic_distance(sources, View<double>(d), q, ctx);
   return d;
 }
 
-std::vector<double> Session::geodesic_distance_from_vertices(std::span<const int32_t> sources, const HeatQuery& q,
+std::vector<double> Session::geodesic_distance_from_vertices(ConstView<int32_t> sources, const HeatQuery& q,
                                                              const RunContext& ctx) const {
   std::vector<MeshPoint> pts;
   pts.reserve(sources.size());
   for (int32_t v : sources) pts.push_back(MeshPoint::at_vertex(v));
-  return geodesic_distance(std::span<const MeshPoint>(pts), q, ctx);
+  return geodesic_distance(ConstView<MeshPoint>(pts), q, ctx);
 }
 
 }  // namespace locus

@@ -69,14 +69,14 @@ SurfacePoint surface_point(const State& s, const MeshPoint& p, const char* what,
   return q;
 }
 
-std::vector<SurfacePoint> surface_points(const State& s, std::span<const MeshPoint> p, const char* what) {
+std::vector<SurfacePoint> surface_points(const State& s, ConstView<MeshPoint> p, const char* what) {
   std::vector<SurfacePoint> out;
   out.reserve(p.size());
   for (size_t k = 0; k < p.size(); ++k) out.push_back(surface_point(s, p[k], what, k));
   return out;
 }
 
-void check_vertices(const State& s, std::span<const int32_t> v, const char* what) {
+void check_vertices(const State& s, ConstView<int32_t> v, const char* what) {
   for (size_t k = 0; k < v.size(); ++k)
     check_vertex(s, v[k], (std::string(what) + " " + std::to_string(k) + " is vertex").c_str());
 }
@@ -86,7 +86,7 @@ namespace {
 AdfMethod adf_method(DiagonalMethod m) { return m == DiagonalMethod::SelectedInversion ? AdfMethod::Selinv : AdfMethod::Subset; }
 
 // Values of a heat signature are positive and finite unless the operator is numerically singular.
-void check_signature(std::span<const double> values, std::span<const int32_t> vertices, size_t nt, const char* who) {
+void check_signature(ConstView<double> values, ConstView<int32_t> vertices, size_t nt, const char* who) {
   for (size_t k = 0; k < values.size(); ++k)
     if (!(std::isfinite(values[k]) && values[k] > 0)) {
       const size_t i = k / nt;
@@ -114,12 +114,12 @@ void Session::prepare_patch_parameterization(const RunContext& ctx) const {
 
 int64_t Session::num_edges() const { return static_cast<int64_t>(impl_->current()->derived->edges.e0.size()); }
 
-std::vector<double> Session::auto_diffusion(std::span<const int32_t> vertices, const HeatQuery& q,
+std::vector<double> Session::auto_diffusion(ConstView<int32_t> vertices, const HeatQuery& q,
                                             DiagonalMethod method, const RunContext& ctx) const {
-  return heat_kernel_signature(std::span<const HeatQuery>(&q, 1), vertices, method, ctx);
+  return heat_kernel_signature(ConstView<HeatQuery>(&q, 1), vertices, method, ctx);
 }
 
-std::vector<double> Session::heat_kernel_signature(std::span<const HeatQuery> times, std::span<const int32_t> vertices,
+std::vector<double> Session::heat_kernel_signature(ConstView<HeatQuery> times, ConstView<int32_t> vertices,
                                                    DiagonalMethod method, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   if (times.empty()) fail(ErrorCode::BadUsage, "heat_kernel_signature: no diffusion time given");
@@ -139,7 +139,7 @@ std::vector<double> Session::heat_kernel_signature(std::span<const HeatQuery> ti
   return out;
 }
 
-std::vector<double> Session::heat_exchange(std::span<const int32_t> sources, std::span<const int32_t> targets,
+std::vector<double> Session::heat_exchange(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                            const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   if (sources.empty() || targets.empty())

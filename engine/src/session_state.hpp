@@ -155,8 +155,8 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
 std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext& ctx);
 // BadUsage unless p is a vertex or a face with valid barycentric weights; returns the kernel's point.
 SurfacePoint surface_point(const State& s, const MeshPoint& p, const char* what, size_t index);
-std::vector<SurfacePoint> surface_points(const State& s, std::span<const MeshPoint> p, const char* what);
-void check_vertices(const State& s, std::span<const int32_t> v, const char* what);
+std::vector<SurfacePoint> surface_points(const State& s, ConstView<MeshPoint> p, const char* what);
+void check_vertices(const State& s, ConstView<int32_t> v, const char* what);
 
 }  // namespace session_detail
 

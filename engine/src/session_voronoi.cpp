@@ -45,7 +45,7 @@ NaturalNeighborResult NaturalNeighbors::coordinates(const MeshPoint& q) const {
   return r;
 }
 
-VoronoiResult Session::voronoi(std::span<const MeshPoint> generators, const HeatQuery& q,
+VoronoiResult Session::voronoi(ConstView<MeshPoint> generators, const HeatQuery& q,
                                const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   if (generators.empty() || generators.size() > static_cast<size_t>(impl_->nv))
@@ -72,7 +72,7 @@ VoronoiResult Session::voronoi(std::span<const MeshPoint> generators, const Heat
   return r;
 }
 
-NaturalNeighbors Session::prepare_natural_neighbors(std::span<const MeshPoint> sites, const HeatQuery& q,
+NaturalNeighbors Session::prepare_natural_neighbors(ConstView<MeshPoint> sites, const HeatQuery& q,
                                                     const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   if (sites.empty()) fail(ErrorCode::BadUsage, "natural neighbors: no site given");
@@ -85,7 +85,7 @@ NaturalNeighbors Session::prepare_natural_neighbors(std::span<const MeshPoint> s
   return NaturalNeighbors(std::move(impl));
 }
 
-NaturalNeighborResult Session::natural_neighbor_coordinates(std::span<const MeshPoint> sites, const MeshPoint& point,
+NaturalNeighborResult Session::natural_neighbor_coordinates(ConstView<MeshPoint> sites, const MeshPoint& point,
                                                             const HeatQuery& q, const RunContext& ctx) const {
   {
     const std::shared_ptr<State> s = impl_->current();
@@ -94,7 +94,7 @@ NaturalNeighborResult Session::natural_neighbor_coordinates(std::span<const Mesh
   return prepare_natural_neighbors(sites, q, ctx).coordinates(point);
 }
 
-SkinningWeightsResult Session::skinning_weights(std::span<const MeshPoint> handles, const HeatQuery& q,
+SkinningWeightsResult Session::skinning_weights(ConstView<MeshPoint> handles, const HeatQuery& q,
                                                 const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   if (handles.empty()) fail(ErrorCode::BadUsage, "skinning_weights: no handle given");

@@ -302,38 +302,38 @@ class Session {
   // CGAL's Heat_method_3): per connected component the distance is shifted so
   // that its minimum over the component's sources is 0; +infinity in components
   // without a source. At least one source; out.size() == num_vertices().
-  void geodesic_distance(std::span<const MeshPoint> sources, std::span<double> out, const HeatQuery& q = {},
+  void geodesic_distance(ConstView<MeshPoint> sources, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
-  std::vector<double> geodesic_distance(std::span<const MeshPoint> sources, const HeatQuery& q = {},
+  std::vector<double> geodesic_distance(ConstView<MeshPoint> sources, const HeatQuery& q = {},
                                         const RunContext& ctx = {}) const;
-  std::vector<double> geodesic_distance_from_vertices(std::span<const int32_t> sources, const HeatQuery& q = {},
+  std::vector<double> geodesic_distance_from_vertices(ConstView<int32_t> sources, const HeatQuery& q = {},
                                                       const RunContext& ctx = {}) const;
 
   // Heat Voronoi diagram of 1..nv generators (default t = h^2).
-  VoronoiResult voronoi(std::span<const MeshPoint> generators, const HeatQuery& q = {},
+  VoronoiResult voronoi(ConstView<MeshPoint> generators, const HeatQuery& q = {},
                         const RunContext& ctx = {}) const;
 
   // Natural-neighbor coordinates: prepared field (many queries) and one-shot.
-  NaturalNeighbors prepare_natural_neighbors(std::span<const MeshPoint> sites, const HeatQuery& q = {},
+  NaturalNeighbors prepare_natural_neighbors(ConstView<MeshPoint> sites, const HeatQuery& q = {},
                                              const RunContext& ctx = {}) const;
-  NaturalNeighborResult natural_neighbor_coordinates(std::span<const MeshPoint> sites, const MeshPoint& point,
+  NaturalNeighborResult natural_neighbor_coordinates(ConstView<MeshPoint> sites, const MeshPoint& point,
                                                      const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Skinning weights of handles at every vertex (natural-neighbor coordinates of the vertices).
-  SkinningWeightsResult skinning_weights(std::span<const MeshPoint> handles, const HeatQuery& q = {},
+  SkinningWeightsResult skinning_weights(ConstView<MeshPoint> handles, const HeatQuery& q = {},
                                          const RunContext& ctx = {}) const;
 
   // Auto-diffusion function (M - tL)^{-1}_vv at `vertices` (empty: all vertices, in order).
-  std::vector<double> auto_diffusion(std::span<const int32_t> vertices, const HeatQuery& q = {},
+  std::vector<double> auto_diffusion(ConstView<int32_t> vertices, const HeatQuery& q = {},
                                      DiagonalMethod method = DiagonalMethod::Subset,
                                      const RunContext& ctx = {}) const;
   // Heat kernel signature: out[k * times.size() + j] = ADF at vertices[k] (all when empty) for times[j].
-  std::vector<double> heat_kernel_signature(std::span<const HeatQuery> times, std::span<const int32_t> vertices,
+  std::vector<double> heat_kernel_signature(ConstView<HeatQuery> times, ConstView<int32_t> vertices,
                                             DiagonalMethod method = DiagonalMethod::Subset,
                                             const RunContext& ctx = {}) const;
   // Pairwise heat exchange (thesis §4.6): unit heat at every source (repeats add),
   // one step of M - tL; out[k] = heat at targets[k]. Both sets non-empty.
-  std::vector<double> heat_exchange(std::span<const int32_t> sources, std::span<const int32_t> targets,
+  std::vector<double> heat_exchange(ConstView<int32_t> sources, ConstView<int32_t> targets,
                                     const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   DiskParamResult parameterize_disk(const DiskParamRequest& req = {}, const RunContext& ctx = {}) const;

@@ -226,9 +226,9 @@ static void sphere_checks(int levels) {
     free(d);
     locus_session_destroy(s);
   }
-  /* Bad arrays: a face index out of range is refused with a message naming it. */
+  /* Bad arrays: a face index out of range is refused (LOCUS_BAD_USAGE, an id out of range) with a message naming it. */
   tris[5] = (int32_t)nv;
-  EXPECT(locus_session_create(xyz, nv, tris, nf, &s) == LOCUS_BAD_INPUT && s == NULL, "bad index accepted");
+  EXPECT(locus_session_create(xyz, nv, tris, nf, &s) == LOCUS_BAD_USAGE && s == NULL, "bad index accepted");
   EXPECT(strstr(locus_last_error_message(), "triangle 1") != NULL, "message: %s", locus_last_error_message());
   free(xyz);
   free(tris);
