@@ -452,6 +452,18 @@ locus_status locus_session_prepare(locus_session* session, int32_t operators, co
   });
 }
 
+locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
+                                         locus_surface_point* out) {
+  return guarded("locus_random_surface_points", [&] {
+    require(session != nullptr, "session is NULL");
+    require(out != nullptr, "out is NULL");
+    if (count < 0 || count > kMaxVertices)
+      fail(ErrorCode::BadUsage, "count = " + std::to_string(count) + " is not in 0.." + std::to_string(kMaxVertices));
+    const std::vector<locus::MeshPoint> p = session->session.random_points(static_cast<int32_t>(count), seed);
+    for (size_t k = 0; k < p.size(); ++k) out[k] = locus_surface_point{p[k].face, -1, {p[k].bary[0], p[k].bary[1], p[k].bary[2]}};
+  });
+}
+
 locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
                                            int64_t n_sources, double* out_nv, const locus_run_options* opts) {
   return guarded("locus_geodesic_distance_multi", [&] {

@@ -45,6 +45,15 @@ NaturalNeighborResult NaturalNeighbors::coordinates(const MeshPoint& q) const {
   return r;
 }
 
+std::vector<MeshPoint> Session::random_points(int32_t count, uint64_t seed) const {
+  const std::shared_ptr<State> s = impl_->current();
+  if (count < 0) fail(ErrorCode::BadUsage, "random_points: count must be >= 0, got " + std::to_string(count));
+  std::vector<MeshPoint> out;
+  for (const SurfacePoint& p : random_surface_points(s->mesh, count, seed))
+    out.push_back(MeshPoint::in_face(p.face, p.bary[0], p.bary[1], p.bary[2]));
+  return out;
+}
+
 VoronoiResult Session::voronoi(ConstView<MeshPoint> generators, const HeatQuery& q,
                                const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();

@@ -259,3 +259,24 @@ TEST_CASE("C API prepare: the operators are built once, eagerly; later queries f
   CHECK(locus_session_prepare(b.c, 8, nullptr) == LOCUS_BAD_USAGE);
   CHECK(locus_session_prepare(nullptr, 1, nullptr) == LOCUS_BAD_USAGE);
 }
+
+TEST_CASE("C API random surface points: the Session's, in faces with valid weights") {
+  Both b(make_icosphere(2));
+  std::vector<locus_surface_point> p(40);
+  REQUIRE(locus_random_surface_points(b.c, 40, 3, p.data()) == LOCUS_OK);
+  const std::vector<MeshPoint> q = b.cpp.random_points(40, 3);
+  REQUIRE(q.size() == 40);
+  for (size_t k = 0; k < q.size(); ++k) {
+    CHECK(p[k].face == q[k].face);
+    CHECK(p[k].face >= 0);
+    CHECK(p[k].face < b.mesh.num_faces());
+    CHECK(p[k].bary[0] == q[k].bary[0]);
+    CHECK(p[k].bary[1] == q[k].bary[1]);
+    CHECK(p[k].bary[0] + p[k].bary[1] + p[k].bary[2] == doctest::Approx(1.0));
+    CHECK(std::min({p[k].bary[0], p[k].bary[1], p[k].bary[2]}) >= 0.0);
+  }
+  const MeshPoint other = b.cpp.random_points(40, 4)[0];  // another seed, another stream
+  CHECK((other.face != q[0].face || other.bary != q[0].bary));
+  CHECK(locus_random_surface_points(b.c, -1, 3, p.data()) == LOCUS_BAD_USAGE);
+  CHECK(locus_random_surface_points(b.c, 1, 3, nullptr) == LOCUS_BAD_USAGE);
+}

@@ -197,6 +197,12 @@ typedef struct locus_surface_point {
   double bary[3];
 } locus_surface_point;
 
+/* `count` points uniformly distributed by area into out (count entries), from
+ * a splitmix64 stream seeded with `seed`: the same on every platform, and the
+ * generators of `locus voronoi --random count --seed seed`. */
+locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
+                                         locus_surface_point* out);
+
 /* ---- Multi-source geodesic distance ----
  * Heat geodesic distance from a set of sources (vertices and points in faces)
  * at once: one heat solve with every source's hat weights, one Poisson solve.

@@ -309,6 +309,10 @@ class Session {
   std::vector<double> geodesic_distance_from_vertices(ConstView<int32_t> sources, const HeatQuery& q = {},
                                                       const RunContext& ctx = {}) const;
 
+  // `count` points uniformly distributed by area (splitmix64 from `seed`: the
+  // same on every platform; `locus voronoi --random N --seed S` uses these).
+  std::vector<MeshPoint> random_points(int32_t count, uint64_t seed) const;
+
   // Heat Voronoi diagram of 1..nv generators (default t = h^2).
   VoronoiResult voronoi(ConstView<MeshPoint> generators, const HeatQuery& q = {},
                         const RunContext& ctx = {}) const;

@@ -482,6 +482,28 @@ static void cli_checks_armadillo(const char* mesh, const char* dir) {
     free(out.points);
   }
 
+  /* Voronoi diagram of 50 random surface points (seed 7) = `locus voronoi --random 50 --seed 7`. */
+  {
+    locus_surface_point random[50];
+    int64_t max_points = 0, n_ref;
+    locus_voronoi_output out;
+    double* vref = NULL;
+    locus_voronoi_bound(s, &max_points, NULL, NULL);
+    memset(&out, 0, sizeof out);
+    out.points = malloc(sizeof(double) * 3 * (size_t)max_points);
+    out.points_capacity = max_points;
+    if (!out.points) exit(1);
+    if (call_ok(locus_random_surface_points(s, 50, 7, random), "locus_random_surface_points") &&
+        call_ok(locus_voronoi(s, random, 50, &out, NULL), "locus_voronoi (random)")) {
+      n_ref = obj_numbers(ref_path(dir, "voronoi_random.obj"), "v ", 3, &vref);
+      EXPECT(n_ref == out.n_points, "voronoi (random): %lld points, the CLI has %lld", (long long)out.n_points,
+             (long long)n_ref);
+      if (n_ref == out.n_points) compare("voronoi points (50 random generators)", out.points, vref, 3 * n_ref, 1e-12);
+      free(vref);
+    }
+    free(out.points);
+  }
+
   /* Natural-neighbor coordinates of face 10 (0.2, 0.3, 0.5). */
   {
     locus_surface_point q;

@@ -216,6 +216,8 @@ void cli_checks(const std::string& mesh, const std::string& dir) {
     const std::vector<double> lines = json_numbers(slurp(dir + "/voronoi.json"), "polylines");
     expect(lines.size() == 1 && lines[0] == static_cast<double>(v.line_offsets.size() - 1), "voronoi polyline count");
   }
+  compare("voronoi points (50 random generators)", s.voronoi(s.random_points(50, 7)).points,
+          obj_numbers(dir + "/voronoi_random.obj", "v "), 1e-12);
   compare("natural-neighbor coordinates",
           s.natural_neighbor_coordinates(sites, locus::MeshPoint::in_face(10, 0.2, 0.3, 0.5)).weight,
           json_numbers(slurp(dir + "/nncoords.json"), "weights"), 1e-12);
