@@ -3,7 +3,8 @@
 // self-supporting surface near it (§2.6, eq. 2.12; `locus selfsupport`).
 //
 // Both iterate a numeric refactorization of one pattern per step, so there is
-// nothing to cache across queries: the Session contributes its checked mesh.
+// nothing to cache across queries: the Session contributes its checked mesh, and
+// the one-shot forms (perfect_laplacian_of, self_supporting_of) take any polygon mesh.
 // Results are on a copy; the Session's positions do not change.
 #include <cmath>
 #include <string>
@@ -44,21 +45,28 @@ std::vector<double> interleave_xyz(const Coords& p, int32_t nv) {
 }  // namespace
 
 PerfectLaplacianOutput Session::perfect_laplacian(const PerfectLaplacianRequest& req, const RunContext& ctx) const {
-  const std::shared_ptr<State> s = impl_->current();
+  return perfect_laplacian_of(impl_->current()->mesh, req, ctx);
+}
+
+SelfSupportOutput Session::self_supporting(const SelfSupportRequest& req, const RunContext& ctx) const {
+  return self_supporting_of(impl_->current()->mesh, req, ctx);
+}
+
+PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req, const RunContext& ctx) {
   check_iteration(req.max_iterations, req.eps, "perfect_laplacian");
   MeshPerfectLaplacianOptions o;
   o.planar = req.planar;
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
   o.iteration.method = req.newton ? PerfectLaplacianMethod::newton : PerfectLaplacianMethod::multiplicative;
-  const MeshPerfectLaplacianResult R = locus::perfect_laplacian(s->mesh, o, ctx);
+  const MeshPerfectLaplacianResult R = locus::perfect_laplacian(mesh, o, ctx);
   PerfectLaplacianOutput r;
   r.edges = interleave_edges(R.e0, R.e1);
   r.weights = R.run.weights;
-  r.xyz = interleave_xyz(R.mode == "planar" ? R.run.pos : R.aligned, impl_->nv);
+  r.xyz = interleave_xyz(R.mode == "planar" ? R.run.pos : R.aligned, mesh.num_vertices());
   const Coords& p = R.mode == "planar" ? R.run.pos : R.aligned;
-  if (p[2].size() != static_cast<size_t>(impl_->nv))  // a 2-D embedding: z keeps the input's
-    for (int32_t i = 0; i < impl_->nv; ++i) r.xyz[3 * static_cast<size_t>(i) + 2] = s->mesh.z[i];
+  if (p[2].size() != static_cast<size_t>(mesh.num_vertices()))  // a 2-D embedding: z keeps the input's
+    for (int32_t i = 0; i < mesh.num_vertices(); ++i) r.xyz[3 * static_cast<size_t>(i) + 2] = mesh.z[i];
   r.converged = R.run.converged;
   r.iterations = R.run.iterations;
   r.max_displacement_rel = R.max_displacement_rel;
@@ -66,8 +74,7 @@ PerfectLaplacianOutput Session::perfect_laplacian(const PerfectLaplacianRequest&
   return r;
 }
 
-SelfSupportOutput Session::self_supporting(const SelfSupportRequest& req, const RunContext& ctx) const {
-  const std::shared_ptr<State> s = impl_->current();
+SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req, const RunContext& ctx) {
   check_iteration(req.max_iterations, req.eps, "self_supporting");
   if (!(req.load_density > 0) || !std::isfinite(req.load_density))
     fail(ErrorCode::BadUsage, "self_supporting: load_density must be a finite positive number");
@@ -75,11 +82,11 @@ SelfSupportOutput Session::self_supporting(const SelfSupportRequest& req, const 
   o.load_density = req.load_density;
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
-  const SelfSupportResult R = locus::self_supporting(s->mesh, o, ctx);
+  const SelfSupportResult R = locus::self_supporting(mesh, o, ctx);
   SelfSupportOutput r;
   r.edges = interleave_edges(R.e0, R.e1);
   r.forces = R.forces;
-  r.xyz = interleave_xyz(R.pos, impl_->nv);
+  r.xyz = interleave_xyz(R.pos, mesh.num_vertices());
   r.converged = R.converged;
   r.iterations = R.iterations;
   r.residual_rel = R.residual_rel;

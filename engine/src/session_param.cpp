@@ -41,7 +41,10 @@ void copy_patch(const MeshPatch& p, PatchParamResult& r) {
 }  // namespace
 
 DiskParamResult Session::parameterize_disk(const DiskParamRequest& req, const RunContext& ctx) const {
-  const std::shared_ptr<State> s = impl_->current();
+  return parameterize_disk_of(impl_->current()->mesh, req, ctx);
+}
+
+DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req, const RunContext& ctx) {
   if (req.max_iterations < 1) fail(ErrorCode::BadUsage, "parameterize_disk: max_iterations must be >= 1");
   if (!(req.eps > 0) || !std::isfinite(req.eps))
     fail(ErrorCode::BadUsage, "parameterize_disk: eps must be a finite positive number");
@@ -51,7 +54,7 @@ DiskParamResult Session::parameterize_disk(const DiskParamRequest& req, const Ru
                                                       : ParamMethod::Perfect;
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
-  const FlipFreeParamResult f = flipfree_param(s->mesh, o, ctx);
+  const FlipFreeParamResult f = flipfree_param(mesh, o, ctx);
   check_finite_uv(f.uv, "parameterize_disk");
   DiskParamResult r;
   r.uv = f.uv;

@@ -318,3 +318,38 @@ TEST_CASE("session pipelines from several threads at once: the single-threaded a
   CHECK(c.voronoi(sites).label == labels);
   CHECK(c.heat_kernel_signature(times, verts) == hks);
 }
+
+TEST_CASE("one-shot chapter-2 pipelines on a quad mesh (no Session): the pipelines' numbers") {
+  const int n = 8;
+  Mesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
+      m.add_vertex(x, y, 0.5 * (1 - x * x) * (1 - y * y) + 0.03 * std::sin(5 * x + 2 * y));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int32_t a = j * (n + 1) + i;
+      const int32_t q[4] = {a, a + 1, a + n + 2, a + n + 1};
+      m.add_face(q);
+    }
+  const DiskParamResult d = parameterize_disk_of(m, {DiskParamMethod::Perfect, 200, 1e-6});
+  FlipFreeParamOptions fo;
+  fo.iteration.max_iterations = 200;
+  CHECK(d.uv == flipfree_param(m, fo).uv);
+  CHECK(d.flipped_faces == 0);
+
+  const PerfectLaplacianOutput pl = perfect_laplacian_of(m, {false, 100, 1e-6, true});
+  MeshPerfectLaplacianOptions po;
+  po.iteration.max_iterations = 100;
+  const MeshPerfectLaplacianResult P = perfect_laplacian(m, po);
+  CHECK(pl.weights == P.run.weights);
+  CHECK(pl.edges.size() == 2 * P.e0.size());
+  CHECK(P.e0.size() == static_cast<size_t>(2 * n * (n + 1)));  // a quad grid's edges: no diagonals
+
+  const SelfSupportOutput ss = self_supporting_of(m, {1.0, 50, 1e-6});
+  SelfSupportOptions so;
+  so.iteration.max_iterations = 50;
+  CHECK(ss.forces == self_supporting(m, so).forces);
+  CHECK(code_of([&] { Session bad(m); }) == ErrorCode::BadInput);  // a Session holds triangle meshes only
+}

@@ -11,7 +11,8 @@
 # cost one full heat solve per vertex (403 s for armadillo's 26k vertices on
 # a loaded 2-core machine), so they run on patch.obj: the disk of 5% of
 # armadillo's vertices around vertex 0 that `locus param --boundary circle`
-# writes (1300 vertices, one boundary loop).
+# writes (1300 vertices, one boundary loop). The C++ program also runs their
+# one-shot forms on quad_grid.off, a polygon disk written here.
 set(refs ${work}/refs)
 file(MAKE_DIRECTORY ${refs})
 set(cli ${LOCUS_BUILD_DIR}/locus)
@@ -45,6 +46,30 @@ if(mesh_arg AND EXISTS ${cli})
   cli_reference(skinweights skinweights patch.obj --handles 0,300,900 -o skinweights.ply)
   cli_reference(perfect_laplacian perfect-laplacian patch.obj --iters 20 -o perfect_laplacian.obj)
   cli_reference(selfsupport selfsupport patch.obj --iters 20 -o selfsupport.obj)
+  # A polygon disk for the one-shot forms (a Session holds triangles only): a 13 x 13-vertex
+  # quad grid with integer coordinates, z = i (12 - i) + j (12 - j) (a vault).
+  set(grid "OFF\n169 144 0\n")
+  foreach(j RANGE 12)
+    foreach(i RANGE 12)
+      math(EXPR x "10 * ${i}")
+      math(EXPR y "10 * ${j}")
+      math(EXPR z "${i} * (12 - ${i}) + ${j} * (12 - ${j})")
+      string(APPEND grid "${x} ${y} ${z}\n")
+    endforeach()
+  endforeach()
+  foreach(j RANGE 11)
+    foreach(i RANGE 11)
+      math(EXPR a "13 * ${j} + ${i}")
+      math(EXPR b "${a} + 1")
+      math(EXPR c "${a} + 14")
+      math(EXPR d "${a} + 13")
+      string(APPEND grid "4 ${a} ${b} ${c} ${d}\n")
+    endforeach()
+  endforeach()
+  file(WRITE ${refs}/quad_grid.off "${grid}")
+  cli_reference(param_quad param quad_grid.off --method perfect -o param_quad.obj)
+  cli_reference(perfect_laplacian_quad perfect-laplacian quad_grid.off --iters 20 -o perfect_laplacian_quad.obj)
+  cli_reference(selfsupport_quad selfsupport quad_grid.off --iters 20 -o selfsupport_quad.obj)
   set(ENV{LOCUS_PACKAGE_REFS} ${refs})
   message(STATUS "CLI references in ${refs} (from ${cli})")
 elseif(mesh_arg)

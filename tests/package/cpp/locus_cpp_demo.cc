@@ -271,6 +271,17 @@ void cli_checks(const std::string& mesh, const std::string& dir) {
   compare_edges("self-supporting forces", dir + "/selfsupport.obj.forces.txt", ss.edges, ss.forces);
   compare("self-supporting surface", ss.xyz, obj_numbers(dir + "/selfsupport.obj", "v "), 1e-9);
   (void)n;
+
+  // The one-shot forms on a quad mesh (no Session: it holds triangles only).
+  const locus::Mesh quad = locus::read_mesh(dir + "/quad_grid.off");
+  compare("disk parameterization (quads)", locus::parameterize_disk_of(quad).uv,
+          obj_numbers(dir + "/param_quad.obj", "vt "), 1e-9);
+  const locus::PerfectLaplacianOutput ql = locus::perfect_laplacian_of(quad, lr);
+  compare_edges("perfect Laplacian weights (quads)", dir + "/perfect_laplacian_quad.obj.weights.txt", ql.edges, ql.weights);
+  compare("perfect Laplacian embedding (quads)", ql.xyz, obj_numbers(dir + "/perfect_laplacian_quad.obj", "v "), 1e-9);
+  const locus::SelfSupportOutput qs = locus::self_supporting_of(quad, sr);
+  compare_edges("self-supporting forces (quads)", dir + "/selfsupport_quad.obj.forces.txt", qs.edges, qs.forces);
+  compare("self-supporting surface (quads)", qs.xyz, obj_numbers(dir + "/selfsupport_quad.obj", "v "), 1e-9);
 }
 
 }  // namespace
