@@ -384,6 +384,20 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
 
 namespace {
 
+// One C point, checked against a mesh of nv vertices and nf triangles (ids out of range: BadUsage).
+locus::MeshPoint mesh_point(int64_t nv, int64_t nf, const locus_surface_point& p, const std::string& name) {
+  if (p.face < 0) {
+    if (p.vertex < 0 || p.vertex >= nv)
+      fail(ErrorCode::BadUsage, name + ".vertex = " + std::to_string(p.vertex) + " is not a vertex (the mesh has " +
+                                    std::to_string(nv) + " vertices)");
+    return locus::MeshPoint::at_vertex(static_cast<int32_t>(p.vertex));
+  }
+  if (p.face >= nf)
+    fail(ErrorCode::BadUsage, name + ".face = " + std::to_string(p.face) + " is not a face (the mesh has " +
+                                  std::to_string(nf) + " triangles)");
+  return locus::MeshPoint::in_face(static_cast<int32_t>(p.face), p.bary[0], p.bary[1], p.bary[2]);
+}
+
 std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_surface_point* p, int64_t n,
                                           const char* what) {
   require(p != nullptr, (std::string(what) + " is NULL").c_str());
@@ -391,17 +405,8 @@ std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_s
     fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 1.." + std::to_string(kMaxVertices) +
                                   " (got " + std::to_string(n) + ")");
   std::vector<locus::MeshPoint> out(static_cast<size_t>(n));
-  for (int64_t k = 0; k < n; ++k) {
-    const std::string name = std::string(what) + "[" + std::to_string(k) + "]";
-    if (p[k].face < 0) {
-      out[k] = locus::MeshPoint::at_vertex(vertex_id(s, p[k].vertex, (name + ".vertex =").c_str()));
-      continue;
-    }
-    if (p[k].face >= s.num_faces())
-      fail(ErrorCode::BadUsage, name + ".face = " + std::to_string(p[k].face) + " is not a face (the mesh has " +
-                                    std::to_string(s.num_faces()) + " triangles)");
-    out[k] = locus::MeshPoint::in_face(static_cast<int32_t>(p[k].face), p[k].bary[0], p[k].bary[1], p[k].bary[2]);
-  }
+  for (int64_t k = 0; k < n; ++k)
+    out[k] = mesh_point(s.num_vertices(), s.num_faces(), p[k], std::string(what) + "[" + std::to_string(k) + "]");
   return out;
 }
 
@@ -531,18 +536,7 @@ locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_su
     require(nn != nullptr, "nn is NULL");
     require(point != nullptr, "point is NULL");
     require(out_weights != nullptr, "out_weights is NULL");
-    locus::MeshPoint q;
-    if (point->face < 0) {
-      if (point->vertex < 0 || point->vertex >= nn->nv)
-        fail(ErrorCode::BadUsage, "point.vertex = " + std::to_string(point->vertex) + " is not a vertex (the mesh has " +
-                                      std::to_string(nn->nv) + " vertices)");
-      q = locus::MeshPoint::at_vertex(static_cast<int32_t>(point->vertex));
-    } else {
-      if (point->face >= nn->nf)
-        fail(ErrorCode::BadUsage, "point.face = " + std::to_string(point->face) + " is not a face (the mesh has " +
-                                      std::to_string(nn->nf) + " triangles)");
-      q = locus::MeshPoint::in_face(static_cast<int32_t>(point->face), point->bary[0], point->bary[1], point->bary[2]);
-    }
+    const locus::MeshPoint q = mesh_point(nn->nv, nn->nf, *point, "point");
     const locus::NaturalNeighborResult r = nn->field.coordinates(q);
     std::copy(r.weight.begin(), r.weight.end(), out_weights);
   });

@@ -19,8 +19,10 @@
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/session.hpp"
+#include "tests/engine/session_test_support.hpp"
 
 using namespace locus;
+using locus::test::code_of;
 
 namespace {
 
@@ -103,15 +105,6 @@ std::vector<double> dense_heat_method(const Mesh& m, const std::vector<MeshPoint
   std::vector<double> d(n);
   for (int32_t i = 0; i < n; ++i) d[i] = phi[i] - lo;
   return d;
-}
-
-ErrorCode code_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return static_cast<ErrorCode>(0);
 }
 
 Mesh two_spheres() {
