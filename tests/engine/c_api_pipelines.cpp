@@ -280,3 +280,36 @@ TEST_CASE("C API random surface points: the Session's, in faces with valid weigh
   CHECK(locus_random_surface_points(b.c, -1, 3, p.data()) == LOCUS_BAD_USAGE);
   CHECK(locus_random_surface_points(b.c, 1, 3, nullptr) == LOCUS_BAD_USAGE);
 }
+
+namespace {
+int stop_at_first(double, const char*, void* user) {
+  ++*static_cast<int*>(user);
+  return 1;
+}
+}  // namespace
+
+TEST_CASE("C API pipelines: a progress callback that asks to stop cancels; the session answers afterwards") {
+  Both b(make_icosphere(3));
+  int calls = 0;
+  locus_run_options o = locus_run_options_default();
+  o.progress = stop_at_first;
+  o.user_data = &calls;
+  const locus_surface_point g[3] = {at_vertex(0), at_vertex(100), at_vertex(300)};
+  locus_voronoi_output out{};
+  std::vector<int32_t> labels(b.nv());
+  out.labels = labels.data();
+  CHECK(locus_voronoi(b.c, g, 3, &out, &o) == LOCUS_CANCELLED);
+  CHECK(calls >= 1);
+  std::vector<double> d(b.nv());
+  CHECK(locus_geodesic_distance_multi(b.c, g, 3, d.data(), &o) == LOCUS_CANCELLED);
+  const int64_t v[1] = {5};
+  double adf = 0;
+  CHECK(locus_adf(b.c, v, 1, 0, &adf, &o) == LOCUS_CANCELLED);
+  // Nothing cancelled was cached: the same calls without the callback give the Session's answers.
+  REQUIRE(locus_voronoi(b.c, g, 3, &out, nullptr) == LOCUS_OK);
+  CHECK(labels == b.cpp.voronoi(std::vector<MeshPoint>{MeshPoint::at_vertex(0), MeshPoint::at_vertex(100),
+                                                       MeshPoint::at_vertex(300)}).label);
+  REQUIRE(locus_geodesic_distance_multi(b.c, g, 3, d.data(), nullptr) == LOCUS_OK);
+  REQUIRE(locus_adf(b.c, v, 1, 0, &adf, nullptr) == LOCUS_OK);
+  CHECK(adf == b.cpp.auto_diffusion(std::vector<int32_t>{5})[0]);
+}
