@@ -304,7 +304,9 @@ class Session {
   // ---- Pipelines added by issue 24. Each reuses the Session's caches: the
   // heat operator M - tL is factored once per t and serves Voronoi diagrams,
   // natural neighbors, skinning weights, ADF/HKS, heat exchange and heat
-  // values alike; -L + eps M once for the patch parameterizations. ----
+  // values alike; -L + eps M once for the patch parameterizations. Each
+  // distinct t keeps its factor (memory ~ one Cholesky factor per t) until
+  // set_positions() or the Session's end. ----
 
   // Heat geodesic distance from a set of sources (vertices and points on faces;
   // thesis §6.4.1 with the heat of all sources at once, as Crane et al. and
