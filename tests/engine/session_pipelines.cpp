@@ -1,6 +1,7 @@
 // Tests for the Session queries of the pipelines added by issue 24
 // (engine/src/session_{heat,voronoi,param,laplacian}.cpp).
 // Oracles: Eigen sparse LDLT solves of M - tL for the auto-diffusion function,
+// the Voronoi labels (hottest generator),
 // the heat kernel signature and the heat exchange (entries of the inverse);
 // the pipeline functions called directly on freshly prepared operators (the
 // Session must reproduce them bit for bit, whatever it cached before); the
@@ -130,6 +131,29 @@ TEST_CASE("session Voronoi, natural neighbors and skinning weights: the pipeline
   CHECK(V.corners == PD.corners);
   CHECK(V.corners > 0);
   for (int32_t g : {0, 1, 2, 4}) CHECK(V.label[sites[g].vertex] == g);  // a vertex generator is in its own cell
+  // Independent oracle for the labels: the hottest generator by Eigen solves of (M - h^2 L) u = b(generator).
+  {
+    const double h = s.mean_edge_length();
+    std::vector<Eigen::VectorXd> heat;
+    for (const MeshPoint& p : sites) {
+      Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+      if (p.face < 0) b[p.vertex] = 1;
+      else {
+        b[m.f0[p.face]] = p.bary[0];
+        b[m.f1[p.face]] = p.bary[1];
+        b[m.f2[p.face]] = p.bary[2];
+      }
+      heat.push_back(heat_solve(m, h * h, b));
+    }
+    int64_t differ = 0;
+    for (int32_t v = 0; v < n; ++v) {
+      int32_t best = 0;
+      for (int32_t g = 1; g < static_cast<int32_t>(sites.size()); ++g)
+        if (heat[g][v] > heat[best][v]) best = g;
+      differ += best != V.label[v];
+    }
+    CHECK(differ == 0);
+  }
   CHECK(V.empty_cells == 0);
 
   // Natural neighbors: the prepared field reproduces the pipeline, from several threads at once.
