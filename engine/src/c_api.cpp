@@ -384,16 +384,22 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
 
 namespace {
 
-// One C point, checked against a mesh of nv vertices and nf triangles (ids out of range: BadUsage).
-locus::MeshPoint mesh_point(int64_t nv, int64_t nf, const locus_surface_point& p, const std::string& name) {
+// One C point, checked against a mesh of nv vertices and nf triangles (ids out of
+// range: BadUsage naming `what`, and [k] when k >= 0; the name is built on failure only).
+locus::MeshPoint mesh_point(int64_t nv, int64_t nf, const locus_surface_point& p, const char* what, int64_t k) {
+  const auto name = [&] {
+    std::string n(what);
+    if (k >= 0) n.append("[").append(std::to_string(k)).append("]");
+    return n;
+  };
   if (p.face < 0) {
     if (p.vertex < 0 || p.vertex >= nv)
-      fail(ErrorCode::BadUsage, name + ".vertex = " + std::to_string(p.vertex) + " is not a vertex (the mesh has " +
+      fail(ErrorCode::BadUsage, name() + ".vertex = " + std::to_string(p.vertex) + " is not a vertex (the mesh has " +
                                     std::to_string(nv) + " vertices)");
     return locus::MeshPoint::at_vertex(static_cast<int32_t>(p.vertex));
   }
   if (p.face >= nf)
-    fail(ErrorCode::BadUsage, name + ".face = " + std::to_string(p.face) + " is not a face (the mesh has " +
+    fail(ErrorCode::BadUsage, name() + ".face = " + std::to_string(p.face) + " is not a face (the mesh has " +
                                   std::to_string(nf) + " triangles)");
   return locus::MeshPoint::in_face(static_cast<int32_t>(p.face), p.bary[0], p.bary[1], p.bary[2]);
 }
@@ -406,7 +412,7 @@ std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_s
                                   " (got " + std::to_string(n) + ")");
   std::vector<locus::MeshPoint> out(static_cast<size_t>(n));
   for (int64_t k = 0; k < n; ++k)
-    out[k] = mesh_point(s.num_vertices(), s.num_faces(), p[k], std::string(what) + "[" + std::to_string(k) + "]");
+    out[k] = mesh_point(s.num_vertices(), s.num_faces(), p[k], what, k);
   return out;
 }
 
@@ -536,7 +542,7 @@ locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_su
     require(nn != nullptr, "nn is NULL");
     require(point != nullptr, "point is NULL");
     require(out_weights != nullptr, "out_weights is NULL");
-    const locus::MeshPoint q = mesh_point(nn->nv, nn->nf, *point, "point");
+    const locus::MeshPoint q = mesh_point(nn->nv, nn->nf, *point, "point", -1);
     const locus::NaturalNeighborResult r = nn->field.coordinates(q);
     std::copy(r.weight.begin(), r.weight.end(), out_weights);
   });
