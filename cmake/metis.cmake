@@ -60,6 +60,6 @@ set(METIS_LIBRARY "")
 
 if(LOCUS_BUILD_TESTS)
   enable_testing()
-  add_test(NAME metis_no_process_symbols COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:locus>
+  add_test(NAME metis_no_process_symbols COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:locus_static>
     -P ${PROJECT_SOURCE_DIR}/tests/kernels/order/no_process_symbols.cmake)
 endif()

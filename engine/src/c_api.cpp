@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/session.hpp"
 
@@ -121,6 +122,26 @@ struct CallContext {
       t_factor = o->t_factor;
     }
     ctx.threads = o->threads;
+    if (o->message) {
+      const locus_message_fn fn = o->message;
+      void* const user = o->user_data;
+      ctx.message = [this, fn, user](std::string_view text) {
+        std::lock_guard<std::mutex> lock(mu);
+        const std::string s(text);
+        try {
+          fn(s.c_str(), user);
+        } catch (...) {  // a C++ callback that throws: the note is dropped
+        }
+      };
+    }
+    // More threads than oneTBB allows this process: clamped, and said through
+    // the message callback (oneTBB would print a warning on stderr; issue 24 item 4).
+    if (ctx.threads > locus::max_arena_threads()) {
+      const int max = locus::max_arena_threads();
+      ctx.note("threads = " + std::to_string(ctx.threads) + " is more than this process allows (" +
+               std::to_string(max) + "); using " + std::to_string(max));
+      ctx.threads = max;
+    }
     ctx.max_memory_bytes = static_cast<std::size_t>(
         std::min<uint64_t>(o->max_memory_bytes, std::numeric_limits<std::size_t>::max()));
     if (o->progress) {
@@ -171,11 +192,7 @@ const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch) {
   if (major) *major = LOCUS_VERSION_MAJOR;
   if (minor) *minor = LOCUS_VERSION_MINOR;
   if (patch) *patch = LOCUS_VERSION_PATCH;
-#define LOCUS_STR2(x) #x
-#define LOCUS_STR(x) LOCUS_STR2(x)
-  return LOCUS_STR(LOCUS_VERSION_MAJOR) "." LOCUS_STR(LOCUS_VERSION_MINOR) "." LOCUS_STR(LOCUS_VERSION_PATCH);
-#undef LOCUS_STR
-#undef LOCUS_STR2
+  return LOCUS_VERSION_STRING;  // locus/version.h, generated from the CMake project version
 }
 
 const char* locus_last_error_message(void) { return t_message; }
@@ -244,6 +261,24 @@ locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* 
       m.f2[f] = tris[3 * f + 2];
     }
     *out = new locus_session(locus::Session(std::move(m)));
+  });
+}
+
+locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_from_view", [&] {
+    require(out != nullptr, "out is NULL");
+    require(view != nullptr, "view is NULL");
+    locus::MeshView v;
+    v.positions = view->positions;
+    v.position_type = static_cast<locus::ScalarType>(view->position_type);
+    v.position_stride = view->position_stride;
+    v.vertex_count = view->vertex_count;
+    v.indices = view->indices;
+    v.index_type = static_cast<locus::IndexType>(view->index_type);
+    v.index_stride = view->index_stride;
+    v.triangle_count = view->triangle_count;
+    *out = new locus_session(locus::Session(v));
   });
 }
 

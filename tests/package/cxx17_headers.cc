@@ -7,9 +7,11 @@
 #include <locus/locus.h>
 #include <locus/mesh.hpp>
 #include <locus/mesh_io.hpp>
+#include <locus/mesh_view.hpp>
 #include <locus/run_context.hpp>
 #include <locus/session.hpp>
 #include <locus/sparse_matrix.hpp>
+#include <locus/version.h>
 #include <locus/view.hpp>
 
 #include <array>

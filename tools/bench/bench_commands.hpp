@@ -12,5 +12,6 @@ void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs
 void register_local_bench(cli::CommandTable& table);  // local: heat values, ADF at all vertices, patch parameterization
 void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (thesis Fig. 3.1)
 void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Session queries, RSS, cancellation; --big
+void register_cancel_bench(cli::CommandTable& table);  // cancel: C API cancel latency of the first geodesic query
 
 }  // namespace locus::bench

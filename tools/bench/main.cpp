@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     locus::bench::register_local_bench(table);
     locus::bench::register_voronoi_bench(table);
     locus::bench::register_stress_bench(table);
+    locus::bench::register_cancel_bench(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus-bench: internal error: " << e.what() << "\n";

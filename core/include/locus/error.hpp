@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 enum class ErrorCode : int {
@@ -46,3 +49,4 @@ class Error : public std::runtime_error {
 }
 
 }  // namespace locus
+LOCUS_API_END

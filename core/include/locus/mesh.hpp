@@ -1,4 +1,4 @@
-// locus::Mesh — a polygon mesh as flat structure-of-arrays (DESIGN.md "Data").
+// locus::Mesh — a polygon mesh as flat structure-of-arrays.
 //
 // Positions are three separate arrays; faces are CSR (face_offsets[nf+1] into
 // face_vertices). When every face is a triangle, f0/f1/f2 hold the same faces
@@ -10,6 +10,9 @@
 
 #include "locus/view.hpp"
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 struct Mesh {
@@ -35,3 +38,4 @@ struct Mesh {
 };
 
 }  // namespace locus
+LOCUS_API_END

@@ -1,4 +1,4 @@
-// Compressed sparse column matrices (DESIGN.md "Data").
+// Compressed sparse column matrices.
 //
 // Symmetric matrices store the lower triangle only (row >= col in every column),
 // rows sorted ascending within a column, no duplicates.
@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 struct CscMatrix {
@@ -28,3 +31,4 @@ void symmetric_multiply(const CscMatrix& lower, const double* x, double* y);
 CscMatrix combine_same_pattern(double a, const CscMatrix& A, double b, const CscMatrix& B);
 
 }  // namespace locus
+LOCUS_API_END

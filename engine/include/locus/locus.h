@@ -1,4 +1,4 @@
-/* locus.h — the C API of locus (DESIGN.md "Engine API"; issue 9 item 2).
+/* locus.h — the C API of locus (issue 9 item 2; README "Embedding").
  *
  * For game engines, DCC plugins and other languages: opaque session handles,
  * flat arrays with counts, outputs written into caller memory, status codes,
@@ -33,13 +33,13 @@
 
 #include <stdint.h>
 
+#include "locus/export.h"  /* LOCUS_API_BEGIN/END: what a shared liblocus exports */
+#include "locus/version.h" /* LOCUS_VERSION_MAJOR/MINOR/PATCH/STRING, the CMake package version */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-#define LOCUS_VERSION_MAJOR 0
-#define LOCUS_VERSION_MINOR 1
-#define LOCUS_VERSION_PATCH 0
+LOCUS_API_BEGIN
 
 typedef enum locus_status {
   LOCUS_OK = 0,
@@ -60,6 +60,12 @@ typedef struct locus_session locus_session;
  * call), but they may come from worker threads. */
 typedef int (*locus_progress_fn)(double fraction, const char* phase, void* user_data);
 
+/* A diagnostic that is not an error (e.g. "threads = 100000 is more than this
+ * process allows (2); using 2"); `text` is valid during the call only. locus
+ * never writes to stdout or stderr: without this callback such notes are
+ * dropped. Called like the progress callback (serialized, any thread). */
+typedef void (*locus_message_fn)(const char* text, void* user_data);
+
 /* Options of a long call; a NULL pointer, or a zero-initialized struct, means
  * all defaults (locus_run_options_default() returns them). */
 typedef struct locus_run_options {
@@ -68,14 +74,16 @@ typedef struct locus_run_options {
   void* user_data;           /* passed to progress */
   uint64_t max_memory_bytes; /* limit of one factorization, 0 = 80% of physical memory */
   double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = default 1 (cvt: default only, its cells use t = 4h^2) */
+  locus_message_fn message;  /* NULL: notes are dropped; gets user_data too */
 } locus_run_options;
 
-/* The defaults: threads 0, no callback, no memory limit beyond the default, t_factor 1. */
+/* The defaults: threads 0, no callbacks, no memory limit beyond the default, t_factor 1. */
 locus_run_options locus_run_options_default(void);
 
 /* Version of the library (which may differ from the LOCUS_VERSION_* macros of
- * the header a program was compiled with); any pointer may be NULL. Returns
- * "major.minor.patch". Thread-safe, never fails. */
+ * the header a program was compiled with; both equal the CMake package
+ * version of their build); any pointer may be NULL. Returns "major.minor.patch"
+ * (a static string). Thread-safe, never fails. */
 const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
 
 /* Message of the last failed call on this thread ("" after a successful call:
@@ -111,6 +119,32 @@ locus_status locus_session_create_from_file(const char* path, locus_session** ou
  * Same mesh requirements as locus_session_create_from_file. Thread-safe. */
 locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
                                   locus_session** out);
+
+/* A triangle mesh in the caller's own buffers (issue 24 item 2): positions as
+ * float or double, ids as uint16, uint32 or int32, each at a byte stride, as
+ * game engines keep them in interleaved vertex and index buffers. No alignment
+ * is needed. float -> double and the id conversions are exact: a view gives
+ * bit-identical results to double/int32 arrays holding the same values. */
+typedef enum locus_scalar_type { LOCUS_FLOAT32 = 1, LOCUS_FLOAT64 = 2 } locus_scalar_type;
+typedef enum locus_index_type { LOCUS_UINT16 = 1, LOCUS_UINT32 = 2, LOCUS_INT32 = 3 } locus_index_type;
+typedef struct locus_mesh_view {
+  const void* positions;   /* vertex i: x, y, z (consecutive) at (const char*)positions + i * position_stride */
+  int32_t position_type;   /* locus_scalar_type */
+  int64_t position_stride; /* bytes between vertices; 0 = tightly packed (3 values) */
+  int64_t vertex_count;    /* 1 <= vertex_count < 2^31 - 1 */
+  const void* indices;     /* triangle f: 3 ids (consecutive) at (const char*)indices + f * index_stride */
+  int32_t index_type;      /* locus_index_type */
+  int64_t index_stride;    /* bytes between triangles; 0 = tightly packed (3 ids) */
+  int64_t triangle_count;  /* 1 <= triangle_count <= (2^31 - 1) / 3 */
+} locus_mesh_view;
+
+/* A new session from a mesh view: the buffers are read once into the
+ * session's own arrays (the one copy locus makes; the caller keeps ownership
+ * and may free them after the call). LOCUS_BAD_USAGE for a NULL pointer, a
+ * count, stride or type out of range or a vertex id out of range (naming the
+ * triangle); otherwise the requirements of locus_session_create_from_file.
+ * Thread-safe. */
+locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
 
 /* Frees the session and everything it cached. NULL is a no-op. Not concurrently
  * with other calls on the same session. */
@@ -334,6 +368,7 @@ locus_status locus_self_supporting(locus_session* session, double load_density, 
                                    int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
                                    const locus_run_options* opts);
 
+LOCUS_API_END
 #ifdef __cplusplus
 }
 #endif

@@ -1,5 +1,5 @@
 // locus::Session — one mesh and everything derived from it, for embedding
-// (DESIGN.md "Engine API"; issue 9 item 1).
+// (issue 9 item 1; README "Embedding").
 //
 // A Session validates its mesh once, then answers queries: heat geodesic
 // distance from a vertex or a set of sources (thesis §6.4), heat log maps
@@ -51,9 +51,13 @@
 
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
+#include "locus/mesh_view.hpp"
 #include "locus/run_context.hpp"
 #include "locus/view.hpp"
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 // Diffusion time of the heat operators: t = t_factor * h^2, h the mean edge
@@ -260,6 +264,10 @@ class Session {
   // unreferenced vertices (Error(BadInput) naming the first offender and
   // mesh.source). O(nv + nf); builds no operator.
   explicit Session(Mesh mesh);
+  // From the host's buffers (float/double positions, uint16/uint32/int32 ids,
+  // byte strides): read once into the Session's mesh, the only copy made
+  // (mesh_view.hpp). Same checks as Session(Mesh).
+  explicit Session(const MeshView& view);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -379,3 +387,4 @@ class Session {
 };
 
 }  // namespace locus
+LOCUS_API_END

@@ -12,6 +12,9 @@
 
 #include "locus/mesh.hpp"
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 struct ReadOptions {
@@ -41,3 +44,4 @@ struct WriteOptions {
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});
 
 }  // namespace locus
+LOCUS_API_END

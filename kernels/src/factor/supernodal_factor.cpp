@@ -18,6 +18,8 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -63,8 +65,7 @@ class Factorizer {
     first_desc_.resize(ns);
     for (int32_t s = 0; s < ns; ++s) first_desc_[s] = s;
     for (int32_t s = 0; s < ns; ++s) {
-      const double m = S_.nrows(s), k = S_.ncols(s);
-      if (!only_ || only_[s]) work_[s] += k * m * m - k * k * m + k * k * k / 3.0 + m;  // ~ own potrf/trsm + updates
+      if (!only_ || only_[s]) work_[s] += own_work(s);
       const int32_t p = S_.super_parent[s];
       if (p >= 0) {
         work_[p] += work_[s];
@@ -85,6 +86,8 @@ class Factorizer {
     std::vector<int32_t> roots;
     for (int32_t s = 0; s < ns; ++s)
       if (S_.super_parent[s] < 0) { roots.push_back(s); total += work_[s]; }
+    total_work_ = total;
+    if (ctx_.progress) ctx_.report(0.0, kPhase);
 
     blas::SingleThreaded single;
     const int threads = ctx_.threads > 0 ? ctx_.threads : tbb::this_task_arena::max_concurrency();
@@ -97,17 +100,43 @@ class Factorizer {
       run_with_threads(1, [&] {
         for (int32_t s = 0; s < ns; ++s) factor_one(s);
       });
-      return;
+    } else {
+      threshold_ = total / (16.0 * threads);
+      run_with_threads(threads, [&] {
+        tbb::task_group tg;
+        for (int32_t r : roots) tg.run([this, r] { process(r); });
+        tg.wait();
+      });
     }
-    threshold_ = total / (16.0 * threads);
-    run_with_threads(threads, [&] {
-      tbb::task_group tg;
-      for (int32_t r : roots) tg.run([this, r] { process(r); });
-      tg.wait();
-    });
+    if (ctx_.progress) ctx_.report(1.0, kPhase);
   }
 
  private:
+  static constexpr const char* kPhase = "numeric factorization";
+
+  // Flops of supernode s alone (~ its potrf/trsm and the updates it receives): the progress and scheduling weight.
+  double own_work(int32_t s) const {
+    const double m = S_.nrows(s), k = S_.ncols(s);
+    return k * m * m - k * k * m + k * k * k / 3.0 + m;
+  }
+
+  // Progress by work done (issue 24 item 3): at most one report per ~20 ms,
+  // from whichever thread finishes work then. A C host cancels by returning
+  // nonzero from its progress callback, so these reports are also its chances
+  // to stop a factorization (check_cancel runs before every supernode and
+  // every column block of a large one).
+  void progress_done(double work) {
+    if (!ctx_.progress) return;
+    const double done = done_work_.fetch_add(work, std::memory_order_relaxed) + work;
+    const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
+                            std::chrono::steady_clock::now().time_since_epoch()).count();
+    int64_t last = last_report_us_.load(std::memory_order_relaxed);
+    if (now - last < kReportEveryUs) return;
+    if (!last_report_us_.compare_exchange_strong(last, now)) return;  // another thread reports this tick
+    ctx_.report(total_work_ > 0 ? std::min(1.0, done / total_work_) : 1.0, kPhase);
+  }
+  static constexpr int64_t kReportEveryUs = 20000;
+
   // Factors the subtree of s: children first (in parallel when large), then the chain above.
   void process(int32_t s) {
     std::vector<int32_t> chain{s};
@@ -171,6 +200,7 @@ class Factorizer {
       const char r = 'R', t = 'T', nu = 'N';
       dtrsm_(&r, &lo, &t, &nu, &mk, &k, &one, Ls, &m, Ls + k, &m);
     }
+    progress_done(own_work(s));
   }
 
   // Supernodes near the root are few and wide: they are factored with
@@ -214,6 +244,7 @@ class Factorizer {
       }
       for (int64_t u = S_.update_ptr[s]; u < S_.update_ptr[s + 1]; ++u) {
         ctx_.check_cancel();  // a root supernode alone can take seconds: stay within ~100 ms of a cancel
+        progress_done(0.0);   // and give a C host's progress callback its chance to ask for it
         apply_update(S_.update_from[u], f + c0, c1 - c0, m, Ls + static_cast<int64_t>(c0) * m, w, f);
       }
     });
@@ -223,6 +254,7 @@ class Factorizer {
     for (int32_t j0 = 0; j0 < k; j0 += kBlock) {
       ctx_.check_cancel();
       const int jb = std::min<int32_t>(kBlock, k - j0);
+      progress_done(own_work(s) * jb / k);  // the panel's share (reported as it starts: a chance to cancel)
       double* Djj = Ls + static_cast<int64_t>(j0) * m + j0;
       int info = 0;
       dpotrf_(&lo, &jb, Djj, &m, &info);
@@ -317,6 +349,9 @@ class Factorizer {
   std::vector<double> work_;
   std::vector<int32_t> first_desc_, child_ptr_, children_;
   double threshold_ = 0;
+  double total_work_ = 0;
+  std::atomic<double> done_work_{0.0};
+  std::atomic<int64_t> last_report_us_{0};
 };
 
 // factorize_supernodes: the storage matches the symbolic factor and no block

@@ -6,9 +6,14 @@
 #include <Eigen/SparseCholesky>
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <random>
+#include <string_view>
+#include <vector>
 
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
@@ -211,4 +216,50 @@ TEST_CASE("non-finite matrix entries are refused before factoring") {
       CHECK(std::string(e.what()).find("not finite") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("the numeric factorization reports monotone progress and stops at a cancel raised from it") {
+  // issue 24 item 3: a C host cancels through its progress callback, so the
+  // factorization must report while it works, not only at its ends.
+  const CscMatrix A = test::grid_laplacian(330, 300, 0.05);
+  auto S = analyze(A, order_matrix(A));
+  std::mutex mu;
+  std::vector<double> seen;
+  bool names_ok = true;
+  std::atomic<bool> cancel{false};
+  double cancel_at = 2;  // raise the flag at the first report above this fraction (2: never)
+  RunContext ctx;
+  ctx.threads = 2;
+  ctx.cancel = &cancel;
+  ctx.progress = [&](double f, std::string_view phase) {
+    std::lock_guard<std::mutex> lock(mu);
+    names_ok = names_ok && phase == "numeric factorization";
+    seen.push_back(f);
+    if (f > cancel_at) cancel.store(true);
+  };
+  const NumericFactor F = factorize(S, A, ctx);
+  REQUIRE(seen.size() >= 2);
+  CHECK(names_ok);
+  CHECK(seen.front() == 0.0);
+  CHECK(seen.back() == 1.0);
+  CHECK(std::is_sorted(seen.begin(), seen.end()));
+
+  // Cancelled at its first report: no supernode is computed.
+  seen.clear();
+  cancel_at = -0.5;
+  CHECK_THROWS_AS(factorize(S, A, ctx), Error);
+  CHECK(seen.size() == 1);
+  // Cancelled at a report from inside (when the factorization lasts long enough to give one).
+  seen.clear();
+  cancel.store(false);
+  cancel_at = 0.0;
+  bool thrown = false;
+  try {
+    factorize(S, A, ctx);
+  } catch (const Error& e) {
+    thrown = e.code() == ErrorCode::Cancelled;
+  }
+  const bool inside = std::any_of(seen.begin(), seen.end(), [](double f) { return f > 0 && f < 1; });
+  CHECK(thrown == inside);
+  if (inside) CHECK(seen.back() < 1.0);
 }

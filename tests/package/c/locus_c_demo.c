@@ -226,7 +226,7 @@ static void sphere_checks(int levels) {
     free(d);
     locus_session_destroy(s);
   }
-  /* Bad arrays: a face index out of range is refused (LOCUS_BAD_USAGE, an id out of range) with a message naming it. */
+  /* Bad arrays: a face index out of range is a usage error (locus.h) with a message naming it. */
   tris[5] = (int32_t)nv;
   EXPECT(locus_session_create(xyz, nv, tris, nf, &s) == LOCUS_BAD_USAGE && s == NULL, "bad index accepted");
   EXPECT(strstr(locus_last_error_message(), "triangle 1") != NULL, "message: %s", locus_last_error_message());
@@ -627,6 +627,10 @@ int main(int argc, char** argv) {
   printf("locus %s (header %d.%d.%d)\n", locus_version(&major, &minor, &patch), LOCUS_VERSION_MAJOR,
          LOCUS_VERSION_MINOR, LOCUS_VERSION_PATCH);
   EXPECT(major == LOCUS_VERSION_MAJOR && minor == LOCUS_VERSION_MINOR, "version mismatch");
+  /* The package's version (find_package's locus_VERSION or pkg-config --modversion) is the library's. */
+  EXPECT(strcmp(locus_version(NULL, NULL, NULL), LOCUS_VERSION_STRING) == 0, "library vs header version string");
+  EXPECT(strcmp(locus_version(NULL, NULL, NULL), LOCUS_PACKAGE_VERSION) == 0, "library %s vs package version %s",
+         locus_version(NULL, NULL, NULL), LOCUS_PACKAGE_VERSION);
   sphere_checks(4);
   if (argc > 1) file_checks(argv[1]);
   if (argc > 1 && getenv("LOCUS_PACKAGE_REFS")) {

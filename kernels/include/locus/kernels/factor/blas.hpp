@@ -24,15 +24,18 @@ int openblas_get_num_threads(void);
 
 namespace locus::blas {
 
-// OpenBLAS runs single-threaded: parallelism comes from oneTBB tasks around
-// BLAS calls. The setting is process-wide in OpenBLAS, so it is set (not
-// restored) whenever a kernel is about to call BLAS; callers that want threaded
-// BLAS for their own code set it again after.
+// OpenBLAS runs single-threaded while locus calls it: parallelism comes from
+// oneTBB tasks around BLAS calls. OpenBLAS' thread count is process-wide (the
+// Debian 12 version has no per-thread setting), so it is borrowed, not taken
+// (issue 24 item 4): the first scope to open (on any thread) saves the host's
+// count and sets 1, the last to close restores the saved count. While locus
+// runs, a host thread calling BLAS itself sees 1; after the call, what it set.
 class SingleThreaded {
  public:
-  SingleThreaded() {
-    if (openblas_get_num_threads() != 1) openblas_set_num_threads(1);
-  }
+  SingleThreaded();
+  ~SingleThreaded();
+  SingleThreaded(const SingleThreaded&) = delete;
+  SingleThreaded& operator=(const SingleThreaded&) = delete;
 };
 
 }  // namespace locus::blas

@@ -18,9 +18,11 @@
 //    own pipelines never do): a fresh arena for the call.
 // Results never depend on the arena: every parallel kernel schedules by size.
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <utility>
 
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 namespace locus {
@@ -41,10 +43,17 @@ class BorrowedArena {
 };
 }  // namespace detail
 
+// The most threads a oneTBB arena may have in this process: asking for more
+// makes oneTBB print a warning on stderr (issue 24 item 4), and cannot be faster.
+inline int max_arena_threads() {
+  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
 // Calls f() so that oneTBB algorithms inside it use at most `threads` threads
-// (<= 0: whatever the caller's arena allows).
+// (<= 0: whatever the caller's arena allows; more than max_arena_threads(): that many).
 template <class F>
 void run_with_threads(int threads, F&& f) {
+  threads = std::min(threads, max_arena_threads());
   if (threads <= 0 || threads == tbb::this_task_arena::max_concurrency()) {
     f();
     return;
