@@ -12,6 +12,7 @@ PKGS=(
   libcli11-dev nlohmann-json3-dev libstb-dev
   libsuitesparse-dev                 # CHOLMOD: test/benchmark peer only
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
+  qemu-user                          # ctest dispatch_paths: runs the build on CPUs without AVX2/AVX-512
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -6,9 +6,24 @@
 // few thousand flops are computed here instead, with loops the compiler
 // vectorizes; the choice depends on the block's size only, so the arithmetic
 // is the same for any thread count.
+//
+// Runtime dispatch (issue 24 item 5): the library is built for x86-64-v2, and
+// these loops also get AVX2 and AVX-512 versions (GCC function multiversioning:
+// an ifunc picks one at load time by the CPU). Multiply-adds are never fused
+// in any version (fp-contract off) and every entry is summed in the same
+// order, so all versions give the same bits (ctest dispatch_paths; without
+// fp-contract off the AVX2/AVX-512 factors differ from the baseline's).
 #pragma once
 #include <cmath>
 #include <cstdint>
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX2__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define LOCUS_DENSE_DISPATCH \
+  __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"), optimize("fp-contract=off")))
+#else
+#define LOCUS_DENSE_DISPATCH
+#endif
 
 namespace locus::dense {
 
@@ -18,7 +33,7 @@ namespace locus::dense {
 // A's rows feeds four columns): 2-3x the plain loop's speed at these sizes.
 // Every entry is summed over l in order, whatever the tiling.
 // C never overlaps A (restrict): the last columns' loop then vectorizes.
-inline void syrk_gemm_lower(int mm, int kk, int kd, const double* __restrict A, int lda, double* __restrict C) {
+LOCUS_DENSE_DISPATCH inline void syrk_gemm_lower(int mm, int kk, int kd, const double* __restrict A, int lda, double* __restrict C) {
   int j = 0;
   for (; j + 4 <= kk; j += 4) {
     double* c = C + static_cast<int64_t>(j) * mm;
@@ -83,7 +98,7 @@ inline void syrk_gemm_lower(int mm, int kk, int kd, const double* __restrict A, 
 // In-place Cholesky of the m x k panel P (ld m): the k x k diagonal block gets
 // its lower factor, the rows below are solved against it (dpotrf + dtrsm).
 // Returns 0, or j + 1 when the pivot of column j is not positive (LAPACK's info).
-inline int panel_cholesky(int m, int k, double* P) {
+LOCUS_DENSE_DISPATCH inline int panel_cholesky(int m, int k, double* P) {
   for (int j = 0; j < k; ++j) {
     double* pj = P + static_cast<int64_t>(j) * m;
     for (int l = 0; l < j; ++l) {
