@@ -475,3 +475,368 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
 }
 
 }  // extern "C"
+
+// ==== Pipelines added by issue 24 (locus.h, same order). ====
+
+namespace {
+
+// One C point, checked against a mesh of nv vertices and nf triangles (ids out of
+// range: BadUsage naming `what`, and [k] when k >= 0; the name is built on failure only).
+locus::MeshPoint mesh_point(int64_t nv, int64_t nf, const locus_surface_point& p, const char* what, int64_t k) {
+  const auto name = [&] {
+    std::string n(what);
+    if (k >= 0) n.append("[").append(std::to_string(k)).append("]");
+    return n;
+  };
+  if (p.face < 0) {
+    if (p.vertex < 0 || p.vertex >= nv)
+      fail(ErrorCode::BadUsage, name() + ".vertex = " + std::to_string(p.vertex) + " is not a vertex (the mesh has " +
+                                    std::to_string(nv) + " vertices)");
+    return locus::MeshPoint::at_vertex(static_cast<int32_t>(p.vertex));
+  }
+  if (p.face >= nf)
+    fail(ErrorCode::BadUsage, name() + ".face = " + std::to_string(p.face) + " is not a face (the mesh has " +
+                                  std::to_string(nf) + " triangles)");
+  return locus::MeshPoint::in_face(static_cast<int32_t>(p.face), p.bary[0], p.bary[1], p.bary[2]);
+}
+
+std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_surface_point* p, int64_t n,
+                                          const char* what) {
+  require(p != nullptr, (std::string(what) + " is NULL").c_str());
+  if (n < 1 || n > kMaxVertices)
+    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 1.." + std::to_string(kMaxVertices) +
+                                  " (got " + std::to_string(n) + ")");
+  std::vector<locus::MeshPoint> out(static_cast<size_t>(n));
+  for (int64_t k = 0; k < n; ++k)
+    out[k] = mesh_point(s.num_vertices(), s.num_faces(), p[k], what, k);
+  return out;
+}
+
+std::vector<int32_t> vertex_ids(const locus::Session& s, const int64_t* v, int64_t n, const char* what) {
+  require(v != nullptr, (std::string(what) + " is NULL").c_str());
+  if (n < 1 || n > kMaxHeatValues)
+    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 1..2^28 (got " + std::to_string(n) + ")");
+  std::vector<int32_t> out(static_cast<size_t>(n));
+  for (int64_t k = 0; k < n; ++k)
+    out[k] = vertex_id(s, v[k], (std::string(what) + "[" + std::to_string(k) + "] =").c_str());
+  return out;
+}
+
+// NULL with 0: every vertex (an empty list for the Session).
+std::vector<int32_t> optional_vertex_ids(const locus::Session& s, const int64_t* v, int64_t n, const char* what) {
+  if (v == nullptr && n == 0) return {};
+  return vertex_ids(s, v, n, what);
+}
+
+// Per-edge outputs of the chapter-2 pipelines into optional caller arrays.
+void copy_edges(const std::vector<int32_t>& edges, const std::vector<double>& values, const std::vector<double>& xyz,
+                int32_t* out_edges, double* out_values, double* out_xyz) {
+  if (out_edges) std::copy(edges.begin(), edges.end(), out_edges);
+  if (out_values) std::copy(values.begin(), values.end(), out_values);
+  if (out_xyz) std::copy(xyz.begin(), xyz.end(), out_xyz);
+}
+
+}  // namespace
+
+struct locus_nncoords_field {
+  explicit locus_nncoords_field(locus::NaturalNeighbors f, int32_t nv, int32_t nf) : field(std::move(f)), nv(nv), nf(nf) {}
+  locus::NaturalNeighbors field;
+  int32_t nv, nf;
+};
+
+extern "C" {
+
+locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts) {
+  return guarded("locus_session_prepare", [&] {
+    locus::Session& s = session_of(session);
+    const int32_t all = LOCUS_PREPARE_HEAT_METHOD | LOCUS_PREPARE_DIFFUSION | LOCUS_PREPARE_LAPLACIAN;
+    if (operators & ~all)
+      fail(ErrorCode::BadUsage, "operators = " + std::to_string(operators) + " has bits outside LOCUS_PREPARE_*");
+    CallContext cc(opts);
+    if (operators & LOCUS_PREPARE_HEAT_METHOD) s.prepare_heat(cc.heat(), cc.ctx);
+    if (operators & LOCUS_PREPARE_DIFFUSION) s.prepare_diffusion(cc.heat(), cc.ctx);
+    if (operators & LOCUS_PREPARE_LAPLACIAN) s.prepare_patch_parameterization(cc.ctx);
+  });
+}
+
+locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
+                                         locus_surface_point* out) {
+  return guarded("locus_random_surface_points", [&] {
+    require(session != nullptr, "session is NULL");
+    require(out != nullptr, "out is NULL");
+    if (count < 0 || count > kMaxVertices)
+      fail(ErrorCode::BadUsage, "count = " + std::to_string(count) + " is not in 0.." + std::to_string(kMaxVertices));
+    const std::vector<locus::MeshPoint> p = session->session.random_points(static_cast<int32_t>(count), seed);
+    for (size_t k = 0; k < p.size(); ++k) out[k] = locus_surface_point{p[k].face, -1, {p[k].bary[0], p[k].bary[1], p[k].bary[2]}};
+  });
+}
+
+locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                           int64_t n_sources, double* out_nv, const locus_run_options* opts) {
+  return guarded("locus_geodesic_distance_multi", [&] {
+    locus::Session& s = session_of(session);
+    require(out_nv != nullptr, "out_nv is NULL");
+    const std::vector<locus::MeshPoint> pts = mesh_points(s, sources, n_sources, "sources");
+    CallContext cc(opts);
+    s.geodesic_distance(pts, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+  });
+}
+
+locus_status locus_voronoi_bound(const locus_session* session, int64_t* max_points, int64_t* max_lines,
+                                 int64_t* max_line_points) {
+  return guarded("locus_voronoi_bound", [&] {
+    require(session != nullptr, "session is NULL");
+    const int64_t nf = session->session.num_faces();
+    // An edge point per mesh edge (<= 3 nf) plus a corner per face; <= 3 segments per face,
+    // and a polyline of k segments has k + 1 points.
+    if (max_points) *max_points = 4 * nf;
+    if (max_lines) *max_lines = 3 * nf;
+    if (max_line_points) *max_line_points = 6 * nf;
+  });
+}
+
+locus_status locus_voronoi(locus_session* session, const locus_surface_point* generators, int64_t n_generators,
+                           locus_voronoi_output* out, const locus_run_options* opts) {
+  return guarded("locus_voronoi", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    const std::vector<locus::MeshPoint> g = mesh_points(s, generators, n_generators, "generators");
+    CallContext cc(opts);
+    const locus::VoronoiResult r = s.voronoi(g, cc.heat(), cc.ctx);
+    out->n_points = static_cast<int64_t>(r.points.size() / 3);
+    out->n_lines = static_cast<int64_t>(r.line_offsets.size()) - 1;
+    out->n_line_points = static_cast<int64_t>(r.line_points.size());
+    if (out->labels) std::copy(r.label.begin(), r.label.end(), out->labels);
+    const auto check = [](const void* p, int64_t capacity, int64_t need, const char* what) {
+      if (p && capacity < need)
+        fail(ErrorCode::BadUsage, std::string(what) + " holds " + std::to_string(capacity) + " but the diagram has " +
+                                      std::to_string(need) + " (locus_voronoi_bound gives capacities that suffice)");
+    };
+    check(out->points, out->points_capacity, out->n_points, "points_capacity");
+    check(out->line_offsets, out->lines_capacity, out->n_lines, "lines_capacity");
+    check(out->line_points, out->line_points_capacity, out->n_line_points, "line_points_capacity");
+    if (out->points) std::copy(r.points.begin(), r.points.end(), out->points);
+    if (out->line_offsets) std::copy(r.line_offsets.begin(), r.line_offsets.end(), out->line_offsets);
+    if (out->line_points) std::copy(r.line_points.begin(), r.line_points.end(), out->line_points);
+  });
+}
+
+locus_status locus_nncoords_prepare(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                                    const locus_run_options* opts, locus_nncoords_field** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_nncoords_prepare", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    const std::vector<locus::MeshPoint> p = mesh_points(s, sites, n_sites, "sites");
+    CallContext cc(opts);
+    *out = new locus_nncoords_field(s.prepare_natural_neighbors(p, cc.heat(), cc.ctx), s.num_vertices(), s.num_faces());
+  });
+}
+
+locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_surface_point* point, double* out_weights) {
+  return guarded("locus_nncoords_query", [&] {
+    require(nn != nullptr, "nn is NULL");
+    require(point != nullptr, "point is NULL");
+    require(out_weights != nullptr, "out_weights is NULL");
+    const locus::MeshPoint q = mesh_point(nn->nv, nn->nf, *point, "point", -1);
+    const locus::NaturalNeighborResult r = nn->field.coordinates(q);
+    std::copy(r.weight.begin(), r.weight.end(), out_weights);
+  });
+}
+
+int64_t locus_nncoords_site_count(const locus_nncoords_field* nn) {
+  clear_error();
+  if (!nn) {
+    set_error("locus_nncoords_site_count", "nn is NULL");
+    return -1;
+  }
+  return nn->field.num_sites();
+}
+
+void locus_nncoords_destroy(locus_nncoords_field* nn) {
+  clear_error();
+  delete nn;
+}
+
+locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                            const locus_surface_point* point, double* out_weights, const locus_run_options* opts) {
+  return guarded("locus_nncoords", [&] {
+    locus::Session& s = session_of(session);
+    require(out_weights != nullptr, "out_weights is NULL");
+    const std::vector<locus::MeshPoint> q = mesh_points(s, point, 1, "point");  // before the diagram: fails fast
+    const std::vector<locus::MeshPoint> p = mesh_points(s, sites, n_sites, "sites");
+    CallContext cc(opts);
+    const locus::NaturalNeighborResult r = s.natural_neighbor_coordinates(p, q[0], cc.heat(), cc.ctx);
+    std::copy(r.weight.begin(), r.weight.end(), out_weights);
+  });
+}
+
+locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles, int64_t n_handles,
+                                    double* out, const locus_run_options* opts) {
+  return guarded("locus_skinning_weights", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    const std::vector<locus::MeshPoint> h = mesh_points(s, handles, n_handles, "handles");
+    CallContext cc(opts);
+    const locus::SkinningWeightsResult r = s.skinning_weights(h, cc.heat(), cc.ctx);
+    std::copy(r.weight.begin(), r.weight.end(), out);
+  });
+}
+
+locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t n_vertices, int32_t selected_inversion,
+                       double* out, const locus_run_options* opts) {
+  return guarded("locus_adf", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    const std::vector<int32_t> v = optional_vertex_ids(s, vertices, n_vertices, "vertices");
+    CallContext cc(opts);
+    const std::vector<double> r = s.auto_diffusion(
+        v, cc.heat(), selected_inversion ? locus::DiagonalMethod::SelectedInversion : locus::DiagonalMethod::Subset,
+        cc.ctx);
+    std::copy(r.begin(), r.end(), out);
+  });
+}
+
+locus_status locus_hks(locus_session* session, const double* t_factors, int64_t n_times, const int64_t* vertices,
+                       int64_t n_vertices, int32_t selected_inversion, double* out, const locus_run_options* opts) {
+  return guarded("locus_hks", [&] {
+    locus::Session& s = session_of(session);
+    require(out != nullptr, "out is NULL");
+    require(t_factors != nullptr, "t_factors is NULL");
+    if (n_times < 1 || n_times > 1000)
+      fail(ErrorCode::BadUsage, "n_times = " + std::to_string(n_times) + " is not in 1..1000");
+    std::vector<locus::HeatQuery> times;
+    for (int64_t j = 0; j < n_times; ++j) {
+      if (!(t_factors[j] > 0) || !std::isfinite(t_factors[j]))
+        fail(ErrorCode::BadUsage, "t_factors[" + std::to_string(j) + "] = " + std::to_string(t_factors[j]) +
+                                      " is not a finite positive number");
+      times.push_back(locus::HeatQuery{t_factors[j], 0.0});
+    }
+    const std::vector<int32_t> v = optional_vertex_ids(s, vertices, n_vertices, "vertices");
+    CallContext cc(opts);
+    const std::vector<double> r = s.heat_kernel_signature(
+        times, v, selected_inversion ? locus::DiagonalMethod::SelectedInversion : locus::DiagonalMethod::Subset,
+        cc.ctx);
+    std::copy(r.begin(), r.end(), out);
+  });
+}
+
+locus_status locus_heat_exchange(locus_session* session, const int64_t* sources, int64_t n_sources,
+                                 const int64_t* targets, int64_t n_targets, double* out_targets,
+                                 const locus_run_options* opts) {
+  return guarded("locus_heat_exchange", [&] {
+    locus::Session& s = session_of(session);
+    require(out_targets != nullptr, "out_targets is NULL");
+    const std::vector<int32_t> src = vertex_ids(s, sources, n_sources, "sources");
+    const std::vector<int32_t> tgt = vertex_ids(s, targets, n_targets, "targets");
+    CallContext cc(opts);
+    const std::vector<double> r = s.heat_exchange(src, tgt, cc.heat(), cc.ctx);
+    std::copy(r.begin(), r.end(), out_targets);
+  });
+}
+
+locus_status locus_deform(locus_session* session, const locus_deform_request* request, double* out_xyz,
+                          const locus_run_options* opts) {
+  return guarded("locus_deform", [&] {
+    locus::Session& s = session_of(session);
+    require(request != nullptr, "request is NULL");
+    require(out_xyz != nullptr, "out_xyz is NULL");
+    locus::DeformRequest r;
+    r.roi_seed = vertex_id(s, request->roi_seed, "request->roi_seed");
+    r.handle_vertex = vertex_id(s, request->handle_vertex, "request->handle_vertex");
+    r.roi_fraction = request->roi_fraction;
+    r.handle_ring = request->handle_ring;
+    r.offset = {request->offset[0], request->offset[1], request->offset[2]};
+    r.energy = request->bilaplacian ? locus::DeformEnergyKind::Bilaplacian : locus::DeformEnergyKind::Laplacian;
+    CallContext cc(opts);
+    const locus::DeformResult d = s.deform(r, cc.ctx);
+    std::copy(d.xyz.begin(), d.xyz.end(), out_xyz);
+  });
+}
+
+locus_status locus_param_disk(locus_session* session, int32_t method, int32_t max_iterations, double eps,
+                              double* out_uv, int64_t* out_flipped, const locus_run_options* opts) {
+  return guarded("locus_param_disk", [&] {
+    locus::Session& s = session_of(session);
+    require(out_uv != nullptr, "out_uv is NULL");
+    if (method < 0 || method > 2)
+      fail(ErrorCode::BadUsage, "method = " + std::to_string(method) + " is not 0 (perfect), 1 (cotan) or 2 (uniform)");
+    locus::DiskParamRequest r;
+    r.method = method == 1 ? locus::DiskParamMethod::Cotan
+               : method == 2 ? locus::DiskParamMethod::Uniform : locus::DiskParamMethod::Perfect;
+    r.max_iterations = max_iterations;
+    r.eps = eps;
+    CallContext cc(opts);
+    const locus::DiskParamResult p = s.parameterize_disk(r, cc.ctx);
+    std::copy(p.uv.begin(), p.uv.end(), out_uv);
+    if (out_flipped) *out_flipped = p.flipped_faces;
+  });
+}
+
+locus_status locus_param_patch(locus_session* session, int64_t center, double fraction, int32_t boundary,
+                               double* out_uv, int64_t* out_patch_size, int64_t* out_flipped,
+                               const locus_run_options* opts) {
+  return guarded("locus_param_patch", [&] {
+    locus::Session& s = session_of(session);
+    require(out_uv != nullptr, "out_uv is NULL");
+    if (boundary != 0 && boundary != 1)
+      fail(ErrorCode::BadUsage, "boundary = " + std::to_string(boundary) + " is not 0 (Neumann) or 1 (circle)");
+    locus::PatchParamRequest r;
+    r.center = vertex_id(s, center, "center");
+    r.fraction = fraction;
+    r.boundary = boundary == 1 ? locus::PatchBoundary::Circle : locus::PatchBoundary::Neumann;
+    CallContext cc(opts);
+    const locus::PatchParamResult p = s.parameterize_patch(r, cc.ctx);
+    const size_t n = static_cast<size_t>(s.num_vertices());
+    std::fill(out_uv, out_uv + 2 * n, std::numeric_limits<double>::quiet_NaN());
+    for (size_t k = 0; k < p.vertices.size(); ++k) {
+      out_uv[2 * static_cast<size_t>(p.vertices[k])] = p.uv[2 * k];
+      out_uv[2 * static_cast<size_t>(p.vertices[k]) + 1] = p.uv[2 * k + 1];
+    }
+    if (out_patch_size) *out_patch_size = static_cast<int64_t>(p.vertices.size());
+    if (out_flipped) *out_flipped = p.flipped_faces;
+  });
+}
+
+int64_t locus_session_edge_count(const locus_session* session) {
+  clear_error();
+  if (!session) {
+    set_error("locus_session_edge_count", "session is NULL");
+    return -1;
+  }
+  return session->session.num_edges();
+}
+
+locus_status locus_perfect_laplacian(locus_session* session, int32_t planar, int32_t max_iterations, double eps,
+                                     int32_t* out_edges, double* out_weights, double* out_xyz,
+                                     int32_t* out_converged, const locus_run_options* opts) {
+  return guarded("locus_perfect_laplacian", [&] {
+    locus::Session& s = session_of(session);
+    locus::PerfectLaplacianRequest r;
+    r.planar = planar != 0;
+    r.max_iterations = max_iterations;
+    r.eps = eps;
+    CallContext cc(opts);
+    const locus::PerfectLaplacianOutput p = s.perfect_laplacian(r, cc.ctx);
+    copy_edges(p.edges, p.weights, p.xyz, out_edges, out_weights, out_xyz);
+    if (out_converged) *out_converged = p.converged ? 1 : 0;
+  });
+}
+
+locus_status locus_self_supporting(locus_session* session, double load_density, int32_t max_iterations, double eps,
+                                   int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
+                                   const locus_run_options* opts) {
+  return guarded("locus_self_supporting", [&] {
+    locus::Session& s = session_of(session);
+    locus::SelfSupportRequest r;
+    r.load_density = load_density;
+    r.max_iterations = max_iterations;
+    r.eps = eps;
+    CallContext cc(opts);
+    const locus::SelfSupportOutput p = s.self_supporting(r, cc.ctx);
+    copy_edges(p.edges, p.forces, p.xyz, out_edges, out_forces, out_xyz);
+    if (out_converged) *out_converged = p.converged ? 1 : 0;
+  });
+}
+
+}  // extern "C"

@@ -1,17 +1,10 @@
 // locus::Session (engine/include/locus/session.hpp): a mesh, its derived data
 // cached per key, and the queries of the pipelines on top of them.
 //
-// Concurrency design. The mesh and its position-dependent caches live in an
-// immutable-after-construction State held by shared_ptr; set_positions()
-// builds a new State and swaps the pointer under a mutex, so a running query
-// keeps its State alive and never sees a half-updated mesh. Inside a State every
-// cache is a OnceMap: key -> shared_future of an immutable value. The first
-// thread to ask for a key builds it outside the lock; the others wait on the
-// future (polling their own cancel flag). Failures that depend on the caller
-// (cancellation, memory limit, allocation failure) are not cached: the entry is
-// removed and the next caller builds again; deterministic failures (a mesh that
-// is not positive definite) are cached like values.
+// The caches and their concurrency design: engine/src/session_state.hpp. The
+// queries of the later pipelines are in session_<pipeline>.cpp.
 #include "locus/session.hpp"
+#include "session_state.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -44,100 +37,8 @@
 #include "locus/pipelines/geodesic/logmap.hpp"
 
 namespace locus {
-namespace {
+namespace session_detail {
 
-bool transient_failure(const std::exception_ptr& e) {
-  try {
-    std::rethrow_exception(e);
-  } catch (const Error& err) {
-    return err.code() == ErrorCode::Cancelled || err.code() == ErrorCode::ResourceLimit;
-  } catch (const std::bad_alloc&) {
-    return true;
-  } catch (...) {
-    return false;
-  }
-}
-
-// Build-once map: concurrent callers of get() for one key share one build.
-template <class K, class V>
-class OnceMap {
- public:
-  template <class Build>
-  std::shared_ptr<const V> get(const K& key, const RunContext& ctx, Build&& build) {
-    for (;;) {
-      std::promise<std::shared_ptr<const V>> promise;
-      std::shared_future<std::shared_ptr<const V>> fut;
-      bool owner = false;
-      {
-        std::lock_guard<std::mutex> lock(mu_);
-        auto it = map_.find(key);
-        if (it == map_.end()) {
-          fut = promise.get_future().share();
-          map_.emplace(key, fut);
-          owner = true;
-        } else {
-          fut = it->second;
-        }
-      }
-      if (owner) {
-        try {
-          promise.set_value(build());
-        } catch (...) {
-          const std::exception_ptr e = std::current_exception();
-          if (transient_failure(e)) {  // erase first: waiters that retry must not find this entry
-            std::lock_guard<std::mutex> lock(mu_);
-            map_.erase(key);
-          }
-          promise.set_exception(e);
-        }
-        return fut.get();
-      }
-      while (fut.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) ctx.check_cancel();
-      try {
-        return fut.get();
-      } catch (...) {
-        // The builder's cancel flag or memory limit is not ours: build again with ours.
-        if (!transient_failure(std::current_exception())) throw;
-        ctx.check_cancel();
-      }
-    }
-  }
-
- private:
-  std::mutex mu_;
-  std::map<K, std::shared_future<std::shared_ptr<const V>>> map_;
-};
-
-uint64_t bits_of(double x) {
-  uint64_t b;
-  std::memcpy(&b, &x, sizeof b);
-  return b;
-}
-
-enum class OperatorKind : int { Heat = 0 };
-
-struct Counters {
-  std::atomic<int64_t> symbolic{0}, numeric{0}, engines{0}, deform{0};
-};
-
-// Symbolic factors depend on the sparsity pattern only: shared by every State of a Session.
-struct SymbolicCache {
-  OnceMap<std::pair<uint64_t, int64_t>, SymbolicFactor> by_pattern;  // (pattern hash, nnz)
-};
-
-struct State {
-  Mesh mesh;
-  std::shared_ptr<const MeshDerived> derived;  // edges, adjacency, h, mass, components: once per positions
-  double h = 0;                                // derived->h
-  int64_t version = 0;
-  std::shared_ptr<SymbolicCache> symbolic;
-  std::shared_ptr<Counters> counters;
-  OnceMap<uint64_t, HeatLogMap> engines;                             // t_factor bits
-  OnceMap<std::pair<int, uint64_t>, NumericFactor> factors;          // (kind, t bits)
-  OnceMap<int, DeformOperator> deform_ops;                           // energy
-  OnceMap<int, PatchGrower> grower;                                  // single entry: log map patches
-  OnceMap<int, HeatDiffusion> cvt_heat;                              // single entry: M - h^2 L for CVT cells
-};
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.
 std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
@@ -168,6 +69,7 @@ void check_t_factor(double t_factor) {
 
 std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   check_t_factor(q.t_factor);
+  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
   return s.engines.get(bits_of(q.t_factor), ctx, [&] {
     ctx.report(0.0, "prepare heat method");
     LogMapOptions o;
@@ -189,18 +91,9 @@ std::shared_ptr<const SymbolicFactor> symbolic_for(State& s, const CscMatrix& A,
 
 std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, const RunContext& ctx) {
   check_t_factor(t_factor);
-  const double t = t_factor * s.h * s.h;
-  return s.factors.get({static_cast<int>(OperatorKind::Heat), bits_of(t)}, ctx, [&] {
-    ctx.report(0.0, "factor heat operator");
-    const CscMatrix A = heat_operator(s.mesh, t);
-    auto S = symbolic_for(s, A, ctx);
-    ctx.check_cancel();
-    // Inside this phase's progress (the ordering before it takes most of the time, docs/shipping.md).
-    auto F = std::make_shared<const NumericFactor>(factorize(S, A, ctx.sub(0.7, 1.0)));
-    s.counters->numeric.fetch_add(1);
-    ctx.report(1.0, "factor heat operator");
-    return F;
-  });
+  // The factor inside the diffusion cache: one factorization per t serves every diffusion pipeline.
+  const std::shared_ptr<const HeatDiffusion> H = diffusion(s, HeatQuery{t_factor, 0.0}, ctx);
+  return std::shared_ptr<const NumericFactor>(H, &H->factor);
 }
 
 // The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later
@@ -235,19 +128,10 @@ std::shared_ptr<State> make_state(Mesh mesh, std::shared_ptr<const MeshDerived> 
   return s;
 }
 
-}  // namespace
+}  // namespace session_detail
 
-struct Session::Impl {
-  mutable std::mutex mu;  // guards `state` (the pointer, not what it points to)
-  std::shared_ptr<State> state;
-  int32_t nv = 0, nf = 0;
-  int32_t components = 0;  // connectivity never changes
+using namespace session_detail;
 
-  std::shared_ptr<State> current() const {
-    std::lock_guard<std::mutex> lock(mu);
-    return state;
-  }
-};
 
 Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh);

@@ -25,33 +25,15 @@
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
+#include "tests/engine/session_test_support.hpp"
 
 using namespace locus;
+using SpMat = Eigen::SparseMatrix<double>;
+using locus::test::code_of;
+using locus::test::to_eigen;
 
 namespace {
-
-using SpMat = Eigen::SparseMatrix<double>;
-
-SpMat to_eigen(const CscMatrix& L) {  // lower-stored symmetric -> full
-  std::vector<Eigen::Triplet<double>> t;
-  for (int32_t j = 0; j < L.ncols; ++j)
-    for (int64_t q = L.colptr[j]; q < L.colptr[j + 1]; ++q) {
-      t.emplace_back(L.rowind[q], j, L.values[q]);
-      if (L.rowind[q] != j) t.emplace_back(j, L.rowind[q], L.values[q]);
-    }
-  SpMat A(L.nrows, L.ncols);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
-
-ErrorCode code_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return static_cast<ErrorCode>(0);
-}
 
 std::vector<double> interleaved(const Mesh& m) {
   std::vector<double> xyz;

@@ -42,6 +42,8 @@ if(EXISTS ${LOCUS_MESH})
 else()
   message(STATUS "${LOCUS_MESH} is absent (run tools/fetch_meshes.sh): generated meshes only")
 endif()
+# The CLI's outputs the programs compare every pipeline with (LOCUS_PACKAGE_REFS).
+include(${CMAKE_CURRENT_LIST_DIR}/make_references.cmake)
 
 set(compilers "")
 if(LOCUS_C_COMPILER)

@@ -7,7 +7,9 @@
  * A session owns one triangle mesh and caches what is derived from it: the
  * first query factors the operators it needs (heat method: M - tL and
  * -L + eps M, t = h^2 with h the mean edge length), every later query reuses
- * those factors. See locus/session.hpp for the algorithms.
+ * those factors. Every pipeline of the `locus` CLI has a call here (the
+ * section "Pipelines added by issue 24" lists the later ones), returning the
+ * CLI's numbers for the same arguments. See locus/session.hpp for the algorithms.
  *
  * Status codes mirror the exit statuses of the `locus` command-line tool:
  *   LOCUS_OK (0), LOCUS_BAD_USAGE (2: a wrong argument — null pointer, count or
@@ -230,6 +232,167 @@ void locus_remesh_destroy(locus_remesh* remesh);
 locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
                                const int64_t* targets, int64_t n_targets, double* out,
                                const locus_run_options* opts);
+
+/* ==== Pipelines added by issue 24. Every call below reuses the session's
+ * cached factors: the heat operator M - tL once per t (shared by Voronoi,
+ * natural neighbors, skinning, ADF/HKS, heat exchange and heat values), the
+ * heat-method factors once per t_factor (geodesic distance, log map), -L + eps M
+ * once (patch parameterization). Ids out of range (vertices, faces, edges) are
+ * LOCUS_BAD_USAGE. ==== */
+
+/* Builds cached operators now instead of at the first query that needs them
+ * (e.g. on a loading screen, before handing the session to worker threads):
+ * `operators` is a combination of the flags below; t from opts->t_factor. */
+#define LOCUS_PREPARE_HEAT_METHOD 1 /* geodesic distance, log map */
+#define LOCUS_PREPARE_DIFFUSION 2   /* M - tL: Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange/values */
+#define LOCUS_PREPARE_LAPLACIAN 4   /* -L + eps M: patch parameterization */
+locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts);
+
+/* A point on the surface: a vertex (face < 0: `vertex`), or a face and the
+ * barycentric weights of its three corners (in the order of the triangle as
+ * given), each >= 0, summing to 1. */
+typedef struct locus_surface_point {
+  int64_t face;
+  int64_t vertex;
+  double bary[3];
+} locus_surface_point;
+
+/* `count` points uniformly distributed by area into out (count entries), from
+ * a splitmix64 stream seeded with `seed`: the same on every platform, and the
+ * generators of `locus voronoi --random count --seed seed`. */
+locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
+                                         locus_surface_point* out);
+
+/* ---- Multi-source geodesic distance ----
+ * Heat geodesic distance from a set of sources (vertices and points in faces)
+ * at once: one heat solve with every source's hat weights, one Poisson solve.
+ * Per connected component the distance is shifted so that its minimum over the
+ * component's sources is 0; +infinity in components without a source.
+ * out_nv: vertex-count doubles. n_sources >= 1. opts->t_factor as for
+ * locus_geodesic_distance (the same cached factors). */
+locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                           int64_t n_sources, double* out_nv, const locus_run_options* opts);
+
+/* ---- Heat Voronoi diagram (thesis §3.4) ----
+ * Cells of 1..vertex-count generators by the hottest generator (t =
+ * opts->t_factor * h^2, default h^2, as for every diffusion call below), and the bisector curves
+ * as polylines through points on mesh edges and Voronoi corners.
+ * Outputs (caller-owned; a NULL array with capacity 0 skips it):
+ *   labels: vertex-count int32 generator indices;
+ *   points: 3 doubles per diagram point, points_capacity points;
+ *   line_offsets: n_lines + 1 entries (polyline k = line_points[line_offsets[k] ..
+ *     line_offsets[k+1])), lines_capacity polylines;
+ *   line_points: point ids, line_points_capacity entries.
+ * The counts n_points, n_lines, n_line_points are always written; when a
+ * capacity is too small the call returns LOCUS_BAD_USAGE naming it and writes
+ * no array but the labels. locus_voronoi_bound gives capacities that always suffice. */
+typedef struct locus_voronoi_output {
+  int32_t* labels;
+  double* points;
+  int64_t points_capacity;
+  int64_t n_points;
+  int64_t* line_offsets;
+  int64_t lines_capacity;
+  int64_t n_lines;
+  int64_t* line_points;
+  int64_t line_points_capacity;
+  int64_t n_line_points;
+} locus_voronoi_output;
+/* Upper bounds for any generator set: points <= 4 * faces, lines <= 3 * faces,
+ * line points <= 6 * faces. Any pointer may be NULL. */
+locus_status locus_voronoi_bound(const locus_session* session, int64_t* max_points, int64_t* max_lines,
+                                 int64_t* max_line_points);
+locus_status locus_voronoi(locus_session* session, const locus_surface_point* generators, int64_t n_generators,
+                           locus_voronoi_output* out, const locus_run_options* opts);
+
+/* ---- Natural-neighbor coordinates (thesis §3.7.2) ----
+ * Area-stealing coordinates of a surface point with respect to sites, with heat
+ * Voronoi cells. Prepared tier: locus_nncoords_prepare computes the sites'
+ * diagram once; locus_nncoords_query then answers any number of points, from any
+ * number of threads at once (the handle is immutable). The handle keeps what it
+ * needs alive: it stays valid after locus_session_set_positions (old positions)
+ * and after locus_session_destroy. One-shot tier: locus_nncoords.
+ * out_weights: one double per site (>= 0, summing to 1). */
+typedef struct locus_nncoords_field locus_nncoords_field;
+locus_status locus_nncoords_prepare(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                                    const locus_run_options* opts, locus_nncoords_field** out);
+locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_surface_point* point, double* out_weights);
+int64_t locus_nncoords_site_count(const locus_nncoords_field* nn); /* -1 when nn is NULL */
+void locus_nncoords_destroy(locus_nncoords_field* nn);
+locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                            const locus_surface_point* point, double* out_weights, const locus_run_options* opts);
+
+/* ---- Skinning weights (thesis §3.7.2) ----
+ * Natural-neighbor coordinates of every vertex with respect to the handles:
+ * out: vertex-count * n_handles doubles, vertex v's weights at out[v * n_handles ..]. */
+locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles, int64_t n_handles,
+                                    double* out, const locus_run_options* opts);
+
+/* ---- Auto-diffusion function and heat kernel signature (thesis §4.6) ----
+ * (M - tL)^{-1}_vv at the given vertices (vertices NULL and n_vertices 0: every
+ * vertex, in order). locus_adf: one t (from opts), out: one double per vertex.
+ * locus_hks: t_j = t_factors[j] * h^2, out[k * n_times + j]. selected_inversion
+ * nonzero: all diagonal entries at once (faster for all vertices), else one
+ * etree path per vertex; the values agree to rounding. */
+locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t n_vertices, int32_t selected_inversion,
+                       double* out, const locus_run_options* opts);
+locus_status locus_hks(locus_session* session, const double* t_factors, int64_t n_times, const int64_t* vertices,
+                       int64_t n_vertices, int32_t selected_inversion, double* out, const locus_run_options* opts);
+
+/* ---- Pairwise heat exchange (thesis §4.6) ----
+ * Unit heat at every source (repeats add), one step of M - tL; out_targets[k] =
+ * heat at targets[k] (separate etree subtrees for the two sets: exact). */
+locus_status locus_heat_exchange(locus_session* session, const int64_t* sources, int64_t n_sources,
+                                 const int64_t* targets, int64_t n_targets, double* out_targets,
+                                 const locus_run_options* opts);
+
+/* ---- Region-of-interest deformation (thesis §5.1, §5.7) ----
+ * Moves the handle (handle_vertex and its handle_ring-ring inside the ROI) by
+ * `offset` inside the breadth-first ROI of round(roi_fraction * nv) vertices
+ * around roi_seed; outside the ROI nothing moves. The global factor is computed
+ * once per energy and kept; each call derives the ROI's factor by the
+ * factor-once update. out_xyz: 3 * vertex-count doubles; the session's
+ * positions do not change. */
+typedef struct locus_deform_request {
+  int64_t roi_seed;
+  double roi_fraction;  /* in (0, 1] */
+  int64_t handle_vertex;
+  int32_t handle_ring;  /* >= 0 */
+  int32_t bilaplacian;  /* 0: Laplacian energy, nonzero: bilaplacian */
+  double offset[3];
+} locus_deform_request;
+locus_status locus_deform(locus_session* session, const locus_deform_request* request, double* out_xyz,
+                          const locus_run_options* opts);
+
+/* ---- Parameterization ----
+ * Disk (thesis §2.6): the whole mesh, which must be a disk; boundary on the unit
+ * circle; method 0 perfect (Algorithm 1, max_iterations, eps), 1 cotan,
+ * 2 uniform. out_uv: 2 * vertex-count doubles. out_flipped may be NULL. */
+locus_status locus_param_disk(locus_session* session, int32_t method, int32_t max_iterations, double eps,
+                              double* out_uv, int64_t* out_flipped, const locus_run_options* opts);
+/* Patch (thesis §4.4): the breadth-first patch of round(fraction * nv)
+ * vertices around `center`, from the session's factor of -L + eps M: boundary 0
+ * Neumann (eq. 4.6), 1 circle (boundary fixed on a circle, holes filled).
+ * out_uv: 2 * vertex-count doubles, NaN outside the patch; out_patch_size and
+ * out_flipped may be NULL. */
+locus_status locus_param_patch(locus_session* session, int64_t center, double fraction, int32_t boundary,
+                               double* out_uv, int64_t* out_patch_size, int64_t* out_flipped,
+                               const locus_run_options* opts);
+
+/* ---- Perfect Laplacian and self-supporting surface (thesis chapter 2) ----
+ * Per unique edge of the triangles (locus_session_edge_count edges, each with
+ * v0 < v1 in out_edges[2e], out_edges[2e+1]). out_xyz: 3 * vertex-count doubles
+ * (perfect Laplacian: the embedding, aligned onto the input by a similarity in
+ * space; self-supporting: the equilibrium surface). Any output may be NULL.
+ * out_converged: 1 when the iteration converged within max_iterations. */
+int64_t locus_session_edge_count(const locus_session* session); /* -1 when session is NULL */
+locus_status locus_perfect_laplacian(locus_session* session, int32_t planar, int32_t max_iterations, double eps,
+                                     int32_t* out_edges, double* out_weights, double* out_xyz,
+                                     int32_t* out_converged, const locus_run_options* opts);
+/* Supports on every boundary loop (the mesh needs one); dead load load_density per unit area. */
+locus_status locus_self_supporting(locus_session* session, double load_density, int32_t max_iterations, double eps,
+                                   int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
+                                   const locus_run_options* opts);
 
 LOCUS_API_END
 #ifdef __cplusplus

@@ -2,17 +2,23 @@
 // (issue 9 item 1; README "Embedding").
 //
 // A Session validates its mesh once, then answers queries: heat geodesic
-// distance (thesis §6.4), heat log maps (§6.5–6.6), centroidal Voronoi
-// tessellations by Lloyd's method (§3.7), heat values between vertex sets by
-// exact subset solves (ch. 4), and region-of-interest deformation with the
-// factor-once submesh update (ch. 5). What a query needs is built on first use
-// and cached for the positions it was built from:
+// distance from a vertex or a set of sources (thesis §6.4), heat log maps
+// (§6.5–6.6), centroidal Voronoi tessellations by Lloyd's method (§3.7), heat
+// Voronoi diagrams, natural-neighbor coordinates and skinning weights (§3.4,
+// §3.7.2), heat values, ADF/HKS and heat exchange by exact subset solves
+// (ch. 4), region-of-interest deformation with the factor-once submesh update
+// (ch. 5), disk and patch parameterizations (§2.6, §4.4), perfect Laplacians
+// and self-supporting surfaces (ch. 2). Every pipeline of the `locus` CLI is
+// here, with the same numbers for the same arguments (ctest `package`). What a
+// query needs is built on first use and cached for the positions it was built from:
 //   * topology: adjacency, Dijkstra disks (built once);
 //   * the heat-method engine per t_factor (heat operator M - tL and Poisson
 //     operator -L + eps M, both factored) — serves geodesic distance and log
 //     maps;
-//   * numeric factors keyed by (operator kind, t), on symbolic factors keyed by
-//     the operator's sparsity pattern — serve heat values;
+//   * the heat operator M - tL factored per t, on symbolic factors keyed by the
+//     operator's sparsity pattern — serves Voronoi diagrams, natural neighbors,
+//     skinning weights, ADF/HKS, heat exchange and heat values;
+//   * -L + eps M factored once — serves the patch parameterizations;
 //   * the deformation operator (global factor of -L + eps M or K M^{-1} K) per
 //     energy — every deform() query derives its submesh factor from it.
 // One factorization serves every later query with the same key. prepare_*()
@@ -56,8 +62,22 @@ namespace locus {
 
 // Diffusion time of the heat operators: t = t_factor * h^2, h the mean edge
 // length (Crane et al. and the thesis use t_factor = 1).
+// The diffusion pipelines (Voronoi, natural neighbors, skinning, ADF/HKS, heat
+// exchange, heat values) also take an absolute time: t > 0 overrides t_factor.
+// The heat method (geodesic distance, log map) uses t_factor only.
 struct HeatQuery {
   double t_factor = 1.0;
+  double t = 0.0;  // absolute diffusion time; 0 = t_factor * h^2
+};
+
+// A point on the surface: a vertex (face < 0), or a face and the barycentric
+// weights of its corners in the face's order (weights >= 0 summing to 1).
+struct MeshPoint {
+  int32_t face = -1;
+  int32_t vertex = -1;
+  std::array<double, 3> bary{1.0, 0.0, 0.0};
+  static MeshPoint at_vertex(int32_t v) { return MeshPoint{-1, v, {1.0, 0.0, 0.0}}; }
+  static MeshPoint in_face(int32_t f, double b0, double b1, double b2) { return MeshPoint{f, -1, {b0, b1, b2}}; }
 };
 
 struct LogMapResult {
@@ -111,6 +131,126 @@ struct DeformResult {
   double residual = 0;  // of the exact Dirichlet system
 };
 
+// ---- Results of the pipelines added by issue 24 (session_<pipeline>.cpp) ----
+
+// Heat-diffusion Voronoi diagram (thesis §3.4): labels and the bisector curves.
+struct VoronoiResult {
+  std::vector<int32_t> label;     // per vertex: the generator with the most heat (eq. 3.18)
+  std::vector<double> points;     // 3 per diagram point (on mesh edges, and Voronoi corners)
+  std::vector<int32_t> line_offsets;  // polyline k = line_points[line_offsets[k] .. line_offsets[k+1])
+  std::vector<int32_t> line_points;   // point ids
+  int64_t corners = 0;            // triangles where three cells meet
+  int64_t empty_cells = 0;        // generators labelling no vertex
+  int64_t vertices_without_heat = 0;  // heat underflowed to 0 there (raise t)
+};
+
+// Natural-neighbor (area-stealing) coordinates of one point (thesis §3.7.2).
+struct NaturalNeighborResult {
+  std::vector<double> weight;  // one per site, >= 0, summing to 1
+  double cell_area = 0;        // area of the point's own cell
+  bool at_site = false;        // the point is a site (indicator returned)
+  bool degenerate = false;     // the point's cell holds no vertex (indicator of the containing cell)
+};
+
+// A prepared natural-neighbor field: the sites' heat Voronoi diagram, computed
+// once, serving any number of point queries. Immutable; coordinates() may run
+// concurrently from any number of threads. Keeps the Session's mesh and heat
+// factor alive (it stays valid after set_positions, on the old positions).
+class NaturalNeighbors {
+ public:
+  NaturalNeighbors();
+  ~NaturalNeighbors();
+  NaturalNeighbors(NaturalNeighbors&&) noexcept;
+  NaturalNeighbors& operator=(NaturalNeighbors&&) noexcept;
+  int32_t num_sites() const;
+  // Error(BadUsage) for a point that is not on the mesh.
+  NaturalNeighborResult coordinates(const MeshPoint& q) const;
+  struct Impl;
+
+ private:
+  explicit NaturalNeighbors(std::shared_ptr<const Impl> impl);
+  std::shared_ptr<const Impl> impl_;
+  friend class Session;
+};
+
+struct SkinningWeightsResult {
+  int32_t handles = 0;
+  std::vector<double> weight;  // nv * handles, row-major: vertex v's weights at [v * handles, (v + 1) * handles)
+  int64_t degenerate_vertices = 0;
+  int64_t fallback_faces = 0;
+  double max_clamped = 0;
+};
+
+// Diagonal entries of (M - tL)^{-1}: Subset walks one etree path per vertex,
+// SelectedInversion computes every diagonal entry at once (faster for all vertices).
+enum class DiagonalMethod { Subset, SelectedInversion };
+
+// Flip-free parameterization of a disk-like mesh (thesis §2.6): boundary on the
+// unit circle by arc length; interior by perfect (Algorithm 1), cotan or uniform weights.
+enum class DiskParamMethod { Perfect, Cotan, Uniform };
+struct DiskParamRequest {
+  DiskParamMethod method = DiskParamMethod::Perfect;
+  int32_t max_iterations = 1000;  // Algorithm 1 (perfect)
+  double eps = 1e-6;              // Algorithm 1 tolerance (relative to the diagonal)
+};
+struct DiskParamResult {
+  std::vector<double> uv;  // 2 * nv, interleaved
+  int64_t flipped_faces = 0, degenerate_faces = 0;
+  int64_t negative_weights = 0;
+  bool converged = true;   // Algorithm 1 (perfect)
+  int32_t iterations = 0;
+};
+
+// Harmonic parameterization of the breadth-first patch of round(fraction * nv)
+// vertices around `center` (thesis §4.4) from the global factor of -L + eps M:
+// Neumann (eq. 4.6, an exact subset solve) or Circle (boundary fixed on a circle,
+// the patch's factor by the factor-once update; holes of the patch are filled).
+enum class PatchBoundary { Neumann, Circle };
+struct PatchParamRequest {
+  int32_t center = 0;
+  double fraction = 0.1;  // in (0, 1]
+  PatchBoundary boundary = PatchBoundary::Neumann;
+};
+struct PatchParamResult {
+  std::vector<int32_t> vertices;   // global ids of the patch, center first
+  std::vector<int32_t> triangles;  // 3 per patch face, indices into `vertices`
+  std::vector<double> uv;          // 2 per patch vertex, normalized into the unit disk
+  int32_t boundary_vertices = 0;
+  int64_t flipped_faces = 0, degenerate_faces = 0;
+  int32_t holes_filled = 0;        // Circle only
+};
+
+// Algorithm 1 of thesis chapter 2 on the Session's triangle mesh.
+struct PerfectLaplacianRequest {
+  bool planar = false;            // use x, y only (one boundary loop needed)
+  int32_t max_iterations = 1000;
+  double eps = 1e-6;
+  bool newton = true;             // false: the multiplicative update of eq. 2.8
+};
+struct PerfectLaplacianOutput {
+  std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
+  std::vector<double> weights;    // per edge, normalized to unit 2-norm; 0 where a weight decayed
+  std::vector<double> xyz;        // 3 * nv: the embedding (planar) or the embedding aligned onto the input (space)
+  bool converged = false;
+  int32_t iterations = 0;
+  double max_displacement_rel = 0, mean_displacement_rel = 0;
+};
+
+// Self-supporting surface (thesis §2.6, eq. 2.12): supports on the boundary.
+struct SelfSupportRequest {
+  double load_density = 1.0;
+  int32_t max_iterations = 1000;
+  double eps = 1e-6;
+};
+struct SelfSupportOutput {
+  std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
+  std::vector<double> forces;     // per edge, >= 0, in load units
+  std::vector<double> xyz;        // 3 * nv: the equilibrium surface
+  bool converged = false;
+  int32_t iterations = 0;
+  double residual_rel = 0;
+};
+
 // Counters of work done, for callers and tests that check "computed once".
 struct SessionStats {
   int64_t symbolic_analyses = 0;       // orderings + symbolic factors computed by the Session
@@ -119,6 +259,15 @@ struct SessionStats {
   int64_t deform_operators = 0;        // global deformation factors built
   int64_t positions_version = 0;       // number of set_positions() calls
 };
+
+// One-shot forms of the chapter-2 pipelines on any polygon mesh (a Session
+// holds triangle meshes only; these have nothing to cache). The Session
+// methods parameterize_disk, perfect_laplacian and self_supporting call them on
+// the Session's mesh. Error(BadInput) names what makes a mesh unsuitable.
+DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req = {}, const RunContext& ctx = {});
+PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req = {},
+                                            const RunContext& ctx = {});
+SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req = {}, const RunContext& ctx = {});
 
 class Session {
  public:
@@ -172,6 +321,70 @@ class Session {
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
+
+  // ---- Pipelines added by issue 24. Each reuses the Session's caches: the
+  // heat operator M - tL is factored once per t and serves Voronoi diagrams,
+  // natural neighbors, skinning weights, ADF/HKS, heat exchange and heat
+  // values alike; -L + eps M once for the patch parameterizations. Each
+  // distinct t keeps its factor (memory ~ one Cholesky factor per t) until
+  // set_positions() or the Session's end. ----
+
+  // Heat geodesic distance from a set of sources (vertices and points on faces;
+  // thesis §6.4.1 with the heat of all sources at once, as Crane et al. and
+  // CGAL's Heat_method_3): per connected component the distance is shifted so
+  // that its minimum over the component's sources is 0; +infinity in components
+  // without a source. At least one source; out.size() == num_vertices().
+  void geodesic_distance(ConstView<MeshPoint> sources, View<double> out, const HeatQuery& q = {},
+                         const RunContext& ctx = {}) const;
+  std::vector<double> geodesic_distance(ConstView<MeshPoint> sources, const HeatQuery& q = {},
+                                        const RunContext& ctx = {}) const;
+  std::vector<double> geodesic_distance_from_vertices(ConstView<int32_t> sources, const HeatQuery& q = {},
+                                                      const RunContext& ctx = {}) const;
+
+  // `count` points uniformly distributed by area (splitmix64 from `seed`: the
+  // same on every platform; `locus voronoi --random N --seed S` uses these).
+  std::vector<MeshPoint> random_points(int32_t count, uint64_t seed) const;
+
+  // Heat Voronoi diagram of 1..nv generators (default t = h^2).
+  VoronoiResult voronoi(ConstView<MeshPoint> generators, const HeatQuery& q = {},
+                        const RunContext& ctx = {}) const;
+
+  // Natural-neighbor coordinates: prepared field (many queries) and one-shot.
+  NaturalNeighbors prepare_natural_neighbors(ConstView<MeshPoint> sites, const HeatQuery& q = {},
+                                             const RunContext& ctx = {}) const;
+  NaturalNeighborResult natural_neighbor_coordinates(ConstView<MeshPoint> sites, const MeshPoint& point,
+                                                     const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+
+  // Skinning weights of handles at every vertex (natural-neighbor coordinates of the vertices).
+  SkinningWeightsResult skinning_weights(ConstView<MeshPoint> handles, const HeatQuery& q = {},
+                                         const RunContext& ctx = {}) const;
+
+  // Auto-diffusion function (M - tL)^{-1}_vv at `vertices` (empty: all vertices, in order).
+  std::vector<double> auto_diffusion(ConstView<int32_t> vertices, const HeatQuery& q = {},
+                                     DiagonalMethod method = DiagonalMethod::Subset,
+                                     const RunContext& ctx = {}) const;
+  // Heat kernel signature: out[k * times.size() + j] = ADF at vertices[k] (all when empty) for times[j].
+  std::vector<double> heat_kernel_signature(ConstView<HeatQuery> times, ConstView<int32_t> vertices,
+                                            DiagonalMethod method = DiagonalMethod::Subset,
+                                            const RunContext& ctx = {}) const;
+  // Pairwise heat exchange (thesis §4.6): unit heat at every source (repeats add),
+  // one step of M - tL; out[k] = heat at targets[k]. Both sets non-empty.
+  std::vector<double> heat_exchange(ConstView<int32_t> sources, ConstView<int32_t> targets,
+                                    const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+
+  DiskParamResult parameterize_disk(const DiskParamRequest& req = {}, const RunContext& ctx = {}) const;
+  PatchParamResult parameterize_patch(const PatchParamRequest& req, const RunContext& ctx = {}) const;
+
+  PerfectLaplacianOutput perfect_laplacian(const PerfectLaplacianRequest& req = {}, const RunContext& ctx = {}) const;
+  SelfSupportOutput self_supporting(const SelfSupportRequest& req = {}, const RunContext& ctx = {}) const;
+
+  // The prepared tier, built eagerly (queries build them on first use): the
+  // heat operator M - tL for q (the diffusion pipelines) and -L + eps M (the
+  // patch parameterizations). prepare_heat() above builds the heat method's.
+  void prepare_diffusion(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
+  void prepare_patch_parameterization(const RunContext& ctx = {}) const;
+
+  int64_t num_edges() const;  // unique edges of the triangles
 
   // New positions, 3 * num_vertices() interleaved doubles, same connectivity.
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),

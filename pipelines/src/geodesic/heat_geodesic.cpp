@@ -341,6 +341,15 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
 
 void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
                                            HeatGeodesicWorkspace& ws) const {
+  potential_from_heat_full(h, ws);
+  const int32_t n = grad_.nv;
+  const double d0 = ws.b[source];
+  const int32_t c = component_[source];
+  for (int32_t i = 0; i < n; ++i)
+    distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
+}
+
+void HeatGeodesic::potential_from_heat_full(std::span<const double> h, HeatGeodesicWorkspace& ws) const {
   const int32_t n = grad_.nv;
   ws.b.assign(static_cast<size_t>(n), 0.0);
   const bool lg = opt_.log_heat_gradient;
@@ -358,10 +367,6 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   }
   ws.x.resize(solve_work_size(poisson_, 1));
   solve(poisson_, ws.b, ws.x);
-  const double d0 = ws.b[source];
-  const int32_t c = component_[source];
-  for (int32_t i = 0; i < n; ++i)
-    distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
 }
 
 void HeatGeodesic::query(int32_t source, std::span<const int32_t> patch, std::span<double> distance,

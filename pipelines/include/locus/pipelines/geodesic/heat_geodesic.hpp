@@ -176,6 +176,10 @@ class HeatGeodesic {
   // From heat values at every vertex to distances at every vertex.
   void distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
                                HeatGeodesicWorkspace& ws) const;
+  // The unshifted solution phi of the Poisson step, into ws.b (n entries): the
+  // distance up to a constant per connected component (multi-source queries
+  // choose the constants, engine/src/session_geodesic.cpp).
+  void potential_from_heat_full(std::span<const double> h, HeatGeodesicWorkspace& ws) const;
 
  private:
   void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // checks and per-mesh data shared by both constructors

@@ -1,0 +1,175 @@
+// Internals of locus::Session shared by its source files (engine/src/session*.cpp,
+// one per pipeline family): the build-once caches, the per-positions State and
+// the helpers that fetch cached operators. Not installed.
+//
+// Concurrency design. The mesh and its position-dependent caches live in an
+// immutable-after-construction State held by shared_ptr; set_positions()
+// builds a new State and swaps the pointer under a mutex, so a running query
+// keeps its State alive and never sees a half-updated mesh. Inside a State every
+// cache is a OnceMap: key -> shared_future of an immutable value. The first
+// thread to ask for a key builds it outside the lock; the others wait on the
+// future (polling their own cancel flag). Failures that depend on the caller
+// (cancellation, memory limit, allocation failure) are not cached: the entry is
+// removed and the next caller builds again; deterministic failures (a mesh that
+// is not positive definite) are cached like values.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <utility>
+
+#include "locus/error.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/session.hpp"
+
+namespace locus {
+namespace session_detail {
+
+inline bool transient_failure(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const Error& err) {
+    return err.code() == ErrorCode::Cancelled || err.code() == ErrorCode::ResourceLimit;
+  } catch (const std::bad_alloc&) {
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+// Build-once map: concurrent callers of get() for one key share one build.
+template <class K, class V>
+class OnceMap {
+ public:
+  template <class Build>
+  std::shared_ptr<const V> get(const K& key, const RunContext& ctx, Build&& build) {
+    for (;;) {
+      std::promise<std::shared_ptr<const V>> promise;
+      std::shared_future<std::shared_ptr<const V>> fut;
+      bool owner = false;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        auto it = map_.find(key);
+        if (it == map_.end()) {
+          fut = promise.get_future().share();
+          map_.emplace(key, fut);
+          owner = true;
+        } else {
+          fut = it->second;
+        }
+      }
+      if (owner) {
+        try {
+          promise.set_value(build());
+        } catch (...) {
+          const std::exception_ptr e = std::current_exception();
+          if (transient_failure(e)) {  // erase first: waiters that retry must not find this entry
+            std::lock_guard<std::mutex> lock(mu_);
+            map_.erase(key);
+          }
+          promise.set_exception(e);
+        }
+        return fut.get();
+      }
+      while (fut.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) ctx.check_cancel();
+      try {
+        return fut.get();
+      } catch (...) {
+        // The builder's cancel flag or memory limit is not ours: build again with ours.
+        if (!transient_failure(std::current_exception())) throw;
+        ctx.check_cancel();
+      }
+    }
+  }
+
+ private:
+  std::mutex mu_;
+  std::map<K, std::shared_future<std::shared_ptr<const V>>> map_;
+};
+
+inline uint64_t bits_of(double x) {
+  uint64_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+
+struct Counters {
+  std::atomic<int64_t> symbolic{0}, numeric{0}, engines{0}, deform{0};
+};
+
+// Symbolic factors depend on the sparsity pattern only: shared by every State of a Session.
+struct SymbolicCache {
+  OnceMap<std::pair<uint64_t, int64_t>, SymbolicFactor> by_pattern;  // (pattern hash, nnz)
+};
+
+// -L_C + eps M of the mesh and its factor (the global operator of the patch parameterizations).
+struct RegularizedLaplacian {
+  CscMatrix K;
+  NumericFactor factor;
+};
+
+struct State {
+  Mesh mesh;
+  std::shared_ptr<const MeshDerived> derived;  // edges, adjacency, h, mass, components: once per positions
+  double h = 0;                                // derived->h
+  int64_t version = 0;
+  std::shared_ptr<SymbolicCache> symbolic;
+  std::shared_ptr<Counters> counters;
+  OnceMap<uint64_t, HeatLogMap> engines;                             // t_factor bits
+  OnceMap<int, DeformOperator> deform_ops;                           // energy
+  OnceMap<int, PatchGrower> grower;                                  // single entry: log map patches
+  OnceMap<int, HeatDiffusion> cvt_heat;                              // single entry: M - h^2 L for CVT cells
+  // Issue 24's pipelines (session_<pipeline>.cpp):
+  OnceMap<uint64_t, HeatDiffusion> diffusion;  // absolute t bits: M - tL (diffusion pipelines, heat values)
+  OnceMap<int, RegularizedLaplacian> laplacian;  // single entry: -L + eps M (patch parameterization)
+};
+
+// Checks the mesh (once per positions) and derives its data; d.checked records the check.
+std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m);
+// BadUsage naming `what` unless v is a vertex of s.mesh.
+void check_vertex(const State& s, int64_t v, const char* what);
+void check_t_factor(double t_factor);
+// The heat-method engine (geodesic distance and log maps) for q.t_factor.
+std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx);
+// The symbolic factor of A's pattern (shared by every State of the Session).
+std::shared_ptr<const SymbolicFactor> symbolic_for(State& s, const CscMatrix& A, const RunContext& ctx);
+// Log map and patch-parameterization patches (patch_grower.hpp), on the derived adjacency.
+std::shared_ptr<const PatchGrower> grower(State& s, const RunContext& ctx);
+
+// The heat operator M - tL, t = q.t when > 0, else q.t_factor * h^2, factored once per t
+// (the ordering of prepare_heat_diffusion, so the factor is bit-identical to the CLI's).
+std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, const RunContext& ctx);
+// -L_C + eps M (mesh_operators regularized_laplacian, default eps), factored once.
+std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext& ctx);
+// BadUsage unless p is a vertex or a face with valid barycentric weights; returns the kernel's point.
+SurfacePoint surface_point(const State& s, const MeshPoint& p, const char* what, size_t index);
+std::vector<SurfacePoint> surface_points(const State& s, ConstView<MeshPoint> p, const char* what);
+void check_vertices(const State& s, ConstView<int32_t> v, const char* what);
+
+}  // namespace session_detail
+
+struct Session::Impl {
+  mutable std::mutex mu;  // guards `state` (the pointer, not what it points to)
+  std::shared_ptr<session_detail::State> state;
+  int32_t nv = 0, nf = 0;
+  int32_t components = 0;  // connectivity never changes
+
+  std::shared_ptr<session_detail::State> current() const {
+    std::lock_guard<std::mutex> lock(mu);
+    return state;
+  }
+};
+
+}  // namespace locus
