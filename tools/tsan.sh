@@ -104,6 +104,6 @@ run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
 run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
-run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*'
+run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*,*session pipelines from several threads*'
 say "done"
 exit $status
