@@ -297,11 +297,16 @@ static int64_t json_numbers(const char* text, const char* key, double* out, int6
 
 /* Vertex properties of a binary little-endian PLY written by locus (all doubles):
  * out[v * props + k]; returns the vertex count, props = doubles per vertex. */
+/* The leading double properties of a binary PLY's vertices (x y z, then the
+   results), nv rows of *props values. Later int properties (the `valid` mask)
+   are skipped by their size. */
 static int64_t ply_vertex_doubles(const char* path, double** out, int* props) {
   FILE* f = fopen(path, "rb");
   char line[512];
-  int64_t nv = -1;
-  int in_vertex = 0;
+  int64_t nv = -1, v;
+  int in_vertex = 0, ints = 0, k;
+  size_t stride;
+  unsigned char* row;
   *props = 0;
   *out = NULL;
   if (!f) return -1;
@@ -311,14 +316,25 @@ static int64_t ply_vertex_doubles(const char* path, double** out, int* props) {
       in_vertex = 1;
     } else if (strncmp(line, "element ", 8) == 0) {
       in_vertex = 0;
-    } else if (in_vertex && strncmp(line, "property double ", 16) == 0) {
+    } else if (in_vertex && strncmp(line, "property double ", 16) == 0 && ints == 0) {
       ++*props;
+    } else if (in_vertex && strncmp(line, "property int ", 13) == 0) {
+      ++ints;
     } else if (strncmp(line, "end_header", 10) == 0) {
       break;
     }
   }
+  stride = sizeof(double) * (size_t)*props + 4 * (size_t)ints;
   *out = malloc(sizeof(double) * (size_t)(nv * *props));
-  if (!*out || fread(*out, sizeof(double), (size_t)(nv * *props), f) != (size_t)(nv * *props)) nv = -1;
+  row = malloc(stride);
+  for (v = 0; nv > 0 && *out && row && v < nv; ++v) {
+    if (fread(row, 1, stride, f) != stride) {
+      nv = -1;
+      break;
+    }
+    for (k = 0; k < *props; ++k) memcpy(*out + v * *props + k, row + sizeof(double) * (size_t)k, sizeof(double));
+  }
+  free(row);
   fclose(f);
   return nv;
 }

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -115,11 +116,14 @@ std::vector<double> json_numbers(const std::string& text, const std::string& key
   return out;
 }
 
-// Vertex properties (all doubles) of a binary little-endian PLY written by locus, row-major.
+// The leading double vertex properties (x y z, then the results) of a binary
+// little-endian PLY written by locus, row-major; later int properties (the
+// `valid` mask) are skipped by their size.
 std::vector<double> ply_vertex_doubles(const std::string& path, int& props) {
   std::ifstream f(path, std::ios::binary);
   std::string line;
   int64_t nv = 0;
+  int ints = 0;
   bool in_vertex = false;
   props = 0;
   while (std::getline(f, line)) {
@@ -128,15 +132,21 @@ std::vector<double> ply_vertex_doubles(const std::string& path, int& props) {
       in_vertex = true;
     } else if (line.rfind("element ", 0) == 0) {
       in_vertex = false;
-    } else if (in_vertex && line.rfind("property double ", 0) == 0) {
+    } else if (in_vertex && ints == 0 && line.rfind("property double ", 0) == 0) {
       ++props;
+    } else if (in_vertex && line.rfind("property int ", 0) == 0) {
+      ++ints;
     } else if (line.rfind("end_header", 0) == 0) {
       break;
     }
   }
+  const size_t stride = sizeof(double) * static_cast<size_t>(props) + 4 * static_cast<size_t>(ints);
   std::vector<double> v(static_cast<size_t>(nv * props));
-  f.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(double)));
-  if (!f) v.clear();
+  std::vector<char> row(stride);
+  for (int64_t i = 0; i < nv; ++i) {
+    if (!f.read(row.data(), static_cast<std::streamsize>(stride))) return {};
+    std::memcpy(v.data() + i * props, row.data(), sizeof(double) * static_cast<size_t>(props));
+  }
   return v;
 }
 
