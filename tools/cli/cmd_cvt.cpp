@@ -9,6 +9,8 @@
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
 #include <ostream>
 #include <string>
+#include <mutex>
+#include <memory>
 #include <vector>
 
 #include "locus/error.hpp"
@@ -217,8 +219,21 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
   const bool json = opt.json;
-  run.progress = [json](double f, std::string_view phase) {
-    if (!json) log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
+  // Progress on stderr: a line when the phase changes, else at most one a second
+  // (the Lloyd loop reports every cell solve).
+  struct Throttle {
+    std::mutex m;
+    std::string phase;
+    Stopwatch since;
+  };
+  auto throttle = std::make_shared<Throttle>();
+  run.progress = [json, throttle](double f, std::string_view phase) {
+    if (json) return;
+    std::lock_guard<std::mutex> lock(throttle->m);
+    if (phase == throttle->phase && throttle->since.seconds() < 1.0) return;
+    throttle->phase = std::string(phase);
+    throttle->since.restart();
+    log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
   };
   // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
   Stopwatch phase;
