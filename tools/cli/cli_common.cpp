@@ -468,10 +468,7 @@ CLI::Validator output_file(std::vector<std::string> extensions) {
   return CLI::Validator(
       [extensions](std::string& path) -> std::string {
         if (path.empty()) return "must not be empty";
-        const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
-        std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash) ? ""
-                                                                                                   : path.substr(dot + 1);
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        const std::string ext = io::lower_extension(path);
         if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
           std::string list;
           for (const std::string& e : extensions) list += (list.empty() ? "." : ", .") + e;
@@ -494,9 +491,7 @@ void add_preview_option(CLI::App* app, std::string& path) {
 
 void check_preview_path(const std::string& path) {
   if (path.empty()) return;
-  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext != ".png") fail(ErrorCode::BadUsage, "--preview " + path + ": the preview is a PNG image; name it *.png");
+  if (io::lower_extension(path) != "png") fail(ErrorCode::BadUsage, "--preview " + path + ": the preview is a PNG image; name it *.png");
   io::check_output_path(path);
 }
 
