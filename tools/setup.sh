@@ -14,6 +14,12 @@ PKGS=(
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
   qemu-user                          # ctest dispatch_paths: runs the build on CPUs without AVX2/AVX-512
 )
+# `tools/setup.sh --bench-peers` also installs the peers only benchmarks use
+# (CGAL's Heat_method_3 for locus-bench-cgal; GPL, never linked into locus).
+# Not by default: CI and the tests do not need them, and Boost is large.
+if [ "${1:-}" = "--bench-peers" ]; then
+  PKGS+=(libcgal-dev)
+fi
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
