@@ -48,8 +48,10 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   req.finite_coordinates = true;
-  check_requirements(m, req);
-  auto d = std::make_shared<MeshDerived>(derive_mesh(m));
+  // One edge incidence for the checks, the derived data and (through it) every operator.
+  EdgeIncidence inc = edge_incidence(m);
+  check_requirements(m, req, analyze_mesh(m, inc));
+  auto d = std::make_shared<MeshDerived>(derive_mesh(m, std::move(inc)));
   d->checked = req;
   return d;
 }

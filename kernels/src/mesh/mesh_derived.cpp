@@ -2,19 +2,24 @@
 #include "locus/kernels/mesh/mesh_derived.hpp"
 
 #include <string>
+#include <utility>
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 
 namespace locus {
 
-MeshDerived derive_mesh(const Mesh& m) {
+MeshDerived derive_mesh(const Mesh& m) { return derive_mesh(m, edge_incidence(m)); }  // validates the arrays
+
+MeshDerived derive_mesh(const Mesh& m, EdgeIncidence incidence) {
+  if (incidence.corner_edge.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "derive_mesh: the edge incidence belongs to another mesh");
   MeshDerived d;
   d.nv = m.num_vertices();
   d.nf = m.num_faces();
-  d.edges = unique_edges(m);  // validates the arrays
-  d.adjacency = vertex_adjacency(m, d.edges);
-  d.h = mean_edge_length(m, d.edges);
+  d.incidence = std::move(incidence);
+  d.adjacency = vertex_adjacency(m, d.incidence.edges);
+  d.h = mean_edge_length(m, d.incidence.edges);
   if (m.is_triangle_mesh()) d.mass = lumped_mass(m);
   d.components = connected_components(m, d.component);
   return d;

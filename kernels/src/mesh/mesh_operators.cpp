@@ -61,10 +61,14 @@ struct CotanAndMass {
 // One pass over the triangles: per corner, half the cotangent of its angle goes to
 // the opposite edge; a third of the area goes to each vertex. The diagonal is minus
 // the column sum so that L_C 1 = 0 holds to rounding.
-CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what) {
+CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what, const EdgeIncidence* given = nullptr) {
   require_triangles(m, what);
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
-  const EdgeIncidence inc = edge_incidence(m);
+  if (given && given->corner_edge.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, std::string(what) + ": the given edge incidence belongs to another mesh");
+  EdgeIncidence own;
+  if (!given) own = edge_incidence(m);
+  const EdgeIncidence& inc = given ? *given : own;
   const Edges& E = inc.edges;
   const int64_t ne = static_cast<int64_t>(E.e0.size());
   const double h = mean_edge_length(m, E);
@@ -149,20 +153,20 @@ CscMatrix mass_matrix_as_csc(const Mesh& m) {
   return with_diagonal(edge_pattern(m.num_vertices(), unique_edges(m)), mass);
 }
 
-CscMatrix heat_operator(const Mesh& m, double t) {
+CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc) {
   if (!(t >= 0.0) || !std::isfinite(t))
     fail(ErrorCode::BadUsage, "heat_operator: time step t must be finite and >= 0 (got " + std::to_string(t) + ")");
-  CotanAndMass cm = assemble_cotan_and_mass(m, "the heat operator");
+  CotanAndMass cm = assemble_cotan_and_mass(m, "the heat operator", inc);
   CscMatrix& A = cm.L;
   for (double& v : A.values) v *= -t;
   for (int32_t j = 0; j < A.ncols; ++j) A.values[A.colptr[j]] += cm.mass[j];
   return std::move(A);
 }
 
-CscMatrix regularized_laplacian(const Mesh& m, double rel) {
+CscMatrix regularized_laplacian(const Mesh& m, double rel, const EdgeIncidence* inc) {
   if (!(rel > 0.0) || !std::isfinite(rel))
     fail(ErrorCode::BadUsage, "regularized_laplacian: rel must be finite and > 0 (got " + std::to_string(rel) + ")");
-  CotanAndMass cm = assemble_cotan_and_mass(m, "the regularized Laplacian");
+  CotanAndMass cm = assemble_cotan_and_mass(m, "the regularized Laplacian", inc);
   CscMatrix& A = cm.L;
   double trace_l = 0.0, trace_m = 0.0;
   for (int32_t j = 0; j < A.ncols; ++j) {
@@ -212,8 +216,8 @@ std::vector<double> area_weighted_normals(const Mesh& m) {
   return n;
 }
 
-std::vector<double> mean_curvature_normals(const Mesh& m) {
-  const CotanAndMass cm = assemble_cotan_and_mass(m, "the mean-curvature normal");
+std::vector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc) {
+  const CotanAndMass cm = assemble_cotan_and_mass(m, "the mean-curvature normal", inc);
   const int32_t nv = m.num_vertices();
   std::vector<double> hn(3 * static_cast<size_t>(nv), 0.0);
   const CscMatrix& L = cm.L;

@@ -178,6 +178,13 @@ int32_t count_components(int32_t nv, const Edges& E, const std::vector<char>& re
 
 MeshReport analyze_mesh(const Mesh& m) {
   validate_mesh_arrays(m);
+  return analyze_mesh(m, edge_incidence(m));
+}
+
+MeshReport analyze_mesh(const Mesh& m, const EdgeIncidence& inc) {
+  validate_mesh_arrays(m);
+  if (inc.corner_edge.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "analyze_mesh: the edge incidence belongs to another mesh");
   MeshReport r;
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
   r.n_vertices = nv;
@@ -187,7 +194,6 @@ MeshReport analyze_mesh(const Mesh& m) {
   std::vector<char> referenced;
   const int64_t n_referenced = count_vertices(m, r, referenced);
 
-  const EdgeIncidence inc = edge_incidence(m);
   const int64_t ne = static_cast<int64_t>(inc.edges.e0.size());
   r.n_edges = ne;
   r.mean_edge_length = mean_edge_length(m, inc.edges);

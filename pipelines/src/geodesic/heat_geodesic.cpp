@@ -157,9 +157,10 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
                            const MeshDerived* derived)
     : opt_(opt) {
   prepare(m, derived);
-  CscMatrix A = heat_operator(m, t_);
+  const EdgeIncidence* inc = derived ? &derived->incidence : nullptr;
+  CscMatrix A = heat_operator(m, t_, inc);
   blend_mass(m, opt.mass_blend, A);
-  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
+  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel, inc);
   ctx.check_cancel();
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
   const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A, {}, ctx));

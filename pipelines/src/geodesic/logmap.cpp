@@ -48,7 +48,7 @@ void check_same_component(const HeatGeodesic& geo, int32_t center, std::span<con
 
 HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, const RunContext& ctx, const MeshDerived* derived)
     : opt_(opt), geo_(m, opt.geodesic, ctx, derived), x_(m.x), y_(m.y), z_(m.z) {
-  prepare(m);
+  prepare(m, derived);
 }
 
 HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, HeatGeodesicFactors factors)
@@ -56,15 +56,18 @@ HeatLogMap::HeatLogMap(const Mesh& m, const LogMapOptions& opt, HeatGeodesicFact
   prepare(m);
 }
 
-void HeatLogMap::prepare(const Mesh& m) {
+void HeatLogMap::prepare(const Mesh& m, const MeshDerived* derived) {
   const int32_t n = m.num_vertices();
   // Eq. 6.2: the mean-curvature normal where it is meaningful, the area normal
   // where it vanishes (planar regions) and at boundary vertices (where L_C p has
   // an in-plane boundary term). Oriented to the side of the face normals so that
   // the map keeps the faces' orientation.
-  const std::vector<double> hn = mean_curvature_normals(m);
+  EdgeIncidence own;
+  if (!derived) own = edge_incidence(m);
+  const EdgeIncidence& inc = derived ? derived->incidence : own;
+  const std::vector<double> hn = mean_curvature_normals(m, &inc);
   const std::vector<double> an = area_weighted_normals(m);
-  const Edges e = unique_edges(m);
+  const Edges& e = inc.edges;
   std::vector<uint8_t> boundary(static_cast<size_t>(n), 0);
   for (size_t k = 0; k < e.e0.size(); ++k)
     if (e.face_count[k] == 1) boundary[e.e0[k]] = boundary[e.e1[k]] = 1;

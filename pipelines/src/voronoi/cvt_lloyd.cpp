@@ -875,7 +875,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
   const CentroidGeometry geo = prepare_centroid_geometry(m, derived.adjacency);
-  const Edges& edges = derived.edges;
+  const Edges& edges = derived.incidence.edges;
   const VertexStars stars = vertex_stars(m, ops.area_op);
   ctx.check_cancel();
   const std::vector<double>& mass_r3 = derived.mass;

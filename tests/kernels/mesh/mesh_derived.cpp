@@ -30,9 +30,9 @@ TEST_CASE("derive_mesh: the separate functions' values, bit for bit") {
     CHECK(d.nv == m.num_vertices());
     CHECK(d.nf == m.num_faces());
     const Edges e = unique_edges(m);
-    CHECK(d.edges.e0 == e.e0);
-    CHECK(d.edges.e1 == e.e1);
-    CHECK(d.edges.face_count == e.face_count);
+    CHECK(d.incidence.edges.e0 == e.e0);
+    CHECK(d.incidence.edges.e1 == e.e1);
+    CHECK(d.incidence.edges.face_count == e.face_count);
     const Adjacency a = vertex_adjacency(m);
     CHECK(d.adjacency.offsets == a.offsets);
     CHECK(d.adjacency.neighbors == a.neighbors);

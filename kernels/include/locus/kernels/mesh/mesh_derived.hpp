@@ -5,9 +5,9 @@
 //
 // Each field is the value of its own mesh_topology / mesh_operators function,
 // bit for bit (h by the same summation over the same edge order):
-//   edges      = unique_edges(m)
-//   adjacency  = vertex_adjacency(m)          (built from `edges`)
-//   h          = mean_edge_length(m)          (mean_edge_length(m, edges))
+//   incidence  = edge_incidence(m)            (incidence.edges = unique_edges(m))
+//   adjacency  = vertex_adjacency(m)          (built from incidence.edges)
+//   h          = mean_edge_length(m)          (mean_edge_length(m, incidence.edges))
 //   mass       = lumped_mass(m)               (triangle meshes; empty otherwise)
 //   component  = connected_components(m, .)   (components: their count)
 //
@@ -27,7 +27,7 @@ namespace locus {
 
 struct MeshDerived {
   int32_t nv = 0, nf = 0;
-  Edges edges;
+  EdgeIncidence incidence;  // the operators and checks take it instead of rebuilding it
   Adjacency adjacency;
   double h = 0;                    // mean edge length
   std::vector<double> mass;        // lumped mass (triangle meshes), else empty
@@ -39,6 +39,8 @@ struct MeshDerived {
 // BadInput for malformed arrays (validate_mesh_arrays) or a face of non-finite
 // area (lumped_mass's check).
 MeshDerived derive_mesh(const Mesh& m);
+// The same from an incidence the caller already built (edge_incidence(m)).
+MeshDerived derive_mesh(const Mesh& m, EdgeIncidence incidence);
 
 // True when every requirement in `need` is among those in d.checked.
 bool requirements_checked(const MeshDerived& d, const MeshRequirements& need);

@@ -16,10 +16,16 @@
 
 namespace locus {
 
+struct EdgeIncidence;
+
+// The operators below build the mesh's edge incidence (edge_incidence(m)) unless
+// the caller passes the one it holds (MeshDerived::incidence): at 26k vertices
+// rebuilding it is ~4 ms, a quarter of the heat method's precompute when every
+// step rebuilt it (docs/ordering.md, "first answer").
 CscMatrix cotan_laplacian(const Mesh& m);                 // L_C
 std::vector<double> lumped_mass(const Mesh& m);           // diag of M: one third of incident triangle areas
 CscMatrix mass_matrix_as_csc(const Mesh& m);              // M on the pattern of L_C (zeros off the diagonal)
-CscMatrix heat_operator(const Mesh& m, double t);         // M - t L_C
+CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc = nullptr);  // M - t L_C
 // -L_C + eps * M with eps relative to the operator's own scale,
 // eps = rel * trace(-L_C) / trace(M), so the regularization (and the condition
 // number) does not depend on the units of the mesh.
@@ -30,7 +36,7 @@ CscMatrix heat_operator(const Mesh& m, double t);         // M - t L_C
 // rel = 1e-8 gives 1.6e-10..3.8e-10, rel = 1e-6 gives 1.6e-12..3.7e-12, the 1e-10
 // target with a 25x margin. The price: every eigenvalue of the pencil moves by eps,
 // about rel * mean(diag(-L_C)) / mean(diag(M)) (grows with the vertex count).
-CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-6);
+CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-6, const EdgeIncidence* inc = nullptr);
 
 // Per-vertex normals, unit length, 3*nv interleaved (x,y,z): the normalized sum of the
 // vector areas of the incident faces (polygon faces allowed here); 0 at unreferenced
@@ -39,6 +45,6 @@ std::vector<double> area_weighted_normals(const Mesh& m);
 // Mean-curvature normal vector -(M^{-1} L_C p)_i (eq. 6.1/6.2 up to sign: points
 // outward on a convex surface, magnitude = 2 * mean curvature, i.e. 2/r on a sphere of
 // radius r), 3*nv interleaved; 0 at unreferenced vertices.
-std::vector<double> mean_curvature_normals(const Mesh& m);
+std::vector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc = nullptr);
 
 }  // namespace locus

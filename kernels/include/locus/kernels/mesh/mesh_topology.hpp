@@ -107,6 +107,8 @@ inline double power_of_two_scale(double h) {
 }
 
 MeshReport analyze_mesh(const Mesh& m);
+// The same with the mesh's edge incidence given (edge_incidence(m)).
+MeshReport analyze_mesh(const Mesh& m, const EdgeIncidence& inc);
 
 // What a pipeline needs of its input; check_requirements throws BadInput naming
 // the first offending element (face, edge, vertex) and the mesh's source file.

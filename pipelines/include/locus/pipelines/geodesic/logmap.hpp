@@ -226,7 +226,7 @@ class HeatLogMap {
                      LogMapStats& st, LogMapWorkspace& ws) const;
   static void scale_by_distance(const LogMapOutput& out);
 
-  void prepare(const Mesh& m);  // tangent frames (eq. 6.2)
+  void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // tangent frames (eq. 6.2)
 
   LogMapOptions opt_;
   HeatGeodesic geo_;
