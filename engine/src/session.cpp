@@ -11,11 +11,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <future>
 #include <map>
 #include <mutex>
 #include <new>
 #include <utility>
+
+#include <tbb/parallel_invoke.h>
 
 #include "locus/kernels/update/factor_update.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
@@ -48,10 +51,23 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   req.finite_coordinates = true;
-  // One edge incidence for the checks, the derived data and (through it) every operator.
-  EdgeIncidence inc = edge_incidence(m);
-  check_requirements(m, req, analyze_mesh(m, inc));
-  auto d = std::make_shared<MeshDerived>(derive_mesh(m, std::move(inc)));
+  // One edge incidence for the checks, the derived data and (through it) every
+  // operator; the checks and the rest of the derived data read only it and the
+  // mesh, so they run side by side. The checks' error wins (it names the offender).
+  auto d = std::make_shared<MeshDerived>();
+  d->incidence = edge_incidence(m);
+  MeshReport report;
+  std::exception_ptr derive_error;
+  tbb::parallel_invoke([&] { report = analyze_mesh(m, d->incidence); },
+                       [&] {
+                         try {
+                           complete_derived(m, *d);
+                         } catch (...) {
+                           derive_error = std::current_exception();
+                         }
+                       });
+  check_requirements(m, req, report);
+  if (derive_error) std::rethrow_exception(derive_error);
   d->checked = req;
   return d;
 }

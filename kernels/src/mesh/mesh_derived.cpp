@@ -12,17 +12,21 @@ namespace locus {
 MeshDerived derive_mesh(const Mesh& m) { return derive_mesh(m, edge_incidence(m)); }  // validates the arrays
 
 MeshDerived derive_mesh(const Mesh& m, EdgeIncidence incidence) {
-  if (incidence.corner_edge.size() != m.face_vertices.size())
-    fail(ErrorCode::BadUsage, "derive_mesh: the edge incidence belongs to another mesh");
   MeshDerived d;
+  d.incidence = std::move(incidence);
+  complete_derived(m, d);
+  return d;
+}
+
+void complete_derived(const Mesh& m, MeshDerived& d) {
+  if (d.incidence.corner_edge.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "derive_mesh: the edge incidence belongs to another mesh");
   d.nv = m.num_vertices();
   d.nf = m.num_faces();
-  d.incidence = std::move(incidence);
   d.adjacency = vertex_adjacency(m, d.incidence.edges);
   d.h = mean_edge_length(m, d.incidence.edges);
   if (m.is_triangle_mesh()) d.mass = lumped_mass(m);
   d.components = connected_components(m, d.component);
-  return d;
 }
 
 bool requirements_checked(const MeshDerived& d, const MeshRequirements& need) {

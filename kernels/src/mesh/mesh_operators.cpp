@@ -38,21 +38,6 @@ void require_triangles(const Mesh& m, const char* what) {
   }
 }
 
-// Lower CSC pattern diagonal + edges, values zero.
-CscMatrix edge_pattern(int32_t nv, const Edges& E) {
-  const int64_t ne = static_cast<int64_t>(E.e0.size());
-  CscMatrix A;
-  A.nrows = A.ncols = nv;
-  A.colptr.assign(static_cast<size_t>(nv) + 1, 0);
-  for (int64_t e = 0; e < ne; ++e) ++A.colptr[E.e0[e] + 1];
-  for (int32_t j = 0; j < nv; ++j) A.colptr[j + 1] += A.colptr[j] + 1;
-  A.rowind.resize(static_cast<size_t>(nv + ne));
-  A.values.assign(static_cast<size_t>(nv + ne), 0.0);
-  for (int32_t j = 0; j < nv; ++j) A.rowind[A.colptr[j]] = j;
-  for (int64_t e = 0; e < ne; ++e) A.rowind[e + E.e0[e] + 1] = E.e1[e];
-  return A;
-}
-
 struct CotanAndMass {
   CscMatrix L;
   std::vector<double> mass;
@@ -75,7 +60,7 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what, const Edge
   const double sc = power_of_two_scale(h), inv_sc2 = 1.0 / (sc * sc);
   const double min_double_area = 2.0 * kDegenerateAreaRelative * (h * sc) * (h * sc);  // of the scaled triangle
   CotanAndMass out;
-  out.L = edge_pattern(nv, E);
+  out.L = operator_pattern(nv, E);
   out.mass.assign(static_cast<size_t>(nv), 0.0);
   double* val = out.L.values.data();
   const int32_t* fv = m.face_vertices.data();
@@ -121,6 +106,20 @@ CscMatrix with_diagonal(CscMatrix A, const std::vector<double>& d) {
 
 }  // namespace
 
+CscMatrix operator_pattern(int32_t nv, const Edges& E) {
+  const int64_t ne = static_cast<int64_t>(E.e0.size());
+  CscMatrix A;
+  A.nrows = A.ncols = nv;
+  A.colptr.assign(static_cast<size_t>(nv) + 1, 0);
+  for (int64_t e = 0; e < ne; ++e) ++A.colptr[E.e0[e] + 1];
+  for (int32_t j = 0; j < nv; ++j) A.colptr[j + 1] += A.colptr[j] + 1;
+  A.rowind.resize(static_cast<size_t>(nv + ne));
+  A.values.assign(static_cast<size_t>(nv + ne), 0.0);
+  for (int32_t j = 0; j < nv; ++j) A.rowind[A.colptr[j]] = j;
+  for (int64_t e = 0; e < ne; ++e) A.rowind[e + E.e0[e] + 1] = E.e1[e];
+  return A;
+}
+
 CscMatrix cotan_laplacian(const Mesh& m) { return assemble_cotan_and_mass(m, "the cotan Laplacian").L; }
 
 std::vector<double> lumped_mass(const Mesh& m) {
@@ -150,7 +149,7 @@ std::vector<double> lumped_mass(const Mesh& m) {
 CscMatrix mass_matrix_as_csc(const Mesh& m) {
   validate_mesh_arrays(m);
   const std::vector<double> mass = lumped_mass(m);
-  return with_diagonal(edge_pattern(m.num_vertices(), unique_edges(m)), mass);
+  return with_diagonal(operator_pattern(m.num_vertices(), unique_edges(m)), mass);
 }
 
 CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc) {

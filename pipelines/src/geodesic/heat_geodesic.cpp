@@ -20,6 +20,8 @@
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 namespace locus {
 
 namespace {
@@ -113,6 +115,14 @@ void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
 
 }  // namespace
 
+namespace {
+MeshRequirements heat_requirements() {
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  return req;
+}
+}  // namespace
+
 void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
@@ -122,8 +132,7 @@ void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
     fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
   if (!(opt.mass_blend >= 0 && opt.mass_blend <= 1))
     fail(ErrorCode::BadUsage, "heat geodesic: mass_blend must be in [0, 1] (got " + std::to_string(opt.mass_blend) + ")");
-  MeshRequirements req;
-  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  const MeshRequirements req = heat_requirements();
   if (!given || !requirements_checked(*given, req)) check_requirements(m, req);
   if (given) check_derived_of(*given, m, "heat geodesic");
   check_needles(m);
@@ -156,14 +165,27 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
 HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx,
                            const MeshDerived* derived)
     : opt_(opt) {
-  prepare(m, derived);
-  const EdgeIncidence* inc = derived ? &derived->incidence : nullptr;
-  CscMatrix A = heat_operator(m, t_, inc);
-  blend_mass(m, opt.mass_blend, A);
-  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel, inc);
-  ctx.check_cancel();
+  CscMatrix A, P;
+  auto build_operators = [&] {
+    prepare(m, derived);
+    A = heat_operator(m, t_, derived ? &derived->incidence : nullptr);
+    blend_mass(m, opt.mass_blend, A);
+    P = regularized_laplacian(m, opt.poisson_rel, derived ? &derived->incidence : nullptr);
+  };
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
-  const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A, {}, ctx));
+  std::shared_ptr<const SymbolicFactor> S;
+  if (derived && requirements_checked(*derived, heat_requirements())) {
+    // The mesh was checked and its edges are known: the ordering and symbolic
+    // analysis (pattern only) run beside the checks and assembly of the values
+    // (at 26k vertices a quarter of the first answer, docs/ordering.md).
+    check_derived_of(*derived, m, "heat geodesic");
+    const CscMatrix pattern = operator_pattern(m.num_vertices(), derived->incidence.edges);
+    tbb::parallel_invoke([&] { S = analyze(pattern, order_matrix(pattern, {}, ctx)); }, build_operators);
+  } else {
+    build_operators();
+    ctx.check_cancel();
+    S = analyze(A, order_matrix(A, {}, ctx));
+  }
   ctx.check_cancel();
   // The factorizations report their progress inside the caller's: the ordering
   // and analysis before them take ~70% of this constructor's time at 416k

@@ -41,6 +41,9 @@ struct MeshDerived {
 MeshDerived derive_mesh(const Mesh& m);
 // The same from an incidence the caller already built (edge_incidence(m)).
 MeshDerived derive_mesh(const Mesh& m, EdgeIncidence incidence);
+// Fills every field but `incidence` (which must be edge_incidence(m)) and `checked`;
+// reads nothing else of d, so a check of d.incidence can run beside it.
+void complete_derived(const Mesh& m, MeshDerived& d);
 
 // True when every requirement in `need` is among those in d.checked.
 bool requirements_checked(const MeshDerived& d, const MeshRequirements& need);

@@ -16,12 +16,17 @@
 
 namespace locus {
 
+struct Edges;
 struct EdgeIncidence;
 
 // The operators below build the mesh's edge incidence (edge_incidence(m)) unless
 // the caller passes the one it holds (MeshDerived::incidence): at 26k vertices
 // rebuilding it is ~4 ms, a quarter of the heat method's precompute when every
 // step rebuilt it (docs/ordering.md, "first answer").
+// The lower CSC pattern every operator below shares (diagonal + edges, values
+// zero): enough for an ordering and a symbolic factorization, which can then run
+// beside the numeric assembly. `edges` sorted as unique_edges gives them.
+CscMatrix operator_pattern(int32_t nv, const Edges& edges);
 CscMatrix cotan_laplacian(const Mesh& m);                 // L_C
 std::vector<double> lumped_mass(const Mesh& m);           // diag of M: one third of incident triangle areas
 CscMatrix mass_matrix_as_csc(const Mesh& m);              // M on the pattern of L_C (zeros off the diagonal)
