@@ -37,7 +37,8 @@ if(NOT _locus_metis_rc EQUAL 0 OR NOT EXISTS ${LOCUS_METIS_SOURCE_DIR}/libmetis/
 endif()
 
 file(GLOB _locus_metis_sources ${LOCUS_METIS_SOURCE_DIR}/GKlib/*.c ${LOCUS_METIS_SOURCE_DIR}/libmetis/*.c)
-add_library(locus_metis OBJECT ${_locus_metis_sources})
+# metis_trap.c: METIS_ComputeVertexSeparator inside GKlib's error trap (it says why).
+add_library(locus_metis OBJECT ${_locus_metis_sources} ${PROJECT_SOURCE_DIR}/kernels/src/order/metis_trap.c)
 target_include_directories(locus_metis PRIVATE
   ${LOCUS_METIS_SOURCE_DIR}/GKlib ${LOCUS_METIS_SOURCE_DIR}/include ${LOCUS_METIS_SOURCE_DIR}/libmetis)
 # rand/srand: kernels/src/order/metis_random.cpp. signal/raise: GKlib's error
@@ -46,8 +47,13 @@ target_include_directories(locus_metis PRIVATE
 # (in strict C99 glibc's <signal.h> binds signal() to __sysv_signal by asm
 # label). The object code is otherwise identical with and without it (checked
 # by comparing the disassembly of every object).
+# malloc/calloc/realloc/free: kernels/src/order/metis_memory.cpp (the host's
+# allocator, and a cancel point at every allocation: metis_call.hpp); the
+# printf family: dropped (METIS' error paths print to stderr).
+set(_locus_metis_memory
+  "malloc=locus_metis_malloc;calloc=locus_metis_calloc;realloc=locus_metis_realloc;free=locus_metis_free;fprintf=locus_metis_fprintf;vfprintf=locus_metis_vfprintf;printf=locus_metis_printf;fflush=locus_metis_fflush")
 set(_locus_metis_renames
-  "rand=locus_metis_rand;srand=locus_metis_srand;_DEFAULT_SOURCE;signal=locus_metis_signal;raise=locus_metis_raise")
+  "rand=locus_metis_rand;srand=locus_metis_srand;_DEFAULT_SOURCE;signal=locus_metis_signal;raise=locus_metis_raise;${_locus_metis_memory}")
 # Replaces what the directory would hand down (-march, sanitizers, fuzzer
 # instrumentation); -O3 comes last so it wins over the build type's level.
 set_target_properties(locus_metis PROPERTIES

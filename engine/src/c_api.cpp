@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/mesh_io.hpp"
@@ -112,6 +113,7 @@ struct CallContext {
   std::mutex mu;
   locus::RunContext ctx;
   double t_factor = 1.0;
+  double last_fraction = 0.0;  // the last fraction passed to the host (under mu)
 
   explicit CallContext(const locus_run_options* o) {
     if (!o) return;
@@ -152,6 +154,10 @@ struct CallContext {
       ctx.progress = [this, fn, user](double fraction, std::string_view phase) {
         std::lock_guard<std::mutex> lock(mu);
         if (cancel.load()) return;
+        // One monotone fraction in [0, 1] per call (issue 24 item 3), whatever
+        // order worker threads' reports arrive in.
+        fraction = std::clamp(fraction, last_fraction, 1.0);
+        last_fraction = fraction;
         const std::string name(phase);
         int stop = 1;
         try {
@@ -208,6 +214,14 @@ int64_t locus_last_error_copy(char* buffer, int64_t capacity) {
     buffer[n] = '\0';
   }
   return static_cast<int64_t>(length);
+}
+
+locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, void* user_data) {
+  return guarded("locus_set_allocator", [&] {
+    if ((alloc == nullptr) != (free_fn == nullptr))
+      fail(ErrorCode::BadUsage, "alloc and free_fn must both be set or both be NULL");
+    locus::set_host_allocator(alloc, free_fn, user_data);
+  });
 }
 
 locus_status locus_session_create_from_file(const char* path, locus_session** out) {

@@ -101,7 +101,10 @@ std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const Run
 
 std::shared_ptr<const SymbolicFactor> symbolic_for(State& s, const CscMatrix& A, const RunContext& ctx) {
   return s.symbolic->by_pattern.get({pattern_hash(A), A.nnz()}, ctx, [&] {
-    auto S = analyze(A, order_matrix(A, {}, ctx));  // the ordering HeatGeodesic uses: the same factor, bit for bit
+    // The ordering HeatGeodesic uses (the same factor, bit for bit), inside the
+    // first 80% of the caller's progress as there.
+    const Ordering ord = order_matrix(A, {}, ctx.sub(0.0, 0.75));
+    auto S = analyze(A, ord, {}, ctx.sub(0.75, 0.80));
     s.counters->symbolic.fetch_add(1);
     return S;
   });
@@ -113,6 +116,11 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
   const std::shared_ptr<const HeatDiffusion> H = diffusion(s, HeatQuery{t_factor, 0.0}, ctx);
   return std::shared_ptr<const NumericFactor>(H, &H->factor);
 }
+
+// What factoring the cells' operator costs, in Lloyd iterations (armadillo at
+// 416k vertices, 1,000 sites: 5.6 s vs 2.6 s; docs/shipping.md): its weight in
+// cvt's progress.
+constexpr double kCvtFactorIterations = 2.2;
 
 // The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later
 // cvt calls skip ordering and factoring (and METIS, which cannot be cancelled).
@@ -185,7 +193,8 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
   if (out.size() != static_cast<size_t>(impl_->nv))
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(impl_->nv));
-  const auto e = engine(*s, q, ctx);
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const auto e = engine(*s, q, progress.build());
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
   e->geodesic().query_full(source, out, ws);
@@ -195,6 +204,7 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from vertex " + std::to_string(source) +
                                      " is NaN at vertex " + std::to_string(i) + " (t = " +
                                      std::to_string(e->geodesic().time()) + ")");
+  progress.finish("geodesic distance");
 }
 
 std::vector<double> Session::geodesic_distance(int32_t source, const HeatQuery& q, const RunContext& ctx) const {
@@ -210,7 +220,8 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
     fail(ErrorCode::BadUsage, "logmap: fraction must be in (0, 1] (got " + std::to_string(fraction) + ")");
   const int32_t n = impl_->nv;
   const int32_t count = std::clamp<int32_t>(static_cast<int32_t>(std::lround(fraction * n)), 1, n);
-  const auto e = engine(*s, q, ctx);
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const auto e = engine(*s, q, progress.build());
   const auto g = grower(*s, ctx);
   ctx.check_cancel();
   LogMapResult r;
@@ -227,6 +238,7 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
     if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
       fail(ErrorCode::Numerical, "logmap: the map around vertex " + std::to_string(center) +
                                      " is not finite at vertex " + std::to_string(r.patch[p]));
+  progress.finish("log map");
   return r;
 }
 
@@ -240,7 +252,8 @@ std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<i
   const size_t ns = sources.size(), nt = targets.size();
   std::vector<double> out(ns * nt);
   if (ns == 0 || nt == 0) return out;
-  const auto F = heat_factor(*s, q.t_factor, ctx);
+  const CallProgress progress(ctx, !diffusion_cached(*s, HeatQuery{q.t_factor, 0.0}));
+  const auto F = heat_factor(*s, q.t_factor, progress.build());
   // One exact plan per batch of 8 sources, wanted = the distinct targets.
   std::vector<int32_t> wanted(targets.begin(), targets.end());
   std::sort(wanted.begin(), wanted.end());
@@ -268,7 +281,7 @@ std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<i
     solve_planned8(*F, plan, rhs, vals, ws);
     for (size_t l = 0; l < lanes; ++l)
       for (size_t k = 0; k < nt; ++k) out[(first + l) * nt + k] = vals[target_row[k] * kLanes + l];
-    ctx.report(static_cast<double>(b + 1) / static_cast<double>(nbatch), "heat values");
+    progress.query().report(static_cast<double>(b + 1) / static_cast<double>(nbatch), "heat values");
   }
   return out;
 }
@@ -289,14 +302,18 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   o.sites = sites;
   o.iterations = iterations;
   o.seed = seed;
-  const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, ctx);
+  // One monotone progress fraction: the cells' operator (when not cached yet)
+  // weighted like kCvtFactorIterations Lloyd iterations (docs/shipping.md), then the iterations.
+  const CallProgress progress(ctx, !s->cvt_heat.contains(0), kCvtFactorIterations / (kCvtFactorIterations + iterations + 1.0));
+  const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, progress.build());
   o.prepared = H.get();  // kLloydTFactor = cvt_lloyd's default: the same operator, bit for bit
+  const RunContext& rest = progress.query();
   CvtResult r;
   LloydResult lr;
   if (remesh) {
     RemeshOptions ro;
     ro.lloyd = o;
-    RemeshResult rr = cvt_remesh(s->mesh, *s->derived, ro, ctx);
+    RemeshResult rr = cvt_remesh(s->mesh, *s->derived, ro, rest);
     lr = std::move(rr.lloyd);
     r.remeshed = rr.complete;
     r.added_sites = rr.added_sites;
@@ -315,7 +332,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
       r.hausdorff_rel = st.hausdorff_rel;
     }
   } else {
-    lr = cvt_lloyd(s->mesh, *s->derived, o, ctx);  // the mesh was checked once, by the Session
+    lr = cvt_lloyd(s->mesh, *s->derived, o, rest);  // the mesh was checked once, by the Session
   }
   r.label = lr.label;
   r.empty_cells = lr.empty_cells;
@@ -327,6 +344,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
     r.site_vertex.push_back(p.face < 0 ? p.vertex : -1);
     r.site_bary.insert(r.site_bary.end(), p.bary.begin(), p.bary.end());
   }
+  progress.finish(remesh ? "remesh" : "lloyd");
   return r;
 }
 
@@ -341,14 +359,15 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
     if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "deform: the offset must be finite");
   const DeformEnergy energy =
       req.energy == DeformEnergyKind::Bilaplacian ? DeformEnergy::Bilaplacian : DeformEnergy::Laplacian;
+  const CallProgress progress(ctx, !s->deform_ops.contains(static_cast<int>(energy)));
   const auto op = s->deform_ops.get(static_cast<int>(energy), ctx, [&] {
-    auto o = std::make_shared<const DeformOperator>(prepare_deform_operator(s->mesh, energy, 1e-6, ctx));
+    auto o = std::make_shared<const DeformOperator>(prepare_deform_operator(s->mesh, energy, 1e-6, progress.build()));
     s->counters->deform.fetch_add(1);
     return o;
   });
   const DeformRegion region =
       make_deform_region(s->derived->adjacency, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
-  const DeformSystem sys = prepare_deform_system(*op, region, ctx);
+  const DeformSystem sys = prepare_deform_system(*op, region, progress.query());
   const Mesh target = handle_target(s->mesh, region, req.offset);
   Mesh out;
   const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, s->mesh, target, out);
@@ -365,6 +384,7 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
   r.columns_updated_fraction = sys.sub.stats.columns_updated_fraction;
   r.refinement_steps = st.refinement_steps;
   r.residual = st.residual;
+  progress.finish("deform");
   return r;
 }
 

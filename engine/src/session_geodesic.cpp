@@ -35,7 +35,8 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(n));
   const std::vector<SurfacePoint> pts = surface_points(*s, sources, "geodesic_distance: source");
-  const auto e = engine(*s, q, ctx);
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const auto e = engine(*s, q, progress.build());
   ctx.check_cancel();
   const HeatGeodesic& g = e->geodesic();
   std::vector<double> h(static_cast<size_t>(n), 0.0);
@@ -70,6 +71,7 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from the source set is NaN at vertex " +
                                      std::to_string(i) + " (t = " + std::to_string(g.time()) + ")");
   }
+  progress.finish("geodesic distance");
 }
 
 std::vector<double> Session::geodesic_distance(ConstView<MeshPoint> sources, const HeatQuery& q,

@@ -40,11 +40,15 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
     auto S = symbolic_for(s, A, ctx);
     ctx.check_cancel();
     // Inside this phase's progress (the ordering before it takes most of the time, docs/shipping.md).
-    H->factor = factorize(S, A, ctx.sub(0.7, 1.0));
+    H->factor = factorize(S, A, ctx.sub(0.8, 1.0));
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor heat operator");
     return std::shared_ptr<const HeatDiffusion>(std::move(H));
   });
+}
+
+bool diffusion_cached(State& s, const HeatQuery& q) {
+  return s.diffusion.contains(bits_of(q.t > 0 ? q.t : q.t_factor * s.h * s.h));
 }
 
 std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext& ctx) {
@@ -54,7 +58,7 @@ std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext
     L->K = regularized_laplacian(s.mesh);
     auto S = symbolic_for(s, L->K, ctx);
     ctx.check_cancel();
-    L->factor = factorize(S, L->K, ctx.sub(0.7, 1.0));
+    L->factor = factorize(S, L->K, ctx.sub(0.8, 1.0));
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor Laplacian");
     return std::shared_ptr<const RegularizedLaplacian>(std::move(L));
@@ -130,13 +134,18 @@ std::vector<double> Session::heat_kernel_signature(ConstView<HeatQuery> times, C
   std::vector<double> out(count * nt), column(count);
   // One cached factor per t (all on one symbolic factor); per t the pipeline's
   // ADF, which computes each value by the same walk as heat_kernel_signature.
+  // Progress: time j takes [j, j + 1) / nt of the call, its factor (when not cached) the first 90% of that.
+  const CallProgress progress(ctx, false);
   for (size_t j = 0; j < nt; ++j) {
-    const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, times[j], ctx);
+    const RunContext step = progress.query().sub(static_cast<double>(j) / nt, static_cast<double>(j + 1) / nt);
+    const CallProgress part(step, !diffusion_cached(*s, times[j]));
+    const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, times[j], part.build());
     ctx.check_cancel();
-    locus::auto_diffusion(H->factor, vertices, adf_method(method), column, ctx);
+    locus::auto_diffusion(H->factor, vertices, adf_method(method), column, part.query());
     for (size_t k = 0; k < count; ++k) out[k * nt + j] = column[k];
   }
   check_signature(out, vertices, nt, "heat_kernel_signature");
+  progress.finish(nt == 1 ? "auto-diffusion" : "heat kernel signature");
   return out;
 }
 
@@ -147,7 +156,8 @@ std::vector<double> Session::heat_exchange(ConstView<int32_t> sources, ConstView
     fail(ErrorCode::BadUsage, "heat_exchange: the source and target sets must not be empty");
   check_vertices(*s, sources, "heat_exchange: source");
   check_vertices(*s, targets, "heat_exchange: target");
-  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, ctx);
+  const CallProgress progress(ctx, !diffusion_cached(*s, q));
+  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
   ctx.check_cancel();
   std::vector<double> out(targets.size());
   HeatWorkspace ws;
@@ -156,6 +166,7 @@ std::vector<double> Session::heat_exchange(ConstView<int32_t> sources, ConstView
     if (!std::isfinite(out[k]))
       fail(ErrorCode::Numerical, "heat_exchange: the value at target " + std::to_string(targets[k]) + " is " +
                                      std::to_string(out[k]));
+  progress.finish("heat exchange");
   return out;
 }
 

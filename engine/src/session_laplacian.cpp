@@ -59,7 +59,8 @@ PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLapla
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
   o.iteration.method = req.newton ? PerfectLaplacianMethod::newton : PerfectLaplacianMethod::multiplicative;
-  const MeshPerfectLaplacianResult R = locus::perfect_laplacian(mesh, o, ctx);
+  const CallProgress progress(ctx, false);  // iterations end early when they converge: finish() reports 1
+  const MeshPerfectLaplacianResult R = locus::perfect_laplacian(mesh, o, progress.query());
   PerfectLaplacianOutput r;
   r.edges = interleave_edges(R.e0, R.e1);
   r.weights = R.run.weights;
@@ -71,6 +72,7 @@ PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLapla
   r.iterations = R.run.iterations;
   r.max_displacement_rel = R.max_displacement_rel;
   r.mean_displacement_rel = R.mean_displacement_rel;
+  progress.finish("perfect Laplacian");
   return r;
 }
 
@@ -82,7 +84,8 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
   o.load_density = req.load_density;
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
-  const SelfSupportResult R = locus::self_supporting(mesh, o, ctx);
+  const CallProgress progress(ctx, false);
+  const SelfSupportResult R = locus::self_supporting(mesh, o, progress.query());
   SelfSupportOutput r;
   r.edges = interleave_edges(R.e0, R.e1);
   r.forces = R.forces;
@@ -90,6 +93,7 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
   r.converged = R.converged;
   r.iterations = R.iterations;
   r.residual_rel = R.residual_rel;
+  progress.finish("self-supporting surface");
   return r;
 }
 

@@ -54,7 +54,8 @@ DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& r
                                                       : ParamMethod::Perfect;
   o.iteration.max_iterations = req.max_iterations;
   o.iteration.eps = req.eps;
-  const FlipFreeParamResult f = flipfree_param(mesh, o, ctx);
+  const CallProgress progress(ctx, false);
+  const FlipFreeParamResult f = flipfree_param(mesh, o, progress.query());
   check_finite_uv(f.uv, "parameterize_disk");
   DiskParamResult r;
   r.uv = f.uv;
@@ -63,6 +64,7 @@ DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& r
   r.negative_weights = f.negative_weights;
   r.converged = f.converged;
   r.iterations = f.iterations;
+  progress.finish("disk parameterization");
   return r;
 }
 
@@ -72,13 +74,14 @@ PatchParamResult Session::parameterize_patch(const PatchParamRequest& req, const
   if (!(req.fraction > 0 && req.fraction <= 1))
     fail(ErrorCode::BadUsage, "parameterize_patch: fraction must be in (0, 1] (got " + std::to_string(req.fraction) + ")");
   const int32_t count = patch_vertex_count(impl_->nv, req.fraction);
-  const auto L = laplacian(*s, ctx);
+  const CallProgress progress(ctx, !s->laplacian.contains(0));
+  const auto L = laplacian(*s, progress.build());
   const auto g = grower(*s, ctx);
   ctx.check_cancel();
   PatchParamResult r;
   if (req.boundary == PatchBoundary::Circle) {
     CirclePatchParameterizer cp(L->factor, L->K, *g);
-    const CirclePatchParam P = cp.parameterize(req.center, count, ctx);
+    const CirclePatchParam P = cp.parameterize(req.center, count, progress.query());
     check_finite_uv(P.uv, "parameterize_patch");
     copy_patch(P.disk.patch, r);
     r.uv = P.uv;
@@ -86,6 +89,7 @@ PatchParamResult Session::parameterize_patch(const PatchParamRequest& req, const
     r.flipped_faces = P.flips.flipped;
     r.degenerate_faces = P.flips.degenerate;
     r.holes_filled = P.disk.holes_filled;
+    progress.finish("patch parameterization");
     return r;
   }
   PatchWorkspace pws;
@@ -97,6 +101,7 @@ PatchParamResult Session::parameterize_patch(const PatchParamRequest& req, const
   r.boundary_vertices = static_cast<int32_t>(P.boundary.size());
   r.flipped_faces = P.flips.flipped;
   r.degenerate_faces = P.flips.degenerate;
+  progress.finish("patch parameterization");
   return r;
 }
 

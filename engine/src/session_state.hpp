@@ -13,6 +13,7 @@
 // removed and the next caller builds again; deterministic failures (a mesh that
 // is not positive definite) are cached like values.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -21,6 +22,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <string_view>
 #include <utility>
 
 #include "locus/error.hpp"
@@ -94,9 +96,50 @@ class OnceMap {
     }
   }
 
+  // True when the key is built or being built (progress weights: a cached build costs nothing).
+  bool contains(const K& key) {
+    std::lock_guard<std::mutex> lock(mu_);
+    return map_.count(key) != 0;
+  }
+
  private:
   std::mutex mu_;
   std::map<K, std::shared_future<std::shared_ptr<const V>>> map_;
+};
+
+// One monotone progress fraction per Session call (issue 24 item 3): the
+// cached operators the call has to build take [0, build_share) of it (none
+// when they are cached: the first query at 416k vertices is ~97% factoring,
+// docs/shipping.md), the query itself the rest. Reports through either never
+// go below an earlier one of the call (worker threads' reports may arrive out
+// of order), and finish() reports 1.
+class CallProgress {
+ public:
+  static constexpr double kBuildShare = 0.9;
+  CallProgress(const RunContext& ctx, bool builds, double build_share = kBuildShare) : base_(ctx) {
+    if (ctx.progress) {
+      auto clamp = std::make_shared<Clamp>();
+      base_.progress = [clamp, out = ctx.progress](double f, std::string_view phase) {
+        std::lock_guard<std::mutex> lock(clamp->mu);
+        f = std::min(1.0, std::max(f, clamp->last));
+        clamp->last = f;
+        out(f, phase);
+      };
+    }
+    const double share = builds ? build_share : 0.0;
+    build_ = base_.sub(0.0, share);
+    query_ = base_.sub(share, 1.0);
+  }
+  const RunContext& build() const { return build_; }
+  const RunContext& query() const { return query_; }
+  void finish(std::string_view phase) const { query_.report(1.0, phase); }
+
+ private:
+  struct Clamp {
+    std::mutex mu;
+    double last = 0.0;
+  };
+  RunContext base_, build_, query_;
 };
 
 inline uint64_t bits_of(double x) {
@@ -151,6 +194,8 @@ std::shared_ptr<const PatchGrower> grower(State& s, const RunContext& ctx);
 // The heat operator M - tL, t = q.t when > 0, else q.t_factor * h^2, factored once per t
 // (the ordering of prepare_heat_diffusion, so the factor is bit-identical to the CLI's).
 std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, const RunContext& ctx);
+// True when diffusion(s, q) is cached (or being built): a call then has nothing to build.
+bool diffusion_cached(State& s, const HeatQuery& q);
 // -L_C + eps M (mesh_operators regularized_laplacian, default eps), factored once.
 std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext& ctx);
 // BadUsage unless p is a vertex or a face with valid barycentric weights; returns the kernel's point.

@@ -61,10 +61,11 @@ VoronoiResult Session::voronoi(ConstView<MeshPoint> generators, const HeatQuery&
     fail(ErrorCode::BadUsage, "voronoi: the number of generators must be in 1.." + std::to_string(impl_->nv) +
                                   " (the vertex count), got " + std::to_string(generators.size()));
   const std::vector<SurfacePoint> sites = surface_points(*s, generators, "voronoi: generator");
-  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, ctx);
+  const CallProgress progress(ctx, !diffusion_cached(*s, q));
+  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
   ctx.check_cancel();
-  const HeatVoronoi V = heat_voronoi(*H, s->mesh, sites, {}, {}, ctx);
-  const VoronoiDiagram D = extract_voronoi_diagram(*H, s->mesh, sites, V, ctx);
+  const HeatVoronoi V = heat_voronoi(*H, s->mesh, sites, {}, {}, progress.query().sub(0.0, 0.8));
+  const VoronoiDiagram D = extract_voronoi_diagram(*H, s->mesh, sites, V, progress.query().sub(0.8, 1.0));
   VoronoiResult r;
   r.label = V.label;
   r.points = D.points;
@@ -78,6 +79,7 @@ VoronoiResult Session::voronoi(ConstView<MeshPoint> generators, const HeatQuery&
   for (int32_t l : V.label) ++cell[l];
   r.empty_cells = std::count(cell.begin(), cell.end(), 0);
   for (int32_t v = 0; v < impl_->nv; ++v) r.vertices_without_heat += !(V.top_value[static_cast<size_t>(v) * kVoronoiTopK] > 0);
+  progress.finish("voronoi");
   return r;
 }
 
@@ -88,9 +90,11 @@ NaturalNeighbors Session::prepare_natural_neighbors(ConstView<MeshPoint> sites, 
   const std::vector<SurfacePoint> pts = surface_points(*s, sites, "natural neighbors: site");
   auto impl = std::make_shared<NaturalNeighbors::Impl>();
   impl->state = s;
-  impl->heat = diffusion(*s, q, ctx);
+  const CallProgress progress(ctx, !diffusion_cached(*s, q));
+  impl->heat = diffusion(*s, q, progress.build());
   ctx.check_cancel();
-  impl->field = locus::prepare_natural_neighbors(*impl->heat, s->mesh, pts, ctx);
+  impl->field = locus::prepare_natural_neighbors(*impl->heat, s->mesh, pts, progress.query());
+  progress.finish("natural neighbors");
   return NaturalNeighbors(std::move(impl));
 }
 
@@ -108,15 +112,17 @@ SkinningWeightsResult Session::skinning_weights(ConstView<MeshPoint> handles, co
   const std::shared_ptr<State> s = impl_->current();
   if (handles.empty()) fail(ErrorCode::BadUsage, "skinning_weights: no handle given");
   const std::vector<SurfacePoint> pts = surface_points(*s, handles, "skinning_weights: handle");
-  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, ctx);
+  const CallProgress progress(ctx, !diffusion_cached(*s, q));
+  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
   ctx.check_cancel();
-  const SkinningWeights W = locus::skinning_weights(*H, s->mesh, pts, ctx);
+  const SkinningWeights W = locus::skinning_weights(*H, s->mesh, pts, progress.query());
   SkinningWeightsResult r;
   r.handles = W.handles;
   r.weight = W.weight;
   r.degenerate_vertices = W.degenerate;
   r.fallback_faces = W.fallback_faces;
   r.max_clamped = W.max_clamped;
+  progress.finish("skinning weights");
   return r;
 }
 

@@ -44,3 +44,69 @@ TEST_CASE("progress: the first geodesic query reports one monotone fraction, fac
   CHECK(g[0] == 0.625);
   CHECK(g[1] == 0.75);
 }
+
+namespace {
+
+// Every report of one call: fractions in [0, 1], never going back, the last one 1.
+struct Recorder {
+  std::mutex mu;
+  std::vector<double> f;
+  std::vector<std::string> phases;
+  RunContext ctx() {
+    RunContext c;
+    c.progress = [this](double x, std::string_view phase) {
+      std::lock_guard<std::mutex> lock(mu);
+      f.push_back(x);
+      phases.emplace_back(phase);
+    };
+    return c;
+  }
+  void check(const char* call, size_t min_distinct) {
+    CAPTURE(call);
+    REQUIRE(!f.empty());
+    CHECK(std::is_sorted(f.begin(), f.end()));
+    CHECK(f.front() >= 0.0);
+    CHECK(f.back() == 1.0);
+    std::vector<double> distinct = f;
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    CHECK(distinct.size() >= min_distinct);  // reports inside the call, not only its end
+    f.clear();
+    phases.clear();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("progress: every long Session call reports one monotone fraction that reaches 1") {
+  const Session s(make_icosphere(3));
+  Recorder r;
+  // First calls build their operators (ordering, analysis, factorization inside the call's range);
+  // second calls find them cached and report the query alone.
+  for (int round = 0; round < 2; ++round) {
+    CAPTURE(round);
+    s.geodesic_distance(0, {}, r.ctx());
+    r.check("geodesic_distance", round == 0 ? 4 : 1);
+    s.logmap(3, 0.3, {}, r.ctx());
+    r.check("logmap", 1);
+    const std::vector<MeshPoint> g{MeshPoint::at_vertex(0), MeshPoint::at_vertex(200), MeshPoint::at_vertex(400)};
+    s.voronoi(g, {}, r.ctx());
+    r.check("voronoi", round == 0 ? 4 : 2);
+    s.skinning_weights(g, {}, r.ctx());
+    r.check("skinning_weights", 1);
+    s.cvt(30, 4, 7, r.ctx());
+    r.check("cvt", 4);  // the Lloyd iterations report inside the call's range, each after the factor's share
+    const std::vector<HeatQuery> times{{1.0, 0.0}, {4.0, 0.0}};
+    s.heat_kernel_signature(times, {}, DiagonalMethod::Subset, r.ctx());
+    r.check("heat_kernel_signature", 2);
+    const std::vector<int32_t> src{0, 1}, tgt{5, 6, 7};
+    s.heat_exchange(src, tgt, {}, r.ctx());
+    r.check("heat_exchange", 1);
+    PatchParamRequest pr;
+    pr.center = 10;
+    pr.fraction = 0.2;
+    s.parameterize_patch(pr, r.ctx());
+    r.check("parameterize_patch", 1);
+    s.perfect_laplacian({}, r.ctx());
+    r.check("perfect_laplacian", 2);
+  }
+}

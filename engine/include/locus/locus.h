@@ -31,6 +31,7 @@
 #ifndef LOCUS_LOCUS_H
 #define LOCUS_LOCUS_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "locus/export.h"  /* LOCUS_API_BEGIN/END: what a shared liblocus exports */
@@ -102,6 +103,29 @@ const char* locus_last_error_message(void);
  * locus_last_error_copy(NULL, 0) + 1 bytes hold it. Does not clear the message.
  * Thread-safe; never fails. */
 int64_t locus_last_error_copy(char* buffer, int64_t capacity);
+
+/* ---- The host's allocator (issue 24 item 2; README "Embedding: the allocator") ----
+ * Routes locus' large buffers through the host's memory: alloc(size, user_data)
+ * returns `size` bytes aligned to 16 bytes (as malloc does), or NULL when it
+ * has none (the call in progress then fails with LOCUS_BAD_INPUT, "out of
+ * memory"); free_fn(ptr, user_data) releases a block alloc returned. Both
+ * callbacks, or both NULL (back to the C library's malloc/free); otherwise
+ * LOCUS_BAD_USAGE. They may be called from any thread, concurrently (locus'
+ * worker threads allocate too), and must not call locus.
+ * What goes through them: numeric factor values (the largest buffers by far),
+ * the factorization's and the solves' workspaces, selected-inversion blocks,
+ * every allocation METIS makes inside the orderings, and the block arrays of
+ * the factor-once update. What does not: the mesh, the operators, symbolic
+ * structures, results and other small or per-query arrays (C++ containers),
+ * oneTBB's task storage, and OpenBLAS' per-thread buffers (allocated once per
+ * process by OpenBLAS itself). README lists the shares measured on armadillo.
+ * Every block remembers the callbacks that allocated it and is freed by them,
+ * so the allocator may be changed at any time, even while sessions hold
+ * cached factors; blocks are freed at the latest when the session, result
+ * handle or nncoords field holding them is destroyed. Thread-safe. */
+typedef void* (*locus_alloc_fn)(size_t size, void* user_data);
+typedef void (*locus_free_fn)(void* ptr, void* user_data);
+locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, void* user_data);
 
 /* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
  * The mesh must be a manifold triangle mesh with at least one face, finite

@@ -22,13 +22,14 @@ HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mas
   H.t = t;
   H.mass = std::move(mass);
   BatchStopwatch sw;
-  const Ordering ord = order_matrix(A, {}, ctx);
+  // Progress: ordering, analysis, factorization weighted as in HeatGeodesic (docs/shipping.md).
+  const Ordering ord = order_matrix(A, {}, ctx.sub(0.0, 0.75));
   H.order_s = sw.lap();
   ctx.check_cancel();
-  auto S = analyze(A, ord);
+  auto S = analyze(A, ord, {}, ctx.sub(0.75, 0.80));
   H.analyze_s = sw.lap();
   ctx.check_cancel();
-  H.factor = factorize(S, A, ctx);
+  H.factor = factorize(S, A, ctx.sub(0.80, 1.0));
   H.factor_s = sw.lap();
   return H;
 }

@@ -6,6 +6,7 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -30,6 +31,7 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
   g.area.resize(nf);
   g.basis.resize(9 * nf);
   for (int32_t k = 0; k < g.nf; ++k) {
+    cancel_point(k);
     const int32_t v[3] = {m.f0[k], m.f1[k], m.f2[k]};
     for (int s = 0; s < 3; ++s) g.tri[3 * k + s] = v[s];
     double e[3][3];  // e[s] = v_{s+2} - v_{s+1}: the edge opposite corner s

@@ -16,6 +16,7 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -65,6 +66,7 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what, const Edge
   double* val = out.L.values.data();
   const int32_t* fv = m.face_vertices.data();
   for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     const int32_t c0 = m.face_offsets[f];
     const int32_t v[3] = {fv[c0], fv[c0 + 1], fv[c0 + 2]};
     double px[3], py[3], pz[3];

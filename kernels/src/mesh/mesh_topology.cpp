@@ -17,6 +17,7 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -91,27 +92,32 @@ EdgeIncidence build_edge_incidence(const Mesh& m) {
 
   // Bucket the half-edges by their smaller endpoint.
   std::vector<int64_t> start(static_cast<size_t>(nv) + 1, 0);
-  for (int32_t f = 0; f < nf; ++f)
+  for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     for (int32_t c = off[f]; c < off[f + 1]; ++c) {
       const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];
       if (u != w) ++start[static_cast<size_t>(std::min(u, w)) + 1];
     }
+  }
   for (int32_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   // Key = (larger endpoint, corner): sorting a bucket groups the copies of an edge and
   // keeps them in ascending corner (= face) order, which makes everything deterministic.
   std::vector<uint64_t> key(static_cast<size_t>(start[nv]));
   {
     std::vector<int64_t> pos(start.begin(), start.end() - 1);
-    for (int32_t f = 0; f < nf; ++f)
+    for (int32_t f = 0; f < nf; ++f) {
+      cancel_point(f);
       for (int32_t c = off[f]; c < off[f + 1]; ++c) {
         const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];
         if (u == w) continue;
         const int32_t lo = std::min(u, w), hi = std::max(u, w);
         key[pos[lo]++] = (static_cast<uint64_t>(hi) << 32) | static_cast<uint32_t>(c);
       }
+    }
   }
   int64_t ne = 0;
   for (int32_t v = 0; v < nv; ++v) {
+    cancel_point(v);
     uint64_t* b = key.data() + start[v];
     uint64_t* e = key.data() + start[v + 1];
     sort_bucket(b, e);
@@ -130,7 +136,8 @@ EdgeIncidence build_edge_incidence(const Mesh& m) {
   inc.edge_corner_offsets.resize(static_cast<size_t>(ne) + 1);
   inc.edge_corners.resize(key.size());
   int32_t id = -1;
-  for (int32_t v = 0; v < nv; ++v)
+  for (int32_t v = 0; v < nv; ++v) {
+    cancel_point(v);
     for (int64_t p = start[v]; p < start[v + 1]; ++p) {
       const int32_t hi = static_cast<int32_t>(key[p] >> 32);
       const int32_t c = static_cast<int32_t>(key[p] & 0xffffffffu);
@@ -145,6 +152,7 @@ EdgeIncidence build_edge_incidence(const Mesh& m) {
       inc.corner_edge[c] = id;
       inc.edge_corners[p] = c;
     }
+  }
   inc.edge_corner_offsets[ne] = static_cast<int64_t>(key.size());
   return inc;
 }

@@ -19,7 +19,12 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/order/metis_call.hpp"
 #include "locus/kernels/order/metis_random.hpp"
+
+// kernels/src/order/metis_trap.c: METIS_ComputeVertexSeparator inside GKlib's error trap.
+extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* options, idx_t* sepsize,
+                                            idx_t* part);
 
 namespace locus {
 
@@ -37,8 +42,12 @@ void set_options(idx_t* options, int seed) {
   options[METIS_OPTION_COMPRESS] = 0;
 }
 
-void check_status(int rc, int32_t n, const char* what) {
+void check_status(int rc, int32_t n, const char* what, const MetisCallScope& scope) {
   if (rc == METIS_OK) return;
+  if (scope.stopped()) fail(ErrorCode::Cancelled, "cancelled");
+  if (rc == METIS_ERROR_MEMORY)
+    fail(ErrorCode::ResourceLimit, std::string("out of memory in ") + what + " (a graph of " + std::to_string(n) +
+                                       " vertices)");
   fail(rc == METIS_ERROR_MEMORY ? ErrorCode::ResourceLimit : ErrorCode::Internal,
        std::string(what) + " failed with status " + std::to_string(rc) + " on a graph of " + std::to_string(n) +
            " vertices");
@@ -48,7 +57,7 @@ void check_status(int rc, int32_t n, const char* what) {
 idx_t* mut(const std::vector<int32_t>& v) { return const_cast<idx_t*>(v.data()); }
 
 // Nested dissection of g into perm (perm[k] = vertex of g eliminated k-th).
-void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm) {
+void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* ticker) {
   idx_t nv = g.n();
   if (nv == 0) return;
   if (g.adj.empty()) {  // no edges: any order has no fill (and METIS rejects it)
@@ -59,13 +68,14 @@ void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm) {
   set_options(options, seed);
   std::vector<idx_t> iperm(static_cast<size_t>(nv));
   MetisRandomScope rng;
+  MetisCallScope call(ticker);
   check_status(METIS_NodeND(&nv, mut(g.xadj), mut(g.adj), nullptr, options, perm, iperm.data()), g.n(),
-               "METIS_NodeND");
+               "METIS_NodeND", call);
 }
 
 }  // namespace
 
-void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part) {
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part, ProgressTicker* ticker) {
   idx_t nv = g.n();
   part.assign(nv, 0);
   if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
@@ -75,8 +85,9 @@ void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_
   idx_t sepsize = 0;
   {
     MetisRandomScope rng;
-    check_status(METIS_ComputeVertexSeparator(&nv, mut(g.xadj), mut(g.adj), nullptr, options, &sepsize, where.data()),
-                 g.n(), "METIS_ComputeVertexSeparator");
+    MetisCallScope call(ticker);
+    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), options, &sepsize, where.data()), g.n(),
+                 "METIS_ComputeVertexSeparator", call);
   }
   for (idx_t v = 0; v < nv; ++v) part[v] = static_cast<int8_t>(where[v]);
 }
@@ -85,12 +96,16 @@ std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, 
   const int32_t n = g.n();
   std::vector<int32_t> order(static_cast<size_t>(n));
   ctx.check_cancel();
+  // METIS reports no progress of its own: the ticker re-reports the last
+  // fraction from its allocations (chances to cancel) and advances by halves.
+  ProgressTicker ticker(ctx, "ordering", 4.0);
   if (n < kSplitMinVertices) {
-    node_nd(g, seed, order.data());
+    node_nd(g, seed, order.data(), &ticker);
     return order;
   }
   std::vector<int8_t> part;
-  metis_vertex_separator(g, seed, part);
+  metis_vertex_separator(g, seed, part, &ticker);
+  ticker.add(1.0);
   ctx.check_cancel();
   std::vector<int32_t> global0, global1;
   const AdjacencyGraph h0 = induced_subgraph(g, part, 0, global0);
@@ -100,11 +115,14 @@ std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, 
   if (two_threads && !global0.empty() && !global1.empty()) {
     // oneTBB threads of the caller's arena; one METIS call never waits on
     // oneTBB, so a thread cannot start the other half inside this one's scope.
-    tbb::parallel_invoke([&] { node_nd(h0, seed, p0.data()); }, [&] { node_nd(h1, seed, p1.data()); });
+    tbb::parallel_invoke([&] { node_nd(h0, seed, p0.data(), &ticker); ticker.add(1.5); },
+                         [&] { node_nd(h1, seed, p1.data(), &ticker); ticker.add(1.5); });
   } else {
-    node_nd(h0, seed, p0.data());
+    node_nd(h0, seed, p0.data(), &ticker);
+    ticker.add(1.5);
     ctx.check_cancel();
-    node_nd(h1, seed, p1.data());
+    node_nd(h1, seed, p1.data(), &ticker);
+    ticker.add(1.5);
   }
   size_t k = 0;
   for (const int32_t v : p0) order[k++] = global0[v];

@@ -34,19 +34,22 @@ constexpr int32_t kParallelMinVertices = 4000;
 class Dissector {
  public:
   Dissector(const AdjacencyGraph& root, const NestedDissectionOptions& opt, const RunContext& ctx, bool parallel)
-      : root_(root), opt_(opt), ctx_(ctx), parallel_(parallel) {}
+      : root_(root), opt_(opt), ctx_(ctx), parallel_(parallel), ticker_(ctx, "ordering", root.n()) {}
 
+  // Progress: vertices placed (in leaves and separators) of the root's.
   void order(Node node, int32_t* out) const {
     ctx_.check_cancel();
+    ticker_.tick();
     const int32_t m = node.g.n();
-    if (m <= opt_.leaf_size) return leaf(node, out);
+    if (m <= opt_.leaf_size) return leaf_done(node, out);
     std::vector<int8_t> part;
     if (opt_.separator == NestedDissectionOptions::Separator::Geometric)
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     else
-      metis_vertex_separator(node.g, opt_.metis_seed, part);
+      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
     const int32_t nsep = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{2}));
-    if (2 * nsep > m) return leaf(node, out);
+    if (2 * nsep > m) return leaf_done(node, out);
+    ticker_.add(nsep);
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
@@ -77,6 +80,11 @@ class Dissector {
   }
 
  private:
+  void leaf_done(const Node& node, int32_t* out) const {
+    leaf(node, out);
+    ticker_.add(node.g.n());
+  }
+
   void leaf(const Node& node, int32_t* out) const {
     if (!opt_.halo || node.global.size() == static_cast<size_t>(root_.n())) {
       const std::vector<int32_t> p = minimum_degree_order(node.g);
@@ -126,6 +134,7 @@ class Dissector {
   const NestedDissectionOptions& opt_;
   const RunContext& ctx_;
   bool parallel_;
+  mutable ProgressTicker ticker_;
 };
 
 }  // namespace

@@ -49,6 +49,7 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
   ctx.check_cancel();
   const AdjacencyGraph g = adjacency_of(A);
   ctx.check_cancel();
+  ctx.report(0.0, "ordering");  // a chance to cancel before the first separator
   switch (method) {
     case M::Amd: o.perm = minimum_degree_order(g); break;
     case M::Metis: o.perm = metis_nested_dissection(g, opt.seed, ctx); break;

@@ -7,6 +7,7 @@
 // disjoint-set forest over processed nodes). Each non-root node subtracts one
 // from its parent, and summing over subtrees gives the counts.
 #include "locus/kernels/symbolic/column_counts.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -20,6 +21,7 @@ std::vector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std:
   }
   for (int32_t i = 0; i < n; ++i) ancestor[i] = i;
   for (int32_t k = 0; k < n; ++k) {
+    cancel_point(k);
     const int32_t j = post[k];
     if (parent[j] != -1) --delta[parent[j]];
     for (int64_t p = ptr[j]; p < ptr[j + 1]; ++p) {

@@ -1,5 +1,6 @@
 // Elimination tree, postorder and height (kernels/include/locus/kernels/symbolic/etree.hpp).
 #include "locus/kernels/symbolic/etree.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 #include <algorithm>
 
@@ -8,6 +9,7 @@ namespace locus {
 std::vector<int32_t> elimination_tree(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx) {
   std::vector<int32_t> parent(n, -1), ancestor(n, -1);
   for (int32_t k = 0; k < n; ++k) {
+    cancel_point(k);
     for (int64_t p = ptr[k]; p < ptr[k + 1]; ++p) {
       int32_t r = idx[p];
       if (r >= k) continue;

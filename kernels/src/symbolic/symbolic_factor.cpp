@@ -20,6 +20,8 @@
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/kernels/symbolic/supernodes.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/progress_ticker.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -55,17 +57,20 @@ void permuted_half_graph(const CscMatrix& A, const std::vector<int32_t>& pos, Ha
   const int32_t n = A.ncols;
   ptr.assign(static_cast<size_t>(n) + 1, 0);
   const bool below = half == Half::Below;
-  for (int32_t j = 0; j < n; ++j)
+  for (int32_t j = 0; j < n; ++j) {
+    cancel_point(j);
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
       if (i == j) continue;
       const int32_t a = pos[i], b = pos[j];
       ++ptr[(below ? std::max(a, b) : std::min(a, b)) + 1];
     }
+  }
   for (int32_t k = 0; k < n; ++k) ptr[k + 1] += ptr[k];
   idx.resize(static_cast<size_t>(ptr[n]));
   std::vector<int64_t> next(ptr.begin(), ptr.end() - 1);
-  for (int32_t j = 0; j < n; ++j)
+  for (int32_t j = 0; j < n; ++j) {
+    cancel_point(j);
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
       if (i == j) continue;
@@ -76,6 +81,7 @@ void permuted_half_graph(const CscMatrix& A, const std::vector<int32_t>& pos, Ha
       else
         idx[next[lo]++] = hi;
     }
+  }
 }
 
 }  // namespace
@@ -116,6 +122,7 @@ void compute_update_lists(SymbolicFactor& S) {
       next.assign(S.update_ptr.begin(), S.update_ptr.end() - 1);
     }
     for (int32_t d = 0; d < ns; ++d) {
+      cancel_point(d);
       const int64_t r0 = S.super_row_ptr[d], nr = S.nrows(d);
       int64_t t = S.ncols(d);
       while (t < nr) {
@@ -144,13 +151,15 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
   const int64_t nnzA = A.nnz();
   S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
   std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
-  for (int32_t j = 0; j < n; ++j)
+  for (int32_t j = 0; j < n; ++j) {
+    cancel_point(j);
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t a = S.iperm[A.rowind[p]], b = S.iperm[j];
       entry_col[p] = std::min(a, b);
       entry_row[p] = std::max(a, b);
       ++S.a_super_ptr[S.col_to_super[entry_col[p]] + 1];
     }
+  }
   for (int32_t s = 0; s < ns; ++s) S.a_super_ptr[s + 1] += S.a_super_ptr[s];
   S.a_src.resize(nnzA);
   S.a_dst.resize(nnzA);
@@ -159,6 +168,7 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
     for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
   }
   for (int32_t s = 0; s < ns; ++s) {
+    cancel_point(s);
     const int32_t f = S.super_first_col[s], nr = S.nrows(s);
     for (int32_t t = 0; t < nr; ++t) rowpos[S.super_rows[S.super_row_ptr[s] + t]] = t;
     for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k) {
@@ -289,6 +299,14 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   auto S = std::make_shared<SymbolicFactor>();
   S->n = n;
   S->a_nnz = A.nnz();
+  // Progress by phase (each O(nnz(A)) or O(nnz(L))), ticked inside the long
+  // loops too: a C host's chances to cancel come at least every ~20 ms.
+  ProgressTicker ticker(ctx, "symbolic analysis", 6.0);
+  const CancelScope scope(ticker);  // the loops below (this thread's) are cancel points
+  const auto phase_done = [&] {
+    ctx.check_cancel();
+    ticker.add(1.0);
+  };
 
   // (1) etree in METIS order, then renumber by its postorder.
   std::vector<int64_t> gptr;
@@ -311,8 +329,9 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   }
   parent0.clear();
   parent0.shrink_to_fit();
-  ctx.check_cancel();
+  phase_done();
   permuted_half_graph(A, S->iperm, Half::Above, gptr, gidx);
+  phase_done();
 
   // (2) column counts; the postorder is now the identity.
   for (int32_t k = 0; k < n; ++k) post[k] = k;
@@ -321,7 +340,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   for (int32_t c : S->col_count) S->nnz_exact += c;
   S->etree_height = tree_height(S->parent);
 
-  ctx.check_cancel();
+  phase_done();
   // (3) supernodes.
   S->super_first_col = relaxed_supernodes(S->parent, S->col_count, opt);
   const int32_t ns = S->ns = static_cast<int32_t>(S->super_first_col.size()) - 1;
@@ -335,7 +354,7 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   }
   S->super_etree_height = tree_height(S->super_parent);
 
-  ctx.check_cancel();
+  phase_done();
   // (4) row structures: own columns, then A's rows below, then the children's rows below.
   std::vector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
   for (int32_t s = 0; s < ns; ++s)
@@ -350,6 +369,10 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   S->super_row_ptr.assign(static_cast<size_t>(ns) + 1, 0);
   S->super_rows.reserve(static_cast<size_t>(S->nnz_exact / std::max<int64_t>(1, n / std::max(1, ns))) + n);
   for (int32_t s = 0; s < ns; ++s) {
+    if ((s & 1023) == 0) {
+      ctx.check_cancel();
+      ticker.tick();
+    }
     const int32_t f = S->super_first_col[s], l = S->super_first_col[s + 1];
     for (int32_t c = f; c < l; ++c) S->super_rows.push_back(c);
     const size_t below = S->super_rows.size();
@@ -369,8 +392,9 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
     S->super_row_ptr[s + 1] = static_cast<int64_t>(S->super_rows.size());
   }
   S->super_rows.shrink_to_fit();
-  ctx.check_cancel();
+  phase_done();
   complete_symbolic(*S, A);
+  ticker.add(1.0);
   return S;
 }
 

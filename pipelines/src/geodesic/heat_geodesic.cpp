@@ -19,12 +19,19 @@
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 #include <tbb/parallel_invoke.h>
 
 namespace locus {
 
 namespace {
+
+// Where the constructor's phases begin in its progress, by their shares of its
+// time at 416k vertices (docs/shipping.md: 1.4 s operators, 5.2 s ordering,
+// 0.4 s symbolic analysis, 1.0 s per factorization): operators, ordering,
+// symbolic analysis, then the heat and the Poisson factorization.
+constexpr double kOrderBegin = 0.15, kAnalyzeBegin = 0.74, kFactorBegin = 0.78, kPoissonBegin = 0.89;
 
 void check_vertex(int32_t v, int32_t n, const char* what) {
   if (v < 0 || v >= n)
@@ -61,6 +68,7 @@ constexpr double kMinAngle = 1e-6;  // radians
 
 void check_needles(const Mesh& m) {
   for (int32_t f = 0; f < m.num_faces(); ++f) {
+    cancel_point(f);
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     for (int k = 0; k < 3; ++k) {
       const int32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
@@ -101,6 +109,7 @@ void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
     fail(ErrorCode::Internal, "blend_mass: edge (" + std::to_string(r) + ", " + std::to_string(c) + ") not in the pattern");
   };
   for (int32_t f = 0; f < m.num_faces(); ++f) {
+    cancel_point(f);
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     const double ux = m.x[v[1]] - m.x[v[0]], uy = m.y[v[1]] - m.y[v[0]], uz = m.z[v[1]] - m.z[v[0]];
     const double wx = m.x[v[2]] - m.x[v[0]], wy = m.y[v[2]] - m.y[v[0]], wz = m.z[v[2]] - m.z[v[0]];
@@ -165,34 +174,54 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
 HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const RunContext& ctx,
                            const MeshDerived* derived)
     : opt_(opt) {
-  CscMatrix A, P;
+  // The steps below take 0.1-0.3 s each at 416k vertices: their loops are
+  // cancel points (cancel_point.hpp), and each step's end reports too.
+  const RunContext operators_ctx = ctx.sub(0.0, kOrderBegin);
+  // Beside the ordering (below) the operators' steps only poll the cancel flag:
+  // one reporter at a time, so the host's callback is never called concurrently.
+  RunContext quiet_ctx = operators_ctx;
+  quiet_ctx.progress = nullptr;
+  const bool beside = derived && requirements_checked(*derived, heat_requirements());
+  ProgressTicker ticker(beside ? quiet_ctx : operators_ctx, "prepare heat method", 3.0);
+  CscMatrix A;
+  CscMatrix P;
+  const EdgeIncidence* inc = derived ? &derived->incidence : nullptr;
   auto build_operators = [&] {
+    const CancelScope scope(ticker);
+    cancel_point_poll();
     prepare(m, derived);
-    A = heat_operator(m, t_, derived ? &derived->incidence : nullptr);
+    ticker.add(1.0);
+    A = heat_operator(m, t_, inc);
     blend_mass(m, opt.mass_blend, A);
-    P = regularized_laplacian(m, opt.poisson_rel, derived ? &derived->incidence : nullptr);
+    ticker.add(1.0);
+    P = regularized_laplacian(m, opt.poisson_rel, inc);
   };
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
+  // Every phase reports inside the caller's progress, weighted by its share of
+  // this constructor's time at 416k vertices (docs/shipping.md): ordering,
+  // analysis, then each factorization ~15%. One monotone fraction.
+  auto order_and_analyze = [&](const CscMatrix& pattern) {
+    const Ordering ord = order_matrix(pattern, {}, ctx.sub(kOrderBegin, kAnalyzeBegin));
+    return analyze(pattern, ord, {}, ctx.sub(kAnalyzeBegin, kFactorBegin));
+  };
   std::shared_ptr<const SymbolicFactor> S;
-  if (derived && requirements_checked(*derived, heat_requirements())) {
+  if (beside) {
     // The mesh was checked and its edges are known: the ordering and symbolic
     // analysis (pattern only) run beside the checks and assembly of the values
     // (at 26k vertices a quarter of the first answer, docs/ordering.md).
     check_derived_of(*derived, m, "heat geodesic");
     const CscMatrix pattern = operator_pattern(m.num_vertices(), derived->incidence.edges);
-    tbb::parallel_invoke([&] { S = analyze(pattern, order_matrix(pattern, {}, ctx)); }, build_operators);
+    tbb::parallel_invoke([&] { S = order_and_analyze(pattern); }, build_operators);
   } else {
     build_operators();
     ctx.check_cancel();
-    S = analyze(A, order_matrix(A, {}, ctx));
+    ctx.report(kOrderBegin, "prepare heat method");
+    S = order_and_analyze(A);
   }
   ctx.check_cancel();
-  // The factorizations report their progress inside the caller's: the ordering
-  // and analysis before them take ~70% of this constructor's time at 416k
-  // vertices (docs/shipping.md), each factorization ~15%. One monotone fraction.
-  heat_ = factorize(S, A, ctx.sub(0.70, 0.85));
+  heat_ = factorize(S, A, ctx.sub(kFactorBegin, kPoissonBegin));
   ctx.check_cancel();
-  poisson_ = factorize(S, P, ctx.sub(0.85, 1.0));
+  poisson_ = factorize(S, P, ctx.sub(kPoissonBegin, 1.0));
   vertex_super_ = locus::vertex_supernodes(*S);
 }
 

@@ -22,12 +22,17 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   LloydOptions lo = o.lloyd;
   // One factor for every round (isotropic cells; the lifted metric is factored per run).
   HeatDiffusion own;
+  double lloyd_begin = 0.0;  // after the factorization's share of the progress, when it runs here
   if (!lo.prepared && lo.anisotropy == 0) {
-    own = prepare_heat_diffusion(m, d, lo.t_factor, lo.t_abs, ctx);
+    lloyd_begin = 0.3;
+    own = prepare_heat_diffusion(m, d, lo.t_factor, lo.t_abs, ctx.sub(0.0, lloyd_begin));
     lo.prepared = &own;
     r.factor_s = sw.lap();
   }
-  r.lloyd = cvt_lloyd(m, d, lo, ctx);
+  // One monotone progress fraction: the Lloyd iterations, then each repair
+  // round's share, then the dual and its optimization.
+  constexpr double kLloydEnd = 0.7, kRepairEnd = 0.9;
+  r.lloyd = cvt_lloyd(m, d, lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   r.lloyd_s = sw.lap();
   const DualTopology topo = dual_topology(m);
@@ -46,13 +51,16 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     // radii (not 4) hold every cell and its neighbors (1.5 left vertices
     // unreached on armadillo at 5,000 sites).
     ro.init_radius = std::min(lo.init_radius, 2.5);
-    r.lloyd = cvt_lloyd(m, d, std::move(sites), ro, ctx);
+    const double share = (kRepairEnd - kLloydEnd) / std::max(1, o.max_repair_rounds);
+    r.lloyd = cvt_lloyd(m, d, std::move(sites), ro, ctx.sub(kLloydEnd + round * share, kLloydEnd + (round + 1) * share));
     r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     ++r.repair_rounds;
     r.repair_s += sw.lap();
     dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
     r.dual_s += sw.lap();
   }
+  ctx.check_cancel();
+  ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;
   r.complete = dual.defects.total() == 0;
   if (r.complete) r.remesh = dual_mesh(m, dual, r.lloyd.sites, r.vertex_site);
@@ -69,6 +77,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     }
     r.optimize_s = sw.lap();
   }
+  ctx.report(1.0, "remesh");
   return r;
 }
 

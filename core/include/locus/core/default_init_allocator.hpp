@@ -1,14 +1,17 @@
 // An allocator whose value-less construct() leaves doubles uninitialized, so a
 // factor's storage is not zeroed (and page-faulted) by one thread up front:
-// each supernode's task zeroes and touches its own block, in parallel.
+// each supernode's task zeroes and touches its own block, in parallel. The
+// memory comes from the host's allocator (host_allocator.hpp) by default.
 #pragma once
 #include <memory>
 #include <type_traits>
 #include <utility>
 
+#include "locus/core/host_allocator.hpp"
+
 namespace locus {
 
-template <typename T, typename Base = std::allocator<T>>
+template <typename T, typename Base = HostAllocator<T>>
 class DefaultInitAllocator : public Base {
   using traits = std::allocator_traits<Base>;
 

@@ -9,17 +9,21 @@
 #include <vector>
 
 #include "locus/kernels/order/adjacency_graph.hpp"
+#include "locus/kernels/parallel/progress_ticker.hpp"
 #include "locus/run_context.hpp"
 
 namespace locus {
 
 // part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator.
-void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part);
+// With a ticker, METIS' allocations tick its progress and stop the call once
+// the ticker's cancel flag is up (Error(Cancelled); metis_call.hpp).
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part,
+                            ProgressTicker* ticker = nullptr);
 
 // METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
 // separator, the two halves ordered at once on two oneTBB threads of the
-// caller's arena when ctx.threads allows. The cancel flag is checked between
-// METIS calls (METIS itself cannot be interrupted).
+// caller's arena when ctx.threads allows. The cancel flag is polled at every
+// allocation inside METIS (metis_call.hpp), progress reported as "ordering".
 std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx);
 
 }  // namespace locus

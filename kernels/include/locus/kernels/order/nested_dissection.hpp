@@ -8,9 +8,10 @@
 // Deterministic: every task's result depends on its subgraph only, and its
 // place in the ordering on the sizes of the subgraphs before it, never on
 // which thread ran it or when; 1, 2 or 16 threads give the same permutation.
-// Cancellation: the flag in ctx is polled at every node of the tree (at most
-// a few milliseconds of work apart); a raised flag throws Error(Cancelled)
-// once the running nodes end.
+// Cancellation: the flag in ctx is polled at every node of the tree and at
+// every allocation inside METIS (metis_call.hpp), so a raised flag throws
+// Error(Cancelled) within milliseconds. Progress "ordering": the fraction of
+// vertices placed, reported at most every 20 ms (progress_ticker.hpp).
 #pragma once
 #include <cstdint>
 #include <span>

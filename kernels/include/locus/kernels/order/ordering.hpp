@@ -54,9 +54,10 @@ struct OrderingOptions {
 };
 
 // Orders the graph of a lower-stored symmetric matrix with ctx.threads threads.
-// The cancel flag in ctx is polled between the tasks of the ordering (METIS
-// calls cannot be interrupted; a cancel during one takes effect when it
-// returns) and raises Error(Cancelled); nothing is left running.
+// The cancel flag in ctx is polled between the tasks of the ordering and
+// inside METIS' calls (metis_call.hpp; AMD alone, Method::Amd or Auto up to
+// amd_max_vertices, cannot be interrupted) and raises Error(Cancelled);
+// nothing is left running. Progress: phase "ordering".
 // Throws BadUsage if the matrix is not square or positions have the wrong size.
 Ordering order_matrix(const CscMatrix& lower, const OrderingOptions& opt = {}, const RunContext& ctx = {});
 

@@ -1,0 +1,63 @@
+// The host's allocator for locus' large buffers (issue 24 item 2; README
+// "Embedding: the allocator").
+//
+// A host (game engine, DCC plugin) hands locus malloc/free-style callbacks with
+// locus_set_allocator; the buffers allocated through host_allocate() then come
+// from them. What goes through here: every std container typed with
+// HostAllocator / DefaultInitAllocator (numeric factor values, factorization
+// and solve workspaces, selected-inversion blocks, the large arrays of the
+// symbolic analysis and the ordering) and every allocation METIS makes
+// (cmake/metis.cmake renames its malloc/calloc/realloc/free to
+// kernels/src/order/metis_memory.cpp). What does not: other std containers,
+// oneTBB's task storage, Eigen's and OpenBLAS' own buffers (docs/shipping.md).
+//
+// Each block carries a 32-byte header naming the callbacks that allocated it,
+// so a block is always freed by the allocator that made it, even when the host
+// switches allocators while locus still holds blocks (caches of a Session).
+#pragma once
+#include <cstddef>
+#include <new>
+#include <type_traits>
+
+namespace locus {
+
+using HostAllocFn = void* (*)(std::size_t size, void* user);
+using HostFreeFn = void (*)(void* ptr, void* user);
+
+// Both callbacks, or neither (nullptr, nullptr: back to the C library's
+// malloc/free). Thread-safe; blocks allocated before keep their callbacks.
+void set_host_allocator(HostAllocFn alloc, HostFreeFn free, void* user) noexcept;
+
+// `bytes` from the current allocator, 16-byte aligned; nullptr when it has none to give.
+void* host_allocate_nothrow(std::size_t bytes) noexcept;
+// The same, throwing std::bad_alloc instead of returning nullptr.
+void* host_allocate(std::size_t bytes);
+// Frees a block of host_allocate*; nullptr is a no-op. A pointer that did not
+// come from host_allocate* (no header) goes to the C library's free().
+void host_deallocate(void* p) noexcept;
+// Size in bytes the block was allocated with (for realloc).
+std::size_t host_allocation_size(const void* p) noexcept;
+
+// A std allocator over host_allocate: containers of any element type up to
+// 16-byte alignment. Stateless; any instance frees any block (the header knows
+// its callbacks).
+template <typename T>
+struct HostAllocator {
+  static_assert(alignof(T) <= 16, "host allocations are 16-byte aligned");
+  using value_type = T;
+  using is_always_equal = std::true_type;
+  HostAllocator() noexcept = default;
+  template <typename U>
+  HostAllocator(const HostAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    if (n > static_cast<std::size_t>(-1) / (2 * sizeof(T))) throw std::bad_array_new_length();
+    return static_cast<T*>(host_allocate(n * sizeof(T)));
+  }
+  void deallocate(T* p, std::size_t) noexcept { host_deallocate(p); }
+  template <typename U>
+  bool operator==(const HostAllocator<U>&) const noexcept { return true; }
+  template <typename U>
+  bool operator!=(const HostAllocator<U>&) const noexcept { return false; }
+};
+
+}  // namespace locus
