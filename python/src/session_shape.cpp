@@ -54,8 +54,9 @@ py::object deform(const Session& s, int32_t roi_seed, int32_t handle, const py::
   req.roi_fraction = roi_fraction;
   req.handle_vertex = handle;
   req.handle_ring = handle_ring;
-  const std::vector<double> d = py::module_::import("numpy").attr("asarray")(offset, "dtype"_a = "float64")
-                                    .attr("ravel")().attr("tolist")().cast<std::vector<double>>();
+  std::vector<double> d;
+  for (const py::handle x : py::module_::import("numpy").attr("asarray")(offset, "dtype"_a = "float64").attr("ravel")())
+    d.push_back(x.cast<double>());
   if (d.size() != 3) usage_error("offset must be 3 numbers (dx, dy, dz), got " + std::to_string(d.size()));
   req.offset = {d[0], d[1], d[2]};
   if (energy == "laplacian") req.energy = DeformEnergyKind::Laplacian;
