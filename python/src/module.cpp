@@ -12,6 +12,7 @@
 
 namespace locus::python {
 void bind_mesh_functions(pybind11::module_& m);  // mesh_functions.cpp
+void bind_bench_peer(pybind11::module_& m);      // bench_peer.cpp
 }
 
 PYBIND11_MODULE(_locus, m) {
@@ -21,4 +22,5 @@ PYBIND11_MODULE(_locus, m) {
   locus::python::register_call(m);
   locus::python::bind_session(m);
   locus::python::bind_mesh_functions(m);
+  locus::python::bind_bench_peer(m);
 }
