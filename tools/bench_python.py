@@ -7,12 +7,16 @@
 1. overhead: Python's locus.Session.geodesic_distance(v, out=...) against the
    same Session::geodesic_distance in a C++ loop in this process
    (locus._locus._bench), on the same prepared Session at 26k vertices;
-   medians over interleaved rounds, and the ratio.
+   medians, interleaved query by query, and the ratio; and the binding's
+   own cost per call on an octahedron (where the query is nearly free) as a
+   fraction of the 26k query (robust against machine load).
 2. one factorization: 100 queries on one Session; stats() before and after.
 3. threads: the same 64 queries from 1 and from 4 Python threads on one
    Session (threads=1 per query, and the default all-cores); wall-clock
-   speedup and the process CPU time over wall time of a one-thread run (> 1
-   means a single query already uses more than one core).
+   speedup, and the process CPU time over wall time of each run (one thread:
+   > 1 would mean a single query already uses more than one core; four
+   threads: > 1 means queries ran in parallel, the GIL released; on a loaded
+   machine it also shows how many cores the process got).
 4. Ctrl-C: SIGINT at 416k vertices (the mesh subdivided twice) during the
    ordering (0.3 s after the call starts) and during the numeric
    factorization (0.1 s after it reports its phase); latency from os.kill to
@@ -38,15 +42,33 @@ def overhead(s, rounds=7, per_round=40):
     out = np.empty(s.num_vertices)
     s.geodesic_distance(0, out=out)  # the factorization, outside the timing
     py, cpp = [], []
-    for _ in range(rounds):  # interleaved, so that machine load hits both alike
-        for v in sources:
+    for _ in range(rounds):
+        for v in sources:  # interleaved query by query, so that machine load hits both alike
             t0 = time.perf_counter()
             s.geodesic_distance(v, out=out)
             py.append(time.perf_counter() - t0)
-        cpp += _bench.geodesic_seconds(s, sources, 1)
+            cpp += _bench.geodesic_seconds(s, [v], 1)
     mp, mc = statistics.median(py), statistics.median(cpp)
-    return {"python_median_s": mp, "cpp_median_s": mc, "overhead_s": mp - mc, "overhead_pct": 100 * (mp - mc) / mc,
-            "queries_each": len(py)}
+    paired = statistics.median(p - c for p, c in zip(py, cpp))
+    return {"python_median_s": mp, "cpp_median_s": mc, "overhead_pct": 100 * (mp - mc) / mc,
+            "paired_median_difference_s": paired, "paired_overhead_pct": 100 * paired / mc, "queries_each": len(py)}
+
+
+def overhead_tiny(rounds=2000):
+    """The binding's own cost per call, where the query itself is nearly free: an octahedron."""
+    V = np.array([[0, 0, 1], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0, 0, -1]], float)
+    F = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1], [5, 2, 1], [5, 3, 2], [5, 4, 3], [5, 1, 4]])
+    s = locus.Session(V, F)
+    out = np.empty(6)
+    s.geodesic_distance(0, out=out)
+    py, cpp = [], []
+    for k in range(rounds):
+        t0 = time.perf_counter()
+        s.geodesic_distance(k % 6, out=out)
+        py.append(time.perf_counter() - t0)
+        cpp += _bench.geodesic_seconds(s, [k % 6], 1)
+    return {"python_median_s": statistics.median(py), "cpp_median_s": statistics.median(cpp),
+            "binding_overhead_s": statistics.median(py) - statistics.median(cpp)}
 
 
 def one_factorization(V, F):
@@ -75,7 +97,8 @@ def run_threads(s, sources, nthreads, query_threads):
         t.start()
     for t in workers:
         t.join()
-    return time.perf_counter() - w0, time.process_time() - c0, results
+    wall = time.perf_counter() - w0
+    return wall, (time.process_time() - c0) / wall, results
 
 
 def threads(s, queries=64, rounds=3):
@@ -83,18 +106,20 @@ def threads(s, queries=64, rounds=3):
     s.prepare_heat()
     report = {}
     for query_threads in (1, 0):
-        one, four, cpu_ratio = [], [], []
+        one, four, cpu1, cpu4 = [], [], [], []
         for _ in range(rounds):
             w1, c1, r1 = run_threads(s, sources, 1, query_threads)
-            w4, _, r4 = run_threads(s, sources, 4, query_threads)
+            w4, c4, r4 = run_threads(s, sources, 4, query_threads)
             assert all(np.array_equal(r1[v], r4[v]) for v in sources), "4 threads gave other answers"
             one.append(w1)
             four.append(w4)
-            cpu_ratio.append(c1 / w1)
+            cpu1.append(c1)
+            cpu4.append(c4)
         key = "threads=1 per query" if query_threads == 1 else "threads=0 (all cores) per query"
         report[key] = {"one_thread_s": statistics.median(one), "four_threads_s": statistics.median(four),
                        "speedup": statistics.median(one) / statistics.median(four),
-                       "one_thread_cpu_over_wall": statistics.median(cpu_ratio), "identical": True}
+                       "one_thread_cpu_over_wall": statistics.median(cpu1),
+                       "four_threads_cpu_over_wall": statistics.median(cpu4), "identical": True}
     return report
 
 
@@ -177,8 +202,11 @@ def main():
     a = p.parse_args()
     V, F = locus.read_mesh(a.mesh)
     s = locus.Session(V, F)
-    report = {"mesh": a.mesh, "vertices": len(V), "cpus": os.cpu_count()}
+    report = {"mesh": a.mesh, "vertices": len(V), "cpus": os.cpu_count(), "load_average": os.getloadavg()}
     report["overhead"] = overhead(s)
+    report["overhead_tiny_mesh"] = overhead_tiny()
+    report["overhead"]["tiny_mesh_overhead_over_query_pct"] = (
+        100 * report["overhead_tiny_mesh"]["binding_overhead_s"] / report["overhead"]["cpp_median_s"])
     report["one_factorization"] = one_factorization(V, F)
     report["threads"] = threads(s)
     report["bad_input_rss"] = bad_input_rss(V, F)

@@ -2,14 +2,13 @@
 // cancel flag and the progress callback (issue 25 item 3); call.hpp says how.
 #include "call.hpp"
 
+#include <signal.h>
+
 #include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include <Python.h>
 #include <pythread.h>
@@ -21,24 +20,20 @@ namespace {
 
 unsigned long g_main_thread = 0;  // threading.main_thread().ident
 
-// The state one call shares between its caller, its helper thread and the
-// engine's worker threads.
+// The state one call shares between its caller, the engine's worker threads
+// and the SIGINT handler.
 struct CallState {
   std::atomic<bool> cancel{false};
+  std::atomic<bool> interrupted{false};  // SIGINT arrived during the call
   std::mutex mu;
   std::exception_ptr callback_error;  // first exception raised by the progress callback
-  bool callback_cancelled = false;    // the callback returned a true value
 
   void relay_progress(const py::object& callback, double fraction, std::string_view phase) {
     if (cancel.load(std::memory_order_relaxed)) return;
     py::gil_scoped_acquire gil;
     try {
       const py::object answer = callback(fraction, py::str(phase.data(), phase.size()));
-      if (!answer.is_none() && PyObject_IsTrue(answer.ptr()) == 1) {
-        std::lock_guard<std::mutex> lock(mu);
-        callback_cancelled = true;
-        cancel = true;
-      }
+      if (!answer.is_none() && PyObject_IsTrue(answer.ptr()) == 1) cancel = true;
     } catch (...) {
       std::lock_guard<std::mutex> lock(mu);
       if (!callback_error) callback_error = std::current_exception();
@@ -47,38 +42,58 @@ struct CallState {
   }
 };
 
-// Runs `work` on a helper thread; the caller (the main thread, GIL released)
-// polls Python's signal handlers every 10 ms. Returns the pending Python
-// exception a handler raised (KeyboardInterrupt), if any.
-std::optional<py::error_already_set> run_watching_signals(CallState& st, const std::function<void()>& work) {
-  std::mutex mu;
-  std::condition_variable cv;
-  bool done = false;
-  std::optional<py::error_already_set> interrupted;
-  py::gil_scoped_release release;
-  std::thread helper([&] {
-    work();
-    std::lock_guard<std::mutex> lock(mu);
-    done = true;
-    cv.notify_one();
-  });
-  std::unique_lock<std::mutex> lock(mu);
-  while (!cv.wait_for(lock, std::chrono::milliseconds(10), [&] { return done; })) {
-    if (interrupted) continue;  // cancel raised; wait for the work to notice it
-    lock.unlock();
-    {
-      py::gil_scoped_acquire gil;
-      if (PyErr_CheckSignals() != 0) {
-        interrupted.emplace();  // fetches (and clears) the pending exception
-        st.cancel = true;
-      }
-    }
-    lock.lock();
+// The call the handler cancels (the innermost main-thread call), and the
+// handler it chains to. Written by the main thread only, before the handler
+// is installed or after it is removed; read by the handler (lock-free atomics,
+// async-signal-safe).
+std::atomic<CallState*> g_sigint_target{nullptr};
+struct sigaction g_chained {};
+static_assert(std::atomic<CallState*>::is_always_lock_free);
+
+void on_sigint(int sig, siginfo_t* info, void* context) {
+  if (CallState* st = g_sigint_target.load()) {
+    st->interrupted.store(true);
+    st->cancel.store(true);
   }
-  lock.unlock();
-  helper.join();
-  return interrupted;
+  if (g_chained.sa_flags & SA_SIGINFO) g_chained.sa_sigaction(sig, info, context);
+  else if (g_chained.sa_handler != SIG_DFL && g_chained.sa_handler != SIG_IGN) g_chained.sa_handler(sig);
 }
+
+// For the lifetime of a main-thread call: SIGINT cancels it (call.hpp).
+// Calls nest (a progress callback may call locus again): the outermost scope
+// installs the handler, each scope points it at its own call.
+class SigintScope {
+ public:
+  explicit SigintScope(CallState& st) : previous_target_(g_sigint_target.load()) {
+    struct sigaction current {};
+    sigaction(SIGINT, nullptr, &current);
+    const bool ours = (current.sa_flags & SA_SIGINFO) && current.sa_sigaction == &on_sigint;
+    if (!ours) {
+      const bool function = (current.sa_flags & SA_SIGINFO) ||
+                            (current.sa_handler != SIG_DFL && current.sa_handler != SIG_IGN);
+      if (!function) return;  // ignored or default: the script's choice, left alone
+      g_chained = current;
+      struct sigaction mine {};
+      mine.sa_sigaction = &on_sigint;
+      mine.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
+      sigemptyset(&mine.sa_mask);
+      installed_ = sigaction(SIGINT, &mine, nullptr) == 0;
+    }
+    g_sigint_target.store(&st);
+    active_ = true;
+  }
+  ~SigintScope() {
+    if (!active_) return;
+    g_sigint_target.store(previous_target_);
+    if (installed_) sigaction(SIGINT, &g_chained, nullptr);
+  }
+  SigintScope(const SigintScope&) = delete;
+  SigintScope& operator=(const SigintScope&) = delete;
+
+ private:
+  CallState* previous_target_;
+  bool installed_ = false, active_ = false;
+};
 
 }  // namespace
 
@@ -96,23 +111,20 @@ void run(const CallOptions& opt, const std::function<void(const RunContext&)>& w
     };
   }
   std::exception_ptr engine_error;
-  const auto guarded = [&] {
+  {
+    std::optional<SigintScope> sigint;
+    if (PyThread_get_thread_ident() == g_main_thread) sigint.emplace(st);
+    py::gil_scoped_release release;
     try {
       work(ctx);
     } catch (...) {
       engine_error = std::current_exception();
     }
-  };
-  std::optional<py::error_already_set> interrupted;
-  if (PyThread_get_thread_ident() == g_main_thread) {
-    interrupted = run_watching_signals(st, guarded);
-  } else {
-    py::gil_scoped_release release;
-    guarded();
   }
-  // The caller holds the GIL again. Ctrl-C first, then the callback's own
+  // The caller holds the GIL again. Ctrl-C first (the interpreter's handler
+  // has scheduled KeyboardInterrupt: run it now), then the callback's own
   // exception, then the engine's error (Cancelled when the callback asked).
-  if (interrupted) throw std::move(*interrupted);
+  if (st.interrupted && PyErr_CheckSignals() != 0) throw py::error_already_set();
   if (st.callback_error) std::rethrow_exception(st.callback_error);
   if (engine_error) std::rethrow_exception(engine_error);
 }

@@ -22,19 +22,19 @@ struct CallOptions {
 };
 
 // Runs work(ctx) with the GIL released and returns when it is done.
-//  * From the main thread, the work runs on a helper thread while the caller
-//    waits in 10 ms slices, taking the GIL between slices only to run Python's
-//    signal handlers (PyErr_CheckSignals). A pending KeyboardInterrupt (or any
-//    exception a signal handler raises) raises the call's cancel flag; the work
-//    stops at the engine's next cancel check (the factorization checks before
-//    every supernode), the helper is joined, and the KeyboardInterrupt is
-//    raised. Why not a temporary SIGINT handler: a C handler would replace the
-//    interpreter's own (and any the script installed) process-wide, racing
-//    with other threads doing the same; waiting in slices keeps Python's
-//    signal machinery untouched and costs one thread start per call
-//    (benchmarked in tools/bench_python.py).
-//  * From any other thread (signals are only delivered to the main thread),
-//    the work runs inline with the GIL released.
+//  * Ctrl-C: from the main thread (the only one Python delivers
+//    KeyboardInterrupt to), for the duration of the call a C SIGINT handler
+//    raises this call's cancel flag and then calls the handler it replaced
+//    (the interpreter's, which schedules KeyboardInterrupt), so the work stops
+//    at the engine's next cancel check and the call raises KeyboardInterrupt.
+//    The interpreter's handler is restored when the call returns. Not
+//    installed when SIGINT is ignored or default (the script chose that).
+//    Why not run the work on a helper thread while the caller polls
+//    PyErr_CheckSignals: it was measured (tools/bench_python.py, docs/python.md)
+//    to cost two thread hand-offs per call, 12 ms per geodesic query on the
+//    loaded 2-core machine (against a 3.4 ms query); the handler costs two
+//    sigaction calls.
+//  * Every thread runs the work inline.
 //  * progress: called from whichever thread the engine reports on, with the
 //    GIL taken for the call. A true return value cancels (locus.Cancelled);
 //    an exception it raises cancels and is re-raised by the call.

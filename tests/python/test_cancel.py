@@ -38,13 +38,25 @@ def test_sigint_during_numeric_factorization(big):
     assert d[0] == 0 and np.isfinite(d).all()
 
 
-def test_interrupt_main_during_ordering(big):
+def test_sigint_from_a_timer_during_ordering(big):
     s = locus.Session(*big)
-    timer = threading.Timer(0.05, lambda: __import__("_thread").interrupt_main())
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         s.prepare_heat()
     timer.join()
+    assert s.stats()["heat_engines"] == 0  # cancelled, not finished and interrupted afterwards
+
+
+def test_ignored_sigint_is_left_alone(sphere):
+    s = locus.Session(*sphere)
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        s.prepare_heat(progress=lambda f, phase: os.kill(os.getpid(), signal.SIGINT))
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert s.stats()["heat_engines"] == 1
+    assert signal.getsignal(signal.SIGINT) is old
 
 
 def test_progress_callback_cancels_and_raises(sphere):
