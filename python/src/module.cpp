@@ -17,6 +17,10 @@ void bind_bench_peer(pybind11::module_& m);      // bench_peer.cpp
 
 PYBIND11_MODULE(_locus, m) {
   m.doc() = "locus engine bindings (see the package locus)";
+  // Each docstring opens with its Python signature, defaults included;
+  // pybind11's generated one would repeat it with C++ type names.
+  pybind11::options options;
+  options.disable_function_signatures();
   m.attr("__version__") = LOCUS_VERSION_STRING;
   locus::python::register_errors(m);
   locus::python::register_call(m);
