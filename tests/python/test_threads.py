@@ -1,5 +1,6 @@
 """One Session queried from four Python threads gives the answers of one thread (issue 25 item 3)."""
 import threading
+import time
 
 import numpy as np
 
@@ -37,3 +38,25 @@ def test_four_threads_one_session(armadillo):
             assert np.array_equal(d, expected[sources.index(v)]), (k, v)
     assert len(results) == len(sources) + 4
     assert s.stats()["heat_engines"] == 1  # one factorization served every thread
+
+
+def test_other_threads_run_while_the_engine_computes(armadillo):
+    # If the GIL were held during the factorization, the ticker could not run inside the call.
+    s = locus.Session(*armadillo)
+    ticks, stop = [], threading.Event()
+
+    def ticker():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.002)
+
+    t = threading.Thread(target=ticker)
+    t.start()
+    time.sleep(0.01)
+    start = time.perf_counter()
+    s.prepare_heat()
+    end = time.perf_counter()
+    stop.set()
+    t.join()
+    inside = [x for x in ticks if start + 0.01 < x < end - 0.01]
+    assert end - start > 0.05 and len(inside) >= 2, (end - start, len(inside))
