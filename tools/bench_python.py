@@ -2,7 +2,7 @@
 """Benchmarks of the Python binding (issue 25 "Done when"); not a test.
 
     PYTHONPATH=build/python /usr/bin/python3 tools/bench_python.py [--mesh cache/meshes/armadillo.off] [--json]
-        [--skip-cancel] [--cancel-repeats 3]
+        [--skip-cancel] [--cancel-repeats 3] [--only overhead|factorization|threads|rss|cancel]
 
 1. overhead: Python's locus.Session.geodesic_distance(v, out=...) against the
    same Session::geodesic_distance in a C++ loop in this process
@@ -199,18 +199,26 @@ def main():
     p.add_argument("--json", action="store_true")
     p.add_argument("--skip-cancel", action="store_true")
     p.add_argument("--cancel-repeats", type=int, default=3)
+    p.add_argument("--only", choices=["overhead", "factorization", "threads", "rss", "cancel"],
+                   help="run one part only")
     a = p.parse_args()
     V, F = locus.read_mesh(a.mesh)
     s = locus.Session(V, F)
-    report = {"mesh": a.mesh, "vertices": len(V), "cpus": os.cpu_count(), "load_average": os.getloadavg()}
-    report["overhead"] = overhead(s)
-    report["overhead_tiny_mesh"] = overhead_tiny()
-    report["overhead"]["tiny_mesh_overhead_over_query_pct"] = (
-        100 * report["overhead_tiny_mesh"]["binding_overhead_s"] / report["overhead"]["cpp_median_s"])
-    report["one_factorization"] = one_factorization(V, F)
-    report["threads"] = threads(s)
-    report["bad_input_rss"] = bad_input_rss(V, F)
-    if not a.skip_cancel:
+    report = {"mesh": a.mesh, "vertices": len(V), "cpus": os.cpu_count(), "load_average": os.getloadavg(),
+              "nice": os.nice(0)}
+    want = (lambda part: a.only in (None, part))
+    if want("overhead"):
+        report["overhead"] = overhead(s)
+        report["overhead_tiny_mesh"] = overhead_tiny()
+        report["overhead"]["tiny_mesh_overhead_over_query_pct"] = (
+            100 * report["overhead_tiny_mesh"]["binding_overhead_s"] / report["overhead"]["cpp_median_s"])
+    if want("factorization"):
+        report["one_factorization"] = one_factorization(V, F)
+    if want("threads"):
+        report["threads"] = threads(s)
+    if want("rss"):
+        report["bad_input_rss"] = bad_input_rss(V, F)
+    if want("cancel") and not a.skip_cancel:
         report["cancel"] = cancel(V, F, a.cancel_repeats)
     print(json.dumps(report, indent=2))
 
