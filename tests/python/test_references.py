@@ -138,3 +138,16 @@ def test_equals_c_api(capi, armadillo, armadillo_session):
         assert np.array_equal(armadillo_session.heat_values(src, tgt), h.reshape(3, 4))
     finally:
         capi.lib.locus_session_destroy(s)
+
+
+def test_deform_and_nncoords_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    run_cli(cli, tmp_path, "deform", armadillo_path, "--roi-seed", 0, "--roi-fraction", 0.1, "--handle", 0,
+            "--offset", "0.5,1,0", "-o", tmp_path / "d.ply")
+    ref = read_ply_vertices(tmp_path / "d.ply")
+    r = armadillo_session.deform(0, 0, (0.5, 1, 0), roi_fraction=0.1)
+    assert np.array_equal(r.V, np.stack([ref["x"], ref["y"], ref["z"]], axis=1))
+    sites = [0, 1000, 5000, 9000, 13000, 20000]
+    j = run_cli(cli, tmp_path, "nncoords", armadillo_path, "--sites", ",".join(map(str, sites)),
+                "--point", "10,0.2,0.3,0.5")
+    nn = armadillo_session.natural_neighbor_coordinates(sites, ([10], [[0.2, 0.3, 0.5]]))
+    assert np.array_equal(nn.weights, np.array(j["weights"])) and nn.cell_area == j["cell_area"]
