@@ -15,6 +15,8 @@ locus.Cancelled, locus.ResourceLimitError or locus.UsageError (a ValueError),
 each carrying the engine's message. Every computing call releases the GIL;
 Ctrl-C cancels it (KeyboardInterrupt).
 """
+import numpy  # noqa: F401  (every array goes through NumPy: fail here, clearly, without it)
+
 from ._locus import (  # noqa: F401  (the package's API)
     __version__,
     Error,
