@@ -13,6 +13,7 @@ PKGS=(
   libsuitesparse-dev                 # AMD, CAMD (BSD-3): orderings; CHOLMOD (GPL): test/benchmark peer only
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
   qemu-user                          # ctest dispatch_paths: runs the build on CPUs without AVX2/AVX-512
+  python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
 )
 # `tools/setup.sh --bench-peers` also installs the peers only benchmarks use
 # (CGAL's Heat_method_3 for locus-bench-cgal; GPL, never linked into locus).

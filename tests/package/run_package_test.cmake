@@ -115,6 +115,25 @@ else()
   message(STATUS "pkg-config not found: the pkg-config build is not checked (apt-get install pkgconf)")
 endif()
 
+# The Python package (LOCUS_PYTHON: the interpreter the module was built for; empty
+# when -DLOCUS_BUILD_PYTHON=OFF): `import locus` from the prefix's site-packages
+# alone, and one query through it.
+if(LOCUS_PYTHON)
+  set(site ${prefix}/${LOCUS_PYTHON_DIR})
+  if(NOT EXISTS ${site}/locus/__init__.py)
+    message(FATAL_ERROR "the install did not place the Python package in ${site}/locus")
+  endif()
+  set(ENV{PYTHONPATH} ${site})
+  run(${LOCUS_PYTHON} -c "import locus, numpy as np\n\
+assert locus.__file__.startswith('${site}/'), locus.__file__\n\
+V = np.array([[0, 0, 1], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0, 0, -1]], float)\n\
+F = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1], [5, 2, 1], [5, 3, 2], [5, 4, 3], [5, 1, 4]])\n\
+d = locus.Session(V, F).geodesic_distance(0)\n\
+assert d[0] == 0 and d[5] > d[1] > 0, d\n\
+print('import locus', locus.__version__, 'from', locus.__file__)")
+  unset(ENV{PYTHONPATH})
+endif()
+
 # The command-line tool is installed beside the libraries.
 if(EXISTS ${LOCUS_BUILD_DIR}/locus)
   if(NOT EXISTS ${prefix}/bin/locus)

@@ -1,0 +1,60 @@
+"""locus: locally solving the linear systems of geometry processing.
+
+Two tiers, as in potpourri3d:
+
+* one-shot functions on arrays, e.g. ``locus.geodesic_distance(V, F, 0)``,
+  ``locus.logmap(V, F, center, fraction)``, ``locus.cvt(V, F, sites)``;
+* ``locus.Session(V, F)``, the prepared object: the factorization of each
+  operator is kept between calls, any number of threads may query it.
+
+Arrays: V is (nv, 3) float32/float64 positions, F is (nf, 3) int32/int64/
+uint32 vertex ids (polygon meshes, for the one-shots that take them: a list of
+faces or (offsets, indices)). Results are NumPy arrays (float64 values, int32
+ids) or namespaces of them. Errors raise locus.InputError, locus.NumericalError,
+locus.Cancelled, locus.ResourceLimitError or locus.UsageError (a ValueError),
+each carrying the engine's message. Every computing call releases the GIL;
+Ctrl-C cancels it (KeyboardInterrupt).
+"""
+import numpy  # noqa: F401  (every array goes through NumPy: fail here, clearly, without it)
+
+from ._locus import (  # noqa: F401  (the package's API)
+    __version__,
+    Error,
+    UsageError,
+    InputError,
+    NumericalError,
+    Cancelled,
+    ResourceLimitError,
+    Session,
+    NaturalNeighbors,
+    read_mesh,
+    write_mesh,
+    subdivide,
+    render_preview,
+    parameterize_disk,
+    perfect_laplacian,
+    self_supporting,
+)
+from ._one_shot import (  # noqa: F401
+    geodesic_distance,
+    logmap,
+    heat_values,
+    cvt,
+    voronoi,
+    natural_neighbor_coordinates,
+    skinning_weights,
+    adf,
+    hks,
+    heat_exchange,
+    deform,
+    param,
+)
+
+__all__ = [
+    "Error", "UsageError", "InputError", "NumericalError", "Cancelled", "ResourceLimitError",
+    "Session", "NaturalNeighbors",
+    "read_mesh", "write_mesh", "subdivide", "render_preview",
+    "geodesic_distance", "logmap", "heat_values", "cvt", "voronoi", "natural_neighbor_coordinates",
+    "skinning_weights", "adf", "hks", "heat_exchange", "deform", "param",
+    "parameterize_disk", "perfect_laplacian", "self_supporting",
+]

@@ -1,0 +1,96 @@
+"""One-shot functions: a Session for one call (issue 25, the first tier).
+
+Each builds ``Session(V, F)``, runs one query and drops it, so every call
+factors its operator again; for repeated queries on one mesh keep a Session.
+Keyword arguments ``threads`` (default 0: all cores) and ``progress``
+(callable(fraction, phase); True cancels) are passed through.
+"""
+from ._locus import Session, parameterize_disk as _parameterize_disk
+
+
+def geodesic_distance(V, F, sources, *, t_factor=1.0, **call):
+    """Heat geodesic distance to every vertex, in the units of V: (nv,) float64.
+
+    sources: a vertex id, a 1-D array of ids, or (faces, bary) points in faces.
+    t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 1).
+    +inf in connected components without a source. See Session.geodesic_distance.
+    """
+    return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
+
+
+def logmap(V, F, center, fraction=0.05, *, t_factor=1.0, **call):
+    """Heat log map of the geodesic disk of round(fraction * nv) vertices around center.
+
+    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (default 1).
+    Returns a namespace: .patch (vertex ids, center first), .distance (units of V),
+    .angle (radians), .u, .v (Cartesian coordinates). See Session.logmap.
+    """
+    return Session(V, F).logmap(center, fraction, t_factor=t_factor, **call)
+
+
+def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):
+    """(M - tL)^{-1}[target, source] by exact subset solves: (len(sources), len(targets)) float64.
+
+    t: absolute time (length^2); 0 (default) = t_factor * h^2.
+    """
+    return Session(V, F).heat_values(sources, targets, t_factor=t_factor, t=t, **call)
+
+
+def cvt(V, F, sites, iterations=10, seed=1, **call):
+    """Isotropic heat CVT with remeshing: (sites, remesh_V, remesh_F, labels).
+
+    sites: number of sites (seeded random start, `seed`, default 1); iterations:
+    Lloyd steps (default 10); t = 4 h^2, as `locus cvt`. Returns the final site
+    positions (k, 3), the remeshed surface (n, 3) float64 and (m, 3) int32, and
+    each input vertex's cell (nv,) int32. Session.cvt gives every statistic.
+    """
+    r = Session(V, F).cvt(sites, iterations, seed, remesh=True, **call)
+    return r.sites, r.remesh_V, r.remesh_F, r.labels
+
+
+def voronoi(V, F, generators, *, t_factor=1.0, t=0.0, **call):
+    """Heat-diffusion Voronoi diagram of generators (ids or (faces, bary)); see Session.voronoi."""
+    return Session(V, F).voronoi(generators, t_factor=t_factor, t=t, **call)
+
+
+def natural_neighbor_coordinates(V, F, sites, point, *, t_factor=1.0, t=0.0, **call):
+    """Natural-neighbor coordinates of point with respect to sites; see Session.natural_neighbor_coordinates."""
+    return Session(V, F).natural_neighbor_coordinates(sites, point, t_factor=t_factor, t=t, **call)
+
+
+def skinning_weights(V, F, handles, *, t_factor=1.0, t=0.0, **call):
+    """Skinning weights, (nv, len(handles)) float64, rows summing to 1; see Session.skinning_weights."""
+    return Session(V, F).skinning_weights(handles, t_factor=t_factor, t=t, **call).weights
+
+
+def adf(V, F, vertices=None, *, t_factor=1.0, method="subset", **call):
+    """Auto-diffusion function (M - tL)^{-1}[v, v] at vertices (None: all), t = t_factor * h^2."""
+    return Session(V, F).auto_diffusion(vertices, t_factor=t_factor, method=method, **call)
+
+
+def hks(V, F, t_factors, vertices=None, *, method="subset", **call):
+    """Heat kernel signature: (len(vertices) or nv, len(t_factors)) float64, t_j = t_factors[j] * h^2."""
+    return Session(V, F).heat_kernel_signature(t_factors, vertices, method=method, **call)
+
+
+def heat_exchange(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):
+    """Pairwise heat exchange: heat at each target after one step from unit heat at the sources."""
+    return Session(V, F).heat_exchange(sources, targets, t_factor=t_factor, t=t, **call)
+
+
+def deform(V, F, roi_seed, handle, offset, **kwargs):
+    """Region-of-interest deformation; the deformed positions (nv, 3). See Session.deform for the options."""
+    return Session(V, F).deform(roi_seed, handle, offset, **kwargs).V
+
+
+def param(V, F, center=None, fraction=0.1, *, boundary="neumann", method="perfect", **call):
+    """Parameterization, as `locus param`.
+
+    center None: the whole mesh, a disk, flip-free (method 'perfect', 'cotan'
+    or 'uniform'; polygon meshes allowed); returns a namespace with .uv (nv, 2).
+    center given: the patch of round(fraction * nv) vertices around it
+    (boundary 'neumann' or 'circle'); returns .vertices, .F, .uv.
+    """
+    if center is None:
+        return _parameterize_disk(V, F, method=method, **call)
+    return Session(V, F).parameterize_patch(center, fraction, boundary=boundary, **call)

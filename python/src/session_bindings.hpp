@@ -1,0 +1,40 @@
+// The locus.Session class (issue 25 item 2, the prepared tier), bound in
+// parts by topic: session_class.cpp (construction, positions, stats,
+// preparation), session_geodesic.cpp (heat method: distance, log map, heat
+// values, random points), session_diffusion.cpp (Voronoi, natural neighbors,
+// skinning, ADF/HKS, heat exchange, CVT), session_shape.cpp (deformation,
+// parameterizations, perfect Laplacian, self-supporting surfaces).
+#pragma once
+#include <string>
+
+#include <pybind11/pybind11.h>
+
+#include "locus/session.hpp"
+
+namespace locus::python {
+
+using SessionClass = pybind11::class_<Session>;
+
+void bind_session(pybind11::module_& m);
+void bind_session_geodesic(SessionClass& cls);
+void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
+void bind_session_shape(SessionClass& cls);
+
+// The docstring tail every computing method shares.
+inline constexpr const char* kCallArgs =
+    "threads: worker threads for this call (default 0 = all cores).\n"
+    "progress: None (default) or callable(fraction, phase) called as the work advances (fraction in [0, 1]); "
+    "returning True cancels (locus.Cancelled). Ctrl-C cancels and raises KeyboardInterrupt.\n"
+    "The GIL is released while the engine computes.";
+
+}  // namespace locus::python
+
+namespace locus::python {
+
+// Chapter-2 results as Python namespaces (shared with the polygon one-shots in mesh_functions.cpp).
+pybind11::object disk_param_result(DiskParamResult&& r);
+pybind11::object perfect_laplacian_result(PerfectLaplacianOutput&& r);
+pybind11::object self_support_result(SelfSupportOutput&& r);
+DiskParamMethod disk_param_method(const std::string& name);
+
+}  // namespace locus::python

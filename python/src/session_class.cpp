@@ -1,0 +1,130 @@
+// locus.Session (issue 25 item 2, the prepared tier): one triangle mesh and
+// every factorization derived from it, kept between calls (engine/include/
+// locus/session.hpp). Construction, positions, counters and eager preparation;
+// the queries are bound in session_geodesic/diffusion/shape.cpp.
+#include <memory>
+#include <string>
+
+#include "arrays.hpp"
+#include "call.hpp"
+#include "errors.hpp"
+#include "mesh_arrays_out.hpp"
+#include "session_bindings.hpp"
+
+namespace py = pybind11;
+using namespace py::literals;
+
+namespace locus::python {
+namespace {
+
+// The arrays are the mesh's content, so whatever is wrong with them is an
+// InputError, also what mesh_from_view calls a usage error (a vertex id out of range).
+std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F) {
+  TriangleArrays t = triangle_arrays(V, F);
+  std::unique_ptr<Session> s;
+  try {
+    py::gil_scoped_release release;
+    s = std::make_unique<Session>(t.view);
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::BadUsage) throw Error(ErrorCode::BadInput, e.what(), e.where());
+    throw;
+  }
+  return s;
+}
+
+py::dict stats(const Session& s) {
+  const SessionStats st = s.stats();
+  return py::dict("symbolic_analyses"_a = st.symbolic_analyses, "numeric_factorizations"_a = st.numeric_factorizations,
+                  "heat_engines"_a = st.heat_engines, "deform_operators"_a = st.deform_operators,
+                  "positions_version"_a = st.positions_version);
+}
+
+HeatQuery heat(double t_factor, double t) {
+  HeatQuery q;
+  q.t_factor = t_factor;
+  q.t = t;
+  return q;
+}
+
+}  // namespace
+
+void bind_session(py::module_& m) {
+  SessionClass cls(m, "Session",
+                   "Session(V, F)\n\n"
+                   "One triangle mesh and everything derived from it, kept between calls: the first query of a "
+                   "kind factors its operator, later ones reuse the factor (stats() counts the factorizations).\n"
+                   "V: (nv, 3) float32 or float64 positions; F: (nf, 3) int32, int64, uint32 or uint16 vertex ids "
+                   "(0-based). Any layout; rows with adjacent x, y, z are read in place, others converted once. "
+                   "The mesh is checked once: finite positions, ids in range, manifold, no zero-area faces, no "
+                   "unreferenced vertices (locus.InputError naming the first offender).\n"
+                   "Thread safety: every method may run concurrently from any number of Python threads (the GIL "
+                   "is released while computing); results are bit-identical to a query run alone. "
+                   "set_positions() may run concurrently with queries: queries already started finish on the old "
+                   "positions.");
+  cls.def(py::init(&session_from_arrays), "V"_a, "F"_a);
+  cls.def_static(
+      "from_file",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return std::make_unique<Session>(Session::from_file(path));
+      },
+      "path"_a, "Session.from_file(path)\n\nA Session on a mesh file (.obj, .off, .ply; triangles).");
+  cls.def_property_readonly("num_vertices", &Session::num_vertices);
+  cls.def_property_readonly("num_faces", &Session::num_faces);
+  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles.");
+  cls.def_property_readonly("mean_edge_length", &Session::mean_edge_length,
+                            "h, the mean edge length of the current positions (units of the positions).");
+  cls.def_property_readonly("V", [](const Session& s) { return positions_array(s.mesh()); },
+                            "A copy of the current positions, (nv, 3) float64.");
+  cls.def_property_readonly("F", [](const Session& s) { return faces_object(s.mesh()); },
+                            "A copy of the triangles, (nf, 3) int32.");
+  cls.def(
+      "set_positions",
+      [](Session& s, const py::handle& V) {
+        const std::vector<double> xyz = positions_xyz(V, s.num_vertices(), "V");
+        py::gil_scoped_release release;
+        s.set_positions(ConstView<double>(xyz));
+      },
+      "V"_a,
+      "set_positions(V)\n\nNew positions ((nv, 3) float32/float64), same connectivity. Checks finiteness and that "
+      "no face becomes degenerate (InputError; the old positions stay). Drops every cached numeric factor and "
+      "keeps the symbolic ones (orderings depend on the connectivity only).");
+  cls.def("stats", &stats,
+          "stats() -> dict\n\nCounters of work done: symbolic_analyses, numeric_factorizations (diffusion "
+          "operators), heat_engines (geodesic/log-map engines; each factors 2 operators), deform_operators, "
+          "positions_version (set_positions calls).");
+  cls.def(
+      "prepare_heat",
+      [](const Session& s, double t_factor, int threads, py::object progress) {
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(t_factor, 0.0), ctx); });
+      },
+      py::kw_only(), "t_factor"_a = 1.0, "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_heat(*, t_factor=1.0, threads=0, progress=None)\n\nFactors the heat method's operators "
+                   "(geodesic_distance, logmap) for t_factor now, e.g. before handing the Session to threads.\n") +
+       kCallArgs).c_str());
+  cls.def(
+      "prepare_diffusion",
+      [](const Session& s, double t_factor, double t, int threads, py::object progress) {
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_diffusion(heat(t_factor, t), ctx); });
+      },
+      py::kw_only(), "t_factor"_a = 1.0, "t"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_diffusion(*, t_factor=1.0, t=0.0, threads=0, progress=None)\n\nFactors M - tL now "
+                   "(Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange, heat values).\n") + kCallArgs).c_str());
+  cls.def(
+      "prepare_patch_parameterization",
+      [](const Session& s, int threads, py::object progress) {
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_patch_parameterization(ctx); });
+      },
+      py::kw_only(), "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_patch_parameterization(*, threads=0, progress=None)\n\nFactors -L + eps M now "
+                   "(parameterize_patch).\n") + kCallArgs).c_str());
+  cls.def("__repr__", [](const Session& s) {
+    return "<locus.Session " + std::to_string(s.num_vertices()) + " vertices, " + std::to_string(s.num_faces()) +
+           " triangles>";
+  });
+  bind_session_geodesic(cls);
+  bind_session_diffusion(m, cls);
+  bind_session_shape(cls);
+}
+
+}  // namespace locus::python
