@@ -30,7 +30,8 @@ TEST_CASE("progress: the first geodesic query reports one monotone fraction, fac
   CHECK(std::is_sorted(f.begin(), f.end()));
   CHECK(f.front() == 0.0);
   CHECK(f.back() == 1.0);
-  CHECK(std::count(phases.begin(), phases.end(), "numeric factorization") >= 4);  // two factorizations, start and end each
+  // The two factorizations run side by side; the heat one reports for both (start and end).
+  CHECK(std::count(phases.begin(), phases.end(), "numeric factorization") >= 2);
   CHECK(std::all_of(f.begin(), f.end(), [](double x) { return x >= 0 && x <= 1; }));
 
   // RunContext::sub maps a phase's [0, 1] into the caller's range.
