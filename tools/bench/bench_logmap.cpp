@@ -41,6 +41,7 @@
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
+#include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
@@ -104,7 +105,7 @@ struct Maps {  // one map's output over a patch
 struct TimingOptions {
   std::string fractions = "0.01,0.02,0.05,0.1,0.2";
   int queries = 10;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;
   bool no_full = false;
   std::string angle = "auto";
   std::string lattice = "default";
@@ -392,9 +393,44 @@ struct Errors {
   int64_t count = 0;
 };
 
-// Mean errors over the patch minus the center; `mapped[p]` false skips p.
+// Errors by radius band: band k holds the patch vertices whose exact distance
+// is in [k, k + 1) * R / bands, R the patch's largest exact distance (the
+// outermost band is "the rim"). Sums over every vertex of every center.
+struct Bands {
+  std::vector<double> ed, ea;
+  std::vector<int64_t> count;
+  explicit Bands(int k = 10) : ed(k, 0.0), ea(k, 0.0), count(k, 0) {}
+  int size() const { return static_cast<int>(ed.size()); }
+  double mean_ed(int a, int b) const {  // over bands [a, b)
+    double s = 0;
+    int64_t c = 0;
+    for (int k = a; k < b; ++k) s += ed[k], c += count[k];
+    return c > 0 ? s / c : 0.0;
+  }
+  double mean_ea(int a, int b) const {
+    double s = 0;
+    int64_t c = 0;
+    for (int k = a; k < b; ++k) s += ea[k], c += count[k];
+    return c > 0 ? s / c : 0.0;
+  }
+  Json json() const {
+    Json rows = Json::array();
+    for (int k = 0; k < size(); ++k)
+      rows.push_back(Json{{"from", static_cast<double>(k) / size()}, {"to", static_cast<double>(k + 1) / size()},
+                          {"E_d", count[k] > 0 ? ed[k] / count[k] : 0.0},
+                          {"E_a", count[k] > 0 ? ea[k] / count[k] : 0.0}, {"vertices", count[k]}});
+    const int n = size();
+    const double inner = mean_ed(0, n / 2), outer = mean_ed(n - 1, n);
+    return Json{{"bands", rows}, {"E_d_inner_half", inner}, {"E_d_outer_band", outer},
+                {"E_d_outer_over_inner", inner > 0 ? outer / inner : 0.0}, {"E_a_inner_half", mean_ea(0, n / 2)},
+                {"E_a_outer_band", mean_ea(n - 1, n)}};
+  }
+};
+
+// Mean errors over the patch minus the center; `mapped[p]` false skips p;
+// `bands`, when given, also receives every vertex's errors by radius band.
 Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, std::span<const double> d,
-                 std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr) {
+                 std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr, Bands* bands = nullptr) {
   double cs = 0, sn = 0;
   for (size_t p = 0; p < patch.size(); ++p) {
     if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
@@ -404,11 +440,22 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
   }
   const double delta = std::atan2(sn, cs);
   Errors e;
+  double rmax = 0;
+  if (bands)
+    for (int32_t j : patch) rmax = std::max(rmax, s.exact_distance(c, j));
   for (size_t p = 0; p < patch.size(); ++p) {
     if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
-    e.ed += std::abs(d[p] - s.exact_distance(c, patch[p]));
-    e.ea += std::abs(wrap(a[p] - exact_angle(s, c, patch[p]) - delta));
+    const double r = s.exact_distance(c, patch[p]);
+    const double ed = std::abs(d[p] - r), ea = std::abs(wrap(a[p] - exact_angle(s, c, patch[p]) - delta));
+    e.ed += ed;
+    e.ea += ea;
     ++e.count;
+    if (bands && rmax > 0) {
+      const int k = std::min(bands->size() - 1, static_cast<int>(r / rmax * bands->size()));
+      bands->ed[k] += ed;
+      bands->ea[k] += ea;
+      ++bands->count[k];
+    }
   }
   if (e.count > 0) {
     e.ed /= e.count;
@@ -420,7 +467,7 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
 struct AccuracyOptions {
   int centers = 3;
   double radius = 0.5;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;
   bool no_full = false;
   bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
   std::string dump;  // CSV of per-vertex exact and computed values of one variant
@@ -429,7 +476,43 @@ struct AccuracyOptions {
   std::string lattice = "default";  // the correction of the default (Auto) rows
   std::string recenter = "default";
   double mass_blend = 0.0;
+  std::string center_set = "random";  // random, or irregular: vertices of valence != 6 (--centers of them)
+  std::string patch_kind = "exact";   // exact: within --radius; graph: the Dijkstra disk of as many vertices (the CLI's)
+  bool quick = false;                 // the default map, full solves and DEM only (no estimator variants)
+  int bands = 10;                     // radius bands of the default map's errors
+  std::string save_surface;           // write the generated surface (e.g. .off) for the CLI
 };
+
+// The centers: --center-ids, else the bump's top, else --centers random ones
+// (or, with --center-set irregular, --centers vertices of valence != 6 spread
+// evenly over the ids: on icospheres the icosahedron's 12 corners, valence 5).
+std::vector<int32_t> accuracy_centers(const Surface& s, const AccuracyOptions& ao, uint64_t seed) {
+  const int32_t n = s.mesh.num_vertices();
+  std::vector<int32_t> centers;
+  if (!ao.center_ids.empty()) {
+    std::stringstream ss(ao.center_ids);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      char* end = nullptr;
+      const long v = std::strtol(item.c_str(), &end, 10);
+      if (end == item.c_str() || *end != '\0' || v < 0 || v >= n)
+        fail(ErrorCode::BadUsage, "--center-ids: '" + item + "' is not a vertex id (0.." + std::to_string(n - 1) + ")");
+      centers.push_back(static_cast<int32_t>(v));
+    }
+    return centers;
+  }
+  if (s.kind == "bump") return {0};
+  if (ao.center_set == "random") return pick_centers(n, ao.centers, seed);
+  if (ao.center_set != "irregular") fail(ErrorCode::BadUsage, "--center-set must be random or irregular");
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0), odd;
+  for (int32_t f = 0; f < s.mesh.num_faces(); ++f) ++valence[s.mesh.f0[f]], ++valence[s.mesh.f1[f]], ++valence[s.mesh.f2[f]];
+  for (int32_t v = 0; v < n; ++v)
+    if (valence[v] != 6) odd.push_back(v);
+  const size_t want = std::min(odd.size(), static_cast<size_t>(std::max(ao.centers, 1)));
+  for (size_t k = 0; k < want; ++k) centers.push_back(odd[k * odd.size() / want]);
+  if (centers.empty()) fail(ErrorCode::BadUsage, "--center-set irregular: every vertex has valence 6");
+  return centers;
+}
 
 int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
   Stopwatch sw;
@@ -446,20 +529,16 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   const HeatLogMap heat(s.mesh, lo, ctx);
   const double precompute_s = sw.seconds();
   const DemLogMap dem(s.mesh);
-  std::vector<int32_t> centers =
-      s.kind == "bump" ? std::vector<int32_t>{0} : pick_centers(n, ao.centers, opt.seed);
-  if (!ao.center_ids.empty()) {
-    centers.clear();
-    std::stringstream ss(ao.center_ids);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      char* end = nullptr;
-      const long v = std::strtol(item.c_str(), &end, 10);
-      if (end == item.c_str() || *end != '\0' || v < 0 || v >= n)
-        fail(ErrorCode::BadUsage, "--center-ids: '" + item + "' is not a vertex id (0.." + std::to_string(n - 1) + ")");
-      centers.push_back(static_cast<int32_t>(v));
-    }
-  }
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  if (ao.patch_kind != "exact" && ao.patch_kind != "graph") fail(ErrorCode::BadUsage, "--patch must be exact or graph");
+  if (ao.bands < 2 || ao.bands > 100) fail(ErrorCode::BadUsage, "--bands must be in 2..100");
+  if (!ao.save_surface.empty()) write_mesh(ao.save_surface, s.mesh);
+  const PatchGrower grower = ao.patch_kind == "graph" ? prepare_patch_grower(s.mesh) : PatchGrower{};
+  PatchWorkspace pws;
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0);
+  for (int32_t f = 0; f < s.mesh.num_faces(); ++f) ++valence[s.mesh.f0[f]], ++valence[s.mesh.f1[f]], ++valence[s.mesh.f2[f]];
+  Bands bands_local(ao.bands), bands_full(ao.bands);
+  Json per_center = Json::array();
 
   // Accumulated means over centers (each center's mean weighs the same) and the worst center.
   struct Acc {
@@ -501,10 +580,13 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     std::vector<int32_t> patch{c};
     for (int32_t j = 0; j < n; ++j)
       if (j != c && s.exact_distance(c, j) <= ao.radius) patch.push_back(j);
+    if (ao.patch_kind == "graph")  // the CLI's patch: a Dijkstra disk of as many vertices
+      grow_patch_vertices(grower, c, geodesic_disk(static_cast<int32_t>(patch.size())), pws, patch);
     patch_total += static_cast<int64_t>(patch.size());
     Maps m;
     m.resize(patch.size());
     for (Variant& v : variants) {
+      if (ao.quick) break;
       const double c0 = thread_cpu_seconds();
       heat.query(c, patch, m.out(), lws, v.est);
       v.cpu_s += (thread_cpu_seconds() - c0) * w;
@@ -528,7 +610,16 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     heat.query(c, patch, m.out(), lws, LogMapAngle::HeatAverage);
     plain_flux.add(errors_of(s, c, patch, m.d, m.a), w, c);
     st = heat.query(c, patch, m.out(), lws, LogMapAngle::Auto);
-    auto_acc.add(errors_of(s, c, patch, m.d, m.a), w, c);
+    const Errors ea = errors_of(s, c, patch, m.d, m.a, nullptr, &bands_local);
+    auto_acc.add(ea, w, c);
+    {
+      Bands own(ao.bands);
+      errors_of(s, c, patch, m.d, m.a, nullptr, &own);
+      per_center.push_back(Json{{"center", c}, {"valence", valence[c]}, {"patch_size", patch.size()},
+                                {"two_ring", st.two_ring}, {"E_d", ea.ed}, {"E_a", ea.ea},
+                                {"E_d_outer_band", own.mean_ed(ao.bands - 1, ao.bands)},
+                                {"E_d_inner_half", own.mean_ed(0, ao.bands / 2)}});
+    }
     auto_two_ring += st.two_ring;
     flipped_auto += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeatTwoRing);
@@ -542,6 +633,8 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     if (!ao.no_full) {
       Maps f;
       f.resize(patch.size());
+      heat.query_full(c, patch, f.out(), lws, LogMapAngle::Auto);
+      errors_of(s, c, patch, f.d, f.a, nullptr, &bands_full);
       heat.query_full(c, patch, f.out(), lws, LogMapAngle::HeatAverage);
       full_plain.add(errors_of(s, c, patch, f.d, f.a), w, c);
       heat.query_full(c, patch, f.out(), lws, LogMapEstimator{LogMapAngle::LogHeat, LatticeCorrection::None, false});
@@ -612,9 +705,91 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     var[v.name] = e;
   }
   j["variants"] = var;
+  j["center_set"] = ao.center_set;
+  j["patch"] = ao.patch_kind;
+  j["per_center"] = per_center;  // the default map (heat_local_auto)
+  j["radius_bands_local"] = bands_local.json();
+  if (!ao.no_full) j["radius_bands_full"] = bands_full.json();
   j["flipped_triangles_heat"] = flipped_heat;
   j["flipped_triangles_dem"] = flipped_dem;
   j["angle_fallbacks"] = fallbacks;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+// ----------------------------------------------------- geodesic accuracy ----
+
+struct GeodesicAccuracyOptions {
+  int centers = 1;
+  std::string center_ids = "0";
+  double t_factor = HeatGeodesicOptions{}.t_factor;
+  bool plain_gradient = false;
+  double near = 0.5;  // the near-field radius of E_near
+  double poisson_rel = HeatGeodesicOptions{}.poisson_rel;
+};
+
+// Whole-mesh heat geodesic distance (HeatGeodesic::query_full, the `locus
+// geodesic` default) against the exact distance: mean and max over all
+// vertices, inside --near, and by exact distance in bands of 0.25; the heat
+// values' underflow (zero or subnormal) counted.
+int run_geodesic_accuracy(const cli::CommonOptions& opt, const GeodesicAccuracyOptions& go, const RunContext& ctx) {
+  const Surface s = make_surface(opt.mesh_path);
+  AccuracyOptions ao;
+  ao.centers = go.centers;
+  ao.center_ids = go.center_ids;
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  const int32_t n = s.mesh.num_vertices();
+  HeatGeodesicOptions ho;
+  ho.t_factor = go.t_factor;
+  ho.log_heat_gradient = !go.plain_gradient;
+  ho.poisson_rel = go.poisson_rel;
+  Stopwatch sw;
+  const HeatGeodesic geo(s.mesh, ho, ctx);
+  const double precompute_s = sw.seconds();
+  HeatGeodesicWorkspace ws;
+  std::vector<double> d(static_cast<size_t>(n));
+  const int nb = 13;  // bands of 0.25 up to pi
+  std::vector<double> band_sum(nb, 0.0);
+  std::vector<int64_t> band_cnt(nb, 0);
+  double mean = 0, maxe = 0, near = 0, query_s = 0;
+  int64_t near_cnt = 0, underflow = 0;
+  for (int32_t c : centers) {
+    ctx.check_cancel();
+    sw.restart();
+    geo.query_full(c, d, ws);
+    query_s += sw.seconds() / centers.size();
+    for (int32_t v = 0; v < n; ++v)
+      if (!(ws.h[v] >= std::numeric_limits<double>::min())) ++underflow;
+    double sum = 0;
+    for (int32_t v = 0; v < n; ++v) {
+      const double r = s.exact_distance(c, v), e = std::abs(d[v] - r);
+      sum += e;
+      maxe = std::max(maxe, e);
+      if (r <= go.near) near += e, ++near_cnt;
+      const int b = std::min(nb - 1, static_cast<int>(r / 0.25));
+      band_sum[b] += e;
+      ++band_cnt[b];
+    }
+    mean += sum / n / centers.size();
+  }
+  Json bands = Json::array();
+  for (int b = 0; b < nb; ++b)
+    if (band_cnt[b] > 0)
+      bands.push_back(Json{{"from", 0.25 * b}, {"to", 0.25 * (b + 1)}, {"mean_error", band_sum[b] / band_cnt[b]}});
+  Json j{{"command", "geodesic-accuracy"}, {"surface", opt.mesh_path}};
+  j["n"] = n;
+  j["h"] = geo.mean_edge_length();
+  j["t"] = geo.time();
+  j["t_factor"] = go.t_factor;
+  j["centers"] = centers;
+  j["mean_error"] = mean;
+  j["max_error"] = maxe;
+  j["near_radius"] = go.near;
+  j["mean_error_near"] = near_cnt > 0 ? near / near_cnt : 0.0;
+  j["underflow_vertices"] = underflow;
+  j["bands"] = bands;
+  j["precompute_s"] = precompute_s;
+  j["query_s"] = query_s;
   cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   return 0;
 }
@@ -627,7 +802,7 @@ void register_logmap_bench(cli::CommandTable& table) {
                             [to](const cli::CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *to, ctx); });
   app->add_option("--fractions", to->fractions, "Patch sizes as fractions of the vertex count, comma-separated");
   app->add_option("--queries", to->queries, "Random centers (seeded by --seed), default 10");
-  app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
+  app->add_option("--t-factor", to->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
   app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring, path (default: the library's)");
@@ -640,7 +815,7 @@ void register_logmap_bench(cli::CommandTable& table) {
       [ao](const cli::CommonOptions& o, const RunContext& ctx) { return run_accuracy(o, *ao, ctx); });
   acc->add_option("--centers", ao->centers, "Random centers (spheres; the bump uses its top), default 3");
   acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
-  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
+  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
   acc->add_option("--center-ids", ao->center_ids, "Comma-separated center vertices instead of random ones");
@@ -649,6 +824,23 @@ void register_logmap_bench(cli::CommandTable& table) {
   acc->add_option("--mass-blend", ao->mass_blend, "Heat operator mass: (1 - b) lumped + b consistent (default 0)");
   acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle) of --dump-variant");
   acc->add_option("--dump-variant", ao->dump_variant, "Variant written by --dump (default log_none; see 'variants')");
+  acc->add_option("--center-set", ao->center_set,
+                  "random (default) or irregular: --centers vertices of valence != 6 (icospheres: the 12 corners)");
+  acc->add_option("--patch", ao->patch_kind,
+                  "exact (default): the vertices within --radius; graph: the Dijkstra disk of as many vertices (the CLI's)");
+  acc->add_flag("--quick", ao->quick, "Only the default map, full solves and DEM (no estimator variants)");
+  acc->add_option("--bands", ao->bands, "Radius bands of the default map's errors (default 10)");
+  auto go = std::make_shared<GeodesicAccuracyOptions>();
+  CLI::App* geo = table.add(
+      "geodesic-accuracy",
+      "Whole-mesh heat geodesic distance against the exact one; mesh-file is a surface spec (see logmap-accuracy)",
+      [go](const cli::CommonOptions& o, const RunContext& ctx) { return run_geodesic_accuracy(o, *go, ctx); });
+  geo->add_option("--center-ids", go->center_ids, "Comma-separated source vertices (default 0)");
+  geo->add_option("--t-factor", go->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
+  geo->add_flag("--plain-gradient", go->plain_gradient, "Direction from grad h (Crane et al.) instead of grad log h");
+  geo->add_option("--poisson-rel", go->poisson_rel, "Regularization of the Poisson operator (HeatGeodesicOptions::poisson_rel)");
+  geo->add_option("--near", go->near, "Radius of the near-field error (default 0.5)");
+  acc->add_option("--save-surface", ao->save_surface, "Write the generated surface to this file (.off, .ply, .obj)");
 }
 
 }  // namespace locus::bench
