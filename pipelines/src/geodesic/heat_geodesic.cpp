@@ -113,6 +113,12 @@ void blend_mass(const Mesh& m, double beta, CscMatrix& A) {
 
 }  // namespace
 
+CscMatrix HeatGeodesic::poisson_operator(const Mesh& m, const HeatGeodesicOptions& opt) {
+  // regularized_laplacian's eps is rel * trace(-L_C) / trace(M); divided by n
+  // it is poisson_rel * mean(diag(-L_C)) / area (see heat_geodesic.hpp).
+  return regularized_laplacian(m, opt.poisson_rel / std::max<int32_t>(1, m.num_vertices()));
+}
+
 void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
@@ -149,7 +155,7 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
   const double t = opt.t_factor * h * h;
   heat = heat_operator(m, t);
   blend_mass(m, opt.mass_blend, heat);
-  poisson = regularized_laplacian(m, opt.poisson_rel);
+  poisson = poisson_operator(m, opt);
   return t;
 }
 
@@ -159,7 +165,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   prepare(m, derived);
   CscMatrix A = heat_operator(m, t_);
   blend_mass(m, opt.mass_blend, A);
-  const CscMatrix P = regularized_laplacian(m, opt.poisson_rel);
+  const CscMatrix P = poisson_operator(m, opt);
   ctx.check_cancel();
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
   const std::shared_ptr<const SymbolicFactor> S = analyze(A, order_matrix(A, {}, ctx));
