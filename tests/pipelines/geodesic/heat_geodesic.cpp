@@ -17,6 +17,7 @@
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
@@ -186,6 +187,70 @@ TEST_CASE("heat geodesic: localized query — heat exact, Poisson right-hand sid
   CHECK(e_trunc > 2 * e_flux);
   CHECK(e_flux < 1.5 * e_full);
   CHECK(diff < 0.02);
+}
+
+// Errors by band of the exact distance (relative to the patch's largest):
+// inner half and outer tenth, and the largest |local - full|.
+struct RimErrors {
+  double inner = 0, outer = 0, vs_full = 0, mean = 0;
+};
+RimErrors rim_errors(const Mesh& m, int32_t c, const std::vector<int32_t>& patch, const std::vector<double>& d,
+                     const std::vector<double>& full) {
+  double rmax = 0;
+  for (int32_t j : patch) rmax = std::max(rmax, great_circle(m, c, j));
+  RimErrors e;
+  int64_t ni = 0, no = 0;
+  for (size_t k = 0; k < patch.size(); ++k) {
+    const double r = great_circle(m, c, patch[k]), err = std::abs(d[k] - r);
+    e.mean += err / patch.size();
+    if (patch[k] != c && r < 0.5 * rmax) e.inner += err, ++ni;
+    if (r >= 0.9 * rmax) e.outer += err, ++no;
+    e.vs_full = std::max(e.vs_full, std::abs(d[k] - full[patch[k]]));
+  }
+  e.inner /= ni;
+  e.outer /= no;
+  return e;
+}
+
+TEST_CASE("heat geodesic: localized on a graph-metric disk — the rim as accurate as the interior, as the full solve") {
+  // The CLI's patches are Dijkstra disks (graph metric): on an icosphere their
+  // boundary is no level set of the distance, and truncating X at it bent the
+  // outer tenth (icosphere 7: 2.7e-2 against 1.3e-3 inside; docs/logmap.md).
+  const Mesh m = make_icosphere(5);  // h ~ 0.038
+  const int32_t c = 1234;
+  const int32_t count = static_cast<int32_t>(sphere_disk(m, c, 0.7).size());
+  const PatchGrower grower = prepare_patch_grower(m);
+  PatchWorkspace pws;
+  std::vector<int32_t> patch;
+  grow_patch_vertices(grower, c, geodesic_disk(count), pws, patch);
+  HeatGeodesicOptions off;
+  off.level_set_rim = false;
+  const HeatGeodesic geo(m), geo_off(m, off);
+  HeatGeodesicWorkspace ws;
+  std::vector<double> full(m.num_vertices()), d(patch.size()), d_off(patch.size());
+  geo.query_full(c, full, ws);
+  geo.query(c, patch, d, ws);
+  geo_off.query(c, patch, d_off, ws);
+  const RimErrors e = rim_errors(m, c, patch, d, full), e_off = rim_errors(m, c, patch, d_off, full);
+  MESSAGE("graph disk E_d inner/outer: level-set rim " << e.inner << " / " << e.outer << " (|local - full| <= "
+                                                       << e.vs_full << "), patch rim " << e_off.inner << " / "
+                                                       << e_off.outer << " (" << e_off.vs_full << ")");
+  CHECK(d[0] == 0.0);
+  CHECK(e.outer <= 2 * e.inner);
+  CHECK(e_off.outer > 3 * e_off.inner);  // the failure the level-set rim removes
+  CHECK(e.vs_full < 0.25 * e_off.vs_full);
+  // A one-sided patch (the center on its boundary): almost all of it lies beyond
+  // the ring's level set and is continued along X.
+  std::vector<int32_t> half{c};
+  for (int32_t j : sphere_disk(m, c, 0.6))
+    if (j != c && (m.x[j] - m.x[c]) * 0.6 + (m.y[j] - m.y[c]) * 0.8 >= 0) half.push_back(j);
+  std::vector<double> dh(half.size()), dh_off(half.size());
+  geo.query(c, half, dh, ws);
+  geo_off.query(c, half, dh_off, ws);
+  const RimErrors eh = rim_errors(m, c, half, dh, full), eh_off = rim_errors(m, c, half, dh_off, full);
+  MESSAGE("half disk E_d: level-set rim " << eh.mean << ", patch rim " << eh_off.mean);
+  CHECK(eh.mean < 2 * rim_errors(m, c, patch, d, full).mean);
+  CHECK(eh.vs_full < 0.02);
 }
 
 TEST_CASE("heat geodesic: planar disk, Euclidean distance from the center") {
