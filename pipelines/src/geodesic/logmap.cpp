@@ -65,7 +65,8 @@ void HeatLogMap::prepare(const Mesh& m) {
   const std::vector<double> hn = mean_curvature_normals(m);
   const std::vector<double> an = area_weighted_normals(m);
   const Edges e = unique_edges(m);
-  std::vector<uint8_t> boundary(static_cast<size_t>(n), 0);
+  std::vector<uint8_t>& boundary = boundary_;
+  boundary.assign(static_cast<size_t>(n), 0);
   for (size_t k = 0; k < e.e0.size(); ++k)
     if (e.face_count[k] == 1) boundary[e.e0[k]] = boundary[e.e1[k]] = 1;
   // |H n| below 1e-8 / h means a curvature radius above 1e8 h: numerically planar.
@@ -140,6 +141,19 @@ bool HeatLogMap::irregular_star(int32_t i) const {
   return worst > 0.25 || lmax > 1.6 * lmin;
 }
 
+// A lattice defect: an interior vertex whose valence is not the triangle
+// lattice's 6 (an icosphere's 12 corners: valence 5, a cone of the lattice;
+// such stars may still be regular in shape). The lattice corrections model
+// the heat's anisotropy along straight rays through a lattice; around a cone
+// the rays bend and the correction made things worse (icosphere 7, vertex 0:
+// Path 4.35e-3 against 3.19e-3 uncorrected at t = h^2, 1.22e-3 against 0.95e-3
+// at 4 h^2; also without the center's own star in the Path sums:
+// docs/logmap.md, "Defect centers"), so they apply at valence-6 stars only.
+bool HeatLogMap::defect_star(int32_t i) const {
+  const TriangleGradients& g = geo_.gradients();
+  return g.vf_offsets[i + 1] - g.vf_offsets[i] != 6 && !boundary_[i];
+}
+
 // Sources S = {i} ∪ N(i) (i first, neighbors ascending; TwoRing: then the
 // second ring, ascending) and the estimator coefficients in the frame (e1, e2):
 // direction to j = (sum_k a_k f_k, sum_k b_k f_k), f_k = (h_k)_j or log (h_k)_j.
@@ -160,13 +174,20 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   S.erase(std::find(S.begin(), S.end(), i));
   S.insert(S.begin(), i);
   const size_t ring1 = S.size();
-  // Auto: the two-ring fit at irregular stars, the one-ring log estimator elsewhere.
-  // The lattice correction only at regular stars: an irregular star (or ring of
-  // them) is no lattice, and on random-point spheres the correction doubled the
-  // error (docs/logmap.md, "Angle estimators").
-  const bool irregular = irregular_star(i);
-  if (est.angle == LogMapAngle::Auto) est.angle = irregular ? LogMapAngle::LogHeatTwoRing : LogMapAngle::LogHeat;
-  if (irregular) est.lattice = LatticeCorrection::None;
+  // Auto: the two-ring fit at irregular stars; at shape-regular stars of a
+  // valence other than 6 (lattice defects) the thesis' one-ring average of
+  // grad h; the one-ring log estimator elsewhere. At a symmetric star the
+  // one-ring estimator has no convexity bias, which is what the log removes
+  // elsewhere, and there the average of grad h follows the heat better than the
+  // log (icosphere 7, its 12 valence-5 corners: 5.3e-4 against 9.5e-4 at
+  // t = 4 h^2; 1.08e-3 against 3.19e-3 at h^2; docs/logmap.md, "Defect centers").
+  // The lattice correction only at regular valence-6 stars: an irregular star
+  // (or ring of them) is no lattice, and on random-point spheres the correction
+  // doubled the error (docs/logmap.md, "Angle estimators"); defects: see defect_star.
+  const bool irregular = irregular_star(i), defect = !irregular && defect_star(i);
+  if (est.angle == LogMapAngle::Auto)
+    est.angle = irregular ? LogMapAngle::LogHeatTwoRing : (defect ? LogMapAngle::HeatAverage : LogMapAngle::LogHeat);
+  if (irregular || defect_star(i)) est.lattice = LatticeCorrection::None;
   const LogMapAngle angle = est.angle;
   if (angle == LogMapAngle::LogHeatTwoRing) {
     std::vector<int32_t>& R2 = ws.ring2;

@@ -248,7 +248,9 @@ TEST_CASE("log map: sheared planar lattice — the lattice correction removes th
       m.add_triangle(b, d, c);
     }
   const int32_t c = (N / 2) * N + N / 2;
-  const HeatLogMap lm(m);
+  LogMapOptions o;
+  o.geodesic.t_factor = 1;  // the regime of the figures: the anisotropy scales like h^2 / t
+  const HeatLogMap lm(m, o);
   LogMapWorkspace ws;
   std::vector<int32_t> patch{c};
   for (int32_t j = 0; j < m.num_vertices(); ++j)
@@ -271,7 +273,9 @@ TEST_CASE("log map: sheared planar lattice — the lattice correction removes th
 
 TEST_CASE("log map: recenter — applied on a surrounding patch, refused on a one-sided one; local equals full") {
   const Mesh m = make_random_sphere(12000, 5);  // h ~ 0.036
-  const HeatLogMap lm(m);
+  LogMapOptions o;
+  o.geodesic.t_factor = 1;  // the regime of the figures below
+  const HeatLogMap lm(m, o);
   LogMapWorkspace ws;
   const LogMapEstimator plain{LogMapAngle::LogHeatTwoRing, LatticeCorrection::None, false};
   const LogMapEstimator rc{LogMapAngle::LogHeatTwoRing, LatticeCorrection::None, true};

@@ -37,8 +37,11 @@
 //    least-squares stencil averages it down. Vertices j inside the stencil use
 //    the one-ring estimator.
 //  * Auto (default): LogHeatTwoRing where the star of i is irregular (a corner
-//    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6), LogHeat elsewhere.
-//    Defaults: LatticeCorrection::Path (at regular stars) and recenter.
+//    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6); HeatAverage at
+//    shape-regular stars whose valence is not 6 (lattice defects, e.g. an
+//    icosphere's corners: a symmetric star has no convexity bias, and there the
+//    plain average measured better, logmap.cpp prepare_center); LogHeat elsewhere.
+//    Defaults: LatticeCorrection::Path (at regular valence-6 stars) and recenter.
 // Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
 // estimators fall back to HeatAverage for that vertex, counted in the stats.
 // Corrections after the gradient estimate (LogMapEstimator; defaults in LogMapOptions):
@@ -46,7 +49,7 @@
 //    to the normal of the heat kernel's dispersion set (see below; logmap.cpp,
 //    prepare_lattice, path_offsets), from the center's star, from the stars of
 //    the center and its ring, or (Path, the default) from the stars along the
-//    ray to each vertex; applied at regular stars only.
+//    ray to each vertex; applied at regular valence-6 stars only.
 //  * recenter: on irregular meshes each vertex's heat carries a factor that does
 //    not depend on the source (its mass and weights), whose gradient adds the
 //    same vector b to every grad log h_j: an angle error of harmonic 1. b is
@@ -204,6 +207,7 @@ class HeatLogMap {
   void prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
                        LogMapWorkspace& ws) const;
   bool irregular_star(int32_t i) const;
+  bool defect_star(int32_t i) const;
   void begin_gradients(size_t patch_size, LogMapWorkspace& ws) const;
   // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
   void vertex_gradient(size_t p, bool is_center, bool is_source, const double* f, bool padded, double h_center,
@@ -232,6 +236,7 @@ class HeatLogMap {
   HeatGeodesic geo_;
   std::vector<double> x_, y_, z_;  // positions
   std::vector<double> normal_;     // 3 * n: eq. 6.2 (mean-curvature normal, area normal where it vanishes)
+  std::vector<uint8_t> boundary_;  // n: on a boundary edge
 };
 
 // Triangles with all three corners in the patch whose (u, v) image has negative
