@@ -28,7 +28,7 @@ namespace {
 struct LogmapOptions {
   int64_t center = -1;
   double fraction = 0.05;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
   std::string method = "heat";
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
@@ -204,9 +204,9 @@ void register_logmap_command(CommandTable& table) {
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
   app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
-  app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
+  app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 4, for accuracy; a query costs the same at any t)");
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
-  app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
+  app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default: two-ring at irregular stars, ~3x the heat lanes of the one-ring; average at valence != 6; log elsewhere), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
                   "Lattice (dispersion) correction of the heat map's angles: none, star, ring or path (default: the library's, path)");
   app->add_option("--recenter,--recentre", lo->recenter,
