@@ -1099,4 +1099,29 @@ int64_t count_flipped_triangles(const TriangleGradients& g, std::span<const int3
   return flipped;
 }
 
+double injectivity_radius(const TriangleGradients& g, std::span<const int32_t> patch, std::span<const double> u,
+                          std::span<const double> v, std::span<const double> distance, std::vector<int32_t>& local) {
+  if (local.size() != static_cast<size_t>(g.nv)) local.assign(g.nv, -1);
+  if (u.size() != patch.size() || v.size() != patch.size() || distance.size() != patch.size())
+    fail(ErrorCode::BadUsage, "injectivity_radius: u, v and distance need one entry per patch vertex");
+  for (int32_t i : patch)
+    if (i < 0 || i >= g.nv) fail(ErrorCode::BadUsage, "injectivity_radius: vertex " + std::to_string(i) + " out of range");
+  for (size_t p = 0; p < patch.size(); ++p) local[patch[p]] = static_cast<int32_t>(p);
+  double radius = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < patch.size(); ++p) {
+    const int32_t i = patch[p];
+    for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q) {
+      const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(g.vf_faces[q]);
+      if (i != std::min({t[0], t[1], t[2]})) continue;  // each face once
+      const int32_t a = local[t[0]], b = local[t[1]], c = local[t[2]];
+      if (a < 0 || b < 0 || c < 0) continue;
+      const double area = (u[b] - u[a]) * (v[c] - v[a]) - (u[c] - u[a]) * (v[b] - v[a]);
+      // A flipped face lies inside every disk that holds its farthest corner.
+      if (area < 0) radius = std::min(radius, std::max({distance[a], distance[b], distance[c]}));
+    }
+  }
+  for (int32_t i : patch) local[i] = -1;
+  return radius;
+}
+
 }  // namespace locus

@@ -12,6 +12,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -370,4 +371,43 @@ TEST_CASE("log map: a refused query leaves the workspace clean; a reused workspa
     for (size_t p = 0; p < patch.size(); ++p) ed += std::abs(b.d[p] - great_circle(m, c, patch[p])) / patch.size();
     CHECK(ed < 0.02);
   }
+}
+
+TEST_CASE("log map: injectivity radius — the patch clipped there has no flipped triangle, one vertex more has") {
+  const Mesh m = make_icosphere(4);  // h ~ 0.076
+  const HeatLogMap lm(m);
+  LogMapWorkspace ws;
+  const int32_t c = 100;
+  std::vector<int32_t> scratch;
+  // The whole sphere: around the antipode (the cut point) the map must fold.
+  const std::vector<int32_t> patch = sphere_disk(m, c, 4.0);
+  Map got(patch.size());
+  lm.query(c, patch, got.out(), ws);
+  const int64_t flips = flipped(lm, patch, got);
+  const double r = injectivity_radius(lm.geodesic().gradients(), patch, got.u, got.v, got.d, scratch);
+  MESSAGE("icosphere 4, whole sphere: " << flips << " flipped triangles, injectivity radius " << r);
+  REQUIRE(flips > 0);
+  REQUIRE(std::isfinite(r));
+  CHECK(r > 2.5);  // one-to-one up to near the antipode (pi)
+  // Clipped (d < r): no flip. With the vertices at d == r (a flipped face's farthest corner): a flip.
+  for (bool inclusive : {false, true}) {
+    std::vector<int32_t> sub;
+    Map part(0);
+    for (size_t p = 0; p < patch.size(); ++p)
+      if (got.d[p] < r || (inclusive && got.d[p] == r)) {
+        sub.push_back(patch[p]);
+        part.d.push_back(got.d[p]);
+        part.a.push_back(got.a[p]);
+        part.u.push_back(got.u[p]);
+        part.v.push_back(got.v[p]);
+      }
+    const int64_t f = count_flipped_triangles(lm.geodesic().gradients(), sub, part.u, part.v, scratch);
+    CHECK(inclusive ? f > 0 : f == 0);
+  }
+  // A small patch: one-to-one throughout.
+  const std::vector<int32_t> small = sphere_disk(m, c, 0.5);
+  Map s(small.size());
+  lm.query(c, small, s.out(), ws);
+  CHECK(injectivity_radius(lm.geodesic().gradients(), small, s.u, s.v, s.d, scratch) ==
+        std::numeric_limits<double>::infinity());
 }

@@ -245,4 +245,13 @@ class HeatLogMap {
 int64_t count_flipped_triangles(const TriangleGradients& g, std::span<const int32_t> patch,
                                 std::span<const double> u, std::span<const double> v, std::vector<int32_t>& local);
 
+// The map's injectivity radius around its center: the largest r such that no
+// flipped triangle (as counted above) has all three corners at distance < r,
+// i.e. the min over flipped triangles of their farthest corner's distance;
+// +infinity when none is flipped. Keeping the patch vertices with distance < r
+// gives a flip-free map (users placing decals or textures need to know where
+// the map stops being one-to-one). `local` as above.
+double injectivity_radius(const TriangleGradients& g, std::span<const int32_t> patch, std::span<const double> u,
+                          std::span<const double> v, std::span<const double> distance, std::vector<int32_t>& local);
+
 }  // namespace locus
