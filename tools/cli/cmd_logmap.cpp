@@ -34,6 +34,7 @@ struct LogmapOptions {
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
   std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
+  bool clip_injective = false;  // drop the patch vertices at or beyond the injectivity radius
   FactorCacheOptions cache;
 };
 
@@ -126,7 +127,20 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
       fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(patch[p]));
   const TriangleGradients tg = triangle_gradients(in.mesh);
   std::vector<int32_t> scratch;
-  const int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  // Injectivity radius: the largest radius with no flipped triangle (infinite: none flipped).
+  const double injective_r = injectivity_radius(tg, patch, u, v, d, scratch);
+  int32_t clipped = 0;
+  if (lo.clip_injective && std::isfinite(injective_r)) {
+    int32_t w = 0;
+    for (int32_t p = 0; p < k; ++p)
+      if (d[p] < injective_r) patch[w] = patch[p], d[w] = d[p], a[w] = a[p], u[w] = u[p], v[w] = v[p], ++w;
+    clipped = k - w;
+    k = w;
+    for (auto* x : {&d, &a, &u, &v}) x->resize(static_cast<size_t>(k));
+    patch.resize(static_cast<size_t>(k));
+    flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  }
 
   if (!opt.output.empty()) {
     // Outside the patch: NaN in every field, 0 in the masks `valid` and
@@ -182,6 +196,9 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["patch_size"] = k;
   j["max_distance"] = dmax;
   j["flipped_triangles"] = flipped;
+  // null: no triangle flipped, the whole patch is one-to-one.
+  j["injectivity_radius"] = std::isfinite(injective_r) ? Json(injective_r) : Json(nullptr);
+  j["clipped_vertices"] = clipped;  // --clip-injective: patch vertices dropped
   j["precompute_s"] = precompute_s;
   if (!lo.cache.save.empty() || !lo.cache.load.empty()) j["factor_cache"] = factor_cache_json(lo.cache, cache_info);
   j["patch_s"] = patch_s;
@@ -211,6 +228,8 @@ void register_logmap_command(CommandTable& table) {
                   "Lattice (dispersion) correction of the heat map's angles: none, star, ring or path (default: the library's, path)");
   app->add_option("--recenter,--recentre", lo->recenter,
                   "Recenter the heat map's gradients: on or off (default: the library's)");
+  app->add_flag("--clip-injective", lo->clip_injective,
+                "Keep only the patch vertices closer than the injectivity radius (no flipped triangle)");
   add_preview_option(app, lo->preview);
   add_factor_cache_options(app, lo->cache);
 }
