@@ -303,6 +303,32 @@ double area_below(double r0, double r1, double r2, double cut) {
 
 }  // namespace
 
+// Output vertices k with h[k] below the smallest normal double. In the
+// continuum rho = log(h_source / h) ~ d / sqrt(t), so t' = (dmax / 500)^2 keeps
+// rho below 500 up to the largest distance dmax (subnormals begin at 708);
+// where the mesh makes the heat decay faster than that (the largest slope
+// rho / d among the others above 1 / sqrt(t)) t' grows by the same factor.
+// (Far below h^2 the discrete heat falls like (t / h^2) per edge instead, a
+// slope in log t, which no longer says anything about t'.)
+void HeatGeodesic::note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
+                                  HeatGeodesicWorkspace& ws) const {
+  constexpr double kTiny = std::numeric_limits<double>::min();
+  ws.underflow = 0;
+  ws.t_no_underflow = 0;
+  double slope = 0, dmax = 0;
+  for (size_t k = 0; k < distance.size(); ++k) {
+    if (!std::isfinite(distance[k])) continue;  // another component: no heat expected
+    dmax = std::max(dmax, distance[k]);
+    ws.underflow += !(h[k] >= kTiny);
+  }
+  if (ws.underflow == 0) return;
+  for (size_t k = 0; k < distance.size(); ++k)  // the slope away from the source's neighborhood
+    if (h[k] >= kTiny && distance[k] >= 0.25 * dmax && std::isfinite(distance[k]) && h_source > 0)
+      slope = std::max(slope, (std::log(h_source) - std::log(h[k])) / distance[k]);  // (the ratio may overflow)
+  const double faster = std::max(1.0, slope * slope * t_);
+  ws.t_no_underflow = std::max(t_, (dmax / 500.0) * (dmax / 500.0) * faster);
+}
+
 // Rim (HeatGeodesicOptions::level_set_rim): the heat radius rho = -log h per
 // region vertex (+inf where the heat underflowed) and its largest level cut
 // whose sublevel set the patch contains (the ring's smallest rho); +inf when
@@ -458,6 +484,7 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)
     distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
+  note_underflow(h.first(static_cast<size_t>(np)), h[source_local], distance, ws);
 }
 
 void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
@@ -468,6 +495,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   const int32_t c = component_[source];
   for (int32_t i = 0; i < n; ++i)
     distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
+  note_underflow(h, h[source], distance, ws);
 }
 
 void HeatGeodesic::potential_from_heat_full(std::span<const double> h, HeatGeodesicWorkspace& ws) const {

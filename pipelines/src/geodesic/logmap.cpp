@@ -843,7 +843,9 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
     double th = ws.theta[p];
     if (!(lattice && usable) && (gx != 0 || gy != 0)) {
       // Polar to Cartesian from the direction itself (no cos / sin calls).
-      const double il = 1 / std::sqrt(gx * gx + gy * gy);
+      // (hypot where the squares would underflow: the plain average of far, tiny heat values)
+      const double g2 = gx * gx + gy * gy;
+      const double il = g2 > 1e-280 ? 1 / std::sqrt(g2) : 1 / std::hypot(gx, gy);
       out.angle[p] = th;
       out.u[p] = gx * il;  // unit direction; scale_by_distance makes it (u, v)
       out.v[p] = gy * il;
@@ -1010,6 +1012,8 @@ LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, co
     geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
     clock.lap(st.distance_s);
     st.poisson_s = ws.geo.poisson_s;
+    st.underflow = ws.geo.underflow;
+    st.t_no_underflow = ws.geo.t_no_underflow;
     finish_angles(patch, out, est, st, ws);
     scale_by_distance(out);
     st.angles_s = t_gradients;
@@ -1062,6 +1066,10 @@ LogMapStats HeatLogMap::query_full(int32_t center, std::span<const int32_t> patc
   ws.dist_full.resize(static_cast<size_t>(n));
   geo_.distance_from_heat_full(h0, center, ws.dist_full, ws.geo);
   for (size_t p = 0; p < patch.size(); ++p) out.distance[p] = ws.dist_full[patch[p]];
+  st.underflow = 0;  // (the whole-mesh count above is not the patch's)
+  for (int32_t v : patch)
+    if (!(h0[v] >= std::numeric_limits<double>::min())) ++st.underflow;
+  st.t_no_underflow = st.underflow > 0 ? ws.geo.t_no_underflow : 0.0;
   // Rows of ws.heat are vertex ids.
   begin_gradients(patch.size(), ws);
   const double h_center = ws.heat[static_cast<size_t>(center) * d];

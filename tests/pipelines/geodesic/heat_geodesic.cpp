@@ -376,3 +376,36 @@ TEST_CASE("heat geodesic: mass_blend gives M = (1 - b) lumped + b consistent in 
   bad.mass_blend = 1.5;
   CHECK_THROWS_AS(HeatGeodesic(m, bad), Error);
 }
+
+TEST_CASE("heat geodesic: underflowing heat is counted, with a t that avoids it") {
+  const Mesh m = make_icosphere(4);  // h ~ 0.076
+  HeatGeodesicOptions tiny;
+  tiny.t_factor = 1e-9;  // the heat falls by ~t / h^2 per edge: it underflows ~20 edges from the source
+  const HeatGeodesic geo(m, tiny);
+  HeatGeodesicWorkspace ws;
+  std::vector<double> d(m.num_vertices());
+  geo.query_full(7, d, ws);
+  int64_t zero = 0;
+  for (double x : ws.h) zero += !(x >= std::numeric_limits<double>::min());
+  MESSAGE("t = " << geo.time() << ": " << ws.underflow << " vertices underflowed, t avoiding it " << ws.t_no_underflow);
+  CHECK(ws.underflow == zero);
+  REQUIRE(ws.underflow > 0);
+  CHECK(ws.t_no_underflow > geo.time());
+  // Localized: only the patch's vertices count.
+  const std::vector<int32_t> near = sphere_disk(m, 7, 0.5), far = sphere_disk(m, 7, 2.5);
+  std::vector<double> dn(near.size()), df(far.size());
+  geo.query(7, near, dn, ws);
+  CHECK(ws.underflow == 0);
+  CHECK(ws.t_no_underflow == 0.0);
+  geo.query(7, far, df, ws);
+  CHECK(ws.underflow > 0);
+  // The suggested t: no underflow over the whole sphere.
+  HeatGeodesicOptions fixed;
+  fixed.t_factor = ws.t_no_underflow / (geo.mean_edge_length() * geo.mean_edge_length());
+  const HeatGeodesic geo2(m, fixed);
+  geo2.query_full(7, d, ws);
+  CHECK(ws.underflow == 0);
+  const HeatGeodesic geo_default(m);
+  geo_default.query_full(7, d, ws);
+  CHECK(ws.underflow == 0);
+}

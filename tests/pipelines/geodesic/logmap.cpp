@@ -411,3 +411,23 @@ TEST_CASE("log map: injectivity radius — the patch clipped there has no flippe
   CHECK(injectivity_radius(lm.geodesic().gradients(), small, s.u, s.v, s.d, scratch) ==
         std::numeric_limits<double>::infinity());
 }
+
+TEST_CASE("log map: far, tiny heat values at a valence-5 corner (the plain average) give finite coordinates") {
+  // Auto takes the one-ring average of grad h there; at small t its gradient
+  // is ~1e-160 far away and its square underflowed (u, v were NaN).
+  const Mesh m = make_icosphere(4);
+  LogMapOptions o;
+  o.geodesic.t_factor = 0.01;
+  const HeatLogMap lm(m, o);
+  LogMapWorkspace ws;
+  int32_t corner = -1;
+  for (int32_t v = 0; v < m.num_vertices() && corner < 0; ++v)
+    if (lm.geodesic().gradients().vf_offsets[v + 1] - lm.geodesic().gradients().vf_offsets[v] == 5) corner = v;
+  REQUIRE(corner >= 0);
+  const std::vector<int32_t> patch = sphere_disk(m, corner, 2.8);
+  Map got(patch.size());
+  lm.query(corner, patch, got.out(), ws);
+  int64_t bad = 0;
+  for (size_t p = 0; p < patch.size(); ++p) bad += !std::isfinite(got.u[p]) || !std::isfinite(got.v[p]);
+  CHECK(bad == 0);
+}

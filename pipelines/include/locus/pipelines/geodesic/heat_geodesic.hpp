@@ -65,7 +65,9 @@
 //
 // Heat values decay like exp(-r / sqrt(t)); beyond ~700 sqrt(t) they underflow
 // to 0, the gradient vanishes and those triangles contribute no direction
-// (Crane et al. note the same limit): keep patches within that radius.
+// (Crane et al. note the same limit): keep patches within that radius. Every
+// query counts the output vertices where that happened and the t that would
+// avoid it (HeatGeodesicWorkspace::underflow, t_no_underflow; the CLI warns).
 //
 // Thread safety: after construction every member is const; queries may run
 // concurrently, each thread with its own HeatGeodesicWorkspace.
@@ -147,6 +149,13 @@ struct HeatGeodesicWorkspace {
   std::vector<int32_t> rim_order, rim_pos, rim_offsets, rim_faces, rim_later;  // level-set rim: continuation
   std::vector<uint8_t> rim_known;
   double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
+  // Set by every query: output vertices whose heat underflowed (below the
+  // smallest normal double: no direction there, the distance is interpolated)
+  // and, when there are any, a diffusion time that keeps the heat above
+  // e^-600 over the output's largest distance (heat decays like
+  // exp(-d / sqrt t)); 0 when none underflowed.
+  int64_t underflow = 0;
+  double t_no_underflow = 0;
 };
 
 // The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
@@ -225,6 +234,8 @@ class HeatGeodesic {
 
  private:
   void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // checks and per-mesh data shared by both constructors
+  void note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
+                      HeatGeodesicWorkspace& ws) const;
   double rim_cut(const PatchRegion& r, std::span<const double> h, HeatGeodesicWorkspace& ws) const;
   void continue_rim(const PatchRegion& r, const double* hlb, double cut, HeatGeodesicWorkspace& ws) const;
 

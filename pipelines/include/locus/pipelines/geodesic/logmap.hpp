@@ -120,6 +120,8 @@ struct LogMapStats {
   int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
   bool two_ring = false;        // the two-ring estimator was used at this center
   bool recentered = false;       // recenter asked and applied (enough directions around the center)
+  int64_t underflow = 0;         // patch vertices whose heat underflowed (HeatGeodesicWorkspace::underflow)
+  double t_no_underflow = 0;     // a t that avoids it (0: none underflowed)
   // Thread CPU time per phase of a localized query, for the bench's breakdown:
   // region (patch + ring + faces), center (sources, estimator), heat plan, heat
   // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
