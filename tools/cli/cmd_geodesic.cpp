@@ -121,6 +121,17 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;
   if (!go.cache.save.empty() || !go.cache.load.empty()) j["factor_cache"] = factor_cache_json(go.cache, cache_info);
+  j["heat_underflow_vertices"] = ws.underflow;  // never silent: also a warning below and on stderr
+  if (ws.underflow > 0) {
+    const double h2 = geo.mean_edge_length() * geo.mean_edge_length();
+    const std::string w = "the heat underflowed at " + std::to_string(ws.underflow) +
+                          " vertices (no direction there: their distances are interpolated); --t-factor " +
+                          format_number(ws.t_no_underflow / h2) + " (t = " + format_number(ws.t_no_underflow) +
+                          ") avoids it";
+    log("warning: " + w);
+    j["t_avoiding_underflow"] = ws.t_no_underflow;
+    j["warnings"] = Json::array({w});
+  }
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat geodesic from vertex " << source << " (" << j["method"].get<std::string>()

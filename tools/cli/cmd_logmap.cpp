@@ -124,7 +124,11 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   patch.resize(static_cast<size_t>(k));
   for (int32_t p = 0; p < k; ++p)
     if (!std::isfinite(u[p]) || !std::isfinite(v[p]))
-      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(patch[p]));
+      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(patch[p]) +
+                                     (st.underflow > 0 ? "; the heat underflowed at " + std::to_string(st.underflow) +
+                                                             " patch vertices: t = " + format_number(st.t_no_underflow) +
+                                                             " avoids it"
+                                                       : std::string()));
   const TriangleGradients tg = triangle_gradients(in.mesh);
   std::vector<int32_t> scratch;
   int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
@@ -192,6 +196,17 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     j["recentre"] = lo.recenter;  // JSON keys keep their released spelling
     j["recentred"] = st.recentered;
     j["angle_fallbacks"] = st.angle_fallbacks;
+    j["heat_underflow_vertices"] = st.underflow;  // never silent: also a warning below and on stderr
+    if (st.underflow > 0) {
+      const double h2 = heat->geodesic().mean_edge_length() * heat->geodesic().mean_edge_length();
+      const std::string w = "the heat underflowed at " + std::to_string(st.underflow) +
+                            " patch vertices (no direction there: distances interpolated, angles unreliable); "
+                            "--t-factor " + format_number(st.t_no_underflow / h2) + " (t = " +
+                            format_number(st.t_no_underflow) + ") avoids it";
+      log("warning: " + w);
+      j["t_avoiding_underflow"] = st.t_no_underflow;
+      j["warnings"] = Json::array({w});
+    }
   }
   j["patch_size"] = k;
   j["max_distance"] = dmax;
