@@ -51,7 +51,9 @@ TEST_CASE("session: geodesic distance equals HeatGeodesic and approaches great-c
   const int32_t src = 17;
   const std::vector<double> d = s.geodesic_distance(src);
 
-  const HeatGeodesic direct(m);
+  HeatGeodesicOptions o;
+  o.t_factor = HeatQuery{}.t_factor;  // the Session's default t (the pipeline's is 4)
+  const HeatGeodesic direct(m, o);
   std::vector<double> dd(m.num_vertices());
   HeatGeodesicWorkspace ws;
   direct.query_full(src, dd, ws);
@@ -81,7 +83,9 @@ TEST_CASE("session: log map equals HeatLogMap on the same Dijkstra disk; one eng
   std::vector<int32_t> patch(count);
   dem.query(c, count, std::numeric_limits<double>::infinity(), patch, {}, {}, dws);
   CHECK(patch == r.patch);
-  const HeatLogMap direct(m);
+  LogMapOptions o;
+  o.geodesic.t_factor = HeatQuery{}.t_factor;  // the Session's default t (the pipeline's is 4)
+  const HeatLogMap direct(m, o);
   std::vector<double> dd(count), a(count), u(count), v(count);
   LogMapWorkspace ws;
   direct.query(c, patch, {dd, a, u, v}, ws);

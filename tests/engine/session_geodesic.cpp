@@ -91,7 +91,8 @@ std::vector<double> dense_heat_method(const Mesh& m, const std::vector<MeshPoint
       div[v[c]] += 0.5 * (cot1 * e1.dot(X) + cot2 * e2.dot(X));
     }
   }
-  const double eps = 1e-6 * (-L.trace()) / mass.sum();
+  // HeatGeodesicOptions::poisson_rel: eps = 1e-5 mean(diag(-L)) / area.
+  const double eps = 1e-5 * (-L.trace()) / static_cast<double>(n) / mass.sum();
   const Eigen::MatrixXd P = -L + eps * Eigen::MatrixXd(mass.asDiagonal());
   const Eigen::VectorXd phi = P.ldlt().solve(-div);
   double lo = std::numeric_limits<double>::infinity();
