@@ -139,9 +139,20 @@ void PolygonHeatGeodesic::query_full(int32_t source, std::span<double> distance)
                                   std::to_string(n_) + " vertices)");
   if (distance.size() != static_cast<size_t>(n_))
     fail(ErrorCode::BadUsage, "polygon heat geodesic: distance needs one entry per vertex");
-  std::vector<double> h(static_cast<size_t>(n_), 0.0), work(solve_work_size(heat_, 1)), hr;
+  std::vector<double> h(static_cast<size_t>(n_), 0.0);
   h[source] = 1.0;
+  solve_heat(h);
+  distance_from_heat(h, source, distance);
+}
+
+void PolygonHeatGeodesic::solve_heat(std::span<double> h) const {
+  std::vector<double> work(solve_work_size(heat_, 1));
   solve(heat_, h, work);
+}
+
+void PolygonHeatGeodesic::distance_from_heat(std::span<const double> h, int32_t source,
+                                             std::span<double> distance) const {
+  std::vector<double> hr;
   // log h is what is nearly linear (HeatGeodesicOptions::log_heat_gradient), so
   // it is log h that P interpolates: the mean of the corners' heat would make
   // every face center hotter than the log-linear heat (Jensen) and bend X
@@ -170,7 +181,7 @@ void PolygonHeatGeodesic::query_full(int32_t source, std::span<double> distance)
   }
   std::vector<double> b(static_cast<size_t>(n_), 0.0);
   restrict_add(br, b);
-  work.resize(solve_work_size(poisson_, 1));
+  std::vector<double> work(solve_work_size(poisson_, 1));
   solve(poisson_, b, work);
   for (int32_t i = 0; i < n_; ++i) distance[i] = b[i] - b[source];
 }

@@ -13,6 +13,8 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
+#include "locus/pipelines/geodesic/logmap.hpp"
 
 using namespace locus;
 
@@ -46,7 +48,9 @@ Mesh quad_grid(int n, bool triangulate) {
 
 TEST_CASE("polygon heat geodesic: on a triangle mesh it is the triangle heat method") {
   const Mesh m = make_random_sphere(500, 4);
-  const PolygonHeatGeodesic poly(m);
+  PolygonHeatGeodesicOptions po;
+  po.t_factor = HeatGeodesicOptions{}.t_factor;
+  const PolygonHeatGeodesic poly(m, po);
   const HeatGeodesic tri(m);
   CHECK(poly.time() == doctest::Approx(tri.time()).epsilon(1e-12));
   std::vector<double> a(m.num_vertices()), b(m.num_vertices());
@@ -138,4 +142,88 @@ TEST_CASE("polygon heat geodesic: planar quad grid and a mixed mesh (quads, tria
   const double em = error(mixed, dm);
   MESSAGE("mixed grid: mean |d - exact| " << em);
   CHECK(em < 0.01);
+}
+
+namespace {
+
+// Azimuth of b around a on the unit sphere, in some tangent frame of a.
+double sphere_azimuth(const Mesh& m, int32_t a, int32_t b) {
+  const double n[3] = {m.x[a], m.y[a], m.z[a]};
+  double r[3] = {1, 0, 0};
+  if (std::abs(n[0]) > 0.9) r[0] = 0, r[1] = 1;
+  const double rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+  double e1[3] = {r[0] - rn * n[0], r[1] - rn * n[1], r[2] - rn * n[2]};
+  const double l = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+  for (double& c : e1) c /= l;
+  const double e2[3] = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+  const double p[3] = {m.x[b], m.y[b], m.z[b]};
+  return std::atan2(p[0] * e2[0] + p[1] * e2[1] + p[2] * e2[2], p[0] * e1[0] + p[1] * e1[1] + p[2] * e1[2]);
+}
+
+// Mean |angle - exact - delta| over the patch without the center, delta the best rotation.
+double angle_error(const std::vector<double>& got, const std::vector<double>& exact, const std::vector<int32_t>& patch,
+                   int32_t c) {
+  double cs = 0, sn = 0;
+  for (size_t p = 0; p < patch.size(); ++p)
+    if (patch[p] != c) cs += std::cos(got[p] - exact[p]), sn += std::sin(got[p] - exact[p]);
+  const double delta = std::atan2(sn, cs);
+  double e = 0;
+  for (size_t p = 0; p < patch.size(); ++p)
+    if (patch[p] != c) e += std::abs(std::remainder(got[p] - exact[p] - delta, 2 * M_PI));
+  return e / static_cast<double>(patch.size() - 1);
+}
+
+}  // namespace
+
+TEST_CASE("polygon log map: cube-sphere and planar quad grid against the analytic map, and the triangulated mesh") {
+  const int n = 16;
+  const Mesh quads = make_cube_sphere(n), tris = make_cube_sphere(n, true);
+  const HeatLogMap tri(tris);
+  PolygonHeatGeodesicOptions po;  // the triangulation's t (its mean edge counts the diagonals)
+  po.t_factor = HeatGeodesicOptions{}.t_factor *
+                std::pow(tri.geodesic().mean_edge_length() / PolygonHeatGeodesic(quads).mean_edge_length(), 2);
+  const PolygonLogMap poly(quads, po);
+  LogMapWorkspace ws;
+  double eq = 0, et = 0, dq = 0, dt = 0;
+  int64_t flips = 0;
+  const int32_t centers[3] = {0, 500, 1234};  // 0: a cube corner (valence 3)
+  for (int32_t c : centers) {
+    std::vector<int32_t> patch{c};
+    for (int32_t j = 0; j < quads.num_vertices(); ++j)
+      if (j != c && great_circle(quads, c, j) <= 0.8) patch.push_back(j);
+    std::vector<double> exact(patch.size());
+    for (size_t p = 0; p < patch.size(); ++p) exact[p] = sphere_azimuth(quads, c, patch[p]);
+    const size_t k = patch.size();
+    std::vector<double> d(k), a(k), u(k), v(k), d2(k), a2(k), u2(k), v2(k);
+    poly.query_full(c, patch, {d, a, u, v});
+    tri.query_full(c, patch, {d2, a2, u2, v2}, ws);  // (same vertex ids)
+    eq += angle_error(a, exact, patch, c) / 3;
+    et += angle_error(a2, exact, patch, c) / 3;
+    for (size_t p = 0; p < k; ++p) {
+      dq += std::abs(d[p] - great_circle(quads, c, patch[p])) / k / 3;
+      dt += std::abs(d2[p] - great_circle(quads, c, patch[p])) / k / 3;
+    }
+    flips += count_flipped_polygons(quads, patch, u, v);
+  }
+  MESSAGE("cube-sphere " << n << " log map, radius 0.8: quads E_a " << eq << " E_d " << dq << "; triangulated E_a " << et
+                         << " E_d " << dt << "; flipped quads " << flips);
+  CHECK(eq < 0.02);
+  CHECK(eq <= et);
+  CHECK(dq <= dt);
+  CHECK(flips == 0);
+  // Planar grid: the polar angle around the center.
+  const int g = 40;
+  const Mesh grid = quad_grid(g, false);
+  const int32_t c = (g / 2) * (g + 1) + g / 2;
+  const PolygonLogMap pg(grid);
+  std::vector<int32_t> patch{c};
+  for (int32_t j = 0; j < grid.num_vertices(); ++j)
+    if (j != c && std::hypot(grid.x[j] - grid.x[c], grid.y[j] - grid.y[c]) <= 0.4) patch.push_back(j);
+  std::vector<double> exact(patch.size()), d(patch.size()), a(patch.size()), u(patch.size()), v(patch.size());
+  for (size_t p = 0; p < patch.size(); ++p) exact[p] = std::atan2(grid.y[patch[p]] - grid.y[c], grid.x[patch[p]] - grid.x[c]);
+  pg.query_full(c, patch, {d, a, u, v});
+  const double eg = angle_error(a, exact, patch, c);
+  MESSAGE("quad grid " << g << " log map: E_a " << eg << ", flipped quads " << count_flipped_polygons(grid, patch, u, v));
+  CHECK(eg < 0.02);
+  CHECK(count_flipped_polygons(grid, patch, u, v) == 0);
 }

@@ -38,7 +38,12 @@
 namespace locus {
 
 struct PolygonHeatGeodesicOptions {
-  double t_factor = 4.0;      // as HeatGeodesicOptions::t_factor
+  // t = t_factor h^2, h the mean polygon edge. 8, not the triangles' 4: a quad
+  // lattice's heat kernel is more anisotropic (4-fold) than a triangle
+  // lattice's (6-fold), and h here leaves out the diagonals. Cube-sphere 129
+  // (~100k quads), 10 centers, log map E_a / E_d: 5.0e-3 / 9.0e-4 at 4,
+  // 2.9e-3 / 6.7e-4 at 8, 1.8e-3 / 6.9e-4 at 16 (docs/logmap.md, "Polygon meshes").
+  double t_factor = 8.0;
   double poisson_rel = 1e-5;  // as HeatGeodesicOptions::poisson_rel
 };
 
@@ -50,6 +55,18 @@ class PolygonHeatGeodesic {
   double time() const { return t_; }
   // distance has num_vertices() entries; 0 at the source.
   void query_full(int32_t source, std::span<double> distance) const;
+  // Building blocks shared with the polygon log map (polygon_logmap.hpp).
+  // h = A^{-1} e_source (in place: h holds e_source on entry, n entries).
+  void solve_heat(std::span<double> h) const;
+  // From the heat at every vertex to distances at every vertex (0 at source).
+  void distance_from_heat(std::span<const double> h, int32_t source, std::span<double> distance) const;
+  const Mesh& refined() const { return refined_; }           // vertices, then one virtual vertex per face of k > 3
+  const TriangleGradients& gradients() const { return grad_; }  // of the refined mesh
+  // The polygon face a virtual vertex v >= num_vertices() stands for.
+  int32_t face_of_virtual(int32_t v) const { return face_of_virtual_[v - n_]; }
+  std::span<const int32_t> face(int32_t f) const {
+    return {face_vertices_.data() + face_offsets_[f], static_cast<size_t>(face_offsets_[f + 1] - face_offsets_[f])};
+  }
 
  private:
   int32_t n_ = 0;
