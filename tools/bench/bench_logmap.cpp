@@ -18,7 +18,7 @@
 //   icosphere:L        unit icosphere, level L (7: ~164k vertices, h ~ 0.0094)
 //   random-sphere:N    convex hull of N random unit vectors (irregular)
 //   cube-sphere:N      cube with N x N quads per face projected on the unit sphere
-//                      (polygons: geodesic-accuracy only); cube-sphere-tri:N triangulated
+//                      (polygons: the polygon log map, full solves); cube-sphere-tri:N triangulated
 //   bump:R             z = exp(-(x^2 + y^2) / sigma^2) over the disk of radius 1.5
 //                      (R rings, h ~ 1.5 / R), center at the top
 // Patch: the vertices within geodesic distance --radius (exact) of the center.
@@ -48,6 +48,7 @@
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
 #include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/bench/stream_bandwidth.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -475,7 +476,7 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
 struct AccuracyOptions {
   int centers = 3;
   double radius = 0.5;
-  double t_factor = HeatGeodesicOptions{}.t_factor;
+  double t_factor = 0;  // 0: the library's default (triangles: HeatGeodesicOptions, polygons: PolygonHeatGeodesicOptions)
   bool no_full = false;
   bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
   std::string dump;  // CSV of per-vertex exact and computed values of one variant
@@ -522,14 +523,67 @@ std::vector<int32_t> accuracy_centers(const Surface& s, const AccuracyOptions& a
   return centers;
 }
 
+// Polygon meshes (cube-sphere:N): the polygon log map (full solves), E_d / E_a
+// per center and by radius band, flipped polygons.
+int run_polygon_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const Surface& s,
+                         const RunContext& ctx) {
+  PolygonHeatGeodesicOptions po;
+  if (ao.t_factor > 0) po.t_factor = ao.t_factor;
+  Stopwatch sw;
+  const PolygonLogMap lm(s.mesh, po, ctx);
+  const double precompute_s = sw.seconds();
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  const int32_t n = s.mesh.num_vertices();
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0);
+  for (int32_t v : s.mesh.face_vertices) ++valence[v];
+  Bands bands(ao.bands);
+  Json per_center = Json::array();
+  double ed = 0, ea = 0, query_s = 0;
+  int64_t flipped = 0;
+  for (int32_t c : centers) {
+    ctx.check_cancel();
+    std::vector<int32_t> patch{c};
+    for (int32_t j = 0; j < n; ++j)
+      if (j != c && s.exact_distance(c, j) <= ao.radius) patch.push_back(j);
+    Maps m;
+    m.resize(patch.size());
+    sw.restart();
+    lm.query_full(c, patch, m.out());
+    query_s += sw.seconds() / centers.size();
+    const Errors e = errors_of(s, c, patch, m.d, m.a, nullptr, &bands);
+    ed += e.ed / centers.size();
+    ea += e.ea / centers.size();
+    const int64_t f = count_flipped_polygons(s.mesh, patch, m.u, m.v);
+    flipped += f;
+    per_center.push_back(Json{{"center", c}, {"valence", valence[c]}, {"patch_size", patch.size()}, {"E_d", e.ed},
+                              {"E_a", e.ea}, {"flipped_polygons", f}});
+  }
+  Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}, {"polygons", true}};
+  j["n"] = n;
+  j["h"] = lm.geodesic().mean_edge_length();
+  j["t"] = lm.geodesic().time();
+  j["t_factor"] = po.t_factor;
+  j["radius"] = ao.radius;
+  j["centers"] = centers;
+  j["heat_full_polygon"] = Json{{"E_d", ed}, {"E_a", ea}};
+  j["flipped_polygons"] = flipped;
+  j["per_center"] = per_center;
+  j["radius_bands_full"] = bands.json();
+  j["precompute_s"] = precompute_s;
+  j["query_s"] = query_s;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
 int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
   Stopwatch sw;
   const Surface s = make_surface(opt.mesh_path);
+  if (!s.mesh.is_triangle_mesh()) return run_polygon_accuracy(opt, ao, s, ctx);
   const double generate_s = sw.seconds();
   const int32_t n = s.mesh.num_vertices();
   sw.restart();
   LogMapOptions lo;
-  lo.geodesic.t_factor = ao.t_factor;
+  if (ao.t_factor > 0) lo.geodesic.t_factor = ao.t_factor;
   lo.geodesic.log_heat_gradient = !ao.plain_gradient;
   if (const auto l = cli::parse_logmap_lattice(ao.lattice)) lo.lattice = *l;
   if (const auto r = cli::parse_logmap_recenter(ao.recenter)) lo.recenter = *r;
@@ -680,7 +734,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}};
   j["n"] = n;
   j["h"] = heat.geodesic().mean_edge_length();
-  j["t_factor"] = ao.t_factor;
+  j["t_factor"] = lo.geodesic.t_factor;
   j["mass_blend"] = ao.mass_blend;
   j["distance_gradient"] = ao.plain_gradient ? "heat" : "log_heat";
   j["radius"] = ao.radius;
@@ -730,7 +784,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
 struct GeodesicAccuracyOptions {
   int centers = 1;
   std::string center_ids = "0";
-  double t_factor = HeatGeodesicOptions{}.t_factor;
+  double t_factor = 0;  // 0: the library's default, as in AccuracyOptions
   bool plain_gradient = false;
   double near = 0.5;  // the near-field radius of E_near
   double poisson_rel = HeatGeodesicOptions{}.poisson_rel;
@@ -748,7 +802,7 @@ int run_geodesic_accuracy(const cli::CommonOptions& opt, const GeodesicAccuracyO
   const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
   const int32_t n = s.mesh.num_vertices();
   HeatGeodesicOptions ho;
-  ho.t_factor = go.t_factor;
+  if (go.t_factor > 0) ho.t_factor = go.t_factor;
   ho.log_heat_gradient = !go.plain_gradient;
   ho.poisson_rel = go.poisson_rel;
   Stopwatch sw;
@@ -758,7 +812,7 @@ int run_geodesic_accuracy(const cli::CommonOptions& opt, const GeodesicAccuracyO
   std::optional<PolygonHeatGeodesic> poly;
   if (polygons) {
     PolygonHeatGeodesicOptions po;
-    po.t_factor = go.t_factor;
+    if (go.t_factor > 0) po.t_factor = go.t_factor;
     po.poisson_rel = go.poisson_rel;
     poly.emplace(s.mesh, po, ctx);
   } else {
@@ -804,7 +858,7 @@ int run_geodesic_accuracy(const cli::CommonOptions& opt, const GeodesicAccuracyO
   j["n"] = n;
   j["h"] = h;
   j["t"] = t;
-  j["t_factor"] = go.t_factor;
+  j["t_factor"] = t / (h * h);
   j["polygons"] = polygons;
   j["centers"] = centers;
   j["mean_error"] = mean;
@@ -840,7 +894,7 @@ void register_logmap_bench(cli::CommandTable& table) {
       [ao](const cli::CommonOptions& o, const RunContext& ctx) { return run_accuracy(o, *ao, ctx); });
   acc->add_option("--centers", ao->centers, "Random centers (spheres; the bump uses its top), default 3");
   acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
-  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
+  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default: the library's, 4 for triangles, 8 for polygon meshes)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
   acc->add_option("--center-ids", ao->center_ids, "Comma-separated center vertices instead of random ones");
@@ -861,7 +915,7 @@ void register_logmap_bench(cli::CommandTable& table) {
       "Whole-mesh heat geodesic distance against the exact one; mesh-file is a surface spec (see logmap-accuracy)",
       [go](const cli::CommonOptions& o, const RunContext& ctx) { return run_geodesic_accuracy(o, *go, ctx); });
   geo->add_option("--center-ids", go->center_ids, "Comma-separated source vertices (default 0)");
-  geo->add_option("--t-factor", go->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
+  geo->add_option("--t-factor", go->t_factor, "t = c h^2 (default: the library's, 4 for triangles, 8 for polygon meshes)");
   geo->add_flag("--plain-gradient", go->plain_gradient, "Direction from grad h (Crane et al.) instead of grad log h");
   geo->add_option("--poisson-rel", go->poisson_rel, "Regularization of the Poisson operator (HeatGeodesicOptions::poisson_rel)");
   geo->add_option("--near", go->near, "Radius of the near-field error (default 0.5)");
