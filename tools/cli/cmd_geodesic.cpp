@@ -28,6 +28,7 @@ struct GeodesicOptions {
   double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
   std::string preview;  // --preview out.png: distance colour map
   FactorCacheOptions cache;
+  bool t_given = false;  // --t-factor on the command line (polygon meshes default to their own t)
 };
 
 bool local_fraction(double fraction) { return fraction < 1.0; }
@@ -44,8 +45,8 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
     fail(ErrorCode::BadUsage, opt.mesh_path + " has polygon faces: --save/--load need a triangle mesh");
   const int32_t n = in.mesh.num_vertices();
   Stopwatch sw;
-  PolygonHeatGeodesicOptions po;
-  po.t_factor = go.t_factor;
+  PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
+  if (go.t_given) po.t_factor = go.t_factor;
   const PolygonHeatGeodesic geo(in.mesh, po, ctx);
   const double precompute_s = sw.seconds();
   std::vector<double> distance(static_cast<size_t>(n)), valid(static_cast<size_t>(n), 1.0);
@@ -69,7 +70,7 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
   j["source"] = source;
   j["method"] = "heat-full-polygon";
   j["fraction"] = go.fraction;
-  j["t_factor"] = go.t_factor;
+  j["t_factor"] = po.t_factor;
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = n;
@@ -207,7 +208,9 @@ void register_geodesic_commands(CommandTable& table) {
                             [go](const CommonOptions& o, const RunContext& ctx) { return run_geodesic(o, *go, ctx); });
   app->add_option("--source", go->source, "Source vertex (0-based)")->required();
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
-  app->add_option("--t-factor", go->t_factor, "Diffusion time t = c h^2 (default 4, for accuracy; a query costs the same at any t)");
+  app->add_option("--t-factor", go->t_factor,
+                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
+      ->each([go](const std::string&) { go->t_given = true; });
   add_preview_option(app, go->preview);
   add_factor_cache_options(app, go->cache);
 }
