@@ -18,6 +18,8 @@
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -35,8 +37,93 @@ struct LogmapOptions {
   std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
   bool clip_injective = false;  // drop the patch vertices at or beyond the injectivity radius
+  bool t_given = false;         // --t-factor on the command line (polygon meshes default to their own t)
   FactorCacheOptions cache;
 };
+
+// Polygon meshes (quads, mixed, n-gons): the heat log map on the polygon
+// operators with full solves (pipelines/include/locus/pipelines/geodesic/polygon_logmap.hpp);
+// the patch is the Dijkstra disk over the polygon edges. Returns the JSON's
+// method-specific part; the caller writes the outputs.
+struct PolygonMap {
+  std::vector<int32_t> patch;
+  std::vector<double> d, a, u, v;
+  double precompute_s = 0, query_s = 0, t = 0, h = 0, t_factor = 0;
+};
+PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const LogmapOptions& lo,
+                          const RunContext& ctx) {
+  if (lo.method == "dem") fail(ErrorCode::BadUsage, "--method dem needs a triangle mesh (the input has polygon faces)");
+  if (!lo.cache.save.empty() || !lo.cache.load.empty())
+    fail(ErrorCode::BadUsage, "--save/--load need a triangle mesh (the input has polygon faces)");
+  PolygonMap r;
+  Stopwatch sw;
+  PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
+  if (lo.t_given) po.t_factor = lo.t_factor;
+  const PolygonLogMap map(mesh, po, ctx);
+  r.precompute_s = sw.seconds();
+  const Adjacency adj = vertex_adjacency(mesh);
+  const std::vector<double> len = adjacency_edge_lengths(mesh, adj);
+  GrowWorkspace gws;
+  const GrowSeed seed{center, 0.0};
+  grow_vertices(adj, len, std::span<const GrowSeed>(&seed, 1), geodesic_disk(count), gws, r.patch);
+  const size_t k = r.patch.size();
+  r.d.resize(k), r.a.resize(k), r.u.resize(k), r.v.resize(k);
+  sw.restart();
+  map.query_full(center, r.patch, {r.d, r.a, r.u, r.v});
+  r.query_s = sw.seconds();
+  r.t = map.geodesic().time();
+  r.h = map.geodesic().mean_edge_length();
+  r.t_factor = po.t_factor;
+  return r;
+}
+
+int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, const Input& in, int32_t center,
+                         const PolygonMap& r) {
+  const int32_t n = in.mesh.num_vertices();
+  const size_t k = r.patch.size();
+  for (size_t p = 0; p < k; ++p)
+    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
+      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(r.patch[p]));
+  const int64_t flipped = count_flipped_polygons(in.mesh, r.patch, r.u, r.v);
+  if (!opt.output.empty()) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> uv(2 * static_cast<size_t>(n), nan), dist(static_cast<size_t>(n), nan),
+        ang(static_cast<size_t>(n), nan), in_patch(static_cast<size_t>(n), 0.0);
+    for (size_t p = 0; p < k; ++p) {
+      const size_t i = static_cast<size_t>(r.patch[p]);
+      uv[2 * i] = r.u[p], uv[2 * i + 1] = r.v[p], dist[i] = r.d[p], ang[i] = r.a[p], in_patch[i] = 1;
+    }
+    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
+    wo.uv = &uv;
+    add_result(wo, {"distance", VertexProperty::Type::Double, dist});
+    add_result(wo, {"angle", VertexProperty::Type::Double, ang});
+    add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
+    add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
+    write_mesh(opt.output, in.mesh, wo);
+    log("wrote " + opt.output);
+  }
+  double dmax = 0;
+  for (double x : r.d) dmax = std::max(dmax, x);
+  Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
+  j["center"] = center;
+  j["method"] = "heat-full-polygon";
+  j["angle"] = "log";
+  j["fraction"] = lo.fraction;
+  j["t_factor"] = r.t_factor;
+  j["t"] = r.t;
+  j["h"] = r.h;
+  j["patch_size"] = k;
+  j["max_distance"] = dmax;
+  j["flipped_polygons"] = flipped;
+  j["precompute_s"] = r.precompute_s;
+  j["query_s"] = r.query_s;
+  emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": log map on polygons around vertex " << center << "\n  patch " << k
+       << " vertices, max distance " << dmax << ", flipped polygons " << flipped << "\n  precompute "
+       << r.precompute_s << " s, query " << r.query_s << " s\n";
+  });
+  return 0;
+}
 
 int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunContext& ctx) {
   check_uv_output(opt, "logmap");
@@ -60,6 +147,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t center = static_cast<int32_t>(lo.center);
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
+  if (!in.mesh.is_triangle_mesh()) return write_polygon_logmap(opt, lo, in, center, polygon_logmap(in.mesh, center, count, lo, ctx));
 
   Stopwatch sw;
   // The DEM is a method of its own (a baseline); the heat methods' patches are
@@ -236,7 +324,9 @@ void register_logmap_command(CommandTable& table) {
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
   app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
-  app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 4, for accuracy; a query costs the same at any t)");
+  app->add_option("--t-factor", lo->t_factor,
+                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
+      ->each([lo](const std::string&) { lo->t_given = true; });
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default: two-ring at irregular stars, ~3x the heat lanes of the one-ring; average at valence != 6; log elsewhere), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
