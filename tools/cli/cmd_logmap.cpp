@@ -6,7 +6,10 @@
 // Dijkstra-based discrete exponential map (pipelines/include/locus/pipelines/geodesic/dem_logmap.hpp).
 // Output: per-vertex u, v (PLY properties u/v, OBJ vt; 0 outside the patch) and
 // PLY properties distance, angle (-1 and 0 outside) and in_patch. JSON:
-// precompute_s, query_s, patch_size, flipped_triangles, and the solve sizes.
+// precompute_s, query_s, patch_size, flipped_triangles, injectivity_radius
+// (--clip-injective keeps the patch inside it), heat underflow warnings, and the
+// solve sizes. Polygon meshes: the polygon log map with full solves
+// (pipelines/include/locus/pipelines/geodesic/polygon_logmap.hpp).
 #include <algorithm>
 #include <cmath>
 #include <memory>
