@@ -44,6 +44,58 @@ struct LogmapOptions {
   FactorCacheOptions cache;
 };
 
+// Flipped triangles and the injectivity radius (the largest radius with no
+// flipped triangle; infinite: none flipped); with `clip`, the patch and its
+// values shrunk to the vertices inside it, and the flips counted again.
+struct Injectivity {
+  int64_t flipped = 0;
+  double radius = 0;
+  int32_t clipped = 0;
+};
+Injectivity injectivity(const Mesh& mesh, bool clip, std::vector<int32_t>& patch, std::vector<double>& d,
+                        std::vector<double>& a, std::vector<double>& u, std::vector<double>& v) {
+  const TriangleGradients tg = triangle_gradients(mesh);
+  std::vector<int32_t> scratch;
+  Injectivity r;
+  r.flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  r.radius = injectivity_radius(tg, patch, u, v, d, scratch);
+  if (!clip || !std::isfinite(r.radius)) return r;
+  size_t w = 0;
+  for (size_t p = 0; p < patch.size(); ++p)
+    if (d[p] < r.radius) patch[w] = patch[p], d[w] = d[p], a[w] = a[p], u[w] = u[p], v[w] = v[p], ++w;
+  r.clipped = static_cast<int32_t>(patch.size() - w);
+  for (auto* x : {&d, &a, &u, &v}) x->resize(w);
+  patch.resize(w);
+  r.flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  return r;
+}
+
+// The map as per-vertex output (-o): outside the patch NaN in every field, 0
+// in the masks `valid` and `in_patch` (the older name, kept for scripts).
+void write_map(const CommonOptions& opt, const Input& in, std::span<const int32_t> patch, std::span<const double> d,
+               std::span<const double> a, std::span<const double> u, std::span<const double> v) {
+  if (opt.output.empty()) return;
+  const size_t n = static_cast<size_t>(in.mesh.num_vertices());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> uv(2 * n, nan), dist(n, nan), ang(n, nan), in_patch(n, 0.0);
+  for (size_t p = 0; p < patch.size(); ++p) {
+    const size_t i = static_cast<size_t>(patch[p]);
+    uv[2 * i] = u[p];
+    uv[2 * i + 1] = v[p];
+    dist[i] = d[p];
+    ang[i] = a[p];
+    in_patch[i] = 1;
+  }
+  WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
+  wo.uv = &uv;
+  add_result(wo, {"distance", VertexProperty::Type::Double, dist});
+  add_result(wo, {"angle", VertexProperty::Type::Double, ang});
+  add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
+  add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
+  write_mesh(opt.output, in.mesh, wo);
+  log("wrote " + opt.output);
+}
+
 // Polygon meshes (quads, mixed, n-gons): the heat log map on the polygon
 // operators with full solves (pipelines/include/locus/pipelines/geodesic/polygon_logmap.hpp);
 // the patch is the Dijkstra disk over the polygon edges. Returns the JSON's
@@ -82,29 +134,12 @@ PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const
 
 int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, const Input& in, int32_t center,
                          const PolygonMap& r) {
-  const int32_t n = in.mesh.num_vertices();
   const size_t k = r.patch.size();
   for (size_t p = 0; p < k; ++p)
     if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
       fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(r.patch[p]));
   const int64_t flipped = count_flipped_polygons(in.mesh, r.patch, r.u, r.v);
-  if (!opt.output.empty()) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> uv(2 * static_cast<size_t>(n), nan), dist(static_cast<size_t>(n), nan),
-        ang(static_cast<size_t>(n), nan), in_patch(static_cast<size_t>(n), 0.0);
-    for (size_t p = 0; p < k; ++p) {
-      const size_t i = static_cast<size_t>(r.patch[p]);
-      uv[2 * i] = r.u[p], uv[2 * i + 1] = r.v[p], dist[i] = r.d[p], ang[i] = r.a[p], in_patch[i] = 1;
-    }
-    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
-    wo.uv = &uv;
-    add_result(wo, {"distance", VertexProperty::Type::Double, dist});
-    add_result(wo, {"angle", VertexProperty::Type::Double, ang});
-    add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
-    add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
-    write_mesh(opt.output, in.mesh, wo);
-    log("wrote " + opt.output);
-  }
+  write_map(opt, in, r.patch, r.d, r.a, r.u, r.v);
   double dmax = 0;
   for (double x : r.d) dmax = std::max(dmax, x);
   Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
@@ -220,46 +255,13 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
                                                              " patch vertices: t = " + format_number(st.t_no_underflow) +
                                                              " avoids it"
                                                        : std::string()));
-  const TriangleGradients tg = triangle_gradients(in.mesh);
-  std::vector<int32_t> scratch;
-  int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
-  // Injectivity radius: the largest radius with no flipped triangle (infinite: none flipped).
-  const double injective_r = injectivity_radius(tg, patch, u, v, d, scratch);
-  int32_t clipped = 0;
-  if (lo.clip_injective && std::isfinite(injective_r)) {
-    int32_t w = 0;
-    for (int32_t p = 0; p < k; ++p)
-      if (d[p] < injective_r) patch[w] = patch[p], d[w] = d[p], a[w] = a[p], u[w] = u[p], v[w] = v[p], ++w;
-    clipped = k - w;
-    k = w;
-    for (auto* x : {&d, &a, &u, &v}) x->resize(static_cast<size_t>(k));
-    patch.resize(static_cast<size_t>(k));
-    flipped = count_flipped_triangles(tg, patch, u, v, scratch);
-  }
+  const Injectivity inj = injectivity(in.mesh, lo.clip_injective, patch, d, a, u, v);
+  const int64_t flipped = inj.flipped;
+  const double injective_r = inj.radius;
+  const int32_t clipped = inj.clipped;
+  k = static_cast<int32_t>(patch.size());
 
-  if (!opt.output.empty()) {
-    // Outside the patch: NaN in every field, 0 in the masks `valid` and
-    // `in_patch` (the older name, kept for scripts).
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> uv(2 * static_cast<size_t>(n), nan), dist(static_cast<size_t>(n), nan),
-        ang(static_cast<size_t>(n), nan), in_patch(static_cast<size_t>(n), 0.0);
-    for (int32_t p = 0; p < k; ++p) {
-      const size_t i = static_cast<size_t>(patch[p]);
-      uv[2 * i] = u[p];
-      uv[2 * i + 1] = v[p];
-      dist[i] = d[p];
-      ang[i] = a[p];
-      in_patch[i] = 1;
-    }
-    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
-    wo.uv = &uv;
-    add_result(wo, {"distance", VertexProperty::Type::Double, dist});
-    add_result(wo, {"angle", VertexProperty::Type::Double, ang});
-    add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
-    add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
-    write_mesh(opt.output, in.mesh, wo);
-    log("wrote " + opt.output);
-  }
+  write_map(opt, in, patch, d, a, u, v);
   if (!lo.preview.empty()) {
     std::vector<double> uv(2 * static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
     for (int32_t p = 0; p < k; ++p) {
