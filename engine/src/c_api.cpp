@@ -112,7 +112,7 @@ struct CallContext {
   std::atomic<bool> cancel{false};
   std::mutex mu;
   locus::RunContext ctx;
-  double t_factor = 1.0;
+  double t_factor = 0.0;  // 0: the method's default (session.hpp's HeatQuery)
   double last_fraction = 0.0;  // the last fraction passed to the host (under mu)
 
   explicit CallContext(const locus_run_options* o) {
@@ -191,7 +191,7 @@ extern "C" {
 locus_run_options locus_run_options_default(void) {
   locus_run_options o;
   std::memset(&o, 0, sizeof o);
-  o.t_factor = 1.0;
+  o.t_factor = 0.0;  // each method's default (locus.h)
   return o;
 }
 
@@ -393,7 +393,7 @@ locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, 
     if (iters < 0 || iters > kMaxIterations)
       fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
     CallContext cc(opts);
-    if (cc.t_factor != 1.0)
+    if (cc.t_factor != 0.0)
       fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
     const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels_nv);
@@ -424,7 +424,7 @@ locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t ite
     if (iters < 0 || iters > kMaxIterations)
       fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
     CallContext cc(opts);
-    if (cc.t_factor != 1.0)
+    if (cc.t_factor != 0.0)
       fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
     auto h = std::make_unique<locus_remesh>();
     h->r = s.cvt(sites, iters, seed, cc.ctx, true);

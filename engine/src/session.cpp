@@ -86,12 +86,13 @@ void check_t_factor(double t_factor) {
 }
 
 std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx) {
-  check_t_factor(q.t_factor);
+  const double tf = heat_method_t_factor(q);
+  check_t_factor(tf);
   if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
-  return s.engines.get(bits_of(q.t_factor), ctx, [&] {
+  return s.engines.get(bits_of(tf), ctx, [&] {
     ctx.report(0.0, "prepare heat method");
     LogMapOptions o;
-    o.geodesic.t_factor = q.t_factor;
+    o.geodesic.t_factor = tf;
     auto e = std::make_shared<const HeatLogMap>(s.mesh, o, ctx, s.derived.get());
     s.counters->engines.fetch_add(1);
     ctx.report(1.0, "prepare heat method");
@@ -193,7 +194,7 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
   if (out.size() != static_cast<size_t>(impl_->nv))
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(impl_->nv));
-  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
   const auto e = engine(*s, q, progress.build());
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
@@ -220,7 +221,7 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
     fail(ErrorCode::BadUsage, "logmap: fraction must be in (0, 1] (got " + std::to_string(fraction) + ")");
   const int32_t n = impl_->nv;
   const int32_t count = std::clamp<int32_t>(static_cast<int32_t>(std::lround(fraction * n)), 1, n);
-  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
   const auto e = engine(*s, q, progress.build());
   const auto g = grower(*s, ctx);
   ctx.check_cancel();
@@ -252,8 +253,8 @@ std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<i
   const size_t ns = sources.size(), nt = targets.size();
   std::vector<double> out(ns * nt);
   if (ns == 0 || nt == 0) return out;
-  const CallProgress progress(ctx, !diffusion_cached(*s, HeatQuery{q.t_factor, 0.0}));
-  const auto F = heat_factor(*s, q.t_factor, progress.build());
+  const CallProgress progress(ctx, !diffusion_cached(*s, HeatQuery{diffusion_t_factor(q), 0.0}));
+  const auto F = heat_factor(*s, diffusion_t_factor(q), progress.build());
   // One exact plan per batch of 8 sources, wanted = the distinct targets.
   std::vector<int32_t> wanted(targets.begin(), targets.end());
   std::sort(wanted.begin(), wanted.end());

@@ -35,7 +35,7 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(n));
   const std::vector<SurfacePoint> pts = surface_points(*s, sources, "geodesic_distance: source");
-  const CallProgress progress(ctx, !s->engines.contains(bits_of(q.t_factor)));
+  const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
   const auto e = engine(*s, q, progress.build());
   ctx.check_cancel();
   const HeatGeodesic& g = e->geodesic();

@@ -26,9 +26,9 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
       fail(ErrorCode::BadUsage, "t must be a finite positive number or 0 for t_factor * h^2 (got " +
                                     std::to_string(q.t) + ")");
   } else {
-    check_t_factor(q.t_factor);
+    check_t_factor(diffusion_t_factor(q));
   }
-  const double t = q.t > 0 ? q.t : q.t_factor * s.h * s.h;
+  const double t = q.t > 0 ? q.t : diffusion_t_factor(q) * s.h * s.h;
   return s.diffusion.get(bits_of(t), ctx, [&] {
     ctx.report(0.0, "factor heat operator");
     const CscMatrix A = heat_operator(s.mesh, t);
@@ -48,7 +48,7 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
 }
 
 bool diffusion_cached(State& s, const HeatQuery& q) {
-  return s.diffusion.contains(bits_of(q.t > 0 ? q.t : q.t_factor * s.h * s.h));
+  return s.diffusion.contains(bits_of(q.t > 0 ? q.t : diffusion_t_factor(q) * s.h * s.h));
 }
 
 std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext& ctx) {

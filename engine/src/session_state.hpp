@@ -148,6 +148,13 @@ inline uint64_t bits_of(double x) {
   return b;
 }
 
+// HeatQuery::t_factor 0 = the method's default (session.hpp): the same as
+// the CLI's and the pipelines' (HeatGeodesicOptions, 1 for diffusion).
+inline double heat_method_t_factor(const HeatQuery& q) {
+  return q.t_factor == 0.0 ? HeatGeodesicOptions{}.t_factor : q.t_factor;
+}
+inline double diffusion_t_factor(const HeatQuery& q) { return q.t_factor == 0.0 ? 1.0 : q.t_factor; }
+
 struct Counters {
   std::atomic<int64_t> symbolic{0}, numeric{0}, engines{0}, deform{0};
 };

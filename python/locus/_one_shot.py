@@ -8,20 +8,20 @@ Keyword arguments ``threads`` (default 0: all cores) and ``progress``
 from ._locus import Session, parameterize_disk as _parameterize_disk
 
 
-def geodesic_distance(V, F, sources, *, t_factor=1.0, **call):
+def geodesic_distance(V, F, sources, *, t_factor=4.0, **call):
     """Heat geodesic distance to every vertex, in the units of V: (nv,) float64.
 
     sources: a vertex id, a 1-D array of ids, or (faces, bary) points in faces.
-    t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 1).
+    t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 4, as the CLI).
     +inf in connected components without a source. See Session.geodesic_distance.
     """
     return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
 
 
-def logmap(V, F, center, fraction=0.05, *, t_factor=1.0, **call):
+def logmap(V, F, center, fraction=0.05, *, t_factor=4.0, **call):
     """Heat log map of the geodesic disk of round(fraction * nv) vertices around center.
 
-    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (default 1).
+    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (default 4, as the CLI).
     Returns a namespace: .patch (vertex ids, center first), .distance (units of V),
     .angle (radians), .u, .v (Cartesian coordinates). See Session.logmap.
     """

@@ -98,8 +98,8 @@ void bind_session(py::module_& m) {
       [](const Session& s, double t_factor, int threads, py::object progress) {
         run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(t_factor, 0.0), ctx); });
       },
-      py::kw_only(), "t_factor"_a = 1.0, "threads"_a = 0, "progress"_a = py::none(),
-      (std::string("prepare_heat(*, t_factor=1.0, threads=0, progress=None)\n\nFactors the heat method's operators "
+      py::kw_only(), "t_factor"_a = 4.0, "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_heat(*, t_factor=4.0, threads=0, progress=None)\n\nFactors the heat method's operators "
                    "(geodesic_distance, logmap) for t_factor now, e.g. before handing the Session to threads.\n") +
        kCallArgs).c_str());
   cls.def(

@@ -55,7 +55,7 @@ TEST_CASE("c api: version, defaults, null and out-of-range arguments of session 
   const locus_run_options o = locus_run_options_default();
   CHECK(o.threads == 0);
   CHECK(!o.progress);
-  CHECK(o.t_factor == 1.0);
+  CHECK(o.t_factor == 0.0);  // each method's default
 
   const Arrays a = arrays_of(make_icosphere(2));
   locus_session* s = reinterpret_cast<locus_session*>(0x1);  // must be reset to NULL on failure

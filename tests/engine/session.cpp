@@ -51,7 +51,7 @@ TEST_CASE("session: geodesic distance equals HeatGeodesic and approaches great-c
   const int32_t src = 17;
   const std::vector<double> d = s.geodesic_distance(src);
 
-  const HeatGeodesic direct(m);
+  const HeatGeodesic direct(m);  // the Session's default t is the pipeline's
   std::vector<double> dd(m.num_vertices());
   HeatGeodesicWorkspace ws;
   direct.query_full(src, dd, ws);
@@ -81,7 +81,7 @@ TEST_CASE("session: log map equals HeatLogMap on the same Dijkstra disk; one eng
   std::vector<int32_t> patch(count);
   dem.query(c, count, std::numeric_limits<double>::infinity(), patch, {}, {}, dws);
   CHECK(patch == r.patch);
-  const HeatLogMap direct(m);
+  const HeatLogMap direct(m);  // the Session's default t is the pipeline's
   std::vector<double> dd(count), a(count), u(count), v(count);
   LogMapWorkspace ws;
   direct.query(c, patch, {dd, a, u, v}, ws);

@@ -7,7 +7,7 @@ namespace locus::bench {
 
 // `locus-bench factor`: locus vs CHOLMOD vs Eigen on one operator.
 void register_factor_bench(cli::CommandTable& table);
-void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accuracy
+void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accuracy, geodesic-accuracy
 void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs refactoring
 void register_local_bench(cli::CommandTable& table);  // local: heat values, ADF at all vertices, patch parameterization
 void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (thesis Fig. 3.1)

@@ -17,6 +17,8 @@
 // (Table 6.8.1) on analytic surfaces, SPEC one of
 //   icosphere:L        unit icosphere, level L (7: ~164k vertices, h ~ 0.0094)
 //   random-sphere:N    convex hull of N random unit vectors (irregular)
+//   cube-sphere:N      cube with N x N quads per face projected on the unit sphere
+//                      (polygons: the polygon log map, full solves); cube-sphere-tri:N triangulated
 //   bump:R             z = exp(-(x^2 + y^2) / sigma^2) over the disk of radius 1.5
 //                      (R rings, h ~ 1.5 / R), center at the top
 // Patch: the vertices within geodesic distance --radius (exact) of the center.
@@ -35,14 +37,18 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/parallel/thread_cpu_time.hpp"
 #include "locus/error.hpp"
+#include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/bench/stream_bandwidth.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -104,7 +110,7 @@ struct Maps {  // one map's output over a patch
 struct TimingOptions {
   std::string fractions = "0.01,0.02,0.05,0.1,0.2";
   int queries = 10;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;
   bool no_full = false;
   std::string angle = "auto";
   std::string lattice = "default";
@@ -338,6 +344,10 @@ Surface make_surface(const std::string& spec) {
   } else if (kind == "random-sphere") {
     s.mesh = make_random_sphere(static_cast<int32_t>(size), 12345);
     s.kind = "sphere";
+  } else if (kind == "cube-sphere" || kind == "cube-sphere-tri") {
+    if (size > 2000) fail(ErrorCode::BadUsage, "cube-sphere: at most 2000 quads per cube edge");
+    s.mesh = make_cube_sphere(static_cast<int32_t>(size), kind == "cube-sphere-tri");
+    s.kind = "sphere";
   } else if (kind == "bump") {
     s.mesh = make_disk(static_cast<int32_t>(size));
     s.kind = "bump";
@@ -363,7 +373,7 @@ Surface make_surface(const std::string& spec) {
           s.profile_s[k] + step / 6 * (integrand(a) + 4 * integrand(a + step / 2) + integrand(a + step));
     }
   } else {
-    fail(ErrorCode::BadUsage, "accuracy surface kind '" + kind + "': use icosphere, random-sphere or bump");
+    fail(ErrorCode::BadUsage, "accuracy surface kind '" + kind + "': use icosphere, random-sphere, cube-sphere, cube-sphere-tri or bump");
   }
   return s;
 }
@@ -392,9 +402,44 @@ struct Errors {
   int64_t count = 0;
 };
 
-// Mean errors over the patch minus the center; `mapped[p]` false skips p.
+// Errors by radius band: band k holds the patch vertices whose exact distance
+// is in [k, k + 1) * R / bands, R the patch's largest exact distance (the
+// outermost band is "the rim"). Sums over every vertex of every center.
+struct Bands {
+  std::vector<double> ed, ea;
+  std::vector<int64_t> count;
+  explicit Bands(int k = 10) : ed(k, 0.0), ea(k, 0.0), count(k, 0) {}
+  int size() const { return static_cast<int>(ed.size()); }
+  double mean_ed(int a, int b) const {  // over bands [a, b)
+    double s = 0;
+    int64_t c = 0;
+    for (int k = a; k < b; ++k) s += ed[k], c += count[k];
+    return c > 0 ? s / c : 0.0;
+  }
+  double mean_ea(int a, int b) const {
+    double s = 0;
+    int64_t c = 0;
+    for (int k = a; k < b; ++k) s += ea[k], c += count[k];
+    return c > 0 ? s / c : 0.0;
+  }
+  Json json() const {
+    Json rows = Json::array();
+    for (int k = 0; k < size(); ++k)
+      rows.push_back(Json{{"from", static_cast<double>(k) / size()}, {"to", static_cast<double>(k + 1) / size()},
+                          {"E_d", count[k] > 0 ? ed[k] / count[k] : 0.0},
+                          {"E_a", count[k] > 0 ? ea[k] / count[k] : 0.0}, {"vertices", count[k]}});
+    const int n = size();
+    const double inner = mean_ed(0, n / 2), outer = mean_ed(n - 1, n);
+    return Json{{"bands", rows}, {"E_d_inner_half", inner}, {"E_d_outer_band", outer},
+                {"E_d_outer_over_inner", inner > 0 ? outer / inner : 0.0}, {"E_a_inner_half", mean_ea(0, n / 2)},
+                {"E_a_outer_band", mean_ea(n - 1, n)}};
+  }
+};
+
+// Mean errors over the patch minus the center; `mapped[p]` false skips p;
+// `bands`, when given, also receives every vertex's errors by radius band.
 Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, std::span<const double> d,
-                 std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr) {
+                 std::span<const double> a, const std::vector<uint8_t>* mapped = nullptr, Bands* bands = nullptr) {
   double cs = 0, sn = 0;
   for (size_t p = 0; p < patch.size(); ++p) {
     if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
@@ -404,11 +449,22 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
   }
   const double delta = std::atan2(sn, cs);
   Errors e;
+  double rmax = 0;
+  if (bands)
+    for (int32_t j : patch) rmax = std::max(rmax, s.exact_distance(c, j));
   for (size_t p = 0; p < patch.size(); ++p) {
     if (patch[p] == c || (mapped && !(*mapped)[p])) continue;
-    e.ed += std::abs(d[p] - s.exact_distance(c, patch[p]));
-    e.ea += std::abs(wrap(a[p] - exact_angle(s, c, patch[p]) - delta));
+    const double r = s.exact_distance(c, patch[p]);
+    const double ed = std::abs(d[p] - r), ea = std::abs(wrap(a[p] - exact_angle(s, c, patch[p]) - delta));
+    e.ed += ed;
+    e.ea += ea;
     ++e.count;
+    if (bands && rmax > 0) {
+      const int k = std::min(bands->size() - 1, static_cast<int>(r / rmax * bands->size()));
+      bands->ed[k] += ed;
+      bands->ea[k] += ea;
+      ++bands->count[k];
+    }
   }
   if (e.count > 0) {
     e.ed /= e.count;
@@ -420,7 +476,7 @@ Errors errors_of(const Surface& s, int32_t c, std::span<const int32_t> patch, st
 struct AccuracyOptions {
   int centers = 3;
   double radius = 0.5;
-  double t_factor = 1.0;
+  double t_factor = 0;  // 0: the library's default (triangles: HeatGeodesicOptions, polygons: PolygonHeatGeodesicOptions)
   bool no_full = false;
   bool plain_gradient = false;  // HeatGeodesicOptions::log_heat_gradient = false
   std::string dump;  // CSV of per-vertex exact and computed values of one variant
@@ -429,27 +485,20 @@ struct AccuracyOptions {
   std::string lattice = "default";  // the correction of the default (Auto) rows
   std::string recenter = "default";
   double mass_blend = 0.0;
+  std::string center_set = "random";  // random, or irregular: vertices of valence != 6 (--centers of them)
+  std::string patch_kind = "exact";   // exact: within --radius; graph: the Dijkstra disk of as many vertices (the CLI's)
+  bool quick = false;                 // the default map, full solves and DEM only (no estimator variants)
+  int bands = 10;                     // radius bands of the default map's errors
+  std::string save_surface;           // write the generated surface (e.g. .off) for the CLI
 };
 
-int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
-  Stopwatch sw;
-  const Surface s = make_surface(opt.mesh_path);
-  const double generate_s = sw.seconds();
+// The centers: --center-ids, else the bump's top, else --centers random ones
+// (or, with --center-set irregular, --centers vertices of valence != 6 spread
+// evenly over the ids: on icospheres the icosahedron's 12 corners, valence 5).
+std::vector<int32_t> accuracy_centers(const Surface& s, const AccuracyOptions& ao, uint64_t seed) {
   const int32_t n = s.mesh.num_vertices();
-  sw.restart();
-  LogMapOptions lo;
-  lo.geodesic.t_factor = ao.t_factor;
-  lo.geodesic.log_heat_gradient = !ao.plain_gradient;
-  if (const auto l = cli::parse_logmap_lattice(ao.lattice)) lo.lattice = *l;
-  if (const auto r = cli::parse_logmap_recenter(ao.recenter)) lo.recenter = *r;
-  lo.geodesic.mass_blend = ao.mass_blend;
-  const HeatLogMap heat(s.mesh, lo, ctx);
-  const double precompute_s = sw.seconds();
-  const DemLogMap dem(s.mesh);
-  std::vector<int32_t> centers =
-      s.kind == "bump" ? std::vector<int32_t>{0} : pick_centers(n, ao.centers, opt.seed);
+  std::vector<int32_t> centers;
   if (!ao.center_ids.empty()) {
-    centers.clear();
     std::stringstream ss(ao.center_ids);
     std::string item;
     while (std::getline(ss, item, ',')) {
@@ -459,7 +508,99 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
         fail(ErrorCode::BadUsage, "--center-ids: '" + item + "' is not a vertex id (0.." + std::to_string(n - 1) + ")");
       centers.push_back(static_cast<int32_t>(v));
     }
+    return centers;
   }
+  if (s.kind == "bump") return {0};
+  if (ao.center_set == "random") return pick_centers(n, ao.centers, seed);
+  if (ao.center_set != "irregular") fail(ErrorCode::BadUsage, "--center-set must be random or irregular");
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0), odd;
+  for (int32_t f = 0; f < s.mesh.num_faces(); ++f) ++valence[s.mesh.f0[f]], ++valence[s.mesh.f1[f]], ++valence[s.mesh.f2[f]];
+  for (int32_t v = 0; v < n; ++v)
+    if (valence[v] != 6) odd.push_back(v);
+  const size_t want = std::min(odd.size(), static_cast<size_t>(std::max(ao.centers, 1)));
+  for (size_t k = 0; k < want; ++k) centers.push_back(odd[k * odd.size() / want]);
+  if (centers.empty()) fail(ErrorCode::BadUsage, "--center-set irregular: every vertex has valence 6");
+  return centers;
+}
+
+// Polygon meshes (cube-sphere:N): the polygon log map (full solves), E_d / E_a
+// per center and by radius band, flipped polygons.
+int run_polygon_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const Surface& s,
+                         const RunContext& ctx) {
+  PolygonHeatGeodesicOptions po;
+  if (ao.t_factor > 0) po.t_factor = ao.t_factor;
+  Stopwatch sw;
+  const PolygonLogMap lm(s.mesh, po, ctx);
+  const double precompute_s = sw.seconds();
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  const int32_t n = s.mesh.num_vertices();
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0);
+  for (int32_t v : s.mesh.face_vertices) ++valence[v];
+  Bands bands(ao.bands);
+  Json per_center = Json::array();
+  double ed = 0, ea = 0, query_s = 0;
+  int64_t flipped = 0;
+  for (int32_t c : centers) {
+    ctx.check_cancel();
+    std::vector<int32_t> patch{c};
+    for (int32_t j = 0; j < n; ++j)
+      if (j != c && s.exact_distance(c, j) <= ao.radius) patch.push_back(j);
+    Maps m;
+    m.resize(patch.size());
+    sw.restart();
+    lm.query_full(c, patch, m.out());
+    query_s += sw.seconds() / centers.size();
+    const Errors e = errors_of(s, c, patch, m.d, m.a, nullptr, &bands);
+    ed += e.ed / centers.size();
+    ea += e.ea / centers.size();
+    const int64_t f = count_flipped_polygons(s.mesh, patch, m.u, m.v);
+    flipped += f;
+    per_center.push_back(Json{{"center", c}, {"valence", valence[c]}, {"patch_size", patch.size()}, {"E_d", e.ed},
+                              {"E_a", e.ea}, {"flipped_polygons", f}});
+  }
+  Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}, {"polygons", true}};
+  j["n"] = n;
+  j["h"] = lm.geodesic().mean_edge_length();
+  j["t"] = lm.geodesic().time();
+  j["t_factor"] = po.t_factor;
+  j["radius"] = ao.radius;
+  j["centers"] = centers;
+  j["heat_full_polygon"] = Json{{"E_d", ed}, {"E_a", ea}};
+  j["flipped_polygons"] = flipped;
+  j["per_center"] = per_center;
+  j["radius_bands_full"] = bands.json();
+  j["precompute_s"] = precompute_s;
+  j["query_s"] = query_s;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const RunContext& ctx) {
+  Stopwatch sw;
+  const Surface s = make_surface(opt.mesh_path);
+  if (!s.mesh.is_triangle_mesh()) return run_polygon_accuracy(opt, ao, s, ctx);
+  const double generate_s = sw.seconds();
+  const int32_t n = s.mesh.num_vertices();
+  sw.restart();
+  LogMapOptions lo;
+  if (ao.t_factor > 0) lo.geodesic.t_factor = ao.t_factor;
+  lo.geodesic.log_heat_gradient = !ao.plain_gradient;
+  if (const auto l = cli::parse_logmap_lattice(ao.lattice)) lo.lattice = *l;
+  if (const auto r = cli::parse_logmap_recenter(ao.recenter)) lo.recenter = *r;
+  lo.geodesic.mass_blend = ao.mass_blend;
+  const HeatLogMap heat(s.mesh, lo, ctx);
+  const double precompute_s = sw.seconds();
+  const DemLogMap dem(s.mesh);
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  if (ao.patch_kind != "exact" && ao.patch_kind != "graph") fail(ErrorCode::BadUsage, "--patch must be exact or graph");
+  if (ao.bands < 2 || ao.bands > 100) fail(ErrorCode::BadUsage, "--bands must be in 2..100");
+  if (!ao.save_surface.empty()) write_mesh(ao.save_surface, s.mesh);
+  const PatchGrower grower = ao.patch_kind == "graph" ? prepare_patch_grower(s.mesh) : PatchGrower{};
+  PatchWorkspace pws;
+  std::vector<int32_t> valence(static_cast<size_t>(n), 0);
+  for (int32_t f = 0; f < s.mesh.num_faces(); ++f) ++valence[s.mesh.f0[f]], ++valence[s.mesh.f1[f]], ++valence[s.mesh.f2[f]];
+  Bands bands_local(ao.bands), bands_full(ao.bands);
+  Json per_center = Json::array();
 
   // Accumulated means over centers (each center's mean weighs the same) and the worst center.
   struct Acc {
@@ -501,10 +642,13 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     std::vector<int32_t> patch{c};
     for (int32_t j = 0; j < n; ++j)
       if (j != c && s.exact_distance(c, j) <= ao.radius) patch.push_back(j);
+    if (ao.patch_kind == "graph")  // the CLI's patch: a Dijkstra disk of as many vertices
+      grow_patch_vertices(grower, c, geodesic_disk(static_cast<int32_t>(patch.size())), pws, patch);
     patch_total += static_cast<int64_t>(patch.size());
     Maps m;
     m.resize(patch.size());
     for (Variant& v : variants) {
+      if (ao.quick) break;
       const double c0 = thread_cpu_seconds();
       heat.query(c, patch, m.out(), lws, v.est);
       v.cpu_s += (thread_cpu_seconds() - c0) * w;
@@ -528,7 +672,16 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     heat.query(c, patch, m.out(), lws, LogMapAngle::HeatAverage);
     plain_flux.add(errors_of(s, c, patch, m.d, m.a), w, c);
     st = heat.query(c, patch, m.out(), lws, LogMapAngle::Auto);
-    auto_acc.add(errors_of(s, c, patch, m.d, m.a), w, c);
+    const Errors ea = errors_of(s, c, patch, m.d, m.a, nullptr, &bands_local);
+    auto_acc.add(ea, w, c);
+    {
+      Bands own(ao.bands);
+      errors_of(s, c, patch, m.d, m.a, nullptr, &own);
+      per_center.push_back(Json{{"center", c}, {"valence", valence[c]}, {"patch_size", patch.size()},
+                                {"two_ring", st.two_ring}, {"E_d", ea.ed}, {"E_a", ea.ea},
+                                {"E_d_outer_band", own.mean_ed(ao.bands - 1, ao.bands)},
+                                {"E_d_inner_half", own.mean_ed(0, ao.bands / 2)}});
+    }
     auto_two_ring += st.two_ring;
     flipped_auto += count_flipped_triangles(heat.geodesic().gradients(), patch, m.u, m.v, scratch);
     heat.query(c, patch, m.out(), lws, LogMapAngle::LogHeatTwoRing);
@@ -542,6 +695,8 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     if (!ao.no_full) {
       Maps f;
       f.resize(patch.size());
+      heat.query_full(c, patch, f.out(), lws, LogMapAngle::Auto);
+      errors_of(s, c, patch, f.d, f.a, nullptr, &bands_full);
       heat.query_full(c, patch, f.out(), lws, LogMapAngle::HeatAverage);
       full_plain.add(errors_of(s, c, patch, f.d, f.a), w, c);
       heat.query_full(c, patch, f.out(), lws, LogMapEstimator{LogMapAngle::LogHeat, LatticeCorrection::None, false});
@@ -579,7 +734,7 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
   Json j{{"command", "logmap-accuracy"}, {"surface", opt.mesh_path}};
   j["n"] = n;
   j["h"] = heat.geodesic().mean_edge_length();
-  j["t_factor"] = ao.t_factor;
+  j["t_factor"] = lo.geodesic.t_factor;
   j["mass_blend"] = ao.mass_blend;
   j["distance_gradient"] = ao.plain_gradient ? "heat" : "log_heat";
   j["radius"] = ao.radius;
@@ -612,9 +767,108 @@ int run_accuracy(const cli::CommonOptions& opt, const AccuracyOptions& ao, const
     var[v.name] = e;
   }
   j["variants"] = var;
+  j["center_set"] = ao.center_set;
+  j["patch"] = ao.patch_kind;
+  j["per_center"] = per_center;  // the default map (heat_local_auto)
+  j["radius_bands_local"] = bands_local.json();
+  if (!ao.no_full) j["radius_bands_full"] = bands_full.json();
   j["flipped_triangles_heat"] = flipped_heat;
   j["flipped_triangles_dem"] = flipped_dem;
   j["angle_fallbacks"] = fallbacks;
+  cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  return 0;
+}
+
+// ----------------------------------------------------- geodesic accuracy ----
+
+struct GeodesicAccuracyOptions {
+  int centers = 1;
+  std::string center_ids = "0";
+  double t_factor = 0;  // 0: the library's default, as in AccuracyOptions
+  bool plain_gradient = false;
+  double near = 0.5;  // the near-field radius of E_near
+  double poisson_rel = HeatGeodesicOptions{}.poisson_rel;
+};
+
+// Whole-mesh heat geodesic distance (HeatGeodesic::query_full, the `locus
+// geodesic` default) against the exact distance: mean and max over all
+// vertices, inside --near, and by exact distance in bands of 0.25; the heat
+// values' underflow (zero or subnormal) counted.
+int run_geodesic_accuracy(const cli::CommonOptions& opt, const GeodesicAccuracyOptions& go, const RunContext& ctx) {
+  const Surface s = make_surface(opt.mesh_path);
+  AccuracyOptions ao;
+  ao.centers = go.centers;
+  ao.center_ids = go.center_ids;
+  const std::vector<int32_t> centers = accuracy_centers(s, ao, opt.seed);
+  const int32_t n = s.mesh.num_vertices();
+  HeatGeodesicOptions ho;
+  if (go.t_factor > 0) ho.t_factor = go.t_factor;
+  ho.log_heat_gradient = !go.plain_gradient;
+  ho.poisson_rel = go.poisson_rel;
+  Stopwatch sw;
+  // Polygon meshes (cube-sphere:N) through the polygon operators, whole mesh only.
+  const bool polygons = !s.mesh.is_triangle_mesh();
+  std::optional<HeatGeodesic> tri;
+  std::optional<PolygonHeatGeodesic> poly;
+  if (polygons) {
+    PolygonHeatGeodesicOptions po;
+    if (go.t_factor > 0) po.t_factor = go.t_factor;
+    po.poisson_rel = go.poisson_rel;
+    poly.emplace(s.mesh, po, ctx);
+  } else {
+    tri.emplace(s.mesh, ho, ctx);
+  }
+  const double h = polygons ? poly->mean_edge_length() : tri->mean_edge_length();
+  const double t = polygons ? poly->time() : tri->time();
+  const double precompute_s = sw.seconds();
+  HeatGeodesicWorkspace ws;
+  std::vector<double> d(static_cast<size_t>(n));
+  const int nb = 13;  // bands of 0.25 up to pi
+  std::vector<double> band_sum(nb, 0.0);
+  std::vector<int64_t> band_cnt(nb, 0);
+  double mean = 0, maxe = 0, near = 0, query_s = 0;
+  int64_t near_cnt = 0, underflow = 0;
+  for (int32_t c : centers) {
+    ctx.check_cancel();
+    sw.restart();
+    if (polygons) {
+      poly->query_full(c, d);
+    } else {
+      tri->query_full(c, d, ws);
+      underflow += ws.underflow;
+    }
+    query_s += sw.seconds() / centers.size();
+    double sum = 0;
+    for (int32_t v = 0; v < n; ++v) {
+      const double r = s.exact_distance(c, v), e = std::abs(d[v] - r);
+      sum += e;
+      maxe = std::max(maxe, e);
+      if (r <= go.near) near += e, ++near_cnt;
+      const int b = std::min(nb - 1, static_cast<int>(r / 0.25));
+      band_sum[b] += e;
+      ++band_cnt[b];
+    }
+    mean += sum / n / centers.size();
+  }
+  Json bands = Json::array();
+  for (int b = 0; b < nb; ++b)
+    if (band_cnt[b] > 0)
+      bands.push_back(Json{{"from", 0.25 * b}, {"to", 0.25 * (b + 1)}, {"mean_error", band_sum[b] / band_cnt[b]}});
+  Json j{{"command", "geodesic-accuracy"}, {"surface", opt.mesh_path}};
+  j["n"] = n;
+  j["h"] = h;
+  j["t"] = t;
+  j["t_factor"] = t / (h * h);
+  j["polygons"] = polygons;
+  j["centers"] = centers;
+  j["mean_error"] = mean;
+  j["max_error"] = maxe;
+  j["near_radius"] = go.near;
+  j["mean_error_near"] = near_cnt > 0 ? near / near_cnt : 0.0;
+  j["underflow_vertices"] = underflow;
+  j["bands"] = bands;
+  j["precompute_s"] = precompute_s;
+  j["query_s"] = query_s;
   cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   return 0;
 }
@@ -627,7 +881,7 @@ void register_logmap_bench(cli::CommandTable& table) {
                             [to](const cli::CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *to, ctx); });
   app->add_option("--fractions", to->fractions, "Patch sizes as fractions of the vertex count, comma-separated");
   app->add_option("--queries", to->queries, "Random centers (seeded by --seed), default 10");
-  app->add_option("--t-factor", to->t_factor, "t = c h^2 (default 1)");
+  app->add_option("--t-factor", to->t_factor, "t = c h^2 (default: the library's, HeatGeodesicOptions::t_factor)");
   app->add_flag("--no-full", to->no_full, "Skip the full-solve variant");
   app->add_option("--angle", to->angle, "Angle estimator: auto (default), log, two-ring, average");
   app->add_option("--lattice", to->lattice, "Lattice correction: none, star, ring, path (default: the library's)");
@@ -640,7 +894,7 @@ void register_logmap_bench(cli::CommandTable& table) {
       [ao](const cli::CommonOptions& o, const RunContext& ctx) { return run_accuracy(o, *ao, ctx); });
   acc->add_option("--centers", ao->centers, "Random centers (spheres; the bump uses its top), default 3");
   acc->add_option("--radius", ao->radius, "Geodesic radius of the patch, default 0.5");
-  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default 1)");
+  acc->add_option("--t-factor", ao->t_factor, "t = c h^2 (default: the library's, 4 for triangles, 8 for polygon meshes)");
   acc->add_flag("--no-full", ao->no_full, "Skip the full-solve variant");
   acc->add_flag("--plain-gradient", ao->plain_gradient, "Distance from grad h (Crane et al.) instead of grad log h");
   acc->add_option("--center-ids", ao->center_ids, "Comma-separated center vertices instead of random ones");
@@ -649,6 +903,23 @@ void register_logmap_bench(cli::CommandTable& table) {
   acc->add_option("--mass-blend", ao->mass_blend, "Heat operator mass: (1 - b) lumped + b consistent (default 0)");
   acc->add_option("--dump", ao->dump, "CSV of per-vertex exact and computed (distance, angle) of --dump-variant");
   acc->add_option("--dump-variant", ao->dump_variant, "Variant written by --dump (default log_none; see 'variants')");
+  acc->add_option("--center-set", ao->center_set,
+                  "random (default) or irregular: --centers vertices of valence != 6 (icospheres: the 12 corners)");
+  acc->add_option("--patch", ao->patch_kind,
+                  "exact (default): the vertices within --radius; graph: the Dijkstra disk of as many vertices (the CLI's)");
+  acc->add_flag("--quick", ao->quick, "Only the default map, full solves and DEM (no estimator variants)");
+  acc->add_option("--bands", ao->bands, "Radius bands of the default map's errors (default 10)");
+  auto go = std::make_shared<GeodesicAccuracyOptions>();
+  CLI::App* geo = table.add(
+      "geodesic-accuracy",
+      "Whole-mesh heat geodesic distance against the exact one; mesh-file is a surface spec (see logmap-accuracy)",
+      [go](const cli::CommonOptions& o, const RunContext& ctx) { return run_geodesic_accuracy(o, *go, ctx); });
+  geo->add_option("--center-ids", go->center_ids, "Comma-separated source vertices (default 0)");
+  geo->add_option("--t-factor", go->t_factor, "t = c h^2 (default: the library's, 4 for triangles, 8 for polygon meshes)");
+  geo->add_flag("--plain-gradient", go->plain_gradient, "Direction from grad h (Crane et al.) instead of grad log h");
+  geo->add_option("--poisson-rel", go->poisson_rel, "Regularization of the Poisson operator (HeatGeodesicOptions::poisson_rel)");
+  geo->add_option("--near", go->near, "Radius of the near-field error (default 0.5)");
+  acc->add_option("--save-surface", ao->save_surface, "Write the generated surface to this file (.off, .ply, .obj)");
 }
 
 }  // namespace locus::bench

@@ -15,6 +15,7 @@
 #include "locus/mesh_io.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 
@@ -24,12 +25,65 @@ namespace {
 struct GeodesicOptions {
   int64_t source = -1;
   double fraction = 1.0;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
   std::string preview;  // --preview out.png: distance colour map
   FactorCacheOptions cache;
+  bool t_given = false;  // --t-factor on the command line (polygon meshes default to their own t)
 };
 
 bool local_fraction(double fraction) { return fraction < 1.0; }
+
+// Polygon meshes (quads, mixed, n-gons): the whole-mesh heat method on the
+// polygon operators (pipelines/include/locus/pipelines/geodesic/polygon_heat_geodesic.hpp),
+// without the triangulation's diagonals. Localized queries and factor caches
+// are triangle-only for now.
+int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const Input& in, int32_t source,
+                         const RunContext& ctx) {
+  if (local_fraction(go.fraction))
+    fail(ErrorCode::BadUsage, opt.mesh_path + " has polygon faces: --fraction < 1 needs a triangle mesh");
+  if (!go.cache.save.empty() || !go.cache.load.empty())
+    fail(ErrorCode::BadUsage, opt.mesh_path + " has polygon faces: --save/--load need a triangle mesh");
+  const int32_t n = in.mesh.num_vertices();
+  Stopwatch sw;
+  PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
+  if (go.t_given) po.t_factor = go.t_factor;
+  const PolygonHeatGeodesic geo(in.mesh, po, ctx);
+  const double precompute_s = sw.seconds();
+  std::vector<double> distance(static_cast<size_t>(n)), valid(static_cast<size_t>(n), 1.0);
+  sw.restart();
+  geo.query_full(source, distance);
+  const double query_s = sw.seconds();
+  double dmax = 0;
+  for (double d : distance) {
+    if (!std::isfinite(d)) fail(ErrorCode::Numerical, "the heat geodesic distance is not finite (t = " + format_number(geo.time()) + ")");
+    dmax = std::max(dmax, d);
+  }
+  if (!opt.output.empty()) {
+    WriteOptions wo = carried_attributes(in);
+    add_result(wo, {"distance", VertexProperty::Type::Double, distance});
+    add_result(wo, {"valid", VertexProperty::Type::Int, valid});
+    write_mesh(opt.output, in.mesh, wo);
+    log("wrote " + opt.output);
+  }
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);
+  Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
+  j["source"] = source;
+  j["method"] = "heat-full-polygon";
+  j["fraction"] = go.fraction;
+  j["t_factor"] = po.t_factor;
+  j["t"] = geo.time();
+  j["h"] = geo.mean_edge_length();
+  j["patch_size"] = n;
+  j["max_distance"] = dmax;
+  j["precompute_s"] = precompute_s;
+  j["query_s"] = query_s;
+  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
+  emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": heat geodesic on polygons from vertex " << source << " (t = " << geo.time()
+       << ")\n  max distance " << dmax << "\n  precompute " << precompute_s << " s, query " << query_s << " s\n";
+  });
+  return 0;
+}
 
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
   if (!(go.fraction > 0 && go.fraction <= 1))
@@ -44,6 +98,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     fail(ErrorCode::BadUsage, "--source " + std::to_string(go.source) + " is not a vertex of " + opt.mesh_path +
                                   " (" + std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t source = static_cast<int32_t>(go.source);
+  if (!in.mesh.is_triangle_mesh()) return run_polygon_geodesic(opt, go, in, source, ctx);
   Stopwatch sw;
   HeatGeodesicOptions ho;
   ho.t_factor = go.t_factor;
@@ -121,6 +176,17 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;
   if (!go.cache.save.empty() || !go.cache.load.empty()) j["factor_cache"] = factor_cache_json(go.cache, cache_info);
+  j["heat_underflow_vertices"] = ws.underflow;  // never silent: also a warning below and on stderr
+  if (ws.underflow > 0) {
+    const double h2 = geo.mean_edge_length() * geo.mean_edge_length();
+    const std::string w = "the heat underflowed at " + std::to_string(ws.underflow) +
+                          " vertices (no direction there: their distances are interpolated); --t-factor " +
+                          format_number(ws.t_no_underflow / h2) + " (t = " + format_number(ws.t_no_underflow) +
+                          ") avoids it";
+    log("warning: " + w);
+    j["t_avoiding_underflow"] = ws.t_no_underflow;
+    j["warnings"] = Json::array({w});
+  }
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat geodesic from vertex " << source << " (" << j["method"].get<std::string>()
@@ -142,7 +208,9 @@ void register_geodesic_commands(CommandTable& table) {
                             [go](const CommonOptions& o, const RunContext& ctx) { return run_geodesic(o, *go, ctx); });
   app->add_option("--source", go->source, "Source vertex (0-based)")->required();
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
-  app->add_option("--t-factor", go->t_factor, "Diffusion time t = c h^2 (default 1)");
+  app->add_option("--t-factor", go->t_factor,
+                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
+      ->each([go](const std::string&) { go->t_given = true; });
   add_preview_option(app, go->preview);
   add_factor_cache_options(app, go->cache);
 }

@@ -6,7 +6,10 @@
 // Dijkstra-based discrete exponential map (pipelines/include/locus/pipelines/geodesic/dem_logmap.hpp).
 // Output: per-vertex u, v (PLY properties u/v, OBJ vt; 0 outside the patch) and
 // PLY properties distance, angle (-1 and 0 outside) and in_patch. JSON:
-// precompute_s, query_s, patch_size, flipped_triangles, and the solve sizes.
+// precompute_s, query_s, patch_size, flipped_triangles, injectivity_radius
+// (--clip-injective keeps the patch inside it), heat underflow warnings, and the
+// solve sizes. Polygon meshes: the polygon log map with full solves
+// (pipelines/include/locus/pipelines/geodesic/polygon_logmap.hpp).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -18,6 +21,8 @@
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 #include "tools/cli/logmap_choices.hpp"
@@ -28,14 +33,135 @@ namespace {
 struct LogmapOptions {
   int64_t center = -1;
   double fraction = 0.05;
-  double t_factor = 1.0;
+  double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
   std::string method = "heat";
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
   std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
   std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
+  bool clip_injective = false;  // drop the patch vertices at or beyond the injectivity radius
+  bool t_given = false;         // --t-factor on the command line (polygon meshes default to their own t)
   FactorCacheOptions cache;
 };
+
+// Flipped triangles and the injectivity radius (the largest radius with no
+// flipped triangle; infinite: none flipped); with `clip`, the patch and its
+// values shrunk to the vertices inside it, and the flips counted again.
+struct Injectivity {
+  int64_t flipped = 0;
+  double radius = 0;
+  int32_t clipped = 0;
+};
+Injectivity injectivity(const Mesh& mesh, bool clip, std::vector<int32_t>& patch, std::vector<double>& d,
+                        std::vector<double>& a, std::vector<double>& u, std::vector<double>& v) {
+  const TriangleGradients tg = triangle_gradients(mesh);
+  std::vector<int32_t> scratch;
+  Injectivity r;
+  r.flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  r.radius = injectivity_radius(tg, patch, u, v, d, scratch);
+  if (!clip || !std::isfinite(r.radius)) return r;
+  size_t w = 0;
+  for (size_t p = 0; p < patch.size(); ++p)
+    if (d[p] < r.radius) patch[w] = patch[p], d[w] = d[p], a[w] = a[p], u[w] = u[p], v[w] = v[p], ++w;
+  r.clipped = static_cast<int32_t>(patch.size() - w);
+  for (auto* x : {&d, &a, &u, &v}) x->resize(w);
+  patch.resize(w);
+  r.flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+  return r;
+}
+
+// The map as per-vertex output (-o): outside the patch NaN in every field, 0
+// in the masks `valid` and `in_patch` (the older name, kept for scripts).
+void write_map(const CommonOptions& opt, const Input& in, std::span<const int32_t> patch, std::span<const double> d,
+               std::span<const double> a, std::span<const double> u, std::span<const double> v) {
+  if (opt.output.empty()) return;
+  const size_t n = static_cast<size_t>(in.mesh.num_vertices());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> uv(2 * n, nan), dist(n, nan), ang(n, nan), in_patch(n, 0.0);
+  for (size_t p = 0; p < patch.size(); ++p) {
+    const size_t i = static_cast<size_t>(patch[p]);
+    uv[2 * i] = u[p];
+    uv[2 * i + 1] = v[p];
+    dist[i] = d[p];
+    ang[i] = a[p];
+    in_patch[i] = 1;
+  }
+  WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
+  wo.uv = &uv;
+  add_result(wo, {"distance", VertexProperty::Type::Double, dist});
+  add_result(wo, {"angle", VertexProperty::Type::Double, ang});
+  add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
+  add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
+  write_mesh(opt.output, in.mesh, wo);
+  log("wrote " + opt.output);
+}
+
+// Polygon meshes (quads, mixed, n-gons): the heat log map on the polygon
+// operators with full solves (pipelines/include/locus/pipelines/geodesic/polygon_logmap.hpp);
+// the patch is the Dijkstra disk over the polygon edges. Returns the JSON's
+// method-specific part; the caller writes the outputs.
+struct PolygonMap {
+  std::vector<int32_t> patch;
+  std::vector<double> d, a, u, v;
+  double precompute_s = 0, query_s = 0, t = 0, h = 0, t_factor = 0;
+};
+PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const LogmapOptions& lo,
+                          const RunContext& ctx) {
+  if (lo.method == "dem") fail(ErrorCode::BadUsage, "--method dem needs a triangle mesh (the input has polygon faces)");
+  if (!lo.cache.save.empty() || !lo.cache.load.empty())
+    fail(ErrorCode::BadUsage, "--save/--load need a triangle mesh (the input has polygon faces)");
+  PolygonMap r;
+  Stopwatch sw;
+  PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
+  if (lo.t_given) po.t_factor = lo.t_factor;
+  const PolygonLogMap map(mesh, po, ctx);
+  r.precompute_s = sw.seconds();
+  const Adjacency adj = vertex_adjacency(mesh);
+  const std::vector<double> len = adjacency_edge_lengths(mesh, adj);
+  GrowWorkspace gws;
+  const GrowSeed seed{center, 0.0};
+  grow_vertices(adj, len, std::span<const GrowSeed>(&seed, 1), geodesic_disk(count), gws, r.patch);
+  const size_t k = r.patch.size();
+  r.d.resize(k), r.a.resize(k), r.u.resize(k), r.v.resize(k);
+  sw.restart();
+  map.query_full(center, r.patch, {r.d, r.a, r.u, r.v});
+  r.query_s = sw.seconds();
+  r.t = map.geodesic().time();
+  r.h = map.geodesic().mean_edge_length();
+  r.t_factor = po.t_factor;
+  return r;
+}
+
+int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, const Input& in, int32_t center,
+                         const PolygonMap& r) {
+  const size_t k = r.patch.size();
+  for (size_t p = 0; p < k; ++p)
+    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
+      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(r.patch[p]));
+  const int64_t flipped = count_flipped_polygons(in.mesh, r.patch, r.u, r.v);
+  write_map(opt, in, r.patch, r.d, r.a, r.u, r.v);
+  double dmax = 0;
+  for (double x : r.d) dmax = std::max(dmax, x);
+  Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
+  j["center"] = center;
+  j["method"] = "heat-full-polygon";
+  j["angle"] = "log";
+  j["fraction"] = lo.fraction;
+  j["t_factor"] = r.t_factor;
+  j["t"] = r.t;
+  j["h"] = r.h;
+  j["patch_size"] = k;
+  j["max_distance"] = dmax;
+  j["flipped_polygons"] = flipped;
+  j["precompute_s"] = r.precompute_s;
+  j["query_s"] = r.query_s;
+  emit(opt, j, [&](std::ostream& os) {
+    os << opt.mesh_path << ": log map on polygons around vertex " << center << "\n  patch " << k
+       << " vertices, max distance " << dmax << ", flipped polygons " << flipped << "\n  precompute "
+       << r.precompute_s << " s, query " << r.query_s << " s\n";
+  });
+  return 0;
+}
 
 int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunContext& ctx) {
   check_uv_output(opt, "logmap");
@@ -59,6 +185,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t center = static_cast<int32_t>(lo.center);
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
+  if (!in.mesh.is_triangle_mesh()) return write_polygon_logmap(opt, lo, in, center, polygon_logmap(in.mesh, center, count, lo, ctx));
 
   Stopwatch sw;
   // The DEM is a method of its own (a baseline); the heat methods' patches are
@@ -123,34 +250,18 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   patch.resize(static_cast<size_t>(k));
   for (int32_t p = 0; p < k; ++p)
     if (!std::isfinite(u[p]) || !std::isfinite(v[p]))
-      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(patch[p]));
-  const TriangleGradients tg = triangle_gradients(in.mesh);
-  std::vector<int32_t> scratch;
-  const int64_t flipped = count_flipped_triangles(tg, patch, u, v, scratch);
+      fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(patch[p]) +
+                                     (st.underflow > 0 ? "; the heat underflowed at " + std::to_string(st.underflow) +
+                                                             " patch vertices: t = " + format_number(st.t_no_underflow) +
+                                                             " avoids it"
+                                                       : std::string()));
+  const Injectivity inj = injectivity(in.mesh, lo.clip_injective, patch, d, a, u, v);
+  const int64_t flipped = inj.flipped;
+  const double injective_r = inj.radius;
+  const int32_t clipped = inj.clipped;
+  k = static_cast<int32_t>(patch.size());
 
-  if (!opt.output.empty()) {
-    // Outside the patch: NaN in every field, 0 in the masks `valid` and
-    // `in_patch` (the older name, kept for scripts).
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> uv(2 * static_cast<size_t>(n), nan), dist(static_cast<size_t>(n), nan),
-        ang(static_cast<size_t>(n), nan), in_patch(static_cast<size_t>(n), 0.0);
-    for (int32_t p = 0; p < k; ++p) {
-      const size_t i = static_cast<size_t>(patch[p]);
-      uv[2 * i] = u[p];
-      uv[2 * i + 1] = v[p];
-      dist[i] = d[p];
-      ang[i] = a[p];
-      in_patch[i] = 1;
-    }
-    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
-    wo.uv = &uv;
-    add_result(wo, {"distance", VertexProperty::Type::Double, dist});
-    add_result(wo, {"angle", VertexProperty::Type::Double, ang});
-    add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
-    add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
-    write_mesh(opt.output, in.mesh, wo);
-    log("wrote " + opt.output);
-  }
+  write_map(opt, in, patch, d, a, u, v);
   if (!lo.preview.empty()) {
     std::vector<double> uv(2 * static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
     for (int32_t p = 0; p < k; ++p) {
@@ -178,10 +289,24 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     j["recentre"] = lo.recenter;  // JSON keys keep their released spelling
     j["recentred"] = st.recentered;
     j["angle_fallbacks"] = st.angle_fallbacks;
+    j["heat_underflow_vertices"] = st.underflow;  // never silent: also a warning below and on stderr
+    if (st.underflow > 0) {
+      const double h2 = heat->geodesic().mean_edge_length() * heat->geodesic().mean_edge_length();
+      const std::string w = "the heat underflowed at " + std::to_string(st.underflow) +
+                            " patch vertices (no direction there: distances interpolated, angles unreliable); "
+                            "--t-factor " + format_number(st.t_no_underflow / h2) + " (t = " +
+                            format_number(st.t_no_underflow) + ") avoids it";
+      log("warning: " + w);
+      j["t_avoiding_underflow"] = st.t_no_underflow;
+      j["warnings"] = Json::array({w});
+    }
   }
   j["patch_size"] = k;
   j["max_distance"] = dmax;
   j["flipped_triangles"] = flipped;
+  // null: no triangle flipped, the whole patch is one-to-one.
+  j["injectivity_radius"] = std::isfinite(injective_r) ? Json(injective_r) : Json(nullptr);
+  j["clipped_vertices"] = clipped;  // --clip-injective: patch vertices dropped
   j["precompute_s"] = precompute_s;
   if (!lo.cache.save.empty() || !lo.cache.load.empty()) j["factor_cache"] = factor_cache_json(lo.cache, cache_info);
   j["patch_s"] = patch_s;
@@ -204,13 +329,17 @@ void register_logmap_command(CommandTable& table) {
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
   app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
-  app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
+  app->add_option("--t-factor", lo->t_factor,
+                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
+      ->each([lo](const std::string&) { lo->t_given = true; });
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
-  app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
+  app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default: two-ring at irregular stars, ~3x the heat lanes of the one-ring; average at valence != 6; log elsewhere), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
                   "Lattice (dispersion) correction of the heat map's angles: none, star, ring or path (default: the library's, path)");
   app->add_option("--recenter,--recentre", lo->recenter,
                   "Recenter the heat map's gradients: on or off (default: the library's)");
+  app->add_flag("--clip-injective", lo->clip_injective,
+                "Keep only the patch vertices closer than the injectivity radius (no flipped triangle)");
   add_preview_option(app, lo->preview);
   add_factor_cache_options(app, lo->cache);
 }

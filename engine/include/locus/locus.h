@@ -74,11 +74,12 @@ typedef struct locus_run_options {
   locus_progress_fn progress; /* NULL: no progress reports, no cancellation */
   void* user_data;           /* passed to progress */
   uint64_t max_memory_bytes; /* limit of one factorization, 0 = 80% of physical memory */
-  double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = default 1 (cvt: default only, its cells use t = 4h^2) */
+  double t_factor;           /* heat diffusion time t = t_factor * h^2; 0 = the method's default: 4 for geodesic distance
+                                and log maps, 1 for the diffusion calls (cvt: default only, its cells use t = 4h^2) */
   locus_message_fn message;  /* NULL: notes are dropped; gets user_data too */
 } locus_run_options;
 
-/* The defaults: threads 0, no callbacks, no memory limit beyond the default, t_factor 1. */
+/* The defaults: threads 0, no callbacks, no memory limit beyond the default, t_factor 0 (each method's default). */
 locus_run_options locus_run_options_default(void);
 
 /* Version of the library (which may differ from the LOCUS_VERSION_* macros of

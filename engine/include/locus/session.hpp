@@ -61,13 +61,16 @@ LOCUS_API_BEGIN
 namespace locus {
 
 // Diffusion time of the heat operators: t = t_factor * h^2, h the mean edge
-// length (Crane et al. and the thesis use t_factor = 1).
+// length. t_factor 0 (the default) is each method's own default: 4 for the
+// heat method (geodesic distance, log map: the angle error scales like h^2 / t
+// and the distance is as accurate, docs/logmap.md; Crane et al. and the thesis
+// use 1), 1 for the diffusion pipelines.
 // The diffusion pipelines (Voronoi, natural neighbors, skinning, ADF/HKS, heat
 // exchange, heat values) also take an absolute time: t > 0 overrides t_factor.
 // The heat method (geodesic distance, log map) uses t_factor only.
 struct HeatQuery {
-  double t_factor = 1.0;
-  double t = 0.0;  // absolute diffusion time; 0 = t_factor * h^2
+  double t_factor = 0.0;  // 0 = the method's default (above)
+  double t = 0.0;         // absolute diffusion time; 0 = t_factor * h^2
 };
 
 // A point on the surface: a vertex (face < 0), or a face and the barycentric

@@ -140,6 +140,48 @@ Mesh subdivide_midpoint(const Mesh& input, int times) {
   return m;
 }
 
+Mesh make_cube_sphere(int32_t n, bool triangulate) {
+  if (n < 1) fail(ErrorCode::BadUsage, "make_cube_sphere: n must be at least 1");
+  Mesh m;
+  // Vertices on the cube's surface by integer coordinates (i, j, k) in [0, n]^3.
+  const int64_t side = static_cast<int64_t>(n) + 1;
+  std::vector<int32_t> id(static_cast<size_t>(side * side * side), -1);
+  auto vertex = [&](int32_t i, int32_t j, int32_t k) {
+    int32_t& v = id[static_cast<size_t>((static_cast<int64_t>(i) * side + j) * side + k)];
+    if (v < 0) {
+      const double x = 2.0 * i / n - 1, y = 2.0 * j / n - 1, z = 2.0 * k / n - 1, l = std::sqrt(x * x + y * y + z * z);
+      v = m.num_vertices();
+      m.add_vertex(x / l, y / l, z / l);
+    }
+    return v;
+  };
+  // Per cube face: the fixed axis and its value, and two in-face axes (a, b) with a x b outward.
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side_hi = 0; side_hi < 2; ++side_hi) {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // e_a x e_b = +e_axis
+      for (int32_t p = 0; p < n; ++p)
+        for (int32_t q = 0; q < n; ++q) {
+          int32_t c[4];
+          const int32_t pa[4] = {p, p + 1, p + 1, p}, pb[4] = {q, q, q + 1, q + 1};
+          for (int s = 0; s < 4; ++s) {
+            int32_t ijk[3];
+            ijk[axis] = side_hi ? n : 0;
+            ijk[a] = pa[s];
+            ijk[b] = pb[s];
+            c[s] = vertex(ijk[0], ijk[1], ijk[2]);
+          }
+          if (!side_hi) std::swap(c[1], c[3]);  // the low face looks the other way
+          if (triangulate) {
+            m.add_triangle(c[0], c[1], c[2]);
+            m.add_triangle(c[0], c[2], c[3]);
+          } else {
+            m.add_face(ConstView<int32_t>(c, 4));
+          }
+        }
+    }
+  return m;
+}
+
 Mesh make_icosphere(int level, double radius) {
   require(level >= 0 && level <= 12, "make_icosphere: level must be in [0, 12] (got " + std::to_string(level) + ")");
   require(radius > 0 && std::isfinite(radius), "make_icosphere: radius must be finite and > 0");

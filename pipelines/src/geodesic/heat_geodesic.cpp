@@ -132,6 +132,12 @@ MeshRequirements heat_requirements() {
 }
 }  // namespace
 
+CscMatrix HeatGeodesic::poisson_operator(const Mesh& m, const HeatGeodesicOptions& opt, const EdgeIncidence* inc) {
+  // regularized_laplacian's eps is rel * trace(-L_C) / trace(M); divided by n
+  // it is poisson_rel * mean(diag(-L_C)) / area (see heat_geodesic.hpp).
+  return regularized_laplacian(m, opt.poisson_rel / std::max<int32_t>(1, m.num_vertices()), inc);
+}
+
 void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
@@ -167,7 +173,7 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
   const double t = opt.t_factor * h * h;
   heat = heat_operator(m, t);
   blend_mass(m, opt.mass_blend, heat);
-  poisson = regularized_laplacian(m, opt.poisson_rel);
+  poisson = poisson_operator(m, opt);
   return t;
 }
 
@@ -194,7 +200,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
     A = heat_operator(m, t_, inc);
     blend_mass(m, opt.mass_blend, A);
     ticker.add(1.0);
-    P = regularized_laplacian(m, opt.poisson_rel, inc);
+    P = poisson_operator(m, opt, inc);
   };
   // Both operators live on the same lower pattern: one ordering, one symbolic factor.
   // Every phase reports inside the caller's progress, weighted by its share of
@@ -335,14 +341,151 @@ void HeatGeodesic::release_region(PatchRegion& r) const {
   r.patch_size = 0;
 }
 
+namespace {
+
+// Share of triangle area where the linear interpolant of the corner values r
+// is <= cut (r = +inf allowed: that corner is beyond any cut).
+double area_below(double r0, double r1, double r2, double cut) {
+  double a = r0, b = r1, c = r2;
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  if (!(cut > a)) return 0.0;
+  if (cut >= c) return 1.0;
+  if (!std::isfinite(c)) return b <= cut ? 1.0 : 0.0;  // (underflowed corner: whole or nothing)
+  if (cut <= b) return (cut - a) * (cut - a) / ((b - a) * (c - a));
+  return 1.0 - (c - cut) * (c - cut) / ((c - a) * (c - b));
+}
+
+}  // namespace
+
+// Output vertices k with h[k] below the smallest normal double. In the
+// continuum rho = log(h_source / h) ~ d / sqrt(t), so t' = (dmax / 500)^2 keeps
+// rho below 500 up to the largest distance dmax (subnormals begin at 708);
+// where the mesh makes the heat decay faster than that (the largest slope
+// rho / d among the others above 1 / sqrt(t)) t' grows by the same factor.
+// (Far below h^2 the discrete heat falls like (t / h^2) per edge instead, a
+// slope in log t, which no longer says anything about t'.)
+void HeatGeodesic::note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
+                                  HeatGeodesicWorkspace& ws) const {
+  constexpr double kTiny = std::numeric_limits<double>::min();
+  ws.underflow = 0;
+  ws.t_no_underflow = 0;
+  double slope = 0, dmax = 0;
+  for (size_t k = 0; k < distance.size(); ++k) {
+    if (!std::isfinite(distance[k])) continue;  // another component: no heat expected
+    dmax = std::max(dmax, distance[k]);
+    ws.underflow += !(h[k] >= kTiny);
+  }
+  if (ws.underflow == 0) return;
+  for (size_t k = 0; k < distance.size(); ++k)  // the slope away from the source's neighborhood
+    if (h[k] >= kTiny && distance[k] >= 0.25 * dmax && std::isfinite(distance[k]) && h_source > 0)
+      slope = std::max(slope, (std::log(h_source) - std::log(h[k])) / distance[k]);  // (the ratio may overflow)
+  const double faster = std::max(1.0, slope * slope * t_);
+  ws.t_no_underflow = std::max(t_, (dmax / 500.0) * (dmax / 500.0) * faster);
+}
+
+// Rim (HeatGeodesicOptions::level_set_rim): the heat radius rho = -log h per
+// region vertex (+inf where the heat underflowed) and its largest level cut
+// whose sublevel set the patch contains (the ring's smallest rho); +inf when
+// the region has no ring or the option is off.
+double HeatGeodesic::rim_cut(const PatchRegion& r, std::span<const double> h, HeatGeodesicWorkspace& ws) const {
+  const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
+  ws.rho.resize(static_cast<size_t>(nloc));
+  double cut = std::numeric_limits<double>::infinity();
+  for (int32_t k = 0; k < nloc; ++k) {
+    ws.rho[k] = h[k] > 0 ? -ws.logh[k] : std::numeric_limits<double>::infinity();
+    if (k >= np) cut = std::min(cut, ws.rho[k]);
+  }
+  return cut;
+}
+
+// The patch vertices beyond the cut, in increasing rho: each takes the value
+// whose piecewise-linear gradient best fits the unit directions X of its faces
+// whose other two corners are known (least squares, the Poisson step's own
+// criterion, one vertex at a time); the few without such a face are retried
+// once the others are known, and keep the Poisson value otherwise.
+void HeatGeodesic::continue_rim(const PatchRegion& r, const double* hlb, double cut, HeatGeodesicWorkspace& ws) const {
+  constexpr int kRec = 4;
+  const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
+  std::vector<int32_t>& outer = ws.rim_order;
+  outer.clear();
+  for (int32_t k = 0; k < np; ++k)
+    if (!(ws.rho[k] <= cut)) outer.push_back(k);
+  if (outer.empty()) return;
+  std::sort(outer.begin(), outer.end(), [&](int32_t a, int32_t b) { return ws.rho[a] < ws.rho[b] || (ws.rho[a] == ws.rho[b] && a < b); });
+  // Faces per outer vertex (CSR over the outer list).
+  std::vector<int32_t>& pos = ws.rim_pos;
+  pos.assign(static_cast<size_t>(nloc), -1);
+  for (size_t q = 0; q < outer.size(); ++q) pos[outer[q]] = static_cast<int32_t>(q);
+  std::vector<int32_t>& off = ws.rim_offsets;
+  off.assign(outer.size() + 1, 0);
+  const size_t nfl = r.faces.size();
+  for (size_t q = 0; q < 3 * nfl; ++q)
+    if (pos[r.face_local[q]] >= 0) ++off[pos[r.face_local[q]] + 1];
+  for (size_t q = 0; q < outer.size(); ++q) off[q + 1] += off[q];
+  std::vector<int32_t>& fl = ws.rim_faces;
+  fl.resize(static_cast<size_t>(off.back()));
+  {
+    std::vector<int32_t> fill(off.begin(), off.end() - 1);
+    for (size_t q = 0; q < 3 * nfl; ++q)
+      if (pos[r.face_local[q]] >= 0) fl[fill[pos[r.face_local[q]]]++] = static_cast<int32_t>(q);  // face slot 3f + s
+  }
+  std::vector<uint8_t>& known = ws.rim_known;
+  known.assign(static_cast<size_t>(nloc), 0);
+  for (int32_t k = 0; k < np; ++k) known[k] = ws.rho[k] <= cut;
+  const bool lg = opt_.log_heat_gradient;
+  auto solve_vertex = [&](size_t q) {
+    double num = 0, den = 0;
+    for (int32_t e = off[q]; e < off[q + 1]; ++e) {
+      const int32_t slot = fl[e], qf = slot / 3, s = slot % 3;
+      const int32_t* l = r.face_local.data() + 3 * static_cast<size_t>(qf);
+      const int32_t a = l[(s + 1) % 3], b = l[(s + 2) % 3];
+      if (!known[a] || !known[b]) continue;
+      const int32_t f = r.faces[qf];
+      const double lh[3] = {hlb[kRec * l[0] + 1], hlb[kRec * l[1] + 1], hlb[kRec * l[2] + 1]};
+      double X[3];
+      unit_direction(grad_, f, hlb[kRec * l[0]], hlb[kRec * l[1]], hlb[kRec * l[2]], lg ? lh : nullptr, X);
+      if (X[0] == 0 && X[1] == 0 && X[2] == 0) continue;
+      const double* bs = grad_.basis.data() + 9 * static_cast<int64_t>(f);
+      const double* gv = bs + 3 * s;
+      const double* ga = bs + 3 * ((s + 1) % 3);
+      const double* gb = bs + 3 * ((s + 2) % 3);
+      const double ua = ws.x[a], ub = ws.x[b], A = grad_.area[f];
+      for (int c = 0; c < 3; ++c) {
+        num += A * (X[c] - ua * ga[c] - ub * gb[c]) * gv[c];
+        den += A * gv[c] * gv[c];
+      }
+    }
+    if (!(den > 0)) return false;
+    ws.x[outer[q]] = num / den;
+    known[outer[q]] = 1;
+    return true;
+  };
+  std::vector<int32_t>& later = ws.rim_later;
+  later.clear();
+  for (size_t q = 0; q < outer.size(); ++q)
+    if (!solve_vertex(q)) later.push_back(static_cast<int32_t>(q));
+  for (int round = 0; round < 4 && !later.empty(); ++round) {
+    size_t keep = 0;
+    for (int32_t q : later)
+      if (!solve_vertex(static_cast<size_t>(q))) later[keep++] = q;
+    if (keep == later.size()) break;
+    later.resize(keep);
+  }
+}
+
 void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const double> h, int32_t source_local,
                                       std::span<double> distance, HeatGeodesicWorkspace& ws,
                                       HeatGeodesicOptions::PoissonRhs rhs, const SolvePlan* heat_plan) const {
   const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
   const bool flux = rhs == HeatGeodesicOptions::PoissonRhs::BoundaryFlux;
   const bool lg = opt_.log_heat_gradient;
+  const bool level_cut = flux && opt_.level_set_rim;
   ws.logh.resize(static_cast<size_t>(nloc));
-  if (lg) log_array(h.data(), ws.logh.data(), static_cast<size_t>(nloc));  // NaN where h <= 0
+  if (lg || level_cut) log_array(h.data(), ws.logh.data(), static_cast<size_t>(nloc));  // NaN where h <= 0
+  const double cut = level_cut ? rim_cut(r, h, ws) : std::numeric_limits<double>::infinity();
+  const bool cutting = cut < std::numeric_limits<double>::infinity();
   // Per region vertex {h, log h, b} side by side: faces reach their corners in
   // no particular region order, and three separate arrays cost three cache
   // misses per corner (at 50 % of 416k the divergence was half gathers).
@@ -370,11 +513,14 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
     double* c2 = hlb + kRec * l[2];
     double X[3], d[3];
     const double lh[3] = {c0[1], c1[1], c2[1]};
+    // Level-set rim: only the part of the face inside rho <= cut carries X.
+    const double share = cutting ? area_below(ws.rho[l[0]], ws.rho[l[1]], ws.rho[l[2]], cut) : 1.0;
+    if (share == 0.0) continue;
     unit_direction(grad_, f, c0[0], c1[0], c2[0], lg ? lh : nullptr, X);
     corner_divergence(grad_, f, X, d);
     double* c[3] = {c0, c1, c2};
     for (int s = 0; s < 3; ++s)
-      if (flux || l[s] < np) c[s][2] += d[s];
+      if (flux || l[s] < np) c[s][2] += share * d[s];
   }
   ws.b.resize(static_cast<size_t>(flux ? nloc : np));
   for (size_t k = 0; k < ws.b.size(); ++k) ws.b[k] = hlb[kRec * k + 2];
@@ -389,10 +535,12 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   ws.x.resize(static_cast<size_t>(np));
   solve_planned(poisson_, ws.poisson_plan, ws.b, ws.x, ws.poisson);
   ws.poisson_s = thread_cpu_seconds() - t0;
+  if (cutting) continue_rim(r, hlb, cut, ws);
   const double d0 = ws.x[source_local];
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)
     distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
+  note_underflow(h.first(static_cast<size_t>(np)), h[source_local], distance, ws);
 }
 
 void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t source, std::span<double> distance,
@@ -403,6 +551,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   const int32_t c = component_[source];
   for (int32_t i = 0; i < n; ++i)
     distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
+  note_underflow(h, h[source], distance, ws);
 }
 
 void HeatGeodesic::potential_from_heat_full(std::span<const double> h, HeatGeodesicWorkspace& ws) const {

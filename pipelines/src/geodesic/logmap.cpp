@@ -68,7 +68,8 @@ void HeatLogMap::prepare(const Mesh& m, const MeshDerived* derived) {
   const std::vector<double> hn = mean_curvature_normals(m, &inc);
   const std::vector<double> an = area_weighted_normals(m);
   const Edges& e = inc.edges;
-  std::vector<uint8_t> boundary(static_cast<size_t>(n), 0);
+  std::vector<uint8_t>& boundary = boundary_;
+  boundary.assign(static_cast<size_t>(n), 0);
   for (size_t k = 0; k < e.e0.size(); ++k)
     if (e.face_count[k] == 1) boundary[e.e0[k]] = boundary[e.e1[k]] = 1;
   // |H n| below 1e-8 / h means a curvature radius above 1e8 h: numerically planar.
@@ -143,6 +144,19 @@ bool HeatLogMap::irregular_star(int32_t i) const {
   return worst > 0.25 || lmax > 1.6 * lmin;
 }
 
+// A lattice defect: an interior vertex whose valence is not the triangle
+// lattice's 6 (an icosphere's 12 corners: valence 5, a cone of the lattice;
+// such stars may still be regular in shape). The lattice corrections model
+// the heat's anisotropy along straight rays through a lattice; around a cone
+// the rays bend and the correction made things worse (icosphere 7, vertex 0:
+// Path 4.35e-3 against 3.19e-3 uncorrected at t = h^2, 1.22e-3 against 0.95e-3
+// at 4 h^2; also without the center's own star in the Path sums:
+// docs/logmap.md, "Defect centers"), so they apply at valence-6 stars only.
+bool HeatLogMap::defect_star(int32_t i) const {
+  const TriangleGradients& g = geo_.gradients();
+  return g.vf_offsets[i + 1] - g.vf_offsets[i] != 6 && !boundary_[i];
+}
+
 // Sources S = {i} ∪ N(i) (i first, neighbors ascending; TwoRing: then the
 // second ring, ascending) and the estimator coefficients in the frame (e1, e2):
 // direction to j = (sum_k a_k f_k, sum_k b_k f_k), f_k = (h_k)_j or log (h_k)_j.
@@ -163,13 +177,20 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   S.erase(std::find(S.begin(), S.end(), i));
   S.insert(S.begin(), i);
   const size_t ring1 = S.size();
-  // Auto: the two-ring fit at irregular stars, the one-ring log estimator elsewhere.
-  // The lattice correction only at regular stars: an irregular star (or ring of
-  // them) is no lattice, and on random-point spheres the correction doubled the
-  // error (docs/logmap.md, "Angle estimators").
-  const bool irregular = irregular_star(i);
-  if (est.angle == LogMapAngle::Auto) est.angle = irregular ? LogMapAngle::LogHeatTwoRing : LogMapAngle::LogHeat;
-  if (irregular) est.lattice = LatticeCorrection::None;
+  // Auto: the two-ring fit at irregular stars; at shape-regular stars of a
+  // valence other than 6 (lattice defects) the thesis' one-ring average of
+  // grad h; the one-ring log estimator elsewhere. At a symmetric star the
+  // one-ring estimator has no convexity bias, which is what the log removes
+  // elsewhere, and there the average of grad h follows the heat better than the
+  // log (icosphere 7, its 12 valence-5 corners: 5.3e-4 against 9.5e-4 at
+  // t = 4 h^2; 1.08e-3 against 3.19e-3 at h^2; docs/logmap.md, "Defect centers").
+  // The lattice correction only at regular valence-6 stars: an irregular star
+  // (or ring of them) is no lattice, and on random-point spheres the correction
+  // doubled the error (docs/logmap.md, "Angle estimators"); defects: see defect_star.
+  const bool irregular = irregular_star(i), defect = !irregular && defect_star(i);
+  if (est.angle == LogMapAngle::Auto)
+    est.angle = irregular ? LogMapAngle::LogHeatTwoRing : (defect ? LogMapAngle::HeatAverage : LogMapAngle::LogHeat);
+  if (irregular || defect_star(i)) est.lattice = LatticeCorrection::None;
   const LogMapAngle angle = est.angle;
   if (angle == LogMapAngle::LogHeatTwoRing) {
     std::vector<int32_t>& R2 = ws.ring2;
@@ -825,7 +846,9 @@ void HeatLogMap::finish_angles(std::span<const int32_t> patch, const LogMapOutpu
     double th = ws.theta[p];
     if (!(lattice && usable) && (gx != 0 || gy != 0)) {
       // Polar to Cartesian from the direction itself (no cos / sin calls).
-      const double il = 1 / std::sqrt(gx * gx + gy * gy);
+      // (hypot where the squares would underflow: the plain average of far, tiny heat values)
+      const double g2 = gx * gx + gy * gy;
+      const double il = g2 > 1e-280 ? 1 / std::sqrt(g2) : 1 / std::hypot(gx, gy);
       out.angle[p] = th;
       out.u[p] = gx * il;  // unit direction; scale_by_distance makes it (u, v)
       out.v[p] = gy * il;
@@ -992,6 +1015,8 @@ LogMapStats HeatLogMap::query(int32_t center, std::span<const int32_t> patch, co
     geo_.distance_from_heat(r, ws.geo.h, cl, out.distance, ws.geo, opt_.geodesic.poisson_rhs, &ws.plan);
     clock.lap(st.distance_s);
     st.poisson_s = ws.geo.poisson_s;
+    st.underflow = ws.geo.underflow;
+    st.t_no_underflow = ws.geo.t_no_underflow;
     finish_angles(patch, out, est, st, ws);
     scale_by_distance(out);
     st.angles_s = t_gradients;
@@ -1044,6 +1069,10 @@ LogMapStats HeatLogMap::query_full(int32_t center, std::span<const int32_t> patc
   ws.dist_full.resize(static_cast<size_t>(n));
   geo_.distance_from_heat_full(h0, center, ws.dist_full, ws.geo);
   for (size_t p = 0; p < patch.size(); ++p) out.distance[p] = ws.dist_full[patch[p]];
+  st.underflow = 0;  // (the whole-mesh count above is not the patch's)
+  for (int32_t v : patch)
+    if (!(h0[v] >= std::numeric_limits<double>::min())) ++st.underflow;
+  st.t_no_underflow = st.underflow > 0 ? ws.geo.t_no_underflow : 0.0;
   // Rows of ws.heat are vertex ids.
   begin_gradients(patch.size(), ws);
   const double h_center = ws.heat[static_cast<size_t>(center) * d];
@@ -1079,6 +1108,31 @@ int64_t count_flipped_triangles(const TriangleGradients& g, std::span<const int3
   }
   for (int32_t i : patch) local[i] = -1;
   return flipped;
+}
+
+double injectivity_radius(const TriangleGradients& g, std::span<const int32_t> patch, std::span<const double> u,
+                          std::span<const double> v, std::span<const double> distance, std::vector<int32_t>& local) {
+  if (local.size() != static_cast<size_t>(g.nv)) local.assign(g.nv, -1);
+  if (u.size() != patch.size() || v.size() != patch.size() || distance.size() != patch.size())
+    fail(ErrorCode::BadUsage, "injectivity_radius: u, v and distance need one entry per patch vertex");
+  for (int32_t i : patch)
+    if (i < 0 || i >= g.nv) fail(ErrorCode::BadUsage, "injectivity_radius: vertex " + std::to_string(i) + " out of range");
+  for (size_t p = 0; p < patch.size(); ++p) local[patch[p]] = static_cast<int32_t>(p);
+  double radius = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < patch.size(); ++p) {
+    const int32_t i = patch[p];
+    for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q) {
+      const int32_t* t = g.tri.data() + 3 * static_cast<int64_t>(g.vf_faces[q]);
+      if (i != std::min({t[0], t[1], t[2]})) continue;  // each face once
+      const int32_t a = local[t[0]], b = local[t[1]], c = local[t[2]];
+      if (a < 0 || b < 0 || c < 0) continue;
+      const double area = (u[b] - u[a]) * (v[c] - v[a]) - (u[c] - u[a]) * (v[b] - v[a]);
+      // A flipped face lies inside every disk that holds its farthest corner.
+      if (area < 0) radius = std::min(radius, std::max({distance[a], distance[b], distance[c]}));
+    }
+  }
+  for (int32_t i : patch) local[i] = -1;
+  return radius;
 }
 
 }  // namespace locus

@@ -12,6 +12,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -248,7 +249,9 @@ TEST_CASE("log map: sheared planar lattice — the lattice correction removes th
       m.add_triangle(b, d, c);
     }
   const int32_t c = (N / 2) * N + N / 2;
-  const HeatLogMap lm(m);
+  LogMapOptions o;
+  o.geodesic.t_factor = 1;  // the regime of the figures: the anisotropy scales like h^2 / t
+  const HeatLogMap lm(m, o);
   LogMapWorkspace ws;
   std::vector<int32_t> patch{c};
   for (int32_t j = 0; j < m.num_vertices(); ++j)
@@ -271,7 +274,9 @@ TEST_CASE("log map: sheared planar lattice — the lattice correction removes th
 
 TEST_CASE("log map: recenter — applied on a surrounding patch, refused on a one-sided one; local equals full") {
   const Mesh m = make_random_sphere(12000, 5);  // h ~ 0.036
-  const HeatLogMap lm(m);
+  LogMapOptions o;
+  o.geodesic.t_factor = 1;  // the regime of the figures below
+  const HeatLogMap lm(m, o);
   LogMapWorkspace ws;
   const LogMapEstimator plain{LogMapAngle::LogHeatTwoRing, LatticeCorrection::None, false};
   const LogMapEstimator rc{LogMapAngle::LogHeatTwoRing, LatticeCorrection::None, true};
@@ -366,4 +371,63 @@ TEST_CASE("log map: a refused query leaves the workspace clean; a reused workspa
     for (size_t p = 0; p < patch.size(); ++p) ed += std::abs(b.d[p] - great_circle(m, c, patch[p])) / patch.size();
     CHECK(ed < 0.02);
   }
+}
+
+TEST_CASE("log map: injectivity radius — the patch clipped there has no flipped triangle, one vertex more has") {
+  const Mesh m = make_icosphere(4);  // h ~ 0.076
+  const HeatLogMap lm(m);
+  LogMapWorkspace ws;
+  const int32_t c = 100;
+  std::vector<int32_t> scratch;
+  // The whole sphere: around the antipode (the cut point) the map must fold.
+  const std::vector<int32_t> patch = sphere_disk(m, c, 4.0);
+  Map got(patch.size());
+  lm.query(c, patch, got.out(), ws);
+  const int64_t flips = flipped(lm, patch, got);
+  const double r = injectivity_radius(lm.geodesic().gradients(), patch, got.u, got.v, got.d, scratch);
+  MESSAGE("icosphere 4, whole sphere: " << flips << " flipped triangles, injectivity radius " << r);
+  REQUIRE(flips > 0);
+  REQUIRE(std::isfinite(r));
+  CHECK(r > 2.5);  // one-to-one up to near the antipode (pi)
+  // Clipped (d < r): no flip. With the vertices at d == r (a flipped face's farthest corner): a flip.
+  for (bool inclusive : {false, true}) {
+    std::vector<int32_t> sub;
+    Map part(0);
+    for (size_t p = 0; p < patch.size(); ++p)
+      if (got.d[p] < r || (inclusive && got.d[p] == r)) {
+        sub.push_back(patch[p]);
+        part.d.push_back(got.d[p]);
+        part.a.push_back(got.a[p]);
+        part.u.push_back(got.u[p]);
+        part.v.push_back(got.v[p]);
+      }
+    const int64_t f = count_flipped_triangles(lm.geodesic().gradients(), sub, part.u, part.v, scratch);
+    CHECK(inclusive ? f > 0 : f == 0);
+  }
+  // A small patch: one-to-one throughout.
+  const std::vector<int32_t> small = sphere_disk(m, c, 0.5);
+  Map s(small.size());
+  lm.query(c, small, s.out(), ws);
+  CHECK(injectivity_radius(lm.geodesic().gradients(), small, s.u, s.v, s.d, scratch) ==
+        std::numeric_limits<double>::infinity());
+}
+
+TEST_CASE("log map: far, tiny heat values at a valence-5 corner (the plain average) give finite coordinates") {
+  // Auto takes the one-ring average of grad h there; at small t its gradient
+  // is ~1e-160 far away and its square underflowed (u, v were NaN).
+  const Mesh m = make_icosphere(4);
+  LogMapOptions o;
+  o.geodesic.t_factor = 0.01;
+  const HeatLogMap lm(m, o);
+  LogMapWorkspace ws;
+  int32_t corner = -1;
+  for (int32_t v = 0; v < m.num_vertices() && corner < 0; ++v)
+    if (lm.geodesic().gradients().vf_offsets[v + 1] - lm.geodesic().gradients().vf_offsets[v] == 5) corner = v;
+  REQUIRE(corner >= 0);
+  const std::vector<int32_t> patch = sphere_disk(m, corner, 2.8);
+  Map got(patch.size());
+  lm.query(corner, patch, got.out(), ws);
+  int64_t bad = 0;
+  for (size_t p = 0; p < patch.size(); ++p) bad += !std::isfinite(got.u[p]) || !std::isfinite(got.v[p]);
+  CHECK(bad == 0);
 }

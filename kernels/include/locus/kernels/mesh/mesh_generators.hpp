@@ -29,6 +29,10 @@ Mesh make_grid(int32_t n, double flip_fraction = 0.0, uint64_t seed = 1);
 // seeded random order and each is flipped with that probability, unless one of its
 // triangles was already changed or a new triangle would not be positively oriented.
 Mesh make_disk(int32_t rings, double flip_fraction = 0.0, uint64_t seed = 1);
+// Cube-sphere: each face of the cube [-1,1]^3 split into n x n quads, vertices
+// projected on the unit sphere (polygon mesh, 4-gons, outward; 6 n^2 faces,
+// 6 n^2 + 2 vertices). With triangulate, each quad is split by its first diagonal.
+Mesh make_cube_sphere(int32_t n, bool triangulate = false);
 // 1:4 midpoint subdivision of a triangle mesh, `times` times (new vertices at edge midpoints,
 // not projected). Original vertices keep their ids; new ones are appended.
 Mesh subdivide_midpoint(const Mesh& m, int times);

@@ -30,6 +30,21 @@
 //    Helmholtz projection inside, which is small when X is nearly curl-free.
 //    Both are measured against the full solve in tests/pipelines/geodesic/heat_geodesic.cpp
 //    and by `locus-bench logmap`.
+//  * Rim (HeatGeodesicOptions::level_set_rim, default on, with BoundaryFlux):
+//    the whole-mesh solve of a truncated field is a transmission problem: the
+//    potential outside T(P) is harmonic with the values on the cut, and its
+//    normal derivative adds to the flux. Only where the cut is a level set of
+//    the distance is it constant outside and the solution exact inside; the
+//    patches users ask for (Dijkstra disks in the graph metric, hexagons on an
+//    icosphere; one-sided patches) are not, and their outer tenth was bent
+//    (icosphere 7, 6 % disk: E_d 2.7e-2 there against 1.3e-3 inside). So X is
+//    cut at a level set of the heat, rho = -log h <= the ring's smallest rho
+//    (rho is the distance up to a smooth radial profile and the lattice's
+//    ~1e-3 anisotropy), with the share of each face inside it, and the patch
+//    vertices beyond that level set take the value whose piecewise-linear
+//    gradient best fits X in their faces with two known corners (the Poisson
+//    step's least squares, one vertex at a time in increasing rho). Outer band
+//    2.3e-3, localized within 7e-4 of the full solve (docs/logmap.md, "Rim").
 // Per-triangle direction (HeatGeodesicOptions::log_heat_gradient, default on):
 // the normalized gradient of log h instead of h. Normalization makes the two
 // equal in the continuum; on the mesh, h falls by a factor ~e per edge at
@@ -50,7 +65,9 @@
 //
 // Heat values decay like exp(-r / sqrt(t)); beyond ~700 sqrt(t) they underflow
 // to 0, the gradient vanishes and those triangles contribute no direction
-// (Crane et al. note the same limit): keep patches within that radius.
+// (Crane et al. note the same limit): keep patches within that radius. Every
+// query counts the output vertices where that happened and the t that would
+// avoid it (HeatGeodesicWorkspace::underflow, t_no_underflow; the CLI warns).
 //
 // Thread safety: after construction every member is const; queries may run
 // concurrently, each thread with its own HeatGeodesicWorkspace.
@@ -71,8 +88,25 @@
 namespace locus {
 
 struct HeatGeodesicOptions {
-  double t_factor = 1.0;      // diffusion time t = t_factor * h^2 (Crane et al. recommend 1)
-  double poisson_rel = 1e-6;  // eps of -L_C + eps M, relative (kernels/include/locus/kernels/mesh/mesh_operators.hpp)
+  // Diffusion time t = t_factor * h^2. Crane et al. recommend 1; 4 is the
+  // default for accuracy: the log map's angles err by the lattice's anisotropy,
+  // which scales like h^2 / t (icosphere 7, E_a at 10 random centers 1.71e-3 ->
+  // 0.63e-3, at the 12 valence-5 corners 3.19e-3 -> 0.95e-3; random-point sphere
+  // 1.7e-2 -> 9.7e-3, E_d 3.7e-3 -> 2.9e-3), while the distance is as accurate
+  // (icosphere 7: 1.3e-3 either way). The cost of a query does not depend on t;
+  // heat also reaches twice as far before it underflows (~1400 h instead of
+  // ~700 h). Figures and commands: docs/logmap.md, "Defaults".
+  double t_factor = 4.0;
+  // eps of -L_C + eps M: eps = poisson_rel * mean(diag(-L_C)) / area, i.e. the
+  // last pivot of the factorization is about poisson_rel of a typical diagonal
+  // entry, whatever the vertex count. Why so small: eps damps each eigenmode of
+  // the solution by eps / (lambda + eps), and the distance lives mostly in the
+  // lowest ones (unit sphere: lambda_1 = 2). The earlier eps = 1e-6 trace(-L_C) /
+  // trace(M) (kernels/include/locus/kernels/mesh/mesh_operators.hpp) grew with n:
+  // 0.045 on a 164k icosphere, a 2.2 % shrink of every distance (mean error 0.028
+  // over the sphere, 0.0013 now; docs/logmap.md, "Far field"). Zero-sum right-hand
+  // sides lose nothing to the small pivot but a constant, which the shift removes.
+  double poisson_rel = 1e-5;
   enum class PoissonRhs { BoundaryFlux, Truncated };
   PoissonRhs poisson_rhs = PoissonRhs::BoundaryFlux;  // localized queries only, see above
   bool log_heat_gradient = true;  // direction of grad log h instead of grad h per triangle, see above
@@ -83,6 +117,11 @@ struct HeatGeodesicOptions {
   // 1.29e-2 against 1.23e-2), so off. The CLI's factor cache labels the heat
   // factor by t only: a cache made with another mass_blend would be accepted.
   double mass_blend = 0.0;
+  // Localized queries with PoissonRhs::BoundaryFlux: truncate X at a level set
+  // of the heat (rho = -log h <= the ring's smallest rho) instead of at the
+  // patch's own boundary, and continue the distance beyond it to the rest of
+  // the patch by least squares along X (see above, "Rim"). Off: the patch boundary.
+  bool level_set_rim = true;
 };
 
 // The vertices and triangles a localized query works on. Built by
@@ -106,7 +145,17 @@ struct HeatGeodesicWorkspace {
   PatchRegion region;
   std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
   std::vector<double> hlb;            // localized divergence: {h, log h, b, pad} per region vertex
+  std::vector<double> rho;            // level-set rim: -log h per region vertex
+  std::vector<int32_t> rim_order, rim_pos, rim_offsets, rim_faces, rim_later;  // level-set rim: continuation
+  std::vector<uint8_t> rim_known;
   double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
+  // Set by every query: output vertices whose heat underflowed (below the
+  // smallest normal double: no direction there, the distance is interpolated)
+  // and, when there are any, a diffusion time that keeps the heat above
+  // e^-600 over the output's largest distance (heat decays like
+  // exp(-d / sqrt t)); 0 when none underflowed.
+  int64_t underflow = 0;
+  double t_no_underflow = 0;
 };
 
 // The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
@@ -133,6 +182,8 @@ class HeatGeodesic {
   HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors);
   // The operators it factors: heat = M - t L_C, poisson = -L_C + eps M; returns t.
   static double operators(const Mesh& m, const HeatGeodesicOptions& opt, CscMatrix& heat, CscMatrix& poisson);
+  // -L_C + eps M with eps from opt.poisson_rel (see HeatGeodesicOptions).
+  static CscMatrix poisson_operator(const Mesh& m, const HeatGeodesicOptions& opt, const EdgeIncidence* inc = nullptr);
 
   int32_t num_vertices() const { return grad_.nv; }
   double mean_edge_length() const { return h_; }
@@ -183,6 +234,10 @@ class HeatGeodesic {
 
  private:
   void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // checks and per-mesh data shared by both constructors
+  void note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
+                      HeatGeodesicWorkspace& ws) const;
+  double rim_cut(const PatchRegion& r, std::span<const double> h, HeatGeodesicWorkspace& ws) const;
+  void continue_rim(const PatchRegion& r, const double* hlb, double cut, HeatGeodesicWorkspace& ws) const;
 
   HeatGeodesicOptions opt_;
   TriangleGradients grad_;

@@ -37,8 +37,11 @@
 //    least-squares stencil averages it down. Vertices j inside the stencil use
 //    the one-ring estimator.
 //  * Auto (default): LogHeatTwoRing where the star of i is irregular (a corner
-//    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6), LogHeat elsewhere.
-//    Defaults: LatticeCorrection::Path (at regular stars) and recenter.
+//    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6); HeatAverage at
+//    shape-regular stars whose valence is not 6 (lattice defects, e.g. an
+//    icosphere's corners: a symmetric star has no convexity bias, and there the
+//    plain average measured better, logmap.cpp prepare_center); LogHeat elsewhere.
+//    Defaults: LatticeCorrection::Path (at regular valence-6 stars) and recenter.
 // Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
 // estimators fall back to HeatAverage for that vertex, counted in the stats.
 // Corrections after the gradient estimate (LogMapEstimator; defaults in LogMapOptions):
@@ -46,7 +49,7 @@
 //    to the normal of the heat kernel's dispersion set (see below; logmap.cpp,
 //    prepare_lattice, path_offsets), from the center's star, from the stars of
 //    the center and its ring, or (Path, the default) from the stars along the
-//    ray to each vertex; applied at regular stars only.
+//    ray to each vertex; applied at regular valence-6 stars only.
 //  * recenter: on irregular meshes each vertex's heat carries a factor that does
 //    not depend on the source (its mass and weights), whose gradient adds the
 //    same vector b to every grad log h_j: an angle error of harmonic 1. b is
@@ -117,6 +120,8 @@ struct LogMapStats {
   int32_t angle_fallbacks = 0;  // log estimators: vertices that used HeatAverage
   bool two_ring = false;        // the two-ring estimator was used at this center
   bool recentered = false;       // recenter asked and applied (enough directions around the center)
+  int64_t underflow = 0;         // patch vertices whose heat underflowed (HeatGeodesicWorkspace::underflow)
+  double t_no_underflow = 0;     // a t that avoids it (0: none underflowed)
   // Thread CPU time per phase of a localized query, for the bench's breakdown:
   // region (patch + ring + faces), center (sources, estimator), heat plan, heat
   // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
@@ -204,6 +209,7 @@ class HeatLogMap {
   void prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
                        LogMapWorkspace& ws) const;
   bool irregular_star(int32_t i) const;
+  bool defect_star(int32_t i) const;
   void begin_gradients(size_t patch_size, LogMapWorkspace& ws) const;
   // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
   void vertex_gradient(size_t p, bool is_center, bool is_source, const double* f, bool padded, double h_center,
@@ -232,6 +238,7 @@ class HeatLogMap {
   HeatGeodesic geo_;
   std::vector<double> x_, y_, z_;  // positions
   std::vector<double> normal_;     // 3 * n: eq. 6.2 (mean-curvature normal, area normal where it vanishes)
+  std::vector<uint8_t> boundary_;  // n: on a boundary edge
 };
 
 // Triangles with all three corners in the patch whose (u, v) image has negative
@@ -239,5 +246,14 @@ class HeatLogMap {
 // scratch of num_vertices() entries, all -1 between calls.
 int64_t count_flipped_triangles(const TriangleGradients& g, std::span<const int32_t> patch,
                                 std::span<const double> u, std::span<const double> v, std::vector<int32_t>& local);
+
+// The map's injectivity radius around its center: the largest r such that no
+// flipped triangle (as counted above) has all three corners at distance < r,
+// i.e. the min over flipped triangles of their farthest corner's distance;
+// +infinity when none is flipped. Keeping the patch vertices with distance < r
+// gives a flip-free map (users placing decals or textures need to know where
+// the map stops being one-to-one). `local` as above.
+double injectivity_radius(const TriangleGradients& g, std::span<const int32_t> patch, std::span<const double> u,
+                          std::span<const double> v, std::span<const double> distance, std::vector<int32_t>& local);
 
 }  // namespace locus
