@@ -113,12 +113,14 @@ int64_t locus_last_error_copy(char* buffer, int64_t capacity);
  * LOCUS_BAD_USAGE. They may be called from any thread, concurrently (locus'
  * worker threads allocate too), and must not call locus.
  * What goes through them: numeric factor values (the largest buffers by far),
- * the factorization's and the solves' workspaces, selected-inversion blocks,
- * every allocation METIS makes inside the orderings, and the block arrays of
- * the factor-once update. What does not: the mesh, the operators, symbolic
- * structures, results and other small or per-query arrays (C++ containers),
- * oneTBB's task storage, and OpenBLAS' per-thread buffers (allocated once per
- * process by OpenBLAS itself). README lists the shares measured on armadillo.
+ * the factorization's and the solves' workspaces, the heat batches and heat
+ * Voronoi buffers of the diffusion pipelines and the CVT, selected-inversion
+ * blocks, the factor-once update's arrays, and every allocation METIS makes
+ * inside the orderings. What does not: the mesh and its derived arrays, the
+ * operators, orderings, symbolic structures, results (C++ containers),
+ * oneTBB's task storage, and OpenBLAS' buffers (allocated once per process by
+ * OpenBLAS itself). docs/shipping.md has the shares measured on armadillo
+ * (a first geodesic 25% of the bytes in blocks >= 64 KB, a CVT 53%).
  * Every block remembers the callbacks that allocated it and is freed by them,
  * so the allocator may be changed at any time, even while sessions hold
  * cached factors; blocks are freed at the latest when the session, result
