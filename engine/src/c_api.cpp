@@ -176,6 +176,13 @@ locus::Session& session_of(locus_session* s) {
   return s->session;
 }
 
+// The C API's "no value" is NaN (locus.h, as the CLI writes it); the Session's
+// geodesic distance in a component without a source is +infinity.
+void no_value_as_nan(double* out, int64_t n) {
+  for (int64_t i = 0; i < n; ++i)
+    if (std::isinf(out[i])) out[i] = std::numeric_limits<double>::quiet_NaN();
+}
+
 int32_t vertex_id(const locus::Session& s, int64_t v, const char* what) {
   const int64_t n = s.num_vertices();
   if (v < 0 || v >= n)
@@ -352,6 +359,7 @@ locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, 
     const int32_t src = vertex_id(s, source, "source");
     CallContext cc(opts);
     s.geodesic_distance(src, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+    no_value_as_nan(out_nv, s.num_vertices());
   });
 }
 
@@ -376,6 +384,23 @@ locus_status locus_logmap_ex(locus_session* session, int64_t center, double frac
       out_uv[2 * static_cast<size_t>(r.patch[k]) + 1] = r.v[k];
     }
   });
+}
+
+int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid) {
+  clear_error();
+  if (!values || !out_valid || count < 0 || stride < 1) {
+    set_error("locus_valid_mask", !values      ? "values is NULL"
+                                  : !out_valid ? "out_valid is NULL"
+                                  : count < 0  ? "count < 0"
+                                               : "stride < 1");
+    return -1;
+  }
+  int64_t valid = 0;
+  for (int64_t i = 0; i < count; ++i) {
+    out_valid[i] = std::isnan(values[i * stride]) ? 0 : 1;
+    valid += out_valid[i];
+  }
+  return valid;
 }
 
 locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv) {
@@ -593,6 +618,7 @@ locus_status locus_geodesic_distance_multi(locus_session* session, const locus_s
     const std::vector<locus::MeshPoint> pts = mesh_points(s, sources, n_sources, "sources");
     CallContext cc(opts);
     s.geodesic_distance(pts, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+    no_value_as_nan(out_nv, s.num_vertices());
   });
 }
 

@@ -124,7 +124,7 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
 constexpr double kCvtFactorIterations = 2.2;
 
 // The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later
-// cvt calls skip ordering and factoring (and METIS, which cannot be cancelled).
+// cvt calls skip ordering and factoring.
 std::shared_ptr<const HeatDiffusion> cvt_heat(State& s, const RunContext& ctx) {
   return s.cvt_heat.get(0, ctx, [&] {
     ctx.report(0.0, "factor heat operator (cvt)");

@@ -1,5 +1,6 @@
 // Numerical faults through the C API (issue 10 item 3): a mesh with two
-// components (geodesic distance +infinity in the other component, log map
+// components (geodesic distance NaN, no value, in the other component, with
+// locus_valid_mask's 0 there; log map
 // confined to the center's component, zero heat across), huge and tiny
 // diffusion times (LOCUS_NUMERICAL with a message, or finite values), and
 // collapsed or needle triangles. Argument checking (NULL, counts, ids) is in
@@ -46,24 +47,36 @@ TEST_CASE("C API faults: two components") {
   locus_session* s = nullptr;
   REQUIRE(locus_session_create(a.xyz.data(), nv, a.tris.data(), nf, &s) == LOCUS_OK);
 
-  // Geodesic distance: finite in the source's component, +infinity in the other (no path).
+  // Geodesic distance: finite in the source's component, NaN (no value, no
+  // path) in the other, as the CLI writes it; the mask says which is which.
   std::vector<double> d(nv);
+  std::vector<int32_t> valid(nv, -1);
   REQUIRE(locus_geodesic_distance(s, 3, d.data()) == LOCUS_OK);
+  CHECK(locus_valid_mask(d.data(), nv, 1, valid.data()) == na);
   for (int64_t v = 0; v < nv; ++v) {
     INFO("vertex " << v);
     if (v < na) CHECK(std::isfinite(d[v]));
-    else CHECK(d[v] == std::numeric_limits<double>::infinity());
+    else CHECK(std::isnan(d[v]));
+    CHECK(valid[v] == (v < na ? 1 : 0));
   }
   CHECK(d[3] == 0.0);
+  // From a point in a face of the first copy: the same convention.
+  const locus_surface_point p{0, -1, {0.2, 0.3, 0.5}};
+  REQUIRE(locus_geodesic_distance_multi(s, &p, 1, d.data(), nullptr) == LOCUS_OK);
+  for (int64_t v = 0; v < nv; ++v) CHECK((v < na ? std::isfinite(d[v]) : std::isnan(d[v])));
+  CHECK(locus_valid_mask(nullptr, nv, 1, valid.data()) == -1);
+  CHECK(std::string(locus_last_error_message()).find("values is NULL") != std::string::npos);
 
   // Log map of the whole mesh around a vertex of the second copy: the disk stops
   // at its component (finite there), NaN elsewhere (documented: outside the disk).
   std::vector<double> uv(2 * nv);
   REQUIRE(locus_logmap(s, na + 1, 1.0, uv.data()) == LOCUS_OK);
+  CHECK(locus_valid_mask(uv.data(), nv, 2, valid.data()) == nv - na);
   for (int64_t v = 0; v < nv; ++v) {
     INFO("vertex " << v);
     if (v >= na) CHECK(std::isfinite(uv[2 * v]));
     else CHECK(std::isnan(uv[2 * v]));
+    CHECK(valid[v] == (v >= na ? 1 : 0));
   }
 
   // Heat never crosses components.

@@ -42,7 +42,8 @@ def test_four_threads_one_session(armadillo):
 
 def test_other_threads_run_while_the_engine_computes(armadillo):
     # If the GIL were held during the factorization, the ticker could not run inside the call.
-    s = locus.Session(*armadillo)
+    # 104k vertices: the 26k precompute (~25 ms) is too short to see ticks inside it.
+    s = locus.Session(*locus.subdivide(*armadillo, 1))
     ticks, stop = [], threading.Event()
 
     def ticker():

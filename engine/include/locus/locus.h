@@ -114,12 +114,14 @@ int64_t locus_last_error_copy(char* buffer, int64_t capacity);
  * LOCUS_BAD_USAGE. They may be called from any thread, concurrently (locus'
  * worker threads allocate too), and must not call locus.
  * What goes through them: numeric factor values (the largest buffers by far),
- * the factorization's and the solves' workspaces, selected-inversion blocks,
- * every allocation METIS makes inside the orderings, and the block arrays of
- * the factor-once update. What does not: the mesh, the operators, symbolic
- * structures, results and other small or per-query arrays (C++ containers),
- * oneTBB's task storage, and OpenBLAS' per-thread buffers (allocated once per
- * process by OpenBLAS itself). README lists the shares measured on armadillo.
+ * the factorization's and the solves' workspaces, the heat batches and heat
+ * Voronoi buffers of the diffusion pipelines and the CVT, selected-inversion
+ * blocks, the factor-once update's arrays, and every allocation METIS makes
+ * inside the orderings. What does not: the mesh and its derived arrays, the
+ * operators, orderings, symbolic structures, results (C++ containers),
+ * oneTBB's task storage, and OpenBLAS' buffers (allocated once per process by
+ * OpenBLAS itself). docs/shipping.md has the shares measured on armadillo
+ * (a first geodesic 25% of the bytes in blocks >= 64 KB, a CVT 53%).
  * Every block remembers the callbacks that allocated it and is freed by them,
  * so the allocator may be changed at any time, even while sessions hold
  * cached factors; blocks are freed at the latest when the session, result
@@ -193,14 +195,25 @@ locus_status locus_session_get_positions(const locus_session* session, double* o
 locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv);
 
 /* Heat geodesic distance (Crane et al., thesis §6.4) from vertex `source` to
- * every vertex: out_nv receives vertex-count doubles, 0 at the source,
- * +infinity at vertices in another connected component than the source.
+ * every vertex: out_nv receives vertex-count doubles, 0 at the source, NaN
+ * (no value: see locus_valid_mask) at vertices in another connected component
+ * than the source.
  * The first call factors the two heat-method operators (the long part);
  * later calls cost two solves. */
 locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv);
 /* The same with options (progress/cancel, threads, t_factor); opts may be NULL. */
 locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
                                         const locus_run_options* opts);
+
+/* No value. Every output of this API that has no value at a vertex (outside a
+ * log-map or parameterization patch, a geodesic distance in another connected
+ * component than the sources) holds NaN there, never an infinity, as the
+ * `locus` CLI writes it; locus_valid_mask gives the CLI's integer mask `valid`
+ * (1 = has a value) for such an output: out_valid[i] = !isnan(values[i * stride])
+ * for i < count (stride >= 1, in doubles: 1 for distances, 2 for (u, v)
+ * pairs). Returns the number of vertices with a value, or -1 (with a message)
+ * when a pointer is NULL or count < 0 or stride < 1. */
+int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid);
 
 /* Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv)
  * vertices (at least 1) around vertex `center`, 0 < fraction <= 1.
@@ -292,7 +305,7 @@ locus_status locus_random_surface_points(const locus_session* session, int64_t c
  * Heat geodesic distance from a set of sources (vertices and points in faces)
  * at once: one heat solve with every source's hat weights, one Poisson solve.
  * Per connected component the distance is shifted so that its minimum over the
- * component's sources is 0; +infinity in components without a source.
+ * component's sources is 0; NaN (no value) in components without a source.
  * out_nv: vertex-count doubles. n_sources >= 1. opts->t_factor as for
  * locus_geodesic_distance (the same cached factors). */
 locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,

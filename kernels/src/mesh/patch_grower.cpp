@@ -8,6 +8,7 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -229,12 +230,14 @@ std::vector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) 
   // The DEM's (and the old CVT balls') edge lengths, bit for bit: neighbor minus
   // vertex, squared, summed x, y, z.
   std::vector<double> len(adj.neighbors.size());
-  for (int32_t i = 0; i < nv; ++i)
+  for (int32_t i = 0; i < nv; ++i) {
+    cancel_point(i);
     for (int64_t q = adj.offsets[i]; q < adj.offsets[i + 1]; ++q) {
       const int32_t j = adj.neighbors[q];
       len[q] = std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
                          (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
     }
+  }
   return len;
 }
 

@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <string>
 
@@ -31,6 +32,7 @@
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
 #include "locus/kernels/parallel/progress_ticker.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -779,9 +781,10 @@ void LloydLoop::iterate(int32_t it) {
   const int32_t nbatch = (ns_ + kLanes - 1) / kLanes;
   CentroidSlots slots = centroid_slots(nbatch);
   psw.lap();
+  // Reported batch by batch (~1 s at 416k vertices, 1,000 sites: a C host's chances to cancel).
   run_batch_graph<CentroidMsg>(
-      ctx_, nbatch, [&](int32_t b) { return solve_centroid_batch(b, before); },
-      [&](const std::shared_ptr<CentroidMsg>& msg) { store(*msg, slots); }, nullptr);
+      step_context(it, 0.5, 1.0), nbatch, [&](int32_t b) { return solve_centroid_batch(b, before); },
+      [&](const std::shared_ptr<CentroidMsg>& msg) { store(*msg, slots); }, "centroids");
   r_.centroids_s += psw.lap();
   r_.fallback_faces += slots.fallback;
   record_statistics(slots, nbatch);
@@ -889,9 +892,14 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.t = H.t;
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
+  // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).
+  ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
+  std::optional<CancelScope> scope(std::in_place, geometry_ticker);
   const CentroidGeometry geo = prepare_centroid_geometry(m, derived.adjacency);
+  geometry_ticker.add(1.0);
   const Edges& edges = derived.incidence.edges;
   const VertexStars stars = vertex_stars(m, ops.area_op);
+  geometry_ticker.add(1.0);
   ctx.check_cancel();
   const std::vector<double>& mass_r3 = derived.mass;
   const double h_r3 = derived.h;
@@ -907,6 +915,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
     nb.resize(ns);
     const std::vector<double> edge_length = adjacency_edge_lengths(m, geo.adj);
+    scope.reset();  // the balls below run on oneTBB workers
     tbb::enumerable_thread_specific<GrowWorkspace> scratch;
     // Seconds at 416k vertices: reported ball by ball (a C host's chances to cancel).
     ProgressTicker ticker(init_ctx.sub(0.5, 1.0), "cvt neighborhoods", ns);
@@ -919,6 +928,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     });
     ctx.check_cancel();
   }
+  scope.reset();
   r.init_s = sw.lap();
 
   const RunContext loop_ctx = ctx.sub(init_share, 1.0);

@@ -11,6 +11,7 @@
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -22,13 +23,17 @@ CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjac
   g.n = m.num_vertices();
   const int32_t nf = m.num_faces();
   g.vf_offsets.assign(static_cast<size_t>(g.n) + 1, 0);
-  for (int32_t f = 0; f < nf; ++f)
+  for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++g.vf_offsets[v + 1];
+  }
   for (int32_t v = 0; v < g.n; ++v) g.vf_offsets[v + 1] += g.vf_offsets[v];
   g.vf_faces.resize(g.vf_offsets[g.n]);
   std::vector<int64_t> fill(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
-  for (int32_t f = 0; f < nf; ++f)
+  for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[fill[v]++] = f;
+  }
   g.adj = adjacency;
   g.normals = area_weighted_normals(m);
   return g;

@@ -46,9 +46,10 @@ struct VoronoiMsg {
   int per_vertex = 0;  // candidates per vertex: min(lanes, kVoronoiTopK)
   bool full = true;
   double solve_cpu_s = 0;    // thread CPU time of this batch's solve
-  std::vector<int32_t> ids;  // local mode: vertex ids of the candidates
-  std::vector<int32_t> cand_site;
-  std::vector<double> cand_value;
+  // Per-batch buffers in the host's memory (core/include/locus/core/host_allocator.hpp).
+  HostVector<int32_t> ids;  // local mode: vertex ids of the candidates
+  HostVector<int32_t> cand_site;
+  HostVector<double> cand_value;
 };
 
 }  // namespace
@@ -141,7 +142,7 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
     solve_heat_batch(H, hb);
     msg->solve_cpu_s = thread_cpu_seconds() - c0;
     msg->full = !local;
-    if (local) msg->ids = hb.kept;
+    if (local) msg->ids.assign(hb.kept.begin(), hb.kept.end());
     const int32_t cnt = hb.count();
     const int pv = std::min(msg->lanes, kVoronoiTopK);
     msg->per_vertex = pv;

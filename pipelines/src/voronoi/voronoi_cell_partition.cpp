@@ -12,6 +12,7 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
@@ -119,13 +120,17 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
   if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
   VertexStars st;
   st.offsets.assign(static_cast<size_t>(n) + 1, 0);
-  for (int32_t f = 0; f < nf; ++f)
+  for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++st.offsets[v + 1];
+  }
   for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
   st.faces.resize(st.offsets[n]);
   std::vector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
-  for (int32_t f = 0; f < nf; ++f)
+  for (int32_t f = 0; f < nf; ++f) {
+    cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
+  }
   return st;
 }
 

@@ -134,7 +134,8 @@ TEST_CASE("host signals: the host's SIGTERM and SIGABRT handlers stay installed 
 TEST_CASE("host signals: a METIS error raised inside METIS returns an error status, with no signal") {
   // GKlib reports this error with raise(SIGTERM); renamed, it returns to the
   // METIS call, which reports METIS_ERROR. (nparts = 0 is rejected by the
-  // partitioner that METIS_PartMeshNodal calls; it prints a line to stdout.)
+  // partitioner that METIS_PartMeshNodal calls; its message to stdout is dropped:
+  // METIS' printf family is renamed, cmake/metis.cmake.)
   struct sigaction mine {}, old_term {};
   mine.sa_handler = host_handler;
   sigemptyset(&mine.sa_mask);

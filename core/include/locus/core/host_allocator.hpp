@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <new>
 #include <type_traits>
+#include <vector>
 
 namespace locus {
 
@@ -59,5 +60,9 @@ struct HostAllocator {
   template <typename U>
   bool operator!=(const HostAllocator<U>&) const noexcept { return false; }
 };
+
+// A vector in the host's memory: workspaces and per-batch buffers of the solves.
+template <typename T>
+using HostVector = std::vector<T, HostAllocator<T>>;
 
 }  // namespace locus

@@ -27,7 +27,7 @@ class HeatBatch {
   std::vector<int32_t> src_vertex;
   std::vector<double> src_weight;
   std::vector<int32_t> kept;
-  std::vector<double> values;
+  HostVector<double> values;  // in the host's memory (host_allocator.hpp)
 
   int32_t count() const { return full_ ? n_ : static_cast<int32_t>(kept.size()); }
   int32_t id(int32_t k) const { return full_ ? k : kept[k]; }
@@ -50,7 +50,7 @@ class HeatBatch {
   SolveWorkspace ws_;
   SolvePlan plan_;      // reused: planning does not allocate once warm
   PlanWorkspace pws_;
-  std::vector<double> work_, rhs_;
+  HostVector<double> work_, rhs_;
   std::vector<int32_t> support_;
   std::vector<uint8_t> mark_;  // n, zero between uses
   std::vector<int32_t> spos_;  // n, -1 between uses: position of a source vertex in support_

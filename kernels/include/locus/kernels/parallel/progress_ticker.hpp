@@ -51,7 +51,7 @@ class ProgressTicker {
   const RunContext& context() const { return ctx_; }
 
  private:
-  const RunContext& ctx_;
+  const RunContext ctx_;  // a copy: callers pass sub-ranges built on the spot
   const char* phase_;
   double total_;
   std::atomic<double> done_{0.0};

@@ -16,10 +16,11 @@
 
 namespace locus {
 
+// In the host's memory (core/include/locus/core/host_allocator.hpp): n * 8 doubles per batch at 416k vertices.
 struct SolveWorkspace {
-  std::vector<double> x;      // n * lanes, zero between calls
-  std::vector<double> tmp;    // max_super_rows * lanes
-  std::vector<uint8_t> keep;  // n, zero between calls
+  HostVector<double> x;      // n * lanes, zero between calls
+  HostVector<double> tmp;    // max_super_rows * lanes
+  HostVector<uint8_t> keep;  // n, zero between calls
 };
 
 // rhs[k] is b at plan.rhs[k] (b is zero elsewhere); out[k] receives x at plan.outputs[k].
