@@ -791,6 +791,7 @@ void LloydLoop::finish() {
   r_.final_labels_s = fsw.lap();
   r_.label = V_.label;
   in_arena([&] { r_.cell_area = partition_cells(m_, in_.area_r3, V_, ns_).area; });
+  if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
   r_.sites = std::move(sites_);
   if (read_batches_ > 0) {
     r_.centroid_read_fraction = centroid_read_sum_ / static_cast<double>(read_batches_);
@@ -890,15 +891,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const std::vector<double>& mass3 = derived.mass;
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
-    nb.resize(ns);
-    const std::vector<double> edge_length = adjacency_edge_lengths(m, geo.adj);
-    tbb::enumerable_thread_specific<GrowWorkspace> scratch;
-    in_arena([&] {
-      tbb::parallel_for(0, ns, [&](int32_t s) {
-        if (!ctx.cancelled()) nb[s] = geodesic_ball(m, geo.adj, edge_length, sites[s], radius, scratch.local());
-      });
-    });
-    ctx.check_cancel();
+    in_arena([&] { nb = geodesic_neighborhoods(m, geo.adj, sites, radius, ctx); });
   }
   r.init_s = sw.lap();
 
@@ -914,6 +907,20 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 }
 
 }  // namespace
+
+std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
+                                                         std::span<const SurfacePoint> sites, double radius,
+                                                         const RunContext& ctx) {
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  std::vector<std::vector<int32_t>> nb(ns);
+  const std::vector<double> edge_length = adjacency_edge_lengths(m, adj);
+  tbb::enumerable_thread_specific<GrowWorkspace> scratch;
+  tbb::parallel_for(0, ns, [&](int32_t s) {
+    if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, edge_length, sites[s], radius, scratch.local());
+  });
+  ctx.check_cancel();
+  return nb;
+}
 
 LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
   return cvt_lloyd_random(m, nullptr, opt, ctx);

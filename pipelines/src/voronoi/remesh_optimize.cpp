@@ -118,7 +118,7 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
 
 // One Jacobi sweep of tangential smoothing with projection onto the input.
 void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
-                 const std::vector<uint8_t>& fixed, RemeshOptimizeStats& st) {
+                 const std::vector<uint8_t>& fixed, double unpin_below, RemeshOptimizeStats& st) {
   const int32_t n = m.num_vertices();
   std::vector<int64_t> off(static_cast<size_t>(n) + 1, 0);
   for (const auto& t : F)
@@ -164,9 +164,9 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
     for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
     // Tips and ridges (an incident triangle turned more than 60 degrees from the
     // vertex normal) keep their vertex: moving it would cut the feature off;
-    // unless one of its triangles has an angle below 20 degrees (docs/cvt.md).
+    // unless one of its triangles has an angle below unpin_below (docs/cvt.md).
     const double cos_pin = 0.5;
-    const double unpin = M_PI / 9;
+    const double unpin = unpin_below;
     double worst = M_PI;
     for (int64_t q = off[v]; q < off[v + 1]; ++q) {
       const auto& t = F[vf[q]];
@@ -264,7 +264,7 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // tip, so the Hausdorff distance stays; sequential, in vertex order
 // (deterministic), and only a handful of vertices are visited.
 void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
-                const std::vector<uint8_t>& fixed, double below, bool move_tips, RemeshOptimizeStats& st) {
+                const std::vector<uint8_t>& fixed, double below, double tip_reach, RemeshOptimizeStats& st) {
   const VertexFaces vf(m.num_vertices(), F);
   std::vector<int32_t> bad;
   for (const auto& t : F)
@@ -287,15 +287,15 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
     if (!(ln > 0) || cnt == 0) continue;
     for (int k = 0; k < 3; ++k) nv[k] /= ln;
     len /= cnt;
-    if (!move_tips) {
-      bool tip = false;
-      for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
-        const auto& t = F[vf.f[q]];
-        const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
-        tip = dot(nn, nv) < 0.5 * norm(nn);
-      }
-      if (tip) continue;
+    bool tip = false;
+    for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
+      const auto& t = F[vf.f[q]];
+      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+      tip = dot(nn, nv) < 0.5 * norm(nn);
     }
+    if (tip && !(tip_reach > 0)) continue;
+    const V3 origin = pos(m, v);
+    const double reach2 = tip ? tip_reach * tip_reach * len * len : HUGE_VAL;
     // Tangent basis.
     const V3 axis = std::abs(nv[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
     V3 e1 = cross(nv, axis);
@@ -314,6 +314,8 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
                            best[2] + c * e1[2] + s * e2[2]};
           const ClosestPoint cp = grid.closest(goal);
           if (cp.face < 0) continue;
+          const V3 moved = sub(cp.point, origin);
+          if (dot(moved, moved) > reach2) continue;
           const auto fv = input.face(cp.face);
           const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
           if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
@@ -365,10 +367,10 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
         if (k == 0) break;
       }
     }
-    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, st);
+    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, opt.unpin_below_deg * M_PI / 180, st);
   }
   for (int sweep = 0; sweep < opt.angle_sweeps; ++sweep) {
-    angle_pass(input, grid, remesh, F, fixed, opt.angle_below_deg * M_PI / 180, false, st);
+    angle_pass(input, grid, remesh, F, fixed, opt.angle_below_deg * M_PI / 180, opt.tip_reach, st);
     for (int pass = 0; pass < 8; ++pass) {
       const int64_t k = flip_pass(remesh, F, valence, target, false);
       st.flips += k;

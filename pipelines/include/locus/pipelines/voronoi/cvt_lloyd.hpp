@@ -53,6 +53,8 @@
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 
 namespace locus {
 
@@ -89,11 +91,15 @@ struct LloydOptions {
   // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
   const HeatDiffusion* prepared = nullptr;
+  // Keep the final labels' top-K heat lists (LloydResult::voronoi), e.g. to add
+  // sites later without relabelling everything (heat_voronoi_add).
+  bool keep_voronoi = false;
 };
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
   std::vector<int32_t> label;     // per vertex, cell of the final sites
+  HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
   double h = 0, t = 0;            // in the operator's metric
   double factor_s = 0;            // operator + ordering + symbolic + numeric
   int64_t factor_bytes = 0;       // numeric factor values (both factors with t_centroid_factor)
@@ -142,6 +148,13 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const Ll
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const RunContext& ctx);
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, std::vector<SurfacePoint> initial,
                       const LloydOptions& opt, const RunContext& ctx);
+
+// Lloyd's first neighborhoods (localized solves): per site, the vertices within
+// geodesic (Dijkstra) distance `radius` of it, sorted; in parallel, in the
+// caller's arena.
+std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
+                                                         std::span<const SurfacePoint> sites, double radius,
+                                                         const RunContext& ctx);
 
 // Heat operator M - t L of a triangle mesh whose vertex positions are given in
 // `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed
