@@ -135,6 +135,16 @@ ClosestPoint TriangleGrid::closest(const V3& p) const {
       for (int j = std::max(0, ci[1] - r); j <= std::min(dim_[1] - 1, ci[1] + r); ++j)
         for (int k = std::max(0, ci[2] - r); k <= std::min(dim_[2] - 1, ci[2] + r); ++k) {
           if (std::max({std::abs(i - ci[0]), std::abs(j - ci[1]), std::abs(k - ci[2])}) != r) continue;
+          if (best2 < INFINITY) {  // a cell farther than the best triangle cannot hold a nearer one
+            const int ijk[3] = {i, j, k};
+            double box2 = 0;
+            for (int a = 0; a < 3; ++a) {
+              const double lo = lo_[a] + ijk[a] * cell_, hi = lo + cell_;
+              const double d = std::max({lo - p[a], p[a] - hi, 0.0});
+              box2 += d * d;
+            }
+            if (box2 > best2) continue;
+          }
           const size_t c = find((static_cast<uint64_t>(i) * dim_[1] + j) * dim_[2] + k);
           if (c == kNone) continue;
           for (int64_t q = offsets_[c]; q < offsets_[c + 1]; ++q) {
