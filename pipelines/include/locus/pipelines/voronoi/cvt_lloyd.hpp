@@ -33,7 +33,8 @@
 // are in docs/cvt.md.
 // Localized solver (default): every solve is the approximate selective solve
 // restricted to the union over the batch of the cells, their neighbor cells and
-// their neighbors (from the latest labels; before the first labels, the vertices
+// their neighbors (from the latest labels; before the first labels, the same from
+// the initial sites' Dijkstra cells, or with init_cells = false the vertices
 // within a Dijkstra radius of init_radius * sqrt(area / (pi N)) of each site). The full
 // solver does the same arithmetic with full solves, for comparison.
 // After the last iteration the labels of the final sites are computed once more,
@@ -81,6 +82,11 @@ struct LloydOptions {
   int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
   double fit_sigma = 1.0;    // weighted refit of the maximizer (heat_centroid.hpp; 0 = none, as the thesis)
   double init_radius = 4.0;  // first neighborhoods, in units of sqrt(area / (pi N))
+  // Localized first labels: the kept sets of the initial sites' graph-geodesic
+  // (Dijkstra) cells and their two rings of neighbor cells, batched as every
+  // later iteration (one multi-source Dijkstra), instead of a Dijkstra ball of
+  // init_radius per site (docs/cvt.md).
+  bool init_cells = true;
   // Cell sources from triangles split along the heat bisectors
   // (pipelines/include/locus/pipelines/voronoi/voronoi_cell_partition.hpp) instead of whole vertex stars.
   bool split_faces = true;
