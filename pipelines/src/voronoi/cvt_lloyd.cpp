@@ -19,6 +19,7 @@
 #include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/index_min_heap.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_selective.hpp"
@@ -173,6 +174,44 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
   grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// Graph-geodesic Voronoi cells of the sites: one multi-source Dijkstra on the
+// edge lengths from every site's support corners (at |corner - site|). Sites
+// are seeded in id order and a vertex changes site only for a strictly smaller
+// distance: deterministic. Labels -1 where no site reaches (a component
+// without sites).
+std::vector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
+  const int32_t n = m.num_vertices();
+  const std::vector<double> len = adjacency_edge_lengths(m, adj);
+  std::vector<double> dist(n, INFINITY);
+  std::vector<int32_t> label(n, -1), pos(n, -1), heap;
+  auto relax = [&](int32_t w, double d, int32_t s) {
+    if (pos[w] == -2 || !(d < dist[w])) return;
+    dist[w] = d;
+    label[w] = s;
+    if (pos[w] < 0) {
+      heap.push_back(w);
+      pos[w] = static_cast<int32_t>(heap.size()) - 1;
+    }
+    index_heap_sift_up(heap, dist.data(), pos.data(), pos[w]);
+  };
+  for (int32_t s = 0; s < static_cast<int32_t>(sites.size()); ++s) {
+    const auto p = surface_point_position(m, sites[s]);
+    int32_t sv[3];
+    double sw[3];
+    const int cnt = surface_point_support(m, sites[s], sv, sw);
+    for (int k = 0; k < cnt; ++k)
+      relax(sv[k], std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
+                             (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2])),
+            s);
+  }
+  while (!heap.empty()) {
+    const int32_t v = index_heap_pop_min(heap, dist.data(), pos.data());
+    pos[v] = -2;  // settled
+    for (int64_t q = adj.offsets[v]; q < adj.offsets[v + 1]; ++q) relax(adj.neighbors[q], dist[v] + len[q], label[v]);
+  }
+  return label;
 }
 
 // Cells as CSR (vertices ascending within a cell) and the cell adjacency graph.
@@ -512,6 +551,9 @@ class LloydLoop {
 
   void iterate(int32_t it);
   void finish();
+  // Localized first labels from given cells (e.g. dijkstra_cells) instead of
+  // per-site neighborhoods: batches and kept sets as every later iteration's.
+  void first_cells(std::span<const int32_t> label);
 
  private:
   template <class F>
@@ -557,6 +599,21 @@ class LloydLoop {
   double centroid_read_sum_ = 0, label_read_sum_ = 0;
   int64_t read_batches_ = 0;
 };
+
+void LloydLoop::first_cells(std::span<const int32_t> label) {
+  in_arena([&] {
+    cells_ = build_cells(in_.edges, label, ns_);
+    order_ = cluster_order(cells_, spatial_order(m_, sites_));
+    const int32_t nbatch = (ns_ + kLanes - 1) / kLanes;
+    batch_kept_.assign(nbatch, {});
+    tbb::parallel_for(0, nbatch, [&](int32_t b) {
+      std::vector<int32_t> cells;
+      for (int32_t i = b * kLanes; i < std::min(ns_, (b + 1) * kLanes); ++i) two_ring_cells(cells_, order_[i], cells);
+      cells_to_vertices(cells_, cells, batch_kept_[b]);
+    });
+  });
+  nb_ = {};
+}
 
 void LloydLoop::labels_of_sites() {
   BatchStopwatch psw;
@@ -803,6 +860,7 @@ void LloydLoop::finish() {
   r_.final_labels_s = fsw.lap();
   r_.label = V_.label;
   in_arena([&] { r_.cell_area = partition_cells(m_, in_.area_r3, V_, ns_).area; });
+  if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
   r_.sites = std::move(sites_);
   if (read_batches_ > 0) {
     r_.centroid_read_fraction = centroid_read_sum_ / static_cast<double>(read_batches_);
@@ -909,23 +967,17 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
-  if (local) {
+  std::vector<int32_t> first;  // init_cells: the sites' Dijkstra cells
+  if (local && opt.init_cells) {
+    first = dijkstra_cells(m, geo.adj, sites);
+    if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls
+  }
+  if (local && first.empty()) {
     const std::vector<double>& mass3 = derived.mass;
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
-    nb.resize(ns);
-    const std::vector<double> edge_length = adjacency_edge_lengths(m, geo.adj);
-    scope.reset();  // the balls below run on oneTBB workers
-    tbb::enumerable_thread_specific<GrowWorkspace> scratch;
-    // Seconds at 416k vertices: reported ball by ball (a C host's chances to cancel).
-    ProgressTicker ticker(init_ctx.sub(0.5, 1.0), "cvt neighborhoods", ns);
-    in_arena([&] {
-      tbb::parallel_for(0, ns, [&](int32_t s) {
-        if (ctx.cancelled()) return;
-        nb[s] = geodesic_ball(m, geo.adj, edge_length, sites[s], radius, scratch.local());
-        ticker.add(1.0);
-      });
-    });
+    scope.reset();  // the neighborhoods below run on oneTBB workers
+    in_arena([&] { nb = geodesic_neighborhoods(m, geo.adj, sites, radius, ctx); });
     ctx.check_cancel();
   }
   scope.reset();
@@ -934,6 +986,10 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const RunContext loop_ctx = ctx.sub(init_share, 1.0);
   const LloydInputs in{m, opt, loop_ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
   LloydLoop loop(in, sites, std::move(nb), r);
+  if (!first.empty()) {
+    loop.first_cells(first);
+    r.init_s += sw.lap();
+  }
   for (int32_t it = 0; it < opt.iterations; ++it) {
     loop.iterate(it);
     const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
@@ -944,6 +1000,20 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 }
 
 }  // namespace
+
+std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
+                                                         std::span<const SurfacePoint> sites, double radius,
+                                                         const RunContext& ctx) {
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  std::vector<std::vector<int32_t>> nb(ns);
+  const std::vector<double> edge_length = adjacency_edge_lengths(m, adj);
+  tbb::enumerable_thread_specific<GrowWorkspace> scratch;
+  tbb::parallel_for(0, ns, [&](int32_t s) {
+    if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, edge_length, sites[s], radius, scratch.local());
+  });
+  ctx.check_cancel();
+  return nb;
+}
 
 LloydResult cvt_lloyd(const Mesh& m, const LloydOptions& opt, const RunContext& ctx) {
   return cvt_lloyd_random(m, nullptr, opt, ctx);

@@ -2,17 +2,44 @@
 // (pipelines/include/locus/pipelines/voronoi/cvt_remesh.hpp; issue 23).
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <string>
 #include <utility>
 
 #include "locus/error.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
+
+namespace {
+
+// One repair round without relaxation: the sites beyond r's are new; only they
+// are solved (on Dijkstra balls of 2.5 expected cell radii, as the relaxing
+// rounds' first neighborhoods) and merged into r's diagram.
+void add_sites(const Mesh& m, const MeshDerived& d, const HeatDiffusion& H, std::vector<SurfacePoint> sites,
+               const RunContext& ctx, LloydResult& r) {
+  const int32_t first = static_cast<int32_t>(r.sites.size());
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  const double area = std::accumulate(d.mass.begin(), d.mass.end(), 0.0);
+  const double radius = 2.5 * std::sqrt(area / (M_PI * ns));
+  const std::span<const SurfacePoint> fresh(sites.data() + first, static_cast<size_t>(ns - first));
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  std::vector<std::vector<int32_t>> nb;
+  run_with_threads(std::max(1, threads), [&] { nb = geodesic_neighborhoods(m, d.adjacency, fresh, radius, ctx); });
+  heat_voronoi_add(H, m, sites, first, nb, {}, r.voronoi, ctx);
+  r.sites = std::move(sites);
+  r.label = r.voronoi.label;
+}
+
+}  // namespace
 
 RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx) {
   if (o.max_repair_rounds < 0 || o.relax_iterations < 0)
@@ -32,6 +59,10 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   // One monotone progress fraction: the Lloyd iterations, then each repair
   // round's share, then the dual and its optimization.
   constexpr double kLloydEnd = 0.7, kRepairEnd = 0.9;
+  // Repair rounds without relaxation only add sites: they grow the final
+  // diagram (heat_voronoi_add) instead of relabelling from scratch.
+  const bool incremental = o.relax_iterations == 0 && lo.prepared && lo.solver == LloydOptions::Solver::Local;
+  lo.keep_voronoi = incremental;
   r.lloyd = cvt_lloyd(m, d, lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   r.lloyd_s = sw.lap();
@@ -44,6 +75,16 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     std::vector<SurfacePoint> sites = r.lloyd.sites;
     for (int32_t v : dual.repair_vertices) sites.push_back(vertex_point(v));
     r.added_sites += static_cast<int32_t>(dual.repair_vertices.size());
+    if (incremental) {
+      const double share = (kRepairEnd - kLloydEnd) / std::max(1, o.max_repair_rounds);
+      add_sites(m, d, *lo.prepared, std::move(sites), ctx.sub(kLloydEnd + round * share, kLloydEnd + (round + 1) * share),
+                r.lloyd);
+      ++r.repair_rounds;
+      r.repair_s += sw.lap();
+      dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
+      r.dual_s += sw.lap();
+      continue;
+    }
     LloydOptions ro = lo;
     // The last rounds only relabel: relaxation could open new defects elsewhere.
     ro.iterations = round + 2 < o.max_repair_rounds ? o.relax_iterations : 0;

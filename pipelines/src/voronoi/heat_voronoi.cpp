@@ -93,27 +93,16 @@ void label_from_top_sites(const Mesh& m, HeatVoronoi& V) {
   }
 }
 
-// neighborhoods (per generator) or batch_kept (per batch) or neither (full solves).
-HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
-                              std::span<const std::vector<int32_t>> neighborhoods,
-                              std::span<const std::vector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
-                              const RunContext& ctx) {
+// The generators order[8b .. 8b+7] of every batch b solved and merged into V's
+// top-K lists (V sized for the mesh). neighborhoods (indexed by generator id minus
+// nb_first) or batch_kept (per batch) or neither (full solves).
+void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                std::span<const int32_t> order, std::span<const std::vector<int32_t>> neighborhoods, int32_t nb_first,
+                std::span<const std::vector<int32_t>> batch_kept, HeatVoronoi& V, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
-  if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
-  if (sites.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no generators");
-  for (size_t i = 0; i < sites.size(); ++i) check_surface_point(m, sites[i], "generator", i);
   const bool local = !neighborhoods.empty() || !batch_kept.empty();
-  if (!neighborhoods.empty() && neighborhoods.size() != sites.size())
-    fail(ErrorCode::BadUsage, "heat voronoi: one neighborhood per generator expected");
-  if (!batch_kept.empty() && batch_kept.size() != (sites.size() + kLanes - 1) / kLanes)
-    fail(ErrorCode::BadUsage, "heat voronoi: one kept set per batch of 8 generators expected");
-  const std::vector<int32_t> order = generator_order(sites.size(), batch_order);
-  const int32_t nb = static_cast<int32_t>((sites.size() + kLanes - 1) / kLanes);
-
-  HeatVoronoi V;
-  V.batches = nb;
-  V.top_site.assign(static_cast<size_t>(n) * kVoronoiTopK, -1);
-  V.top_value.assign(static_cast<size_t>(n) * kVoronoiTopK, 0.0);
+  const int32_t nb = static_cast<int32_t>((order.size() + kLanes - 1) / kLanes);
+  V.batches += nb;
   tbb::enumerable_thread_specific<HeatBatch> scratch;
 
   auto solve_batch = [&](int32_t b) {
@@ -122,7 +111,7 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
     hb.clear_sources();
     hb.kept.clear();
     const int32_t first = b * kLanes;
-    msg->lanes = std::min<int32_t>(kLanes, static_cast<int32_t>(sites.size()) - first);
+    msg->lanes = std::min<int32_t>(kLanes, static_cast<int32_t>(order.size()) - first);
     int32_t sites_of[kLanes];
     for (int l = 0; l < msg->lanes; ++l) {
       const int32_t s = order[first + l];
@@ -131,7 +120,10 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
       double w[3];
       const int c = surface_point_support(m, sites[s], v, w);
       hb.add_source({v, static_cast<size_t>(c)}, {w, static_cast<size_t>(c)});
-      if (!neighborhoods.empty()) hb.kept.insert(hb.kept.end(), neighborhoods[s].begin(), neighborhoods[s].end());
+      if (!neighborhoods.empty()) {
+        const std::vector<int32_t>& nbh = neighborhoods[s - nb_first];
+        hb.kept.insert(hb.kept.end(), nbh.begin(), nbh.end());
+      }
       if (local) hb.kept.insert(hb.kept.end(), v, v + c);
     }
     if (!batch_kept.empty()) hb.kept.insert(hb.kept.end(), batch_kept[b].begin(), batch_kept[b].end());
@@ -175,12 +167,57 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
     }
   };
   run_batch_graph<VoronoiMsg>(ctx, nb, solve_batch, reduce, "heat voronoi");
+}
 
+HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                              std::span<const std::vector<int32_t>> neighborhoods,
+                              std::span<const std::vector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
+                              const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
+  if (sites.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no generators");
+  for (size_t i = 0; i < sites.size(); ++i) check_surface_point(m, sites[i], "generator", i);
+  if (!neighborhoods.empty() && neighborhoods.size() != sites.size())
+    fail(ErrorCode::BadUsage, "heat voronoi: one neighborhood per generator expected");
+  if (!batch_kept.empty() && batch_kept.size() != (sites.size() + kLanes - 1) / kLanes)
+    fail(ErrorCode::BadUsage, "heat voronoi: one kept set per batch of 8 generators expected");
+  const std::vector<int32_t> order = generator_order(sites.size(), batch_order);
+  HeatVoronoi V;
+  V.top_site.assign(static_cast<size_t>(n) * kVoronoiTopK, -1);
+  V.top_value.assign(static_cast<size_t>(n) * kVoronoiTopK, 0.0);
+  solve_into(H, m, sites, order, neighborhoods, 0, batch_kept, V, ctx);
   label_from_top_sites(m, V);
   return V;
 }
 
 }  // namespace
+
+void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites, int32_t first_new,
+                      std::span<const std::vector<int32_t>> new_neighborhoods, std::span<const int32_t> new_order,
+                      HeatVoronoi& V, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
+  if (V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK || V.label.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "heat voronoi: the diagram to add to belongs to another mesh");
+  if (first_new < 1 || first_new > ns) fail(ErrorCode::BadUsage, "heat voronoi: the old generators must come first");
+  if (new_neighborhoods.size() != static_cast<size_t>(ns - first_new))
+    fail(ErrorCode::BadUsage, "heat voronoi: one neighborhood per new generator expected");
+  for (int32_t i = first_new; i < ns; ++i) check_surface_point(m, sites[i], "generator", i);
+  std::vector<int32_t> order(new_order.begin(), new_order.end());
+  if (order.empty())
+    for (int32_t s = first_new; s < ns; ++s) order.push_back(s);
+  std::vector<int32_t> check = order;
+  std::sort(check.begin(), check.end());
+  bool permutation = check.size() == static_cast<size_t>(ns - first_new);
+  for (size_t i = 0; permutation && i < check.size(); ++i) permutation = check[i] == first_new + static_cast<int32_t>(i);
+  if (!permutation) fail(ErrorCode::BadUsage, "heat voronoi: the order of the new generators is not a permutation of them");
+  if (order.empty()) return;
+  solve_into(H, m, sites, order, new_neighborhoods, first_new, {}, V, ctx);
+  const int64_t unreached = V.unreached;
+  label_from_top_sites(m, V);  // every vertex had a label: no fallback
+  V.unreached = unreached;
+}
 
 HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                          std::span<const std::vector<int32_t>> neighborhoods, std::span<const int32_t> batch_order,

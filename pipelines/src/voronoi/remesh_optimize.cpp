@@ -118,7 +118,7 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
 
 // One Jacobi sweep of tangential smoothing with projection onto the input.
 void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
-                 const std::vector<uint8_t>& fixed, RemeshOptimizeStats& st) {
+                 const std::vector<uint8_t>& fixed, double unpin_below, RemeshOptimizeStats& st) {
   const int32_t n = m.num_vertices();
   std::vector<int64_t> off(static_cast<size_t>(n) + 1, 0);
   for (const auto& t : F)
@@ -164,9 +164,9 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
     for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
     // Tips and ridges (an incident triangle turned more than 60 degrees from the
     // vertex normal) keep their vertex: moving it would cut the feature off;
-    // unless one of its triangles has an angle below 20 degrees (docs/cvt.md).
+    // unless one of its triangles has an angle below unpin_below (docs/cvt.md).
     const double cos_pin = 0.5;
-    const double unpin = M_PI / 9;
+    const double unpin = unpin_below;
     double worst = M_PI;
     for (int64_t q = off[v]; q < off[v + 1]; ++q) {
       const auto& t = F[vf[q]];
@@ -221,6 +221,123 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
   }
 }
 
+// Per vertex: its incident triangles (CSR); flips change it, moves do not.
+struct VertexFaces {
+  std::vector<int64_t> off;
+  std::vector<int32_t> f;
+  VertexFaces(int32_t n, const std::vector<std::array<int32_t, 3>>& F) : off(static_cast<size_t>(n) + 1, 0) {
+    for (const auto& t : F)
+      for (int32_t v : t) ++off[v + 1];
+    for (int32_t v = 0; v < n; ++v) off[v + 1] += off[v];
+    f.resize(static_cast<size_t>(off[n]));
+    std::vector<int64_t> fill(off.begin(), off.end() - 1);
+    for (int32_t t = 0; t < static_cast<int32_t>(F.size()); ++t)
+      for (int32_t v : F[t]) f[fill[v]++] = t;
+  }
+};
+
+// The smallest angle of v's triangles with v at p; -1 when a triangle would
+// turn more than 60 degrees from its current normal (or over).
+double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
+                      const V3& p) {
+  double worst = M_PI;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+    const auto& t = F[vf.f[q]];
+    std::array<V3, 3> a, b;
+    for (int k = 0; k < 3; ++k) {
+      a[k] = pos(m, t[k]);
+      b[k] = t[k] == v ? p : a[k];
+    }
+    const V3 n0 = tri_normal(a[0], a[1], a[2]), n1 = tri_normal(b[0], b[1], b[2]);
+    if (dot(n0, n1) <= 0.5 * norm(n0) * norm(n1)) return -1;
+    worst = std::min(worst, min_angle(b[0], b[1], b[2]));
+  }
+  return worst;
+}
+
+// Targeted repair of the few triangles the smoothing leaves below `below`
+// radians (thin triangles at pinned claw and ear tips): each free vertex of
+// such a triangle climbs, in its tangent plane and projected onto the input,
+// towards the position that maximizes the smallest angle of its own triangles
+// (pattern search, 8 directions, steps of 1/4 to 1/32 of its mean edge).
+// Moving the tip's neighbors opens the angle at the tip without moving the
+// tip, so the Hausdorff distance stays; sequential, in vertex order
+// (deterministic), and only a handful of vertices are visited.
+void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
+                const std::vector<uint8_t>& fixed, double below, double tip_reach, RemeshOptimizeStats& st) {
+  const VertexFaces vf(m.num_vertices(), F);
+  std::vector<int32_t> bad;
+  for (const auto& t : F)
+    if (min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])) < below) bad.insert(bad.end(), t.begin(), t.end());
+  std::sort(bad.begin(), bad.end());
+  bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+  for (int32_t v : bad) {
+    if (fixed[v] || vf.off[v] == vf.off[v + 1]) continue;
+    V3 nv{0, 0, 0};
+    double len = 0;
+    int cnt = 0;
+    for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+      const auto& t = F[vf.f[q]];
+      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+      for (int k = 0; k < 3; ++k) nv[k] += nn[k];
+      for (int32_t w : t)
+        if (w != v) len += norm(sub(pos(m, w), pos(m, v))), ++cnt;
+    }
+    const double ln = norm(nv);
+    if (!(ln > 0) || cnt == 0) continue;
+    for (int k = 0; k < 3; ++k) nv[k] /= ln;
+    len /= cnt;
+    bool tip = false;
+    for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
+      const auto& t = F[vf.f[q]];
+      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+      tip = dot(nn, nv) < 0.5 * norm(nn);
+    }
+    if (tip && !(tip_reach > 0)) continue;
+    const V3 origin = pos(m, v);
+    const double reach2 = tip ? tip_reach * tip_reach * len * len : HUGE_VAL;
+    // Tangent basis.
+    const V3 axis = std::abs(nv[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
+    V3 e1 = cross(nv, axis);
+    const double l1 = norm(e1);
+    for (double& x : e1) x /= l1;
+    const V3 e2 = cross(nv, e1);
+    V3 best = pos(m, v);
+    const double start = ring_min_angle(m, F, vf, v, best);
+    double cur = start;
+    for (double step = 0.25 * len; step > len / 40; step *= 0.5) {
+      for (int climb = 0; climb < 6; ++climb) {
+        bool found = false;
+        for (int dir = 0; dir < 8; ++dir) {
+          const double th = dir * M_PI / 4, c = std::cos(th) * step, s = std::sin(th) * step;
+          const V3 goal = {best[0] + c * e1[0] + s * e2[0], best[1] + c * e1[1] + s * e2[1],
+                           best[2] + c * e1[2] + s * e2[2]};
+          const ClosestPoint cp = grid.closest(goal);
+          if (cp.face < 0) continue;
+          const V3 moved = sub(cp.point, origin);
+          if (dot(moved, moved) > reach2) continue;
+          const auto fv = input.face(cp.face);
+          const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+          if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
+          const double q = ring_min_angle(m, F, vf, v, cp.point);
+          if (q > cur + 1e-9) {
+            cur = q;
+            best = cp.point;
+            found = true;
+          }
+        }
+        if (!found) break;
+      }
+    }
+    if (cur > start) {
+      m.x[v] = best[0];
+      m.y[v] = best[1];
+      m.z[v] = best[2];
+      ++st.angle_moves;
+    }
+  }
+}
+
 }  // namespace
 
 RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
@@ -250,7 +367,15 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
         if (k == 0) break;
       }
     }
-    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, st);
+    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, opt.unpin_below_deg * M_PI / 180, st);
+  }
+  for (int sweep = 0; sweep < opt.angle_sweeps; ++sweep) {
+    angle_pass(input, grid, remesh, F, fixed, opt.angle_below_deg * M_PI / 180, opt.tip_reach, st);
+    for (int pass = 0; pass < 8; ++pass) {
+      const int64_t k = flip_pass(remesh, F, valence, target, false);
+      st.flips += k;
+      if (k == 0) break;
+    }
   }
   for (int32_t f = 0; f < remesh.num_faces(); ++f) {
     remesh.f0[f] = F[f][0];

@@ -340,3 +340,37 @@ TEST_CASE("cvt study: sphere, 20 sites: heat-CVT cell-area variance vs the exact
   MESSAGE("largest difference of sorted cell areas: " << worst << " of the mean area");
   CHECK(worst < 0.05);
 }
+
+// The localized first labels come from the initial sites' Dijkstra cells (their
+// two rings of neighbor cells as kept sets) or from Dijkstra balls per site:
+// with no iteration the labels are those first labels of the random sites, and
+// both must agree with full solves wherever the heat is not nearly tied (away
+// from cell boundaries), as the localized heat Voronoi does.
+TEST_CASE("cvt: first labels from Dijkstra cells or balls match the full solve away from cell boundaries") {
+  const Mesh m = make_icosphere(4);
+  LloydOptions o;
+  o.sites = 60;
+  o.seed = 3;
+  o.iterations = 0;
+  o.solver = LloydOptions::Solver::Full;
+  const LloydResult full = cvt_lloyd(m, o, {});
+  o.solver = LloydOptions::Solver::Local;
+  const Adjacency adj = vertex_adjacency(m);
+  for (bool cells : {true, false}) {
+    CAPTURE(cells);
+    o.init_cells = cells;
+    const LloydResult loc = cvt_lloyd(m, o, {});
+    CHECK(loc.unreached == 0);
+    int32_t differ = 0, differ_inside = 0;
+    for (int32_t v = 0; v < m.num_vertices(); ++v) {
+      if (loc.label[v] == full.label[v]) continue;
+      ++differ;
+      bool boundary = false;
+      for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p)
+        boundary |= full.label[adj.neighbors[p]] != full.label[v];
+      differ_inside += !boundary;
+    }
+    CHECK(differ_inside == 0);
+    CHECK(differ <= m.num_vertices() / 100);
+  }
+}

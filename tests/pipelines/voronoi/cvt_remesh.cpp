@@ -440,3 +440,53 @@ TEST_CASE("remesh optimization: a collinear (degenerate) triangle is flipped awa
   }
   CHECK((r.x[C] == 1 && r.y[C] == 1));
 }
+
+// The targeted angle repair alone (no smoothing rounds): a hexagon fan whose
+// center sits near one side has thin triangles; the best place for the center
+// is the hexagon's center (every angle 60 degrees), which the pattern search
+// must approach; the boundary stays and the center stays on the input plane.
+TEST_CASE("remesh optimization: the angle repair moves a free vertex of thin triangles towards the best angles") {
+  const Mesh input = make_grid(10);  // the unit square, z = 0
+  auto hexagon = [] {
+    Mesh r;
+    r.add_vertex(0.5, 0.25, 0);  // the center, pushed towards one side
+    for (int k = 0; k < 6; ++k)
+      r.add_vertex(0.5 + 0.4 * std::cos(k * M_PI / 3), 0.5 + 0.4 * std::sin(k * M_PI / 3), 0);
+    for (int k = 0; k < 6; ++k) r.add_triangle(0, 1 + k, 1 + (k + 1) % 6);
+    return r;
+  };
+  // Smallest angle over the triangles, from the coordinates.
+  auto smallest = [](const Mesh& r) {
+    double worst = 180;
+    for (int32_t f = 0; f < r.num_faces(); ++f) {
+      const int32_t t[3] = {r.f0[f], r.f1[f], r.f2[f]};
+      for (int k = 0; k < 3; ++k) {
+        const int32_t o = t[k], u = t[(k + 1) % 3], w = t[(k + 2) % 3];
+        const double ax = r.x[u] - r.x[o], ay = r.y[u] - r.y[o], bx = r.x[w] - r.x[o], by = r.y[w] - r.y[o];
+        const double c = (ax * bx + ay * by) / std::hypot(ax, ay) / std::hypot(bx, by);
+        worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI);
+      }
+    }
+    return worst;
+  };
+  const TriangleGrid grid(input);
+  RemeshOptimizeOptions off;
+  off.rounds = 0;
+  off.angle_sweeps = 0;
+  Mesh a = hexagon();
+  optimize_remesh(input, grid, a, off);
+  CHECK(smallest(a) < 30);  // the Delaunay flips alone leave a thin triangle
+  RemeshOptimizeOptions on = off;
+  on.angle_sweeps = 3;
+  on.angle_below_deg = 59;
+  Mesh b = hexagon();
+  const RemeshOptimizeStats st = optimize_remesh(input, grid, b, on);
+  CHECK(st.angle_moves >= 1);
+  CHECK(smallest(b) > 55);
+  CHECK(std::hypot(b.x[0] - 0.5, b.y[0] - 0.5) < 0.03);
+  CHECK(b.z[0] == 0);
+  for (int32_t v = 1; v < 7; ++v) {
+    CHECK(b.x[v] == a.x[v]);
+    CHECK(b.y[v] == a.y[v]);
+  }
+}

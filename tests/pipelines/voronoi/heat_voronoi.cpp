@@ -254,3 +254,71 @@ TEST_CASE("heat batch (kernels/heat): repeated kept ids removed, localized count
   local.kept = {H.n};
   CHECK_THROWS_AS(dedupe_kept(local, H.n), Error);
 }
+
+// Adding generators to a diagram (CVT remeshing's repair rounds): with whole-mesh
+// neighborhoods the grown diagram's labels and top-K lists are those of a dense
+// solve for all generators; with small neighborhoods only their vertices change.
+TEST_CASE("heat voronoi: adding generators solves only them and matches a dense solve of all") {
+  const Mesh m = make_icosphere(2);
+  const int32_t n = m.num_vertices();
+  const double t = 0.05;
+  std::vector<SurfacePoint> sites = random_surface_points(m, 16, 7);
+  sites[12] = vertex_point(23);
+  const int32_t first = 11;
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, t, {});
+  const HeatVoronoi old = heat_voronoi(H, m, std::span<const SurfacePoint>(sites.data(), first), {}, {}, {});
+  std::vector<int32_t> all(n);
+  for (int32_t v = 0; v < n; ++v) all[v] = v;
+  HeatVoronoi V = old;
+  const std::vector<int32_t> order = {14, 11, 15, 13, 12};
+  heat_voronoi_add(H, m, sites, first, std::vector<std::vector<int32_t>>(5, all), order, V, {});
+  CHECK(V.batches == old.batches + 1);
+  const CscMatrix A = heat_operator(m, t);
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+  for (int32_t j = 0; j < n; ++j)
+    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) D(A.rowind[p], j) = D(j, A.rowind[p]) = A.values[p];
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(sites.size()));
+  for (size_t s = 0; s < sites.size(); ++s) {
+    const SurfacePoint& p = sites[s];
+    if (p.face < 0) {
+      B(p.vertex, s) = 1;
+    } else {
+      B(m.f0[p.face], s) += p.bary[0];
+      B(m.f1[p.face], s) += p.bary[1];
+      B(m.f2[p.face], s) += p.bary[2];
+    }
+  }
+  const Eigen::MatrixXd U = D.ldlt().solve(B);
+  int32_t changed = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    std::vector<std::pair<double, int>> row;
+    for (int s = 0; s < static_cast<int>(sites.size()); ++s) row.push_back({-U(v, s), s});
+    std::sort(row.begin(), row.end());
+    CHECK(V.label[v] == row[0].second);
+    changed += V.label[v] != old.label[v];
+    for (int k = 0; k < kVoronoiTopK; ++k) {
+      CHECK(V.top_site[v * kVoronoiTopK + k] == row[k].second);
+      CHECK(V.top_value[v * kVoronoiTopK + k] == doctest::Approx(-row[k].first).epsilon(1e-9));
+    }
+  }
+  CHECK(changed > 0);
+  // Small neighborhoods: vertices outside every new neighborhood keep their label.
+  std::vector<std::vector<int32_t>> nb(5);
+  std::vector<uint8_t> near(n, 0);
+  for (int32_t s = first; s < 16; ++s) {
+    const auto p = surface_point_position(m, sites[s]);
+    for (int32_t v = 0; v < n; ++v) {
+      const double dx = m.x[v] - p[0], dy = m.y[v] - p[1], dz = m.z[v] - p[2];
+      if (dx * dx + dy * dy + dz * dz < 0.25) nb[s - first].push_back(v), near[v] = 1;
+    }
+  }
+  HeatVoronoi W = old;
+  heat_voronoi_add(H, m, sites, first, nb, {}, W, {});
+  for (int32_t v = 0; v < n; ++v)
+    if (!near[v]) CHECK(W.label[v] == old.label[v]);
+  // Usage errors: a neighborhood missing, an order that is not a permutation of the new ones.
+  HeatVoronoi X = old;
+  CHECK_THROWS_AS(heat_voronoi_add(H, m, sites, first, std::span(nb.data(), 4), {}, X, {}), Error);
+  CHECK_THROWS_AS(heat_voronoi_add(H, m, sites, first, nb, std::vector<int32_t>{11, 12, 13, 14, 14}, X, {}), Error);
+  CHECK_THROWS_AS(heat_voronoi_add(H, m, sites, first, nb, std::vector<int32_t>{10, 11, 12, 13, 14}, X, {}), Error);
+}

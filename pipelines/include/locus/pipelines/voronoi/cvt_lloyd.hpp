@@ -33,7 +33,8 @@
 // are in docs/cvt.md.
 // Localized solver (default): every solve is the approximate selective solve
 // restricted to the union over the batch of the cells, their neighbor cells and
-// their neighbors (from the latest labels; before the first labels, the vertices
+// their neighbors (from the latest labels; before the first labels, the same from
+// the initial sites' Dijkstra cells, or with init_cells = false the vertices
 // within a Dijkstra radius of init_radius * sqrt(area / (pi N)) of each site). The full
 // solver does the same arithmetic with full solves, for comparison.
 // After the last iteration the labels of the final sites are computed once more,
@@ -53,6 +54,8 @@
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/heat_voronoi.hpp"
 
 namespace locus {
 
@@ -79,6 +82,11 @@ struct LloydOptions {
   int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
   double fit_sigma = 1.0;    // weighted refit of the maximizer (heat_centroid.hpp; 0 = none, as the thesis)
   double init_radius = 4.0;  // first neighborhoods, in units of sqrt(area / (pi N))
+  // Localized first labels: the kept sets of the initial sites' graph-geodesic
+  // (Dijkstra) cells and their two rings of neighbor cells, batched as every
+  // later iteration (one multi-source Dijkstra), instead of a Dijkstra ball of
+  // init_radius per site (docs/cvt.md).
+  bool init_cells = true;
   // Cell sources from triangles split along the heat bisectors
   // (pipelines/include/locus/pipelines/voronoi/voronoi_cell_partition.hpp) instead of whole vertex stars.
   bool split_faces = true;
@@ -89,11 +97,15 @@ struct LloydOptions {
   // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
   const HeatDiffusion* prepared = nullptr;
+  // Keep the final labels' top-K heat lists (LloydResult::voronoi), e.g. to add
+  // sites later without relabelling everything (heat_voronoi_add).
+  bool keep_voronoi = false;
 };
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
   std::vector<int32_t> label;     // per vertex, cell of the final sites
+  HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
   double h = 0, t = 0;            // in the operator's metric
   double factor_s = 0;            // operator + ordering + symbolic + numeric
   int64_t factor_bytes = 0;       // numeric factor values (both factors with t_centroid_factor)
@@ -142,6 +154,13 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const Ll
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const RunContext& ctx);
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, std::vector<SurfacePoint> initial,
                       const LloydOptions& opt, const RunContext& ctx);
+
+// Lloyd's first neighborhoods (localized solves): per site, the vertices within
+// geodesic (Dijkstra) distance `radius` of it, sorted; in parallel, in the
+// caller's arena.
+std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
+                                                         std::span<const SurfacePoint> sites, double radius,
+                                                         const RunContext& ctx);
 
 // Heat operator M - t L of a triangle mesh whose vertex positions are given in
 // `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed

@@ -65,6 +65,20 @@ HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::spa
                                  std::span<const int32_t> batch_order,
                                  std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx);
 
+// Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
+// the functions above; its top-K lists are kept) and sites[first_new ..] are
+// new. Only the new generators are solved, 8 at a time in `new_order` (a
+// permutation of first_new .. sites.size()-1; empty = ascending), each on its
+// own neighborhood (new_neighborhoods[s - first_new]; localized as above), and
+// merged into V's top-K lists; then the labels are recomputed. A new generator
+// takes the vertices of its neighborhood where it is hotter than the old label;
+// elsewhere nothing changes. The same total order as above: deterministic.
+// Costs the new generators' solves only (CVT remeshing's repair rounds add a
+// few sites to thousands: cvt_remesh.hpp).
+void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites, int32_t first_new,
+                      std::span<const std::vector<int32_t>> new_neighborhoods, std::span<const int32_t> new_order,
+                      HeatVoronoi& V, const RunContext& ctx);
+
 // The diagram as line segments (eqs. 3.19-3.21). Points on mesh edges are shared
 // by the two triangles of the edge; Voronoi corners (triangles with three labels,
 // eq. 3.21) are extra points joined to the three edge points.
