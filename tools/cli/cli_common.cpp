@@ -50,6 +50,14 @@ extern "C" void on_sigint(int) {
 
 std::string g_tool = "locus";
 
+// Preview images this command wrote (write_preview), for the JSON key `preview`.
+std::vector<std::string> g_previews;
+
+// For the `timings` every command reports: when the command started, and the
+// input's load and subdivision times (load_input).
+Stopwatch g_command_clock;
+double g_load_s = 0, g_subdivide_s = 0;
+
 }  // namespace
 
 struct CommandTable::Command {
@@ -141,6 +149,7 @@ int CommandTable::run(int argc, char** argv) {
     if (!chosen->common.max_memory.empty()) ctx.max_memory_bytes = parse_memory_size(chosen->common.max_memory);
     ctx.threads = chosen->common.threads;
     ctx.cancel = &g_cancel;
+    g_command_clock.restart();
     int status = chosen->body(chosen->common, ctx);
     std::signal(SIGINT, previous);
     if (ctx.cancelled()) {
@@ -170,6 +179,7 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
   Stopwatch sw;
   in.mesh = read_mesh(opt.mesh_path, {}, &in.attributes);
   in.load_s = sw.seconds();
+  g_load_s = in.load_s;
   if (opt.subdivide > 0) {
     ctx.check_cancel();
     if (!in.mesh.is_triangle_mesh()) {
@@ -204,6 +214,7 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
     sw.restart();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = sw.seconds();
+    g_subdivide_s = in.subdivide_s;
   }
   return in;
 }
@@ -259,9 +270,19 @@ void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptio
 void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
     // Keys every command's JSON has (issue 22 item 8): the version that made
-    // it, and the -o file (null when none).
+    // it, the -o file and the preview image(s) (null when none).
     Json j = result;
     if (!j.contains("output")) j["output"] = opt.output.empty() ? Json(nullptr) : Json(opt.output);
+    // timings: load_s, subdivide_s and total_s (command start to this report) in every command.
+    Json& t = j["timings"];
+    if (!t.is_object()) t = Json::object();
+    if (!t.contains("load_s")) t["load_s"] = g_load_s;
+    if (!t.contains("subdivide_s")) t["subdivide_s"] = g_subdivide_s;
+    if (!t.contains("total_s")) t["total_s"] = g_command_clock.seconds();
+    if (!j.contains("preview"))
+      j["preview"] = g_previews.empty()       ? Json(nullptr)
+                     : g_previews.size() == 1 ? Json(g_previews[0])
+                                              : Json(g_previews);
     j["version"] = locus_version(nullptr, nullptr, nullptr);
     std::cout << j.dump(2) << std::endl;
   } else {
@@ -484,9 +505,13 @@ CLI::Validator output_file(std::vector<std::string> extensions) {
       "OUTPUT-FILE");
 }
 
-void add_preview_option(CLI::App* app, std::string& path) {
-  app->add_option("--preview", path, "Render a shaded PNG of the mesh coloured by the result (800x800)")
+void add_preview_option(CLI::App* app, PreviewOptions& preview) {
+  app->add_option("--preview", preview.path,
+                  "Render a PNG of the mesh coloured by the result, with a legend and markers (800x800)")
       ->check(output_file({"png"}));
+  app->add_option("--view", preview.view,
+                  "Preview camera side as x,y,z (the camera looks from that side towards the mesh); default: from "
+                  "the mesh's principal axes, upright for y-up and z-up files");
 }
 
 void check_preview_path(const std::string& path) {
@@ -495,23 +520,64 @@ void check_preview_path(const std::string& path) {
   io::check_output_path(path);
 }
 
-void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path) {
+namespace {
+
+std::optional<std::array<double, 3>> parse_view(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::array<double, 3> d{};
+  size_t at = 0;
+  int k = 0;
+  bool ok = true;
+  for (; k < 3 && ok; ++k) {
+    const size_t end = k < 2 ? text.find(',', at) : text.size();
+    if (end == std::string::npos) {
+      ok = false;
+      break;
+    }
+    const std::string part = text.substr(at, end - at);
+    const char* first = part.data();
+    auto [ptr, ec] = std::from_chars(first, first + part.size(), d[k]);
+    ok = !part.empty() && ec == std::errc() && ptr == first + part.size() && std::isfinite(d[k]);
+    at = end + 1;
+  }
+  if (!ok || k != 3 || !(d[0] != 0 || d[1] != 0 || d[2] != 0))
+    fail(ErrorCode::BadUsage, "--view '" + text + "': expected three numbers x,y,z, not all zero (e.g. 0,0,1: look from +z)");
+  return d;
+}
+
+}  // namespace
+
+void check_preview_options(const PreviewOptions& preview) {
+  check_preview_path(preview.path);
+  parse_view(preview.view);
+  if (!preview.view.empty() && preview.path.empty()) fail(ErrorCode::BadUsage, "--view sets the camera of --preview; give --preview FILE.png too");
+}
+
+std::string preview_path_with(const std::string& path, const std::string& suffix) {
+  const size_t dot = path.rfind('.');
+  const size_t slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + suffix;
+  return path.substr(0, dot) + suffix + path.substr(dot);
+}
+
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const PreviewOptions& preview,
+                   const PreviewContent& content, const std::string& path_override) {
+  const std::string path = path_override.empty() ? preview.path : path_override;
   if (path.empty()) return;
   check_preview_path(path);
   RasterOptions ro;
   ro.coloring = kind == PreviewKind::Scalar   ? Coloring::Scalar
                 : kind == PreviewKind::Labels ? Coloring::Labels
                                               : Coloring::Checker;
-  // Negative scalars mean "no value" in the CLI's outputs (-1 outside a geodesic patch).
-  std::vector<double> shown;
-  if (kind == PreviewKind::Scalar) {
-    shown.assign(values.begin(), values.end());
-    for (double& v : shown)
-      if (v < 0) v = std::numeric_limits<double>::quiet_NaN();
-    values = shown;
-  }
+  ro.view = parse_view(preview.view);
+  ro.title = content.title;
+  ro.markers = content.markers;
+  ro.marker_label = content.marker_label;
+  ro.edges = content.edges;
+  ro.clip = content.clip;
   const RasterImage img = rasterize_mesh(m, values, ro);
   write_png(path, img.width, img.height, img.rgb);
+  g_previews.push_back(path);
   log("wrote " + path);
 }
 

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -220,20 +221,32 @@ Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<co
 // {"loaded": FILE or null, "saved": FILE or null, "load_s", "save_s"}.
 Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f);
 
-// ---- Previews (--preview out.png, kernels/include/locus/kernels/render/rasterize.hpp, io/include/locus/io/write_png.hpp) ----
+// ---- Previews (--preview out.png [--view x,y,z], kernels/include/locus/kernels/render/rasterize.hpp, io/include/locus/io/write_png.hpp) ----
 //
-// A shaded picture of the mesh coloured by a per-vertex result, from a fixed
-// camera fitted to the bounding box (orthographic, a three-quarter view from
-// +z), Lambert-shaded, 800 x 800. Usage:
-//   std::string preview;                            // member of the command's options
-//   add_preview_option(app, preview);               // at registration
-//   check_preview_path(preview);                    // before reading the mesh (BadUsage unless "" or *.png)
-//   write_preview(mesh, values, PreviewKind::Scalar, preview);  // after computing; no-op when preview == ""
+// A shaded picture of the mesh coloured by a per-vertex result, seen from its
+// principal axes (preview_camera.hpp) or from --view, with a legend strip
+// (the quantity, its range or labels, the marker) and markers at sources,
+// centres or sites; 800 x 800. Usage:
+//   PreviewOptions preview;                         // member of the command's options
+//   add_preview_option(app, preview);               // at registration: --preview and --view
+//   check_preview_options(preview);                 // before reading the mesh (BadUsage unless "" or *.png, bad --view)
+//   write_preview(mesh, values, PreviewKind::Scalar, preview, {"distance from vertex 3", {p}, "source"});
+//                                                   // after computing; no-op when preview.path == ""
 enum class PreviewKind {
-  Scalar,   // values: nv numbers (distance, adf, ...), colour map from min to max with iso-bands; NaN or
-            // negative = no value (grey), e.g. -1 outside a geodesic patch
+  Scalar,   // values: nv numbers (distance, adf, ...), colour map from min to max with iso-bands; NaN = no value (grey)
   Labels,   // values: nv integer labels (cvt cells), one distinct colour per label, negative = grey
   Checker,  // values: 2 nv numbers, (u, v) per vertex interleaved; a checkerboard of the UVs, NaN = grey
+};
+struct PreviewOptions {
+  std::string path;  // --preview FILE.png ("" = none)
+  std::string view;  // --view x,y,z: the camera's side ("" = from the principal axes)
+};
+struct PreviewContent {
+  std::string title;                        // the quantity (legend)
+  std::vector<std::array<double, 3>> markers;  // sources, centres, sites
+  std::string marker_label;                 // what the markers are ("source", "sites")
+  bool edges = false;                       // draw the triangle edges (remesh)
+  double clip = 0;                          // Scalar: colours span the clip..1-clip quantiles (rasterize.hpp)
 };
 // A CLI11 check for options naming a file the command writes: the extension
 // is one of `extensions` (lower case, no dot) and io::check_output_path()
@@ -241,11 +254,18 @@ enum class PreviewKind {
 // regular file). It runs at parse time, so a bad output path is exit 2 before
 // any input is read.
 CLI::Validator output_file(std::vector<std::string> extensions);
-void add_preview_option(CLI::App* app, std::string& path);
+void add_preview_option(CLI::App* app, PreviewOptions& preview);
 void check_preview_path(const std::string& path);
-// Renders and writes the PNG (Error(BadUsage) if values has the wrong size,
-// Error(BadInput) if the file cannot be written); logs "wrote <path>".
-void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path);
+// check_preview_path and --view's grammar (three numbers, not all zero).
+void check_preview_options(const PreviewOptions& preview);
+// `FILE.png` with `suffix` before the extension ("x.png", "-t0" -> "x-t0.png"):
+// the names of several images from one --preview (hks: one per t).
+std::string preview_path_with(const std::string& path, const std::string& suffix);
+// Renders and writes the PNG to `path` (default preview.path) (Error(BadUsage)
+// if values has the wrong size, Error(BadInput) if the file cannot be
+// written); logs "wrote <path>".
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const PreviewOptions& preview,
+                   const PreviewContent& content, const std::string& path = "");
 
 // A number for messages: %.6g ("1e+12", "0.000134", "nan"), not std::to_string's fixed notation.
 std::string format_number(double v);

@@ -25,7 +25,7 @@ struct GeodesicOptions {
   int64_t source = -1;
   double fraction = 1.0;
   double t_factor = 1.0;
-  std::string preview;  // --preview out.png: distance colour map
+  PreviewOptions preview;  // --preview out.png: distance colour map
   FactorCacheOptions cache;
 };
 
@@ -36,7 +36,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(go.fraction) + ")");
   if (!(go.t_factor > 0) || !std::isfinite(go.t_factor))
     fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(go.t_factor) + ")");
-  check_preview_path(go.preview);
+  check_preview_options(go.preview);
   validate_factor_cache_options(go.cache);
   Input in = load_input(opt, ctx);
   const int32_t n = in.mesh.num_vertices();
@@ -106,7 +106,11 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
-  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);  // NaN (no value): grey
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,  // NaN (no value): grey
+                {"geodesic distance from vertex " + std::to_string(source) +
+                     (local_fraction(go.fraction) ? " (patch of " + std::to_string(patch_size) + " vertices)" : ""),
+                 {{in.mesh.x[source], in.mesh.y[source], in.mesh.z[source]}},
+                 "source"});
   Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
   j["source"] = source;
   j["method"] = local_fraction(go.fraction) ? "heat-local" : "heat-full";

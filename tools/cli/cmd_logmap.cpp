@@ -33,7 +33,7 @@ struct LogmapOptions {
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
   std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
-  std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
+  PreviewOptions preview;  // --preview out.png: checkerboard of (u, v) on the patch
   FactorCacheOptions cache;
 };
 
@@ -48,7 +48,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   const std::optional<bool> recenter = parse_logmap_recenter(lo.recenter);
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
-  check_preview_path(lo.preview);
+  check_preview_options(lo.preview);
   validate_factor_cache_options(lo.cache);
   if (lo.method == "dem" && (!lo.cache.save.empty() || !lo.cache.load.empty()))
     fail(ErrorCode::BadUsage, "--save/--load: the dem method factors nothing");
@@ -151,13 +151,16 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
-  if (!lo.preview.empty()) {
+  if (!lo.preview.path.empty()) {
     std::vector<double> uv(2 * static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
     for (int32_t p = 0; p < k; ++p) {
       uv[2 * static_cast<size_t>(patch[p])] = u[p];
       uv[2 * static_cast<size_t>(patch[p]) + 1] = v[p];
     }
-    write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview);
+    write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview,
+                  {"log map (u, v) around vertex " + std::to_string(center) + ", " + std::to_string(k) + " vertices",
+                   {{in.mesh.x[center], in.mesh.y[center], in.mesh.z[center]}},
+                   "centre"});
   }
   double dmax = 0;
   for (double x : d) dmax = std::max(dmax, x);
