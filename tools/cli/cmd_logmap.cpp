@@ -158,7 +158,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
       uv[2 * static_cast<size_t>(patch[p]) + 1] = v[p];
     }
     write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview,
-                  {"log map (u, v) around vertex " + std::to_string(center) + ", " + std::to_string(k) + " vertices",
+                  {"log map around vertex " + std::to_string(center) + " (" + std::to_string(k) + " vertices)",
                    {{in.mesh.x[center], in.mesh.y[center], in.mesh.z[center]}},
                    "centre"});
   }

@@ -303,8 +303,10 @@ void draw_edges(const ZBuffer& zb, const Triangles& tris, const std::vector<Vec3
 // large, hundreds of sites small); a marker behind the surface (deeper than
 // the z-buffer by more than 1% of the picture's depth range at each of its 3 x 3
 // pixels) is a ring only.
-void draw_markers(const std::vector<Vec3d>& markers, const Projection& pr, const ZBuffer& zb, RasterImage& img) {
-  if (markers.empty()) return;
+// Returns how many are hidden.
+size_t draw_markers(const std::vector<Vec3d>& markers, const Projection& pr, const ZBuffer& zb, RasterImage& img) {
+  size_t n_hidden = 0;
+  if (markers.empty()) return 0;
   double zlo = std::numeric_limits<double>::infinity(), zhi = -zlo;
   for (double z : zb.depth)
     if (std::isfinite(z)) zlo = std::min(zlo, z), zhi = std::max(zhi, z);
@@ -329,7 +331,9 @@ void draw_markers(const std::vector<Vec3d>& markers, const Projection& pr, const
         hidden = std::isfinite(z) && q[2] < z - tol;
       }
     draw_marker(img, q[0], q[1], r, hidden);
+    n_hidden += hidden;
   }
+  return n_hidden;
 }
 
 }  // namespace
@@ -356,12 +360,13 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
   const Triangles tris = fan_triangles(m, nv);
   std::vector<Vec3> vp, sp3;
   Projection pr;
+  size_t hidden_markers = 0;
   if (nv > 0 && !tris.empty() && project(m, tris, opt, W, PH, pr, vp, sp3)) {
     const std::vector<Vec3> normal = vertex_normals(tris, vp);
     const ZBuffer zb = scan_triangles(tris, sp3, W, PH);
     shade_pixels(zb, tris, normal, values, opt, cr, img);
     if (opt.edges) draw_edges(zb, tris, sp3, img);
-    draw_markers(opt.markers, pr, zb, img);
+    hidden_markers = draw_markers(opt.markers, pr, zb, img);
   }
   LegendContent lc;
   lc.title = opt.title;
@@ -374,7 +379,9 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
   lc.labels = cr.labels;
   lc.cell = cr.cell;
   lc.missing = cr.missing;
-  lc.marker_label = opt.markers.empty() || opt.marker_label.empty() ? std::string() : opt.marker_label + " (ring: behind)";
+  lc.marker_label = opt.markers.empty() || opt.marker_label.empty() ? std::string()
+                   : hidden_markers > 0 ? opt.marker_label + " (ring: behind)"
+                                        : opt.marker_label;
   draw_legend(img, PH, lc);
   return img;
 }
