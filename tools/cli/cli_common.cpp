@@ -27,6 +27,7 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/polygon_triangulation.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/render/rasterize.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
@@ -174,12 +175,23 @@ int CommandTable::run(int argc, char** argv) {
   }
 }
 
-Input load_input(const CommonOptions& opt, const RunContext& ctx) {
+Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces) {
   Input in;
   Stopwatch sw;
   in.mesh = read_mesh(opt.mesh_path, {}, &in.attributes);
   in.load_s = sw.seconds();
   g_load_s = in.load_s;
+  if (faces == PolygonFaces::Triangulate && !in.mesh.is_triangle_mesh()) {
+    ctx.check_cancel();
+    sw.restart();
+    TriangulatedMesh t = triangulate_polygons(in.mesh, opt.mesh_path);
+    in.polygons = std::move(in.mesh);
+    in.mesh = std::move(t.mesh);
+    in.face_of = std::move(t.face_of);
+    in.triangulate_s = sw.seconds();
+    log("triangulated the " + std::to_string(in.polygons.num_faces()) + " faces of " + opt.mesh_path + " into " +
+        std::to_string(in.mesh.num_faces()) + " triangles (ear clipping); outputs on its vertices keep its faces");
+  }
   if (opt.subdivide > 0) {
     ctx.check_cancel();
     if (!in.mesh.is_triangle_mesh()) {
@@ -211,6 +223,10 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
           " vertex attribute(s) are not carried to the outputs (subdivision makes new vertices)");
       in.attributes.vertex.clear();
     }
+    if (in.triangulated()) {  // new vertices: the file's faces no longer describe the mesh
+      in.polygons = Mesh{};
+      in.face_of.clear();
+    }
     sw.restart();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = sw.seconds();
@@ -220,10 +236,67 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
 }
 
 Json input_json(const CommonOptions& opt, const Input& in) {
-  return {{"file", opt.mesh_path},
-          {"subdivide", opt.subdivide},
-          {"n_vertices", in.mesh.num_vertices()},
-          {"n_faces", in.mesh.num_faces()}};
+  Json j{{"file", opt.mesh_path},
+         {"subdivide", opt.subdivide},
+         {"n_vertices", in.mesh.num_vertices()},
+         {"n_faces", in.mesh.num_faces()}};
+  if (in.triangulated())
+    j["triangulated"] = {{"polygons", in.polygons.num_faces()}, {"triangles", in.mesh.num_faces()},
+                         {"seconds", in.triangulate_s}};
+  return j;
+}
+
+SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const std::string& what) {
+  if (!in.triangulated() || p.face < 0) return p;
+  const Mesh& poly = in.polygons;
+  if (p.face >= poly.num_faces())
+    fail(ErrorCode::BadUsage, what + ": face " + std::to_string(p.face) + " does not exist (" +
+                                  std::to_string(poly.num_faces()) + " faces)");
+  const auto fv = poly.face(p.face);
+  double x[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    x[0] += p.bary[k] * poly.x[fv[k]];
+    x[1] += p.bary[k] * poly.y[fv[k]];
+    x[2] += p.bary[k] * poly.z[fv[k]];
+  }
+  // The polygon's triangles are consecutive in face order; barycentrics of x
+  // in each by least squares (x may sit off a warped polygon's triangles).
+  const auto first = std::lower_bound(in.face_of.begin(), in.face_of.end(), p.face);
+  for (auto it = first; it != in.face_of.end() && *it == p.face; ++it) {
+    const int32_t t = static_cast<int32_t>(it - in.face_of.begin());
+    const auto tv = in.mesh.face(t);
+    const double a[3] = {in.mesh.x[tv[0]], in.mesh.y[tv[0]], in.mesh.z[tv[0]]};
+    const double e1[3] = {in.mesh.x[tv[1]] - a[0], in.mesh.y[tv[1]] - a[1], in.mesh.z[tv[1]] - a[2]};
+    const double e2[3] = {in.mesh.x[tv[2]] - a[0], in.mesh.y[tv[2]] - a[1], in.mesh.z[tv[2]] - a[2]};
+    const double d[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+    const double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
+                 g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    const double r1 = e1[0] * d[0] + e1[1] * d[1] + e1[2] * d[2], r2 = e2[0] * d[0] + e2[1] * d[1] + e2[2] * d[2];
+    const double det = g11 * g22 - g12 * g12;
+    if (!(det > 0)) continue;
+    const double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, b0 = 1 - b1 - b2;
+    if (b0 >= -1e-9 && b1 >= -1e-9 && b2 >= -1e-9) {
+      SurfacePoint q;
+      q.face = t;
+      q.bary = {std::max(b0, 0.0), std::max(b1, 0.0), std::max(b2, 0.0)};
+      const double s = q.bary[0] + q.bary[1] + q.bary[2];
+      for (double& b : q.bary) b /= s;
+      return q;
+    }
+  }
+  fail(ErrorCode::BadUsage, what + ": the point with weights of corners 0, 1, 2 of face " + std::to_string(p.face) +
+                                " lies outside that polygon");
+}
+
+const Mesh& output_faces(const Input& in) { return in.triangulated() ? in.polygons : in.mesh; }
+
+Mesh with_positions(const Input& in, const Mesh& moved) {
+  if (!in.triangulated()) return moved;
+  Mesh out = in.polygons;
+  out.x = moved.x;
+  out.y = moved.y;
+  out.z = moved.z;
+  return out;
 }
 
 int threads_used([[maybe_unused]] const CommonOptions& opt) {

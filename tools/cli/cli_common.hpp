@@ -26,6 +26,7 @@
 #include "locus/mesh_io.hpp"
 #include "locus/run_context.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus::cli {
@@ -88,24 +89,52 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-// The mesh a command works on: read from <mesh-file>, then subdivided.
+// The mesh a command works on: read from <mesh-file>, polygons triangulated
+// (triangle-only commands, issue 22 item 6), then subdivided.
 struct Input {
   Mesh mesh;
   MeshAttributes attributes;  // the file's vertex attributes (PLY), carried to outputs on its vertices
   double load_s = 0;       // reading and parsing the file
+  double triangulate_s = 0;  // polygons into triangles (0 when not needed)
   double subdivide_s = 0;  // --subdivide (0 when not asked)
+  // When the file's polygons were triangulated: the file's faces on the same
+  // vertices, and per triangle of `mesh` the file's face it belongs to.
+  Mesh polygons;
+  std::vector<int32_t> face_of;
+  bool triangulated() const { return !face_of.empty(); }
 };
 
-// Reads the mesh (locus::read_mesh) and applies --subdivide. Throws
-// Error(BadInput) for unreadable files and for subdividing a polygon mesh, and
-// Error(BadUsage) when the subdivision would overflow 32-bit face indices.
-Input load_input(const CommonOptions& opt, const RunContext& ctx);
+// What load_input does with faces of more than 3 corners: triangulate them
+// (ear clipping, kernels/mesh/polygon_triangulation.hpp) for the commands that
+// need triangles, or keep them for those that take polygons (info, the
+// chapter-2 commands). A later per-command native polygon path only passes Keep.
+enum class PolygonFaces { Triangulate, Keep };
+
+// Reads the mesh (locus::read_mesh), triangulates polygons (Triangulate) and
+// applies --subdivide. Throws Error(BadInput) for unreadable files, polygons
+// that cannot be triangulated (naming the face) and for subdividing a polygon
+// mesh (Keep), and Error(BadUsage) when the subdivision would overflow 32-bit
+// face indices.
+Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces = PolygonFaces::Triangulate);
+
+// The mesh an output on the input's vertices is written with: the file's
+// polygons when they were triangulated (the vertices are the same), else the
+// mesh the command worked on. With new positions (deform) use with_positions.
+const Mesh& output_faces(const Input& in);
+Mesh with_positions(const Input& in, const Mesh& moved);
+// A point given on the file's faces (FACE, weights of its corners 0, 1, 2) as
+// a point of the mesh the command works on: unchanged for a triangle file;
+// for a triangulated polygon the triangle of that polygon holding the point.
+// Error(BadUsage) naming `what` when the face does not exist or the point is
+// outside the polygon.
+SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const std::string& what);
 
 // The worker threads a command runs with: --threads N, or all cores for 0
 // (what the JSON key `threads` reports).
 int threads_used(const CommonOptions& opt);
 
-// {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input.
+// {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input, and for
+// a triangulated file "triangulated": {"polygons": faces in the file, "triangles"}.
 Json input_json(const CommonOptions& opt, const Input& in);
 
 // Up-front checks of -o for commands whose result a format cannot hold

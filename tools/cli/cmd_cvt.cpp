@@ -74,8 +74,10 @@ LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const 
 }
 
 // The final sites as a point set (no faces): PLY keeps each site's face and
-// barycentric weights (-1 and the vertex for sites on a vertex).
-void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r) {
+// barycentric weights (-1 and the vertex for sites on a vertex). `face` is a
+// triangle of the mesh the command worked on; for a triangulated polygon file
+// `polygon` names the file's face that triangle belongs to (-1 on a vertex).
+void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r, const std::vector<int32_t>& face_of) {
   if (path.empty()) return;
   Mesh pts;
   WriteOptions wo;
@@ -90,6 +92,11 @@ void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r
     for (int k = 0; k < 3; ++k) b[k].values.push_back(p.bary[k]);
   }
   wo.vertex_properties = {face, vert, b[0], b[1], b[2]};
+  if (!face_of.empty()) {
+    VertexProperty polygon{"polygon", VertexProperty::Type::Int, {}};
+    for (const SurfacePoint& p : r.sites) polygon.values.push_back(p.face < 0 ? -1 : face_of[p.face]);
+    wo.vertex_properties.push_back(std::move(polygon));
+  }
   write_mesh(path, pts, wo);
   log("wrote " + path);
 }
@@ -270,10 +277,10 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   if (!o.labels_out.empty()) {
     WriteOptions wo = carried_attributes(in);
     add_result(wo, {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
-    write_mesh(o.labels_out, mesh, wo);
+    write_mesh(o.labels_out, output_faces(in), wo);
     log("wrote " + o.labels_out);
   }
-  write_sites(o.sites_out, mesh, r);
+  write_sites(o.sites_out, mesh, r, in.face_of);
   write_cvt_preview(mesh, rr, o.preview);
   const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
   Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};

@@ -103,7 +103,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     WriteOptions wo = carried_attributes(in);
     add_result(wo, {"distance", VertexProperty::Type::Double, distance});
     add_result(wo, {"valid", VertexProperty::Type::Int, valid});
-    write_mesh(opt.output, in.mesh, wo);
+    write_mesh(opt.output, output_faces(in), wo);
     log("wrote " + opt.output);
   }
   write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,  // NaN (no value): grey

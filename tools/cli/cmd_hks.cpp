@@ -145,7 +145,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
       for (size_t k = 0; k < count; ++k) p.values[k] = values[k * nt + j];
       add_result(wo, std::move(p));
     }
-    write_mesh(opt.output, m, wo);
+    write_mesh(opt.output, output_faces(in), wo);
     log("wrote " + opt.output);
   }
 

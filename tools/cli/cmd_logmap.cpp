@@ -148,7 +148,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     add_result(wo, {"angle", VertexProperty::Type::Double, ang});
     add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
     add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
-    write_mesh(opt.output, in.mesh, wo);
+    write_mesh(opt.output, output_faces(in), wo);
     log("wrote " + opt.output);
   }
   if (!lo.preview.path.empty()) {

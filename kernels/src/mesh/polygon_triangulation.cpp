@@ -18,8 +18,10 @@ double cross2(const P2& o, const P2& a, const P2& b) {
 }
 
 // The corners in 2D coordinates of the best-fit plane (counter-clockwise),
-// and a length scale for tolerances. Throws when the polygon has no area.
-std::vector<P2> project_to_plane(std::span<const std::array<double, 3>> c, const std::string& where, double& scale) {
+// and a length scale for tolerances. Throws when the corners are collinear;
+// `zero_area`: the Newell normal vanished (projected on a plane of three corners).
+std::vector<P2> project_to_plane(std::span<const std::array<double, 3>> c, const std::string& where, double& scale,
+                                 bool& zero_area) {
   const size_t k = c.size();
   // Newell normal, about the first corner (fewer cancellations far from the origin).
   double n[3] = {0, 0, 0}, perimeter2 = 0;
@@ -33,11 +35,29 @@ std::vector<P2> project_to_plane(std::span<const std::array<double, 3>> c, const
     n[2] += (ax - bx) * (ay + by);
     perimeter2 += (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
   }
-  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   scale = std::sqrt(perimeter2 / static_cast<double>(k));
-  if (!std::isfinite(len) || !(len > 1e-12 * perimeter2))
-    fail(ErrorCode::BadInput, where + " (" + std::to_string(k) +
-                                  " corners) has no area: its corners are collinear or coincide; cannot triangulate it");
+  const bool flat = std::isfinite(len) && len > 1e-12 * perimeter2;
+  if (!flat) {
+    // No net area: collinear corners, or a bow-tie whose lobes cancel. Any
+    // plane through three spread corners tells them apart (check_simple then
+    // names the crossing edges).
+    for (size_t i = 1; i < k; ++i)
+      for (size_t j = i + 1; j < k; ++j) {
+        const double a[3] = {c[i][0] - c[0][0], c[i][1] - c[0][1], c[i][2] - c[0][2]};
+        const double b[3] = {c[j][0] - c[0][0], c[j][1] - c[0][1], c[j][2] - c[0][2]};
+        const double x[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const double l = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        if (l > len || !std::isfinite(len)) {
+          len = l;
+          n[0] = x[0], n[1] = x[1], n[2] = x[2];
+        }
+      }
+    if (!std::isfinite(len) || !(len > 1e-12 * perimeter2))
+      fail(ErrorCode::BadInput, where + " (" + std::to_string(k) +
+                                    " corners) has no area: its corners are collinear or coincide; cannot triangulate it");
+  }
+  zero_area = !flat;
   const double nz[3] = {n[0] / len, n[1] / len, n[2] / len};
   // u: the coordinate axis least aligned with the normal, made orthogonal to it; v = n x u.
   int axis = 0;
@@ -107,8 +127,11 @@ std::vector<std::array<int32_t, 3>> triangulate_polygon(std::span<const std::arr
   if (k < 3) fail(ErrorCode::BadInput, where + " has " + std::to_string(k) + " corners; a face needs at least 3");
   if (k == 3) return {{0, 1, 2}};
   double scale = 0;
-  const std::vector<P2> p = project_to_plane(corners, where, scale);
+  bool zero_area = false;
+  const std::vector<P2> p = project_to_plane(corners, where, scale, zero_area);
   check_simple(p, scale, where);
+  if (zero_area)
+    fail(ErrorCode::BadInput, where + " (" + std::to_string(k) + " corners) encloses no area; cannot triangulate it");
   const double eps = 1e-12 * scale * scale;
   std::vector<int32_t> ring(k);
   for (size_t i = 0; i < k; ++i) ring[i] = static_cast<int32_t>(i);

@@ -144,6 +144,9 @@ TEST_CASE("triangulate_polygon: degenerate and self-intersecting polygons are re
   const std::string bowtie = message({{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0.5, 0}});
   CHECK(bowtie.find("face 7 of x.obj") != std::string::npos);
   CHECK(bowtie.find("cross") != std::string::npos);
+  // A symmetric bow-tie: its lobes cancel (no net area), still reported as crossing.
+  const std::string symmetric = message({{1, 0, 0}, {2, 1, 0}, {2, 0, 0}, {1, 1, 0}});
+  CHECK(symmetric.find("cross") != std::string::npos);
   const std::string same = message({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}});
   CHECK(same.find("one point") != std::string::npos);
 }
