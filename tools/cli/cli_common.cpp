@@ -343,7 +343,8 @@ void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptio
 void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
     // Keys every command's JSON has (issue 22 item 8): the version that made
-    // it, the -o file and the preview image(s) (null when none).
+    // it, the threads it ran with, the -o file and the preview image(s) (null
+    // when none), and the timings below.
     Json j = result;
     if (!j.contains("output")) j["output"] = opt.output.empty() ? Json(nullptr) : Json(opt.output);
     // timings: load_s, subdivide_s and total_s (command start to this report) in every command.
@@ -356,6 +357,7 @@ void emit(const CommonOptions& opt, const Json& result, const std::function<void
       j["preview"] = g_previews.empty()       ? Json(nullptr)
                      : g_previews.size() == 1 ? Json(g_previews[0])
                                               : Json(g_previews);
+    if (!j.contains("threads")) j["threads"] = threads_used(opt);
     j["version"] = locus_version(nullptr, nullptr, nullptr);
     std::cout << j.dump(2) << std::endl;
   } else {
@@ -389,6 +391,34 @@ TimeSpec parse_time_spec(const std::string& text) {
   if (ec != std::errc() || ptr != last || !std::isfinite(v) || !(v > 0)) return bad();
   spec.value = v;
   return spec;
+}
+
+void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias) {
+  app->add_option("--t", ht.t_text,
+                  "Diffusion time: absolute (1e-3) or a multiple of h^2, h = mean edge length (h2, 4h2); default " +
+                      default_text)
+      ->check(non_empty());
+  if (factor_alias)
+    app->add_option("--t-factor", ht.t_factor, "Deprecated spelling of --t: --t-factor C is --t Ch2");
+}
+
+TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec) {
+  if (ht.t_factor != 0) {
+    if (!ht.t_text.empty())
+      fail(ErrorCode::BadUsage, "--t and --t-factor name one diffusion time; give --t only (--t-factor C is --t Ch2)");
+    if (!(ht.t_factor > 0) || !std::isfinite(ht.t_factor))
+      fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(ht.t_factor) + ")");
+    log("--t-factor is deprecated and will be removed; use --t " + format_number(ht.t_factor) + "h2");
+    return TimeSpec{ht.t_factor, true};
+  }
+  return ht.t_text.empty() ? default_spec : parse_time_spec(ht.t_text);
+}
+
+double heat_t_factor(const TimeSpec& ts, double h) {
+  if (ts.times_h2) return ts.value;
+  if (!(h > 0) || !std::isfinite(h))
+    fail(ErrorCode::BadInput, "mean edge length is " + format_number(h) + ": cannot express --t as a multiple of h^2");
+  return ts.value / (h * h);
 }
 
 void add_operator_options(CLI::App* app, OperatorSpec& spec) {

@@ -172,6 +172,24 @@ struct TimeSpec {
 // Throws Error(BadUsage) naming the text unless it is a finite positive time.
 TimeSpec parse_time_spec(const std::string& text);
 
+// The one heat-time grammar of every command (issue 22 item 8): --t T, T as
+// parse_time_spec reads it. The heat-method commands (geodesic, logmap) also
+// accept their older --t-factor C, meaning --t Ch2, as a deprecated alias
+// (a note on stderr). Usage:
+//   HeatTimeOptions ht;                                   // member of the command's options
+//   add_heat_time_options(app, ht, "h2", true);           // at registration
+//   const TimeSpec ts = heat_time_spec(ht, {1.0, true});  // before reading the input
+//   ... t_factor = heat_t_factor(ts, mean_edge_length(mesh)) ...
+struct HeatTimeOptions {
+  std::string t_text;   // --t ("" = the command's default)
+  double t_factor = 0;  // --t-factor C (0 = not given)
+};
+void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias);
+// Error(BadUsage) for both spellings at once, a bad --t or a non-positive --t-factor.
+TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec);
+// The spec as a multiple of h^2 on a mesh of mean edge length h (the heat method's t_factor).
+double heat_t_factor(const TimeSpec& ts, double h);
+
 // The operators the tools factor (--operator heat|laplacian, --t T).
 struct OperatorSpec {
   std::string kind = "heat";  // "heat": M - t L_C;  "laplacian": -L_C + eps M

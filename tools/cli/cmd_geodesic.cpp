@@ -1,4 +1,4 @@
-// `locus geodesic MESH --source V [--fraction f] [--t-factor c] -o dist.ply`:
+// `locus geodesic MESH --source V [--fraction f] [--t T] -o dist.ply`:
 // heat geodesic distance from one vertex (thesis §6.4.1, Crane et al.), on the
 // whole mesh with full solves (--fraction 1, the default) or localized to the
 // geodesic disk of round(f * n) vertices around the source with exact subset
@@ -13,6 +13,7 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
@@ -24,7 +25,7 @@ namespace {
 struct GeodesicOptions {
   int64_t source = -1;
   double fraction = 1.0;
-  double t_factor = 1.0;
+  HeatTimeOptions time;  // --t (default h2), --t-factor (deprecated)
   PreviewOptions preview;  // --preview out.png: distance colour map
   FactorCacheOptions cache;
 };
@@ -34,8 +35,7 @@ bool local_fraction(double fraction) { return fraction < 1.0; }
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
   if (!(go.fraction > 0 && go.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(go.fraction) + ")");
-  if (!(go.t_factor > 0) || !std::isfinite(go.t_factor))
-    fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(go.t_factor) + ")");
+  const TimeSpec time = heat_time_spec(go.time, TimeSpec{1.0, true});
   check_preview_options(go.preview);
   validate_factor_cache_options(go.cache);
   Input in = load_input(opt, ctx);
@@ -46,7 +46,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   const int32_t source = static_cast<int32_t>(go.source);
   Stopwatch sw;
   HeatGeodesicOptions ho;
-  ho.t_factor = go.t_factor;
+  ho.t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));
   Factors cache_info;
   std::optional<HeatGeodesicFactors> given = heat_method_factors(go.cache, in.mesh, ho, ctx, cache_info);
   const HeatGeodesic geo = given ? HeatGeodesic(in.mesh, ho, std::move(*given)) : HeatGeodesic(in.mesh, ho, ctx);
@@ -115,7 +115,8 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["source"] = source;
   j["method"] = local_fraction(go.fraction) ? "heat-local" : "heat-full";
   j["fraction"] = go.fraction;
-  j["t_factor"] = go.t_factor;
+  j["t_factor"] = ho.t_factor;
+  j["t_spec"] = go.time.t_text.empty() ? format_number(ho.t_factor) + "h2" : go.time.t_text;
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = patch_size;
@@ -146,7 +147,7 @@ void register_geodesic_commands(CommandTable& table) {
                             [go](const CommonOptions& o, const RunContext& ctx) { return run_geodesic(o, *go, ctx); });
   app->add_option("--source", go->source, "Source vertex (0-based)")->required();
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
-  app->add_option("--t-factor", go->t_factor, "Diffusion time t = c h^2 (default 1)");
+  add_heat_time_options(app, go->time, "h2", /*factor_alias=*/true);
   add_preview_option(app, go->preview);
   add_factor_cache_options(app, go->cache);
 }

@@ -1,4 +1,4 @@
-// `locus logmap MESH --center V --fraction f [--t-factor c] [--method heat|dem|heat-full]
+// `locus logmap MESH --center V --fraction f [--t T] [--method heat|dem|heat-full]
 //  [--angle auto|log|two-ring|average] [--lattice none|star|ring|path] [--recenter on|off] -o map.ply`: a log map (local polar /
 // Cartesian coordinates) of the geodesic disk of round(f * n) vertices around
 // the center. heat: thesis §6.5-6.6 with exact subset solves
@@ -14,6 +14,7 @@
 #include <ostream>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
@@ -28,7 +29,7 @@ namespace {
 struct LogmapOptions {
   int64_t center = -1;
   double fraction = 0.05;
-  double t_factor = 1.0;
+  HeatTimeOptions time;  // --t (default h2), --t-factor (deprecated)
   std::string method = "heat";
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
@@ -41,8 +42,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   check_uv_output(opt, "logmap");
   if (!(lo.fraction > 0 && lo.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(lo.fraction) + ")");
-  if (!(lo.t_factor > 0) || !std::isfinite(lo.t_factor))
-    fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(lo.t_factor) + ")");
+  const TimeSpec time = heat_time_spec(lo.time, TimeSpec{1.0, true});
   const LogMapAngle angle = parse_logmap_angle(lo.angle);
   const std::optional<LatticeCorrection> lattice = parse_logmap_lattice(lo.lattice);
   const std::optional<bool> recenter = parse_logmap_recenter(lo.recenter);
@@ -58,6 +58,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
     fail(ErrorCode::BadUsage, "--center " + std::to_string(lo.center) + " is not a vertex of " + opt.mesh_path + " (" +
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t center = static_cast<int32_t>(lo.center);
+  const double t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
 
   Stopwatch sw;
@@ -75,7 +76,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   if (lo.method != "dem") {
     sw.restart();
     LogMapOptions mo;
-    mo.geodesic.t_factor = lo.t_factor;
+    mo.geodesic.t_factor = t_factor;
     mo.angle = angle;
     if (lattice) mo.lattice = *lattice;
     if (recenter) mo.recenter = *recenter;
@@ -169,7 +170,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["method"] = lo.method;
   j["angle"] = lo.method == "dem" ? "dem" : lo.angle;
   j["fraction"] = lo.fraction;
-  j["t_factor"] = lo.t_factor;
+  j["t_factor"] = t_factor;
+  j["t_spec"] = lo.time.t_text.empty() ? format_number(t_factor) + "h2" : lo.time.t_text;
   if (heat) {
     j["t"] = heat->geodesic().time();
     j["h"] = heat->geodesic().mean_edge_length();
@@ -207,7 +209,7 @@ void register_logmap_command(CommandTable& table) {
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
   app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
-  app->add_option("--t-factor", lo->t_factor, "Diffusion time t = c h^2 (default 1)");
+  add_heat_time_options(app, lo->time, "h2", /*factor_alias=*/true);
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,
