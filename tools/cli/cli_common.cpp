@@ -399,17 +399,22 @@ void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string
                       default_text)
       ->check(non_empty());
   if (factor_alias)
-    app->add_option("--t-factor", ht.t_factor, "Deprecated spelling of --t: --t-factor C is --t Ch2");
+    app->add_option("--t-factor", ht.t_factor, "Deprecated spelling of --t: --t-factor C is --t Ch2")
+        ->check(non_empty());
 }
 
 TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec) {
-  if (ht.t_factor != 0) {
+  if (!ht.t_factor.empty()) {
     if (!ht.t_text.empty())
       fail(ErrorCode::BadUsage, "--t and --t-factor name one diffusion time; give --t only (--t-factor C is --t Ch2)");
-    if (!(ht.t_factor > 0) || !std::isfinite(ht.t_factor))
-      fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(ht.t_factor) + ")");
-    log("--t-factor is deprecated and will be removed; use --t " + format_number(ht.t_factor) + "h2");
-    return TimeSpec{ht.t_factor, true};
+    double c = 0;
+    const char* first = ht.t_factor.data();
+    const char* last = first + ht.t_factor.size();
+    auto [ptr, ec] = std::from_chars(first, last, c);
+    if (ec != std::errc() || ptr != last || !(c > 0) || !std::isfinite(c))
+      fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got '" + ht.t_factor + "')");
+    log("--t-factor is deprecated and will be removed; use --t " + ht.t_factor + "h2");
+    return TimeSpec{c, true};
   }
   return ht.t_text.empty() ? default_spec : parse_time_spec(ht.t_text);
 }

@@ -182,7 +182,7 @@ TimeSpec parse_time_spec(const std::string& text);
 //   ... t_factor = heat_t_factor(ts, mean_edge_length(mesh)) ...
 struct HeatTimeOptions {
   std::string t_text;   // --t ("" = the command's default)
-  double t_factor = 0;  // --t-factor C (0 = not given)
+  std::string t_factor;  // --t-factor C as given ("" = not given)
 };
 void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias);
 // Error(BadUsage) for both spellings at once, a bad --t or a non-positive --t-factor.
