@@ -181,6 +181,7 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces f
   in.mesh = read_mesh(opt.mesh_path, {}, &in.attributes);
   in.load_s = sw.seconds();
   g_load_s = in.load_s;
+  for (const std::string& note : in.attributes.notes) log(note);
   if (faces == PolygonFaces::Triangulate && !in.mesh.is_triangle_mesh()) {
     ctx.check_cancel();
     sw.restart();
