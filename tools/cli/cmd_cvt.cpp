@@ -150,7 +150,7 @@ void write_cvt_preview(const Mesh& mesh, const RemeshResult& rr, const PreviewOp
                    {}, "", true});
     return;
   }
-  PreviewContent pc{"cvt cells of " + std::to_string(r.sites.size()) + " sites (no manifold remesh)", {}, "sites"};
+  PreviewContent pc{"cvt cells of " + std::to_string(r.sites.size()) + " sites (no remesh)", {}, "sites"};
   for (const SurfacePoint& p : r.sites) pc.markers.push_back(surface_point_position(mesh, p));
   write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, preview, pc);
 }
