@@ -37,6 +37,7 @@ struct VertexProperty {
 // blue alpha, texture coordinates, custom ones), in file order with their
 // types; of an OBJ the vt and vn of each vertex (as u v and nx ny nz, when
 // all corners of a vertex agree) and the properties of a locus '#vp' block;
+// of an OFF what its keyword announces (N normals, C colours, ST u v);
 // and whether the positions were stored as float. `notes` say what was
 // found but could not be kept per vertex (an OBJ's texture seams).
 struct MeshAttributes {

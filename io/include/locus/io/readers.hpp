@@ -15,7 +15,9 @@ namespace locus::io {
 // names the same values, and the properties of a locus '#vp' block.
 Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt,
               MeshAttributes* attributes = nullptr);
-Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt);
+// `attributes` (may be null) receives what the keyword ([ST][C][N]OFF) announces per vertex.
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt,
+              MeshAttributes* attributes = nullptr);
 // `attributes` (may be null) receives the vertex properties other than x, y, z.
 Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt,
               MeshAttributes* attributes = nullptr);
