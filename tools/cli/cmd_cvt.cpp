@@ -22,8 +22,6 @@
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
-#include "locus/kernels/render/rasterize.hpp"
-#include "locus/io/write_png.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
