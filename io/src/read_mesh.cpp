@@ -29,8 +29,8 @@ Mesh dispatch(std::string_view data, const std::string& format, const std::strin
               MeshAttributes* attributes) {
   if (data.empty()) fail(ErrorCode::BadInput, name + ": the file is empty");
   if (attributes) *attributes = {};
-  if (format == "obj") return io::read_obj(data, name, opt);
-  if (format == "off") return io::read_off(data, name, opt);
+  if (format == "obj") return io::read_obj(data, name, opt, attributes);
+  if (format == "off") return io::read_off(data, name, opt, attributes);
   if (format == "ply") return io::read_ply(data, name, opt, attributes);
   fail(ErrorCode::BadInput, name + ": unknown mesh format '" + format + "' (expected .obj, .off or .ply)");
 }

@@ -1,8 +1,13 @@
 // Wavefront OBJ reader (locus/mesh_io.hpp): `v x y z [w]` vertices and `f`
 // polygon faces with corners written `v`, `v/vt`, `v//vn` or `v/vt/vn`,
 // positive (1-based) or negative (relative to the vertices read so far)
-// indices. Every other statement (vt, vn, g, o, s, usemtl, mtllib, l, p, ...),
-// comments and blank lines are ignored. Not from the thesis: file plumbing.
+// indices. With attributes asked for, `vt` and `vn` become per-vertex u v and
+// nx ny nz when every corner of a vertex names the same values (else a note:
+// a seam cannot be kept per vertex), and a locus '#vp' block (written by
+// write_mesh: "#locus vertex-properties NAME:TYPE ..." then one "#vp" line per
+// vertex) becomes named properties. Every other statement (g, o, s, usemtl,
+// mtllib, l, p, ...), comments and blank lines are ignored. Not from the
+// thesis: file plumbing.
 //
 // Why a hand-written parser and not Debian's libtinyobjloader-dev
 // (tinyobjloader 2.0.0~rc10, double build): measured on a 5,004,169-vertex /
@@ -20,6 +25,9 @@
 // parser over the whole buffer, std::from_chars for numbers, and every
 // refusal naming the file, the line and the face or vertex (DESIGN.md "Input
 // is hostile").
+#include <array>
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -49,21 +57,134 @@ struct ForwardRef {
   int64_t index;  // 1-based, as written
 };
 
+// The vt / vn a vertex's corners name: one value set per vertex, or a conflict.
+struct CornerAttribute {
+  std::vector<std::array<double, 3>> table;  // vt (u, v, 0) or vn (x, y, z), in file order
+  std::vector<int64_t> of_vertex;            // per vertex: index into table, -1 none, -2 conflicting
+  int64_t conflict_vertex = -1;
+  void name(int64_t vertex, int64_t index) {
+    if (static_cast<size_t>(vertex) >= of_vertex.size()) of_vertex.resize(static_cast<size_t>(vertex) + 1, -1);
+    int64_t& cur = of_vertex[static_cast<size_t>(vertex)];
+    if (cur == -1) cur = index;
+    else if (cur >= 0 && cur != index && table[static_cast<size_t>(cur)] != table[static_cast<size_t>(index)]) {
+      cur = -2;
+      if (conflict_vertex < 0) conflict_vertex = vertex;
+    }
+  }
+};
+
+// A corner's vt or vn index (1-based or negative), range-checked against the table so far.
+int64_t corner_index(LineReader& lines, std::string_view text, size_t count, int64_t face, const char* what) {
+  int64_t idx;
+  if (!parse_int(text, idx) || idx == 0)
+    lines.fail("face " + std::to_string(face) + ": malformed " + what + " index " + quote(text));
+  const int64_t i = idx > 0 ? idx - 1 : static_cast<int64_t>(count) + idx;
+  if (i < 0 || i >= static_cast<int64_t>(count))
+    lines.fail("face " + std::to_string(face) + " names " + what + " " + std::to_string(idx) + " but " +
+               std::to_string(count) + " precede it");
+  return i;
+}
+
+VertexProperty::Type property_type(std::string_view t) {
+  using T = VertexProperty::Type;
+  if (t == "float") return T::Float;
+  if (t == "int") return T::Int;
+  if (t == "char") return T::Int8;
+  if (t == "uchar") return T::UInt8;
+  if (t == "short") return T::Int16;
+  if (t == "ushort") return T::UInt16;
+  if (t == "uint") return T::UInt32;
+  return T::Double;
+}
+
+// Moves per-vertex vt / vn (consistent ones) and the '#vp' block into `a`.
+void keep_attributes(const Mesh& m, const std::string& name, CornerAttribute& vt, CornerAttribute& vn,
+                     std::vector<VertexProperty>& block, int64_t block_rows, int64_t block_line, MeshAttributes& a) {
+  const size_t nv = m.x.size();
+  auto per_vertex = [&](CornerAttribute& c, std::initializer_list<const char*> names, const char* what) {
+    if (c.table.empty()) return;
+    c.of_vertex.resize(nv, -1);
+    int64_t missing = -1;
+    for (size_t v = 0; v < nv && missing < 0; ++v)
+      if (c.of_vertex[v] == -1) missing = static_cast<int64_t>(v);
+    if (c.conflict_vertex >= 0 || missing >= 0) {
+      a.notes.push_back(name + ": " + what + " not kept per vertex: vertex " +
+                        std::to_string(c.conflict_vertex >= 0 ? c.conflict_vertex : missing) +
+                        (c.conflict_vertex >= 0 ? " has corners with different values (a seam)" : " has none"));
+      return;
+    }
+    int k = 0;
+    for (const char* n : names) {
+      VertexProperty p{n, VertexProperty::Type::Double, std::vector<double>(nv)};
+      for (size_t v = 0; v < nv; ++v) p.values[v] = c.table[static_cast<size_t>(c.of_vertex[v])][k];
+      a.vertex.push_back(std::move(p));
+      ++k;
+    }
+  };
+  per_vertex(vt, {"u", "v"}, "texture coordinates (vt)");
+  per_vertex(vn, {"nx", "ny", "nz"}, "normals (vn)");
+  if (block.empty()) return;
+  if (block_rows != static_cast<int64_t>(nv))
+    fail_line(name, block_line, "the '#locus vertex-properties' block has " + std::to_string(block_rows) +
+                                    " '#vp' rows for " + std::to_string(nv) + " vertices");
+  for (VertexProperty& p : block) {
+    // A block property replaces a vt / vn one of the same name (it is the writer's own copy).
+    std::erase_if(a.vertex, [&](const VertexProperty& q) { return q.name == p.name; });
+    a.vertex.push_back(std::move(p));
+  }
+}
+
 }  // namespace
 
-Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt) {
+Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
   (void)opt;  // OBJ has no header counts; read_mesh already bounded the file size by max_bytes
   LineReader lines(data, name);
   Mesh m;
   std::vector<int32_t> face;
   std::vector<ForwardRef> forward;
   int64_t nf = 0;
+  CornerAttribute vt, vn;
+  std::vector<VertexProperty> block;  // the '#vp' block
+  int64_t block_rows = 0, block_line = 0;
 
   std::string_view line;
   while (lines.next(line)) {
     Fields fields(line);
     const std::string_view kw = fields.next();
-    if (kw.size() == 1 && kw[0] == 'v') {
+    if (attributes && (kw == "vt" || kw == "vn")) {
+      std::array<double, 3> c{0, 0, 0};
+      const int want = kw == "vt" ? 2 : 3;
+      for (int k = 0; k < want; ++k) {
+        const std::string_view tok = fields.next();
+        const char* last = tok.data() + tok.size();
+        auto [ptr, ec] = std::from_chars(tok.data(), last, c[static_cast<size_t>(k)]);
+        // nan is a value here: locus writes it for a vertex without UVs (outside a log map's patch).
+        if (tok.empty() || ec != std::errc() || ptr != last)
+          lines.fail(std::string(kw) + " " + std::to_string((kw == "vt" ? vt : vn).table.size() + 1) +
+                     ": expected " + std::to_string(want) + " numbers");
+      }
+      (kw == "vt" ? vt : vn).table.push_back(c);
+    } else if (attributes && kw == "#locus" && fields.next() == "vertex-properties") {
+      block.clear();
+      block_rows = 0;
+      block_line = lines.line_number();
+      for (std::string_view tok = fields.next(); !tok.empty(); tok = fields.next()) {
+        const size_t colon = tok.find(':');
+        if (colon == std::string_view::npos || colon == 0) lines.fail("malformed property " + quote(tok) + " (expected NAME:TYPE)");
+        block.push_back({std::string(tok.substr(0, colon)), property_type(tok.substr(colon + 1)), {}});
+      }
+    } else if (attributes && kw == "#vp" && !block.empty()) {
+      for (VertexProperty& p : block) {
+        const std::string_view tok = fields.next();
+        double x = 0;
+        const char* last = tok.data() + tok.size();
+        auto [ptr, ec] = std::from_chars(tok.data(), last, x);
+        if (tok.empty() || ec != std::errc() || ptr != last)
+          lines.fail("'#vp' row " + std::to_string(block_rows) + ": expected a number for " + p.name);
+        p.values.push_back(x);
+      }
+      ++block_rows;
+    } else if (kw.size() == 1 && kw[0] == 'v') {
       const int64_t v = static_cast<int64_t>(m.x.size());
       double c[3];
       for (int k = 0; k < 3; ++k) {
@@ -105,6 +226,15 @@ Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions&
           lines.fail("face " + std::to_string(nf) + " has vertex index 0 (OBJ indices start at 1)");
         }
         face.push_back(static_cast<int32_t>(vid));
+        if (attributes && slash != std::string_view::npos) {
+          // v/vt, v//vn, v/vt/vn
+          const std::string_view rest = tok.substr(slash + 1);
+          const size_t slash2 = rest.find('/');
+          const std::string_view t_text = rest.substr(0, slash2);
+          if (!t_text.empty()) vt.name(vid, corner_index(lines, t_text, vt.table.size(), nf, "vt"));
+          if (slash2 != std::string_view::npos && slash2 + 1 < rest.size())
+            vn.name(vid, corner_index(lines, rest.substr(slash2 + 1), vn.table.size(), nf, "vn"));
+        }
       }
       const std::string bad = face_problem(nf, face);
       if (!bad.empty()) lines.fail(bad);
@@ -124,6 +254,7 @@ Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions&
                 "face " + std::to_string(r.face) + " references vertex " + std::to_string(r.index) +
                     " (1-based) but the file has " + std::to_string(nv) + " vertices (index out of range)");
   finish_mesh(m, name);
+  if (attributes) keep_attributes(m, name, vt, vn, block, block_rows, block_line, *attributes);
   return m;
 }
 

@@ -1,9 +1,13 @@
 // Geomview OFF reader (locus/mesh_io.hpp), ASCII form: an optional header
 // keyword `[ST][C][N]OFF`, the counts `nv nf [ne]` (on the keyword's line or on
 // the following line(s)), nv vertex lines `x y z ...` and nf face lines
-// `k i1 .. ik ...`. What follows the coordinates on a vertex line (normal,
-// colour, texture coordinate) and the indices on a face line (a face colour)
-// is ignored. `#` starts a comment anywhere. Not from the thesis: file plumbing.
+// `k i1 .. ik ...`. With attributes asked for, what the keyword announces
+// after the coordinates of a vertex line becomes vertex properties: N normals
+// (nx ny nz), C colours (red green blue [alpha]; uchar when written as
+// integers, else float), ST texture coordinates (u v); a file whose vertex
+// lines do not agree on them keeps none (a note says why). The indices' tail
+// on a face line (a face colour) is ignored. `#` starts a comment anywhere.
+// Not from the thesis: file plumbing.
 //
 // Records are read line by line (as every OFF writer we know emits them), so
 // errors name the line. 4OFF / nOFF (other dimensions) and binary OFF are
@@ -22,13 +26,17 @@ namespace locus::io {
 
 namespace {
 
+struct VertexExtras {
+  bool st = false, colour = false, normal = false;
+};
+
 // Recognizes the header keyword; returns false if `tok` is not one (the file
 // may start directly with the counts, which Geomview allows).
-bool header_keyword(std::string_view tok, const LineReader& lines) {
+bool header_keyword(std::string_view tok, const LineReader& lines, VertexExtras& extras) {
   std::string_view s = tok;
-  if (s.substr(0, 2) == "ST") s.remove_prefix(2);
-  if (!s.empty() && s[0] == 'C') s.remove_prefix(1);
-  if (!s.empty() && s[0] == 'N') s.remove_prefix(1);
+  if (s.substr(0, 2) == "ST") s.remove_prefix(2), extras.st = true;
+  if (!s.empty() && s[0] == 'C') s.remove_prefix(1), extras.colour = true;
+  if (!s.empty() && s[0] == 'N') s.remove_prefix(1), extras.normal = true;
   if (!s.empty() && (s[0] == '4' || s[0] == 'n') && s.size() >= 3 && s.substr(s.size() - 3) == "OFF")
     lines.fail("header " + quote(tok) + ": only 3-D OFF is supported (4OFF / nOFF are not)");
   if (s == "OFF") return true;
@@ -37,9 +45,64 @@ bool header_keyword(std::string_view tok, const LineReader& lines) {
   lines.fail("expected an OFF header (OFF, COFF, NOFF, CNOFF, STOFF, ...), found " + quote(tok));
 }
 
+// The numbers after x y z on the vertex lines, turned into properties when
+// every line has the count the keyword announces (normals 3, colours 3 or 4,
+// texture coordinates 2; in Geomview's order N, C, ST).
+struct ExtraColumns {
+  std::vector<double> values;  // row-major, `width` per vertex
+  int width = -1;              // -1: no line yet; -2: lines disagree
+  bool integers = true;        // colour values all written as integers
+  int64_t bad_vertex = -1;
+  void add(Fields& f, int64_t v) {
+    int n = 0;
+    for (std::string_view tok = f.next(); !tok.empty() && tok[0] != '#'; tok = f.next()) {
+      double x = 0;
+      int64_t i = 0;
+      if (!parse_double(tok, x)) {
+        n = -1;
+        break;
+      }
+      integers = integers && parse_int(tok, i);
+      values.push_back(x);
+      ++n;
+    }
+    if (width == -1) width = n;
+    if (n != width && width != -2) {
+      width = -2;
+      bad_vertex = v;
+    }
+  }
+};
+
+void keep_extras(const VertexExtras& e, ExtraColumns& cols, int64_t nv, const std::string& name, MeshAttributes& a) {
+  if (!(e.normal || e.colour || e.st) || nv == 0) return;
+  const int fixed = (e.normal ? 3 : 0) + (e.st ? 2 : 0);
+  const int colours = e.colour ? cols.width - fixed : 0;
+  if (cols.width < 0 || (e.colour && colours != 3 && colours != 4) || (!e.colour && cols.width != fixed)) {
+    a.notes.push_back(name + ": the vertex lines do not hold what the OFF keyword announces" +
+                      (cols.bad_vertex >= 0 ? " (vertex " + std::to_string(cols.bad_vertex) + " differs)" : std::string()) +
+                      "; normals, colours and texture coordinates not kept");
+    return;
+  }
+  const size_t w = static_cast<size_t>(cols.width);
+  size_t at = 0;
+  auto column = [&](const char* n, VertexProperty::Type t) {
+    VertexProperty p{n, t, std::vector<double>(static_cast<size_t>(nv))};
+    for (size_t v = 0; v < static_cast<size_t>(nv); ++v) p.values[v] = cols.values[v * w + at];
+    ++at;
+    a.vertex.push_back(std::move(p));
+  };
+  if (e.normal)
+    for (const char* n : {"nx", "ny", "nz"}) column(n, VertexProperty::Type::Double);
+  const auto ct = cols.integers ? VertexProperty::Type::UInt8 : VertexProperty::Type::Float;
+  for (int k = 0; k < colours; ++k) column(k == 0 ? "red" : k == 1 ? "green" : k == 2 ? "blue" : "alpha", ct);
+  if (e.st)
+    for (const char* n : {"u", "v"}) column(n, VertexProperty::Type::Double);
+}
+
 }  // namespace
 
-Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt) {
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
   LineReader lines(data, name);
   std::string_view line;
   if (!lines.next_content(line)) fail(ErrorCode::BadInput, name + ": no OFF header (the file holds only comments or blanks)");
@@ -48,7 +111,9 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
   Fields fields(line);
   const std::string_view first = fields.next();
   std::vector<int64_t> counts;
-  if (!header_keyword(first, lines)) fields = Fields(line);  // no keyword: this line holds counts
+  VertexExtras extras;
+  if (!header_keyword(first, lines, extras)) fields = Fields(line);  // no keyword: this line holds counts
+  ExtraColumns columns;
   for (;;) {
     for (std::string_view tok = fields.next(); !tok.empty() && counts.size() < 3; tok = fields.next()) {
       if (tok == "BINARY") lines.fail("binary OFF is not supported");
@@ -113,6 +178,7 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
     const std::string bad = vertex_problem(v, c[0], c[1], c[2]);
     if (!bad.empty()) lines.fail(bad);
     m.add_vertex(c[0], c[1], c[2]);
+    if (attributes && (extras.normal || extras.colour || extras.st)) columns.add(f, v);
   }
 
   std::vector<int32_t> face;
@@ -155,6 +221,7 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
   }
   // Whatever follows the faces (edges, trailing comments) is not mesh data.
   finish_mesh(m, name);
+  if (attributes) keep_extras(extras, columns, nv, name, *attributes);
   return m;
 }
 

@@ -261,28 +261,58 @@ std::string ply(const Mesh& m, const WriteOptions& opt) {
   return out;
 }
 
+// OBJ's own slots first: texture coordinates as vt (the result's UVs, else
+// vertex properties u and v) and normals as vn (properties nx ny nz), one per
+// vertex with the vertex's index; the other properties go to the '#vp' block.
 std::string obj(const Mesh& m, const WriteOptions& opt) {
   std::string out = "# written by locus\n";
   const size_t nv = m.x.size();
+  auto find = [&](const char* n) -> const VertexProperty* {
+    for (const VertexProperty& p : opt.vertex_properties)
+      if (p.name == n && p.values.size() == nv) return &p;
+    return nullptr;
+  };
+  const VertexProperty *pu = find("u"), *pv = find("v");
+  const VertexProperty *pnx = find("nx"), *pny = find("ny"), *pnz = find("nz");
+  const bool prop_uv = !opt.uv && pu && pv;
+  const bool has_vt = opt.uv || prop_uv;
+  const bool has_vn = pnx && pny && pnz;
+  std::vector<VertexProperty> rest;
+  for (const VertexProperty& p : opt.vertex_properties) {
+    const bool in_vt = prop_uv && (&p == pu || &p == pv);
+    const bool in_vn = has_vn && (&p == pnx || &p == pny || &p == pnz);
+    if (!in_vt && !in_vn) rest.push_back(p);
+  }
   for (size_t v = 0; v < nv; ++v) {
     out += "v "; put_num(out, m.x[v]); out += ' '; put_num(out, m.y[v]); out += ' '; put_num(out, m.z[v]); out += '\n';
   }
-  if (opt.uv)
+  if (has_vt)
     for (size_t v = 0; v < nv; ++v) {
-      out += "vt "; put_num(out, (*opt.uv)[2 * v]); out += ' '; put_num(out, (*opt.uv)[2 * v + 1]); out += '\n';
+      out += "vt ";
+      put_num(out, opt.uv ? (*opt.uv)[2 * v] : pu->values[v]);
+      out += ' ';
+      put_num(out, opt.uv ? (*opt.uv)[2 * v + 1] : pv->values[v]);
+      out += '\n';
+    }
+  if (has_vn)
+    for (size_t v = 0; v < nv; ++v) {
+      out += "vn "; put_num(out, pnx->values[v]); out += ' '; put_num(out, pny->values[v]); out += ' ';
+      put_num(out, pnz->values[v]); out += '\n';
     }
   const int64_t nf = m.num_faces();
   for (int64_t f = 0; f < nf; ++f) {
     out += 'f';
     for (int32_t j = m.face_offsets[f]; j < m.face_offsets[f + 1]; ++j) {
-      const int64_t idx = int64_t(m.face_vertices[j]) + 1;  // OBJ is 1-based; vt i belongs to vertex i
+      const int64_t idx = int64_t(m.face_vertices[j]) + 1;  // OBJ is 1-based; vt i and vn i belong to vertex i
       out += ' ';
       put_num(out, idx);
-      if (opt.uv) { out += '/'; put_num(out, idx); }
+      if (has_vt || has_vn) out += '/';
+      if (has_vt) put_num(out, idx);
+      if (has_vn) { out += '/'; put_num(out, idx); }
     }
     out += '\n';
   }
-  append_obj_properties(out, opt.vertex_properties, nv);
+  append_obj_properties(out, rest, nv);
   return out;
 }
 

@@ -34,7 +34,8 @@ def main(argv=None):
     if not r.remeshed:
         sys.exit("the remesh is not a manifold with the input's topology; try more sites")
     locus.write_mesh(a.output, r.remesh_V, r.remesh_F)
-    locus.render_preview(r.remesh_V, r.remesh_F, edges=True, path=a.preview)
+    title = f"cvt remesh: {len(r.remesh_V)} vertices (the sites), {len(r.remesh_F)} triangles"  # as `locus cvt`
+    locus.render_preview(r.remesh_V, r.remesh_F, edges=True, path=a.preview, title=title)
     print(f"{a.output}: {len(r.remesh_V)} vertices, {len(r.remesh_F)} triangles, genus {r.genus}, "
           f"mean smallest angle {r.mean_min_angle_deg:.1f} deg, Hausdorff {r.hausdorff_rel:.4f} of the diagonal "
           f"({time.perf_counter() - start:.1f} s); preview {a.preview}")

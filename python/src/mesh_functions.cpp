@@ -65,13 +65,36 @@ Coloring coloring_of(const std::string& name) {
   usage_error("coloring must be 'scalar', 'labels' or 'checker', got '" + name + "'");
 }
 
+// (k, 3) float64 points, or none.
+std::vector<Vec3d> points3(const py::handle& p, const char* what) {
+  std::vector<Vec3d> out;
+  if (p.is_none()) return out;
+  const py::array a = py::module_::import("numpy").attr("asarray")(p, "dtype"_a = "float64");
+  if (a.size() % 3 != 0 || (a.ndim() != 1 && (a.ndim() != 2 || a.shape(1) != 3)))
+    throw py::value_error(std::string(what) + ": expected points of shape (k, 3)");
+  const py::array c = py::module_::import("numpy").attr("ascontiguousarray")(a).attr("ravel")();
+  const auto* d = static_cast<const double*>(c.data());
+  for (py::ssize_t i = 0; i + 2 < c.size(); i += 3) out.push_back(Vec3d{d[i], d[i + 1], d[i + 2]});
+  return out;
+}
+
 py::array render(const py::handle& V, const py::handle& F, const py::handle& values, const std::string& coloring,
-                 bool edges, int width, int height, const std::string& path) {
+                 bool edges, int width, int height, const std::string& path, const std::string& title,
+                 const py::handle& markers, const std::string& marker_label, const py::handle& view) {
   const Mesh m = polygon_mesh(V, F);
   RasterOptions ro;
   ro.width = width;
   ro.height = height;
   ro.edges = edges;
+  ro.title = title;
+  ro.markers = points3(markers, "markers");
+  ro.marker_label = marker_label;
+  if (!view.is_none()) {
+    const std::vector<Vec3d> v = points3(view, "view");
+    if (v.size() != 1 || (v[0][0] == 0 && v[0][1] == 0 && v[0][2] == 0))
+      throw py::value_error("view: expected one direction (x, y, z), not all zero");
+    ro.view = v[0];
+  }
   std::vector<double> v;
   if (values.is_none()) {
     ro.coloring = Coloring::Labels;  // one colour: the shape (and with edges its triangles)
@@ -154,10 +177,14 @@ void bind_mesh_functions(py::module_& m) {
         "subdivide(V, F, times=1) -> (V, F)\n\n1:4 midpoint subdivision `times` times (as `locus --subdivide`): "
         "each time, 4x the triangles.");
   m.def("render_preview", &render, "V"_a, "F"_a, "values"_a = py::none(), py::kw_only(), "coloring"_a = "scalar",
-        "edges"_a = false, "width"_a = 800, "height"_a = 800, "path"_a = "",
-        "render_preview(V, F, values=None, *, coloring='scalar', edges=False, width=800, height=800, path='')\n\n"
-        "The engine's software-rendered preview (the CLI's --preview): an orthographic three-quarter view, "
-        "Lambert-shaded, as a (height, width, 3) uint8 image; written as PNG when path is given.\n"
+        "edges"_a = false, "width"_a = 800, "height"_a = 800, "path"_a = "", "title"_a = "",
+        "markers"_a = py::none(), "marker_label"_a = "", "view"_a = py::none(),
+        "render_preview(V, F, values=None, *, coloring='scalar', edges=False, width=800, height=800, path='', "
+        "title='', markers=None, marker_label='', view=None)\n\n"
+        "The engine's software-rendered preview (the CLI's --preview): an orthographic view from the mesh's "
+        "principal axes (or from the side `view` = (x, y, z)), Lambert-shaded, as a (height, width, 3) uint8 image; "
+        "written as PNG when path is given. title: the legend strip's quantity ('' = no legend); markers: (k, 3) "
+        "points drawn as dots (sources, centres, sites), named marker_label in the legend.\n"
         "values: None (one colour) or per vertex: coloring 'scalar' (nv values, iso-bands; NaN grey), 'labels' (nv "
         "integer labels, one colour each) or 'checker' (2 nv values u, v interleaved). edges: draw the triangle "
         "edges dark (remesh previews). width, height: pixels (1..16384).");

@@ -70,3 +70,46 @@ TEST_CASE("mesh attributes: PLY vertex properties are read with their types and 
   CHECK(e.code == locus::ErrorCode::BadUsage);
   CHECK(e.has("uchar vertex property 'red'"));
 }
+
+TEST_CASE("mesh attributes: what an OFF keyword announces (N, C, ST) becomes vertex properties") {
+  using T = locus::VertexProperty::Type;
+  auto read = [](const std::string& text, locus::MeshAttributes& a) {
+    return locus::read_mesh_from_memory(text.data(), text.size(), "off", "a.off", {}, &a);
+  };
+  auto find = [](const locus::MeshAttributes& a, const std::string& n) -> const locus::VertexProperty* {
+    for (const auto& p : a.vertex)
+      if (p.name == n) return &p;
+    return nullptr;
+  };
+  // Integer colours: uchar red green blue (alpha when given); the comment after a line is no value.
+  locus::MeshAttributes a;
+  read("COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0 0 128 0 # green\n0 1 0 0 0 7\n3 0 1 2\n", a);
+  REQUIRE(find(a, "red"));
+  CHECK(find(a, "red")->type == T::UInt8);
+  CHECK(find(a, "green")->values[1] == 128);
+  CHECK(find(a, "blue")->values[2] == 7);
+  CHECK_FALSE(find(a, "alpha"));
+  // Float colours with alpha, after normals (Geomview's order: N before C), then ST.
+  locus::MeshAttributes b;
+  read("STCNOFF\n3 1 0\n0 0 0 0 0 1 0.5 0.25 0 1 0.1 0.2\n1 0 0 0 0 1 0 0 1 1 0.3 0.4\n0 1 0 0 0 -1 1 1 1 0.5 0.5 0.6\n3 0 1 2\n", b);
+  REQUIRE(find(b, "nz"));
+  CHECK(find(b, "nz")->values[2] == -1);
+  REQUIRE(find(b, "alpha"));
+  CHECK(find(b, "red")->type == T::Float);
+  CHECK(find(b, "red")->values[0] == 0.5);
+  CHECK(find(b, "alpha")->values[2] == 0.5);
+  CHECK(find(b, "u")->values[1] == 0.3);
+  CHECK(find(b, "v")->values[2] == 0.6);
+  CHECK(b.notes.empty());
+  // Lines that disagree keep nothing, with a note naming the vertex.
+  locus::MeshAttributes c;
+  read("COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0 0 128\n0 1 0 0 0 7\n3 0 1 2\n", c);
+  CHECK(c.vertex.empty());
+  REQUIRE(c.notes.size() == 1u);
+  CHECK(c.notes[0].find("vertex 1") != std::string::npos);
+  // A plain OFF has none, and no note.
+  locus::MeshAttributes d;
+  read("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", d);
+  CHECK(d.vertex.empty());
+  CHECK(d.notes.empty());
+}

@@ -52,6 +52,11 @@ inline std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+inline void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
 struct Run {
   int status = -1;  // exit status, -1 if killed by a signal
   std::string out, err;

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <set>
 #include <string>
 
@@ -44,6 +45,8 @@ Decoded decode(const std::string& path) {
   return d;
 }
 
+std::string read_file(const std::string& path) { return slurp(path); }
+
 }  // namespace
 
 TEST_CASE("preview: geodesic, logmap and adf write decodable, non-uniform PNGs") {
@@ -70,6 +73,10 @@ TEST_CASE("preview: geodesic, logmap and adf write decodable, non-uniform PNGs")
     CHECK(d.colours.size() >= c.min_colours);
   }
   CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--preview", dir / "geo.jpg"}).status == 2);
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--preview", dir / "v.png", "--view", "0,0"}).status == 2);
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--preview", dir / "v.png", "--view", "0,0,0"}).status == 2);
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--view", "0,0,1"}).status == 2);  // --view without --preview
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "0", "--preview", dir / "v.png", "--view", "1,0,0"}).status == 0);
   CHECK(run_locus(dir, {"adf", mesh, "--vertices", "1", "--preview", dir / "adf.png"}).status == 2);
 }
 
@@ -114,4 +121,52 @@ TEST_CASE("rasterize: a square facing the camera lands in the middle, background
   CHECK_THROWS_AS(locus::rasterize_mesh(m, values, ro), locus::Error);
   CHECK_THROWS_AS(locus::write_png("/nonexistent-dir/x.png", 2, 2, std::vector<uint8_t>(12, 0)), locus::Error);
   CHECK_THROWS_AS(locus::write_png("x.png", 2, 2, std::vector<uint8_t>(11, 0)), locus::Error);
+}
+
+TEST_CASE("preview: hks writes one image per t (or the one --preview-t names), and the JSON lists them") {
+  if (!have_locus()) return;
+  Scratch dir("preview_hks");
+  const std::string mesh = dir / "sphere.off";
+  locus::write_mesh(mesh, locus::make_icosphere(3));
+  const Run r = run_locus(dir, {"hks", mesh, "--ts", "1h2,10h2,100h2", "--all", "--preview", dir / "h.png", "--json"});
+  REQUIRE(r.status == 0);
+  const auto j = r.json();
+  REQUIRE(j["preview"].is_array());
+  REQUIRE(j["preview"].size() == 3u);
+  std::set<std::string> bytes;
+  for (int t = 0; t < 3; ++t) {
+    const std::string path = dir / ("h-t" + std::to_string(t) + ".png");
+    CHECK(j["preview"][t] == path);
+    const Decoded d = decode(path);
+    CHECK(d.w == 800);
+    bytes.insert(read_file(path));
+  }
+  CHECK(bytes.size() == 3u);  // three different pictures (the legends name their t at least)
+  const Run one = run_locus(dir, {"hks", mesh, "--ts", "1h2,10h2,100h2", "--all", "--preview", dir / "one.png",
+                                  "--preview-t", "2", "--json"});
+  REQUIRE(one.status == 0);
+  CHECK(one.json()["preview"] == dir / "one.png");
+  CHECK(read_file(dir / "one.png") == read_file(dir / "h-t2.png"));
+  CHECK(run_locus(dir, {"hks", mesh, "--ts", "1h2,10h2", "--all", "--preview", dir / "x.png", "--preview-t", "2"}).status == 2);
+  CHECK(run_locus(dir, {"hks", mesh, "--ts", "1h2,10h2", "--all", "--preview-t", "1"}).status == 2);
+}
+
+TEST_CASE("preview: locus run --preview writes one image per item into --out") {
+  if (!have_locus()) return;
+  Scratch dir("preview_run");
+  const std::string in = dir / "in";
+  std::filesystem::create_directories(in);
+  locus::write_mesh(in + "/a.off", locus::make_icosphere(2));
+  locus::write_mesh(in + "/b.off", locus::make_icosphere(3));
+  const Run r = run_locus(dir, {"run", "geodesic", in, "--source", "0", "--preview", "--out", dir / "out", "--json"});
+  REQUIRE(r.status == 0);
+  const auto j = r.json();
+  for (const char* stem : {"a", "b"}) {
+    const std::string png = dir / (std::string("out/") + stem + ".png");
+    CHECK(decode(png).w == 800);
+  }
+  CHECK(read_file(dir / "out/a.png") != read_file(dir / "out/b.png"));
+  for (const auto& item : j["items"]) CHECK(item["preview"].is_string());
+  // A file name would make every item overwrite one image: refused.
+  CHECK(run_locus(dir, {"run", "geodesic", in, "--source", "0", "--preview", dir / "x.png", "--out", dir / "out2"}).status == 2);
 }

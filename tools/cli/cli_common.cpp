@@ -27,6 +27,7 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/polygon_triangulation.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/render/rasterize.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
@@ -49,6 +50,14 @@ extern "C" void on_sigint(int) {
 }
 
 std::string g_tool = "locus";
+
+// Preview images this command wrote (write_preview), for the JSON key `preview`.
+std::vector<std::string> g_previews;
+
+// For the `timings` every command reports: when the command started, and the
+// input's load and subdivision times (load_input).
+Stopwatch g_command_clock;
+double g_load_s = 0, g_subdivide_s = 0;
 
 }  // namespace
 
@@ -141,6 +150,7 @@ int CommandTable::run(int argc, char** argv) {
     if (!chosen->common.max_memory.empty()) ctx.max_memory_bytes = parse_memory_size(chosen->common.max_memory);
     ctx.threads = chosen->common.threads;
     ctx.cancel = &g_cancel;
+    g_command_clock.restart();
     int status = chosen->body(chosen->common, ctx);
     std::signal(SIGINT, previous);
     if (ctx.cancelled()) {
@@ -165,11 +175,24 @@ int CommandTable::run(int argc, char** argv) {
   }
 }
 
-Input load_input(const CommonOptions& opt, const RunContext& ctx) {
+Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces) {
   Input in;
   Stopwatch sw;
   in.mesh = read_mesh(opt.mesh_path, {}, &in.attributes);
   in.load_s = sw.seconds();
+  g_load_s = in.load_s;
+  for (const std::string& note : in.attributes.notes) log(note);
+  if (faces == PolygonFaces::Triangulate && !in.mesh.is_triangle_mesh()) {
+    ctx.check_cancel();
+    sw.restart();
+    TriangulatedMesh t = triangulate_polygons(in.mesh, opt.mesh_path);
+    in.polygons = std::move(in.mesh);
+    in.mesh = std::move(t.mesh);
+    in.face_of = std::move(t.face_of);
+    in.triangulate_s = sw.seconds();
+    log("triangulated the " + std::to_string(in.polygons.num_faces()) + " faces of " + opt.mesh_path + " into " +
+        std::to_string(in.mesh.num_faces()) + " triangles (ear clipping); outputs on its vertices keep its faces");
+  }
   if (opt.subdivide > 0) {
     ctx.check_cancel();
     if (!in.mesh.is_triangle_mesh()) {
@@ -201,18 +224,80 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx) {
           " vertex attribute(s) are not carried to the outputs (subdivision makes new vertices)");
       in.attributes.vertex.clear();
     }
+    if (in.triangulated()) {  // new vertices: the file's faces no longer describe the mesh
+      in.polygons = Mesh{};
+      in.face_of.clear();
+    }
     sw.restart();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = sw.seconds();
+    g_subdivide_s = in.subdivide_s;
   }
   return in;
 }
 
 Json input_json(const CommonOptions& opt, const Input& in) {
-  return {{"file", opt.mesh_path},
-          {"subdivide", opt.subdivide},
-          {"n_vertices", in.mesh.num_vertices()},
-          {"n_faces", in.mesh.num_faces()}};
+  Json j{{"file", opt.mesh_path},
+         {"subdivide", opt.subdivide},
+         {"n_vertices", in.mesh.num_vertices()},
+         {"n_faces", in.mesh.num_faces()}};
+  if (in.triangulated())
+    j["triangulated"] = {{"polygons", in.polygons.num_faces()}, {"triangles", in.mesh.num_faces()},
+                         {"seconds", in.triangulate_s}};
+  return j;
+}
+
+SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const std::string& what) {
+  if (!in.triangulated() || p.face < 0) return p;
+  const Mesh& poly = in.polygons;
+  if (p.face >= poly.num_faces())
+    fail(ErrorCode::BadUsage, what + ": face " + std::to_string(p.face) + " does not exist (" +
+                                  std::to_string(poly.num_faces()) + " faces)");
+  const auto fv = poly.face(p.face);
+  double x[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    x[0] += p.bary[k] * poly.x[fv[k]];
+    x[1] += p.bary[k] * poly.y[fv[k]];
+    x[2] += p.bary[k] * poly.z[fv[k]];
+  }
+  // The polygon's triangles are consecutive in face order; barycentrics of x
+  // in each by least squares (x may sit off a warped polygon's triangles).
+  const auto first = std::lower_bound(in.face_of.begin(), in.face_of.end(), p.face);
+  for (auto it = first; it != in.face_of.end() && *it == p.face; ++it) {
+    const int32_t t = static_cast<int32_t>(it - in.face_of.begin());
+    const auto tv = in.mesh.face(t);
+    const double a[3] = {in.mesh.x[tv[0]], in.mesh.y[tv[0]], in.mesh.z[tv[0]]};
+    const double e1[3] = {in.mesh.x[tv[1]] - a[0], in.mesh.y[tv[1]] - a[1], in.mesh.z[tv[1]] - a[2]};
+    const double e2[3] = {in.mesh.x[tv[2]] - a[0], in.mesh.y[tv[2]] - a[1], in.mesh.z[tv[2]] - a[2]};
+    const double d[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+    const double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
+                 g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    const double r1 = e1[0] * d[0] + e1[1] * d[1] + e1[2] * d[2], r2 = e2[0] * d[0] + e2[1] * d[1] + e2[2] * d[2];
+    const double det = g11 * g22 - g12 * g12;
+    if (!(det > 0)) continue;
+    const double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, b0 = 1 - b1 - b2;
+    if (b0 >= -1e-9 && b1 >= -1e-9 && b2 >= -1e-9) {
+      SurfacePoint q;
+      q.face = t;
+      q.bary = {std::max(b0, 0.0), std::max(b1, 0.0), std::max(b2, 0.0)};
+      const double s = q.bary[0] + q.bary[1] + q.bary[2];
+      for (double& b : q.bary) b /= s;
+      return q;
+    }
+  }
+  fail(ErrorCode::BadUsage, what + ": the point with weights of corners 0, 1, 2 of face " + std::to_string(p.face) +
+                                " lies outside that polygon");
+}
+
+const Mesh& output_faces(const Input& in) { return in.triangulated() ? in.polygons : in.mesh; }
+
+Mesh with_positions(const Input& in, const Mesh& moved) {
+  if (!in.triangulated()) return moved;
+  Mesh out = in.polygons;
+  out.x = moved.x;
+  out.y = moved.y;
+  out.z = moved.z;
+  return out;
 }
 
 int threads_used([[maybe_unused]] const CommonOptions& opt) {
@@ -259,9 +344,21 @@ void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptio
 void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
     // Keys every command's JSON has (issue 22 item 8): the version that made
-    // it, and the -o file (null when none).
+    // it, the threads it ran with, the -o file and the preview image(s) (null
+    // when none), and the timings below.
     Json j = result;
     if (!j.contains("output")) j["output"] = opt.output.empty() ? Json(nullptr) : Json(opt.output);
+    // timings: load_s, subdivide_s and total_s (command start to this report) in every command.
+    Json& t = j["timings"];
+    if (!t.is_object()) t = Json::object();
+    if (!t.contains("load_s")) t["load_s"] = g_load_s;
+    if (!t.contains("subdivide_s")) t["subdivide_s"] = g_subdivide_s;
+    if (!t.contains("total_s")) t["total_s"] = g_command_clock.seconds();
+    if (!j.contains("preview"))
+      j["preview"] = g_previews.empty()       ? Json(nullptr)
+                     : g_previews.size() == 1 ? Json(g_previews[0])
+                                              : Json(g_previews);
+    if (!j.contains("threads")) j["threads"] = threads_used(opt);
     j["version"] = locus_version(nullptr, nullptr, nullptr);
     std::cout << j.dump(2) << std::endl;
   } else {
@@ -295,6 +392,39 @@ TimeSpec parse_time_spec(const std::string& text) {
   if (ec != std::errc() || ptr != last || !std::isfinite(v) || !(v > 0)) return bad();
   spec.value = v;
   return spec;
+}
+
+void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias) {
+  app->add_option("--t", ht.t_text,
+                  "Diffusion time: absolute (1e-3) or a multiple of h^2, h = mean edge length (h2, 4h2); default " +
+                      default_text)
+      ->check(non_empty());
+  if (factor_alias)
+    app->add_option("--t-factor", ht.t_factor, "Deprecated spelling of --t: --t-factor C is --t Ch2")
+        ->check(non_empty());
+}
+
+TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec) {
+  if (!ht.t_factor.empty()) {
+    if (!ht.t_text.empty())
+      fail(ErrorCode::BadUsage, "--t and --t-factor name one diffusion time; give --t only (--t-factor C is --t Ch2)");
+    double c = 0;
+    const char* first = ht.t_factor.data();
+    const char* last = first + ht.t_factor.size();
+    auto [ptr, ec] = std::from_chars(first, last, c);
+    if (ec != std::errc() || ptr != last || !(c > 0) || !std::isfinite(c))
+      fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got '" + ht.t_factor + "')");
+    log("--t-factor is deprecated and will be removed; use --t " + ht.t_factor + "h2");
+    return TimeSpec{c, true};
+  }
+  return ht.t_text.empty() ? default_spec : parse_time_spec(ht.t_text);
+}
+
+double heat_t_factor(const TimeSpec& ts, double h) {
+  if (ts.times_h2) return ts.value;
+  if (!(h > 0) || !std::isfinite(h))
+    fail(ErrorCode::BadInput, "mean edge length is " + format_number(h) + ": cannot express --t as a multiple of h^2");
+  return ts.value / (h * h);
 }
 
 void add_operator_options(CLI::App* app, OperatorSpec& spec) {
@@ -484,9 +614,13 @@ CLI::Validator output_file(std::vector<std::string> extensions) {
       "OUTPUT-FILE");
 }
 
-void add_preview_option(CLI::App* app, std::string& path) {
-  app->add_option("--preview", path, "Render a shaded PNG of the mesh coloured by the result (800x800)")
+void add_preview_option(CLI::App* app, PreviewOptions& preview) {
+  app->add_option("--preview", preview.path,
+                  "Render a PNG of the mesh coloured by the result, with a legend and markers (800x800)")
       ->check(output_file({"png"}));
+  app->add_option("--view", preview.view,
+                  "Preview camera side as x,y,z (the camera looks from that side towards the mesh); default: from "
+                  "the mesh's principal axes, upright for y-up and z-up files");
 }
 
 void check_preview_path(const std::string& path) {
@@ -495,23 +629,64 @@ void check_preview_path(const std::string& path) {
   io::check_output_path(path);
 }
 
-void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path) {
+namespace {
+
+std::optional<std::array<double, 3>> parse_view(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::array<double, 3> d{};
+  size_t at = 0;
+  int k = 0;
+  bool ok = true;
+  for (; k < 3 && ok; ++k) {
+    const size_t end = k < 2 ? text.find(',', at) : text.size();
+    if (end == std::string::npos) {
+      ok = false;
+      break;
+    }
+    const std::string part = text.substr(at, end - at);
+    const char* first = part.data();
+    auto [ptr, ec] = std::from_chars(first, first + part.size(), d[k]);
+    ok = !part.empty() && ec == std::errc() && ptr == first + part.size() && std::isfinite(d[k]);
+    at = end + 1;
+  }
+  if (!ok || k != 3 || !(d[0] != 0 || d[1] != 0 || d[2] != 0))
+    fail(ErrorCode::BadUsage, "--view '" + text + "': expected three numbers x,y,z, not all zero (e.g. 0,0,1: look from +z)");
+  return d;
+}
+
+}  // namespace
+
+void check_preview_options(const PreviewOptions& preview) {
+  check_preview_path(preview.path);
+  parse_view(preview.view);
+  if (!preview.view.empty() && preview.path.empty()) fail(ErrorCode::BadUsage, "--view sets the camera of --preview; give --preview FILE.png too");
+}
+
+std::string preview_path_with(const std::string& path, const std::string& suffix) {
+  const size_t dot = path.rfind('.');
+  const size_t slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + suffix;
+  return path.substr(0, dot) + suffix + path.substr(dot);
+}
+
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const PreviewOptions& preview,
+                   const PreviewContent& content, const std::string& path_override) {
+  const std::string path = path_override.empty() ? preview.path : path_override;
   if (path.empty()) return;
   check_preview_path(path);
   RasterOptions ro;
   ro.coloring = kind == PreviewKind::Scalar   ? Coloring::Scalar
                 : kind == PreviewKind::Labels ? Coloring::Labels
                                               : Coloring::Checker;
-  // Negative scalars mean "no value" in the CLI's outputs (-1 outside a geodesic patch).
-  std::vector<double> shown;
-  if (kind == PreviewKind::Scalar) {
-    shown.assign(values.begin(), values.end());
-    for (double& v : shown)
-      if (v < 0) v = std::numeric_limits<double>::quiet_NaN();
-    values = shown;
-  }
+  ro.view = parse_view(preview.view);
+  ro.title = content.title;
+  ro.markers = content.markers;
+  ro.marker_label = content.marker_label;
+  ro.edges = content.edges;
+  ro.clip = content.clip;
   const RasterImage img = rasterize_mesh(m, values, ro);
   write_png(path, img.width, img.height, img.rgb);
+  g_previews.push_back(path);
   log("wrote " + path);
 }
 

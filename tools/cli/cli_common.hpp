@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -25,6 +26,7 @@
 #include "locus/mesh_io.hpp"
 #include "locus/run_context.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus::cli {
@@ -87,24 +89,52 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-// The mesh a command works on: read from <mesh-file>, then subdivided.
+// The mesh a command works on: read from <mesh-file>, polygons triangulated
+// (triangle-only commands, issue 22 item 6), then subdivided.
 struct Input {
   Mesh mesh;
   MeshAttributes attributes;  // the file's vertex attributes (PLY), carried to outputs on its vertices
   double load_s = 0;       // reading and parsing the file
+  double triangulate_s = 0;  // polygons into triangles (0 when not needed)
   double subdivide_s = 0;  // --subdivide (0 when not asked)
+  // When the file's polygons were triangulated: the file's faces on the same
+  // vertices, and per triangle of `mesh` the file's face it belongs to.
+  Mesh polygons;
+  std::vector<int32_t> face_of;
+  bool triangulated() const { return !face_of.empty(); }
 };
 
-// Reads the mesh (locus::read_mesh) and applies --subdivide. Throws
-// Error(BadInput) for unreadable files and for subdividing a polygon mesh, and
-// Error(BadUsage) when the subdivision would overflow 32-bit face indices.
-Input load_input(const CommonOptions& opt, const RunContext& ctx);
+// What load_input does with faces of more than 3 corners: triangulate them
+// (ear clipping, kernels/mesh/polygon_triangulation.hpp) for the commands that
+// need triangles, or keep them for those that take polygons (info, the
+// chapter-2 commands). A later per-command native polygon path only passes Keep.
+enum class PolygonFaces { Triangulate, Keep };
+
+// Reads the mesh (locus::read_mesh), triangulates polygons (Triangulate) and
+// applies --subdivide. Throws Error(BadInput) for unreadable files, polygons
+// that cannot be triangulated (naming the face) and for subdividing a polygon
+// mesh (Keep), and Error(BadUsage) when the subdivision would overflow 32-bit
+// face indices.
+Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces = PolygonFaces::Triangulate);
+
+// The mesh an output on the input's vertices is written with: the file's
+// polygons when they were triangulated (the vertices are the same), else the
+// mesh the command worked on. With new positions (deform) use with_positions.
+const Mesh& output_faces(const Input& in);
+Mesh with_positions(const Input& in, const Mesh& moved);
+// A point given on the file's faces (FACE, weights of its corners 0, 1, 2) as
+// a point of the mesh the command works on: unchanged for a triangle file;
+// for a triangulated polygon the triangle of that polygon holding the point.
+// Error(BadUsage) naming `what` when the face does not exist or the point is
+// outside the polygon.
+SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const std::string& what);
 
 // The worker threads a command runs with: --threads N, or all cores for 0
 // (what the JSON key `threads` reports).
 int threads_used(const CommonOptions& opt);
 
-// {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input.
+// {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input, and for
+// a triangulated file "triangulated": {"polygons": faces in the file, "triangles"}.
 Json input_json(const CommonOptions& opt, const Input& in);
 
 // Up-front checks of -o for commands whose result a format cannot hold
@@ -141,6 +171,24 @@ struct TimeSpec {
 };
 // Throws Error(BadUsage) naming the text unless it is a finite positive time.
 TimeSpec parse_time_spec(const std::string& text);
+
+// The one heat-time grammar of every command (issue 22 item 8): --t T, T as
+// parse_time_spec reads it. The heat-method commands (geodesic, logmap) also
+// accept their older --t-factor C, meaning --t Ch2, as a deprecated alias
+// (a note on stderr). Usage:
+//   HeatTimeOptions ht;                                   // member of the command's options
+//   add_heat_time_options(app, ht, "h2", true);           // at registration
+//   const TimeSpec ts = heat_time_spec(ht, {1.0, true});  // before reading the input
+//   ... t_factor = heat_t_factor(ts, mean_edge_length(mesh)) ...
+struct HeatTimeOptions {
+  std::string t_text;   // --t ("" = the command's default)
+  std::string t_factor;  // --t-factor C as given ("" = not given)
+};
+void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias);
+// Error(BadUsage) for both spellings at once, a bad --t or a non-positive --t-factor.
+TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec);
+// The spec as a multiple of h^2 on a mesh of mean edge length h (the heat method's t_factor).
+double heat_t_factor(const TimeSpec& ts, double h);
 
 // The operators the tools factor (--operator heat|laplacian, --t T).
 struct OperatorSpec {
@@ -220,20 +268,32 @@ Factors factor_or_load(const FactorCacheOptions& fc, const Mesh& m, std::span<co
 // {"loaded": FILE or null, "saved": FILE or null, "load_s", "save_s"}.
 Json factor_cache_json(const FactorCacheOptions& fc, const Factors& f);
 
-// ---- Previews (--preview out.png, kernels/include/locus/kernels/render/rasterize.hpp, io/include/locus/io/write_png.hpp) ----
+// ---- Previews (--preview out.png [--view x,y,z], kernels/include/locus/kernels/render/rasterize.hpp, io/include/locus/io/write_png.hpp) ----
 //
-// A shaded picture of the mesh coloured by a per-vertex result, from a fixed
-// camera fitted to the bounding box (orthographic, a three-quarter view from
-// +z), Lambert-shaded, 800 x 800. Usage:
-//   std::string preview;                            // member of the command's options
-//   add_preview_option(app, preview);               // at registration
-//   check_preview_path(preview);                    // before reading the mesh (BadUsage unless "" or *.png)
-//   write_preview(mesh, values, PreviewKind::Scalar, preview);  // after computing; no-op when preview == ""
+// A shaded picture of the mesh coloured by a per-vertex result, seen from its
+// principal axes (preview_camera.hpp) or from --view, with a legend strip
+// (the quantity, its range or labels, the marker) and markers at sources,
+// centres or sites; 800 x 800. Usage:
+//   PreviewOptions preview;                         // member of the command's options
+//   add_preview_option(app, preview);               // at registration: --preview and --view
+//   check_preview_options(preview);                 // before reading the mesh (BadUsage unless "" or *.png, bad --view)
+//   write_preview(mesh, values, PreviewKind::Scalar, preview, {"distance from vertex 3", {p}, "source"});
+//                                                   // after computing; no-op when preview.path == ""
 enum class PreviewKind {
-  Scalar,   // values: nv numbers (distance, adf, ...), colour map from min to max with iso-bands; NaN or
-            // negative = no value (grey), e.g. -1 outside a geodesic patch
+  Scalar,   // values: nv numbers (distance, adf, ...), colour map from min to max with iso-bands; NaN = no value (grey)
   Labels,   // values: nv integer labels (cvt cells), one distinct colour per label, negative = grey
   Checker,  // values: 2 nv numbers, (u, v) per vertex interleaved; a checkerboard of the UVs, NaN = grey
+};
+struct PreviewOptions {
+  std::string path;  // --preview FILE.png ("" = none)
+  std::string view;  // --view x,y,z: the camera's side ("" = from the principal axes)
+};
+struct PreviewContent {
+  std::string title;                        // the quantity (legend)
+  std::vector<std::array<double, 3>> markers;  // sources, centres, sites
+  std::string marker_label;                 // what the markers are ("source", "sites")
+  bool edges = false;                       // draw the triangle edges (remesh)
+  double clip = 0;                          // Scalar: colours span the clip..1-clip quantiles (rasterize.hpp)
 };
 // A CLI11 check for options naming a file the command writes: the extension
 // is one of `extensions` (lower case, no dot) and io::check_output_path()
@@ -241,11 +301,18 @@ enum class PreviewKind {
 // regular file). It runs at parse time, so a bad output path is exit 2 before
 // any input is read.
 CLI::Validator output_file(std::vector<std::string> extensions);
-void add_preview_option(CLI::App* app, std::string& path);
+void add_preview_option(CLI::App* app, PreviewOptions& preview);
 void check_preview_path(const std::string& path);
-// Renders and writes the PNG (Error(BadUsage) if values has the wrong size,
-// Error(BadInput) if the file cannot be written); logs "wrote <path>".
-void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const std::string& path);
+// check_preview_path and --view's grammar (three numbers, not all zero).
+void check_preview_options(const PreviewOptions& preview);
+// `FILE.png` with `suffix` before the extension ("x.png", "-t0" -> "x-t0.png"):
+// the names of several images from one --preview (hks: one per t).
+std::string preview_path_with(const std::string& path, const std::string& suffix);
+// Renders and writes the PNG to `path` (default preview.path) (Error(BadUsage)
+// if values has the wrong size, Error(BadInput) if the file cannot be
+// written); logs "wrote <path>".
+void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const PreviewOptions& preview,
+                   const PreviewContent& content, const std::string& path = "");
 
 // A number for messages: %.6g ("1e+12", "0.000134", "nan"), not std::to_string's fixed notation.
 std::string format_number(double v);

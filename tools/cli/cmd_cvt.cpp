@@ -22,8 +22,6 @@
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
-#include "locus/kernels/render/rasterize.hpp"
-#include "locus/io/write_png.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
@@ -43,7 +41,7 @@ struct CvtOptions {
   double fit_sigma = LloydOptions{}.fit_sigma;
   int fit_rings = LloydOptions{}.fit_rings;
   FactorCacheOptions fc;
-  std::string preview;
+  PreviewOptions preview;
   std::string labels_out, sites_out;
   int repair_rounds = RemeshOptions{}.max_repair_rounds;
   bool no_hausdorff = false;
@@ -74,8 +72,10 @@ LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const 
 }
 
 // The final sites as a point set (no faces): PLY keeps each site's face and
-// barycentric weights (-1 and the vertex for sites on a vertex).
-void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r) {
+// barycentric weights (-1 and the vertex for sites on a vertex). `face` is a
+// triangle of the mesh the command worked on; for a triangulated polygon file
+// `polygon` names the file's face that triangle belongs to (-1 on a vertex).
+void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r, const std::vector<int32_t>& face_of) {
   if (path.empty()) return;
   Mesh pts;
   WriteOptions wo;
@@ -90,6 +90,11 @@ void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r
     for (int k = 0; k < 3; ++k) b[k].values.push_back(p.bary[k]);
   }
   wo.vertex_properties = {face, vert, b[0], b[1], b[2]};
+  if (!face_of.empty()) {
+    VertexProperty polygon{"polygon", VertexProperty::Type::Int, {}};
+    for (const SurfacePoint& p : r.sites) polygon.values.push_back(p.face < 0 ? -1 : face_of[p.face]);
+    wo.vertex_properties.push_back(std::move(polygon));
+  }
   write_mesh(path, pts, wo);
   log("wrote " + path);
 }
@@ -129,16 +134,23 @@ Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
   return j;
 }
 
-// --preview: the remesh, shaded in one colour, its edges drawn dark.
-void write_remesh_preview(const Mesh& remesh, const std::string& path) {
-  if (path.empty()) return;
-  RasterOptions ro;
-  ro.coloring = Coloring::Labels;
-  ro.edges = true;
-  const std::vector<double> one(remesh.num_vertices(), 0.0);
-  const RasterImage img = rasterize_mesh(remesh, one, ro);
-  write_png(path, img.width, img.height, img.rgb);
-  log("wrote " + path);
+// --preview: the remesh with its edges drawn dark (its vertices are the
+// sites), or, without a manifold remesh, the input coloured by cell with the
+// sites marked.
+void write_cvt_preview(const Mesh& mesh, const RemeshResult& rr, const PreviewOptions& preview) {
+  if (preview.path.empty()) return;
+  const LloydResult& r = rr.lloyd;
+  if (rr.complete) {
+    const std::vector<double> one(rr.remesh.num_vertices(), 0.0);
+    write_preview(rr.remesh, one, PreviewKind::Labels, preview,
+                  {"cvt remesh: " + std::to_string(rr.remesh.num_vertices()) + " vertices (the sites), " +
+                       std::to_string(rr.remesh.num_faces()) + " triangles",
+                   {}, "", true});
+    return;
+  }
+  PreviewContent pc{"cvt cells of " + std::to_string(r.sites.size()) + " sites (no remesh)", {}, "sites"};
+  for (const SurfacePoint& p : r.sites) pc.markers.push_back(surface_point_position(mesh, p));
+  write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, preview, pc);
 }
 
 Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh, const LloydResult& r,
@@ -203,7 +215,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   // (measurements in docs/cvt.md).
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
-  check_preview_path(o.preview);
+  check_preview_options(o.preview);
   if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
     fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");
   const Stopwatch total;
@@ -263,15 +275,11 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   if (!o.labels_out.empty()) {
     WriteOptions wo = carried_attributes(in);
     add_result(wo, {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
-    write_mesh(o.labels_out, mesh, wo);
+    write_mesh(o.labels_out, output_faces(in), wo);
     log("wrote " + o.labels_out);
   }
-  write_sites(o.sites_out, mesh, r);
-  if (rr.complete) {
-    write_remesh_preview(rr.remesh, o.preview);
-  } else {
-    write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, o.preview);
-  }
+  write_sites(o.sites_out, mesh, r, in.face_of);
+  write_cvt_preview(mesh, rr, o.preview);
   const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
   Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
   j.update(lloyd_json(opt, o, mesh, r, q));
@@ -279,6 +287,11 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   j["remesh"] = remesh_json(st, rr);
   j["remesh"]["input"] = {{"genus", in_st.genus}, {"components", in_st.components},
                           {"boundary_loops", in_st.boundary_loops}};
+  j["timings"] = {{"load_s", load_s},     {"subdivide_s", in.subdivide_s}, {"factor_s", factor_s + rr.factor_s},
+                  {"lloyd_s", rr.lloyd_s}, {"repair_s", rr.repair_s},      {"dual_s", rr.dual_s},
+                  {"optimize_s", rr.optimize_s}, {"write_s", write_s},   {"total_s", total_s},
+                  {"stats_s", stats_s}};
+  // The same numbers under the names of earlier releases (deprecated; `timings` is the contract).
   j["timings_s"] = {{"load", load_s},          {"factor", factor_s + rr.factor_s}, {"lloyd", rr.lloyd_s},
                     {"repair", rr.repair_s},   {"dual", rr.dual_s},                {"optimize", rr.optimize_s},
                     {"write", write_s},
@@ -299,7 +312,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     }
     os << "  total " << total_s << " s (load to written file)\n";
     if (!opt.output.empty()) os << "  remesh written to " << opt.output << "\n";
-    if (!o.preview.empty()) os << "  preview written to " << o.preview << "\n";
+    if (!o.preview.path.empty()) os << "  preview written to " << o.preview.path << "\n";
   });
   return 0;
 }

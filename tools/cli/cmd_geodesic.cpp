@@ -1,4 +1,4 @@
-// `locus geodesic MESH --source V [--fraction f] [--t-factor c] -o dist.ply`:
+// `locus geodesic MESH --source V [--fraction f] [--t T] -o dist.ply`:
 // heat geodesic distance from one vertex (thesis §6.4.1, Crane et al.), on the
 // whole mesh with full solves (--fraction 1, the default) or localized to the
 // geodesic disk of round(f * n) vertices around the source with exact subset
@@ -13,7 +13,9 @@
 
 #include "locus/error.hpp"
 #include "locus/mesh_io.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/kernels/mesh/polygon_triangulation.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
@@ -25,10 +27,10 @@ namespace {
 struct GeodesicOptions {
   int64_t source = -1;
   double fraction = 1.0;
-  double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
-  std::string preview;  // --preview out.png: distance colour map
+  HeatTimeOptions time;  // --t (default 4h2, polygon meshes 8h2), --t-factor (deprecated)
+  PreviewOptions preview;  // --preview out.png: distance colour map
   FactorCacheOptions cache;
-  bool t_given = false;  // --t-factor on the command line (polygon meshes default to their own t)
+  bool t_given() const { return !time.t_text.empty() || !time.t_factor.empty(); }  // else each mesh kind's default
 };
 
 bool local_fraction(double fraction) { return fraction < 1.0; }
@@ -36,17 +38,21 @@ bool local_fraction(double fraction) { return fraction < 1.0; }
 // Polygon meshes (quads, mixed, n-gons): the whole-mesh heat method on the
 // polygon operators (pipelines/include/locus/pipelines/geodesic/polygon_heat_geodesic.hpp),
 // without the triangulation's diagonals. Localized queries and factor caches
-// are triangle-only for now.
-int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const Input& in, int32_t source,
-                         const RunContext& ctx) {
-  if (local_fraction(go.fraction))
-    fail(ErrorCode::BadUsage, opt.mesh_path + " has polygon faces: --fraction < 1 needs a triangle mesh");
-  if (!go.cache.save.empty() || !go.cache.load.empty())
-    fail(ErrorCode::BadUsage, opt.mesh_path + " has polygon faces: --save/--load need a triangle mesh");
+// are triangle-only for now: with those, polygons are triangulated on load.
+bool polygon_native(const GeodesicOptions& go) {
+  return !local_fraction(go.fraction) && go.cache.save.empty() && go.cache.load.empty();
+}
+
+int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const TimeSpec& time, const Input& in,
+                         int32_t source, const RunContext& ctx) {
+  // The polygons must be simple (the triangulation's checks name a crossing or
+  // flat face of the file, where the polygon operators would only see a
+  // degenerate triangle of their own).
+  (void)triangulate_polygons(in.mesh, opt.mesh_path);
   const int32_t n = in.mesh.num_vertices();
   Stopwatch sw;
   PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
-  if (go.t_given) po.t_factor = go.t_factor;
+  if (go.t_given()) po.t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));
   const PolygonHeatGeodesic geo(in.mesh, po, ctx);
   const double precompute_s = sw.seconds();
   std::vector<double> distance(static_cast<size_t>(n)), valid(static_cast<size_t>(n), 1.0);
@@ -65,12 +71,16 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
     write_mesh(opt.output, in.mesh, wo);
     log("wrote " + opt.output);
   }
-  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,
+                {"geodesic distance from vertex " + std::to_string(source),
+                 {{in.mesh.x[source], in.mesh.y[source], in.mesh.z[source]}},
+                 "source"});
   Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
   j["source"] = source;
   j["method"] = "heat-full-polygon";
   j["fraction"] = go.fraction;
   j["t_factor"] = po.t_factor;
+  j["t_spec"] = go.time.t_text.empty() ? format_number(po.t_factor) + "h2" : go.time.t_text;
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = n;
@@ -88,20 +98,19 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
 int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunContext& ctx) {
   if (!(go.fraction > 0 && go.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(go.fraction) + ")");
-  if (!(go.t_factor > 0) || !std::isfinite(go.t_factor))
-    fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(go.t_factor) + ")");
-  check_preview_path(go.preview);
+  const TimeSpec time = heat_time_spec(go.time, TimeSpec{HeatGeodesicOptions{}.t_factor, true});
+  check_preview_options(go.preview);
   validate_factor_cache_options(go.cache);
-  Input in = load_input(opt, ctx);
+  Input in = load_input(opt, ctx, polygon_native(go) ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   const int32_t n = in.mesh.num_vertices();
   if (go.source < 0 || go.source >= n)
     fail(ErrorCode::BadUsage, "--source " + std::to_string(go.source) + " is not a vertex of " + opt.mesh_path +
                                   " (" + std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t source = static_cast<int32_t>(go.source);
-  if (!in.mesh.is_triangle_mesh()) return run_polygon_geodesic(opt, go, in, source, ctx);
+  if (!in.mesh.is_triangle_mesh()) return run_polygon_geodesic(opt, go, time, in, source, ctx);
   Stopwatch sw;
   HeatGeodesicOptions ho;
-  ho.t_factor = go.t_factor;
+  ho.t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));
   Factors cache_info;
   std::optional<HeatGeodesicFactors> given = heat_method_factors(go.cache, in.mesh, ho, ctx, cache_info);
   const HeatGeodesic geo = given ? HeatGeodesic(in.mesh, ho, std::move(*given)) : HeatGeodesic(in.mesh, ho, ctx);
@@ -158,15 +167,20 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     WriteOptions wo = carried_attributes(in);
     add_result(wo, {"distance", VertexProperty::Type::Double, distance});
     add_result(wo, {"valid", VertexProperty::Type::Int, valid});
-    write_mesh(opt.output, in.mesh, wo);
+    write_mesh(opt.output, output_faces(in), wo);
     log("wrote " + opt.output);
   }
-  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview);  // NaN (no value): grey
+  write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,  // NaN (no value): grey
+                {"geodesic distance from vertex " + std::to_string(source) +
+                     (local_fraction(go.fraction) ? " (patch of " + std::to_string(patch_size) + " vertices)" : ""),
+                 {{in.mesh.x[source], in.mesh.y[source], in.mesh.z[source]}},
+                 "source"});
   Json j{{"command", "geodesic"}, {"input", input_json(opt, in)}};
   j["source"] = source;
   j["method"] = local_fraction(go.fraction) ? "heat-local" : "heat-full";
   j["fraction"] = go.fraction;
-  j["t_factor"] = go.t_factor;
+  j["t_factor"] = ho.t_factor;
+  j["t_spec"] = go.time.t_text.empty() ? format_number(ho.t_factor) + "h2" : go.time.t_text;
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = patch_size;
@@ -180,8 +194,8 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   if (ws.underflow > 0) {
     const double h2 = geo.mean_edge_length() * geo.mean_edge_length();
     const std::string w = "the heat underflowed at " + std::to_string(ws.underflow) +
-                          " vertices (no direction there: their distances are interpolated); --t-factor " +
-                          format_number(ws.t_no_underflow / h2) + " (t = " + format_number(ws.t_no_underflow) +
+                          " vertices (no direction there: their distances are interpolated); --t " +
+                          format_number(ws.t_no_underflow / h2) + "h2 (t = " + format_number(ws.t_no_underflow) +
                           ") avoids it";
     log("warning: " + w);
     j["t_avoiding_underflow"] = ws.t_no_underflow;
@@ -208,9 +222,8 @@ void register_geodesic_commands(CommandTable& table) {
                             [go](const CommonOptions& o, const RunContext& ctx) { return run_geodesic(o, *go, ctx); });
   app->add_option("--source", go->source, "Source vertex (0-based)")->required();
   app->add_option("--fraction", go->fraction, "Patch size as a fraction of the vertices (default 1: whole mesh)");
-  app->add_option("--t-factor", go->t_factor,
-                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
-      ->each([go](const std::string&) { go->t_given = true; });
+  add_heat_time_options(app, go->time, "4h2 (polygon meshes 8h2), for accuracy; a query costs the same at any t",
+                        /*factor_alias=*/true);
   add_preview_option(app, go->preview);
   add_factor_cache_options(app, go->cache);
 }

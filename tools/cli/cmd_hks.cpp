@@ -13,12 +13,15 @@
 // the factor's size and etree height; per-vertex values for --vertices, or
 // min / max / mean per t for --all.
 // --save F / --load F keep the factors (one per t) in a factor cache;
-// --preview out.png (with --all) renders the values of the first t.
+// --preview out.png (with --all) renders the values: adf and a single t into
+// out.png, several t into out-t0.png, out-t1.png, ... (in the order of --ts,
+// as the properties hks_0, hks_1, ...), or only the K-th with --preview-t K.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <limits>
 #include <ostream>
+#include <utility>
 
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
@@ -31,6 +34,21 @@
 namespace locus::cli {
 
 namespace {
+
+// (index of t, file) of every preview image: one file for adf, a single t or
+// --preview-t; otherwise FILE-tK.png per t.
+std::vector<std::pair<size_t, std::string>> preview_files(const HeatSignatureCliOptions& so, size_t nt) {
+  std::vector<std::pair<size_t, std::string>> out;
+  if (so.preview.path.empty()) return out;
+  if (so.preview_t >= 0) {
+    out.emplace_back(static_cast<size_t>(so.preview_t), so.preview.path);
+  } else if (nt == 1) {
+    out.emplace_back(0, so.preview.path);
+  } else {
+    for (size_t t = 0; t < nt; ++t) out.emplace_back(t, preview_path_with(so.preview.path, "-t" + std::to_string(t)));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -60,9 +78,16 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
     fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": OFF shows one value per vertex (as colours), not " +
                                   std::to_string(specs.size()) + " diffusion times; use .ply or .obj");
   validate_factor_cache_options(so.cache);
-  check_preview_path(so.preview);
-  if (!so.preview.empty() && !so.all)
+  check_preview_options(so.preview);
+  if (!so.preview.path.empty() && !so.all)
     fail(ErrorCode::BadUsage, command + ": --preview shows a value at every vertex; use it with --all");
+  if (so.preview_t >= static_cast<int>(specs.size()))
+    fail(ErrorCode::BadUsage, command + ": --preview-t " + std::to_string(so.preview_t) + ": there are " +
+                                  std::to_string(specs.size()) + " times in --ts (0.." + std::to_string(specs.size() - 1) + ")");
+  if (so.preview_t >= 0 && so.preview.path.empty())
+    fail(ErrorCode::BadUsage, command + ": --preview-t chooses the t of --preview FILE.png; give --preview too");
+  const std::vector<std::pair<size_t, std::string>> previews = preview_files(so, specs.size());
+  for (const auto& [t, path] : previews) check_preview_path(path);
 
   Input in = load_input(opt, ctx);
   const Mesh& m = in.mesh;
@@ -120,7 +145,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
       for (size_t k = 0; k < count; ++k) p.values[k] = values[k * nt + j];
       add_result(wo, std::move(p));
     }
-    write_mesh(opt.output, m, wo);
+    write_mesh(opt.output, output_faces(in), wo);
     log("wrote " + opt.output);
   }
 
@@ -173,11 +198,20 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
   j["factor_cache"] = factor_cache_json(so.cache, F);
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
                   {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
-  if (!so.preview.empty()) {
-    std::vector<double> first(count);
-    for (size_t k = 0; k < count; ++k) first[k] = values[k * nt];
-    write_preview(m, first, PreviewKind::Scalar, so.preview);
-    j["preview"] = so.preview;
+  if (!previews.empty()) {
+    Json files = Json::array();
+    for (const auto& [t, path] : previews) {
+      std::vector<double> shown(count);
+      for (size_t k = 0; k < count; ++k) shown[k] = values[k * nt + t];
+      const std::string name = command == "adf" ? std::string("adf") : "hks_" + std::to_string(t);
+      write_preview(m, shown, PreviewKind::Scalar, so.preview,
+                    {name + " = (M - tL)^-1_ii at t = " + format_number(ts[t]) + " (" + so.t_texts[t] + ")" +
+                         (nt > 1 ? ", t " + std::to_string(t + 1) + " of " + std::to_string(nt) : ""),
+                     {}, "", false, /*clip=*/0.01},
+                    path);
+      files.push_back(path);
+    }
+    j["preview"] = files.size() == 1 ? files[0] : files;
   }
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << command << " by " << adf_method_name(method) << ", n " << m.num_vertices()
@@ -204,6 +238,10 @@ void register_hks_command(CommandTable& table) {
   app->add_option("--ts", *ts, "Comma-separated diffusion times: absolute (1e-3) or multiples of h^2 (1h2,10h2,100h2)")
       ->required();
   add_heat_signature_options(app, *so);
+  app->add_option("--preview-t", so->preview_t,
+                  "With --preview: only the K-th time of --ts (0-based, as hks_K) into FILE.png (default: every t, "
+                  "FILE-t0.png, FILE-t1.png, ...)")
+      ->check(CLI::Range(0, 1 << 20));
 }
 
 void register_local_solve_commands(CommandTable& table) {

@@ -69,7 +69,7 @@ void print_human(std::ostream& os, const CommonOptions& opt, const Input& in, co
 }
 
 int run_info(const CommonOptions& opt, const RunContext& ctx) {
-  Input in = load_input(opt, ctx);
+  Input in = load_input(opt, ctx, PolygonFaces::Keep);
   ctx.check_cancel();
   Stopwatch sw;
   const MeshReport r = analyze_mesh(in.mesh);

@@ -1,4 +1,4 @@
-// `locus logmap MESH --center V --fraction f [--t-factor c] [--method heat|dem|heat-full]
+// `locus logmap MESH --center V --fraction f [--t T] [--method heat|dem|heat-full]
 //  [--angle auto|log|two-ring|average] [--lattice none|star|ring|path] [--recenter on|off] -o map.ply`: a log map (local polar /
 // Cartesian coordinates) of the geodesic disk of round(f * n) vertices around
 // the center. heat: thesis §6.5-6.6 with exact subset solves
@@ -17,7 +17,9 @@
 #include <ostream>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/kernels/mesh/polygon_triangulation.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
@@ -33,15 +35,15 @@ namespace {
 struct LogmapOptions {
   int64_t center = -1;
   double fraction = 0.05;
-  double t_factor = HeatGeodesicOptions{}.t_factor;  // the library's default (4)
+  HeatTimeOptions time;  // --t (default 4h2, polygon meshes 8h2), --t-factor (deprecated)
   std::string method = "heat";
   std::string angle = "auto";
   std::string lattice = "default";  // library default (LogMapOptions::lattice)
   std::string recenter = "default";  // on, off or the library default (LogMapOptions::recenter)
-  std::string preview;  // --preview out.png: checkerboard of (u, v) on the patch
+  PreviewOptions preview;  // --preview out.png: checkerboard of (u, v) on the patch
   bool clip_injective = false;  // drop the patch vertices at or beyond the injectivity radius
-  bool t_given = false;         // --t-factor on the command line (polygon meshes default to their own t)
   FactorCacheOptions cache;
+  bool t_given() const { return !time.t_text.empty() || !time.t_factor.empty(); }  // else each mesh kind's default
 };
 
 // Flipped triangles and the injectivity radius (the largest radius with no
@@ -92,8 +94,23 @@ void write_map(const CommonOptions& opt, const Input& in, std::span<const int32_
   add_result(wo, {"angle", VertexProperty::Type::Double, ang});
   add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
   add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
-  write_mesh(opt.output, in.mesh, wo);
+  write_mesh(opt.output, output_faces(in), wo);
   log("wrote " + opt.output);
+}
+
+// The checkerboard of (u, v) on the patch (--preview).
+void write_map_preview(const Input& in, const LogmapOptions& lo, int32_t center, std::span<const int32_t> patch,
+                       std::span<const double> u, std::span<const double> v) {
+  if (lo.preview.path.empty()) return;
+  std::vector<double> uv(2 * static_cast<size_t>(in.mesh.num_vertices()), std::numeric_limits<double>::quiet_NaN());
+  for (size_t p = 0; p < patch.size(); ++p) {
+    uv[2 * static_cast<size_t>(patch[p])] = u[p];
+    uv[2 * static_cast<size_t>(patch[p]) + 1] = v[p];
+  }
+  write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview,
+                {"log map around vertex " + std::to_string(center) + " (" + std::to_string(patch.size()) + " vertices)",
+                 {{in.mesh.x[center], in.mesh.y[center], in.mesh.z[center]}},
+                 "centre"});
 }
 
 // Polygon meshes (quads, mixed, n-gons): the heat log map on the polygon
@@ -105,15 +122,16 @@ struct PolygonMap {
   std::vector<double> d, a, u, v;
   double precompute_s = 0, query_s = 0, t = 0, h = 0, t_factor = 0;
 };
-PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const LogmapOptions& lo,
+PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const LogmapOptions& lo, double t_factor,
                           const RunContext& ctx) {
   if (lo.method == "dem") fail(ErrorCode::BadUsage, "--method dem needs a triangle mesh (the input has polygon faces)");
   if (!lo.cache.save.empty() || !lo.cache.load.empty())
     fail(ErrorCode::BadUsage, "--save/--load need a triangle mesh (the input has polygon faces)");
+  (void)triangulate_polygons(mesh, mesh.source);  // simple polygons (as cmd_geodesic.cpp says why)
   PolygonMap r;
   Stopwatch sw;
   PolygonHeatGeodesicOptions po;  // t_factor 8 unless given (see polygon_heat_geodesic.hpp)
-  if (lo.t_given) po.t_factor = lo.t_factor;
+  if (lo.t_given()) po.t_factor = t_factor;
   const PolygonLogMap map(mesh, po, ctx);
   r.precompute_s = sw.seconds();
   const Adjacency adj = vertex_adjacency(mesh);
@@ -140,6 +158,7 @@ int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, cons
       fail(ErrorCode::Numerical, "the log map is not finite at vertex " + std::to_string(r.patch[p]));
   const int64_t flipped = count_flipped_polygons(in.mesh, r.patch, r.u, r.v);
   write_map(opt, in, r.patch, r.d, r.a, r.u, r.v);
+  write_map_preview(in, lo, center, r.patch, r.u, r.v);
   double dmax = 0;
   for (double x : r.d) dmax = std::max(dmax, x);
   Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
@@ -148,6 +167,7 @@ int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, cons
   j["angle"] = "log";
   j["fraction"] = lo.fraction;
   j["t_factor"] = r.t_factor;
+  j["t_spec"] = lo.time.t_text.empty() ? format_number(r.t_factor) + "h2" : lo.time.t_text;
   j["t"] = r.t;
   j["h"] = r.h;
   j["patch_size"] = k;
@@ -167,25 +187,29 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   check_uv_output(opt, "logmap");
   if (!(lo.fraction > 0 && lo.fraction <= 1))
     fail(ErrorCode::BadUsage, "--fraction must be in (0, 1] (got " + format_number(lo.fraction) + ")");
-  if (!(lo.t_factor > 0) || !std::isfinite(lo.t_factor))
-    fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got " + format_number(lo.t_factor) + ")");
+  const TimeSpec time = heat_time_spec(lo.time, TimeSpec{HeatGeodesicOptions{}.t_factor, true});
   const LogMapAngle angle = parse_logmap_angle(lo.angle);
   const std::optional<LatticeCorrection> lattice = parse_logmap_lattice(lo.lattice);
   const std::optional<bool> recenter = parse_logmap_recenter(lo.recenter);
   if (lo.method != "heat" && lo.method != "heat-full" && lo.method != "dem")
     fail(ErrorCode::BadUsage, "--method must be heat, heat-full or dem (got '" + lo.method + "')");
-  check_preview_path(lo.preview);
+  check_preview_options(lo.preview);
   validate_factor_cache_options(lo.cache);
   if (lo.method == "dem" && (!lo.cache.save.empty() || !lo.cache.load.empty()))
     fail(ErrorCode::BadUsage, "--save/--load: the dem method factors nothing");
-  Input in = load_input(opt, ctx);
+  // Polygons keep their faces for the polygon log map (full solves, no cache);
+  // the DEM and factor caches need triangles: triangulated on load.
+  const bool polygon_native = lo.method != "dem" && lo.cache.save.empty() && lo.cache.load.empty();
+  Input in = load_input(opt, ctx, polygon_native ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   const int32_t n = in.mesh.num_vertices();
   if (lo.center < 0 || lo.center >= n)
     fail(ErrorCode::BadUsage, "--center " + std::to_string(lo.center) + " is not a vertex of " + opt.mesh_path + " (" +
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t center = static_cast<int32_t>(lo.center);
+  const double t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));
   const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(lo.fraction * n)));
-  if (!in.mesh.is_triangle_mesh()) return write_polygon_logmap(opt, lo, in, center, polygon_logmap(in.mesh, center, count, lo, ctx));
+  if (!in.mesh.is_triangle_mesh())
+    return write_polygon_logmap(opt, lo, in, center, polygon_logmap(in.mesh, center, count, lo, t_factor, ctx));
 
   Stopwatch sw;
   // The DEM is a method of its own (a baseline); the heat methods' patches are
@@ -202,7 +226,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   if (lo.method != "dem") {
     sw.restart();
     LogMapOptions mo;
-    mo.geodesic.t_factor = lo.t_factor;
+    mo.geodesic.t_factor = t_factor;
     mo.angle = angle;
     if (lattice) mo.lattice = *lattice;
     if (recenter) mo.recenter = *recenter;
@@ -262,14 +286,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   k = static_cast<int32_t>(patch.size());
 
   write_map(opt, in, patch, d, a, u, v);
-  if (!lo.preview.empty()) {
-    std::vector<double> uv(2 * static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
-    for (int32_t p = 0; p < k; ++p) {
-      uv[2 * static_cast<size_t>(patch[p])] = u[p];
-      uv[2 * static_cast<size_t>(patch[p]) + 1] = v[p];
-    }
-    write_preview(in.mesh, uv, PreviewKind::Checker, lo.preview);
-  }
+  write_map_preview(in, lo, center, patch, u, v);
   double dmax = 0;
   for (double x : d) dmax = std::max(dmax, x);
   Json j{{"command", "logmap"}, {"input", input_json(opt, in)}};
@@ -277,7 +294,8 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["method"] = lo.method;
   j["angle"] = lo.method == "dem" ? "dem" : lo.angle;
   j["fraction"] = lo.fraction;
-  j["t_factor"] = lo.t_factor;
+  j["t_factor"] = t_factor;
+  j["t_spec"] = lo.time.t_text.empty() ? format_number(t_factor) + "h2" : lo.time.t_text;
   if (heat) {
     j["t"] = heat->geodesic().time();
     j["h"] = heat->geodesic().mean_edge_length();
@@ -294,7 +312,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
       const double h2 = heat->geodesic().mean_edge_length() * heat->geodesic().mean_edge_length();
       const std::string w = "the heat underflowed at " + std::to_string(st.underflow) +
                             " patch vertices (no direction there: distances interpolated, angles unreliable); "
-                            "--t-factor " + format_number(st.t_no_underflow / h2) + " (t = " +
+                            "--t " + format_number(st.t_no_underflow / h2) + "h2 (t = " +
                             format_number(st.t_no_underflow) + ") avoids it";
       log("warning: " + w);
       j["t_avoiding_underflow"] = st.t_no_underflow;
@@ -329,9 +347,8 @@ void register_logmap_command(CommandTable& table) {
                             [lo](const CommonOptions& o, const RunContext& ctx) { return run_logmap(o, *lo, ctx); });
   app->add_option("--center", lo->center, "Center vertex (0-based)")->required();
   app->add_option("--fraction", lo->fraction, "Patch size as a fraction of the vertices (default 0.05)");
-  app->add_option("--t-factor", lo->t_factor,
-                  "Diffusion time t = c h^2 (default 4, polygon meshes 8, for accuracy; a query costs the same at any t)")
-      ->each([lo](const std::string&) { lo->t_given = true; });
+  add_heat_time_options(app, lo->time, "4h2 (polygon meshes 8h2), for accuracy; a query costs the same at any t",
+                        /*factor_alias=*/true);
   app->add_option("--method", lo->method, "heat (localized, default), heat-full or dem");
   app->add_option("--angle", lo->angle, "Angle estimator of the heat map: auto (default: two-ring at irregular stars, ~3x the heat lanes of the one-ring; average at valence != 6; log elsewhere), log, two-ring, average");
   app->add_option("--lattice", lo->lattice,

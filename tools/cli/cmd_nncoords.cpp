@@ -28,11 +28,13 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   if (o.sites_text.empty()) fail(ErrorCode::BadUsage, "--sites is required (comma-separated vertex ids)");
   if (o.point_text.empty()) fail(ErrorCode::BadUsage, "--point is required (FACE,B0,B1,B2)");
   const std::vector<int32_t> ids = parse_vertex_list("--sites", o.sites_text);
-  const SurfacePoint q = parse_surface_point("--point", o.point_text);
+  const SurfacePoint given = parse_surface_point("--point", o.point_text);
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
   const std::vector<SurfacePoint> sites = vertex_sites(mesh, "--sites", ids);
+  // FACE is a face of the file (a polygon's weights are of its corners 0, 1, 2).
+  const SurfacePoint q = point_on_file_face(in, given, "--point");
   check_surface_point(mesh, q, "--point", 0);
   Stopwatch sw;
   const HeatDiffusion H = ts.times_h2 ? prepare_heat_diffusion(mesh, ts.value, 0.0, ctx)
@@ -48,7 +50,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   Json j{{"command", "nncoords"}, {"input", input_json(opt, in)}};
   j["n"] = mesh.num_vertices();
   j["sites"] = ids;
-  j["point"] = {q.face, q.bary[0], q.bary[1], q.bary[2]};
+  j["point"] = {given.face, given.bary[0], given.bary[1], given.bary[2]};
   j["t"] = H.t;
   j["weights"] = c.weight;
   j["natural_neighbours"] = nbrs;  // the released JSON key
@@ -74,7 +76,9 @@ void register_nncoords_command(CommandTable& table) {
   CLI::App* app = table.add("nncoords", "Natural-neighbor coordinates of a surface point (heat Voronoi area stealing)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_nncoords(opt, *o, ctx); });
   app->add_option("--sites", o->sites_text, "Sites: comma-separated vertex ids");
-  app->add_option("--point", o->point_text, "Query point: FACE,B0,B1,B2 (barycentric weights summing to 1)");
+  app->add_option("--point", o->point_text,
+                  "Query point: FACE,B0,B1,B2 (barycentric weights summing to 1; for a polygon face, weights of its "
+                  "corners 0, 1, 2)");
   app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
 }
 

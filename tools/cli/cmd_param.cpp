@@ -61,7 +61,7 @@ int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunCont
     fail(ErrorCode::BadUsage, "param: --save / --load apply to the patch mode (--center V); the disk methods "
                               "factor a new matrix per iteration");
   parse_param_method(po.method);  // bad usage before reading the file
-  Input in = load_input(opt, ctx);
+  Input in = load_input(opt, ctx, PolygonFaces::Keep);
   const ParamRun run = parameterize(in.mesh, po, ctx);
   const FlipFreeParamResult& r = run.result;
   if (!opt.output.empty()) {

@@ -86,7 +86,7 @@ void write_weights(const std::string& path, const MeshPerfectLaplacianResult& R)
 }
 
 int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const RunContext& ctx) {
-  Input in = load_input(opt, ctx);
+  Input in = load_input(opt, ctx, PolygonFaces::Keep);
   if (po.noise > 0) add_noise(in.mesh, po.noise, opt.seed);
   MeshPerfectLaplacianOptions mo;
   mo.planar = po.planar;

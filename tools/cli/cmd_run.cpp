@@ -21,7 +21,9 @@
 // Outputs in DIR, per input STEM (the file name without extension; "-2", "-3"
 // appended when two inputs share one): STEM.EXT (the pipeline's -o file; EXT
 // defaults per pipeline: ply for per-vertex results, obj for param, locus for
-// factor (--save), none for info and heat) and STEM.json, the item report:
+// factor (--save), none for info and heat), with --preview STEM.png (the
+// pipeline's --preview; hks with several t writes STEM-t0.png, ...), and
+// STEM.json, the item report:
 // {input, status (ok | failed | crashed | cancelled), exit_status, signal,
 // seconds, output, error (last "error:" line of stderr), stderr, result (the
 // pipeline's JSON, or null)}. DIR/summary.json lists every item and the counts;
@@ -110,15 +112,17 @@ struct RunOptions {
   bool resume = false;     // --resume: skip items whose report says ok for the same command line
   int shard = 1, shards = 1;  // --shard K/N: every N-th input of the sorted list, from the K-th
   std::vector<std::string> merge;  // --merge DIR...: combine shard summaries, run nothing
+  bool preview = false;  // --preview: every item writes DIR/STEM.png (hks with several t: DIR/STEM-tK.png)
 };
 
 const char* kUsage =
     "Usage: locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR [--jobs J] [--threads N]\n"
-    "                 [--ext EXT|none] [--recursive] [--resume] [--shard K/N] [--json]\n"
+    "                 [--ext EXT|none] [--preview] [--recursive] [--resume] [--shard K/N] [--json]\n"
     "       locus run --merge DIR... [--out DIR] [--json]\n"
     "Runs `locus PIPELINE` on every input (folders: the .off/.obj/.ply files inside, sorted; with --recursive\n"
     "their subfolders too), J at a time with N/J threads each. Writes DIR/<name>.<EXT> (the pipeline's -o\n"
-    "output), DIR/<name>.json (one report per input) and DIR/summary.json (also on stdout with --json). A\n"
+    "output), DIR/<name>.json (one report per input), with --preview DIR/<name>.png (one image per input),\n"
+    "and DIR/summary.json (also on stdout with --json). A\n"
     "failing input is reported and skipped. --resume skips inputs whose report in DIR says ok for the same\n"
     "pipeline and options. --shard K/N runs the K-th of N deterministic parts of the sorted inputs and writes\n"
     "DIR/summary-K-of-N.json; --merge combines the summaries found in the given folders into one\n"
@@ -208,6 +212,12 @@ RunOptions parse_run_args(int argc, char** argv, const std::vector<std::string>&
     } else if (name == "-h" || name == "--help") {
       std::cout << kUsage;
       std::exit(0);
+    } else if (name == "--preview") {
+      // One image per item, named like its other outputs: a path given here
+      // would make every item overwrite one file.
+      if (has_inline || (i + 1 < args.size() && !(args[i + 1].size() > 1 && args[i + 1][0] == '-')))
+        usage_error("--preview takes no file in locus run: each item's image goes to DIR/<name>.png");
+      o.preview = true;
     } else if (name == "-o" || name == "--output") {
       usage_error(name + ": the runner names each output itself (DIR/<name>.<ext>); use --out DIR and --ext EXT");
     } else {
@@ -404,6 +414,7 @@ pid_t spawn_item(const std::string& exe, const RunOptions& o, Item& it, const fs
       args.insert(args.end(), {"-o", out});
     }
   }
+  if (o.preview) args.insert(args.end(), {"--preview", (out_dir / (it.stem + ".png")).string()});
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -467,6 +478,7 @@ Json finish_item(Item& it, const RunOptions& o, const fs::path& out_dir) {
   report["signal"] = it.signal;
   report["seconds"] = it.seconds;
   report["output"] = output.empty() ? Json(nullptr) : Json(output);
+  report["preview"] = result.is_object() && result.contains("preview") ? result["preview"] : Json(nullptr);
   report["error"] = error.empty() ? Json(nullptr) : Json(error);
   report["stderr"] = err;
   if (result.is_null() && !out.empty()) report["stdout"] = out.substr(0, kMaxStderr);
@@ -481,6 +493,7 @@ Json summary_line(const Item& it, const fs::path& report_path, const Json& repor
             {"seconds", it.seconds}};
   line["report"] = report_path.string();
   line["output"] = report.value("output", Json(nullptr));
+  line["preview"] = report.value("preview", Json(nullptr));
   line["error"] = report.value("error", Json(nullptr));
   line["resumed"] = it.resumed;
   return line;
@@ -499,7 +512,8 @@ bool resume_item(Item& it, const RunOptions& o, const fs::path& out_dir, Json& l
   }
   if (!report.is_object() || report.value("status", "") != "ok" || report.value("input", "") != it.input ||
       report.value("pipeline", "") != o.pipeline || report.value("ext", "") != o.ext ||
-      report.value("pipeline_options", Json::array()) != Json(o.pipeline_args))
+      report.value("pipeline_options", Json::array()) != Json(o.pipeline_args) ||
+      report.value("preview", Json(nullptr)).is_null() == o.preview)
     return false;
   if (report["output"].is_string() && !fs::exists(report["output"].get<std::string>(), ec)) return false;
   it.status = "ok";

@@ -28,7 +28,7 @@ struct SelfSupportCliOptions {
 
 int run_selfsupport(const CommonOptions& opt, const SelfSupportCliOptions& so, const RunContext& ctx) {
   if (so.support != "boundary") fail(ErrorCode::BadUsage, "--support: only 'boundary' is supported");
-  Input in = load_input(opt, ctx);
+  Input in = load_input(opt, ctx, PolygonFaces::Keep);
   SelfSupportOptions o;
   o.support = so.support;
   o.load_density = so.load_density;

@@ -48,7 +48,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
       for (int32_t v = 0; v < n; ++v) col[v] = W.weight[static_cast<size_t>(v) * k + j];
       add_result(wo, {"w" + std::to_string(j), VertexProperty::Type::Double, std::move(col)});
     }
-    write_mesh(opt.output, mesh, wo);
+    write_mesh(opt.output, output_faces(in), wo);
   }
   Json j{{"command", "skinweights"}, {"input", input_json(opt, in)}};
   j["n"] = n;

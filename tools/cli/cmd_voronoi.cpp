@@ -29,7 +29,7 @@ struct VoronoiOptions {
   int32_t random = 0;
   std::string t_text;
   FactorCacheOptions fc;
-  std::string preview;
+  PreviewOptions preview;
 };
 
 std::vector<int32_t> parse_ids(const std::string& text) {
@@ -87,7 +87,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   if (o.sites_text.empty() == (o.random <= 0)) fail(ErrorCode::BadUsage, "give either --sites or --random N (N > 0)");
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
   validate_factor_cache_options(o.fc);
-  check_preview_path(o.preview);
+  check_preview_options(o.preview);
   const std::vector<int32_t> ids = o.sites_text.empty() ? std::vector<int32_t>{} : parse_ids(o.sites_text);
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
@@ -124,7 +124,11 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   for (int32_t v = 0; v < mesh.num_vertices(); ++v) cold += !(V.top_value[static_cast<size_t>(v) * kVoronoiTopK] > 0);
 
   if (!opt.output.empty()) write_polylines(opt.output, D);
-  write_preview(mesh, std::vector<double>(V.label.begin(), V.label.end()), PreviewKind::Labels, o.preview);
+  if (!o.preview.path.empty()) {
+    PreviewContent pc{"heat voronoi cells of " + std::to_string(sites.size()) + " generators", {}, "generators"};
+    for (const SurfacePoint& p : sites) pc.markers.push_back(surface_point_position(mesh, p));
+    write_preview(mesh, std::vector<double>(V.label.begin(), V.label.end()), PreviewKind::Labels, o.preview, pc);
+  }
   Json j{{"command", "voronoi"}, {"input", input_json(opt, in)}};
   j["n"] = mesh.num_vertices();
   j["sites"] = sites.size();

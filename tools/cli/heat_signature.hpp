@@ -15,7 +15,8 @@ struct HeatSignatureCliOptions {
   bool all = false;                  // --all
   std::string method = "subset";     // subset | selinv | full
   FactorCacheOptions cache;          // --save / --load (one heat factor per t)
-  std::string preview;               // --preview out.png (with --all; the first t)
+  PreviewOptions preview;            // --preview out.png (with --all): one image per t (out-t0.png, ...)
+  int preview_t = -1;                // hks --preview-t K: only the K-th t, into out.png (-1 = every t)
 };
 
 // `command` is "adf" (property and JSON key `adf`, one t) or "hks" (properties

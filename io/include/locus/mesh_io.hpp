@@ -35,10 +35,15 @@ struct VertexProperty {
 // that keep the input's vertices (issue 22 item 2): every scalar vertex
 // property of a PLY other than x, y, z (normals nx ny nz, colours red green
 // blue alpha, texture coordinates, custom ones), in file order with their
-// types; and whether the positions were stored as float.
+// types; of an OBJ the vt and vn of each vertex (as u v and nx ny nz, when
+// all corners of a vertex agree) and the properties of a locus '#vp' block;
+// of an OFF what its keyword announces (N normals, C colours, ST u v);
+// and whether the positions were stored as float. `notes` say what was
+// found but could not be kept per vertex (an OBJ's texture seams).
 struct MeshAttributes {
   std::vector<VertexProperty> vertex;
   bool float_positions = false;
+  std::vector<std::string> notes;
 };
 
 Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});

@@ -13,6 +13,9 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/render/colour_map.hpp"
+#include "locus/kernels/render/preview_annotations.hpp"
+#include "locus/kernels/render/preview_camera.hpp"
 
 namespace locus {
 
@@ -30,39 +33,6 @@ Vec3 normalized(const Vec3& a) {
   return l > 0 ? Vec3{a[0] / l, a[1] / l, a[2] / l} : Vec3{0, 0, 0};
 }
 
-// Piecewise-linear blue -> teal -> green -> yellow map (perceptually ordered, readable in grey).
-Vec3 scalar_color(double s) {
-  static const Vec3 kStops[] = {{0.18, 0.10, 0.45}, {0.13, 0.35, 0.62}, {0.10, 0.58, 0.60},
-                                {0.35, 0.76, 0.38}, {0.85, 0.87, 0.20}, {0.99, 0.91, 0.55}};
-  constexpr int kLast = static_cast<int>(sizeof kStops / sizeof kStops[0]) - 1;
-  s = std::clamp(s, 0.0, 1.0) * kLast;
-  const int i = std::min(static_cast<int>(s), kLast - 1);
-  const double f = s - i;
-  return {kStops[i][0] * (1 - f) + kStops[i + 1][0] * f, kStops[i][1] * (1 - f) + kStops[i + 1][1] * f,
-          kStops[i][2] * (1 - f) + kStops[i + 1][2] * f};
-}
-
-Vec3 hsv(double h, double s, double v) {
-  h = (h - std::floor(h)) * 6;
-  const int i = static_cast<int>(h) % 6;
-  const double f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-  switch (i) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
-  }
-}
-
-Vec3 label_color(int64_t label) {
-  if (label < 0) return {0.6, 0.6, 0.6};
-  const double h = std::fmod(static_cast<double>(label) * 0.6180339887498949, 1.0);
-  // Alternate saturation and value too, so that neighboring labels with close hues still differ.
-  return hsv(h, label % 2 ? 0.55 : 0.8, label % 3 == 0 ? 0.95 : 0.8);
-}
-
 using Triangles = std::vector<std::array<int32_t, 3>>;
 
 // Fan triangles of every face with valid ids.
@@ -78,18 +48,27 @@ Triangles fan_triangles(const Mesh& m, int64_t nv) {
   return tris;
 }
 
-// View-space positions vp (camera of the header) and screen positions sp3 (x
-// right, y down, depth = view z, larger is nearer), the used vertices' box
-// filling 90% of the smaller side. False when no used vertex is finite.
-bool project(const Mesh& m, const Triangles& tris, int W, int H, std::vector<Vec3>& vp, std::vector<Vec3>& sp3) {
+// View-space positions vp (preview_camera.hpp: x right, y up, z towards the
+// viewer) and screen positions sp3 (x right, y down, depth = view z, larger is
+// nearer), the used vertices' box filling 90% of the smaller side of the W x H
+// picture. False when no used vertex is finite.
+struct Projection {
+  PreviewCamera cam;
+  double scale = 1, cx = 0, cy = 0;
+  int W = 0, H = 0;
+  Vec3 view(const Vec3& p) const {
+    const Vec3 d = sub(p, cam.centre);
+    return {dot(d, cam.right), dot(d, cam.up), dot(d, cam.back)};
+  }
+  Vec3 screen(const Vec3& v) const { return {0.5 * W + (v[0] - cx) * scale, 0.5 * H - (v[1] - cy) * scale, v[2]}; }
+};
+
+bool project(const Mesh& m, const Triangles& tris, const RasterOptions& opt, int W, int H, Projection& pr,
+             std::vector<Vec3>& vp, std::vector<Vec3>& sp3) {
   const int64_t nv = m.num_vertices();
-  // View rotation: yaw 210 degrees about y, then pitch 20 degrees about x.
-  const double yaw = 210.0 * M_PI / 180, pitch = 20.0 * M_PI / 180;
-  const double cy = std::cos(yaw), sy = std::sin(yaw), cp = std::cos(pitch), sp = std::sin(pitch);
-  auto view = [&](const Vec3& p) -> Vec3 {
-    const double x1 = cy * p[0] + sy * p[2], z1 = -sy * p[0] + cy * p[2];
-    return {x1, cp * p[1] - sp * z1, sp * p[1] + cp * z1};
-  };
+  pr.cam = principal_axes_camera(m, opt.view);
+  pr.W = W;
+  pr.H = H;
   double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                   std::numeric_limits<double>::infinity()};
   double hi[3] = {-lo[0], -lo[1], -lo[2]};
@@ -98,7 +77,7 @@ bool project(const Mesh& m, const Triangles& tris, int W, int H, std::vector<Vec
   for (const auto& t : tris)
     for (int32_t v : t) used[v] = 1;
   for (int64_t v = 0; v < nv; ++v) {
-    vp[v] = view({m.x[v], m.y[v], m.z[v]});
+    vp[v] = pr.view({m.x[v], m.y[v], m.z[v]});
     if (!used[v]) continue;
     for (int d = 0; d < 3; ++d)
       if (std::isfinite(vp[v][d])) {
@@ -107,12 +86,12 @@ bool project(const Mesh& m, const Triangles& tris, int W, int H, std::vector<Vec
       }
   }
   if (!(hi[0] >= lo[0]) || !(hi[1] >= lo[1])) return false;  // no finite vertex
-  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
-  const double scale = extent > 0 ? 0.9 * std::min(W, H) / extent : 1.0;
-  const double cx = 0.5 * (lo[0] + hi[0]), cyv = 0.5 * (lo[1] + hi[1]);
+  const double sx = hi[0] - lo[0], sy = hi[1] - lo[1];
+  pr.scale = sx > 0 || sy > 0 ? 0.9 * std::min(sx > 0 ? W / sx : 1e300, sy > 0 ? H / sy : 1e300) : 1.0;
+  pr.cx = 0.5 * (lo[0] + hi[0]);
+  pr.cy = 0.5 * (lo[1] + hi[1]);
   sp3.resize(static_cast<size_t>(nv));
-  for (int64_t v = 0; v < nv; ++v)
-    sp3[v] = {0.5 * W + (vp[v][0] - cx) * scale, 0.5 * H - (vp[v][1] - cyv) * scale, vp[v][2]};
+  for (int64_t v = 0; v < nv; ++v) sp3[v] = pr.screen(vp[v]);
   return true;
 }
 
@@ -179,29 +158,62 @@ ZBuffer scan_triangles(const Triangles& tris, const std::vector<Vec3>& sp3, int 
 // map, Checker cells of side `cell` start at (umin, wmin).
 struct ColorRanges {
   double vmin = 0, vspan = 1, umin = 0, wmin = 0, cell = 1;
+  double vmax = -1;       // Scalar: largest finite value (< vmin: none)
+  bool clipped_low = false, clipped_high = false;  // Scalar: values beyond the colour range
+  bool missing = false;   // some vertex has no value
+  int64_t labels = 0;     // Labels: distinct non-negative labels
 };
 
 ColorRanges color_ranges(std::span<const double> values, int64_t nv, const RasterOptions& opt) {
   double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
   double umin = vmin, umax = -vmin, wmin = vmin, wmax = -vmin;
+  ColorRanges cr;
   if (opt.coloring == Coloring::Scalar) {
     for (double v : values)
       if (std::isfinite(v)) {
         vmin = std::min(vmin, v);
         vmax = std::max(vmax, v);
+      } else {
+        cr.missing = true;
       }
+  } else if (opt.coloring == Coloring::Labels) {
+    std::vector<int64_t> seen;
+    for (double v : values)
+      if (std::isfinite(v) && v >= 0) seen.push_back(std::llround(std::min(v, 9.0e15)));
+      else cr.missing = true;
+    std::sort(seen.begin(), seen.end());
+    cr.labels = std::unique(seen.begin(), seen.end()) - seen.begin();
   } else if (opt.coloring == Coloring::Checker) {
     for (int64_t v = 0; v < nv; ++v) {
       const double u = values[2 * v], w = values[2 * v + 1];
-      if (!std::isfinite(u) || !std::isfinite(w)) continue;
+      if (!std::isfinite(u) || !std::isfinite(w)) {
+        cr.missing = true;
+        continue;
+      }
       umin = std::min(umin, u);
       umax = std::max(umax, u);
       wmin = std::min(wmin, w);
       wmax = std::max(wmax, w);
     }
   }
-  ColorRanges cr;
+  if (opt.coloring == Coloring::Scalar && opt.clip > 0 && vmax > vmin) {
+    // Quantiles of the finite values: a few extreme vertices (finger tips in a
+    // heat kernel signature) would otherwise leave the rest in one colour.
+    std::vector<double> finite;
+    for (double v : values)
+      if (std::isfinite(v)) finite.push_back(v);
+    std::sort(finite.begin(), finite.end());
+    const size_t k = static_cast<size_t>(std::min(opt.clip, 0.49) * static_cast<double>(finite.size() - 1));
+    const double lo = finite[k], hi = finite[finite.size() - 1 - k];
+    if (hi > lo) {
+      cr.clipped_low = lo > vmin;
+      cr.clipped_high = hi < vmax;
+      vmin = lo;
+      vmax = hi;
+    }
+  }
   cr.vmin = vmin;
+  cr.vmax = vmax;
   cr.vspan = vmax > vmin ? vmax - vmin : 1.0;
   const double uvspan = std::max(umax - umin, wmax - wmin);
   cr.cell = uvspan > 0 && std::isfinite(uvspan) ? uvspan / opt.checker_cells : 1.0;
@@ -213,7 +225,7 @@ ColorRanges color_ranges(std::span<const double> values, int64_t nv, const Raste
 // Unshaded colour of a pixel of triangle t at barycentrics w.
 Vec3 surface_color(const std::array<int32_t, 3>& t, const double w[3], std::span<const double> values,
                    const RasterOptions& opt, const ColorRanges& cr) {
-  const Vec3 grey{0.62, 0.62, 0.62};
+  const Vec3 grey = kNoValueGrey;
   Vec3 col = grey;
   if (opt.coloring == Coloring::Scalar) {
     double s = 0;
@@ -222,16 +234,11 @@ Vec3 surface_color(const std::array<int32_t, 3>& t, const double w[3], std::span
       ok = ok && std::isfinite(values[t[k]]);
       s += w[k] * values[t[k]];
     }
-    if (ok) {
-      const double f = (s - cr.vmin) / cr.vspan;
-      col = scalar_color(f);
-      if (opt.bands > 0 && static_cast<int64_t>(std::floor(f * opt.bands)) % 2 == 1)
-        for (double& c : col) c *= 0.82;
-    }
+    if (ok) col = scalar_colour((s - cr.vmin) / cr.vspan, opt.bands);
   } else if (opt.coloring == Coloring::Labels) {
     const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
     const double label = values[t[k]];
-    col = std::isfinite(label) ? label_color(static_cast<int64_t>(std::llround(std::clamp(label, -1.0, 9.0e15))))
+    col = std::isfinite(label) ? label_colour(static_cast<int64_t>(std::llround(std::clamp(label, -1.0, 9.0e15))))
                                : grey;
   } else {
     double u = 0, v = 0;
@@ -292,6 +299,43 @@ void draw_edges(const ZBuffer& zb, const Triangles& tris, const std::vector<Vec3
   }
 }
 
+// Markers over the picture: radius from the number of markers (a few sources
+// large, hundreds of sites small); a marker behind the surface (deeper than
+// the z-buffer by more than 1% of the picture's depth range at each of its 3 x 3
+// pixels) is a ring only.
+// Returns how many are hidden.
+size_t draw_markers(const std::vector<Vec3d>& markers, const Projection& pr, const ZBuffer& zb, RasterImage& img) {
+  size_t n_hidden = 0;
+  if (markers.empty()) return 0;
+  double zlo = std::numeric_limits<double>::infinity(), zhi = -zlo;
+  for (double z : zb.depth)
+    if (std::isfinite(z)) zlo = std::min(zlo, z), zhi = std::max(zhi, z);
+  const double tol = zhi > zlo ? 0.01 * (zhi - zlo) : 0.0;
+  const double side = std::min(pr.W, pr.H);
+  const double r = std::clamp(0.25 * side / std::sqrt(static_cast<double>(markers.size())) * 0.2, 2.5, side / 80.0 + 2);
+  for (const Vec3d& p : markers) {
+    if (!std::isfinite(p[0] + p[1] + p[2])) continue;
+    const Vec3 q = pr.screen(pr.view(p));
+    const int px = static_cast<int>(std::floor(q[0])), py = static_cast<int>(std::floor(q[1]));
+    // Hidden only when every covered pixel around it is nearer (a marker on a
+    // silhouette or a boundary corner stays visible).
+    bool hidden = true;
+    for (int dy = -1; dy <= 1 && hidden; ++dy)
+      for (int dx = -1; dx <= 1 && hidden; ++dx) {
+        const int x = px + dx, y = py + dy;
+        if (x < 0 || y < 0 || x >= pr.W || y >= pr.H) {
+          hidden = false;
+          break;
+        }
+        const double z = zb.depth[static_cast<size_t>(y) * pr.W + x];
+        hidden = std::isfinite(z) && q[2] < z - tol;
+      }
+    draw_marker(img, q[0], q[1], r, hidden);
+    n_hidden += hidden;
+  }
+  return n_hidden;
+}
+
 }  // namespace
 
 RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const RasterOptions& opt) {
@@ -308,15 +352,37 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
   img.width = W;
   img.height = H;
   img.rgb.assign(static_cast<size_t>(W) * H * 3, 242);
+  // The picture takes the rows above the legend.
+  const int legend_h = legend_height(W, H, opt.title);
+  const int PH = std::max(1, H - legend_h);
 
+  const ColorRanges cr = color_ranges(values, nv, opt);
   const Triangles tris = fan_triangles(m, nv);
-  if (nv == 0 || tris.empty()) return img;
   std::vector<Vec3> vp, sp3;
-  if (!project(m, tris, W, H, vp, sp3)) return img;
-  const std::vector<Vec3> normal = vertex_normals(tris, vp);
-  const ZBuffer zb = scan_triangles(tris, sp3, W, H);
-  shade_pixels(zb, tris, normal, values, opt, color_ranges(values, nv, opt), img);
-  if (opt.edges) draw_edges(zb, tris, sp3, img);
+  Projection pr;
+  size_t hidden_markers = 0;
+  if (nv > 0 && !tris.empty() && project(m, tris, opt, W, PH, pr, vp, sp3)) {
+    const std::vector<Vec3> normal = vertex_normals(tris, vp);
+    const ZBuffer zb = scan_triangles(tris, sp3, W, PH);
+    shade_pixels(zb, tris, normal, values, opt, cr, img);
+    if (opt.edges) draw_edges(zb, tris, sp3, img);
+    hidden_markers = draw_markers(opt.markers, pr, zb, img);
+  }
+  LegendContent lc;
+  lc.title = opt.title;
+  lc.coloring = opt.coloring;
+  lc.vmin = cr.vmin;
+  lc.vmax = cr.vmax;
+  lc.clipped_low = cr.clipped_low;
+  lc.clipped_high = cr.clipped_high;
+  lc.bands = opt.bands;
+  lc.labels = cr.labels;
+  lc.cell = cr.cell;
+  lc.missing = cr.missing;
+  lc.marker_label = opt.markers.empty() || opt.marker_label.empty() ? std::string()
+                   : hidden_markers > 0 ? opt.marker_label + " (ring: behind)"
+                                        : opt.marker_label;
+  draw_legend(img, PH, lc);
   return img;
 }
 

@@ -611,8 +611,9 @@ static void cli_checks_patch(const char* dir) {
     double* w = malloc(sizeof(double) * 3 * (size_t)nv);
     if (!w) exit(1);
     n_ref = ply_vertex_doubles(ref_path(dir, "skinweights.ply"), &ref, &props);
-    if (call_ok(locus_skinning_weights(s, h, 3, w, NULL), "locus_skinning_weights") && n_ref == nv && props == 6) {
-      for (i = 0; i < nv; ++i) memcpy(xyz + 3 * i, ref + 6 * i + 3, 3 * sizeof(double));
+    /* The weights are the last three properties (the patch's UVs, read from patch.obj's vt, come first). */
+    if (call_ok(locus_skinning_weights(s, h, 3, w, NULL), "locus_skinning_weights") && n_ref == nv && props >= 6) {
+      for (i = 0; i < nv; ++i) memcpy(xyz + 3 * i, ref + props * i + props - 3, 3 * sizeof(double));
       compare("skinning weights", w, xyz, 3 * nv, 1e-12);
     }
     free(ref);

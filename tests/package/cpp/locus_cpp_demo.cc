@@ -267,7 +267,10 @@ void cli_checks(const std::string& mesh, const std::string& dir) {
                                           locus::MeshPoint::at_vertex(900)};
     const std::vector<double> ply = ply_vertex_doubles(dir + "/skinweights.ply", props);
     std::vector<double> ref;
-    for (size_t i = 0; props == 6 && i < ply.size() / 6; ++i) ref.insert(ref.end(), {ply[6 * i + 3], ply[6 * i + 4], ply[6 * i + 5]});
+    // The weights are the last three properties (the patch's UVs, read from patch.obj's vt, come first).
+    const size_t np = static_cast<size_t>(props);
+    for (size_t i = 0; np >= 6 && i < ply.size() / np; ++i)
+      ref.insert(ref.end(), {ply[np * i + np - 3], ply[np * i + np - 2], ply[np * i + np - 1]});
     compare("skinning weights", p.skinning_weights(h).weight, ref, 1e-12);
   }
   locus::PerfectLaplacianRequest lr;

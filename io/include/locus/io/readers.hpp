@@ -10,8 +10,14 @@
 
 namespace locus::io {
 
-Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt);
-Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt);
+// `attributes` (may be null) receives per-vertex texture coordinates (u, v
+// from vt) and normals (nx, ny, nz from vn) when every corner of a vertex
+// names the same values, and the properties of a locus '#vp' block.
+Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt,
+              MeshAttributes* attributes = nullptr);
+// `attributes` (may be null) receives what the keyword ([ST][C][N]OFF) announces per vertex.
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt,
+              MeshAttributes* attributes = nullptr);
 // `attributes` (may be null) receives the vertex properties other than x, y, z.
 Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions& opt,
               MeshAttributes* attributes = nullptr);
