@@ -13,6 +13,7 @@
 #include <cstring>
 #include <exception>
 #include <future>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <new>
@@ -199,12 +200,16 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
   e->geodesic().query_full(source, out, ws);
-  // +infinity is the answer in other connected components (no path); NaN never is.
-  for (int32_t i = 0; i < impl_->nv; ++i)
+  // The solver's +infinity (another connected component, no path) is "no
+  // value": NaN, as in every output format and the C API (README "Output
+  // formats"); a NaN from the solver itself never is an answer.
+  for (int32_t i = 0; i < impl_->nv; ++i) {
     if (std::isnan(out[i]))
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from vertex " + std::to_string(source) +
                                      " is NaN at vertex " + std::to_string(i) + " (t = " +
                                      std::to_string(e->geodesic().time()) + ")");
+    if (std::isinf(out[i])) out[i] = std::numeric_limits<double>::quiet_NaN();
+  }
   progress.finish("geodesic distance");
 }
 

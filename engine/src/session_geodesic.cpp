@@ -12,7 +12,7 @@
 // barycentrically at points in faces) is 0, which keeps every distance >= 0 at
 // the sources (each source's exact distance is 0; the heat method misses that by
 // its smoothing error, a few percent of an edge at t = h^2). Components without
-// a source get +infinity, as single-source queries do.
+// a source get NaN (no value), as single-source queries do.
 #include <cmath>
 #include <limits>
 #include <string>
@@ -66,7 +66,11 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
   }
   for (int32_t i = 0; i < n; ++i) {
     const double m = shift[comp[i]];
-    out[i] = std::isinf(m) ? std::numeric_limits<double>::infinity() : phi[i] - m;
+    if (std::isinf(m)) {
+      out[i] = std::numeric_limits<double>::quiet_NaN();  // no source in this component: no value
+      continue;
+    }
+    out[i] = phi[i] - m;
     if (std::isnan(out[i]))
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from the source set is NaN at vertex " +
                                      std::to_string(i) + " (t = " + std::to_string(g.time()) + ")");

@@ -13,7 +13,7 @@ def geodesic_distance(V, F, sources, *, t_factor=4.0, **call):
 
     sources: a vertex id, a 1-D array of ids, or (faces, bary) points in faces.
     t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 4, as the CLI).
-    +inf in connected components without a source. See Session.geodesic_distance.
+    NaN (no value) in connected components without a source. See Session.geodesic_distance.
     """
     return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
 

@@ -188,7 +188,7 @@ TEST_CASE("session multi-source geodesic: components, repeated sources and error
   const int32_t half = m.num_vertices() / 2;
   std::vector<MeshPoint> first{MeshPoint::at_vertex(3), MeshPoint::at_vertex(3)};
   std::vector<double> d = s.geodesic_distance(first);
-  for (int32_t i = half; i < m.num_vertices(); ++i) REQUIRE(std::isinf(d[i]));
+  for (int32_t i = half; i < m.num_vertices(); ++i) REQUIRE(std::isnan(d[i]));  // no value
   CHECK(d[3] == 0.0);
   const std::vector<MeshPoint> both{MeshPoint::at_vertex(3), MeshPoint::at_vertex(half + 10), MeshPoint::at_vertex(half + 50)};
   d = s.geodesic_distance(both);

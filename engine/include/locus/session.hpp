@@ -299,7 +299,8 @@ class Session {
   void prepare_heat(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Heat geodesic distance from `source` to every vertex (full solves);
-  // +infinity at vertices in another connected component than the source.
+  // NaN (no value, as in every output format and the C API) at vertices in
+  // another connected component than the source.
   // out.size() must be num_vertices().
   void geodesic_distance(int32_t source, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
@@ -335,8 +336,8 @@ class Session {
   // Heat geodesic distance from a set of sources (vertices and points on faces;
   // thesis §6.4.1 with the heat of all sources at once, as Crane et al. and
   // CGAL's Heat_method_3): per connected component the distance is shifted so
-  // that its minimum over the component's sources is 0; +infinity in components
-  // without a source. At least one source; out.size() == num_vertices().
+  // that its minimum over the component's sources is 0; NaN (no value) in
+  // components without a source. At least one source; out.size() == num_vertices().
   void geodesic_distance(ConstView<MeshPoint> sources, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
   std::vector<double> geodesic_distance(ConstView<MeshPoint> sources, const HeatQuery& q = {},
