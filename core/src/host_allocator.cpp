@@ -13,6 +13,7 @@ struct Hooks {
   HostAllocFn alloc;
   HostFreeFn free;
   void* user;
+  const Hooks* next;  // the one set before (g_all_hooks)
 };
 
 // The header in front of every block: 32 bytes keep the block 16-byte aligned.
@@ -28,12 +29,23 @@ constexpr uint64_t kMagic = 0x6c6f637573616c6cull;  // "locusall"
 // Every Hooks ever set stays allocated (a few bytes per locus_set_allocator
 // call): a block's header may point at it long after the host switched.
 std::atomic<const Hooks*> g_hooks{nullptr};
+// All of them, newest first: kept reachable (and so not reported as leaks) for
+// as long as a block may name them, i.e. for the process' life.
+std::atomic<const Hooks*> g_all_hooks{nullptr};
 
 }  // namespace
 
 void set_host_allocator(HostAllocFn alloc, HostFreeFn free, void* user) noexcept {
-  const Hooks* h = nullptr;
-  if (alloc && free) h = new (std::nothrow) Hooks{alloc, free, user};
+  Hooks* h = nullptr;
+  if (alloc && free) {
+    h = new (std::nothrow) Hooks{alloc, free, user, nullptr};
+    if (h) {
+      const Hooks* head = g_all_hooks.load(std::memory_order_relaxed);
+      do {
+        h->next = head;
+      } while (!g_all_hooks.compare_exchange_weak(head, h, std::memory_order_release, std::memory_order_relaxed));
+    }
+  }
   g_hooks.store(h, std::memory_order_release);
 }
 

@@ -182,7 +182,10 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
     for (int32_t s : q.min_angle_sites)
       if (s >= 0) {
         const auto p = surface_point_position(mesh, r.sites[s]);
-        worst.push_back({{"site", s}, {"xyz", {p[0], p[1], p[2]}}, {"cell_area", r.cell_area[s]}});
+        // Sites added by the remesh's repair rounds have no split-cell area (the
+        // incremental repair relabels vertices only): null.
+        const Json area = static_cast<size_t>(s) < r.cell_area.size() ? Json(r.cell_area[s]) : Json(nullptr);
+        worst.push_back({{"site", s}, {"xyz", {p[0], p[1], p[2]}}, {"cell_area", area}});
       }
     j["min_angle_sites"] = worst;
   }
