@@ -119,9 +119,8 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
   return std::shared_ptr<const NumericFactor>(H, &H->factor);
 }
 
-// What factoring the cells' operator costs, in Lloyd iterations (armadillo at
-// 416k vertices, 1,000 sites: 5.6 s vs 2.6 s; docs/shipping.md): its weight in
-// cvt's progress.
+// What factoring the cells' operator costs, in Lloyd iterations (measured,
+// docs/shipping.md): its weight in cvt's progress.
 constexpr double kCvtFactorIterations = 2.2;
 
 // The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later

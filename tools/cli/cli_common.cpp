@@ -404,6 +404,10 @@ void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string
         ->check(non_empty());
 }
 
+std::string heat_time_text(const HeatTimeOptions& ht, double t_factor) {
+  return ht.t_text.empty() ? format_number(t_factor) + "h2" : ht.t_text;
+}
+
 TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec) {
   if (!ht.t_factor.empty()) {
     if (!ht.t_text.empty())

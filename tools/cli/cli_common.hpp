@@ -187,6 +187,8 @@ struct HeatTimeOptions {
 void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias);
 // Error(BadUsage) for both spellings at once, a bad --t or a non-positive --t-factor.
 TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec);
+// The JSON's `t_spec`: --t as given, else the time used as a multiple of h^2 ("4h2").
+std::string heat_time_text(const HeatTimeOptions& ht, double t_factor);
 // The spec as a multiple of h^2 on a mesh of mean edge length h (the heat method's t_factor).
 double heat_t_factor(const TimeSpec& ts, double h);
 

@@ -80,7 +80,7 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
   j["method"] = "heat-full-polygon";
   j["fraction"] = go.fraction;
   j["t_factor"] = po.t_factor;
-  j["t_spec"] = go.time.t_text.empty() ? format_number(po.t_factor) + "h2" : go.time.t_text;
+  j["t_spec"] = heat_time_text(go.time, po.t_factor);
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = n;
@@ -180,12 +180,12 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   j["method"] = local_fraction(go.fraction) ? "heat-local" : "heat-full";
   j["fraction"] = go.fraction;
   j["t_factor"] = ho.t_factor;
-  j["t_spec"] = go.time.t_text.empty() ? format_number(ho.t_factor) + "h2" : go.time.t_text;
+  j["t_spec"] = heat_time_text(go.time, ho.t_factor);
   j["t"] = geo.time();
   j["h"] = geo.mean_edge_length();
   j["patch_size"] = patch_size;
   j["max_distance"] = dmax;
-  j["unreachable"] = unreachable;  // vertices in other connected components (written as -1)
+  j["unreachable"] = unreachable;  // vertices in other connected components (written as NaN)
   j["precompute_s"] = precompute_s;
   j["patch_s"] = patch_s;
   j["query_s"] = query_s;

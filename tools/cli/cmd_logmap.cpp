@@ -167,7 +167,7 @@ int write_polygon_logmap(const CommonOptions& opt, const LogmapOptions& lo, cons
   j["angle"] = "log";
   j["fraction"] = lo.fraction;
   j["t_factor"] = r.t_factor;
-  j["t_spec"] = lo.time.t_text.empty() ? format_number(r.t_factor) + "h2" : lo.time.t_text;
+  j["t_spec"] = heat_time_text(lo.time, r.t_factor);
   j["t"] = r.t;
   j["h"] = r.h;
   j["patch_size"] = k;
@@ -295,7 +295,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   j["angle"] = lo.method == "dem" ? "dem" : lo.angle;
   j["fraction"] = lo.fraction;
   j["t_factor"] = t_factor;
-  j["t_spec"] = lo.time.t_text.empty() ? format_number(t_factor) + "h2" : lo.time.t_text;
+  j["t_spec"] = heat_time_text(lo.time, t_factor);
   if (heat) {
     j["t"] = heat->geodesic().time();
     j["h"] = heat->geodesic().mean_edge_length();

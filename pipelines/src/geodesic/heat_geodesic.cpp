@@ -27,10 +27,9 @@ namespace locus {
 
 namespace {
 
-// Where the constructor's phases begin in its progress, by their shares of its
-// time at 416k vertices (docs/shipping.md: 1.4 s operators, 5.2 s ordering,
-// 0.4 s symbolic analysis, 1.0 s per factorization): operators, ordering,
-// symbolic analysis, then the heat and the Poisson factorization.
+// Where the constructor's phases begin in its progress, by their measured
+// shares of its time at 416k vertices (docs/shipping.md): operators, ordering,
+// symbolic analysis, then the factorizations.
 constexpr double kOrderBegin = 0.15, kAnalyzeBegin = 0.74, kFactorBegin = 0.78, kPoissonBegin = 0.89;
 
 void check_vertex(int32_t v, int32_t n, const char* what) {
@@ -214,7 +213,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   if (beside) {
     // The mesh was checked and its edges are known: the ordering and symbolic
     // analysis (pattern only) run beside the checks and assembly of the values
-    // (at 26k vertices a quarter of the first answer, docs/ordering.md).
+    // (docs/ordering.md, "first answer").
     check_derived_of(*derived, m, "heat geodesic");
     const CscMatrix pattern = operator_pattern(m.num_vertices(), derived->incidence.edges);
     tbb::parallel_invoke([&] { S = order_and_analyze(pattern); }, build_operators);
@@ -225,7 +224,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
     S = order_and_analyze(A);
   }
   ctx.check_cancel();
-  // The two factorizations side by side: at 26k vertices one alone keeps two
+  // The two factorizations side by side: on small meshes one alone keeps two
   // threads only half busy (docs/ordering.md). The heat one reports for both;
   // the Poisson one only polls the cancel flag.
   RunContext poisson_ctx = ctx.sub(kPoissonBegin, 1.0);

@@ -936,8 +936,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const std::vector<double> area_r3 = face_areas(m);
   // Progress: operators and first neighborhoods, then the iterations and the
   // final labels (LloydLoop), one monotone fraction. The first neighborhoods
-  // cost ~1.3 iterations (armadillo at 416k vertices, 1,000 sites: 3.3 s vs
-  // 2.6 s per iteration; docs/shipping.md), the final labels about one.
+  // cost ~1.3 iterations, the final labels about one (docs/shipping.md).
   const double init_share = 1.3 / (std::max(1, opt.iterations) + 2.3);
   const RunContext init_ctx = ctx.sub(0.0, init_share);
   LloydOperators ops;

@@ -266,8 +266,7 @@ TEST_CASE("log map accuracy: icosphere 5, the path lattice correction beats the 
 // Issue #27: irregular centers. An icosphere's 12 corners (valence 5,
 // shape-regular stars, lattice defects) and random centers, level 5
 // (h ~ 0.038), the defaults (t = 4 h^2, Auto) against the estimators the
-// automatic choice used to pick there (measured: corners 6.7e-4 against 2.0e-3
-// for LogHeat + Path + recenter; random centers 2.7e-3 at 4 h^2 against 4.2e-3 at h^2).
+// automatic choice used to pick there (LogHeat + Path + recenter) and t = h^2.
 TEST_CASE("log map accuracy: icosphere 5, the defaults at the valence-5 corners and at random centers") {
   const Mesh m = make_icosphere(5);
   std::vector<int32_t> valence(m.num_vertices(), 0), corners;
@@ -304,11 +303,8 @@ TEST_CASE("log map accuracy: icosphere 5, the defaults at the valence-5 corners 
   CHECK(random_def < 3.5e-3);
 }
 
-// Issue #7's and #27's targets at mean edge ~0.01. Measured (session 12,
-// defaults: t = 4 h^2, Auto + LatticeCorrection::Path + recenter): icosphere 7
-// E_d 9.3e-4, E_a 6.3e-4 (session 6, t = h^2: 1.40e-3 / 1.71e-3); random-point
-// sphere E_d 2.11e-3, E_a 9.75e-3 (1.70e-2 at t = h^2); bump 150 rings heat
-// E_d 1.06e-3, E_a 1.87e-3 (1.11e-3 at t = h^2), DEM 1.06e-3 / 5.28e-2.
+// Issue #7's and #27's targets at mean edge ~0.01, with the defaults (slow:
+// skipped unless --no-skip; figures and commands in docs/logmap.md).
 TEST_CASE("log map accuracy: random-point sphere at mean edge 0.01 meets E_d <= 4e-3, E_a <= 1.5e-2" *
           doctest::skip()) {
   const Mesh m = make_random_sphere(160000, 12345);

@@ -20,9 +20,8 @@ struct Edges;
 struct EdgeIncidence;
 
 // The operators below build the mesh's edge incidence (edge_incidence(m)) unless
-// the caller passes the one it holds (MeshDerived::incidence): at 26k vertices
-// rebuilding it is ~4 ms, a quarter of the heat method's precompute when every
-// step rebuilt it (docs/ordering.md, "first answer").
+// the caller passes the one it holds (MeshDerived::incidence), so that a
+// pipeline builds it once (docs/ordering.md, "first answer").
 // The lower CSC pattern every operator below shares (diagonal + edges, values
 // zero): enough for an ordering and a symbolic factorization, which can then run
 // beside the numeric assembly. `edges` sorted as unique_edges gives them.

@@ -89,13 +89,9 @@ namespace locus {
 
 struct HeatGeodesicOptions {
   // Diffusion time t = t_factor * h^2. Crane et al. recommend 1; 4 is the
-  // default for accuracy: the log map's angles err by the lattice's anisotropy,
-  // which scales like h^2 / t (icosphere 7, E_a at 10 random centers 1.71e-3 ->
-  // 0.63e-3, at the 12 valence-5 corners 3.19e-3 -> 0.95e-3; random-point sphere
-  // 1.7e-2 -> 9.7e-3, E_d 3.7e-3 -> 2.9e-3), while the distance is as accurate
-  // (icosphere 7: 1.3e-3 either way). The cost of a query does not depend on t;
-  // heat also reaches twice as far before it underflows (~1400 h instead of
-  // ~700 h). Figures and commands: docs/logmap.md, "Defaults".
+  // default for accuracy: the log map's angle error comes from the lattice's
+  // anisotropy, which scales like h^2 / t, while the distance stays as accurate
+  // and a query costs the same at any t (docs/logmap.md, "Defaults").
   double t_factor = 4.0;
   // eps of -L_C + eps M: eps = poisson_rel * mean(diag(-L_C)) / area, i.e. the
   // last pivot of the factorization is about poisson_rel of a typical diagonal

@@ -12,8 +12,7 @@
 // relax_iterations = 0 (the default; isotropic, localized solver) a round only
 // adds sites: their heat is solved on Dijkstra balls of 2.5 expected cell radii
 // and merged into the last diagram's top-K lists (heat_voronoi_add), instead
-// of relabelling every site (armadillo x2, 10,000 sites: 13-16 s -> well
-// under a second; docs/cvt.md). The manifold dual is then optimized on the
+// of relabelling every site (docs/cvt.md). The manifold dual is then optimized on the
 // input (remesh_optimize.hpp).
 #pragma once
 #include <cstdint>
