@@ -2,7 +2,7 @@
 // keys — version, threads (what ran), output, preview, timings {load_s,
 // subdivide_s, total_s} — and one heat-time grammar: --t T with T absolute or
 // a multiple of h^2, the heat method's older --t-factor C accepted as --t Ch2
-// with a deprecation note.
+// with a deprecation note (cvt: --centroid-t T, the older --t-centroid C as its alias).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -115,4 +115,37 @@ TEST_CASE("scripting contract: --t grammar of the heat method; --t-factor is a d
     CHECK(with({"--t", "abc"}).status == 2);
     CHECK(with({"--t-factor", "-1"}).status == 2);
   }
+}
+
+TEST_CASE("scripting contract: cvt --centroid-t takes the --t grammar; --t-centroid C is its deprecated alias") {
+  if (!have_locus()) return;
+  Scratch dir("contract_tc");
+  const std::string sphere = dir / "sphere.off";
+  locus::write_mesh(sphere, locus::make_icosphere(3));
+  auto cvt = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = {"cvt", sphere, "--sites", "20", "--iters", "2", "--json"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return run_locus(dir, a);
+  };
+  const Run plain = cvt({}), h2 = cvt({"--centroid-t", "2h2"}), alias = cvt({"--t-centroid", "2"});
+  const Run abs = cvt({"--centroid-t", "0.01"});
+  for (const Run* r : {&plain, &h2, &alias, &abs}) REQUIRE_MESSAGE(r->status == 0, r->err);
+  const double h = plain.json()["h"], t = plain.json()["t"];
+  // Default: the centroids diffuse for the cells' time (4h^2).
+  CHECK(t == doctest::Approx(4 * h * h).epsilon(1e-12));
+  CHECK(plain.json()["t_centroid"] == t);
+  CHECK(h2.json()["t_centroid"].get<double>() == doctest::Approx(2 * h * h).epsilon(1e-12));
+  CHECK(abs.json()["t_centroid"].get<double>() == doctest::Approx(0.01).epsilon(1e-12));
+  CHECK(h2.json()["t"] == t);
+  // The alias is the same run, with a note; a centroid time of its own moves the sites.
+  CHECK(alias.err.find("deprecated") != std::string::npos);
+  CHECK(h2.err.find("deprecated") == std::string::npos);
+  CHECK(alias.json()["t_centroid"] == h2.json()["t_centroid"]);
+  CHECK(alias.json()["energy"] == h2.json()["energy"]);
+  CHECK(h2.json()["energy"] != plain.json()["energy"]);
+  // Both spellings, a bad time, a negative alias: usage errors.
+  CHECK(cvt({"--centroid-t", "2h2", "--t-centroid", "2"}).status == 2);
+  CHECK(cvt({"--centroid-t", "abc"}).status == 2);
+  CHECK(cvt({"--centroid-t", "0"}).status == 2);
+  CHECK(cvt({"--t-centroid", "-1"}).status == 2);
 }

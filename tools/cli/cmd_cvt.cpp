@@ -7,6 +7,8 @@
 // 23); --labels writes the input with a per-vertex `label` property (the cell),
 // --sites-out the sites; --json reports the timings, the `remesh` object
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
+#include <charconv>
+#include <cmath>
 #include <ostream>
 #include <string>
 #include <mutex>
@@ -37,7 +39,8 @@ struct CvtOptions {
   bool no_refine = false;
   bool track = false;
   bool no_split = false;
-  double t_centroid = 0.0;
+  std::string centroid_t;   // --centroid-t T (the --t grammar)
+  std::string t_centroid;   // --t-centroid C: deprecated, C h^2
   double fit_sigma = LloydOptions{}.fit_sigma;
   int fit_rings = LloydOptions{}.fit_rings;
   FactorCacheOptions fc;
@@ -48,6 +51,26 @@ struct CvtOptions {
   int optimize_rounds = RemeshOptions{}.optimize_rounds;
   double stop_energy = 0.0;
 };
+
+// The centroids' own diffusion time (value 0: the cells' time). --t-centroid C,
+// the spelling before the --t grammar, stays as an alias for a release.
+TimeSpec centroid_time_spec(const CvtOptions& o) {
+  if (!o.t_centroid.empty()) {
+    if (!o.centroid_t.empty())
+      fail(ErrorCode::BadUsage,
+           "--centroid-t and --t-centroid name one time; give --centroid-t only (--t-centroid C is --centroid-t Ch2)");
+    double c = -1;
+    const char* first = o.t_centroid.data();
+    const char* last = first + o.t_centroid.size();
+    auto [ptr, ec] = std::from_chars(first, last, c);
+    if (ec != std::errc() || ptr != last || !(c >= 0) || !std::isfinite(c))
+      fail(ErrorCode::BadUsage, "--t-centroid must be a finite number >= 0 (got '" + o.t_centroid + "')");
+    log("--t-centroid is deprecated and will be removed; use " +
+        (c > 0 ? "--centroid-t " + o.t_centroid + "h2" : std::string("no option (0 is the cells' t)")));
+    return TimeSpec{c, true};
+  }
+  return o.centroid_t.empty() ? TimeSpec{0.0, true} : parse_time_spec(o.centroid_t);
+}
 
 LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts) {
   LloydOptions lo;
@@ -60,7 +83,8 @@ LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const 
   lo.refine = !o.no_refine;
   lo.track_quality = o.track;
   lo.split_faces = !o.no_split;
-  lo.t_centroid_factor = o.t_centroid;
+  const TimeSpec tc = centroid_time_spec(o);
+  (tc.times_h2 ? lo.t_centroid_factor : lo.t_centroid_abs) = tc.value;
   lo.fit_rings = o.fit_rings;
   lo.fit_sigma = o.fit_sigma;
   if (ts.times_h2) {
@@ -166,6 +190,7 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
   j["refine"] = !o.no_refine;
   j["h"] = r.h;
   j["t"] = r.t;
+  j["t_centroid"] = r.t_centroid;
   j["init_s"] = r.init_s;
   j["factor_s"] = r.factor_s;  // includes the prepared operator's phases (0 when loaded)
   j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
@@ -346,8 +371,11 @@ void register_cvt_command(CommandTable& table) {
   add_factor_cache_options(app, o->fc);
   add_preview_option(app, o->preview);
   app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");
-  app->add_option("--t-centroid", o->t_centroid, "Centroid diffusion time in units of h^2 (default: the cells' t)")
-      ->check(CLI::Range(0.0, 1e12));
+  app->add_option("--centroid-t", o->centroid_t,
+                  "Centroid diffusion time, as --t: absolute or a multiple of h^2 (2h2); default: the cells' t")
+      ->check(non_empty());
+  app->add_option("--t-centroid", o->t_centroid, "Deprecated spelling of --centroid-t: --t-centroid C is --centroid-t Ch2")
+      ->check(non_empty());
   app->add_option("--fit-rings", o->fit_rings, "Vertex rings of the centroid's quadratic fit (default 2; the thesis fits 1)")
       ->check(CLI::Range(1, 4));
   app->add_option("--fit-sigma", o->fit_sigma,

@@ -471,7 +471,8 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
   if (!(opt.t_abs >= 0) || !std::isfinite(opt.t_abs) ||
       (opt.t_abs == 0 && (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))))
     fail(ErrorCode::BadUsage, "cvt: the diffusion time must be a finite positive number");
-  if (!(opt.t_centroid_factor >= 0) || !std::isfinite(opt.t_centroid_factor))
+  if (!(opt.t_centroid_factor >= 0) || !std::isfinite(opt.t_centroid_factor) || !(opt.t_centroid_abs >= 0) ||
+      !std::isfinite(opt.t_centroid_abs))
     fail(ErrorCode::BadUsage, "cvt: the centroid diffusion time must be a finite number >= 0");
   if (opt.prepared) {
     if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
@@ -497,17 +498,18 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
   const HeatDiffusion& H = *ops.H;
   // Centroids with their own diffusion time: same pattern, so the symbolic factor is shared.
   HeatDiffusion& Hc_own = ops.Hc_own;
-  if (opt.t_centroid_factor > 0) {
+  const double t_centroid = opt.t_centroid_abs > 0 ? opt.t_centroid_abs : opt.t_centroid_factor * H.h * H.h;
+  if (t_centroid > 0) {
     sw.lap();
     Hc_own.n = H.n;
     Hc_own.h = H.h;
-    Hc_own.t = opt.t_centroid_factor * H.h * H.h;
+    Hc_own.t = t_centroid;
     double h = 0;
     const CscMatrix A = build(Hc_own.t, Hc_own.mass, h);
     Hc_own.factor = factorize(H.factor.symbolic, A, ctx);
     Hc_own.factor_s = sw.lap();
   }
-  ops.Hc = opt.t_centroid_factor > 0 ? &Hc_own : ops.H;
+  ops.Hc = t_centroid > 0 ? &Hc_own : ops.H;
 }
 
 // What the Lloyd iterations read and never change.
@@ -947,6 +949,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.factor_s = H.operator_s + H.order_s + H.analyze_s + H.factor_s + ops.Hc_own.factor_s;
   r.h = H.h;
   r.t = H.t;
+  r.t_centroid = Hc.t;
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
   // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).

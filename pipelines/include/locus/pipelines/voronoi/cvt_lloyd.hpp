@@ -74,9 +74,11 @@ struct LloydOptions {
   enum class Solver { Local, Full } solver = Solver::Local;
   double t_factor = kLloydTFactor;  // t = t_factor * h^2 unless t_abs > 0 (thesis §3.7: h^2; see above)
   double t_abs = 0.0;
-  // Centroid diffusion time as a multiple of h^2 (0: the cells' operator, t above);
-  // a second numeric factor on the same symbolic factor.
+  // Centroid diffusion time as a multiple of h^2, or absolute when t_centroid_abs > 0
+  // (both 0: the cells' operator, t above); a second numeric factor on the same
+  // symbolic factor.
   double t_centroid_factor = 0.0;
+  double t_centroid_abs = 0.0;
   double anisotropy = 0.0;   // lambda of the R^6 lift; 0 = isotropic
   bool refine = true;        // quadratic refinement of centroids (§3.7.1)
   int fit_rings = 2;         // vertex rings of the refinement fit (heat_centroid.hpp; thesis: 1)
@@ -107,8 +109,9 @@ struct LloydResult {
   std::vector<int32_t> label;     // per vertex, cell of the final sites
   HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
   double h = 0, t = 0;            // in the operator's metric
+  double t_centroid = 0;          // the centroids' diffusion time (t unless set apart)
   double factor_s = 0;            // operator + ordering + symbolic + numeric
-  int64_t factor_bytes = 0;       // numeric factor values (both factors with t_centroid_factor)
+  int64_t factor_bytes = 0;       // numeric factor values (both factors with a centroid time of their own)
   double init_s = 0;              // initial sites and first neighborhoods
   std::vector<double> iter_s;     // per iteration (labels + centroids)
   double final_labels_s = 0;
