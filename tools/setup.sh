@@ -16,10 +16,11 @@ PKGS=(
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
 )
 # `tools/setup.sh --bench-peers` also installs the peers only benchmarks use
-# (CGAL's Heat_method_3 for locus-bench-cgal; GPL, never linked into locus).
+# (CGAL's Heat_method_3 for locus-bench-cgal, GPL; SCOTCH for locus-bench-scotch,
+# CeCILL-C; never linked into locus).
 # Not by default: CI and the tests do not need them, and Boost is large.
 if [ "${1:-}" = "--bench-peers" ]; then
-  PKGS+=(libcgal-dev)
+  PKGS+=(libcgal-dev libscotch-dev)
 fi
 missing=()
 for p in "${PKGS[@]}"; do
