@@ -180,6 +180,7 @@ Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
 
 Session::Session(const MeshView& view) : Session(mesh_from_view(view)) {}
+Session::Session(const PolygonMeshView& view) : Session(mesh_from_view(view)) {}
 
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;

@@ -299,6 +299,8 @@ class Session {
   // byte strides): read once into the Session's mesh, the only copy made
   // (mesh_view.hpp). Same checks as Session(Mesh).
   explicit Session(const MeshView& view);
+  // A polygon mesh from the host's buffers (mesh_view.hpp), as Session(Mesh).
+  explicit Session(const PolygonMeshView& view);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
