@@ -165,6 +165,7 @@ Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   impl_->npoly = mesh.num_faces();
   if (!mesh.is_triangle_mesh()) {  // session.hpp "Polygon meshes": triangulated once, vertices kept
     Mesh triangles = triangulate_for_session(mesh, impl_->face_of);
+    impl_->polygon_edges = static_cast<int64_t>(unique_edges(mesh).e0.size());
     polygons = std::make_shared<const Mesh>(std::move(mesh));
     mesh = std::move(triangles);
   }

@@ -250,6 +250,7 @@ struct Session::Impl {
   int32_t components = 0;  // connectivity never changes
   int32_t npoly = 0;       // faces as given (polygon meshes; nf otherwise)
   std::vector<int32_t> face_of;  // polygon meshes: per triangle its face as given; empty otherwise
+  int64_t polygon_edges = 0;     // polygon meshes: unique edges of the faces as given
 
   std::shared_ptr<session_detail::State> current() const {
     std::lock_guard<std::mutex> lock(mu);

@@ -104,7 +104,7 @@ void bind_session(py::module_& m) {
                             "A copy of the faces as given: (nf, 3) int32 for triangles, else a list of int32 arrays.");
   cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
                             "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
-  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles.");
+  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");
   cls.def_property_readonly("mean_edge_length", &Session::mean_edge_length,
                             "h, the mean edge length of the current positions (units of the positions).");
   cls.def_property_readonly("V", [](const Session& s) { return positions_array(s.mesh()); },

@@ -67,6 +67,16 @@ TEST_CASE("c api: polygon sessions equal the C++ Session; views; bad faces named
   REQUIRE(locus_cvt(a.s, 5, 2, 7, labels.data()) == LOCUS_OK);
   CHECK(labels == ref.cvt(5, 2, 7).label);
 
+  // Chapter 2 on the quads themselves: their edges (a quad torus: 2 per quad), no diagonals.
+  const int64_t ne = locus_session_edge_count(a.s);
+  CHECK(ne == 2 * nf);
+  std::vector<int32_t> edges(2 * ne);
+  std::vector<double> weights(ne);
+  REQUIRE(locus_perfect_laplacian(a.s, 0, 3, 1e-6, edges.data(), weights.data(), nullptr, nullptr, nullptr) == LOCUS_OK);
+  const PerfectLaplacianOutput pl = perfect_laplacian_of(q, {false, 3, 1e-6, true});
+  CHECK(edges == pl.edges);
+  CHECK(weights == pl.weights);
+
   // The same mesh as float positions at a 16-byte stride and uint16 ids.
   std::vector<float> padded;
   for (int64_t i = 0; i < nv; ++i) padded.insert(padded.end(), {xyzf[3 * i], xyzf[3 * i + 1], xyzf[3 * i + 2], -1.0f});

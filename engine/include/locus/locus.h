@@ -453,7 +453,8 @@ locus_status locus_param_patch(locus_session* session, int64_t center, double fr
                                const locus_run_options* opts);
 
 /* ---- Perfect Laplacian and self-supporting surface (thesis chapter 2) ----
- * Per unique edge of the triangles (locus_session_edge_count edges, each with
+ * Per unique edge of the faces (of the polygons as given for a polygon mesh:
+ * locus_session_edge_count edges, each with
  * v0 < v1 in out_edges[2e], out_edges[2e+1]). out_xyz: 3 * vertex-count doubles
  * (perfect Laplacian: the embedding, aligned onto the input by a similarity in
  * space; self-supporting: the equilibrium surface). Any output may be NULL.

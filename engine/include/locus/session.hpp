@@ -416,7 +416,9 @@ class Session {
   void prepare_diffusion(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
   void prepare_patch_parameterization(const RunContext& ctx = {}) const;
 
-  int64_t num_edges() const;  // unique edges of the triangles
+  // Unique edges of the triangles; of the faces as given for a polygon mesh
+  // (the edges perfect_laplacian and self_supporting return).
+  int64_t num_edges() const;
 
   // New positions, 3 * num_vertices() interleaved doubles, same connectivity.
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),
