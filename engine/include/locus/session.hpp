@@ -264,10 +264,9 @@ struct SessionStats {
   int64_t positions_version = 0;       // number of set_positions() calls
 };
 
-// One-shot forms of the chapter-2 pipelines on any polygon mesh (a Session
-// holds triangle meshes only; these have nothing to cache). The Session
-// methods parameterize_disk, perfect_laplacian and self_supporting call them on
-// the Session's mesh. Error(BadInput) names what makes a mesh unsuitable.
+// One-shot forms of the chapter-2 pipelines on any polygon mesh (these have
+// nothing to cache). The Session methods parameterize_disk, perfect_laplacian
+// and self_supporting call them on the Session's faces as given (polygons()). Error(BadInput) names what makes a mesh unsuitable.
 DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req = {}, const RunContext& ctx = {});
 PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req = {},
                                             const RunContext& ctx = {});
