@@ -49,6 +49,7 @@ TEST_CASE("session on polygons equals the CLI: geodesic, log map, cvt labels") {
     REQUIRE_MESSAGE(g.status == 0, g.err);
     CHECK(g.json()["method"] == "heat-full-polygon");
     CHECK(s.geodesic_distance(5, q) == property(dir / "g.ply", "distance"));
+    CHECK(locus::Session::from_file(quads).geodesic_distance(5, q) == property(dir / "g.ply", "distance"));
 
     args = {"logmap", quads, "--center", "5", "--fraction", "0.3", "-o", dir / "l.ply", "--json"};
     args.insert(args.end(), time.begin(), time.end());

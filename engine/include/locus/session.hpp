@@ -319,7 +319,8 @@ class Session {
   int32_t num_polygons() const;
   std::vector<int32_t> triangle_polygon() const;
 
-  // Builds the heat-method engine for q.t_factor now (queries build it on first use).
+  // Builds the heat-method engine for q.t_factor now (queries build it on first use;
+  // on a polygon mesh the polygon heat method's, which geodesic_distance and logmap use).
   void prepare_heat(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Heat geodesic distance from `source` to every vertex (full solves);
