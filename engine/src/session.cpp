@@ -163,6 +163,10 @@ using namespace session_detail;
 Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   std::shared_ptr<const Mesh> polygons;
   impl_->npoly = mesh.num_faces();
+  if (!mesh.is_triangle_mesh()) {  // CSR faces that are all triangles (no f0/f1/f2 given) are a triangle mesh
+    validate_mesh_arrays(mesh);
+    mesh.rebuild_triangle_arrays();
+  }
   if (!mesh.is_triangle_mesh()) {  // session.hpp "Polygon meshes": triangulated once, vertices kept
     Mesh triangles = triangulate_for_session(mesh, impl_->face_of);
     impl_->polygon_edges = static_cast<int64_t>(unique_edges(mesh).e0.size());

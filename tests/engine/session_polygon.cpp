@@ -95,6 +95,9 @@ TEST_CASE("session on polygons: vertices kept, triangulation exposed, heat metho
   // The triangle-only pipelines run on the triangulation: the same as a Session on it.
   const Session tri(t.mesh);
   CHECK_FALSE(tri.has_polygons());
+  Mesh csr_only = t.mesh;  // triangles in CSR form only (no f0/f1/f2): still a triangle mesh
+  csr_only.f0.clear(), csr_only.f1.clear(), csr_only.f2.clear();
+  CHECK_FALSE(Session(csr_only).has_polygons());
   const std::vector<int32_t> src{0, 40}, dst{3, 50, 90};
   CHECK(s.heat_values(ConstView<int32_t>(src), ConstView<int32_t>(dst)) ==
         tri.heat_values(ConstView<int32_t>(src), ConstView<int32_t>(dst)));
