@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "locus/error.hpp"
@@ -168,4 +169,24 @@ TEST_CASE("session on polygons: bad polygons are refused naming the face; set_po
   CHECK(msg.find("face 7") != std::string::npos);
   CHECK(s.geodesic_distance(0) == before);
   CHECK(s.stats().positions_version == 0);
+}
+
+TEST_CASE("session on polygons: concurrent first queries build the polygon engine once, same answers") {
+  const Mesh q = make_quad_torus(10, 6);
+  const Session s(q);
+  const std::vector<double> want = Session(q).geodesic_distance(3);
+  std::vector<std::vector<double>> got(4);
+  std::vector<LogMapResult> maps(4);
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 4; ++k)
+    threads.emplace_back([&, k] {
+      got[k] = s.geodesic_distance(3);
+      maps[k] = s.logmap(3, 0.3);
+    });
+  for (auto& t : threads) t.join();
+  for (int k = 0; k < 4; ++k) {
+    CHECK(got[k] == want);
+    CHECK(maps[k].u == maps[0].u);
+  }
+  CHECK(s.stats().heat_engines == 1);
 }
