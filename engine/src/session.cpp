@@ -443,9 +443,10 @@ void Session::set_positions(ConstView<double> xyz) {
   std::shared_ptr<const MeshDerived> derived = check_and_derive(m);  // zero-area faces
   std::lock_guard<std::mutex> lock(impl_->mu);
   // Versions count calls; concurrent set_positions calls are serialized here (the last one wins).
-  impl_->state = make_state(std::move(m), std::move(derived), impl_->state->version + 1, impl_->state->symbolic,
-                            impl_->state->counters);
-  impl_->state->polygons = std::move(polygons);
+  std::shared_ptr<State> next = make_state(std::move(m), std::move(derived), impl_->state->version + 1,
+                                           impl_->state->symbolic, impl_->state->counters);
+  next->polygons = std::move(polygons);  // complete before queries can see it
+  impl_->state = std::move(next);
 }
 
 SessionStats Session::stats() const {
