@@ -169,6 +169,16 @@ TEST_CASE("session on polygons: bad polygons are refused naming the face; set_po
   CHECK(msg.find("face 7") != std::string::npos);
   CHECK(s.geodesic_distance(0) == before);
   CHECK(s.stats().positions_version == 0);
+  // A valid move reaches the polygon operators: the answers of a new Session on the moved mesh.
+  xyz[3 * q[2] + 1] += 0.5;
+  for (size_t k = 2; k < xyz.size(); k += 3) xyz[k] = 0.1 * xyz[k - 2] * xyz[k - 1];  // a bent sheet
+  s.set_positions(ConstView<double>(xyz));
+  Mesh moved = g;
+  for (int32_t i = 0; i < g.num_vertices(); ++i) moved.z[i] = xyz[3 * i + 2];
+  const Session fresh(moved);
+  CHECK(s.geodesic_distance(0) == fresh.geodesic_distance(0));
+  CHECK(s.logmap(6, 0.5).u == fresh.logmap(6, 0.5).u);
+  CHECK(s.polygons().z == moved.z);
 }
 
 TEST_CASE("session on polygons: concurrent first queries build the polygon engine once, same answers") {
