@@ -47,6 +47,7 @@ def test_every_form_is_the_same_session(torus):
     ref = locus.Session(V, F)
     assert ref.has_polygons and ref.num_polygons == len(F) and ref.num_faces == 2 * len(F)
     assert np.array_equal(np.bincount(ref.triangle_polygon), np.full(len(F), 2))
+    assert [f.tolist() for f in ref.polygons] == F.tolist()
     d = ref.geodesic_distance(5)
     for name, f in forms(F).items():
         s = locus.Session(V, f)
