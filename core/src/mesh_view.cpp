@@ -49,10 +49,37 @@ int64_t read_index(const char* p, IndexType t) {
   }
 }
 
+constexpr int64_t kMaxVertices = std::numeric_limits<int32_t>::max() - 1;
+
+// The positions of either view into m.x, m.y, m.z.
+void read_positions(const void* positions, ScalarType type, int64_t stride, int64_t count, const char* what, Mesh& m) {
+  if (!positions) fail(ErrorCode::BadUsage, std::string(what) + ": positions is NULL");
+  if (count < 1 || count > kMaxVertices)
+    fail(ErrorCode::BadUsage, std::string(what) + ": vertex_count = " + std::to_string(count) + " is not in 1.." +
+                                  std::to_string(kMaxVertices));
+  const int64_t ps = scalar_size(type);
+  const int64_t pstride = stride == 0 ? 3 * ps : stride;
+  if (pstride < 3 * ps)
+    fail(ErrorCode::BadUsage, std::string(what) + ": position_stride = " + std::to_string(stride) +
+                                  " bytes is shorter than a vertex (" + std::to_string(3 * ps) + " bytes)");
+  m.x.resize(static_cast<size_t>(count));
+  m.y.resize(static_cast<size_t>(count));
+  m.z.resize(static_cast<size_t>(count));
+  const char* pos = static_cast<const char*>(positions);
+  for (int64_t i = 0; i < count; ++i) {
+    const char* p = pos + i * pstride;
+    const double x = read_scalar(p, type), y = read_scalar(p + ps, type), z = read_scalar(p + 2 * ps, type);
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+      fail(ErrorCode::BadInput, std::string(what) + ": vertex " + std::to_string(i) + " has a non-finite coordinate");
+    m.x[i] = x;
+    m.y[i] = y;
+    m.z[i] = z;
+  }
+}
+
 }  // namespace
 
 Mesh mesh_from_view(const MeshView& v) {
-  constexpr int64_t kMaxVertices = std::numeric_limits<int32_t>::max() - 1;
   constexpr int64_t kMaxTriangles = std::numeric_limits<int32_t>::max() / 3;
   if (!v.positions) fail(ErrorCode::BadUsage, "mesh view: positions is NULL");
   if (!v.indices) fail(ErrorCode::BadUsage, "mesh view: indices is NULL");
@@ -62,31 +89,14 @@ Mesh mesh_from_view(const MeshView& v) {
   if (v.triangle_count < 1 || v.triangle_count > kMaxTriangles)
     fail(ErrorCode::BadUsage, "mesh view: triangle_count = " + std::to_string(v.triangle_count) + " is not in 1.." +
                                   std::to_string(kMaxTriangles));
-  const int64_t ps = scalar_size(v.position_type), is = index_size(v.index_type);
-  const int64_t pstride = v.position_stride == 0 ? 3 * ps : v.position_stride;
+  const int64_t is = index_size(v.index_type);
   const int64_t istride = v.index_stride == 0 ? 3 * is : v.index_stride;
-  if (pstride < 3 * ps)
-    fail(ErrorCode::BadUsage, "mesh view: position_stride = " + std::to_string(v.position_stride) +
-                                  " bytes is shorter than a vertex (" + std::to_string(3 * ps) + " bytes)");
   if (istride < 3 * is)
     fail(ErrorCode::BadUsage, "mesh view: index_stride = " + std::to_string(v.index_stride) +
                                   " bytes is shorter than a triangle (" + std::to_string(3 * is) + " bytes)");
   const int64_t nv = v.vertex_count, nf = v.triangle_count;
   Mesh m;
-  m.x.resize(static_cast<size_t>(nv));
-  m.y.resize(static_cast<size_t>(nv));
-  m.z.resize(static_cast<size_t>(nv));
-  const char* pos = static_cast<const char*>(v.positions);
-  for (int64_t i = 0; i < nv; ++i) {
-    const char* p = pos + i * pstride;
-    const double x = read_scalar(p, v.position_type), y = read_scalar(p + ps, v.position_type),
-                 z = read_scalar(p + 2 * ps, v.position_type);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
-      fail(ErrorCode::BadInput, "mesh view: vertex " + std::to_string(i) + " has a non-finite coordinate");
-    m.x[i] = x;
-    m.y[i] = y;
-    m.z[i] = z;
-  }
+  read_positions(v.positions, v.position_type, v.position_stride, nv, "mesh view", m);
   m.face_offsets.resize(static_cast<size_t>(nf) + 1);
   m.face_vertices.resize(static_cast<size_t>(3 * nf));
   const char* idx = static_cast<const char*>(v.indices);
@@ -102,6 +112,46 @@ Mesh mesh_from_view(const MeshView& v) {
     }
   }
   m.face_offsets[nf] = static_cast<int32_t>(3 * nf);
+  m.rebuild_triangle_arrays();
+  return m;
+}
+
+Mesh mesh_from_view(const PolygonMeshView& v) {
+  constexpr int64_t kMaxCorners = std::numeric_limits<int32_t>::max();
+  if (!v.face_offsets) fail(ErrorCode::BadUsage, "polygon view: face_offsets is NULL");
+  if (!v.face_indices) fail(ErrorCode::BadUsage, "polygon view: face_indices is NULL");
+  if (v.face_count < 1 || v.face_count > kMaxCorners / 3)
+    fail(ErrorCode::BadUsage, "polygon view: face_count = " + std::to_string(v.face_count) + " is not in 1.." +
+                                  std::to_string(kMaxCorners / 3));
+  const int64_t is = index_size(v.index_type), nf = v.face_count;
+  Mesh m;
+  read_positions(v.positions, v.position_type, v.position_stride, v.vertex_count, "polygon view", m);
+  const char* off = static_cast<const char*>(v.face_offsets);
+  const char* idx = static_cast<const char*>(v.face_indices);
+  if (read_index(off, v.index_type) != 0)
+    fail(ErrorCode::BadUsage, "polygon view: face_offsets[0] = " + std::to_string(read_index(off, v.index_type)) +
+                                  ", must be 0");
+  m.face_offsets.assign(1, 0);
+  for (int64_t f = 0; f < nf; ++f) {
+    const int64_t b = read_index(off + f * is, v.index_type), e = read_index(off + (f + 1) * is, v.index_type);
+    if (e - b < 3)  // also offsets that decrease: the face's content is wrong, as a triangle's bad id
+      fail(ErrorCode::BadInput, "polygon view: face " + std::to_string(f) + " has " + std::to_string(e - b) +
+                                    " corners (face_offsets[" + std::to_string(f) + ".." + std::to_string(f + 1) +
+                                    "] = " + std::to_string(b) + ", " + std::to_string(e) + "); at least 3 needed");
+    if (e > kMaxCorners)
+      fail(ErrorCode::BadUsage, "polygon view: face_offsets[" + std::to_string(f + 1) + "] = " + std::to_string(e) +
+                                    " is beyond the 2^31-1 corners a mesh can hold");
+    for (int64_t k = b; k < e; ++k) {
+      const int64_t id = read_index(idx + k * is, v.index_type);
+      if (id < 0 || id >= v.vertex_count)
+        fail(ErrorCode::BadUsage, "polygon view: face " + std::to_string(f) + " references vertex " +
+                                      std::to_string(id) + " but the view has " + std::to_string(v.vertex_count) +
+                                      " vertices (face_indices[" + std::to_string(k) + "])",
+             ErrorLocation{id, -1});
+      m.face_vertices.push_back(static_cast<int32_t>(id));
+    }
+    m.face_offsets.push_back(static_cast<int32_t>(e));
+  }
   m.rebuild_triangle_arrays();
   return m;
 }

@@ -304,6 +304,42 @@ locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_s
   });
 }
 
+locus_status locus_session_create_from_polygon_view(const locus_polygon_view* view, locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_from_polygon_view", [&] {
+    require(out != nullptr, "out is NULL");
+    require(view != nullptr, "view is NULL");
+    locus::PolygonMeshView v;
+    v.positions = view->positions;
+    v.position_type = static_cast<locus::ScalarType>(view->position_type);
+    v.position_stride = view->position_stride;
+    v.vertex_count = view->vertex_count;
+    v.face_offsets = view->face_offsets;
+    v.face_indices = view->face_indices;
+    v.index_type = static_cast<locus::IndexType>(view->index_type);
+    v.face_count = view->face_count;
+    *out = new locus_session(locus::Session(v));
+  });
+}
+
+locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const int32_t* face_offsets,
+                                           const int32_t* face_indices, int64_t nf, locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_polygons", [&] {
+    require(out != nullptr, "out is NULL");
+    require(xyz != nullptr, "xyz is NULL");
+    require(face_offsets != nullptr, "face_offsets is NULL");
+    require(face_indices != nullptr, "face_indices is NULL");
+    locus::PolygonMeshView v;  // packed doubles and int32 ids: the view reads them as they are
+    v.positions = xyz;
+    v.vertex_count = nv;
+    v.face_offsets = face_offsets;
+    v.face_indices = face_indices;
+    v.face_count = nf;
+    *out = new locus_session(locus::Session(v));
+  });
+}
+
 void locus_session_destroy(locus_session* session) {
   clear_error();
   delete session;

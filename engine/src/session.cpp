@@ -161,17 +161,31 @@ using namespace session_detail;
 
 
 Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
+  std::shared_ptr<const Mesh> polygons;
+  impl_->npoly = mesh.num_faces();
+  if (!mesh.is_triangle_mesh()) {  // CSR faces that are all triangles (no f0/f1/f2 given) are a triangle mesh
+    validate_mesh_arrays(mesh);
+    mesh.rebuild_triangle_arrays();
+  }
+  if (!mesh.is_triangle_mesh()) {  // session.hpp "Polygon meshes": triangulated once, vertices kept
+    Mesh triangles = triangulate_for_session(mesh, impl_->face_of);
+    impl_->polygon_edges = static_cast<int64_t>(unique_edges(mesh).e0.size());
+    polygons = std::make_shared<const Mesh>(std::move(mesh));
+    mesh = std::move(triangles);
+  }
   std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh);
   impl_->nv = mesh.num_vertices();
   impl_->nf = mesh.num_faces();
   impl_->components = derived->components;
   impl_->state = make_state(std::move(mesh), std::move(derived), 0, std::make_shared<SymbolicCache>(),
                             std::make_shared<Counters>());
+  impl_->state->polygons = std::move(polygons);
 }
 
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
 
 Session::Session(const MeshView& view) : Session(mesh_from_view(view)) {}
+Session::Session(const PolygonMeshView& view) : Session(mesh_from_view(view)) {}
 
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
@@ -181,10 +195,25 @@ int32_t Session::num_vertices() const { return impl_->nv; }
 int32_t Session::num_faces() const { return impl_->nf; }
 double Session::mean_edge_length() const { return impl_->current()->h; }
 Mesh Session::mesh() const { return impl_->current()->mesh; }
+bool Session::has_polygons() const { return !impl_->face_of.empty(); }
+Mesh Session::polygons() const {
+  const std::shared_ptr<State> s = impl_->current();
+  return s->polygons ? *s->polygons : s->mesh;
+}
+int32_t Session::num_polygons() const { return impl_->npoly; }
+std::vector<int32_t> Session::triangle_polygon() const {
+  if (has_polygons()) return impl_->face_of;
+  std::vector<int32_t> id(static_cast<size_t>(impl_->nf));
+  for (int32_t f = 0; f < impl_->nf; ++f) id[f] = f;
+  return id;
+}
 
 void Session::prepare_heat(const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
-  engine(*s, q, ctx);
+  if (s->polygons)
+    polygon_engine(*s, q, ctx);
+  else
+    engine(*s, q, ctx);
 }
 
 void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuery& q,
@@ -194,6 +223,7 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
   if (out.size() != static_cast<size_t>(impl_->nv))
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(impl_->nv));
+  if (s->polygons) return polygon_geodesic(*s, source, out, q, ctx);
   const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
   const auto e = engine(*s, q, progress.build());
   ctx.check_cancel();
@@ -225,6 +255,7 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
     fail(ErrorCode::BadUsage, "logmap: fraction must be in (0, 1] (got " + std::to_string(fraction) + ")");
   const int32_t n = impl_->nv;
   const int32_t count = std::clamp<int32_t>(static_cast<int32_t>(std::lround(fraction * n)), 1, n);
+  if (s->polygons) return polygon_logmap(*s, center, count, q, ctx);
   const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
   const auto e = engine(*s, q, progress.build());
   const auto g = grower(*s, ctx);
@@ -408,11 +439,14 @@ void Session::set_positions(ConstView<double> xyz) {
     m.y[i] = xyz[3 * static_cast<size_t>(i) + 1];
     m.z[i] = xyz[3 * static_cast<size_t>(i) + 2];
   }
+  std::shared_ptr<const Mesh> polygons = old->polygons ? polygons_moved(*old->polygons, m) : nullptr;
   std::shared_ptr<const MeshDerived> derived = check_and_derive(m);  // zero-area faces
   std::lock_guard<std::mutex> lock(impl_->mu);
   // Versions count calls; concurrent set_positions calls are serialized here (the last one wins).
-  impl_->state = make_state(std::move(m), std::move(derived), impl_->state->version + 1, impl_->state->symbolic,
-                            impl_->state->counters);
+  std::shared_ptr<State> next = make_state(std::move(m), std::move(derived), impl_->state->version + 1,
+                                           impl_->state->symbolic, impl_->state->counters);
+  next->polygons = std::move(polygons);  // complete before queries can see it
+  impl_->state = std::move(next);
 }
 
 SessionStats Session::stats() const {

@@ -117,7 +117,10 @@ void Session::prepare_patch_parameterization(const RunContext& ctx) const {
   grower(*s, ctx);
 }
 
-int64_t Session::num_edges() const { return static_cast<int64_t>(impl_->current()->derived->incidence.edges.e0.size()); }
+int64_t Session::num_edges() const {
+  if (has_polygons()) return impl_->polygon_edges;  // the faces as given: the chapter-2 pipelines' edges
+  return static_cast<int64_t>(impl_->current()->derived->incidence.edges.e0.size());
+}
 
 std::vector<double> Session::auto_diffusion(ConstView<int32_t> vertices, const HeatQuery& q,
                                             DiagonalMethod method, const RunContext& ctx) const {

@@ -45,11 +45,13 @@ std::vector<double> interleave_xyz(const Coords& p, int32_t nv) {
 }  // namespace
 
 PerfectLaplacianOutput Session::perfect_laplacian(const PerfectLaplacianRequest& req, const RunContext& ctx) const {
-  return perfect_laplacian_of(impl_->current()->mesh, req, ctx);
+  const std::shared_ptr<State> s = impl_->current();
+  return perfect_laplacian_of(s->polygons ? *s->polygons : s->mesh, req, ctx);  // a polygon mesh as given (session.hpp)
 }
 
 SelfSupportOutput Session::self_supporting(const SelfSupportRequest& req, const RunContext& ctx) const {
-  return self_supporting_of(impl_->current()->mesh, req, ctx);
+  const std::shared_ptr<State> s = impl_->current();
+  return self_supporting_of(s->polygons ? *s->polygons : s->mesh, req, ctx);  // a polygon mesh as given (session.hpp)
 }
 
 PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req, const RunContext& ctx) {

@@ -41,7 +41,8 @@ void copy_patch(const MeshPatch& p, PatchParamResult& r) {
 }  // namespace
 
 DiskParamResult Session::parameterize_disk(const DiskParamRequest& req, const RunContext& ctx) const {
-  return parameterize_disk_of(impl_->current()->mesh, req, ctx);
+  const std::shared_ptr<State> s = impl_->current();
+  return parameterize_disk_of(s->polygons ? *s->polygons : s->mesh, req, ctx);  // a polygon mesh as given (session.hpp)
 }
 
 DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req, const RunContext& ctx) {

@@ -22,18 +22,22 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <span>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "locus/error.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "locus/session.hpp"
 
 namespace locus {
@@ -170,8 +174,15 @@ struct RegularizedLaplacian {
   NumericFactor factor;
 };
 
+// The polygon log map's patches: the Dijkstra disk over the polygon edges (as `locus logmap`).
+struct PolygonPatches {
+  Adjacency adjacency;
+  std::vector<double> edge_length;
+};
+
 struct State {
-  Mesh mesh;
+  Mesh mesh;                             // triangles (a polygon mesh's triangulation)
+  std::shared_ptr<const Mesh> polygons;  // a polygon mesh as given, same positions; null for triangle meshes
   std::shared_ptr<const MeshDerived> derived;  // edges, adjacency, h, mass, components: once per positions
   double h = 0;                                // derived->h
   int64_t version = 0;
@@ -184,6 +195,10 @@ struct State {
   // Issue 24's pipelines (session_<pipeline>.cpp):
   OnceMap<uint64_t, HeatDiffusion> diffusion;  // absolute t bits: M - tL (diffusion pipelines, heat values)
   OnceMap<int, RegularizedLaplacian> laplacian;  // single entry: -L + eps M (patch parameterization)
+  // Polygon meshes (session_polygon.cpp): the polygon heat method per t_factor
+  // (its geodesic() serves geodesic_distance), the log map's patches.
+  OnceMap<uint64_t, PolygonLogMap> polygon_engines;  // t_factor bits
+  OnceMap<int, PolygonPatches> polygon_patches;      // single entry
 };
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.
@@ -210,6 +225,22 @@ SurfacePoint surface_point(const State& s, const MeshPoint& p, const char* what,
 std::vector<SurfacePoint> surface_points(const State& s, ConstView<MeshPoint> p, const char* what);
 void check_vertices(const State& s, ConstView<int32_t> v, const char* what);
 
+// ---- Polygon meshes (session_polygon.cpp) ----
+// The triangulation of a polygon mesh for the Session (BadInput naming a face
+// that is no simple polygon); `face_of`: per triangle, its polygon.
+Mesh triangulate_for_session(const Mesh& polygons, std::vector<int32_t>& face_of);
+// The polygon faces with new positions, checked again as simple polygons.
+std::shared_ptr<const Mesh> polygons_moved(const Mesh& polygons, const Mesh& moved);
+// t_factor of the polygon heat method: q.t_factor, 0 = PolygonHeatGeodesicOptions' default (8).
+double polygon_t_factor(const HeatQuery& q);
+std::shared_ptr<const PolygonLogMap> polygon_engine(State& s, const HeatQuery& q, const RunContext& ctx);
+// Whole-mesh distance from one vertex (PolygonHeatGeodesic::query_full), NaN in other components.
+void polygon_geodesic(State& s, int32_t source, View<double> out, const HeatQuery& q, const RunContext& ctx);
+// From a set of sources: the heat of all at once, shifted per component as the triangle path.
+void polygon_geodesic(State& s, std::span<const SurfacePoint> sources, View<double> out, const HeatQuery& q,
+                      const RunContext& ctx);
+LogMapResult polygon_logmap(State& s, int32_t center, int32_t count, const HeatQuery& q, const RunContext& ctx);
+
 }  // namespace session_detail
 
 struct Session::Impl {
@@ -217,6 +248,9 @@ struct Session::Impl {
   std::shared_ptr<session_detail::State> state;
   int32_t nv = 0, nf = 0;
   int32_t components = 0;  // connectivity never changes
+  int32_t npoly = 0;       // faces as given (polygon meshes; nf otherwise)
+  std::vector<int32_t> face_of;  // polygon meshes: per triangle its face as given; empty otherwise
+  int64_t polygon_edges = 0;     // polygon meshes: unique edges of the faces as given
 
   std::shared_ptr<session_detail::State> current() const {
     std::lock_guard<std::mutex> lock(mu);

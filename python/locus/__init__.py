@@ -8,8 +8,10 @@ Two tiers, as in potpourri3d:
   operator is kept between calls, any number of threads may query it.
 
 Arrays: V is (nv, 3) float32/float64 positions, F is (nf, 3) int32/int64/
-uint32 vertex ids (polygon meshes, for the one-shots that take them: a list of
-faces or (offsets, indices)). Results are NumPy arrays (float64 values, int32
+uint32 vertex ids, or a polygon mesh (quads, mixed, n-gons) as an (nf, k)
+array, a list of faces or (offsets, indices), taken by the Session and every
+one-shot: geodesic distance and log maps run on the polygons as the CLI does,
+the other pipelines on a triangulation with the same vertices. Results are NumPy arrays (float64 values, int32
 ids) or namespaces of them. Errors raise locus.InputError, locus.NumericalError,
 locus.Cancelled, locus.ResourceLimitError or locus.UsageError (a ValueError),
 each carrying the engine's message. Every computing call releases the GIL;

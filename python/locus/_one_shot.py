@@ -2,26 +2,35 @@
 
 Each builds ``Session(V, F)``, runs one query and drops it, so every call
 factors its operator again; for repeated queries on one mesh keep a Session.
+F may be a polygon mesh wherever a Session takes one ((nf, k) array, list of
+faces, or (offsets, indices)): the Session triangulates it, keeping V.
 Keyword arguments ``threads`` (default 0: all cores) and ``progress``
 (callable(fraction, phase); True cancels) are passed through.
 """
 from ._locus import Session, parameterize_disk as _parameterize_disk
 
 
-def geodesic_distance(V, F, sources, *, t_factor=4.0, **call):
+def geodesic_distance(V, F, sources, *, t_factor=None, **call):
     """Heat geodesic distance to every vertex, in the units of V: (nv,) float64.
 
+    F: triangles (nf, 3), or a polygon mesh as an (nf, k) array, a list of faces
+    or (offsets, indices); on polygons the distance runs on the polygon operators,
+    as `locus geodesic` (see Session).
     sources: a vertex id, a 1-D array of ids, or (faces, bary) points in faces.
-    t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 4, as the CLI).
+    t_factor: diffusion time t = t_factor * h^2, h the mean edge length (None: the
+    CLI's default, 4 on triangle meshes, 8 on polygon meshes).
     NaN (no value) in connected components without a source. See Session.geodesic_distance.
     """
     return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
 
 
-def logmap(V, F, center, fraction=0.05, *, t_factor=4.0, **call):
+def logmap(V, F, center, fraction=0.05, *, t_factor=None, **call):
     """Heat log map of the geodesic disk of round(fraction * nv) vertices around center.
 
-    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (default 4, as the CLI).
+    F: triangles or a polygon mesh (as geodesic_distance; on polygons the
+    polygon log map with full solves, as `locus logmap`).
+    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (None: 4, 8 on
+    polygon meshes, as the CLI).
     Returns a namespace: .patch (vertex ids, center first), .distance (units of V),
     .angle (radians), .u, .v (Cartesian coordinates). See Session.logmap.
     """
@@ -39,6 +48,7 @@ def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):
 def cvt(V, F, sites, iterations=10, seed=1, **call):
     """Isotropic heat CVT with remeshing: (sites, remesh_V, remesh_F, labels).
 
+    F: triangles or polygons (triangulated, as `locus cvt`; labels index V).
     sites: number of sites (seeded random start, `seed`, default 1); iterations:
     Lloyd steps (default 10); t = 4 h^2, as `locus cvt`. Returns the final site
     positions (k, 3), the remeshed surface (n, 3) float64 and (m, 3) int32, and

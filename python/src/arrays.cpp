@@ -89,7 +89,8 @@ TriangleArrays triangle_arrays(const py::handle& V, const py::handle& F) {
 
   t.triangles = as_array(F, "F");
   if (t.triangles.ndim() != 2 || t.triangles.shape(1) != 3)
-    usage_error("F must have shape (m, 3) (triangles; polygon meshes go to the one-shot functions), got " +
+    usage_error("F must have shape (m, 3) (triangles) or be a polygon mesh ((m, k) array, list of faces or "
+                "(offsets, indices)), got " +
                 shape_text(t.triangles));
   require_integers(t.triangles, "F");
   const char kind = t.triangles.dtype().kind();

@@ -7,7 +7,8 @@
 // layout (Fortran order, column slices) is first made C-contiguous, once.
 // int64 ids are narrowed to int32 (an id beyond int32 is an InputError naming
 // the face); the engine checks every id against the vertex count.
-// Polygon meshes: a list of faces (each a sequence of ids) or a tuple
+// Polygon meshes (polygon_mesh; the Session and the chapter-2 one-shots): an
+// (m, k) array, a list of faces (each a sequence of ids) or a tuple
 // (offsets, indices) in CSR form, offsets[0] = 0, len(offsets) = faces + 1.
 //
 // Out: results are NumPy arrays that take over the engine's std::vector (no

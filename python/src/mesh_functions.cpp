@@ -1,6 +1,6 @@
 // Module-level functions that need no Session (issue 25 item 2): mesh files,
 // midpoint subdivision, the engine's PNG preview, and the chapter-2 one-shots
-// on polygon meshes (a Session holds triangles only).
+// on polygon meshes (a Session takes them too; these have nothing to cache).
 #include <string>
 
 #include "arrays.hpp"

@@ -27,6 +27,11 @@ inline constexpr const char* kCallArgs =
     "returning True cancels (locus.Cancelled). Ctrl-C cancels and raises KeyboardInterrupt.\n"
     "The GIL is released while the engine computes.";
 
+// The heat method's t_factor argument: None = 0, the engine's default (4; 8 on polygon meshes).
+inline double heat_method_t_factor(const pybind11::handle& t_factor) {
+  return t_factor.is_none() ? 0.0 : t_factor.cast<double>();
+}
+
 }  // namespace locus::python
 
 namespace locus::python {

@@ -17,11 +17,30 @@ using namespace py::literals;
 namespace locus::python {
 namespace {
 
+// Triangles: an (m, 3) array (read in place through a MeshView when its
+// layout allows). Polygons: (offsets, indices), a list of faces or an (m, k)
+// array with k != 3 (arrays.hpp); the Session triangulates them.
+bool triangle_array(const py::handle& F) {
+  if (py::isinstance<py::tuple>(F) && py::len(F) == 2) return false;  // (offsets, indices)
+  if (py::isinstance<py::list>(F)) {  // a list of faces: triangles when every face has 3 ids
+    for (const py::handle f : F)
+      if (!py::hasattr(f, "__len__") || py::len(f) != 3) return false;
+    return true;
+  }
+  const py::array a = py::array::ensure(F);
+  return !a || a.ndim() != 2 || a.shape(1) == 3;  // anything else: the triangle path's message
+}
+
 // The arrays are the mesh's content, so whatever is wrong with them is an
 // InputError, also what mesh_from_view calls a usage error (a vertex id out of range).
 std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F) {
-  TriangleArrays t = triangle_arrays(V, F);
   std::unique_ptr<Session> s;
+  if (!triangle_array(F)) {
+    Mesh m = polygon_mesh(V, F);
+    py::gil_scoped_release release;
+    return std::make_unique<Session>(std::move(m));
+  }
+  TriangleArrays t = triangle_arrays(V, F);
   try {
     py::gil_scoped_release release;
     s = std::make_unique<Session>(t.view);
@@ -51,12 +70,20 @@ HeatQuery heat(double t_factor, double t) {
 void bind_session(py::module_& m) {
   SessionClass cls(m, "Session",
                    "Session(V, F)\n\n"
-                   "One triangle mesh and everything derived from it, kept between calls: the first query of a "
+                   "One mesh and everything derived from it, kept between calls: the first query of a "
                    "kind factors its operator, later ones reuse the factor (stats() counts the factorizations).\n"
                    "V: (nv, 3) float32 or float64 positions; F: (nf, 3) int32, int64, uint32 or uint16 vertex ids "
                    "(0-based). Any layout; rows with adjacent x, y, z are read in place, others converted once. "
-                   "The mesh is checked once: finite positions, ids in range, manifold, no zero-area faces, no "
-                   "unreferenced vertices (locus.InputError naming the first offender).\n"
+                   "Polygon meshes (quads, mixed, n-gons): F as an (nf, k) array, a list of faces (each a sequence "
+                   "of ids) or (offsets, indices) in CSR form (face f = indices[offsets[f]:offsets[f + 1]]). "
+                   "The Session triangulates them once (ear clipping), keeping the vertices, so per-vertex results "
+                   "index V; geodesic_distance and logmap run on the polygons themselves as `locus geodesic` / "
+                   "`locus logmap` do (polygon heat method, full solves, default t_factor 8; the same numbers), "
+                   "parameterize_disk, perfect_laplacian and self_supporting on the polygons too, every other "
+                   "method on the triangulation (face ids of surface points and results are its triangles: .F; "
+                   ".triangle_polygon maps them to the faces given).\n"
+                   "The mesh is checked once: finite positions, ids in range, simple polygons, manifold, no zero-area "
+                   "faces, no unreferenced vertices (locus.InputError naming the first offender).\n"
                    "Thread safety: every method may run concurrently from any number of Python threads (the GIL "
                    "is released while computing); results are bit-identical to a query run alone. "
                    "set_positions() may run concurrently with queries: queries already started finish on the old "
@@ -68,16 +95,22 @@ void bind_session(py::module_& m) {
         py::gil_scoped_release release;
         return std::make_unique<Session>(Session::from_file(path));
       },
-      "path"_a, "Session.from_file(path)\n\nA Session on a mesh file (.obj, .off, .ply; triangles).");
+      "path"_a, "Session.from_file(path)\n\nA Session on a mesh file (.obj, .off, .ply; triangles or polygons).");
   cls.def_property_readonly("num_vertices", &Session::num_vertices);
-  cls.def_property_readonly("num_faces", &Session::num_faces);
-  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles.");
+  cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
+  cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");
+  cls.def_property_readonly("num_polygons", &Session::num_polygons, "Faces as given (num_faces for triangles).");
+  cls.def_property_readonly("polygons", [](const Session& s) { return faces_object(s.polygons()); },
+                            "A copy of the faces as given: (nf, 3) int32 for triangles, else a list of int32 arrays.");
+  cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
+                            "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
+  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");
   cls.def_property_readonly("mean_edge_length", &Session::mean_edge_length,
                             "h, the mean edge length of the current positions (units of the positions).");
   cls.def_property_readonly("V", [](const Session& s) { return positions_array(s.mesh()); },
                             "A copy of the current positions, (nv, 3) float64.");
   cls.def_property_readonly("F", [](const Session& s) { return faces_object(s.mesh()); },
-                            "A copy of the triangles, (nf, 3) int32.");
+                            "A copy of the triangles, (nf, 3) int32 (a polygon mesh's triangulation).");
   cls.def(
       "set_positions",
       [](Session& s, const py::handle& V) {
@@ -95,12 +128,14 @@ void bind_session(py::module_& m) {
           "positions_version (set_positions calls).");
   cls.def(
       "prepare_heat",
-      [](const Session& s, double t_factor, int threads, py::object progress) {
-        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(t_factor, 0.0), ctx); });
+      [](const Session& s, const py::handle& t_factor, int threads, py::object progress) {
+        const double tf = heat_method_t_factor(t_factor);
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(tf, 0.0), ctx); });
       },
-      py::kw_only(), "t_factor"_a = 4.0, "threads"_a = 0, "progress"_a = py::none(),
-      (std::string("prepare_heat(*, t_factor=4.0, threads=0, progress=None)\n\nFactors the heat method's operators "
-                   "(geodesic_distance, logmap) for t_factor now, e.g. before handing the Session to threads.\n") +
+      py::kw_only(), "t_factor"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_heat(*, t_factor=None, threads=0, progress=None)\n\nFactors the heat method's operators "
+                   "(geodesic_distance, logmap) for t_factor now (None: 4, 8 on polygon meshes), e.g. before "
+                   "handing the Session to threads.\n") +
        kCallArgs).c_str());
   cls.def(
       "prepare_diffusion",
@@ -119,8 +154,9 @@ void bind_session(py::module_& m) {
       (std::string("prepare_patch_parameterization(*, threads=0, progress=None)\n\nFactors -L + eps M now "
                    "(parameterize_patch).\n") + kCallArgs).c_str());
   cls.def("__repr__", [](const Session& s) {
-    return "<locus.Session " + std::to_string(s.num_vertices()) + " vertices, " + std::to_string(s.num_faces()) +
-           " triangles>";
+    return "<locus.Session " + std::to_string(s.num_vertices()) + " vertices, " +
+           (s.has_polygons() ? std::to_string(s.num_polygons()) + " polygons as " : std::string()) +
+           std::to_string(s.num_faces()) + " triangles>";
   });
   bind_session_geodesic(cls);
   bind_session_diffusion(m, cls);

@@ -20,8 +20,9 @@ HeatQuery heat(double t_factor, double t = 0.0) {
   return q;
 }
 
-py::object geodesic_distance(const Session& s, const py::handle& sources, double t_factor, const py::handle& out,
-                             int threads, py::object progress) {
+py::object geodesic_distance(const Session& s, const py::handle& sources, const py::handle& t_factor_arg,
+                             const py::handle& out, int threads, py::object progress) {
+  const double t_factor = heat_method_t_factor(t_factor_arg);
   const size_t nv = static_cast<size_t>(s.num_vertices());
   py::object array = py::reinterpret_borrow<py::object>(out);
   if (out.is_none()) array = py::array_t<double>(static_cast<py::ssize_t>(nv));
@@ -41,7 +42,9 @@ py::object geodesic_distance(const Session& s, const py::handle& sources, double
   return array;
 }
 
-py::object logmap(const Session& s, int32_t center, double fraction, double t_factor, int threads, py::object progress) {
+py::object logmap(const Session& s, int32_t center, double fraction, const py::handle& t_factor_arg, int threads,
+                  py::object progress) {
+  const double t_factor = heat_method_t_factor(t_factor_arg);
   LogMapResult r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.logmap(center, fraction, heat(t_factor), ctx); });
   return result(py::dict("patch"_a = take(std::move(r.patch)), "distance"_a = take(std::move(r.distance)),
@@ -61,28 +64,32 @@ py::array heat_values(const Session& s, const py::handle& sources, const py::han
 }  // namespace
 
 void bind_session_geodesic(SessionClass& cls) {
-  cls.def("geodesic_distance", &geodesic_distance, "sources"_a, py::kw_only(), "t_factor"_a = 4.0, "out"_a = py::none(),
+  cls.def("geodesic_distance", &geodesic_distance, "sources"_a, py::kw_only(), "t_factor"_a = py::none(), "out"_a = py::none(),
           "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("geodesic_distance(sources, *, t_factor=4.0, out=None, threads=0, progress=None) -> ndarray\n\n"
+          (std::string("geodesic_distance(sources, *, t_factor=None, out=None, threads=0, progress=None) -> ndarray\n\n"
                        "Heat geodesic distance (thesis §6.4; Crane et al.) to every vertex, in the units of the "
                        "positions: float64 array of shape (nv,).\n"
                        "sources: a vertex id (int), a 1-D array of vertex ids, or (faces, bary) points in faces "
                        "(bary: (k, 3) barycentric weights of the face's corners). With several sources the "
                        "distance is shifted so that its minimum over each component's sources is 0. NaN (no value) "
                        "in components without a source (with one source too).\n"
-                       "t_factor: diffusion time t = t_factor * h^2, h the mean edge length (default 4, as the CLI: the "
-                       "angles of log maps are ~4x more accurate than at 1 for the same cost). The first "
-                       "query per t_factor factors two operators; later ones reuse them (stats()).\n"
+                       "t_factor: diffusion time t = t_factor * h^2, h the mean edge length (None: the CLI's default, 4 "
+                       "on triangle meshes, where the angles of log maps are ~4x more accurate than at 1 for the "
+                       "same cost; 8 on polygon meshes, where the distance runs on the polygons themselves, with "
+                       "h their mean edge). The first query per t_factor factors two operators; later ones reuse "
+                       "them (stats()).\n"
                        "out: a float64 C-contiguous array of shape (nv,) to write into (no allocation); returned.\n") +
            kCallArgs).c_str());
-  cls.def("logmap", &logmap, "center"_a, "fraction"_a = 0.05, py::kw_only(), "t_factor"_a = 4.0, "threads"_a = 0,
+  cls.def("logmap", &logmap, "center"_a, "fraction"_a = 0.05, py::kw_only(), "t_factor"_a = py::none(), "threads"_a = 0,
           "progress"_a = py::none(),
-          (std::string("logmap(center, fraction=0.05, *, t_factor=4.0, threads=0, progress=None) -> namespace\n\n"
+          (std::string("logmap(center, fraction=0.05, *, t_factor=None, threads=0, progress=None) -> namespace\n\n"
                        "Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv) vertices around "
-                       "`center`, by exact subset solves from the global factors.\n"
+                       "`center`, by exact subset solves from the global factors. Polygon meshes: the polygon log "
+                       "map with full solves on the disk grown over the polygon edges, as `locus logmap`.\n"
                        "Returns .patch (int32 vertex ids, center first) and per patch vertex .distance (units of "
                        "the positions), .angle (radians) and .u, .v = distance * (cos, sin)(angle).\n"
-                       "fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (default 4, as the CLI).\n") +
+                       "fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (None: 4, 8 on polygon meshes, as "
+                       "the CLI).\n") +
            kCallArgs).c_str());
   cls.def("heat_values", &heat_values, "sources"_a, "targets"_a, py::kw_only(), "t_factor"_a = 1.0, "t"_a = 0.0,
           "threads"_a = 0, "progress"_a = py::none(),

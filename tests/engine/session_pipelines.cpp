@@ -325,7 +325,7 @@ TEST_CASE("session pipelines from several threads at once: the single-threaded a
   CHECK(c.heat_kernel_signature(times, verts) == hks);
 }
 
-TEST_CASE("one-shot chapter-2 pipelines on a quad mesh (no Session): the pipelines' numbers") {
+TEST_CASE("one-shot chapter-2 pipelines on a quad mesh: the pipelines' numbers, also through a Session") {
   const int n = 8;
   Mesh m;
   for (int j = 0; j <= n; ++j)
@@ -357,7 +357,11 @@ TEST_CASE("one-shot chapter-2 pipelines on a quad mesh (no Session): the pipelin
   SelfSupportOptions so;
   so.iteration.max_iterations = 50;
   CHECK(ss.forces == self_supporting(m, so).forces);
-  CHECK(code_of([&] { Session bad(m); }) == ErrorCode::BadInput);  // a Session holds triangle meshes only
+  // A Session on the quads runs these on the quads too (its other pipelines on their triangulation).
+  const Session quads(m);
+  CHECK(quads.parameterize_disk({DiskParamMethod::Perfect, 200, 1e-6}).uv == d.uv);
+  CHECK(quads.perfect_laplacian({false, 100, 1e-6, true}).weights == pl.weights);
+  CHECK(quads.self_supporting({1.0, 50, 1e-6}).forces == ss.forces);
 }
 
 TEST_CASE("session natural neighbors in the plane: linear precision up to the cells' discretization") {

@@ -46,7 +46,7 @@ if(mesh_arg AND EXISTS ${cli})
   cli_reference(skinweights skinweights patch.obj --handles 0,300,900 -o skinweights.ply)
   cli_reference(perfect_laplacian perfect-laplacian patch.obj --iters 20 -o perfect_laplacian.obj)
   cli_reference(selfsupport selfsupport patch.obj --iters 20 -o selfsupport.obj)
-  # A polygon disk for the one-shot forms (a Session holds triangles only): a 13 x 13-vertex
+  # A polygon disk for the one-shot forms (no Session needed): a 13 x 13-vertex
   # quad grid with integer coordinates, z = i (12 - i) + j (12 - j) (a vault).
   set(grid "OFF\n169 144 0\n")
   foreach(j RANGE 12)

@@ -96,5 +96,5 @@ def test_files_and_preview(sphere, tmp_path):
 
 def test_docstrings_state_units_and_defaults():
     doc = locus.Session.geodesic_distance.__doc__
-    assert "t_factor=4.0" in doc and "units of the positions" in doc and "threads" in doc
+    assert "t_factor=None" in doc and "4 on triangle meshes" in doc and "units of the positions" in doc and "threads" in doc
     assert "radians" in locus.logmap.__doc__ and "default 0.05" in locus.logmap.__doc__

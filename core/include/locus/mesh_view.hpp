@@ -42,5 +42,25 @@ struct MeshView {
 // Topology (manifold, degenerate faces) is checked by the Session, as for files.
 Mesh mesh_from_view(const MeshView& view);
 
+// A polygon mesh (quads, mixed, n-gons; issues 24, 27) in the host's buffers:
+// positions as in MeshView; faces in CSR form, both arrays of index_type,
+// packed: face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
+// face_offsets has face_count + 1 entries and starts at 0.
+struct PolygonMeshView {
+  const void* positions = nullptr;
+  ScalarType position_type = ScalarType::Float64;
+  int64_t position_stride = 0;  // bytes; 0 or >= 3 * sizeof(scalar)
+  int64_t vertex_count = 0;
+  const void* face_offsets = nullptr;  // face_count + 1 entries
+  const void* face_indices = nullptr;  // face_offsets[face_count] entries
+  IndexType index_type = IndexType::Int32;
+  int64_t face_count = 0;
+};
+
+// As for MeshView; also Error(BadUsage) for face_offsets[0] != 0 and
+// Error(BadInput) naming a face of fewer than 3 corners (or decreasing offsets).
+// Whether the polygons are simple is the Session's check (it triangulates them).
+Mesh mesh_from_view(const PolygonMeshView& view);
+
 }  // namespace locus
 LOCUS_API_END

@@ -131,6 +131,7 @@ typedef void (*locus_free_fn)(void* ptr, void* user_data);
 locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, void* user_data);
 
 /* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
+ * Polygon faces: as locus_session_create_polygons.
  * The mesh must be a manifold triangle mesh with at least one face, finite
  * coordinates, no zero-area faces and no unreferenced vertices (boundaries are
  * fine); otherwise LOCUS_BAD_INPUT naming the file and the element.
@@ -173,6 +174,39 @@ typedef struct locus_mesh_view {
  * Thread-safe. */
 locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
 
+/* Polygon meshes (quads, mixed, n-gons; issues 24, 27). Faces in CSR form:
+ * face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
+ * face_offsets has nf + 1 entries, face_offsets[0] = 0 (LOCUS_BAD_USAGE
+ * otherwise, as for an id out of range); a face of fewer than 3 corners or one
+ * that is no simple polygon (its corners on a line, its boundary crossing
+ * itself) is LOCUS_BAD_INPUT naming the face; the other requirements are those
+ * of locus_session_create_from_file. Triangles may be mixed in.
+ * The session triangulates the polygons once (ear clipping) keeping the
+ * vertices, so every per-vertex output indexes the caller's vertices. As the
+ * `locus` CLI on the same file: locus_geodesic_distance and locus_logmap run
+ * on the polygons themselves (the polygon heat method, full solves; default
+ * t_factor 8; the log map's disk grows over the polygon edges), the other
+ * calls on the triangulation; face ids (locus_surface_point, outputs) and
+ * locus_session_face_count are the triangulation's.
+ * xyz: 3 * nv doubles as in locus_session_create. Thread-safe. */
+locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const int32_t* face_offsets,
+                                           const int32_t* face_indices, int64_t nf, locus_session** out);
+
+/* The same from the caller's buffers: positions as in locus_mesh_view,
+ * face_offsets (face_count + 1 entries) and face_indices packed, both of
+ * index_type (locus_index_type). */
+typedef struct locus_polygon_view {
+  const void* positions;   /* as locus_mesh_view */
+  int32_t position_type;   /* locus_scalar_type */
+  int64_t position_stride; /* bytes between vertices; 0 = tightly packed (3 values) */
+  int64_t vertex_count;    /* 1 <= vertex_count < 2^31 - 1 */
+  const void* face_offsets; /* face_count + 1 ids of index_type, the first 0 */
+  const void* face_indices; /* face_offsets[face_count] ids of index_type */
+  int32_t index_type;      /* locus_index_type */
+  int64_t face_count;      /* 1 <= face_count <= (2^31 - 1) / 3 */
+} locus_polygon_view;
+locus_status locus_session_create_from_polygon_view(const locus_polygon_view* view, locus_session** out);
+
 /* Frees the session and everything it cached. NULL is a no-op. Not concurrently
  * with other calls on the same session. */
 void locus_session_destroy(locus_session* session);
@@ -180,7 +214,8 @@ void locus_session_destroy(locus_session* session);
 /* Number of vertices, or -1 (with a message) when session is NULL. */
 int64_t locus_session_vertex_count(const locus_session* session);
 
-/* Number of triangles, or -1 (with a message) when session is NULL. */
+/* Number of triangles (of the triangulation, for a polygon mesh), or -1 (with
+ * a message) when session is NULL. */
 int64_t locus_session_face_count(const locus_session* session);
 
 /* Copies the current vertex positions into out_xyz (3 * vertex-count doubles,
@@ -418,7 +453,8 @@ locus_status locus_param_patch(locus_session* session, int64_t center, double fr
                                const locus_run_options* opts);
 
 /* ---- Perfect Laplacian and self-supporting surface (thesis chapter 2) ----
- * Per unique edge of the triangles (locus_session_edge_count edges, each with
+ * Per unique edge of the faces (of the polygons as given for a polygon mesh:
+ * locus_session_edge_count edges, each with
  * v0 < v1 in out_edges[2e], out_edges[2e+1]). out_xyz: 3 * vertex-count doubles
  * (perfect Laplacian: the embedding, aligned onto the input by a similarity in
  * space; self-supporting: the equilibrium surface). Any output may be NULL.

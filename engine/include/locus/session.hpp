@@ -64,7 +64,8 @@ namespace locus {
 // length. t_factor 0 (the default) is each method's own default: 4 for the
 // heat method (geodesic distance, log map: the angle error scales like h^2 / t
 // and the distance is as accurate, docs/logmap.md; Crane et al. and the thesis
-// use 1), 1 for the diffusion pipelines.
+// use 1; 8 on polygon meshes, polygon_heat_geodesic.hpp), 1 for the diffusion
+// pipelines.
 // The diffusion pipelines (Voronoi, natural neighbors, skinning, ADF/HKS, heat
 // exchange, heat values) also take an absolute time: t > 0 overrides t_factor.
 // The heat method (geodesic distance, log map) uses t_factor only.
@@ -263,26 +264,42 @@ struct SessionStats {
   int64_t positions_version = 0;       // number of set_positions() calls
 };
 
-// One-shot forms of the chapter-2 pipelines on any polygon mesh (a Session
-// holds triangle meshes only; these have nothing to cache). The Session
-// methods parameterize_disk, perfect_laplacian and self_supporting call them on
-// the Session's mesh. Error(BadInput) names what makes a mesh unsuitable.
+// One-shot forms of the chapter-2 pipelines on any polygon mesh (these have
+// nothing to cache). The Session methods parameterize_disk, perfect_laplacian
+// and self_supporting call them on the Session's faces as given (polygons()). Error(BadInput) names what makes a mesh unsuitable.
 DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req = {}, const RunContext& ctx = {});
 PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req = {},
                                             const RunContext& ctx = {});
 SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req = {}, const RunContext& ctx = {});
 
+// Polygon meshes (quads, mixed, n-gons; issues 24, 25, 27). A Session takes
+// them as they are: each face of more than 3 corners must be a simple polygon
+// (Error(BadInput) naming the face otherwise, as the CLI) and is triangulated
+// once by ear clipping (kernels/mesh/polygon_triangulation.hpp), keeping the
+// vertices: every per-vertex result indexes the caller's vertices. What the CLI
+// runs on the polygons themselves the Session does too, with the same numbers:
+// geodesic_distance and logmap use the polygon heat method
+// (pipelines/.../geodesic/polygon_heat_geodesic.hpp, polygon_logmap.hpp; full
+// solves, default t_factor 8, the log map's patch the Dijkstra disk over the
+// polygon edges), and parameterize_disk, perfect_laplacian and self_supporting
+// the polygon Laplacians. Every other query runs on the triangulation, and the
+// face ids of MeshPoint and of results (CvtResult::site_face, random_points)
+// are its triangles: mesh() returns it, triangle_polygon() maps each triangle
+// to the caller's face, polygons() returns the faces as given.
+
 class Session {
  public:
-  // Takes the mesh and checks it: finite coordinates, at least one triangle,
-  // triangles only, every index in range, manifold, no zero-area faces, no
-  // unreferenced vertices (Error(BadInput) naming the first offender and
-  // mesh.source). O(nv + nf); builds no operator.
+  // Takes the mesh and checks it: finite coordinates, at least one face, every
+  // index in range, simple polygons (triangulated, above), manifold, no
+  // zero-area faces, no unreferenced vertices (Error(BadInput) naming the
+  // first offender and mesh.source). O(nv + nf); builds no operator.
   explicit Session(Mesh mesh);
   // From the host's buffers (float/double positions, uint16/uint32/int32 ids,
   // byte strides): read once into the Session's mesh, the only copy made
   // (mesh_view.hpp). Same checks as Session(Mesh).
   explicit Session(const MeshView& view);
+  // A polygon mesh from the host's buffers (mesh_view.hpp), as Session(Mesh).
+  explicit Session(const PolygonMeshView& view);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -291,16 +308,25 @@ class Session {
   ~Session();
 
   int32_t num_vertices() const;
-  int32_t num_faces() const;
-  double mean_edge_length() const;  // of the current positions
-  Mesh mesh() const;                // a copy, with the current positions
+  int32_t num_faces() const;        // triangles of mesh() (of the triangulation for a polygon mesh)
+  double mean_edge_length() const;  // of the current positions (of mesh()'s triangles)
+  Mesh mesh() const;                // a copy of the triangle mesh, with the current positions
+  // Polygon meshes (above): whether the mesh given had a face of more than 3
+  // corners; its faces as given (a copy, current positions; mesh() for a
+  // triangle mesh) and their count; per triangle of mesh() the face it belongs to.
+  bool has_polygons() const;
+  Mesh polygons() const;
+  int32_t num_polygons() const;
+  std::vector<int32_t> triangle_polygon() const;
 
-  // Builds the heat-method engine for q.t_factor now (queries build it on first use).
+  // Builds the heat-method engine for q.t_factor now (queries build it on first use;
+  // on a polygon mesh the polygon heat method's, which geodesic_distance and logmap use).
   void prepare_heat(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Heat geodesic distance from `source` to every vertex (full solves);
   // NaN (no value, as in every output format and the C API) at vertices in
-  // another connected component than the source.
+  // another connected component than the source. Polygon meshes: the polygon
+  // heat method (`locus geodesic` on the same file, bit for bit).
   // out.size() must be num_vertices().
   void geodesic_distance(int32_t source, View<double> out, const HeatQuery& q = {},
                          const RunContext& ctx = {}) const;
@@ -308,6 +334,8 @@ class Session {
 
   // Heat log map of the geodesic disk of round(fraction * nv) vertices (at least
   // 1) around `center`, by exact subset solves from the global factors.
+  // Polygon meshes: the polygon log map with full solves on the Dijkstra disk
+  // over the polygon edges (`locus logmap` on the same file, bit for bit).
   LogMapResult logmap(int32_t center, double fraction, const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Heat values (M - tL)^{-1}_{j,i} for every source i and target j, by exact
@@ -388,7 +416,9 @@ class Session {
   void prepare_diffusion(const HeatQuery& q = {}, const RunContext& ctx = {}) const;
   void prepare_patch_parameterization(const RunContext& ctx = {}) const;
 
-  int64_t num_edges() const;  // unique edges of the triangles
+  // Unique edges of the triangles; of the faces as given for a polygon mesh
+  // (the edges perfect_laplacian and self_supporting return).
+  int64_t num_edges() const;
 
   // New positions, 3 * num_vertices() interleaved doubles, same connectivity.
   // Checks finiteness and that no face becomes degenerate (Error(BadInput),

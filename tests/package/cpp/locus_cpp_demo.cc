@@ -285,7 +285,7 @@ void cli_checks(const std::string& mesh, const std::string& dir) {
   compare("self-supporting surface", ss.xyz, obj_numbers(dir + "/selfsupport.obj", "v "), 1e-9);
   (void)n;
 
-  // The one-shot forms on a quad mesh (no Session: it holds triangles only).
+  // The one-shot forms on a quad mesh (no Session; a Session on it gives the same, tests/engine/session_pipelines.cpp).
   const locus::Mesh quad = locus::read_mesh(dir + "/quad_grid.off");
   compare("disk parameterization (quads)", locus::parameterize_disk_of(quad).uv,
           obj_numbers(dir + "/param_quad.obj", "vt "), 1e-9);
