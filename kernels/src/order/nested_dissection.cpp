@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
 #include "locus/kernels/order/minimum_degree.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
@@ -34,7 +35,12 @@ constexpr int32_t kParallelMinVertices = 4000;
 class Dissector {
  public:
   Dissector(const AdjacencyGraph& root, const NestedDissectionOptions& opt, const RunContext& ctx, bool parallel)
-      : root_(root), opt_(opt), ctx_(ctx), parallel_(parallel), ticker_(ctx, "ordering", root.n()) {}
+      : root_(root),
+        opt_(opt),
+        ctx_(ctx),
+        parallel_(parallel),
+        ticker_(ctx, "ordering", root.n()),
+        local_(static_cast<size_t>(root.n()), -1) {}
 
   // Progress: vertices placed (in leaves and separators) of the root's.
   void order(Node node, int32_t* out) const {
@@ -92,22 +98,23 @@ class Dissector {
       return;
     }
     // The leaf plus its halo: root-graph neighbors outside the leaf (all in
-    // separators above it). node.global is ascending (induced subgraphs keep
-    // the order), so membership is a binary search.
+    // separators above it, never in another leaf). local_ holds the leaf's
+    // own local indices while it is built: every vertex is in one leaf only,
+    // and no other leaf reads it (their neighbors are theirs or separators),
+    // so concurrent leaves share the array without a race. Halo vertices may
+    // border several leaves at once: they are looked up in a sorted list.
     const std::vector<int32_t>& ids = node.global;
     const int32_t m = node.g.n();
+    for (int32_t k = 0; k < m; ++k) local_[ids[k]] = k;
     std::vector<int32_t> halo;
     for (const int32_t v : ids)
-      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
-        const int32_t w = root_.adj[p];
-        if (!std::binary_search(ids.begin(), ids.end(), w)) halo.push_back(w);
-      }
+      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p)
+        if (local_[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
     std::sort(halo.begin(), halo.end());
     halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
     const auto local_of = [&](int32_t w) -> int32_t {
-      auto it = std::lower_bound(ids.begin(), ids.end(), w);
-      if (it != ids.end() && *it == w) return static_cast<int32_t>(it - ids.begin());
-      it = std::lower_bound(halo.begin(), halo.end(), w);
+      if (local_[w] >= 0) return local_[w];
+      const auto it = std::lower_bound(halo.begin(), halo.end(), w);
       return it != halo.end() && *it == w ? m + static_cast<int32_t>(it - halo.begin()) : -1;
     };
     AdjacencyGraph h;
@@ -122,6 +129,7 @@ class Dissector {
       std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
+    for (const int32_t v : ids) local_[v] = -1;
     std::vector<int32_t> constraint(nh, 0);
     std::fill(constraint.begin() + m, constraint.end(), 1);
     const std::vector<int32_t> p = constrained_minimum_degree_order(h, constraint);
@@ -135,6 +143,7 @@ class Dissector {
   const RunContext& ctx_;
   bool parallel_;
   mutable ProgressTicker ticker_;
+  mutable HostVector<int32_t> local_;  // leaf(): local index of each vertex of the leaf being built, else -1
 };
 
 }  // namespace
