@@ -23,8 +23,8 @@
 #include "locus/kernels/order/metis_random.hpp"
 
 // kernels/src/order/metis_trap.c: METIS_ComputeVertexSeparator inside GKlib's error trap.
-extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* options, idx_t* sepsize,
-                                            idx_t* part);
+extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* options,
+                                            idx_t* sepsize, idx_t* part, int single_run);
 
 namespace locus {
 
@@ -75,19 +75,23 @@ void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* t
 
 }  // namespace
 
-void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part, ProgressTicker* ticker) {
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part, ProgressTicker* ticker,
+                            const MetisSeparatorOptions& opt, std::span<const int32_t> vwgt) {
   idx_t nv = g.n();
   part.assign(nv, 0);
   if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
   idx_t options[METIS_NOPTIONS];
   set_options(options, seed);
+  options[METIS_OPTION_NITER] = opt.niter;
   std::vector<idx_t> where(static_cast<size_t>(nv));
   idx_t sepsize = 0;
   {
     MetisRandomScope rng;
     MetisCallScope call(ticker);
-    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), options, &sepsize, where.data()), g.n(),
-                 "METIS_ComputeVertexSeparator", call);
+    idx_t* w = vwgt.empty() ? nullptr : const_cast<idx_t*>(vwgt.data());
+    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), w, options, &sepsize, where.data(),
+                                              opt.single_run ? 3 : 0),
+                 g.n(), "METIS_ComputeVertexSeparator", call);
   }
   for (idx_t v = 0; v < nv; ++v) part[v] = static_cast<int8_t>(where[v]);
 }

@@ -11,9 +11,13 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 
 #include "locus/core/host_allocator.hpp"
+#include "locus/kernels/order/graph_coarsening.hpp"
+#include "locus/kernels/order/level_separator.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
 #include "locus/kernels/order/minimum_degree.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
@@ -26,6 +30,8 @@ struct Node {
   AdjacencyGraph g;
   std::vector<int32_t> global;  // original vertex of each local vertex
   std::vector<double> x, y, z;  // positions (empty without geometry)
+  std::vector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
+  int32_t nc = 0;               // coarse vertices of this node
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -49,12 +55,12 @@ class Dissector {
     const int32_t m = node.g.n();
     if (m <= opt_.leaf_size) return leaf_done(node, out);
     std::vector<int8_t> part;
-    if (opt_.separator == NestedDissectionOptions::Separator::Geometric)
-      geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
-    else
-      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
+    separator(node, part);
     const int32_t nsep = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{2}));
-    if (2 * nsep > m) return leaf_done(node, out);
+    const int32_t nside0 = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{0}));
+    // No separator worth the name (graphs with no small separators), or no
+    // progress (an edgeless graph comes back whole on one side): AMD whole.
+    if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
@@ -68,6 +74,7 @@ class Dissector {
         gather(node.y, child[s].y);
         gather(node.z, child[s].z);
       }
+      if (!node.coarse.empty() && child[s].g.n() >= opt_.coarse_min_vertices) restrict_coarse(node, child[s]);
       for (int32_t& v : child[s].global) v = node.global[v];
     }
     const int32_t n0 = child[0].g.n(), n1 = child[1].g.n();
@@ -86,6 +93,53 @@ class Dissector {
   }
 
  private:
+  void separator(const Node& node, std::vector<int8_t>& part) const {
+    const int32_t m = node.g.n();
+    static const int32_t level_below = [] {
+      const char* e = std::getenv("LOCUS_X_LEVEL_BELOW");
+      return e ? std::atoi(e) : 0;
+    }();
+    if (!node.coarse.empty() && m >= opt_.coarse_min_vertices && m < opt_.coarse_max_vertices) {
+      // METIS on the node's contraction along the shared coarsening, then
+      // the projected (about two vertices thick) separator refined here.
+      std::vector<int32_t> vwgt;
+      const AdjacencyGraph h = contract_graph(node.g, node.coarse, node.nc, vwgt);
+      std::vector<int8_t> coarse_part;
+      metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, opt_.metis, vwgt);
+      part.resize(static_cast<size_t>(m));
+      for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+      refine_vertex_separator(node.g, part, opt_.refinement);
+      if (std::getenv("LOCUS_X_DEBUG")) {
+        std::vector<int8_t> mp;
+        metis_vertex_separator(node.g, opt_.metis_seed, mp, nullptr);
+        std::vector<int8_t> proj(static_cast<size_t>(m));
+        for (int32_t v = 0; v < m; ++v) proj[v] = coarse_part[node.coarse[v]];
+        const auto cnt = [](const std::vector<int8_t>& q, int8_t s) { return std::count(q.begin(), q.end(), s); };
+        std::fprintf(stderr, "DBG m %d nc %d proj %ld fm %ld (%ld/%ld) metis %ld (%ld/%ld)\n", m, node.nc, cnt(proj, 2),
+                     cnt(part, 2), cnt(part, 0), cnt(part, 1), cnt(mp, 2), cnt(mp, 0), cnt(mp, 1));
+      }
+    } else if (m < level_below) {
+      level_separator(node.g, {}, part);
+    } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
+      geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
+    } else {
+      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_, opt_.metis);  // polls the cancel flag inside METIS
+    }
+  }
+
+  // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
+  static void restrict_coarse(const Node& parent, Node& child) {
+    std::vector<int32_t> id(static_cast<size_t>(parent.nc), -1);
+    child.coarse.resize(child.global.size());
+    int32_t nc = 0;
+    for (size_t k = 0; k < child.global.size(); ++k) {  // child.global: parent-local indices here
+      int32_t& c = id[parent.coarse[child.global[k]]];
+      if (c < 0) c = nc++;
+      child.coarse[k] = c;
+    }
+    child.nc = nc;
+  }
+
   void leaf_done(const Node& node, int32_t* out) const {
     leaf(node, out);
     ticker_.add(node.g.n());
@@ -157,6 +211,8 @@ std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const 
   root.g = g;
   root.global.resize(n);
   std::iota(root.global.begin(), root.global.end(), 0);
+  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
+    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse);
   if (opt.separator == NestedDissectionOptions::Separator::Geometric) {
     root.x.assign(x.begin(), x.end());
     root.y.assign(y.begin(), y.end());

@@ -2,6 +2,7 @@
 #include "locus/kernels/order/ordering.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 #include <string>
 
@@ -61,6 +62,17 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
       nd.leaf_size = opt.leaf_size;
       nd.halo = opt.halo;
       nd.metis_seed = opt.seed;
+      const auto env = [](const char* name, int def) {
+        const char* e = std::getenv(name);
+        return e ? std::atoi(e) : def;
+      };
+      nd.coarse_levels = env("LOCUS_X_COARSE_LEVELS", 0);
+      nd.coarse_min_vertices = env("LOCUS_X_COARSE_MIN", 5000);
+      nd.coarse_max_vertices = env("LOCUS_X_COARSE_MAX", INT32_MAX);
+      nd.metis.niter = env("LOCUS_X_NITER", 10);
+      nd.metis.single_run = env("LOCUS_X_SINGLE", 0) != 0;
+      nd.refinement.passes = env("LOCUS_X_PASSES", 8);
+      nd.refinement.max_imbalance = 1.0 + 0.01 * env("LOCUS_X_IMBAL", 20);
       o.perm = nested_dissection(g, opt.x, opt.y, opt.z, nd, ctx);
     }
   }

@@ -6,6 +6,7 @@
 // reproducible.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "locus/kernels/order/adjacency_graph.hpp"
@@ -17,8 +18,19 @@ namespace locus {
 // part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator.
 // With a ticker, METIS' allocations tick its progress and stop the call once
 // the ticker's cancel flag is up (Error(Cancelled); metis_call.hpp).
+// METIS' effort per separator: NITER refinement passes per level, and one
+// multilevel run instead of METIS' best of five on the coarsened graph
+// (graphs above 5000 vertices).
+struct MetisSeparatorOptions {
+  int niter = 10;
+  bool single_run = false;
+};
+
+// part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator
+// (vertex weights vwgt when given, one per vertex: balance by weight).
 void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part,
-                            ProgressTicker* ticker = nullptr);
+                            ProgressTicker* ticker = nullptr, const MetisSeparatorOptions& opt = {},
+                            std::span<const int32_t> vwgt = {});
 
 // METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
 // separator, the two halves ordered at once on two oneTBB threads of the

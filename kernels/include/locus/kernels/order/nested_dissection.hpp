@@ -19,6 +19,8 @@
 
 #include "locus/kernels/order/adjacency_graph.hpp"
 #include "locus/kernels/order/geometric_separator.hpp"
+#include "locus/kernels/order/metis_ordering.hpp"
+#include "locus/kernels/order/separator_refinement.hpp"
 #include "locus/run_context.hpp"
 
 namespace locus {
@@ -29,6 +31,14 @@ struct NestedDissectionOptions {
   bool halo = true;         // leaves by CAMD with their separator halo (else AMD alone)
   GeometricSeparatorOptions geometric;
   int metis_seed = 7;
+  MetisSeparatorOptions metis;
+  // Shared coarsening (graph_coarsening.hpp): nodes of at least
+  // coarse_min_vertices take METIS' separator of their contraction by
+  // coarse_levels rounds of matching, refined on their own vertices (0: off).
+  int coarse_levels = 0;
+  int32_t coarse_min_vertices = 5000;
+  int32_t coarse_max_vertices = INT32_MAX;
+  SeparatorRefinementOptions refinement;
 };
 
 // perm[k] = vertex eliminated k-th. x, y, z: vertex positions (one per vertex
