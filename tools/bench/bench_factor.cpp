@@ -51,7 +51,7 @@ struct Options {
   cli::OperatorSpec op;
   int repeats = 5;
   std::string cholmod_ordering = "default";  // default (AMD, METIS only if AMD fills badly) | metis | amd
-  std::vector<std::string> orderings{"auto", "metis", "amd", "nd", "nd_geometric"};  // the "orderings" section
+  std::vector<std::string> orderings{"auto", "metis", "amd", "nd", "nd_metis", "nd_geometric"};  // the "orderings" section
   int32_t leaf_size = 0;                      // --leaf-size (0: OrderingOptions' default)
   bool orderings_only = false;                // skip the peers (ordering experiments)
   std::string threads_list;                   // "1,2,4": the "scaling" section
@@ -75,6 +75,7 @@ OrderingOptions ordering_options(const std::string& name, const Positions& pos, 
   else if (name == "nd") o.method = M::NestedDissection;
   else if (name == "nd_geometric") { o.method = M::NestedDissection; o.separator = OrderingOptions::Separator::Geometric; }
   else if (name == "nd_nohalo") { o.method = M::NestedDissection; o.halo = false; }
+  else if (name == "nd_metis") { o.method = M::NestedDissection; o.coarse_levels = 0; }  // METIS on every node's graph
   else if (name != "auto") fail(ErrorCode::BadUsage, "unknown ordering '" + name + "'");
   return o;
 }
@@ -608,7 +609,7 @@ void register_factor_bench(cli::CommandTable& table) {
   app->add_option("--repeats,--repeat", bo->repeats, "Repeats; medians are reported (default 5)")
       ->check(CLI::Range(1, 1000));
   app->add_option("--orderings", bo->orderings,
-                  "Orderings analysed in the \"orderings\" section: auto metis amd nd nd_geometric nd_nohalo "
+                  "Orderings analysed in the \"orderings\" section: auto metis amd nd nd_metis nd_geometric nd_nohalo "
                   "(default: all but nd_nohalo)")
       ->delimiter(',');
   app->add_option("--leaf-size", bo->leaf_size, "Nested dissection leaf size in the \"orderings\" section");

@@ -100,7 +100,7 @@ Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc)
 
 }  // namespace
 
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, std::vector<int32_t>& cmap) {
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap) {
   const int32_t n = g.n();
   cmap.resize(static_cast<size_t>(n));
   std::iota(cmap.begin(), cmap.end(), 0);
@@ -121,21 +121,21 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, std::vector<int32_t>
 }
 
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              std::vector<int32_t>& vwgt) {
+                              HostVector<int32_t>& vwgt) {
   const int32_t n = g.n();
   vwgt.assign(static_cast<size_t>(nc), 0);
   for (int32_t v = 0; v < n; ++v) ++vwgt[coarse[v]];
-  std::vector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
+  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
   for (int32_t c = 0; c < nc; ++c) start[c + 1] = start[c] + vwgt[c];
   {
-    std::vector<int32_t> pos(start.begin(), start.end() - 1);
+    HostVector<int32_t> pos(start.begin(), start.end() - 1);
     for (int32_t v = 0; v < n; ++v) members[pos[coarse[v]]++] = v;
   }
   AdjacencyGraph h;
   h.xadj.assign(1, 0);
   h.xadj.reserve(static_cast<size_t>(nc) + 1);
   h.adj.reserve(g.adj.size() / 2);
-  std::vector<int32_t> mark(static_cast<size_t>(nc), -1);
+  HostVector<int32_t> mark(static_cast<size_t>(nc), -1);
   for (int32_t c = 0; c < nc; ++c) {
     mark[c] = c;
     for (int32_t q = start[c]; q < start[c + 1]; ++q) {

@@ -7,33 +7,14 @@
  * everything allocated in the call is freed and the error is returned. */
 #include "metislib.h"
 
-static int separator_single_run(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* options,
-                                idx_t* sepsize, idx_t* part, int niparts) {
-  ctrl_t* ctrl = SetupCtrl(METIS_OP_OMETIS, options, 1, 3, NULL, NULL);
-  if (ctrl == NULL) return METIS_ERROR_INPUT;
-  InitRandom(ctrl->seed);
-  graph_t* graph = SetupGraph(ctrl, *nvtxs, 1, xadj, adjncy, vwgt, NULL, NULL);
-  AllocateWorkSpace(ctrl, graph);
-  MlevelNodeBisectionL1(ctrl, graph, niparts);
-  *sepsize = graph->pwgts[2];
-  icopy(*nvtxs, graph->where, part);
-  FreeGraph(&graph);
-  FreeCtrl(&ctrl);
-  return METIS_OK;
-}
-
 int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* options,
-                                 idx_t* sepsize, idx_t* part, int single_run) {
+                                 idx_t* sepsize, idx_t* part) {
   int sigrval = 0;
   volatile int rc = METIS_OK;
   if (!gk_malloc_init()) return METIS_ERROR_MEMORY;
   gk_sigtrap();
   if ((sigrval = gk_sigcatch()) != 0) goto SIGTHROW;
-  if (single_run == 0) {
-    rc = METIS_ComputeVertexSeparator(nvtxs, xadj, adjncy, vwgt, options, sepsize, part);
-  } else {
-    rc = separator_single_run(nvtxs, xadj, adjncy, vwgt, options, sepsize, part, single_run);
-  }
+  rc = METIS_ComputeVertexSeparator(nvtxs, xadj, adjncy, vwgt, options, sepsize, part);
 SIGTHROW:
   gk_siguntrap();
   gk_malloc_cleanup(0);

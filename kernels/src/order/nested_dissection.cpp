@@ -11,13 +11,10 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <numeric>
 
 #include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/graph_coarsening.hpp"
-#include "locus/kernels/order/level_separator.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
 #include "locus/kernels/order/minimum_degree.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
@@ -28,9 +25,9 @@ namespace {
 
 struct Node {
   AdjacencyGraph g;
-  std::vector<int32_t> global;  // original vertex of each local vertex
-  std::vector<double> x, y, z;  // positions (empty without geometry)
-  std::vector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
+  HostVector<int32_t> global;  // original vertex of each local vertex
+  HostVector<double> x, y, z;  // positions (empty without geometry)
+  HostVector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
   int32_t nc = 0;               // coarse vertices of this node
 };
 
@@ -54,7 +51,7 @@ class Dissector {
     ticker_.tick();
     const int32_t m = node.g.n();
     if (m <= opt_.leaf_size) return leaf_done(node, out);
-    std::vector<int8_t> part;
+    HostVector<int8_t> part;
     separator(node, part);
     const int32_t nsep = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{2}));
     const int32_t nside0 = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{0}));
@@ -66,7 +63,7 @@ class Dissector {
     for (int8_t s = 0; s < 2; ++s) {
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
       if (!node.x.empty()) {
-        const auto gather = [&ids = child[s].global](const std::vector<double>& from, std::vector<double>& to) {
+        const auto gather = [&ids = child[s].global](const HostVector<double>& from, HostVector<double>& to) {
           to.resize(ids.size());
           for (size_t k = 0; k < ids.size(); ++k) to[k] = from[ids[k]];
         };
@@ -93,43 +90,28 @@ class Dissector {
   }
 
  private:
-  void separator(const Node& node, std::vector<int8_t>& part) const {
+  void separator(const Node& node, HostVector<int8_t>& part) const {
     const int32_t m = node.g.n();
-    static const int32_t level_below = [] {
-      const char* e = std::getenv("LOCUS_X_LEVEL_BELOW");
-      return e ? std::atoi(e) : 0;
-    }();
-    if (!node.coarse.empty() && m >= opt_.coarse_min_vertices && m < opt_.coarse_max_vertices) {
+    if (!node.coarse.empty() && m >= opt_.coarse_min_vertices) {
       // METIS on the node's contraction along the shared coarsening, then
       // the projected (about two vertices thick) separator refined here.
-      std::vector<int32_t> vwgt;
+      HostVector<int32_t> vwgt;
       const AdjacencyGraph h = contract_graph(node.g, node.coarse, node.nc, vwgt);
-      std::vector<int8_t> coarse_part;
-      metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, opt_.metis, vwgt);
+      HostVector<int8_t> coarse_part;
+      metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, vwgt);
       part.resize(static_cast<size_t>(m));
       for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
       refine_vertex_separator(node.g, part, opt_.refinement);
-      if (std::getenv("LOCUS_X_DEBUG")) {
-        std::vector<int8_t> mp;
-        metis_vertex_separator(node.g, opt_.metis_seed, mp, nullptr);
-        std::vector<int8_t> proj(static_cast<size_t>(m));
-        for (int32_t v = 0; v < m; ++v) proj[v] = coarse_part[node.coarse[v]];
-        const auto cnt = [](const std::vector<int8_t>& q, int8_t s) { return std::count(q.begin(), q.end(), s); };
-        std::fprintf(stderr, "DBG m %d nc %d proj %ld fm %ld (%ld/%ld) metis %ld (%ld/%ld)\n", m, node.nc, cnt(proj, 2),
-                     cnt(part, 2), cnt(part, 0), cnt(part, 1), cnt(mp, 2), cnt(mp, 0), cnt(mp, 1));
-      }
-    } else if (m < level_below) {
-      level_separator(node.g, {}, part);
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     } else {
-      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_, opt_.metis);  // polls the cancel flag inside METIS
+      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
     }
   }
 
   // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
   static void restrict_coarse(const Node& parent, Node& child) {
-    std::vector<int32_t> id(static_cast<size_t>(parent.nc), -1);
+    HostVector<int32_t> id(static_cast<size_t>(parent.nc), -1);
     child.coarse.resize(child.global.size());
     int32_t nc = 0;
     for (size_t k = 0; k < child.global.size(); ++k) {  // child.global: parent-local indices here
@@ -147,7 +129,7 @@ class Dissector {
 
   void leaf(const Node& node, int32_t* out) const {
     if (!opt_.halo || node.global.size() == static_cast<size_t>(root_.n())) {
-      const std::vector<int32_t> p = minimum_degree_order(node.g);
+      const HostVector<int32_t> p = minimum_degree_order(node.g);
       for (size_t k = 0; k < p.size(); ++k) out[k] = node.global[p[k]];
       return;
     }
@@ -157,10 +139,10 @@ class Dissector {
     // and no other leaf reads it (their neighbors are theirs or separators),
     // so concurrent leaves share the array without a race. Halo vertices may
     // border several leaves at once: they are looked up in a sorted list.
-    const std::vector<int32_t>& ids = node.global;
+    const HostVector<int32_t>& ids = node.global;
     const int32_t m = node.g.n();
     for (int32_t k = 0; k < m; ++k) local_[ids[k]] = k;
-    std::vector<int32_t> halo;
+    HostVector<int32_t> halo;
     for (const int32_t v : ids)
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p)
         if (local_[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
@@ -184,9 +166,9 @@ class Dissector {
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
     for (const int32_t v : ids) local_[v] = -1;
-    std::vector<int32_t> constraint(nh, 0);
+    HostVector<int32_t> constraint(nh, 0);
     std::fill(constraint.begin() + m, constraint.end(), 1);
-    const std::vector<int32_t> p = constrained_minimum_degree_order(h, constraint);
+    const HostVector<int32_t> p = constrained_minimum_degree_order(h, constraint);
     int32_t k = 0;
     for (const int32_t v : p)
       if (v < m) out[k++] = ids[v];
@@ -202,11 +184,11 @@ class Dissector {
 
 }  // namespace
 
-std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
                                        std::span<const double> z, const NestedDissectionOptions& opt,
                                        const RunContext& ctx) {
   const int32_t n = g.n();
-  std::vector<int32_t> perm(static_cast<size_t>(n));
+  HostVector<int32_t> perm(static_cast<size_t>(n));
   Node root;
   root.g = g;
   root.global.resize(n);

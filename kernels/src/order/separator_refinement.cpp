@@ -12,7 +12,7 @@ namespace {
 
 class Refiner {
  public:
-  Refiner(const AdjacencyGraph& g, std::vector<int8_t>& part, const SeparatorRefinementOptions& opt)
+  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt)
       : g_(g), part_(part), opt_(opt), gain_(static_cast<size_t>(g.n()), 0), stamp_(static_cast<size_t>(g.n()), -1) {
     for (const int8_t p : part_) ++pw_[p];
   }
@@ -110,18 +110,18 @@ class Refiner {
   }
 
   const AdjacencyGraph& g_;
-  std::vector<int8_t>& part_;
+  HostVector<int8_t>& part_;
   const SeparatorRefinementOptions& opt_;
-  std::vector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
-  std::vector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
+  HostVector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
+  HostVector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
   int32_t pw_[3] = {0, 0, 0};   // vertices per side and in the separator
   std::priority_queue<Entry> heap_;
-  std::vector<int32_t> moved_, pulled_, pulled_begin_;
+  HostVector<int32_t> moved_, pulled_, pulled_begin_;
 };
 
 }  // namespace
 
-int32_t refine_vertex_separator(const AdjacencyGraph& g, std::vector<int8_t>& part,
+int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
                                 const SeparatorRefinementOptions& opt) {
   return Refiner(g, part, opt).run();
 }

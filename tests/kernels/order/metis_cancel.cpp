@@ -32,7 +32,7 @@ struct HostAllocatorScope {
 
 TEST_CASE("metis: a cancel raised during METIS_ComputeVertexSeparator stops it inside; its memory is returned") {
   const AdjacencyGraph g = adjacency_of(test::grid_laplacian(200, 200, 0.01));
-  std::vector<int8_t> want;
+  HostVector<int8_t> want;
   metis_vertex_separator(g, 7, want);
 
   CountingAllocator c;
@@ -48,7 +48,7 @@ TEST_CASE("metis: a cancel raised during METIS_ComputeVertexSeparator stops it i
   c.cancel_flag = &cancel;
   c.cancel_after = 40;
   ProgressTicker ticker(ctx, "ordering", 1.0);
-  std::vector<int8_t> part;
+  HostVector<int8_t> part;
   try {
     metis_vertex_separator(g, 7, part, &ticker);
     FAIL("no error");
@@ -74,7 +74,7 @@ TEST_CASE("metis: an allocator that refuses is a resource limit naming METIS") {
   CountingAllocator c;
   c.fail_after = 3;
   HostAllocatorScope scope(c);
-  std::vector<int8_t> part;
+  HostVector<int8_t> part;
   try {
     metis_vertex_separator(g, 7, part);
     FAIL("no error");

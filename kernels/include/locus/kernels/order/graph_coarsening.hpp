@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 
 namespace locus {
@@ -21,12 +22,12 @@ namespace locus {
 // pairs each unmatched one with the unmatched neighbor joined by the most
 // edges of the original graph (ties: fewest neighbors, then lowest index).
 // Deterministic.
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, std::vector<int32_t>& cmap);
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap);
 
 // The graph of g contracted along coarse[v] in [0, nc): coarse vertices
 // joined when any of their vertices are; vwgt[c] = vertices of c. Self loops
 // dropped; neighbor lists in order of first appearance (METIS needs no order).
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              std::vector<int32_t>& vwgt);
+                              HostVector<int32_t>& vwgt);
 
 }  // namespace locus

@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 #include "locus/kernels/order/geometric_separator.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
@@ -31,19 +32,17 @@ struct NestedDissectionOptions {
   bool halo = true;         // leaves by CAMD with their separator halo (else AMD alone)
   GeometricSeparatorOptions geometric;
   int metis_seed = 7;
-  MetisSeparatorOptions metis;
   // Shared coarsening (graph_coarsening.hpp): nodes of at least
   // coarse_min_vertices take METIS' separator of their contraction by
   // coarse_levels rounds of matching, refined on their own vertices (0: off).
   int coarse_levels = 0;
   int32_t coarse_min_vertices = 5000;
-  int32_t coarse_max_vertices = INT32_MAX;
   SeparatorRefinementOptions refinement;
 };
 
 // perm[k] = vertex eliminated k-th. x, y, z: vertex positions (one per vertex
 // of g, finite), needed by the geometric separator only. Runs with ctx.threads.
-std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
                                        std::span<const double> z, const NestedDissectionOptions& opt,
                                        const RunContext& ctx);
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 
 namespace locus {
@@ -27,7 +28,7 @@ struct SeparatorRefinementOptions {
 
 // part[v] = 0, 1 (sides) or 2 (separator), no edge between sides 0 and 1 (on
 // entry and on return). Returns the separator size.
-int32_t refine_vertex_separator(const AdjacencyGraph& g, std::vector<int8_t>& part,
+int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
                                 const SeparatorRefinementOptions& opt = {});
 
 }  // namespace locus
