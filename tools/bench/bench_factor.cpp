@@ -580,6 +580,7 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
   j["repeats"] = bo.repeats;
   j["seed"] = opt.seed;
   j["operator_s"] = operator_s;
+  for (const std::string& name : bo.orderings) ordering_options(name, pos);  // bad names fail before the long runs
   if (!bo.orderings_only) run_peers(A, operator_s, pos, rhs, bo, threads, ctx, j);
   j["orderings"] = run_orderings(A, pos, bo, ctx);
   if (!bo.threads_list.empty()) j["scaling"] = run_scaling(A, operator_s, pos, rhs, bo, ctx);

@@ -3,7 +3,12 @@
 // the separator is numbered after both; below `leaf_size` vertices a side is
 // ordered by AMD (kernels/include/locus/kernels/order/minimum_degree.hpp).
 // The separators come from the vertex positions when the caller has them
-// (geometric_separator.hpp) or from METIS (METIS_ComputeVertexSeparator).
+// (geometric_separator.hpp) or from METIS (METIS_ComputeVertexSeparator):
+// by default METIS separates each large node's contraction along one
+// coarsening of the whole graph made before the tree (graph_coarsening.hpp),
+// and FM passes refine the projected separator on the node's own vertices
+// (separator_refinement.hpp): METIS no longer coarsens every node from
+// scratch (0.6x the ordering's CPU at 416k, docs/ordering.md).
 //
 // Deterministic: every task's result depends on its subgraph only, and its
 // place in the ordering on the sizes of the subgraphs before it, never on

@@ -4,7 +4,8 @@
 //
 // Methods: nested dissection as a oneTBB task tree with AMD leaves
 // (nested_dissection.hpp), its separators from the vertex positions when the
-// caller passes them, else from METIS; AMD alone; METIS_NodeND as it ran
+// caller passes them, else from METIS on a shared coarsening refined by FM
+// passes; AMD alone; METIS_NodeND as it ran
 // before the task tree (the reference of docs/ordering.md); natural order.
 // Auto (the default) picks by size, from the measurements in docs/ordering.md.
 // Deterministic: the same input gives the same ordering for any thread count.
