@@ -136,10 +136,12 @@ class Dissector {
     // The leaf plus its halo: root-graph neighbors outside the leaf (all in
     // separators above it, never in another leaf). local_ holds the leaf's
     // own local indices while it is built: every vertex is in one leaf only,
-    // and no other leaf reads it (their neighbors are theirs or separators),
-    // so concurrent leaves share the array without a race. Halo vertices may
-    // border several leaves at once: they are looked up in a sorted list.
-    const HostVector<int32_t>& ids = node.global;
+    // and the rows of the leaf's own vertices read local_ only at their
+    // neighbors, which are the leaf's or separator vertices (never written),
+    // so concurrent leaves share the array without a race. The rows of halo
+    // vertices must not read it (a halo vertex borders other leaves, whose
+    // entries may be set at that moment): there both lists are searched.
+    const HostVector<int32_t>& ids = node.global;  // ascending
     const int32_t m = node.g.n();
     for (int32_t k = 0; k < m; ++k) local_[ids[k]] = k;
     HostVector<int32_t> halo;
@@ -148,10 +150,14 @@ class Dissector {
         if (local_[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
     std::sort(halo.begin(), halo.end());
     halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
-    const auto local_of = [&](int32_t w) -> int32_t {
-      if (local_[w] >= 0) return local_[w];
+    const auto halo_index = [&](int32_t w) -> int32_t {
       const auto it = std::lower_bound(halo.begin(), halo.end(), w);
       return it != halo.end() && *it == w ? m + static_cast<int32_t>(it - halo.begin()) : -1;
+    };
+    const auto from_leaf_row = [&](int32_t w) { return local_[w] >= 0 ? local_[w] : halo_index(w); };
+    const auto from_halo_row = [&](int32_t w) -> int32_t {
+      const auto it = std::lower_bound(ids.begin(), ids.end(), w);
+      return it != ids.end() && *it == w ? static_cast<int32_t>(it - ids.begin()) : halo_index(w);
     };
     AdjacencyGraph h;
     const int32_t nh = m + static_cast<int32_t>(halo.size());
@@ -159,7 +165,7 @@ class Dissector {
     for (int32_t k = 0; k < nh; ++k) {
       const int32_t v = k < m ? ids[k] : halo[k - m];
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
-        const int32_t l = local_of(root_.adj[p]);
+        const int32_t l = k < m ? from_leaf_row(root_.adj[p]) : from_halo_row(root_.adj[p]);
         if (l >= 0) h.adj.push_back(l);
       }
       std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());

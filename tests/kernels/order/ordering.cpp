@@ -93,6 +93,7 @@ TEST_CASE("ordering: concurrent calls equal sequential ones") {
   const CscMatrix a = test::grid_laplacian(120, 110, 0.01);
   const CscMatrix b = test::random_spd(8000, 5, 3);
   for (const Method m : {Method::Metis, Method::NestedDissection}) {
+    CAPTURE(static_cast<int>(m));
     const OrderingOptions oo = with(m);
     const Ordering ra = order_matrix(a, oo), rb = order_matrix(b, oo);
     for (int round = 0; round < 2; ++round) {
