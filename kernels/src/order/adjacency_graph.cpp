@@ -9,7 +9,7 @@ namespace locus {
 
 AdjacencyGraph adjacency_of(const CscMatrix& A) {
   const int32_t n = A.ncols;
-  std::vector<int64_t> deg(static_cast<size_t>(n) + 1, 0);
+  HostVector<int64_t> deg(static_cast<size_t>(n) + 1, 0);
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
@@ -25,7 +25,7 @@ AdjacencyGraph adjacency_of(const CscMatrix& A) {
   // Column j's rows i > j come ascending, and columns are visited ascending,
   // so each vertex receives its smaller neighbors first, ascending, then its
   // larger ones, ascending: every list comes out sorted.
-  std::vector<int32_t> pos(g.xadj.begin(), g.xadj.end() - 1);
+  HostVector<int32_t> pos(g.xadj.begin(), g.xadj.end() - 1);
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
       const int32_t i = A.rowind[p];
@@ -40,9 +40,9 @@ AdjacencyGraph adjacency_of(const CscMatrix& A) {
 }
 
 AdjacencyGraph induced_subgraph(const AdjacencyGraph& g, std::span<const int8_t> part, int8_t which,
-                                std::vector<int32_t>& global) {
+                                HostVector<int32_t>& global) {
   const int32_t n = g.n();
-  std::vector<int32_t> local(static_cast<size_t>(n), -1);
+  HostVector<int32_t> local(static_cast<size_t>(n), -1);
   global.clear();
   for (int32_t v = 0; v < n; ++v)
     if (part[v] == which) { local[v] = static_cast<int32_t>(global.size()); global.push_back(v); }

@@ -16,7 +16,7 @@ namespace {
 // fewest edges (ties: the k nearest the middle). Returns the cut size.
 int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
                          std::span<const double> z, const Eigen::Vector3d& d, double window,
-                         std::vector<int32_t>& rank, std::vector<double>& proj, std::vector<int8_t>& side) {
+                         HostVector<int32_t>& rank, HostVector<double>& proj, HostVector<int8_t>& side) {
   const int32_t m = g.n();
   proj.resize(m);
   for (int32_t v = 0; v < m; ++v) proj[v] = d.x() * x[v] + d.y() * y[v] + d.z() * z[v];
@@ -57,7 +57,7 @@ int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std
 }  // namespace
 
 void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
-                         std::span<const double> z, const GeometricSeparatorOptions& opt, std::vector<int8_t>& part) {
+                         std::span<const double> z, const GeometricSeparatorOptions& opt, HostVector<int8_t>& part) {
   const int32_t m = g.n();
   part.assign(m, 0);
   if (m < 2) return;
@@ -71,9 +71,9 @@ void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std
     cov += q * q.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  std::vector<int32_t> rank;
-  std::vector<double> proj;
-  std::vector<int8_t> side, best_side;
+  HostVector<int32_t> rank;
+  HostVector<double> proj;
+  HostVector<int8_t> side, best_side;
   int64_t best = -1;
   // The three principal axes, then the four diagonals between them: a cut
   // across a limb or a neck is often oblique to all three axes.
@@ -94,10 +94,10 @@ void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std
   minimum_cover_separator(g, part);
 }
 
-void minimum_cover_separator(const AdjacencyGraph& g, std::vector<int8_t>& part) {
+void minimum_cover_separator(const AdjacencyGraph& g, HostVector<int8_t>& part) {
   const int32_t m = g.n();
   // Boundary of side 0 (the left set of the bipartite cut graph).
-  std::vector<int32_t> left;
+  HostVector<int32_t> left;
   for (int32_t v = 0; v < m; ++v) {
     if (part[v] != 0) continue;
     for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
@@ -105,7 +105,7 @@ void minimum_cover_separator(const AdjacencyGraph& g, std::vector<int8_t>& part)
   }
   if (left.empty()) return;
   // Maximum matching by augmenting paths (Kuhn), greedy start; iterative DFS.
-  std::vector<int32_t> mate(m, -1), seen(m, -1), stack_v, stack_p;
+  HostVector<int32_t> mate(m, -1), seen(m, -1), stack_v, stack_p;
   for (int32_t u : left)
     for (int32_t p = g.xadj[u]; p < g.xadj[u + 1]; ++p) {
       const int32_t w = g.adj[p];
@@ -147,8 +147,8 @@ void minimum_cover_separator(const AdjacencyGraph& g, std::vector<int8_t>& part)
   }
   // König: Z = vertices reachable from unmatched left vertices by alternating
   // paths; the cover is (left \ Z) + (right & Z).
-  std::vector<int8_t> inz(m, 0);
-  std::vector<int32_t> queue;
+  HostVector<int8_t> inz(m, 0);
+  HostVector<int32_t> queue;
   for (int32_t u : left)
     if (mate[u] < 0) { inz[u] = 1; queue.push_back(u); }
   for (size_t q = 0; q < queue.size(); ++q) {

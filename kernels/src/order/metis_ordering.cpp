@@ -23,8 +23,8 @@
 #include "locus/kernels/order/metis_random.hpp"
 
 // kernels/src/order/metis_trap.c: METIS_ComputeVertexSeparator inside GKlib's error trap.
-extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* options, idx_t* sepsize,
-                                            idx_t* part);
+extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* options,
+                                            idx_t* sepsize, idx_t* part);
 
 namespace locus {
 
@@ -54,7 +54,7 @@ void check_status(int rc, int32_t n, const char* what, const MetisCallScope& sco
 }
 
 // METIS takes non-const arrays (it does not write them for these calls).
-idx_t* mut(const std::vector<int32_t>& v) { return const_cast<idx_t*>(v.data()); }
+idx_t* mut(const HostVector<int32_t>& v) { return const_cast<idx_t*>(v.data()); }
 
 // Nested dissection of g into perm (perm[k] = vertex of g eliminated k-th).
 void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* ticker) {
@@ -75,7 +75,8 @@ void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* t
 
 }  // namespace
 
-void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part, ProgressTicker* ticker) {
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t>& part, ProgressTicker* ticker,
+                            std::span<const int32_t> vwgt) {
   idx_t nv = g.n();
   part.assign(nv, 0);
   if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
@@ -86,15 +87,16 @@ void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_
   {
     MetisRandomScope rng;
     MetisCallScope call(ticker);
-    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), options, &sepsize, where.data()), g.n(),
-                 "METIS_ComputeVertexSeparator", call);
+    idx_t* w = vwgt.empty() ? nullptr : const_cast<idx_t*>(vwgt.data());
+    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), w, options, &sepsize, where.data()),
+                 g.n(), "METIS_ComputeVertexSeparator", call);
   }
   for (idx_t v = 0; v < nv; ++v) part[v] = static_cast<int8_t>(where[v]);
 }
 
-std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx) {
+HostVector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx) {
   const int32_t n = g.n();
-  std::vector<int32_t> order(static_cast<size_t>(n));
+  HostVector<int32_t> order(static_cast<size_t>(n));
   ctx.check_cancel();
   // METIS reports no progress of its own: the ticker re-reports the last
   // fraction from its allocations (chances to cancel) and advances by halves.
@@ -103,14 +105,14 @@ std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, 
     node_nd(g, seed, order.data(), &ticker);
     return order;
   }
-  std::vector<int8_t> part;
+  HostVector<int8_t> part;
   metis_vertex_separator(g, seed, part, &ticker);
   ticker.add(1.0);
   ctx.check_cancel();
-  std::vector<int32_t> global0, global1;
+  HostVector<int32_t> global0, global1;
   const AdjacencyGraph h0 = induced_subgraph(g, part, 0, global0);
   const AdjacencyGraph h1 = induced_subgraph(g, part, 1, global1);
-  std::vector<int32_t> p0(global0.size()), p1(global1.size());
+  HostVector<int32_t> p0(global0.size()), p1(global1.size());
   const bool two_threads = ctx.threads != 1 && (ctx.threads > 1 || tbb::this_task_arena::max_concurrency() > 1);
   if (two_threads && !global0.empty() && !global1.empty()) {
     // oneTBB threads of the caller's arena; one METIS call never waits on

@@ -7,14 +7,14 @@
  * everything allocated in the call is freed and the error is returned. */
 #include "metislib.h"
 
-int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* options, idx_t* sepsize,
-                                 idx_t* part) {
+int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* options,
+                                 idx_t* sepsize, idx_t* part) {
   int sigrval = 0;
   volatile int rc = METIS_OK;
   if (!gk_malloc_init()) return METIS_ERROR_MEMORY;
   gk_sigtrap();
   if ((sigrval = gk_sigcatch()) != 0) goto SIGTHROW;
-  rc = METIS_ComputeVertexSeparator(nvtxs, xadj, adjncy, NULL, options, sepsize, part);
+  rc = METIS_ComputeVertexSeparator(nvtxs, xadj, adjncy, vwgt, options, sepsize, part);
 SIGTHROW:
   gk_siguntrap();
   gk_malloc_cleanup(0);

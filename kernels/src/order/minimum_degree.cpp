@@ -17,9 +17,9 @@
 
 namespace locus {
 
-std::vector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
+HostVector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
   const int32_t n = g.n();
-  std::vector<int32_t> perm(static_cast<size_t>(n));
+  HostVector<int32_t> perm(static_cast<size_t>(n));
   if (n == 0) return perm;
   if (g.adj.empty()) {  // no edges: no fill whatever the order
     std::iota(perm.begin(), perm.end(), 0);
@@ -34,8 +34,8 @@ std::vector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
   const int64_t iwlen = nnz + nnz / 5 + 2 * static_cast<int64_t>(n);  // amd_2 needs >= nnz + n
   if (iwlen > INT32_MAX)
     fail(ErrorCode::ResourceLimit, "AMD ordering: a graph of " + std::to_string(nnz) + " edges exceeds 32-bit indices");
-  std::vector<int32_t> pe(g.xadj.begin(), g.xadj.end() - 1), len(n), iw(static_cast<size_t>(iwlen));
-  std::vector<int32_t> nv(n), next(n), head(n), elen(n), degree(n), w(n);
+  HostVector<int32_t> pe(g.xadj.begin(), g.xadj.end() - 1), len(n), iw(static_cast<size_t>(iwlen));
+  HostVector<int32_t> nv(n), next(n), head(n), elen(n), degree(n), w(n);
   for (int32_t v = 0; v < n; ++v) len[v] = g.degree(v);
   std::copy(g.adj.begin(), g.adj.end(), iw.begin());
   amd_2(n, pe.data(), iw.data(), len.data(), static_cast<int>(iwlen), static_cast<int>(nnz), nv.data(), next.data(),
@@ -43,9 +43,9 @@ std::vector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
   return perm;
 }
 
-std::vector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, const std::vector<int32_t>& constraint) {
+HostVector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, const HostVector<int32_t>& constraint) {
   const int32_t n = g.n();
-  std::vector<int32_t> perm(static_cast<size_t>(n));
+  HostVector<int32_t> perm(static_cast<size_t>(n));
   if (n == 0) return perm;
   double control[CAMD_CONTROL], info[CAMD_INFO];
   camd_defaults(control);

@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "locus/core/host_allocator.hpp"
+#include "locus/kernels/order/graph_coarsening.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
 #include "locus/kernels/order/minimum_degree.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
@@ -23,8 +25,10 @@ namespace {
 
 struct Node {
   AdjacencyGraph g;
-  std::vector<int32_t> global;  // original vertex of each local vertex
-  std::vector<double> x, y, z;  // positions (empty without geometry)
+  HostVector<int32_t> global;  // original vertex of each local vertex
+  HostVector<double> x, y, z;  // positions (empty without geometry)
+  HostVector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
+  int32_t nc = 0;               // coarse vertices of this node
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -34,7 +38,12 @@ constexpr int32_t kParallelMinVertices = 4000;
 class Dissector {
  public:
   Dissector(const AdjacencyGraph& root, const NestedDissectionOptions& opt, const RunContext& ctx, bool parallel)
-      : root_(root), opt_(opt), ctx_(ctx), parallel_(parallel), ticker_(ctx, "ordering", root.n()) {}
+      : root_(root),
+        opt_(opt),
+        ctx_(ctx),
+        parallel_(parallel),
+        ticker_(ctx, "ordering", root.n()),
+        local_(static_cast<size_t>(root.n()), -1) {}
 
   // Progress: vertices placed (in leaves and separators) of the root's.
   void order(Node node, int32_t* out) const {
@@ -42,19 +51,19 @@ class Dissector {
     ticker_.tick();
     const int32_t m = node.g.n();
     if (m <= opt_.leaf_size) return leaf_done(node, out);
-    std::vector<int8_t> part;
-    if (opt_.separator == NestedDissectionOptions::Separator::Geometric)
-      geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
-    else
-      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
+    HostVector<int8_t> part;
+    separator(node, part);
     const int32_t nsep = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{2}));
-    if (2 * nsep > m) return leaf_done(node, out);
+    const int32_t nside0 = static_cast<int32_t>(std::count(part.begin(), part.end(), int8_t{0}));
+    // No separator worth the name (graphs with no small separators), or no
+    // progress (an edgeless graph comes back whole on one side): AMD whole.
+    if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
       if (!node.x.empty()) {
-        const auto gather = [&ids = child[s].global](const std::vector<double>& from, std::vector<double>& to) {
+        const auto gather = [&ids = child[s].global](const HostVector<double>& from, HostVector<double>& to) {
           to.resize(ids.size());
           for (size_t k = 0; k < ids.size(); ++k) to[k] = from[ids[k]];
         };
@@ -62,6 +71,7 @@ class Dissector {
         gather(node.y, child[s].y);
         gather(node.z, child[s].z);
       }
+      if (!node.coarse.empty() && child[s].g.n() >= opt_.coarse_min_vertices) restrict_coarse(node, child[s]);
       for (int32_t& v : child[s].global) v = node.global[v];
     }
     const int32_t n0 = child[0].g.n(), n1 = child[1].g.n();
@@ -80,6 +90,38 @@ class Dissector {
   }
 
  private:
+  void separator(const Node& node, HostVector<int8_t>& part) const {
+    const int32_t m = node.g.n();
+    if (!node.coarse.empty() && m >= opt_.coarse_min_vertices) {
+      // METIS on the node's contraction along the shared coarsening, then
+      // the projected (about two vertices thick) separator refined here.
+      HostVector<int32_t> vwgt;
+      const AdjacencyGraph h = contract_graph(node.g, node.coarse, node.nc, vwgt);
+      HostVector<int8_t> coarse_part;
+      metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, vwgt);
+      part.resize(static_cast<size_t>(m));
+      for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+      refine_vertex_separator(node.g, part, opt_.refinement);
+    } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
+      geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
+    } else {
+      metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
+    }
+  }
+
+  // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
+  static void restrict_coarse(const Node& parent, Node& child) {
+    HostVector<int32_t> id(static_cast<size_t>(parent.nc), -1);
+    child.coarse.resize(child.global.size());
+    int32_t nc = 0;
+    for (size_t k = 0; k < child.global.size(); ++k) {  // child.global: parent-local indices here
+      int32_t& c = id[parent.coarse[child.global[k]]];
+      if (c < 0) c = nc++;
+      child.coarse[k] = c;
+    }
+    child.nc = nc;
+  }
+
   void leaf_done(const Node& node, int32_t* out) const {
     leaf(node, out);
     ticker_.add(node.g.n());
@@ -87,28 +129,35 @@ class Dissector {
 
   void leaf(const Node& node, int32_t* out) const {
     if (!opt_.halo || node.global.size() == static_cast<size_t>(root_.n())) {
-      const std::vector<int32_t> p = minimum_degree_order(node.g);
+      const HostVector<int32_t> p = minimum_degree_order(node.g);
       for (size_t k = 0; k < p.size(); ++k) out[k] = node.global[p[k]];
       return;
     }
     // The leaf plus its halo: root-graph neighbors outside the leaf (all in
-    // separators above it). node.global is ascending (induced subgraphs keep
-    // the order), so membership is a binary search.
-    const std::vector<int32_t>& ids = node.global;
+    // separators above it, never in another leaf). local_ holds the leaf's
+    // own local indices while it is built: every vertex is in one leaf only,
+    // and the rows of the leaf's own vertices read local_ only at their
+    // neighbors, which are the leaf's or separator vertices (never written),
+    // so concurrent leaves share the array without a race. The rows of halo
+    // vertices must not read it (a halo vertex borders other leaves, whose
+    // entries may be set at that moment): there both lists are searched.
+    const HostVector<int32_t>& ids = node.global;  // ascending
     const int32_t m = node.g.n();
-    std::vector<int32_t> halo;
+    for (int32_t k = 0; k < m; ++k) local_[ids[k]] = k;
+    HostVector<int32_t> halo;
     for (const int32_t v : ids)
-      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
-        const int32_t w = root_.adj[p];
-        if (!std::binary_search(ids.begin(), ids.end(), w)) halo.push_back(w);
-      }
+      for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p)
+        if (local_[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
     std::sort(halo.begin(), halo.end());
     halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
-    const auto local_of = [&](int32_t w) -> int32_t {
-      auto it = std::lower_bound(ids.begin(), ids.end(), w);
-      if (it != ids.end() && *it == w) return static_cast<int32_t>(it - ids.begin());
-      it = std::lower_bound(halo.begin(), halo.end(), w);
+    const auto halo_index = [&](int32_t w) -> int32_t {
+      const auto it = std::lower_bound(halo.begin(), halo.end(), w);
       return it != halo.end() && *it == w ? m + static_cast<int32_t>(it - halo.begin()) : -1;
+    };
+    const auto from_leaf_row = [&](int32_t w) { return local_[w] >= 0 ? local_[w] : halo_index(w); };
+    const auto from_halo_row = [&](int32_t w) -> int32_t {
+      const auto it = std::lower_bound(ids.begin(), ids.end(), w);
+      return it != ids.end() && *it == w ? static_cast<int32_t>(it - ids.begin()) : halo_index(w);
     };
     AdjacencyGraph h;
     const int32_t nh = m + static_cast<int32_t>(halo.size());
@@ -116,15 +165,16 @@ class Dissector {
     for (int32_t k = 0; k < nh; ++k) {
       const int32_t v = k < m ? ids[k] : halo[k - m];
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
-        const int32_t l = local_of(root_.adj[p]);
+        const int32_t l = k < m ? from_leaf_row(root_.adj[p]) : from_halo_row(root_.adj[p]);
         if (l >= 0) h.adj.push_back(l);
       }
       std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
-    std::vector<int32_t> constraint(nh, 0);
+    for (const int32_t v : ids) local_[v] = -1;
+    HostVector<int32_t> constraint(nh, 0);
     std::fill(constraint.begin() + m, constraint.end(), 1);
-    const std::vector<int32_t> p = constrained_minimum_degree_order(h, constraint);
+    const HostVector<int32_t> p = constrained_minimum_degree_order(h, constraint);
     int32_t k = 0;
     for (const int32_t v : p)
       if (v < m) out[k++] = ids[v];
@@ -135,19 +185,22 @@ class Dissector {
   const RunContext& ctx_;
   bool parallel_;
   mutable ProgressTicker ticker_;
+  mutable HostVector<int32_t> local_;  // leaf(): local index of each vertex of the leaf being built, else -1
 };
 
 }  // namespace
 
-std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
                                        std::span<const double> z, const NestedDissectionOptions& opt,
                                        const RunContext& ctx) {
   const int32_t n = g.n();
-  std::vector<int32_t> perm(static_cast<size_t>(n));
+  HostVector<int32_t> perm(static_cast<size_t>(n));
   Node root;
   root.g = g;
   root.global.resize(n);
   std::iota(root.global.begin(), root.global.end(), 0);
+  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
+    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse);
   if (opt.separator == NestedDissectionOptions::Separator::Geometric) {
     root.x.assign(x.begin(), x.end());
     root.y.assign(y.begin(), y.end());

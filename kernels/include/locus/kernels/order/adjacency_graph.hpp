@@ -6,13 +6,14 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus {
 
 struct AdjacencyGraph {
-  std::vector<int32_t> xadj{0};  // n + 1
-  std::vector<int32_t> adj;      // xadj[n], both directions of every edge
+  HostVector<int32_t> xadj{0};  // n + 1
+  HostVector<int32_t> adj;      // xadj[n], both directions of every edge
   int32_t n() const { return static_cast<int32_t>(xadj.size()) - 1; }
   int32_t degree(int32_t v) const { return xadj[v + 1] - xadj[v]; }
 };
@@ -24,6 +25,6 @@ AdjacencyGraph adjacency_of(const CscMatrix& lower);
 // The subgraph induced by the vertices v with part[v] == which, numbered in
 // ascending order of v; global receives the original index of each vertex.
 AdjacencyGraph induced_subgraph(const AdjacencyGraph& g, std::span<const int8_t> part, int8_t which,
-                                std::vector<int32_t>& global);
+                                HostVector<int32_t>& global);
 
 }  // namespace locus

@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 
 namespace locus {
@@ -29,10 +30,10 @@ struct GeometricSeparatorOptions {
 // part[v] = 0 or 1 (the two sides), or 2 (separator); no edge joins side 0 to
 // side 1. x, y, z: one position per vertex of g (finite). Deterministic.
 void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
-                         std::span<const double> z, const GeometricSeparatorOptions& opt, std::vector<int8_t>& part);
+                         std::span<const double> z, const GeometricSeparatorOptions& opt, HostVector<int8_t>& part);
 
 // From a bisection (part[v] = 0 or 1), moves a minimum vertex cover of the
 // edges between the sides into the separator (part[v] = 2).
-void minimum_cover_separator(const AdjacencyGraph& g, std::vector<int8_t>& part);
+void minimum_cover_separator(const AdjacencyGraph& g, HostVector<int8_t>& part);
 
 }  // namespace locus

@@ -6,8 +6,10 @@
 // reproducible.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 #include "locus/kernels/parallel/progress_ticker.hpp"
 #include "locus/run_context.hpp"
@@ -17,13 +19,26 @@ namespace locus {
 // part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator.
 // With a ticker, METIS' allocations tick its progress and stop the call once
 // the ticker's cancel flag is up (Error(Cancelled); metis_call.hpp).
-void metis_vertex_separator(const AdjacencyGraph& g, int seed, std::vector<int8_t>& part,
-                            ProgressTicker* ticker = nullptr);
+// part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator.
+// With a ticker, METIS' allocations tick its progress and stop the call once
+// the ticker's cancel flag is up (Error(Cancelled); metis_call.hpp).
+// METIS' effort per separator: NITER refinement passes per level, and one
+// multilevel run instead of METIS' best of five on the coarsened graph
+// (graphs above 5000 vertices).
+struct MetisSeparatorOptions {
+  int niter = 10;
+  bool single_run = false;
+};
+
+// part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator
+// (vertex weights vwgt when given, one per vertex: balance by weight).
+void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t>& part,
+                            ProgressTicker* ticker = nullptr, std::span<const int32_t> vwgt = {});
 
 // METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
 // separator, the two halves ordered at once on two oneTBB threads of the
 // caller's arena when ctx.threads allows. The cancel flag is polled at every
 // allocation inside METIS (metis_call.hpp), progress reported as "ordering".
-std::vector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx);
+HostVector<int32_t> metis_nested_dissection(const AdjacencyGraph& g, int seed, const RunContext& ctx);
 
 }  // namespace locus

@@ -8,19 +8,20 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 
 namespace locus {
 
 // perm[k] = vertex eliminated k-th. Deterministic (AMD uses no random numbers).
 // Throws ResourceLimit when AMD cannot allocate its workspace.
-std::vector<int32_t> minimum_degree_order(const AdjacencyGraph& g);
+HostVector<int32_t> minimum_degree_order(const AdjacencyGraph& g);
 
 // CAMD (constrained AMD, same license): vertices with constraint 0 first, then
 // those with constraint 1, each set in minimum degree order. The nested
 // dissection orders a leaf with its halo (the separator vertices around it)
 // as constraint-1 vertices: the leaf's order then accounts for the fill its
 // boundary will take (Pellegrini's halo ordering). Returns the whole order.
-std::vector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, const std::vector<int32_t>& constraint);
+HostVector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, const HostVector<int32_t>& constraint);
 
 }  // namespace locus

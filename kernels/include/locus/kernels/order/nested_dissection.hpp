@@ -3,7 +3,12 @@
 // the separator is numbered after both; below `leaf_size` vertices a side is
 // ordered by AMD (kernels/include/locus/kernels/order/minimum_degree.hpp).
 // The separators come from the vertex positions when the caller has them
-// (geometric_separator.hpp) or from METIS (METIS_ComputeVertexSeparator).
+// (geometric_separator.hpp) or from METIS (METIS_ComputeVertexSeparator):
+// by default METIS separates each large node's contraction along one
+// coarsening of the whole graph made before the tree (graph_coarsening.hpp),
+// and FM passes refine the projected separator on the node's own vertices
+// (separator_refinement.hpp): METIS no longer coarsens every node from
+// scratch (0.6x the ordering's CPU at 416k, docs/ordering.md).
 //
 // Deterministic: every task's result depends on its subgraph only, and its
 // place in the ordering on the sizes of the subgraphs before it, never on
@@ -17,8 +22,11 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
 #include "locus/kernels/order/geometric_separator.hpp"
+#include "locus/kernels/order/metis_ordering.hpp"
+#include "locus/kernels/order/separator_refinement.hpp"
 #include "locus/run_context.hpp"
 
 namespace locus {
@@ -29,11 +37,17 @@ struct NestedDissectionOptions {
   bool halo = true;         // leaves by CAMD with their separator halo (else AMD alone)
   GeometricSeparatorOptions geometric;
   int metis_seed = 7;
+  // Shared coarsening (graph_coarsening.hpp): nodes of at least
+  // coarse_min_vertices take METIS' separator of their contraction by
+  // coarse_levels rounds of matching, refined on their own vertices (0: off).
+  int coarse_levels = 0;
+  int32_t coarse_min_vertices = 5000;
+  SeparatorRefinementOptions refinement;
 };
 
 // perm[k] = vertex eliminated k-th. x, y, z: vertex positions (one per vertex
 // of g, finite), needed by the geometric separator only. Runs with ctx.threads.
-std::vector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
+HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
                                        std::span<const double> z, const NestedDissectionOptions& opt,
                                        const RunContext& ctx);
 

@@ -1,0 +1,33 @@
+// One coarsening of the whole graph, shared by every level of the nested
+// dissection (issue 26; thesis §4.2). METIS coarsens each subgraph it
+// separates from scratch, so a dissection with ~11 levels coarsens the whole
+// graph ~11 times; that was most of the ordering's time (docs/ordering.md).
+// Here the graph is matched once (heavy-edge matching, a few levels); each
+// node of the dissection contracts its own subgraph along that map in one
+// pass, asks METIS for a separator of the small weighted graph, and refines
+// the projected separator on its own vertices (separator_refinement.hpp).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/core/host_allocator.hpp"
+#include "locus/kernels/order/adjacency_graph.hpp"
+
+namespace locus {
+
+// cmap[v] = coarse vertex of v after `levels` rounds of matching (each coarse
+// vertex stands for at most 2^levels vertices); returns the number of coarse
+// vertices. Each round visits the vertices in a fixed pseudo-random order and
+// pairs each unmatched one with the unmatched neighbor joined by the most
+// edges of the original graph (ties: fewest neighbors, then lowest index).
+// Deterministic.
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap);
+
+// The graph of g contracted along coarse[v] in [0, nc): coarse vertices
+// joined when any of their vertices are; vwgt[c] = vertices of c. Self loops
+// dropped; neighbor lists in order of first appearance (METIS needs no order).
+AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
+                              HostVector<int32_t>& vwgt);
+
+}  // namespace locus

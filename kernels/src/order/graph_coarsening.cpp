@@ -1,0 +1,151 @@
+// Shared coarsening (kernels/include/locus/kernels/order/graph_coarsening.hpp).
+#include "locus/kernels/order/graph_coarsening.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+
+#include "locus/core/host_allocator.hpp"
+
+namespace locus {
+
+namespace {
+
+// A weighted CSR graph: one round of matching needs the edge multiplicities.
+struct Weighted {
+  HostVector<int32_t> xadj, adj, wgt;
+  int32_t n() const { return static_cast<int32_t>(xadj.size()) - 1; }
+};
+
+// A fixed, scattered visiting order: k -> (k * stride + offset) mod n with
+// stride coprime to n (a full cycle), stride near n / golden ratio so that
+// consecutive visits land far apart. No sort, no library shuffle.
+HostVector<int32_t> visit_order(int32_t n, uint64_t seed) {
+  HostVector<int32_t> order(static_cast<size_t>(n));
+  if (n == 0) return order;
+  uint64_t stride = static_cast<uint64_t>(0.6180339887 * n) | 1;
+  while (std::gcd(stride, static_cast<uint64_t>(n)) != 1) stride += 2;
+  uint64_t v = seed % static_cast<uint64_t>(n);
+  for (int32_t k = 0; k < n; ++k) {
+    order[k] = static_cast<int32_t>(v);
+    v += stride;
+    if (v >= static_cast<uint64_t>(n)) v -= static_cast<uint64_t>(n);
+  }
+  return order;
+}
+
+// One round of heavy-edge matching: map[v] in [0, returned count).
+int32_t match(const Weighted& g, uint64_t seed, HostVector<int32_t>& map) {
+  const int32_t n = g.n();
+  HostVector<int32_t> mate(static_cast<size_t>(n), -1);
+  for (const int32_t v : visit_order(n, seed)) {
+    if (mate[v] >= 0) continue;
+    int32_t best = v, best_w = 0, best_d = 0;
+    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+      const int32_t w = g.adj[p];
+      if (mate[w] >= 0 || w == v) continue;
+      const int32_t dw = g.xadj[w + 1] - g.xadj[w];
+      if (best == v || g.wgt[p] > best_w || (g.wgt[p] == best_w && (dw < best_d || (dw == best_d && w < best)))) {
+        best = w;
+        best_w = g.wgt[p];
+        best_d = dw;
+      }
+    }
+    mate[v] = best;
+    mate[best] = v;
+  }
+  map.assign(static_cast<size_t>(n), -1);
+  int32_t nc = 0;
+  for (int32_t v = 0; v < n; ++v)
+    if (map[v] < 0) { map[v] = nc; map[mate[v]] = nc; ++nc; }
+  return nc;
+}
+
+// g contracted along map (nc coarse vertices), edge weights summed.
+Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc) {
+  const int32_t n = g.n();
+  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v) ++start[map[v] + 1];
+  for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
+  {
+    HostVector<int32_t> pos(start.begin(), start.end() - 1);
+    for (int32_t v = 0; v < n; ++v) members[pos[map[v]]++] = v;
+  }
+  Weighted h;
+  h.xadj.reserve(static_cast<size_t>(nc) + 1);
+  h.xadj.push_back(0);
+  h.adj.reserve(g.adj.size());
+  h.wgt.reserve(g.adj.size());
+  HostVector<int32_t> slot(static_cast<size_t>(nc), -1);
+  for (int32_t c = 0; c < nc; ++c) {
+    const int32_t row = h.xadj.back();
+    for (int32_t q = start[c]; q < start[c + 1]; ++q) {
+      const int32_t v = members[q];
+      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+        const int32_t d = map[g.adj[p]];
+        if (d == c) continue;
+        if (slot[d] < row) {
+          slot[d] = static_cast<int32_t>(h.adj.size());
+          h.adj.push_back(d);
+          h.wgt.push_back(g.wgt[p]);
+        } else {
+          h.wgt[slot[d]] += g.wgt[p];
+        }
+      }
+    }
+    h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
+  }
+  return h;
+}
+
+}  // namespace
+
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap) {
+  const int32_t n = g.n();
+  cmap.resize(static_cast<size_t>(n));
+  std::iota(cmap.begin(), cmap.end(), 0);
+  Weighted cur;
+  cur.xadj.assign(g.xadj.begin(), g.xadj.end());
+  cur.adj.assign(g.adj.begin(), g.adj.end());
+  cur.wgt.assign(g.adj.size(), 1);
+  int32_t nc = n;
+  HostVector<int32_t> map;
+  for (int level = 0; level < levels && nc > 1; ++level) {
+    const int32_t next = match(cur, 0x5eed0000ULL + static_cast<uint64_t>(level), map);
+    if (next == nc) break;  // nothing matched (no edges)
+    for (int32_t& c : cmap) c = map[c];
+    if (level + 1 < levels) cur = contract(cur, map, next);
+    nc = next;
+  }
+  return nc;
+}
+
+AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
+                              HostVector<int32_t>& vwgt) {
+  const int32_t n = g.n();
+  vwgt.assign(static_cast<size_t>(nc), 0);
+  for (int32_t v = 0; v < n; ++v) ++vwgt[coarse[v]];
+  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
+  for (int32_t c = 0; c < nc; ++c) start[c + 1] = start[c] + vwgt[c];
+  {
+    HostVector<int32_t> pos(start.begin(), start.end() - 1);
+    for (int32_t v = 0; v < n; ++v) members[pos[coarse[v]]++] = v;
+  }
+  AdjacencyGraph h;
+  h.xadj.assign(1, 0);
+  h.xadj.reserve(static_cast<size_t>(nc) + 1);
+  h.adj.reserve(g.adj.size() / 2);
+  HostVector<int32_t> mark(static_cast<size_t>(nc), -1);
+  for (int32_t c = 0; c < nc; ++c) {
+    mark[c] = c;
+    for (int32_t q = start[c]; q < start[c + 1]; ++q) {
+      const int32_t v = members[q];
+      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
+        if (const int32_t d = coarse[g.adj[p]]; mark[d] != c) { mark[d] = c; h.adj.push_back(d); }
+    }
+    h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
+  }
+  return h;
+}
+
+}  // namespace locus

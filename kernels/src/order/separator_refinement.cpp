@@ -1,0 +1,129 @@
+// FM refinement of vertex separators (kernels/include/locus/kernels/order/separator_refinement.hpp).
+#include "locus/kernels/order/separator_refinement.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <queue>
+#include <utility>
+
+namespace locus {
+
+namespace {
+
+class Refiner {
+ public:
+  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt)
+      : g_(g), part_(part), opt_(opt), gain_(static_cast<size_t>(g.n()), 0), stamp_(static_cast<size_t>(g.n()), -1) {
+    for (const int8_t p : part_) ++pw_[p];
+  }
+
+  int32_t run() {
+    int bad_passes = 0;
+    int8_t to = pw_[0] <= pw_[1] ? 0 : 1;  // first toward the lighter side: that also evens the balance
+    for (int pass = 0; pass < opt_.passes && bad_passes < 2 && pw_[2] > 0; ++pass, to = static_cast<int8_t>(1 - to))
+      bad_passes = one_pass(pass, to) ? 0 : bad_passes + 1;
+    return pw_[2];
+  }
+
+ private:
+  using Entry = std::pair<int32_t, int32_t>;  // (gain, -vertex): best gain first, then the lowest vertex
+
+  bool balanced(int32_t a, int32_t b) const { return std::max(a, b) <= opt_.max_imbalance * 0.5 * (a + b); }
+
+  int32_t neighbors_in(int32_t v, int8_t side) const {
+    int32_t k = 0;
+    for (int32_t p = g_.xadj[v]; p < g_.xadj[v + 1]; ++p) k += part_[g_.adj[p]] == side;
+    return k;
+  }
+
+  void push(int32_t v, int8_t other, int pass) {
+    if (stamp_[v] == pass) return;
+    gain_[v] = 1 - neighbors_in(v, other);
+    heap_.emplace(gain_[v], -v);
+  }
+
+  // One pass toward side `to`; true when it shrank the separator.
+  bool one_pass(int pass, int8_t to) {
+    const int8_t other = static_cast<int8_t>(1 - to);
+    heap_ = {};
+    for (int32_t v = 0; v < g_.n(); ++v)
+      if (part_[v] == 2) push(v, other, pass);
+    const int32_t start_sep = pw_[2];
+    int32_t best_sep = pw_[2], best_diff = std::abs(pw_[0] - pw_[1]);
+    bool best_balanced = balanced(pw_[0], pw_[1]);
+    size_t best_len = 0;
+    const int32_t patience = std::clamp(2 * start_sep, 20, 300);
+    int32_t since_best = 0;
+    moved_.clear();
+    pulled_.clear();
+    pulled_begin_.clear();
+    while (!heap_.empty() && since_best <= patience) {
+      const auto [gn, neg] = heap_.top();
+      heap_.pop();
+      const int32_t v = -neg;
+      if (part_[v] != 2 || stamp_[v] == pass || gain_[v] != gn) continue;  // stale entry
+      const int32_t k = 1 - gn;                                            // neighbors pulled from `other`
+      stamp_[v] = pass;  // moved or refused: not again in this pass
+      if (!balanced(pw_[to] + 1, pw_[other] - k) && pw_[to] + 1 > pw_[other] - k) continue;
+      part_[v] = to;
+      moved_.push_back(v);
+      pulled_begin_.push_back(static_cast<int32_t>(pulled_.size()));
+      for (int32_t p = g_.xadj[v]; p < g_.xadj[v + 1]; ++p)
+        if (const int32_t w = g_.adj[p]; part_[w] == other) { part_[w] = 2; pulled_.push_back(w); }
+      pw_[to] += 1;
+      pw_[other] -= k;
+      pw_[2] += k - 1;
+      // Gains that changed: the vertices that entered the separator, and
+      // the separator vertices next to them (one neighbor fewer on `other`).
+      for (size_t q = pulled_begin_.back(); q < pulled_.size(); ++q) {
+        const int32_t w = pulled_[q];
+        push(w, other, pass);
+        for (int32_t p = g_.xadj[w]; p < g_.xadj[w + 1]; ++p)
+          if (const int32_t x = g_.adj[p]; part_[x] == 2 && stamp_[x] != pass) push(x, other, pass);
+      }
+      const bool bal = balanced(pw_[0], pw_[1]);
+      const int32_t diff = std::abs(pw_[0] - pw_[1]);
+      if ((bal && !best_balanced) || (bal == best_balanced && (pw_[2] < best_sep || (pw_[2] == best_sep && diff < best_diff)))) {
+        best_sep = pw_[2];
+        best_diff = diff;
+        best_balanced = bal;
+        best_len = moved_.size();
+        since_best = 0;
+      } else {
+        ++since_best;
+      }
+    }
+    while (moved_.size() > best_len) {  // roll back to the best state of the pass
+      const int32_t v = moved_.back();
+      const size_t b = static_cast<size_t>(pulled_begin_.back());
+      for (size_t q = b; q < pulled_.size(); ++q) part_[pulled_[q]] = other;
+      const int32_t k = static_cast<int32_t>(pulled_.size() - b);
+      pulled_.resize(b);
+      part_[v] = 2;
+      pw_[to] -= 1;
+      pw_[other] += k;
+      pw_[2] -= k - 1;
+      moved_.pop_back();
+      pulled_begin_.pop_back();
+    }
+    return pw_[2] < start_sep;
+  }
+
+  const AdjacencyGraph& g_;
+  HostVector<int8_t>& part_;
+  const SeparatorRefinementOptions& opt_;
+  HostVector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
+  HostVector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
+  int32_t pw_[3] = {0, 0, 0};   // vertices per side and in the separator
+  std::priority_queue<Entry> heap_;
+  HostVector<int32_t> moved_, pulled_, pulled_begin_;
+};
+
+}  // namespace
+
+int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
+                                const SeparatorRefinementOptions& opt) {
+  return Refiner(g, part, opt).run();
+}
+
+}  // namespace locus

@@ -1,0 +1,132 @@
+// The pieces of the shared-coarsening nested dissection (issue 26):
+// FM refinement of a vertex separator (separator_refinement.hpp) against the
+// analytic minimum separator of a grid, and the coarsening map and per-node
+// contraction (graph_coarsening.hpp) against brute-force set constructions.
+#include "locus/kernels/order/separator_refinement.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "locus/kernels/order/graph_coarsening.hpp"
+#include "tests/kernels/matrix_fixtures.hpp"
+
+using namespace locus;
+
+namespace {
+
+// No edge joins side 0 to side 1.
+bool is_separator(const AdjacencyGraph& g, const HostVector<int8_t>& part) {
+  for (int32_t v = 0; v < g.n(); ++v)
+    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
+      if (part[v] + part[g.adj[p]] == 1) return false;  // one 0 and one 1
+  return true;
+}
+
+int32_t count_of(const HostVector<int8_t>& part, int8_t s) {
+  return static_cast<int32_t>(std::count(part.begin(), part.end(), s));
+}
+
+}  // namespace
+
+TEST_CASE("separator refinement: a thick jagged band on a grid thins to one column, the minimum") {
+  // 5-point grid nx x ny: a balanced vertex separator has at least ny
+  // vertices (one per row), and a straight column has exactly ny.
+  const int nx = 40, ny = 30;
+  const AdjacencyGraph g = adjacency_of(test::grid_laplacian(nx, ny, 0.01));
+  std::mt19937_64 rng(3);
+  for (int trial = 0; trial < 5; ++trial) {
+    HostVector<int8_t> part(static_cast<size_t>(nx * ny));
+    for (int y = 0; y < ny; ++y) {
+      const int lo = 15 + static_cast<int>(rng() % 3), hi = 21 + static_cast<int>(rng() % 3);  // band lo..hi, jagged
+      for (int x = 0; x < nx; ++x) part[y * nx + x] = x < lo ? 0 : x <= hi ? 2 : 1;
+    }
+    REQUIRE(is_separator(g, part));
+    const int32_t before = count_of(part, 2);
+    const int32_t after = refine_vertex_separator(g, part);
+    CHECK(after == count_of(part, 2));
+    CHECK(is_separator(g, part));
+    CHECK(after == ny);
+    CHECK(after < before);
+    // Balanced as asked: each side at most 1.2x half of the rest.
+    const int32_t a = count_of(part, 0), b = count_of(part, 1);
+    CHECK(std::max(a, b) <= 1.2 * 0.5 * (a + b));
+  }
+}
+
+TEST_CASE("separator refinement: a minimum separator stays as it is; no separator stays none") {
+  const int nx = 20, ny = 12;
+  const AdjacencyGraph g = adjacency_of(test::grid_laplacian(nx, ny, 0.01));
+  HostVector<int8_t> part(static_cast<size_t>(nx * ny));
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) part[y * nx + x] = x < 10 ? 0 : x == 10 ? 2 : 1;
+  CHECK(refine_vertex_separator(g, part) == ny);
+  CHECK(is_separator(g, part));
+  HostVector<int8_t> none(static_cast<size_t>(nx * ny), 0);
+  CHECK(refine_vertex_separator(g, none) == 0);
+  CHECK(count_of(none, 0) == nx * ny);
+}
+
+TEST_CASE("coarsening: every coarse vertex is a connected group of at most 2^levels vertices; deterministic") {
+  for (const CscMatrix& A : {test::grid_laplacian(37, 23, 0.01), test::random_spd(3000, 6, 11)}) {
+    const AdjacencyGraph g = adjacency_of(A);
+    for (int levels : {1, 2, 3}) {
+      CAPTURE(levels);
+      HostVector<int32_t> cmap;
+      const int32_t nc = coarsening_map(g, levels, cmap);
+      REQUIRE(cmap.size() == static_cast<size_t>(g.n()));
+      std::vector<std::vector<int32_t>> group(static_cast<size_t>(nc));
+      for (int32_t v = 0; v < g.n(); ++v) {
+        REQUIRE(cmap[v] >= 0);
+        REQUIRE(cmap[v] < nc);
+        group[cmap[v]].push_back(v);
+      }
+      for (const auto& members : group) {
+        REQUIRE(!members.empty());
+        CHECK(members.size() <= (size_t{1} << levels));
+        // Connected inside g (a matching merges only neighbors).
+        std::set<int32_t> reached{members[0]}, in(members.begin(), members.end());
+        std::vector<int32_t> stack{members[0]};
+        while (!stack.empty()) {
+          const int32_t v = stack.back();
+          stack.pop_back();
+          for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
+            if (in.count(g.adj[p]) && reached.insert(g.adj[p]).second) stack.push_back(g.adj[p]);
+        }
+        CHECK(reached.size() == members.size());
+      }
+      // A matching round at least nearly halves a grid or a random graph.
+      CHECK(nc <= g.n() * (levels == 1 ? 0.6 : levels == 2 ? 0.4 : 0.25));
+      HostVector<int32_t> again;
+      CHECK(coarsening_map(g, levels, again) == nc);
+      CHECK(again == cmap);
+    }
+  }
+}
+
+TEST_CASE("coarsening: the contraction of a graph is the set of its coarse edges, with the right weights") {
+  const AdjacencyGraph g = adjacency_of(test::random_spd(500, 5, 4));
+  std::mt19937_64 rng(8);
+  const int32_t nc = 90;
+  HostVector<int32_t> coarse(static_cast<size_t>(g.n()));
+  for (int32_t& c : coarse) c = static_cast<int32_t>(rng() % nc);
+  HostVector<int32_t> vwgt;
+  const AdjacencyGraph h = contract_graph(g, coarse, nc, vwgt);
+  REQUIRE(h.n() == nc);
+  std::vector<std::set<int32_t>> want(static_cast<size_t>(nc));
+  std::vector<int32_t> want_w(static_cast<size_t>(nc), 0);
+  for (int32_t v = 0; v < g.n(); ++v) {
+    ++want_w[coarse[v]];
+    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
+      if (coarse[g.adj[p]] != coarse[v]) want[coarse[v]].insert(coarse[g.adj[p]]);
+  }
+  for (int32_t c = 0; c < nc; ++c) {
+    const std::set<int32_t> got(h.adj.begin() + h.xadj[c], h.adj.begin() + h.xadj[c + 1]);
+    CHECK(got == want[c]);
+    CHECK(static_cast<size_t>(h.degree(c)) == want[c].size());  // no duplicates
+    CHECK(vwgt[c] == want_w[c]);
+  }
+}
