@@ -53,7 +53,7 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
   g.potential_from_heat_full(h, ws);
   const std::vector<double>& phi = ws.b;
   // Per component: the minimum of phi over its sources.
-  const std::vector<int32_t>& comp = s->derived->component;
+  const HostVector<int32_t>& comp = s->derived->component;
   std::vector<double> shift(static_cast<size_t>(s->derived->components), std::numeric_limits<double>::infinity());
   for (const SurfacePoint& p : pts) {
     int32_t v[3];

@@ -1,6 +1,7 @@
 // The prepared heat operator (kernels/include/locus/kernels/heat/heat_diffusion.hpp;
 // thesis §3.2, eqs. 3.7, 3.8).
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <cmath>
 #include <utility>
@@ -14,7 +15,7 @@
 
 namespace locus {
 
-HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mass, double h, double t,
+HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, HostVector<double> mass, double h, double t,
                                      const RunContext& ctx) {
   HeatDiffusion H;
   H.n = A.ncols;
@@ -45,7 +46,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_ab
   const double h = mean_edge_length(m);
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
   const CscMatrix A = heat_operator(m, t);
-  std::vector<double> mass = lumped_mass(m);
+  HostVector<double> mass = lumped_mass(m);
   const double op_s = sw.lap();
   HeatDiffusion H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
   H.operator_s = op_s;
@@ -65,7 +66,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double
   const double h = d.h;  // mean_edge_length(m), summed in the same order
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
   const CscMatrix A = heat_operator(m, t);
-  std::vector<double> mass = d.mass;
+  HostVector<double> mass(d.mass.begin(), d.mass.end());
   const double op_s = sw.lap();
   HeatDiffusion H = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
   H.operator_s = op_s;

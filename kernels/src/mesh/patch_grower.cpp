@@ -1,5 +1,6 @@
 // The patch grower (kernels/include/locus/kernels/mesh/patch_grower.hpp; thesis §4.4).
 #include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include "locus/kernels/mesh/index_min_heap.hpp"
 
@@ -141,8 +142,8 @@ MeshPatch assemble(const PatchGrower& g, std::vector<int32_t> visited, PatchWork
   // the number of patch faces per visited vertex meanwhile.
   for (int32_t v : visited) ws.local[v] = 0;
   for (int32_t f : p.faces) ++ws.local[m.f0[f]], ++ws.local[m.f1[f]], ++ws.local[m.f2[f]];
-  std::vector<uint8_t> dropped(p.faces.size(), 0);
-  std::vector<int32_t> tips;
+  HostVector<uint8_t> dropped(p.faces.size(), 0);
+  HostVector<int32_t> tips;
   for (int32_t v : visited)
     if (ws.local[v] == 1) tips.push_back(v);
   while (!tips.empty()) {
@@ -223,13 +224,13 @@ std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int3
   return out;
 }
 
-std::vector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
+HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
   const int32_t nv = m.num_vertices();
   if (adj.offsets.size() != static_cast<size_t>(nv) + 1)
     fail(ErrorCode::BadUsage, "edge lengths: the adjacency belongs to another mesh");
   // The DEM's (and the old CVT balls') edge lengths, bit for bit: neighbor minus
   // vertex, squared, summed x, y, z.
-  std::vector<double> len(adj.neighbors.size());
+  HostVector<double> len(adj.neighbors.size());
   for (int32_t i = 0; i < nv; ++i) {
     cancel_point(i);
     for (int64_t q = adj.offsets[i]; q < adj.offsets[i + 1]; ++q) {
@@ -262,7 +263,7 @@ PatchGrower prepare_patch_grower(const Mesh& m, const Adjacency& adjacency) {
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++g.vf_offsets[v + 1];
   for (int32_t v = 0; v < nv; ++v) g.vf_offsets[v + 1] += g.vf_offsets[v];
   g.vf_faces.resize(static_cast<size_t>(g.vf_offsets[nv]));
-  std::vector<int64_t> next(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
+  HostVector<int64_t> next(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f)  // ascending f, so each list is ascending
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[next[v]++] = f;
   return g;

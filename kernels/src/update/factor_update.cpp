@@ -548,7 +548,7 @@ CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> verti
   return submatrix_from_map(A, vertices, local);
 }
 
-Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
+Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{std::vector<int32_t>(S.perm), std::vector<int32_t>(S.iperm)}; }
 
 namespace {
 const NumericFactor& factor_of(const std::shared_ptr<const NumericFactor>& L) {

@@ -1,6 +1,7 @@
 // Heat geodesic distance, whole-mesh and localized (pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp;
 // thesis §6.4.1-6.4.2, eqs. 6.3-6.6).
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -155,7 +156,7 @@ void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   if (!given) own = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
   const MeshDerived& d = given ? *given : own;
   num_components_ = d.components;
-  component_ = d.component;
+  component_.assign(d.component.begin(), d.component.end());
   grad_ = triangle_gradients(m, d.h);
   // Corner records in vertex-face order (see build_region).
   vf_corners_.resize(4 * grad_.vf_faces.size());
@@ -426,7 +427,7 @@ void HeatGeodesic::continue_rim(const PatchRegion& r, const double* hlb, double 
   std::vector<int32_t>& fl = ws.rim_faces;
   fl.resize(static_cast<size_t>(off.back()));
   {
-    std::vector<int32_t> fill(off.begin(), off.end() - 1);
+    HostVector<int32_t> fill(off.begin(), off.end() - 1);
     for (size_t q = 0; q < 3 * nfl; ++q)
       if (pos[r.face_local[q]] >= 0) fl[fill[pos[r.face_local[q]]]++] = static_cast<int32_t>(q);  // face slot 3f + s
   }

@@ -1,6 +1,7 @@
 // Smoothed log map by heat diffusion (pipelines/include/locus/pipelines/geodesic/logmap.hpp; thesis §6.5-6.6;
 // measurements behind the choices here: docs/logmap.md).
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -65,8 +66,8 @@ void HeatLogMap::prepare(const Mesh& m, const MeshDerived* derived) {
   EdgeIncidence own;
   if (!derived) own = edge_incidence(m);
   const EdgeIncidence& inc = derived ? derived->incidence : own;
-  const std::vector<double> hn = mean_curvature_normals(m, &inc);
-  const std::vector<double> an = area_weighted_normals(m);
+  const HostVector<double> hn = mean_curvature_normals(m, &inc);
+  const HostVector<double> an = area_weighted_normals(m);
   const Edges& e = inc.edges;
   std::vector<uint8_t>& boundary = boundary_;
   boundary.assign(static_cast<size_t>(n), 0);

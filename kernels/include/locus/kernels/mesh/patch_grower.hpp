@@ -92,11 +92,11 @@ struct GrowSeed {
 // Scratch of the vertex selection: n-sized arrays reset only where a grow
 // touched them (dist +inf, state 0 between calls).
 struct GrowWorkspace {
-  std::vector<double> dist;      // Geodesic: tentative distance
-  std::vector<int32_t> level;    // Rings: BFS depth; Geodesic: heap position
-  std::vector<uint8_t> state;    // 0 unseen, 1 queued, 2 taken
-  std::vector<int32_t> heap;     // Geodesic: binary min-heap of queued vertices (by dist)
-  std::vector<int32_t> touched;  // vertices whose state is not 0
+  HostVector<double> dist;      // Geodesic: tentative distance
+  HostVector<int32_t> level;    // Rings: BFS depth; Geodesic: heap position
+  HostVector<uint8_t> state;    // 0 unseen, 1 queued, 2 taken
+  HostVector<int32_t> heap;     // Geodesic: binary min-heap of queued vertices (by dist)
+  HostVector<int32_t> touched;  // vertices whose state is not 0
 };
 
 // Selects the vertices of a grow into `out` (cleared first), in the order taken
@@ -110,7 +110,7 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
-std::vector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
+HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
 
 // Rings from one seed, without a workspace (allocates n bytes per call): the
 // first `count` vertices of the BFS from `seed` (count <= 1 gives the seed).
@@ -121,9 +121,9 @@ std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int3
 struct PatchGrower {
   const Mesh* mesh = nullptr;
   Adjacency adjacency;
-  std::vector<double> edge_length;  // per adjacency entry: |x_j - x_i| for neighbor j of vertex i
-  std::vector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR)
-  std::vector<int32_t> vf_faces;    //   ascending face ids
+  HostVector<double> edge_length;  // per adjacency entry: |x_j - x_i| for neighbor j of vertex i
+  HostVector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR)
+  HostVector<int32_t> vf_faces;    //   ascending face ids
 };
 
 // Throws BadInput unless `m` is a valid triangle mesh (mesh_topology checks).
@@ -135,7 +135,7 @@ PatchGrower prepare_patch_grower(const Mesh& m, const Adjacency& adjacency);
 
 // Per-thread scratch of patch growing.
 struct PatchWorkspace {
-  std::vector<int32_t> local;  // nv: local index of a global vertex during a call; all -1 between calls
+  HostVector<int32_t> local;  // nv: local index of a global vertex during a call; all -1 between calls
   GrowWorkspace grow;
 };
 

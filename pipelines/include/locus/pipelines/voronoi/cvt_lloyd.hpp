@@ -168,7 +168,7 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
 // lower pattern diagonal + edges. Returns the mass and the mean edge length.
 // Throws BadInput naming the face if a triangle has zero area in that metric.
 CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
-                                       std::vector<double>& mass, double& mean_edge);
+                                       HostVector<double>& mass, double& mean_edge);
 // The R^6 lift (p, lambda n) of the mesh scaled to a unit bounding box (6 per vertex).
 std::vector<double> lifted_positions(const Mesh& m, double lambda);
 

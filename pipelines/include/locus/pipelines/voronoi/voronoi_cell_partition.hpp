@@ -80,8 +80,8 @@ void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fr
 
 // Triangle areas of a mesh whose positions are given in `dim` dimensions
 // (pos[v * dim + c]), by Kahan's stable Heron formula.
-std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
+HostVector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
 // The same for the mesh's own R^3 positions.
-std::vector<double> face_areas(const Mesh& m);
+HostVector<double> face_areas(const Mesh& m);
 
 }  // namespace locus
