@@ -26,7 +26,7 @@ void check_ids(const SymbolicFactor& S, std::span<const int32_t> ids, const char
 
 // Ascending order of distinct supernode ids: a sort for small sets, a bit set
 // scan (ns / 64 words) once the set is large enough for that to be cheaper.
-void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t>& bits) {
+void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, HostVector<uint64_t>& bits) {
   const size_t words = bit_words(static_cast<size_t>(ns));
   if (ids.size() < 256 || ids.size() * 8 < words) {
     std::sort(ids.begin(), ids.end());
@@ -43,7 +43,7 @@ void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t
 // supernode) one lookup per vertex instead of two (iperm, then col_to_super).
 void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::span<const int32_t> vsuper,
                   PlanWorkspace& ws, std::vector<int32_t>& out) {
-  std::vector<uint8_t>& seen = ws.seen;
+  HostVector<uint8_t>& seen = ws.seen;
   out.clear();
   const bool direct = !vsuper.empty();
   for (int32_t v : ids)

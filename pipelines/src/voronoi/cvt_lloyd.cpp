@@ -859,8 +859,11 @@ void LloydLoop::finish() {
   labels_ctx_ = ctx_.sub(static_cast<double>(std::max(1, opt_.iterations)) / (std::max(1, opt_.iterations) + 1.0), 1.0);
   labels_of_sites();
   r_.final_labels_s = fsw.lap();
-  r_.label = V_.label;
-  in_arena([&] { r_.cell_area = partition_cells(m_, in_.area_r3, V_, ns_).area; });
+  r_.label.assign(V_.label.begin(), V_.label.end());
+  in_arena([&] {
+    const HostVector<double> area = partition_cells(m_, in_.area_r3, V_, ns_).area;
+    r_.cell_area.assign(area.begin(), area.end());
+  });
   if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
   r_.sites = std::move(sites_);
   if (read_batches_ > 0) {

@@ -240,10 +240,10 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   // the result does not depend on the thread count.
   constexpr int32_t kChunk = 4096;
   const int32_t nchunks = (nf + kChunk - 1) / kChunk;
-  std::vector<std::vector<Entry>> chunk_entries(nchunks);
+  std::vector<HostVector<Entry>> chunk_entries(nchunks);
   HostVector<int64_t> chunk_split(nchunks, 0), chunk_fallback(nchunks, 0);
   tbb::parallel_for(0, nchunks, [&](int32_t ch) {
-    std::vector<Entry>& entries = chunk_entries[ch];
+    HostVector<Entry>& entries = chunk_entries[ch];
     entries.reserve(4 * static_cast<size_t>(kChunk));
     for (int32_t f = ch * kChunk; f < std::min(nf, (ch + 1) * kChunk); ++f) {
       const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
@@ -284,7 +284,7 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   for (const auto& entries : chunk_entries)
     for (const Entry& e : entries) ++start[e.cell + 1];
   for (int32_t c = 0; c < cells; ++c) start[c + 1] += start[c];
-  std::vector<Entry> sorted(start[cells]);
+  HostVector<Entry> sorted(start[cells]);
   {
     HostVector<int64_t> fill(start.begin(), start.end() - 1);
     for (const auto& entries : chunk_entries)

@@ -50,9 +50,9 @@ SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t>
 // the plan's size, not to the number of supernodes — small queries on a big
 // mesh (single heat values, log-map patches, CVT cells) plan many times.
 struct PlanWorkspace {
-  std::vector<uint8_t> seen;
-  std::vector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
-  std::vector<uint64_t> bits;     // ascending order of large supernode sets (scratch)
+  HostVector<uint8_t> seen;
+  HostVector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
+  HostVector<uint64_t> bits;     // ascending order of large supernode sets (scratch)
 };
 
 // The same plans written into a caller-owned plan (its vectors' capacity is

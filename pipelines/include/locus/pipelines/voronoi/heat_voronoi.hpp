@@ -39,9 +39,9 @@ namespace locus {
 inline constexpr int kVoronoiTopK = 4;
 
 struct HeatVoronoi {
-  std::vector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
-  std::vector<int32_t> top_site;   // nv * kVoronoiTopK, -1 where fewer values were seen
-  std::vector<double> top_value;   // nv * kVoronoiTopK, descending per vertex
+  HostVector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
+  HostVector<int32_t> top_site;   // nv * kVoronoiTopK, -1 where fewer values were seen
+  HostVector<double> top_value;   // nv * kVoronoiTopK, descending per vertex
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
