@@ -339,7 +339,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   } else {
     lr = cvt_lloyd(s->mesh, *s->derived, o, rest);  // the mesh was checked once, by the Session
   }
-  r.label = lr.label;
+  r.label = std::move(lr.label);
   r.empty_cells = lr.empty_cells;
   r.unreached = lr.unreached;
   for (const SurfacePoint& p : lr.sites) {

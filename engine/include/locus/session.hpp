@@ -91,7 +91,7 @@ struct LogMapResult {
 };
 
 struct CvtResult {
-  std::vector<int32_t> label;      // per vertex: index of its cell's site
+  HostVector<int32_t> label;       // per vertex: index of its cell's site
   std::vector<double> site_xyz;    // 3 per site: final site positions
   std::vector<int32_t> site_face;  // per site: face holding it, or -1 when it is a vertex
   std::vector<int32_t> site_vertex;  // per site: that vertex, or -1

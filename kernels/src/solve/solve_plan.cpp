@@ -108,8 +108,8 @@ void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_sup
   plan_subset_solve(S, {}, rhs_support, wanted, p, ws);
 }
 
-std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S) {
-  std::vector<int32_t> v(static_cast<size_t>(S.n));
+HostVector<int32_t> vertex_supernodes(const SymbolicFactor& S) {
+  HostVector<int32_t> v(static_cast<size_t>(S.n));
   for (int32_t i = 0; i < S.n; ++i) v[i] = S.col_to_super[S.iperm[i]];
   return v;
 }

@@ -182,11 +182,11 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
 // are seeded in id order and a vertex changes site only for a strictly smaller
 // distance: deterministic. Labels -1 where no site reaches (a component
 // without sites).
-std::vector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
+HostVector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
   const HostVector<double> len = adjacency_edge_lengths(m, adj);
-  std::vector<double> dist(n, INFINITY);
-  std::vector<int32_t> label(n, -1), pos(n, -1), heap;
+  HostVector<double> dist(n, INFINITY);
+  HostVector<int32_t> label(n, -1), pos(n, -1), heap;
   auto relax = [&](int32_t w, double d, int32_t s) {
     if (pos[w] == -2 || !(d < dist[w])) return;
     dist[w] = d;
@@ -217,10 +217,10 @@ std::vector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::sp
 
 // Cells as CSR (vertices ascending within a cell) and the cell adjacency graph.
 struct Cells {
-  std::vector<int64_t> offsets;  // ns + 1
-  std::vector<int32_t> verts;
-  std::vector<int64_t> adj_offsets;
-  std::vector<int32_t> adj;
+  HostVector<int64_t> offsets;  // ns + 1
+  HostVector<int32_t> verts;
+  HostVector<int64_t> adj_offsets;
+  HostVector<int32_t> adj;
 };
 Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
   Cells c;
@@ -241,7 +241,7 @@ Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns
     }
   }
   for (int32_t s = 0; s < ns; ++s) raw_off[s + 1] += raw_off[s];
-  std::vector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
+  HostVector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
   fill.assign(raw_off.begin(), raw_off.end() - 1);
   for (size_t k = 0; k < edges.e0.size(); ++k) {
     const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
@@ -357,9 +357,9 @@ double tangential_distance(const Mesh& m, const CentroidGeometry& g, const Surfa
 
 struct CentroidScratch {
   HeatBatch batch;
-  std::vector<double> dense;  // n, zero between uses
+  HostVector<double> dense;  // n, zero between uses
   std::vector<int32_t> cells, touched;
-  std::vector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
+  HostVector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
   std::vector<double> weights;
   std::vector<uint8_t> read_mark;   // count_reads scratch
   std::vector<int32_t> label_support;
@@ -970,7 +970,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
-  std::vector<int32_t> first;  // init_cells: the sites' Dijkstra cells
+  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
   if (local && opt.init_cells) {
     first = dijkstra_cells(m, geo.adj, sites);
     if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls

@@ -65,7 +65,7 @@ void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_
 // Supernode of every vertex (S.col_to_super[S.iperm[v]]), for the planner below:
 // a region of 20k-200k scattered vertices then costs one random lookup per
 // vertex instead of two.
-std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S);
+HostVector<int32_t> vertex_supernodes(const SymbolicFactor& S);
 // plan_subset_solve with that table (empty: the two lookups); the same plan.
 void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_super,
                        std::span<const int32_t> rhs_support, std::span<const int32_t> wanted, SolvePlan& plan,

@@ -104,7 +104,7 @@ struct LloydOptions {
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
-  std::vector<int32_t> label;     // per vertex, cell of the final sites
+  HostVector<int32_t> label;     // per vertex, cell of the final sites
   HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
   double h = 0, t = 0;            // in the operator's metric
   double factor_s = 0;            // operator + ordering + symbolic + numeric
