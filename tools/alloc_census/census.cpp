@@ -13,6 +13,9 @@
 // SUBDIVIDE (default 0): 1:4 midpoint subdivisions before the session is made
 // (2 on armadillo: 416k vertices, where the ordering is nested dissection).
 #include <execinfo.h>
+#include <sys/mman.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 #include <malloc.h>
 
 #include <algorithm>
@@ -40,19 +43,21 @@ extern "C" void* __libc_memalign(size_t, size_t);
 namespace {
 std::atomic<bool> g_on{false};
 thread_local bool t_in = false;  // inside the host callback or the census itself
-std::atomic<long> g_routed_n{0}, g_routed_b{0}, g_other_n{0}, g_other_b{0};
+std::atomic<long> g_routed_n{0}, g_routed_b{0}, g_other_n{0}, g_other_b{0}, g_mmap_n{0}, g_mmap_b{0};
+
 struct Site { long n = 0, bytes = 0; };
 std::mutex g_mu;
 std::map<std::string, Site>* g_sites = nullptr;
 
-void record(size_t n) {
+void record(size_t n, bool mapped = false) {
   if (!g_on.load(std::memory_order_relaxed) || n < 65536 || t_in) return;
   t_in = true;
-  g_other_n++;
-  g_other_b += static_cast<long>(n);
+  (mapped ? g_mmap_n : g_other_n)++;
+  (mapped ? g_mmap_b : g_other_b) += static_cast<long>(n);
   void* bt[12];
   const int k = backtrace(bt, 12);
-  std::string key;
+  if (mapped) backtrace_symbols_fd(bt, k, 2);  // a library's own mapping: which library (stderr)
+  std::string key = mapped ? "mmap " : "";
   char buf[32];
   for (int i = 2; i < k && i < 9; ++i) {
     std::snprintf(buf, sizeof buf, "%p ", bt[i]);
@@ -73,6 +78,12 @@ extern "C" void* malloc(size_t n) { record(n); return __libc_malloc(n); }
 extern "C" void* calloc(size_t a, size_t b) { record(a * b); return __libc_calloc(a, b); }
 extern "C" void* realloc(void* p, size_t n) { record(n); return __libc_realloc(p, n); }
 extern "C" void free(void* p) { __libc_free(p); }
+// Memory a library maps itself (OpenBLAS' buffers, oneTBB's scalable allocator):
+// the C library's malloc maps through its internal entry, not this one.
+extern "C" void* mmap(void* a, size_t n, int prot, int flags, int fd, off_t off) {
+  if (!(flags & MAP_FIXED) && fd < 0) record(n, true);
+  return reinterpret_cast<void*>(syscall(SYS_mmap, a, n, prot, flags, fd, off));
+}
 extern "C" void* memalign(size_t a, size_t n) { record(n); return __libc_memalign(a, n); }
 extern "C" void* aligned_alloc(size_t a, size_t n) { record(n); return __libc_memalign(a, n); }
 extern "C" int posix_memalign(void** p, size_t a, size_t n) { record(n); *p = __libc_memalign(a, n); return *p ? 0 : 12; }
@@ -133,16 +144,17 @@ int main(int argc, char** argv) {
   std::vector<int32_t> labels(n);
   const char* names[3] = {"geodesic", "logmap", "cvt"};
   for (int call = 0; call < 3; ++call) {
-    g_routed_n = g_routed_b = g_other_n = g_other_b = 0;
+    g_routed_n = g_routed_b = g_other_n = g_other_b = g_mmap_n = g_mmap_b = 0;
     if (g_sites) g_sites->clear();
     g_on = true;
     locus_status st = call == 0 ? locus_geodesic_distance(s, 0, d.data())
                       : call == 1 ? locus_logmap(s, 7, 0.1, uv.data())
                                   : locus_cvt(s, 500, 3, 1, labels.data());
     g_on = false;
-    std::printf("%s: status %d; >=64KB routed %ld blocks %.1f MB; not routed %ld blocks %.1f MB (%.1f%% of bytes routed)\n",
+    std::printf("%s: status %d; >=64KB routed %ld blocks %.1f MB; not routed %ld blocks %.1f MB (%.1f%% of bytes routed); "
+                "anonymous mmap by libraries %ld, %.1f MB\n",
                 names[call], st, g_routed_n.load(), g_routed_b / 1e6, g_other_n.load(), g_other_b / 1e6,
-                100.0 * g_routed_b / std::max(1L, g_routed_b.load() + g_other_b.load()));
+                100.0 * g_routed_b / std::max(1L, g_routed_b.load() + g_other_b.load()), g_mmap_n.load(), g_mmap_b / 1e6);
     std::vector<std::pair<long, std::string>> top;
     if (g_sites) for (auto& [k, v] : *g_sites) top.push_back({v.bytes, k + " n=" + std::to_string(v.n)});
     std::sort(top.rbegin(), top.rend());
