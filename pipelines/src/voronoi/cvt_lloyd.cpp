@@ -274,7 +274,7 @@ void two_ring_cells(const Cells& c, int32_t s, std::vector<int32_t>& out) {
   }
 }
 
-void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<int32_t>& verts) {
+void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, HostVector<int32_t>& verts) {
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   verts.clear();
@@ -595,7 +595,7 @@ class LloydLoop {
   // the labels of this iteration and reused by the next labels (same batches: the
   // sites are the centroids of these cells), so no neighborhood is built twice.
   std::vector<int32_t> order_;
-  std::vector<std::vector<int32_t>> batch_kept_;
+  std::vector<HostVector<int32_t>> batch_kept_;
   const int64_t full_entries_;
   double centroid_read_sum_ = 0, label_read_sum_ = 0;
   int64_t read_batches_ = 0;

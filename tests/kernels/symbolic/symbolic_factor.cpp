@@ -9,6 +9,7 @@
 
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/error.hpp"
+#include "locus/view.hpp"
 #include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;

@@ -24,9 +24,9 @@ namespace locus {
 class HeatBatch {
  public:
   std::vector<int32_t> src_offsets{0};
-  std::vector<int32_t> src_vertex;
-  std::vector<double> src_weight;
-  std::vector<int32_t> kept;
+  HostVector<int32_t> src_vertex;
+  HostVector<double> src_weight;
+  HostVector<int32_t> kept;
   HostVector<double> values;  // in the host's memory (host_allocator.hpp)
 
   int32_t count() const { return full_ ? n_ : static_cast<int32_t>(kept.size()); }

@@ -20,19 +20,19 @@ namespace locus {
 
 struct SolvePlan {
   int32_t n = 0;
-  std::vector<int32_t> rhs;       // support of b (original ids, as given)
-  std::vector<int32_t> outputs;   // wanted (exact) or kept (approximate) ids, as given
-  std::vector<int32_t> forward;   // supernodes, ascending
-  std::vector<int32_t> backward;  // supernodes, descending
-  std::vector<int32_t> touched;   // supernodes whose columns the solve reads or writes (forward ∪ backward), ascending
+  HostVector<int32_t> rhs;       // support of b (original ids, as given)
+  HostVector<int32_t> outputs;   // wanted (exact) or kept (approximate) ids, as given
+  HostVector<int32_t> forward;   // supernodes, ascending
+  HostVector<int32_t> backward;  // supernodes, descending
+  HostVector<int32_t> touched;   // supernodes whose columns the solve reads or writes (forward ∪ backward), ascending
   bool approximate = false;
   // Approximate plans: kept factor columns, ascending (entries elsewhere are zero).
-  std::vector<int32_t> kept_cols;
+  HostVector<int32_t> kept_cols;
   // Approximate plans: the forward supernodes that are kept or have a kept
   // ancestor, ascending. The others only feed entries that Algorithm 2 sets to
   // zero, so a solver may skip them and still return the same kept values
   // (kernels/include/locus/kernels/solve/solve_selective.hpp); it must then read unkept entries as zero.
-  std::vector<int32_t> forward_pruned;
+  HostVector<int32_t> forward_pruned;
   int64_t forward_columns = 0, backward_columns = 0;  // sizes, for reporting
 
   std::size_t num_outputs() const { return outputs.size(); }

@@ -63,7 +63,7 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
 // batch and shared with its centroid solves.
 HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                                  std::span<const int32_t> batch_order,
-                                 std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx);
+                                 std::span<const HostVector<int32_t>> batch_kept, const RunContext& ctx);
 
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
 // the functions above; its top-K lists are kept) and sites[first_new ..] are
