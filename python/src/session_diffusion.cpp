@@ -35,7 +35,7 @@ py::object voronoi(const Session& s, const py::handle& generators, double t_fact
   VoronoiResult r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.voronoi(ConstView<MeshPoint>(g), heat(t_factor, t), ctx); });
   const auto np = static_cast<py::ssize_t>(r.points.size() / 3);
-  return result(py::dict("labels"_a = take(std::vector<int32_t>(r.label.begin(), r.label.end())), "points"_a = take(std::move(r.points), {np, 3}),
+  return result(py::dict("labels"_a = take(std::move(r.label)), "points"_a = take(std::move(r.points), {np, 3}),
                          "line_offsets"_a = take(std::move(r.line_offsets)), "line_points"_a = take(std::move(r.line_points)),
                          "corners"_a = r.corners, "empty_cells"_a = r.empty_cells,
                          "vertices_without_heat"_a = r.vertices_without_heat));

@@ -84,10 +84,10 @@ struct MeshPoint {
 };
 
 struct LogMapResult {
-  std::vector<int32_t> patch;  // the geodesic disk (graph metric), center first
+  HostVector<int32_t> patch;  // the geodesic disk (graph metric), center first
   // Per patch vertex, in patch order: heat geodesic distance, polar angle and
   // Cartesian coordinates (u, v) = distance * (cos, sin)(angle).
-  std::vector<double> distance, angle, u, v;
+  HostVector<double> distance, angle, u, v;
 };
 
 struct CvtResult {

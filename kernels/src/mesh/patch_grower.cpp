@@ -33,7 +33,7 @@ void prepare_workspace(GrowWorkspace& ws, int32_t n, bool geodesic) {
 
 // BFS: `out` doubles as the queue. ws.level holds the depth of a seen vertex.
 int32_t grow_rings(const Adjacency& adj, std::span<const GrowSeed> seeds, int32_t count, GrowWorkspace& ws,
-                   std::vector<int32_t>& out) {
+                   HostVector<int32_t>& out) {
   uint8_t* state = ws.state.data();
   int32_t* depth = ws.level.data();
   for (const GrowSeed& s : seeds) {
@@ -65,7 +65,7 @@ int32_t grow_rings(const Adjacency& adj, std::span<const GrowSeed> seeds, int32_
 
 // Dijkstra with the DEM's heap; ws.touched lists every vertex whose state was set.
 void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<const GrowSeed> seeds,
-                   const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+                   const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
   double* dist = ws.dist.data();
   uint8_t* state = ws.state.data();
   const bool prune = opt.radius_rule == RadiusRule::PruneBeyond;
@@ -192,7 +192,7 @@ MeshPatch assemble(const PatchGrower& g, std::vector<int32_t> visited, PatchWork
 }  // namespace
 
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                      const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+                      const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
   const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
   out.clear();
   if (seeds.empty()) fail(ErrorCode::BadUsage, "patch grower: no seed vertex");
@@ -218,10 +218,10 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
 
 std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int32_t count) {
   GrowWorkspace ws;
-  std::vector<int32_t> out;
+  HostVector<int32_t> out;
   const GrowSeed s{seed, 0.0};
   grow_vertices(adj, {}, {&s, 1}, ring_patch(std::max(count, 1)), ws, out);
-  return out;
+  return std::vector<int32_t>(out);
 }
 
 HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
@@ -277,7 +277,7 @@ int32_t patch_vertex_count(int32_t nv, double fraction) {
 }
 
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
-                            std::vector<int32_t>& out) {
+                            HostVector<int32_t>& out) {
   if (!g.mesh) fail(ErrorCode::BadUsage, "patch: the grower was not prepared (prepare_patch_grower)");
   const GrowSeed s{center, 0.0};
   return grow_vertices(g.adjacency, g.edge_length, {&s, 1}, opt, ws.grow, out);
@@ -285,10 +285,10 @@ int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOpti
 
 MeshPatch grow_patch(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws) {
   check_workspace(g, ws);
-  std::vector<int32_t> selected;
+  HostVector<int32_t> selected;
   const int32_t rings = grow_patch_vertices(g, center, opt, ws, selected);
   for (int32_t v : selected) ws.local[v] = 0;
-  MeshPatch p = assemble(g, std::move(selected), ws);
+  MeshPatch p = assemble(g, std::vector<int32_t>(selected), ws);
   p.rings = rings;
   return p;
 }

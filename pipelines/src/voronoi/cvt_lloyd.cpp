@@ -171,10 +171,10 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
   o.mode = GrowMode::Geodesic;
   o.max_radius = radius;
   o.radius_rule = RadiusRule::PruneBeyond;
-  std::vector<int32_t> out;
+  HostVector<int32_t> out;
   grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
   std::sort(out.begin(), out.end());
-  return out;
+  return std::vector<int32_t>(out);
 }
 
 // Graph-geodesic Voronoi cells of the sites: one multi-source Dijkstra on the

@@ -106,7 +106,15 @@ struct GrowWorkspace {
 // a seed out of range, no seed, max_vertices < 1, a negative or NaN radius, or
 // Geodesic without edge lengths.
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                      const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out);
+                      const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
+// The same into a std::vector (tools and tests; a copy of the grown vertices).
+inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                             const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+  HostVector<int32_t> grown;
+  const int32_t depth = grow_vertices(adj, edge_length, seeds, opt, ws, grown);
+  out.assign(grown.begin(), grown.end());
+  return depth;
+}
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
@@ -153,7 +161,15 @@ int32_t patch_vertex_count(int32_t nv, double fraction);
 // The vertices only: grow_vertices on the grower's adjacency and edge lengths
 // from one center. Uses ws.grow; returns the BFS depth (Rings) or 0.
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
-                            std::vector<int32_t>& out);
+                            HostVector<int32_t>& out);
+// The same into a std::vector (tools and tests; a copy of the grown vertices).
+inline int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
+                                   std::vector<int32_t>& out) {
+  HostVector<int32_t> grown;
+  const int32_t depth = grow_patch_vertices(g, center, opt, ws, grown);
+  out.assign(grown.begin(), grown.end());
+  return depth;
+}
 
 // Grows the patch around `center` (BadUsage if the center is out of range or
 // opt.max_vertices < 1; a count above the center's component size stops at the
