@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
     std::vector<std::pair<long, std::string>> top;
     if (g_sites) for (auto& [k, v] : *g_sites) top.push_back({v.bytes, k + " n=" + std::to_string(v.n)});
     std::sort(top.rbegin(), top.rend());
-    for (size_t i = 0; i < top.size() && i < 60; ++i) std::printf("SITE %.1f MB %s\n", top[i].first / 1e6, top[i].second.c_str());
+    for (size_t i = 0; i < top.size(); ++i) std::printf("SITE %.1f MB %s\n", top[i].first / 1e6, top[i].second.c_str());
   }
   std::vector<std::pair<long, std::string>> top;
   if (g_sites) for (auto& [k, v] : *g_sites) top.push_back({v.bytes, k + " n=" + std::to_string(v.n)});
