@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <new>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "locus/export.h"
@@ -87,6 +88,8 @@ class HostVector : public std::vector<T, HostAllocator<T>> {
  public:
   using Base::Base;
   HostVector() = default;
+  HostVector(const Base& v) : Base(v) {}  // NOLINT: a std::vector<T, HostAllocator<T>> is one
+  HostVector(Base&& v) noexcept : Base(std::move(v)) {}  // NOLINT
   HostVector(const std::vector<T>& v) : Base(v.begin(), v.end()) {}  // NOLINT: implicit by design
   explicit operator std::vector<T>() const { return std::vector<T>(this->begin(), this->end()); }
 };
