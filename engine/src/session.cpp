@@ -357,7 +357,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
       const RemeshStats st = remesh_stats(s->mesh, rr.remesh, true);
       for (int32_t v = 0; v < rr.remesh.num_vertices(); ++v)
         r.remesh_xyz.insert(r.remesh_xyz.end(), {rr.remesh.x[v], rr.remesh.y[v], rr.remesh.z[v]});
-      r.remesh_triangles = rr.remesh.face_vertices;
+      r.remesh_triangles.assign(rr.remesh.face_vertices.begin(), rr.remesh.face_vertices.end());
       r.remesh_site = rr.vertex_site;
       r.remesh_genus = st.genus;
       r.remesh_components = st.components;
@@ -370,7 +370,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   } else {
     lr = cvt_lloyd(s->mesh, *s->derived, o, rest);  // the mesh was checked once, by the Session
   }
-  r.label = lr.label;
+  r.label = std::move(lr.label);
   r.empty_cells = lr.empty_cells;
   r.unreached = lr.unreached;
   for (const SurfacePoint& p : lr.sites) {

@@ -52,9 +52,9 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
   g.potential_from_heat_full(h, ws);
-  const std::vector<double>& phi = ws.b;
+  const HostVector<double>& phi = ws.b;
   // Per component: the minimum of phi over its sources.
-  const std::vector<int32_t>& comp = s->derived->component;
+  const HostVector<int32_t>& comp = s->derived->component;
   std::vector<double> shift(static_cast<size_t>(s->derived->components), std::numeric_limits<double>::infinity());
   for (const SurfacePoint& p : pts) {
     int32_t v[3];

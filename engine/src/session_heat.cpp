@@ -36,7 +36,7 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
     H->n = s.mesh.num_vertices();
     H->h = s.h;
     H->t = t;
-    H->mass = s.derived->mass;
+    H->mass.assign(s.derived->mass.begin(), s.derived->mass.end());
     auto S = symbolic_for(s, A, ctx);
     ctx.check_cancel();
     // Inside this phase's progress (the ordering before it takes most of the time, docs/shipping.md).

@@ -35,7 +35,7 @@ void check_finite_uv(const std::vector<double>& uv, const char* who) {
 
 void copy_patch(const MeshPatch& p, PatchParamResult& r) {
   r.vertices = p.vertices;
-  r.triangles = p.mesh.face_vertices;  // a triangle mesh: 3 local indices per face
+  r.triangles.assign(p.mesh.face_vertices.begin(), p.mesh.face_vertices.end());  // a triangle mesh: 3 local indices per face
 }
 
 }  // namespace

@@ -67,7 +67,7 @@ VoronoiResult Session::voronoi(ConstView<MeshPoint> generators, const HeatQuery&
   const HeatVoronoi V = heat_voronoi(*H, s->mesh, sites, {}, {}, progress.query().sub(0.0, 0.8));
   const VoronoiDiagram D = extract_voronoi_diagram(*H, s->mesh, sites, V, progress.query().sub(0.8, 1.0));
   VoronoiResult r;
-  r.label = V.label;
+  r.label.assign(V.label.begin(), V.label.end());
   r.points = D.points;
   r.line_offsets.push_back(0);
   for (const std::vector<int32_t>& line : D.polylines) {

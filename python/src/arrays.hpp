@@ -71,6 +71,11 @@ py::array_t<T> take(std::vector<T>&& v) {
   const auto n = static_cast<py::ssize_t>(v.size());
   return take(std::move(v), {n});
 }
+// A result in the host allocator's memory (HostVector): copied into a std::vector first.
+template <class T>
+py::array_t<T> take(HostVector<T>&& v) {
+  return take(std::vector<T>(v.begin(), v.end()));
+}
 
 // A namespace object (types.SimpleNamespace) with the given attributes, the
 // type of every structured result.

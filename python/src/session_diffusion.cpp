@@ -84,7 +84,7 @@ py::object cvt(const Session& s, int32_t sites, int32_t iterations, uint64_t see
   CvtResult r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.cvt(sites, iterations, seed, ctx, remesh); });
   const auto ns = static_cast<py::ssize_t>(r.site_face.size());
-  py::dict d("labels"_a = take(std::move(r.label)), "sites"_a = take(std::move(r.site_xyz), {ns, 3}),
+  py::dict d("labels"_a = take(std::vector<int32_t>(r.label.begin(), r.label.end())), "sites"_a = take(std::move(r.site_xyz), {ns, 3}),
              "site_face"_a = take(std::move(r.site_face)), "site_vertex"_a = take(std::move(r.site_vertex)),
              "site_bary"_a = take(std::move(r.site_bary), {ns, 3}), "empty_cells"_a = r.empty_cells,
              "unreached"_a = r.unreached, "remeshed"_a = r.remeshed);

@@ -470,7 +470,7 @@ TEST_CASE("faults: diffusion times 0, negative, NaN, infinite and huge") {
   };
   // t = 0: the heat operator is the lumped mass matrix exactly (documented in adf.hpp: ADF_0 = 1 / M_ii).
   const CscMatrix M0 = heat_operator(m, 0.0);
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = M0.colptr[j]; p < M0.colptr[j + 1]; ++p) CHECK(M0.values[p] == (M0.rowind[p] == j ? mass[j] : 0.0));
   for (double t : {-1.0, -1e-300, kNaN, kInf, -kInf}) {

@@ -77,7 +77,7 @@ struct Arrays {
 Arrays arrays_of(const Mesh& m) {
   Arrays a;
   for (int32_t i = 0; i < m.num_vertices(); ++i) a.xyz.insert(a.xyz.end(), {m.x[i], m.y[i], m.z[i]});
-  a.tris = m.face_vertices;
+  a.tris.assign(m.face_vertices.begin(), m.face_vertices.end());
   return a;
 }
 

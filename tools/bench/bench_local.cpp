@@ -89,7 +89,7 @@ double ratio(double peer, double mine) { return mine > 0 ? peer / mine : 0.0; }
 // LL^T copy for the Bset solves (conversion untimed).
 class CholmodPeer {
  public:
-  CholmodPeer(const CscMatrix& A, const std::vector<int32_t>& perm) {
+  CholmodPeer(const CscMatrix& A, ConstView<int32_t> perm) {
     cholmod_start(&c_);
     c_.supernodal = CHOLMOD_SUPERNODAL;
     const size_t n = static_cast<size_t>(A.ncols);

@@ -109,7 +109,7 @@ void run_query(const Session& s, const Query& q, double fraction, const RunConte
       break;
     case Kind::LogMap: {
       LogMapResult r = s.logmap(q.vertex, fraction, HeatQuery{}, ctx);
-      ids = std::move(r.patch);
+      ids.assign(r.patch.begin(), r.patch.end());
       for (const auto* v : {&r.distance, &r.angle, &r.u, &r.v}) out.insert(out.end(), v->begin(), v->end());
       break;
     }

@@ -286,7 +286,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
       // A_II and the restricted order, outside the timers (one untimed update provides both).
       const FactorUpdate ref = copying.update(I, ctx);
       const CscMatrix& Aii = ref.A_sub;
-      const std::vector<int32_t>& order = ref.factor.symbolic->perm;
+      const std::vector<int32_t> order(ref.factor.symbolic->perm);
       double t_update = 0, t_copying = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
       long faults_update = 0, faults_refactor = 0, faults_given = 0;
       int64_t values_refactor = 0, nnz_exact = 0, flops_refactor = 0;
@@ -312,7 +312,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
           case 1: {
             const long f0 = minor_faults();
             sw.restart();
-            auto S = analyze(Aii, Ordering{order, ref.factor.symbolic->iperm});
+            auto S = analyze(Aii, Ordering{order, std::vector<int32_t>(ref.factor.symbolic->iperm)});
             scratch = factorize(S, Aii, ctx);
             t_refactor = sw.seconds();
             faults_refactor = minor_faults() - f0;

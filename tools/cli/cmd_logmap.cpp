@@ -135,7 +135,7 @@ PolygonMap polygon_logmap(const Mesh& mesh, int32_t center, int32_t count, const
   const PolygonLogMap map(mesh, po, ctx);
   r.precompute_s = sw.seconds();
   const Adjacency adj = vertex_adjacency(mesh);
-  const std::vector<double> len = adjacency_edge_lengths(mesh, adj);
+  const HostVector<double> len = adjacency_edge_lengths(mesh, adj);
   GrowWorkspace gws;
   const GrowSeed seed{center, 0.0};
   grow_vertices(adj, len, std::span<const GrowSeed>(&seed, 1), geodesic_disk(count), gws, r.patch);

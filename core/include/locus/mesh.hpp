@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/view.hpp"
 
 #include "locus/export.h"
@@ -16,10 +18,10 @@ LOCUS_API_BEGIN
 namespace locus {
 
 struct Mesh {
-  std::vector<double> x, y, z;               // nv each
-  std::vector<int32_t> face_offsets{0};      // nf + 1
-  std::vector<int32_t> face_vertices;        // face_offsets[nf]
-  std::vector<int32_t> f0, f1, f2;           // nf each iff all faces are triangles
+  HostVector<double> x, y, z;               // nv each
+  HostVector<int32_t> face_offsets{0};      // nf + 1
+  HostVector<int32_t> face_vertices;        // face_offsets[nf]
+  HostVector<int32_t> f0, f1, f2;           // nf each iff all faces are triangles
   std::string source;                        // file it came from, for messages ("" if generated)
 
   int32_t num_vertices() const { return static_cast<int32_t>(x.size()); }

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/export.h"
 
 LOCUS_API_BEGIN
@@ -13,9 +15,9 @@ namespace locus {
 
 struct CscMatrix {
   int32_t nrows = 0, ncols = 0;
-  std::vector<int64_t> colptr{0};  // ncols + 1
-  std::vector<int32_t> rowind;     // colptr[ncols]
-  std::vector<double> values;      // colptr[ncols]
+  HostVector<int64_t> colptr{0};  // ncols + 1
+  HostVector<int32_t> rowind;     // colptr[ncols]
+  HostVector<double> values;      // colptr[ncols]
   int64_t nnz() const { return colptr.empty() ? 0 : colptr.back(); }
 };
 

@@ -85,14 +85,14 @@ struct MeshPoint {
 };
 
 struct LogMapResult {
-  std::vector<int32_t> patch;  // the geodesic disk (graph metric), center first
+  HostVector<int32_t> patch;  // the geodesic disk (graph metric), center first
   // Per patch vertex, in patch order: heat geodesic distance, polar angle and
   // Cartesian coordinates (u, v) = distance * (cos, sin)(angle).
-  std::vector<double> distance, angle, u, v;
+  HostVector<double> distance, angle, u, v;
 };
 
 struct CvtResult {
-  std::vector<int32_t> label;      // per vertex: index of its cell's site
+  HostVector<int32_t> label;       // per vertex: index of its cell's site
   std::vector<double> site_xyz;    // 3 per site: final site positions
   std::vector<int32_t> site_face;  // per site: face holding it, or -1 when it is a vertex
   std::vector<int32_t> site_vertex;  // per site: that vertex, or -1

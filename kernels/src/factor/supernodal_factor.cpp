@@ -11,6 +11,7 @@
 // A supernode only reads finished descendants and writes its own block, so no
 // locks are needed and the result does not depend on the schedule.
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -78,12 +79,12 @@ class Factorizer {
       if (S_.super_parent[s] >= 0) ++child_ptr_[S_.super_parent[s] + 1];
     for (int32_t s = 0; s < ns; ++s) child_ptr_[s + 1] += child_ptr_[s];
     {
-      std::vector<int32_t> next(child_ptr_.begin(), child_ptr_.end() - 1);
+      HostVector<int32_t> next(child_ptr_.begin(), child_ptr_.end() - 1);
       for (int32_t s = 0; s < ns; ++s)
         if (S_.super_parent[s] >= 0) children_[next[S_.super_parent[s]]++] = s;
     }
     double total = 0;
-    std::vector<int32_t> roots;
+    HostVector<int32_t> roots;
     for (int32_t s = 0; s < ns; ++s)
       if (S_.super_parent[s] < 0) { roots.push_back(s); total += work_[s]; }
     total_work_ = total;
@@ -139,7 +140,7 @@ class Factorizer {
 
   // Factors the subtree of s: children first (in parallel when large), then the chain above.
   void process(int32_t s) {
-    std::vector<int32_t> chain{s};
+    HostVector<int32_t> chain{s};
     while (work_[chain.back()] > threshold_ && child_ptr_[chain.back() + 1] - child_ptr_[chain.back()] == 1)
       chain.push_back(children_[child_ptr_[chain.back()]]);
     const int32_t bottom = chain.back();
@@ -352,8 +353,8 @@ class Factorizer {
   const uint8_t* only_;  // if set, factor only supernodes with only_[s] != 0
   const SupernodeAssembler* assemble_;
   tbb::enumerable_thread_specific<Workspace> ws_;
-  std::vector<double> work_;
-  std::vector<int32_t> first_desc_, child_ptr_, children_;
+  HostVector<double> work_;
+  HostVector<int32_t> first_desc_, child_ptr_, children_;
   double threshold_ = 0;
   double total_work_ = 0;
   std::atomic<double> done_work_{0.0};

@@ -1,6 +1,7 @@
 // The prepared heat operator (kernels/include/locus/kernels/heat/heat_diffusion.hpp;
 // thesis §3.2, eqs. 3.7, 3.8).
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <tbb/parallel_invoke.h>
 
@@ -20,7 +21,7 @@
 
 namespace locus {
 
-HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mass, double h, double t,
+HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, HostVector<double> mass, double h, double t,
                                      const RunContext& ctx) {
   HeatDiffusion H;
   H.n = A.ncols;
@@ -52,7 +53,7 @@ void check_time(double t_factor, double t_abs) {
 // beside the assembly of the values (the same ordering: it reads the pattern
 // only). On a new mesh this is most of the time to a first answer
 // (docs/ordering.md, "first answer").
-HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, double t, std::vector<double> mass,
+HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, double t, HostVector<double> mass,
                              const RunContext& ctx) {
   HeatDiffusion H;
   H.n = m.num_vertices();
@@ -103,7 +104,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_ab
   const EdgeIncidence inc = edge_incidence(m);
   const double h = mean_edge_length(m, inc.edges);  // = mean_edge_length(m), the same summation
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
-  std::vector<double> mass = lumped_mass(m);
+  HostVector<double> mass = lumped_mass(m);
   const double op_s = sw.lap();
   HeatDiffusion H = prepare_beside(m, inc, h, t, std::move(mass), ctx);
   H.operator_s = op_s;
@@ -120,7 +121,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double
   check_time(t_factor, t_abs);
   const double h = d.h;  // mean_edge_length(m), summed in the same order
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
-  return prepare_beside(m, d.incidence, h, t, d.mass, ctx);
+  return prepare_beside(m, d.incidence, h, t, HostVector<double>(d.mass.begin(), d.mass.end()), ctx);
 }
 
 }  // namespace locus

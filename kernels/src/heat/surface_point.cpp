@@ -1,5 +1,6 @@
 // Points on a triangle mesh (kernels/include/locus/kernels/heat/surface_point.hpp).
 #include "locus/kernels/heat/surface_point.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -67,7 +68,7 @@ std::vector<SurfacePoint> random_surface_points(const Mesh& m, int32_t count, ui
   const int32_t nf = m.num_faces();
   if (count < 0) fail(ErrorCode::BadUsage, "random surface points: negative count");
   if (nf == 0 || !m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": random points need a triangle mesh");
-  std::vector<double> cum(nf);
+  HostVector<double> cum(nf);
   double acc = 0;
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t a = m.f0[f], b = m.f1[f], c = m.f2[f];

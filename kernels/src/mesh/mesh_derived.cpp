@@ -1,5 +1,6 @@
 // Derived mesh data computed once (kernels/include/locus/kernels/mesh/mesh_derived.hpp).
 #include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <string>
 #include <utility>
@@ -26,7 +27,9 @@ void complete_derived(const Mesh& m, MeshDerived& d) {
   d.adjacency = vertex_adjacency(m, d.incidence.edges);
   d.h = mean_edge_length(m, d.incidence.edges);
   if (m.is_triangle_mesh()) d.mass = lumped_mass(m);
-  d.components = connected_components(m, d.component);
+  std::vector<int32_t> component;
+  d.components = connected_components(m, component);
+  d.component = component;
 }
 
 bool requirements_checked(const MeshDerived& d, const MeshRequirements& need) {

@@ -29,7 +29,7 @@ constexpr double kPi = std::numbers::pi;
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
 
 // A triangle mesh straight from flat arrays (faces 3 per triangle).
-Mesh triangle_mesh(std::vector<double> x, std::vector<double> y, std::vector<double> z, const std::vector<int32_t>& tri) {
+Mesh triangle_mesh(HostVector<double> x, HostVector<double> y, HostVector<double> z, const std::vector<int32_t>& tri) {
   Mesh m;
   m.x = std::move(x);
   m.y = std::move(y);
@@ -260,8 +260,8 @@ namespace {
 
 // nu x nv torus vertices and quads (i, j) -> (i+1, j) -> (i+1, j+1) -> (i, j+1), which
 // is counter-clockwise seen from outside: d/du x d/dv points away from the core circle.
-void torus_grid(int32_t nu, int32_t nv, double R, double r, const char* who, std::vector<double>& x,
-                std::vector<double>& y, std::vector<double>& z, std::vector<int32_t>& quads) {
+void torus_grid(int32_t nu, int32_t nv, double R, double r, const char* who, HostVector<double>& x,
+                HostVector<double>& y, HostVector<double>& z, HostVector<int32_t>& quads) {
   require(nu >= 3 && nv >= 3, std::string(who) + ": nu and nv must be >= 3");
   require(int64_t(nu) * nv <= (int64_t(1) << 28), std::string(who) + ": nu * nv must be <= 2^28");
   require(R > r && r > 0 && std::isfinite(R), std::string(who) + ": need R > r > 0");
@@ -288,8 +288,8 @@ void torus_grid(int32_t nu, int32_t nv, double R, double r, const char* who, std
 }  // namespace
 
 Mesh make_torus(int32_t nu, int32_t nv, double R, double r) {
-  std::vector<double> x, y, z;
-  std::vector<int32_t> q;
+  HostVector<double> x, y, z;
+  HostVector<int32_t> q;
   torus_grid(nu, nv, R, r, "make_torus", x, y, z, q);
   std::vector<int32_t> tri;
   tri.reserve(q.size() / 4 * 6);

@@ -1,5 +1,6 @@
 // Per-triangle gradient basis (kernels/include/locus/kernels/mesh/mesh_gradient.hpp; thesis eq. 6.4).
 #include "locus/kernels/mesh/mesh_gradient.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <cmath>
 #include <string>
@@ -67,7 +68,7 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
   for (int32_t v : g.tri) ++g.vf_offsets[v + 1];
   for (int32_t i = 0; i < g.nv; ++i) g.vf_offsets[i + 1] += g.vf_offsets[i];
   g.vf_faces.resize(g.tri.size());
-  std::vector<int64_t> pos(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
+  HostVector<int64_t> pos(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t k = 0; k < g.nf; ++k)
     for (int s = 0; s < 3; ++s) g.vf_faces[pos[g.tri[3 * k + s]]++] = k;
   return g;

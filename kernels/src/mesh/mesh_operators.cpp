@@ -9,6 +9,7 @@
 // edges are sorted by (e0, e1), edge e lands at position e + e0[e] + 1, so the
 // matrices are assembled directly in O(nnz) without triplets or sorting.
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -41,7 +42,7 @@ void require_triangles(const Mesh& m, const char* what) {
 
 struct CotanAndMass {
   CscMatrix L;
-  std::vector<double> mass;
+  HostVector<double> mass;
 };
 
 // One pass over the triangles: per corner, half the cotangent of its angle goes to
@@ -100,7 +101,7 @@ CotanAndMass assemble_cotan_and_mass(const Mesh& m, const char* what, const Edge
   return out;
 }
 
-CscMatrix with_diagonal(CscMatrix A, const std::vector<double>& d) {
+CscMatrix with_diagonal(CscMatrix A, ConstView<double> d) {
   std::fill(A.values.begin(), A.values.end(), 0.0);
   for (int32_t j = 0; j < A.ncols; ++j) A.values[A.colptr[j]] = d[j];
   return A;
@@ -124,10 +125,10 @@ CscMatrix operator_pattern(int32_t nv, const Edges& E) {
 
 CscMatrix cotan_laplacian(const Mesh& m) { return assemble_cotan_and_mass(m, "the cotan Laplacian").L; }
 
-std::vector<double> lumped_mass(const Mesh& m) {
+HostVector<double> lumped_mass(const Mesh& m) {
   require_triangles(m, "the lumped mass matrix");
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
-  std::vector<double> mass(static_cast<size_t>(nv), 0.0);
+  HostVector<double> mass(static_cast<size_t>(nv), 0.0);
   const int32_t* fv = m.face_vertices.data();
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t a = fv[3 * f], b = fv[3 * f + 1], c = fv[3 * f + 2];
@@ -150,7 +151,7 @@ std::vector<double> lumped_mass(const Mesh& m) {
 
 CscMatrix mass_matrix_as_csc(const Mesh& m) {
   validate_mesh_arrays(m);
-  const std::vector<double> mass = lumped_mass(m);
+  const HostVector<double> mass = lumped_mass(m);
   return with_diagonal(operator_pattern(m.num_vertices(), unique_edges(m)), mass);
 }
 
@@ -181,10 +182,10 @@ CscMatrix regularized_laplacian(const Mesh& m, double rel, const EdgeIncidence* 
   return std::move(A);
 }
 
-std::vector<double> area_weighted_normals(const Mesh& m) {
+HostVector<double> area_weighted_normals(const Mesh& m) {
   validate_mesh_arrays(m);
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
-  std::vector<double> n(3 * static_cast<size_t>(nv), 0.0);
+  HostVector<double> n(3 * static_cast<size_t>(nv), 0.0);
   const int32_t* fv = m.face_vertices.data();
   for (int32_t f = 0; f < nf; ++f) {
     // Vector area (twice the area times the unit normal; for polygons the sum over a fan,
@@ -217,17 +218,17 @@ std::vector<double> area_weighted_normals(const Mesh& m) {
   return n;
 }
 
-std::vector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc) {
+HostVector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc) {
   const CotanAndMass cm = assemble_cotan_and_mass(m, "the mean-curvature normal", inc);
   const int32_t nv = m.num_vertices();
-  std::vector<double> hn(3 * static_cast<size_t>(nv), 0.0);
+  HostVector<double> hn(3 * static_cast<size_t>(nv), 0.0);
   const CscMatrix& L = cm.L;
-  const std::vector<double>* coords[3] = {&m.x, &m.y, &m.z};
+  const HostVector<double>* coords[3] = {&m.x, &m.y, &m.z};
   for (int k = 0; k < 3; ++k) {
-    const std::vector<double>& p = *coords[k];
+    const HostVector<double>& p = *coords[k];
     // (L p)_i = sum_j w_ij (p_j - p_i): written with differences so that a far-away
     // origin does not cancel digits.
-    std::vector<double> lp(static_cast<size_t>(nv), 0.0);
+    HostVector<double> lp(static_cast<size_t>(nv), 0.0);
     for (int32_t j = 0; j < nv; ++j)
       for (int64_t q = L.colptr[j] + 1; q < L.colptr[j + 1]; ++q) {
         const int32_t i = L.rowind[q];

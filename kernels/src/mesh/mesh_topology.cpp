@@ -9,6 +9,7 @@
 // corner, the edge its half-edge lies on, which is what the operator assembly
 // (mesh_operators.cpp) and the manifold checks (mesh_topology_report.cpp) need.
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/core/host_allocator.hpp"
 #include "mesh_topology_union_find.hpp"
 
 #include <algorithm>
@@ -91,7 +92,7 @@ EdgeIncidence build_edge_incidence(const Mesh& m) {
   const size_t nc = m.face_vertices.size();
 
   // Bucket the half-edges by their smaller endpoint.
-  std::vector<int64_t> start(static_cast<size_t>(nv) + 1, 0);
+  HostVector<int64_t> start(static_cast<size_t>(nv) + 1, 0);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
     for (int32_t c = off[f]; c < off[f + 1]; ++c) {
@@ -102,9 +103,9 @@ EdgeIncidence build_edge_incidence(const Mesh& m) {
   for (int32_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   // Key = (larger endpoint, corner): sorting a bucket groups the copies of an edge and
   // keeps them in ascending corner (= face) order, which makes everything deterministic.
-  std::vector<uint64_t> key(static_cast<size_t>(start[nv]));
+  HostVector<uint64_t> key(static_cast<size_t>(start[nv]));
   {
-    std::vector<int64_t> pos(start.begin(), start.end() - 1);
+    HostVector<int64_t> pos(start.begin(), start.end() - 1);
     for (int32_t f = 0; f < nf; ++f) {
       cancel_point(f);
       for (int32_t c = off[f]; c < off[f + 1]; ++c) {
@@ -179,7 +180,7 @@ Adjacency vertex_adjacency(const Mesh& m, const Edges& E) {
   }
   for (int32_t v = 0; v < nv; ++v) A.offsets[v + 1] += A.offsets[v];
   A.neighbors.resize(2 * ne);
-  std::vector<int64_t> pos(A.offsets.begin(), A.offsets.end() - 1);
+  HostVector<int64_t> pos(A.offsets.begin(), A.offsets.end() - 1);
   // Edges are sorted by (e0, e1): first every vertex receives its smaller neighbors
   // (in ascending e0 order), then its larger ones (ascending e1), so each row is sorted.
   for (size_t e = 0; e < ne; ++e) A.neighbors[pos[E.e1[e]]++] = E.e0[e];
@@ -198,16 +199,16 @@ std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncide
   const int64_t ne = static_cast<int64_t>(E.e0.size());
   const int32_t* fv = m.face_vertices.data();
   // Tail of the single half-edge on each boundary edge (face direction).
-  std::vector<int64_t> bstart(static_cast<size_t>(nv) + 1, 0);
+  HostVector<int64_t> bstart(static_cast<size_t>(nv) + 1, 0);
   for (int64_t e = 0; e < ne; ++e)
     if (E.face_count[e] == 1) {
       ++bstart[E.e0[e] + 1];
       ++bstart[E.e1[e] + 1];
     }
   for (int32_t v = 0; v < nv; ++v) bstart[v + 1] += bstart[v];
-  std::vector<int32_t> bedges(static_cast<size_t>(bstart[nv]));
+  HostVector<int32_t> bedges(static_cast<size_t>(bstart[nv]));
   {
-    std::vector<int64_t> pos(bstart.begin(), bstart.end() - 1);
+    HostVector<int64_t> pos(bstart.begin(), bstart.end() - 1);
     for (int64_t e = 0; e < ne; ++e)
       if (E.face_count[e] == 1) {
         bedges[pos[E.e0[e]]++] = static_cast<int32_t>(e);
@@ -215,7 +216,7 @@ std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncide
       }
   }
   auto tail_of = [&](int64_t e) { return fv[inc.edge_corners[inc.edge_corner_offsets[e]]]; };
-  std::vector<char> used(static_cast<size_t>(ne), 0);
+  HostVector<char> used(static_cast<size_t>(ne), 0);
   std::vector<std::vector<int32_t>> loops;
   for (int64_t e = 0; e < ne; ++e) {
     if (E.face_count[e] != 1 || used[e]) continue;

@@ -1,5 +1,6 @@
 // The patch grower (kernels/include/locus/kernels/mesh/patch_grower.hpp; thesis §4.4).
 #include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include "locus/kernels/mesh/index_min_heap.hpp"
 
@@ -32,7 +33,7 @@ void prepare_workspace(GrowWorkspace& ws, int32_t n, bool geodesic) {
 
 // BFS: `out` doubles as the queue. ws.level holds the depth of a seen vertex.
 int32_t grow_rings(const Adjacency& adj, std::span<const GrowSeed> seeds, int32_t count, GrowWorkspace& ws,
-                   std::vector<int32_t>& out) {
+                   HostVector<int32_t>& out) {
   uint8_t* state = ws.state.data();
   int32_t* depth = ws.level.data();
   for (const GrowSeed& s : seeds) {
@@ -64,7 +65,7 @@ int32_t grow_rings(const Adjacency& adj, std::span<const GrowSeed> seeds, int32_
 
 // Dijkstra with the DEM's heap; ws.touched lists every vertex whose state was set.
 void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<const GrowSeed> seeds,
-                   const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+                   const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
   double* dist = ws.dist.data();
   uint8_t* state = ws.state.data();
   const bool prune = opt.radius_rule == RadiusRule::PruneBeyond;
@@ -141,8 +142,8 @@ MeshPatch assemble(const PatchGrower& g, std::vector<int32_t> visited, PatchWork
   // the number of patch faces per visited vertex meanwhile.
   for (int32_t v : visited) ws.local[v] = 0;
   for (int32_t f : p.faces) ++ws.local[m.f0[f]], ++ws.local[m.f1[f]], ++ws.local[m.f2[f]];
-  std::vector<uint8_t> dropped(p.faces.size(), 0);
-  std::vector<int32_t> tips;
+  HostVector<uint8_t> dropped(p.faces.size(), 0);
+  HostVector<int32_t> tips;
   for (int32_t v : visited)
     if (ws.local[v] == 1) tips.push_back(v);
   while (!tips.empty()) {
@@ -191,7 +192,7 @@ MeshPatch assemble(const PatchGrower& g, std::vector<int32_t> visited, PatchWork
 }  // namespace
 
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                      const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+                      const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
   const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
   out.clear();
   if (seeds.empty()) fail(ErrorCode::BadUsage, "patch grower: no seed vertex");
@@ -217,19 +218,19 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
 
 std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int32_t count) {
   GrowWorkspace ws;
-  std::vector<int32_t> out;
+  HostVector<int32_t> out;
   const GrowSeed s{seed, 0.0};
   grow_vertices(adj, {}, {&s, 1}, ring_patch(std::max(count, 1)), ws, out);
-  return out;
+  return std::vector<int32_t>(out);
 }
 
-std::vector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
+HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
   const int32_t nv = m.num_vertices();
   if (adj.offsets.size() != static_cast<size_t>(nv) + 1)
     fail(ErrorCode::BadUsage, "edge lengths: the adjacency belongs to another mesh");
   // The DEM's (and the old CVT balls') edge lengths, bit for bit: neighbor minus
   // vertex, squared, summed x, y, z.
-  std::vector<double> len(adj.neighbors.size());
+  HostVector<double> len(adj.neighbors.size());
   for (int32_t i = 0; i < nv; ++i) {
     cancel_point(i);
     for (int64_t q = adj.offsets[i]; q < adj.offsets[i + 1]; ++q) {
@@ -262,7 +263,7 @@ PatchGrower prepare_patch_grower(const Mesh& m, const Adjacency& adjacency) {
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++g.vf_offsets[v + 1];
   for (int32_t v = 0; v < nv; ++v) g.vf_offsets[v + 1] += g.vf_offsets[v];
   g.vf_faces.resize(static_cast<size_t>(g.vf_offsets[nv]));
-  std::vector<int64_t> next(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
+  HostVector<int64_t> next(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f)  // ascending f, so each list is ascending
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[next[v]++] = f;
   return g;
@@ -276,7 +277,7 @@ int32_t patch_vertex_count(int32_t nv, double fraction) {
 }
 
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
-                            std::vector<int32_t>& out) {
+                            HostVector<int32_t>& out) {
   if (!g.mesh) fail(ErrorCode::BadUsage, "patch: the grower was not prepared (prepare_patch_grower)");
   const GrowSeed s{center, 0.0};
   return grow_vertices(g.adjacency, g.edge_length, {&s, 1}, opt, ws.grow, out);
@@ -284,10 +285,10 @@ int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOpti
 
 MeshPatch grow_patch(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws) {
   check_workspace(g, ws);
-  std::vector<int32_t> selected;
+  HostVector<int32_t> selected;
   const int32_t rings = grow_patch_vertices(g, center, opt, ws, selected);
   for (int32_t v : selected) ws.local[v] = 0;
-  MeshPatch p = assemble(g, std::move(selected), ws);
+  MeshPatch p = assemble(g, std::vector<int32_t>(selected), ws);
   p.rings = rings;
   return p;
 }

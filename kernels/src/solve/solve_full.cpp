@@ -7,6 +7,7 @@
 // ones (k >= kBlasCols) call dtrsv/dgemv or, for 8 lanes, dtrsm/dgemm on the
 // interleaved block seen as a column-major 8 x k matrix.
 #include "locus/kernels/solve/solve_full.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -184,7 +185,7 @@ void solve(const NumericFactor& F, std::span<double> b, std::span<double> work) 
   const int32_t n = F.n();
   if (static_cast<int64_t>(b.size()) != n)
     fail(ErrorCode::BadUsage, "solve: right-hand side has " + std::to_string(b.size()) + " entries, expected " + std::to_string(n));
-  std::vector<double> own;
+  HostVector<double> own;
   if (work.size() < solve_work_size(F, 1)) { own.resize(solve_work_size(F, 1)); work = own; }
   double* x = work.data();
   double* tmp = x + n;
@@ -201,7 +202,7 @@ void solve8(const NumericFactor& F, std::span<double> b8, std::span<double> work
   const int32_t n = F.n();
   if (static_cast<int64_t>(b8.size()) != static_cast<int64_t>(n) * kLanes)
     fail(ErrorCode::BadUsage, "solve8: right-hand side has " + std::to_string(b8.size()) + " entries, expected 8 x " + std::to_string(n));
-  std::vector<double> own;
+  HostVector<double> own;
   if (work.size() < solve_work_size(F, kLanes)) { own.resize(solve_work_size(F, kLanes)); work = own; }
   double* x = work.data();
   double* tmp = x + static_cast<int64_t>(n) * kLanes;

@@ -26,7 +26,7 @@ void check_ids(const SymbolicFactor& S, std::span<const int32_t> ids, const char
 
 // Ascending order of distinct supernode ids: a sort for small sets, a bit set
 // scan (ns / 64 words) once the set is large enough for that to be cheaper.
-void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t>& bits) {
+void sort_supernodes(HostVector<int32_t>& ids, int32_t ns, HostVector<uint64_t>& bits) {
   const size_t words = bit_words(static_cast<size_t>(ns));
   if (ids.size() < 256 || ids.size() * 8 < words) {
     std::sort(ids.begin(), ids.end());
@@ -42,8 +42,8 @@ void sort_supernodes(std::vector<int32_t>& ids, int32_t ns, std::vector<uint64_t
 // `out`; `seen` is all zero on entry and on exit. With `vsuper` (vertex ->
 // supernode) one lookup per vertex instead of two (iperm, then col_to_super).
 void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::span<const int32_t> vsuper,
-                  PlanWorkspace& ws, std::vector<int32_t>& out) {
-  std::vector<uint8_t>& seen = ws.seen;
+                  PlanWorkspace& ws, HostVector<int32_t>& out) {
+  HostVector<uint8_t>& seen = ws.seen;
   out.clear();
   const bool direct = !vsuper.empty();
   for (int32_t v : ids)
@@ -55,7 +55,7 @@ void ancestors_of(const SymbolicFactor& S, std::span<const int32_t> ids, std::sp
   sort_supernodes(out, S.ns, ws.bits);
 }
 
-int64_t columns_of(const SymbolicFactor& S, const std::vector<int32_t>& supers) {
+int64_t columns_of(const SymbolicFactor& S, const HostVector<int32_t>& supers) {
   int64_t c = 0;
   for (int32_t s : supers) c += S.ncols(s);
   return c;
@@ -71,7 +71,7 @@ void start_plan(const SymbolicFactor& S, std::span<const int32_t> rhs, std::span
   p.outputs.assign(out.begin(), out.end());
 }
 
-bool is_prefix(std::span<const int32_t> a, const std::vector<int32_t>& b) {
+bool is_prefix(std::span<const int32_t> a, const HostVector<int32_t>& b) {
   return a.size() <= b.size() && std::equal(a.begin(), a.end(), b.begin());
 }
 
@@ -108,8 +108,8 @@ void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_sup
   plan_subset_solve(S, {}, rhs_support, wanted, p, ws);
 }
 
-std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S) {
-  std::vector<int32_t> v(static_cast<size_t>(S.n));
+HostVector<int32_t> vertex_supernodes(const SymbolicFactor& S) {
+  HostVector<int32_t> v(static_cast<size_t>(S.n));
   for (int32_t i = 0; i < S.n; ++i) v[i] = S.col_to_super[S.iperm[i]];
   return v;
 }

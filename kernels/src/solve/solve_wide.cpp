@@ -189,7 +189,7 @@ void run(const NumericFactor& F, const SolvePlan& plan, std::span<const double> 
     double* r = x + static_cast<int64_t>(local[S.iperm[plan.rhs[k]]]) * W;
     for (int l = 0; l < W; ++l) r[l] += rhs[k * W + l];
   }
-  std::vector<int32_t>& rl = ws.rows;
+  HostVector<int32_t>& rl = ws.rows;
   auto super = [&](int32_t s) {
     const int32_t k = S.ncols(s), m = S.nrows(s);
     const int32_t* R = S.super_rows.data() + S.super_row_ptr[s];

@@ -7,13 +7,14 @@
 // disjoint-set forest over processed nodes). Each non-root node subtracts one
 // from its parent, and summing over subtrees gives the counts.
 #include "locus/kernels/symbolic/column_counts.hpp"
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
 
 namespace locus {
 
-std::vector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx,
+HostVector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx,
                                    std::span<const int32_t> parent, std::span<const int32_t> post) {
-  std::vector<int32_t> delta(n, 0), first(n, -1), maxfirst(n, -1), prevleaf(n, -1), ancestor(n);
+  HostVector<int32_t> delta(n, 0), first(n, -1), maxfirst(n, -1), prevleaf(n, -1), ancestor(n);
   for (int32_t k = 0; k < n; ++k) {
     int32_t j = post[k];
     delta[j] = (first[j] == -1) ? 1 : 0;  // etree leaves start with their diagonal

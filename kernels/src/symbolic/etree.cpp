@@ -1,13 +1,14 @@
 // Elimination tree, postorder and height (kernels/include/locus/kernels/symbolic/etree.hpp).
 #include "locus/kernels/symbolic/etree.hpp"
+#include "locus/core/host_allocator.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
 
 #include <algorithm>
 
 namespace locus {
 
-std::vector<int32_t> elimination_tree(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx) {
-  std::vector<int32_t> parent(n, -1), ancestor(n, -1);
+HostVector<int32_t> elimination_tree(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx) {
+  HostVector<int32_t> parent(n, -1), ancestor(n, -1);
   for (int32_t k = 0; k < n; ++k) {
     cancel_point(k);
     for (int64_t p = ptr[k]; p < ptr[k + 1]; ++p) {
@@ -28,9 +29,9 @@ std::vector<int32_t> elimination_tree(int32_t n, std::span<const int64_t> ptr, s
   return parent;
 }
 
-std::vector<int32_t> tree_postorder(std::span<const int32_t> parent) {
+HostVector<int32_t> tree_postorder(std::span<const int32_t> parent) {
   const int32_t n = static_cast<int32_t>(parent.size());
-  std::vector<int32_t> head(n, -1), next(n, -1), post;
+  HostVector<int32_t> head(n, -1), next(n, -1), post;
   post.reserve(n);
   for (int32_t j = n - 1; j >= 0; --j) {  // push in descending order -> lists ascending
     const int32_t p = parent[j];
@@ -38,7 +39,7 @@ std::vector<int32_t> tree_postorder(std::span<const int32_t> parent) {
     next[j] = head[p];
     head[p] = j;
   }
-  std::vector<int32_t> stack;
+  HostVector<int32_t> stack;
   for (int32_t root = 0; root < n; ++root) {
     if (parent[root] >= 0) continue;
     stack.push_back(root);
@@ -59,7 +60,7 @@ std::vector<int32_t> tree_postorder(std::span<const int32_t> parent) {
 
 int32_t tree_height(std::span<const int32_t> parent) {
   const int32_t n = static_cast<int32_t>(parent.size());
-  std::vector<int32_t> depth(n, 1);
+  HostVector<int32_t> depth(n, 1);
   int32_t h = 0;
   for (int32_t j = n - 1; j >= 0; --j) {
     if (parent[j] >= 0) depth[j] = depth[parent[j]] + 1;

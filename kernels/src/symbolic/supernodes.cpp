@@ -7,20 +7,21 @@
 // child, so the merged columns stay contiguous) and the merged block is small
 // or adds few explicit zeros; thresholds are CHOLMOD-like and tunable.
 #include "locus/kernels/symbolic/supernodes.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 
 namespace locus {
 
-std::vector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::span<const int32_t> col_count,
+HostVector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::span<const int32_t> col_count,
                                         const SymbolicOptions& opt) {
   const int32_t n = static_cast<int32_t>(parent.size());
-  std::vector<int32_t> nchild(n, 0);
+  HostVector<int32_t> nchild(n, 0);
   for (int32_t j = 0; j < n; ++j)
     if (parent[j] >= 0) ++nchild[parent[j]];
 
   // Fundamental supernodes.
-  std::vector<int32_t> fs;  // first columns
+  HostVector<int32_t> fs;  // first columns
   for (int32_t j = 0; j < n; ++j) {
     const bool continues = j > 0 && parent[j - 1] == j && nchild[j] == 1 && col_count[j - 1] == col_count[j] + 1;
     if (!continues) fs.push_back(j);
@@ -31,11 +32,11 @@ std::vector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::sp
 
   // Per fundamental supernode: parent supernode, rows (count of first column),
   // and true nonzeros of its trapezoid.
-  std::vector<int32_t> col_super(n);
+  HostVector<int32_t> col_super(n);
   for (int32_t s = 0; s < nf; ++s)
     for (int32_t j = fs[s]; j < fs[s + 1]; ++j) col_super[j] = s;
-  std::vector<int32_t> sparent(nf), ncols(nf), nrows(nf);
-  std::vector<int64_t> nnz(nf, 0);
+  HostVector<int32_t> sparent(nf), ncols(nf), nrows(nf);
+  HostVector<int64_t> nnz(nf, 0);
   for (int32_t s = 0; s < nf; ++s) {
     const int32_t last = fs[s + 1] - 1;
     sparent[s] = parent[last] < 0 ? -1 : col_super[parent[last]];
@@ -46,7 +47,7 @@ std::vector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::sp
 
   // Merge bottom-up. `merged_into_next[s]` marks s joined with s + 1.
   // A run of merged supernodes is tracked by its accumulated width, rows, nnz.
-  std::vector<char> merge_next(nf, 0);
+  HostVector<char> merge_next(nf, 0);
   int32_t run_cols = ncols[0], run_rows = nrows[0];
   int64_t run_nnz = nnz[0];
   for (int32_t s = 0; s + 1 < nf; ++s) {
@@ -78,7 +79,7 @@ std::vector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::sp
     }
   }
   (void)run_rows;
-  std::vector<int32_t> out;
+  HostVector<int32_t> out;
   out.push_back(0);
   for (int32_t s = 0; s < nf; ++s)
     if (!merge_next[s]) out.push_back(fs[s + 1]);

@@ -10,6 +10,7 @@
 // resp. above, a column: all they use), which halves building it; the two
 // parts of (5) are independent and run as two tasks (issue 26).
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <tbb/parallel_invoke.h>
 
@@ -20,6 +21,7 @@
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/kernels/symbolic/supernodes.hpp"
 #include "locus/error.hpp"
+#include "locus/view.hpp"
 #include "locus/kernels/parallel/progress_ticker.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
 
@@ -52,8 +54,8 @@ void check_lower(const CscMatrix& A) {
 // (Below: what the etree needs) or above k (Above: what the column counts and
 // row structures need). Half the entries of the full graph, so half the work.
 enum class Half { Below, Above };
-void permuted_half_graph(const CscMatrix& A, const std::vector<int32_t>& pos, Half half, std::vector<int64_t>& ptr,
-                         std::vector<int32_t>& idx) {
+void permuted_half_graph(const CscMatrix& A, ConstView<int32_t> pos, Half half, HostVector<int64_t>& ptr,
+                         HostVector<int32_t>& idx) {
   const int32_t n = A.ncols;
   ptr.assign(static_cast<size_t>(n) + 1, 0);
   const bool below = half == Half::Below;
@@ -68,7 +70,7 @@ void permuted_half_graph(const CscMatrix& A, const std::vector<int32_t>& pos, Ha
   }
   for (int32_t k = 0; k < n; ++k) ptr[k + 1] += ptr[k];
   idx.resize(static_cast<size_t>(ptr[n]));
-  std::vector<int64_t> next(ptr.begin(), ptr.end() - 1);
+  HostVector<int64_t> next(ptr.begin(), ptr.end() - 1);
   for (int32_t j = 0; j < n; ++j) {
     cancel_point(j);
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
@@ -115,7 +117,7 @@ void compute_update_lists(SymbolicFactor& S) {
   S.max_update_entries = 0;
   S.update_ptr.assign(static_cast<size_t>(ns) + 1, 0);
   for (int pass = 0; pass < 2; ++pass) {
-    std::vector<int64_t> next;
+    HostVector<int64_t> next;
     if (pass == 1) {
       for (int32_t s = 0; s < ns; ++s) S.update_ptr[s + 1] += S.update_ptr[s];
       S.update_from.resize(static_cast<size_t>(S.update_ptr[ns]));
@@ -147,10 +149,10 @@ namespace {
 // (5a) Where A's entries go in L's values, grouped by supernode.
 void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
   const int32_t n = S.n, ns = S.ns;
-  std::vector<int32_t> rowpos(n, -1);  // row -> local index within the current supernode
+  HostVector<int32_t> rowpos(n, -1);  // row -> local index within the current supernode
   const int64_t nnzA = A.nnz();
   S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  std::vector<int32_t> entry_col(nnzA), entry_row(nnzA);
+  HostVector<int32_t> entry_col(nnzA), entry_row(nnzA);
   for (int32_t j = 0; j < n; ++j) {
     cancel_point(j);
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
@@ -164,7 +166,7 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
   S.a_src.resize(nnzA);
   S.a_dst.resize(nnzA);
   {
-    std::vector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
+    HostVector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
     for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
   }
   for (int32_t s = 0; s < ns; ++s) {
@@ -309,12 +311,12 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   };
 
   // (1) etree in METIS order, then renumber by its postorder.
-  std::vector<int64_t> gptr;
-  std::vector<int32_t> gidx;
+  HostVector<int64_t> gptr;
+  HostVector<int32_t> gidx;
   permuted_half_graph(A, ordering.iperm, Half::Below, gptr, gidx);
-  std::vector<int32_t> parent0 = elimination_tree(n, gptr, gidx);
-  std::vector<int32_t> post = tree_postorder(parent0);
-  std::vector<int32_t> ipost(n);
+  HostVector<int32_t> parent0 = elimination_tree(n, gptr, gidx);
+  HostVector<int32_t> post = tree_postorder(parent0);
+  HostVector<int32_t> ipost(n);
   for (int32_t k = 0; k < n; ++k) ipost[post[k]] = k;
   S->perm.resize(n);
   S->iperm.resize(n);
@@ -356,16 +358,16 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
 
   phase_done();
   // (4) row structures: own columns, then A's rows below, then the children's rows below.
-  std::vector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
+  HostVector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
   for (int32_t s = 0; s < ns; ++s)
     if (S->super_parent[s] >= 0) ++child_ptr[S->super_parent[s] + 1];
   for (int32_t s = 0; s < ns; ++s) child_ptr[s + 1] += child_ptr[s];
   {
-    std::vector<int32_t> next(child_ptr.begin(), child_ptr.end() - 1);
+    HostVector<int32_t> next(child_ptr.begin(), child_ptr.end() - 1);
     for (int32_t s = 0; s < ns; ++s)
       if (S->super_parent[s] >= 0) children[next[S->super_parent[s]]++] = s;
   }
-  std::vector<int32_t> mark(n, -1);
+  HostVector<int32_t> mark(n, -1);
   S->super_row_ptr.assign(static_cast<size_t>(ns) + 1, 0);
   S->super_rows.reserve(static_cast<size_t>(S->nnz_exact / std::max<int64_t>(1, n / std::max(1, ns))) + n);
   for (int32_t s = 0; s < ns; ++s) {
@@ -410,7 +412,7 @@ RowStructure row_structure(const SymbolicFactor& S) {
   }
   for (int32_t i = 0; i < S.n; ++i) R.row_ptr[i + 1] += R.row_ptr[i];
   R.cols.resize(static_cast<size_t>(R.row_ptr[S.n]));
-  std::vector<int64_t> next(R.row_ptr.begin(), R.row_ptr.end() - 1);
+  HostVector<int64_t> next(R.row_ptr.begin(), R.row_ptr.end() - 1);
   for (int32_t s = 0; s < S.ns; ++s) {  // ascending s and c: each row's columns come out sorted
     const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
     for (int64_t p = S.super_row_ptr[s]; p < S.super_row_ptr[s + 1]; ++p) {

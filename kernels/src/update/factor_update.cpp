@@ -275,7 +275,7 @@ bool is_postorder(const std::vector<int32_t>& parent) {
 // factorization relies on contiguous subtrees.
 bool postorder_in_place(Restricted& R, bool two_threads) {
   if (is_postorder(R.parent)) return false;
-  const std::vector<int32_t> post = tree_postorder(R.parent);
+  const HostVector<int32_t> post = tree_postorder(R.parent);
   const int32_t m = static_cast<int32_t>(R.gcol.size());
   std::vector<int32_t> new_of_old(R.ns);
   for (int32_t k = 0; k < R.ns; ++k) new_of_old[post[k]] = k;
@@ -548,7 +548,7 @@ CscMatrix principal_submatrix(const CscMatrix& A, std::span<const int32_t> verti
   return submatrix_from_map(A, vertices, local);
 }
 
-Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{S.perm, S.iperm}; }
+Ordering factor_ordering(const SymbolicFactor& S) { return Ordering{std::vector<int32_t>(S.perm), std::vector<int32_t>(S.iperm)}; }
 
 namespace {
 const NumericFactor& factor_of(const std::shared_ptr<const NumericFactor>& L) {

@@ -94,7 +94,7 @@ DeformMatrices deform_matrices(const Mesh& m, DeformEnergy energy, double rel) {
   check_requirements(m, MeshRequirements{});
   CscMatrix Lp = cotan_laplacian(m);
   for (double& v : Lp.values) v = -v;
-  const std::vector<double> M = lumped_mass(m);
+  const auto M = lumped_mass(m);
   double trL = 0, trM = 0;
   for (int32_t j = 0; j < Lp.ncols; ++j) {
     if (Lp.colptr[j] == Lp.colptr[j + 1] || Lp.rowind[Lp.colptr[j]] != j)
@@ -238,8 +238,8 @@ DeformSolveStats solve_deformation(const NumericFactor& F, const DeformSystem& s
   const int32_t n = rest.num_vertices();
   if (target.num_vertices() != n) fail(ErrorCode::BadUsage, "solve_deformation: target and rest differ in size");
   out = target;  // known vertices: bit for bit
-  const std::vector<double>* T[3] = {&target.x, &target.y, &target.z};
-  const std::vector<double>* R[3] = {&rest.x, &rest.y, &rest.z};
+  const HostVector<double>* T[3] = {&target.x, &target.y, &target.z};
+  const HostVector<double>* R[3] = {&rest.x, &rest.y, &rest.z};
   // b = -E_FB d_B, d = target - rest; x, y, z in lanes 0..2 of a row-interleaved 8-lane block.
   std::vector<double> b8(static_cast<size_t>(nf) * kLanes, 0.0);
   for (int32_t a = 0; a < nf; ++a)

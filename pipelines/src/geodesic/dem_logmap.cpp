@@ -28,10 +28,10 @@ DemLogMap::DemLogMap(const Mesh& m) : x_(m.x), y_(m.y), z_(m.z) {
   for (int32_t i = 0; i < m.num_vertices(); ++i)
     if (!std::isfinite(m.x[i]) || !std::isfinite(m.y[i]) || !std::isfinite(m.z[i]))
       fail(ErrorCode::BadInput, mesh_name(m) + ": vertex " + std::to_string(i) + " has a non-finite coordinate");
-  normal_ = area_weighted_normals(m);
+  normal_ = std::vector<double>(area_weighted_normals(m));
   const Adjacency a = vertex_adjacency(m);
-  adj_offsets = a.offsets;
-  adj_ = a.neighbors;
+  adj_offsets.assign(a.offsets.begin(), a.offsets.end());
+  adj_.assign(a.neighbors.begin(), a.neighbors.end());
   len_.resize(adj_.size());
   for (int32_t i = 0; i < m.num_vertices(); ++i)
     for (int64_t q = adj_offsets[i]; q < adj_offsets[i + 1]; ++q) {

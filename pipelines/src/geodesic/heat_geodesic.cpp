@@ -1,6 +1,7 @@
 // Heat geodesic distance, whole-mesh and localized (pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp;
 // thesis §6.4.1-6.4.2, eqs. 6.3-6.6).
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -155,7 +156,7 @@ void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   if (!given) own = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
   const MeshDerived& d = given ? *given : own;
   num_components_ = d.components;
-  component_ = d.component;
+  component_.assign(d.component.begin(), d.component.end());
   grad_ = triangle_gradients(m, d.h);
   // Corner records in vertex-face order (see build_region).
   vf_corners_.resize(4 * grad_.vf_faces.size());
@@ -407,30 +408,30 @@ double HeatGeodesic::rim_cut(const PatchRegion& r, std::span<const double> h, He
 void HeatGeodesic::continue_rim(const PatchRegion& r, const double* hlb, double cut, HeatGeodesicWorkspace& ws) const {
   constexpr int kRec = 4;
   const int32_t nloc = static_cast<int32_t>(r.verts.size()), np = r.patch_size;
-  std::vector<int32_t>& outer = ws.rim_order;
+  HostVector<int32_t>& outer = ws.rim_order;
   outer.clear();
   for (int32_t k = 0; k < np; ++k)
     if (!(ws.rho[k] <= cut)) outer.push_back(k);
   if (outer.empty()) return;
   std::sort(outer.begin(), outer.end(), [&](int32_t a, int32_t b) { return ws.rho[a] < ws.rho[b] || (ws.rho[a] == ws.rho[b] && a < b); });
   // Faces per outer vertex (CSR over the outer list).
-  std::vector<int32_t>& pos = ws.rim_pos;
+  HostVector<int32_t>& pos = ws.rim_pos;
   pos.assign(static_cast<size_t>(nloc), -1);
   for (size_t q = 0; q < outer.size(); ++q) pos[outer[q]] = static_cast<int32_t>(q);
-  std::vector<int32_t>& off = ws.rim_offsets;
+  HostVector<int32_t>& off = ws.rim_offsets;
   off.assign(outer.size() + 1, 0);
   const size_t nfl = r.faces.size();
   for (size_t q = 0; q < 3 * nfl; ++q)
     if (pos[r.face_local[q]] >= 0) ++off[pos[r.face_local[q]] + 1];
   for (size_t q = 0; q < outer.size(); ++q) off[q + 1] += off[q];
-  std::vector<int32_t>& fl = ws.rim_faces;
+  HostVector<int32_t>& fl = ws.rim_faces;
   fl.resize(static_cast<size_t>(off.back()));
   {
-    std::vector<int32_t> fill(off.begin(), off.end() - 1);
+    HostVector<int32_t> fill(off.begin(), off.end() - 1);
     for (size_t q = 0; q < 3 * nfl; ++q)
       if (pos[r.face_local[q]] >= 0) fl[fill[pos[r.face_local[q]]]++] = static_cast<int32_t>(q);  // face slot 3f + s
   }
-  std::vector<uint8_t>& known = ws.rim_known;
+  HostVector<uint8_t>& known = ws.rim_known;
   known.assign(static_cast<size_t>(nloc), 0);
   for (int32_t k = 0; k < np; ++k) known[k] = ws.rho[k] <= cut;
   const bool lg = opt_.log_heat_gradient;
@@ -461,7 +462,7 @@ void HeatGeodesic::continue_rim(const PatchRegion& r, const double* hlb, double 
     known[outer[q]] = 1;
     return true;
   };
-  std::vector<int32_t>& later = ws.rim_later;
+  HostVector<int32_t>& later = ws.rim_later;
   later.clear();
   for (size_t q = 0; q < outer.size(); ++q)
     if (!solve_vertex(q)) later.push_back(static_cast<int32_t>(q));
@@ -606,7 +607,7 @@ void HeatGeodesic::query_full(int32_t source, std::span<double> distance, HeatGe
   if (distance.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "heat geodesic: distance has " + std::to_string(distance.size()) + " entries for " +
                                   std::to_string(n) + " vertices");
-  std::vector<double>& h = ws.h;
+  HostVector<double>& h = ws.h;
   h.assign(static_cast<size_t>(n), 0.0);
   h[source] = 1.0;
   ws.x.resize(solve_work_size(heat_, 1));

@@ -1,6 +1,7 @@
 // Smoothed log map by heat diffusion (pipelines/include/locus/pipelines/geodesic/logmap.hpp; thesis §6.5-6.6;
 // measurements behind the choices here: docs/logmap.md).
 #include "locus/pipelines/geodesic/logmap.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -65,10 +66,10 @@ void HeatLogMap::prepare(const Mesh& m, const MeshDerived* derived) {
   EdgeIncidence own;
   if (!derived) own = edge_incidence(m);
   const EdgeIncidence& inc = derived ? derived->incidence : own;
-  const std::vector<double> hn = mean_curvature_normals(m, &inc);
-  const std::vector<double> an = area_weighted_normals(m);
+  const HostVector<double> hn = mean_curvature_normals(m, &inc);
+  const HostVector<double> an = area_weighted_normals(m);
   const Edges& e = inc.edges;
-  std::vector<uint8_t>& boundary = boundary_;
+  HostVector<uint8_t>& boundary = boundary_;
   boundary.assign(static_cast<size_t>(n), 0);
   for (size_t k = 0; k < e.e0.size(); ++k)
     if (e.face_count[k] == 1) boundary[e.e0[k]] = boundary[e.e1[k]] = 1;
@@ -168,7 +169,7 @@ bool HeatLogMap::defect_star(int32_t i) const {
 // turn it into a gradient bias.
 LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMapWorkspace& ws) const {
   const TriangleGradients& g = geo_.gradients();
-  std::vector<int32_t>& S = ws.sources;
+  HostVector<int32_t>& S = ws.sources;
   S.clear();
   for (int64_t q = g.vf_offsets[i]; q < g.vf_offsets[i + 1]; ++q)
     for (int s = 0; s < 3; ++s) S.push_back(g.tri[3 * static_cast<int64_t>(g.vf_faces[q]) + s]);
@@ -193,7 +194,7 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
   if (irregular || defect_star(i)) est.lattice = LatticeCorrection::None;
   const LogMapAngle angle = est.angle;
   if (angle == LogMapAngle::LogHeatTwoRing) {
-    std::vector<int32_t>& R2 = ws.ring2;
+    HostVector<int32_t>& R2 = ws.ring2;
     R2.clear();
     for (size_t k = 1; k < ring1; ++k)
       for (int64_t q = g.vf_offsets[S[k]]; q < g.vf_offsets[S[k] + 1]; ++q)
@@ -235,7 +236,7 @@ LogMapEstimator HeatLogMap::prepare_center(int32_t i, LogMapEstimator est, LogMa
 // through the values at the sources (i, its ring, its two-ring) in the
 // tangent-plane frame (e1, e2); left empty for a degenerate stencil.
 void HeatLogMap::two_ring_coefficients(int32_t i, const double e1[3], const double e2[3], LogMapWorkspace& ws) const {
-  const std::vector<int32_t>& S = ws.sources;
+  const HostVector<int32_t>& S = ws.sources;
   const size_t d = S.size();
   // Normal equations of the quadratic fit in coordinates scaled by 1/h, solved
   // by a 6x6 Cholesky factorization (SPD unless the stencil is degenerate).
@@ -336,12 +337,12 @@ bool newton_dispersion_radius(double& rho, double tol, Eval eval) {
 void HeatLogMap::prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
                                  LogMapWorkspace& ws) const {
   const TriangleGradients& g = geo_.gradients();
-  std::vector<double>& st = ws.star;
+  HostVector<double>& st = ws.star;
   st.clear();
   double mass = 0;
   // ws.sources starts with i and its one ring (ring1 entries), then maybe the two-ring.
   const size_t stars = lattice == LatticeCorrection::Ring ? ring1 : 1;
-  std::vector<int32_t>& ends = ws.star_ends;
+  HostVector<int32_t>& ends = ws.star_ends;
   for (size_t r = 0; r < stars; ++r) {
     const int32_t v = ws.sources[r];
     const size_t first = st.size() / 3;  // v's entries start here; one per neighbor u
@@ -502,7 +503,7 @@ void HeatLogMap::begin_gradients(size_t patch_size, LogMapWorkspace& ws) const {
   ws.rowbuf.assign(dp, 0.0);
   ws.cpad.assign(4 * dp, 0.0);
   for (size_t k = 0; k < d; ++k) {
-    const std::vector<double>& c2 = ws.coef2.empty() ? ws.coef1 : ws.coef2;
+    const HostVector<double>& c2 = ws.coef2.empty() ? ws.coef1 : ws.coef2;
     ws.cpad[k] = ws.coef1[2 * k];
     ws.cpad[dp + k] = ws.coef1[2 * k + 1];
     ws.cpad[2 * dp + k] = c2[2 * k];
@@ -534,7 +535,7 @@ constexpr int path_monomial(int d, int a) { return d * (d + 1) / 2 + a; }
 
 // Adds sum w x^a y^(d - a) over the edges (x, y, w) of exyw to
 // cell[path_monomial(d, a)], degrees 1..kPathDegree.
-void add_edge_moments(const std::vector<double>& exyw, double* cell) {
+void add_edge_moments(const HostVector<double>& exyw, double* cell) {
   constexpr int D = kPathDegree;
   double px[D + 1], py[D + 1];
   for (size_t e = 0; e < exyw.size() / 3; ++e) {
@@ -632,7 +633,7 @@ void path_sector_offsets(int sct, const double* mom, double h, double tt, double
 }
 }  // namespace
 
-double HeatLogMap::path_offset_at(const std::vector<double>& table, double th, double r, double rmax) {
+double HeatLogMap::path_offset_at(const HostVector<double>& table, double th, double r, double rmax) {
   const double pos = (th < 0 ? th + 2 * std::numbers::pi : th) * (kPathSectors / (2 * std::numbers::pi)) - 0.5;
   const double fl = std::floor(pos);
   const int s0 = (static_cast<int>(fl) % kPathSectors + kPathSectors) % kPathSectors, s1 = (s0 + 1) % kPathSectors;
@@ -659,8 +660,8 @@ void HeatLogMap::add_path_star(int32_t v, double weight, const double n[3], cons
   const double c[3] = {nv[1] * n[2] - nv[2] * n[1], nv[2] * n[0] - nv[0] * n[2], nv[0] * n[1] - nv[1] * n[0]};
   const double cosa = dot3(nv, n);
   const double k = cosa > -0.9 ? 1 / (1 + cosa) : 0.0;
-  std::vector<int32_t>& ends = ws.star_ends;
-  std::vector<double>& exyw = ws.star;  // (x, y, weight) per edge
+  HostVector<int32_t>& ends = ws.star_ends;
+  HostVector<double>& exyw = ws.star;  // (x, y, weight) per edge
   ends.clear();
   exyw.clear();
   for (int64_t q = g.vf_offsets[v]; q < g.vf_offsets[v + 1]; ++q) {
@@ -713,7 +714,7 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
   const int32_t i = ws.sources[0];
   double n[3], e1[3], e2[3];
   frame(i, n, e1, e2);
-  const std::vector<double>& radius = ws.path_r;
+  const HostVector<double>& radius = ws.path_r;
   double rmax = 0;
   for (size_t p = 0; p < patch.size(); ++p)
     if (std::isfinite(radius[p])) rmax = std::max(rmax, radius[p]);
@@ -721,7 +722,7 @@ void HeatLogMap::path_offsets(std::span<const int32_t> patch, LogMapWorkspace& w
   const double h = geo_.mean_edge_length(), inv_h = 1 / h, dtheta = 2 * std::numbers::pi / kPathSectors;
   constexpr int NM = kPathMonomials;
   const size_t cells = static_cast<size_t>(kPathSectors) * kPathBins;
-  std::vector<double>& mom = ws.path_moments;
+  HostVector<double>& mom = ws.path_moments;
   mom.assign((cells + 1) * (NM + 1), 0.0);  // per cell: NM moments, then the weighted mass; last: the center
   // The center's star (weight: the length h it stands for), then each patch
   // vertex in its cell, weight ~ 1 / (r * 3 sectors' angle): uniform per unit
@@ -906,7 +907,7 @@ void HeatLogMap::gradients_from_rows(int32_t W, int32_t center_local, const LogM
   const PatchRegion& r = ws.geo.region;
   const size_t nloc = r.verts.size();
   const int32_t np = r.patch_size;
-  const std::vector<int32_t>& rows = ws.wide.out_rows;
+  const HostVector<int32_t>& rows = ws.wide.out_rows;
   const double* X = ws.wide.x.data();
   const size_t xrows = ws.wide.x.size() / static_cast<size_t>(W);
   // Owner of each row: its region index, with kSourceBit set for the
@@ -1063,7 +1064,7 @@ LogMapStats HeatLogMap::query_full(int32_t center, std::span<const int32_t> patc
       for (int32_t l = 0; l < lanes; ++l)
         ws.heat[static_cast<size_t>(v) * d + k0 + l] = ws.out8[static_cast<size_t>(v) * kLanes + l];
   }
-  std::vector<double>& h0 = ws.geo.h;
+  HostVector<double>& h0 = ws.geo.h;
   h0.resize(static_cast<size_t>(n));
   for (int32_t v = 0; v < n; ++v) h0[v] = ws.heat[static_cast<size_t>(v) * d];
   ws.dist_full.resize(static_cast<size_t>(n));

@@ -68,7 +68,7 @@ PolygonHeatGeodesic::PolygonHeatGeodesic(const Mesh& m, const PolygonHeatGeodesi
   grad_ = triangle_gradients(refined_);  // (BadInput on zero-area fan triangles)
   // L = P^T L_C P (lower triplets; see the header) and M = P^T m.
   const CscMatrix Lr = cotan_laplacian(refined_);
-  const std::vector<double> mr = lumped_mass(refined_);
+  const auto mr = lumped_mass(refined_);
   auto row = [&](int32_t r, auto&& fn) {  // the entries (vertex, weight) of row r of P
     if (r < n_) return fn(r, 1.0);
     const int32_t f = face_of_virtual_[r - n_], b = face_offsets_[f], k = face_offsets_[f + 1] - b;

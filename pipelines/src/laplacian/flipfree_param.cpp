@@ -101,8 +101,8 @@ FlipFreeParamResult flipfree_param(const Mesh& m, const FlipFreeParamOptions& op
     PerfectLaplacianProblem P;
     P.nv = nv;
     P.dims = 2;
-    P.e0 = E.e0;
-    P.e1 = E.e1;
+    P.e0.assign(E.e0.begin(), E.e0.end());
+    P.e1.assign(E.e1.begin(), E.e1.end());
     P.fixed = fixed;
     P.fixed_pos = fixed_pos;
     P.target_length.resize(ne);

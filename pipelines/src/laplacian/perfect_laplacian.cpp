@@ -430,7 +430,7 @@ Coords integrated_mean_curvature_normal(const Mesh& m) {
                          err.what());
   }
   const int32_t nv = m.num_vertices();
-  const std::vector<double>* x[3] = {&m.x, &m.y, &m.z};
+  const HostVector<double>* x[3] = {&m.x, &m.y, &m.z};
   Coords b;
   for (int k = 0; k < 3; ++k) {
     b[k].assign(static_cast<size_t>(nv), 0.0);
@@ -567,8 +567,8 @@ MeshPerfectLaplacianResult perfect_laplacian(const Mesh& m, const MeshPerfectLap
 
   MeshPerfectLaplacianResult R;
   const EdgeIncidence inc = edge_incidence(m);
-  R.e0 = inc.edges.e0;
-  R.e1 = inc.edges.e1;
+  R.e0.assign(inc.edges.e0.begin(), inc.edges.e0.end());
+  R.e1.assign(inc.edges.e1.begin(), inc.edges.e1.end());
   const size_t ne = R.e0.size();
   const auto loops = boundary_loops(m, inc);
   R.boundary_loops = static_cast<int32_t>(loops.size());
@@ -583,7 +583,7 @@ MeshPerfectLaplacianResult perfect_laplacian(const Mesh& m, const MeshPerfectLap
   P.dims = dims;
   P.e0 = R.e0;
   P.e1 = R.e1;
-  Coords input{m.x, m.y, m.z};
+  Coords input{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)};
   R.bbox_diagonal = bbox_diagonal(dims, input, static_cast<size_t>(nv));
   P.target_length.resize(ne);
   for (size_t e = 0; e < ne; ++e) {
@@ -601,9 +601,9 @@ MeshPerfectLaplacianResult perfect_laplacian(const Mesh& m, const MeshPerfectLap
     constrain_space(m, loops, P, R);
 
   R.run = run_perfect_laplacian(P, opt.iteration, ctx);
-  if (dims == 2) R.run.pos[2] = m.z;  // the plane the mesh lies in
+  if (dims == 2) R.run.pos[2].assign(m.z.begin(), m.z.end());  // the plane the mesh lies in
   R.align_scale = align_similarity(dims, R.run.pos, input, R.aligned);
-  if (dims == 2) R.aligned[2] = m.z;
+  if (dims == 2) R.aligned[2].assign(m.z.begin(), m.z.end());
   measure_displacement(dims, input, nv, R);
   R.total_s = seconds_since(t0);
   return R;

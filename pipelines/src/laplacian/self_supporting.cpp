@@ -64,7 +64,7 @@ PerfectLaplacianProblem support_problem(const Mesh& m, const SelfSupportResult& 
   P.e0 = R.e0;
   P.e1 = R.e1;
   P.fixed = R.supported;
-  P.fixed_pos = Coords{m.x, m.y, m.z};
+  P.fixed_pos = Coords{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)};
   P.b[0].assign(static_cast<size_t>(nv), 0.0);
   P.b[1].assign(static_cast<size_t>(nv), 0.0);
   P.b[2].resize(static_cast<size_t>(nv));
@@ -118,7 +118,7 @@ void measure_displacement(const Mesh& m, SelfSupportResult& R) {
   const int32_t nv = m.num_vertices();
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
-    const std::vector<double>& c = k == 0 ? m.x : k == 1 ? m.y : m.z;
+    const HostVector<double>& c = k == 0 ? m.x : k == 1 ? m.y : m.z;
     const auto [lo, hi] = std::minmax_element(c.begin(), c.end());
     d2 += (*hi - *lo) * (*hi - *lo);
   }
@@ -154,8 +154,8 @@ SelfSupportResult self_supporting(const Mesh& m, const SelfSupportOptions& opt, 
   if (loops.empty()) fail(ErrorCode::BadInput, mesh_name(m) + ": closed mesh; self-supporting needs supported boundary vertices");
 
   SelfSupportResult R;
-  R.e0 = inc.edges.e0;
-  R.e1 = inc.edges.e1;
+  R.e0.assign(inc.edges.e0.begin(), inc.edges.e0.end());
+  R.e1.assign(inc.edges.e1.begin(), inc.edges.e1.end());
   const size_t ne = R.e0.size();
   R.supported = boundary_supports(m, loops);
   R.load = dead_load(m, opt.load_density, R.supported);

@@ -2,6 +2,7 @@
 // (pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp; thesis §3.7.1, §3.4-3.6), and the R^6 lift of the
 // anisotropic variant.
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -38,7 +39,7 @@
 namespace locus {
 
 CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
-                                       std::vector<double>& mass, double& mean_edge) {
+                                       HostVector<double>& mass, double& mean_edge) {
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
     fail(ErrorCode::BadUsage, "heat operator from positions: expected " + std::to_string(dim) + " values per vertex");
@@ -95,7 +96,7 @@ CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> po
 std::vector<double> lifted_positions(const Mesh& m, double lambda) {
   const int32_t n = m.num_vertices();
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  const std::vector<double>* X[3] = {&m.x, &m.y, &m.z};
+  const HostVector<double>* X[3] = {&m.x, &m.y, &m.z};
   for (int c = 0; c < 3; ++c)
     for (int32_t v = 0; v < n; ++v) {
       lo[c] = std::min(lo[c], (*X[c])[v]);
@@ -103,7 +104,7 @@ std::vector<double> lifted_positions(const Mesh& m, double lambda) {
     }
   const double side = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   if (!(side > 0) || !std::isfinite(side)) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no extent");
-  const std::vector<double> nrm = area_weighted_normals(m);
+  const HostVector<double> nrm = area_weighted_normals(m);
   std::vector<double> p(static_cast<size_t>(n) * 6);
   for (int32_t v = 0; v < n; ++v)
     for (int c = 0; c < 3; ++c) {
@@ -170,10 +171,10 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
   o.mode = GrowMode::Geodesic;
   o.max_radius = radius;
   o.radius_rule = RadiusRule::PruneBeyond;
-  std::vector<int32_t> out;
+  HostVector<int32_t> out;
   grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
   std::sort(out.begin(), out.end());
-  return out;
+  return std::vector<int32_t>(out);
 }
 
 // Graph-geodesic Voronoi cells of the sites: one multi-source Dijkstra on the
@@ -181,11 +182,11 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
 // are seeded in id order and a vertex changes site only for a strictly smaller
 // distance: deterministic. Labels -1 where no site reaches (a component
 // without sites).
-std::vector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
+HostVector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
-  const std::vector<double> len = adjacency_edge_lengths(m, adj);
-  std::vector<double> dist(n, INFINITY);
-  std::vector<int32_t> label(n, -1), pos(n, -1), heap;
+  const HostVector<double> len = adjacency_edge_lengths(m, adj);
+  HostVector<double> dist(n, INFINITY);
+  HostVector<int32_t> label(n, -1), pos(n, -1), heap;
   auto relax = [&](int32_t w, double d, int32_t s) {
     if (pos[w] == -2 || !(d < dist[w])) return;
     dist[w] = d;
@@ -216,10 +217,10 @@ std::vector<int32_t> dijkstra_cells(const Mesh& m, const Adjacency& adj, std::sp
 
 // Cells as CSR (vertices ascending within a cell) and the cell adjacency graph.
 struct Cells {
-  std::vector<int64_t> offsets;  // ns + 1
-  std::vector<int32_t> verts;
-  std::vector<int64_t> adj_offsets;
-  std::vector<int32_t> adj;
+  HostVector<int64_t> offsets;  // ns + 1
+  HostVector<int32_t> verts;
+  HostVector<int64_t> adj_offsets;
+  HostVector<int32_t> adj;
 };
 Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
   Cells c;
@@ -240,7 +241,7 @@ Cells build_cells(const Edges& edges, std::span<const int32_t> label, int32_t ns
     }
   }
   for (int32_t s = 0; s < ns; ++s) raw_off[s + 1] += raw_off[s];
-  std::vector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
+  HostVector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
   fill.assign(raw_off.begin(), raw_off.end() - 1);
   for (size_t k = 0; k < edges.e0.size(); ++k) {
     const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
@@ -273,7 +274,7 @@ void two_ring_cells(const Cells& c, int32_t s, std::vector<int32_t>& out) {
   }
 }
 
-void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, std::vector<int32_t>& verts) {
+void cells_to_vertices(const Cells& c, std::vector<int32_t>& cells, HostVector<int32_t>& verts) {
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   verts.clear();
@@ -356,9 +357,9 @@ double tangential_distance(const Mesh& m, const CentroidGeometry& g, const Surfa
 
 struct CentroidScratch {
   HeatBatch batch;
-  std::vector<double> dense;  // n, zero between uses
+  HostVector<double> dense;  // n, zero between uses
   std::vector<int32_t> cells, touched;
-  std::vector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
+  HostVector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
   std::vector<double> weights;
   std::vector<uint8_t> read_mark;   // count_reads scratch
   std::vector<int32_t> label_support;
@@ -404,7 +405,7 @@ void hottest_vertices(const HeatBatch& hb, int32_t best[kLanes]) {
 // the initial sites is enough.
 void check_components_have_sites(const Mesh& m, const MeshDerived& d, std::span<const SurfacePoint> sites) {
   const int32_t n = m.num_vertices();
-  const std::vector<int32_t>& comp = d.component;
+  const HostVector<int32_t>& comp = d.component;
   const int32_t nc = d.components;
   if (nc <= 1) return;
   std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
@@ -453,18 +454,18 @@ struct LloydOperators {
   HeatDiffusion H_own, Hc_own;
   const HeatDiffusion* H = nullptr;
   const HeatDiffusion* Hc = nullptr;
-  std::vector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
+  HostVector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
 };
 
-void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const std::vector<double>& area_r3,
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops) {
   const int32_t n = m.num_vertices();
   // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
   std::vector<double> lifted;
   if (opt.anisotropy > 0) lifted = lifted_positions(m, opt.anisotropy);
-  auto build = [&](double t, std::vector<double>& mass, double& h) {
+  auto build = [&](double t, HostVector<double>& mass, double& h) {
     if (opt.anisotropy > 0) return heat_operator_from_positions(m, lifted, 6, t, mass, h);
-    mass = d.mass;
+    mass.assign(d.mass.begin(), d.mass.end());
     h = d.h;
     return heat_operator(m, t);
   };
@@ -480,7 +481,7 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
       fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
     ops.area_op = area_r3;
   } else {
-    std::vector<double> mass;
+    HostVector<double> mass;
     double h = 0;
     if (opt.anisotropy > 0) {
       heat_operator_from_positions(m, lifted, 6, 1.0, mass, h);  // h of the lifted metric first
@@ -522,8 +523,8 @@ struct LloydInputs {
   const CentroidGeometry& geo;
   const Edges& edges;
   const VertexStars& stars;          // in the operator's metric
-  const std::vector<double>& area_r3;
-  const std::vector<double>& mass_r3;
+  const HostVector<double>& area_r3;
+  const HostVector<double>& mass_r3;
   double h_r3;
   int threads;                       // of the arena of the cell partitions (>= 1)
 };
@@ -596,7 +597,7 @@ class LloydLoop {
   // the labels of this iteration and reused by the next labels (same batches: the
   // sites are the centroids of these cells), so no neighborhood is built twice.
   std::vector<int32_t> order_;
-  std::vector<std::vector<int32_t>> batch_kept_;
+  std::vector<HostVector<int32_t>> batch_kept_;
   const int64_t full_entries_;
   double centroid_read_sum_ = 0, label_read_sum_ = 0;
   int64_t read_batches_ = 0;
@@ -860,8 +861,11 @@ void LloydLoop::finish() {
   labels_ctx_ = ctx_.sub(static_cast<double>(std::max(1, opt_.iterations)) / (std::max(1, opt_.iterations) + 1.0), 1.0);
   labels_of_sites();
   r_.final_labels_s = fsw.lap();
-  r_.label = V_.label;
-  in_arena([&] { r_.cell_area = partition_cells(m_, in_.area_r3, V_, ns_).area; });
+  r_.label.assign(V_.label.begin(), V_.label.end());
+  in_arena([&] {
+    const HostVector<double> area = partition_cells(m_, in_.area_r3, V_, ns_).area;
+    r_.cell_area.assign(area.begin(), area.end());
+  });
   if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
   r_.sites = std::move(sites_);
   if (read_batches_ > 0) {
@@ -887,7 +891,7 @@ void give_every_component_a_site(const Mesh& m, const MeshDerived* given, std::v
   std::vector<int32_t> own;
   const int32_t nc = given ? given->components : connected_components(m, own);
   if (nc <= 1) return;
-  const std::vector<int32_t>& comp = given ? given->component : own;
+  const int32_t* comp = given ? given->component.data() : own.data();
   if (static_cast<int32_t>(sites.size()) < nc)
     fail(ErrorCode::BadUsage, "cvt: " + std::to_string(sites.size()) + " sites for " + std::to_string(nc) +
                                   " connected components; every component needs at least one site");
@@ -935,7 +939,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   LloydResult r;
   BatchStopwatch sw;
-  const std::vector<double> area_r3 = face_areas(m);
+  const HostVector<double> area_r3 = face_areas(m);
   // Progress: operators and first neighborhoods, then the iterations and the
   // final labels (LloydLoop), one monotone fraction. The first neighborhoods
   // cost ~1.3 iterations, the final labels about one (docs/shipping.md).
@@ -961,7 +965,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const VertexStars stars = vertex_stars(m, ops.area_op);
   geometry_ticker.add(1.0);
   ctx.check_cancel();
-  const std::vector<double>& mass_r3 = derived.mass;
+  const HostVector<double>& mass_r3 = derived.mass;
   const double h_r3 = derived.h;
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
@@ -969,13 +973,13 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
-  std::vector<int32_t> first;  // init_cells: the sites' Dijkstra cells
+  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
   if (local && opt.init_cells) {
     first = dijkstra_cells(m, geo.adj, sites);
     if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls
   }
   if (local && first.empty()) {
-    const std::vector<double>& mass3 = derived.mass;
+    const HostVector<double>& mass3 = derived.mass;
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
     scope.reset();  // the neighborhoods below run on oneTBB workers
@@ -1008,7 +1012,7 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
                                                          const RunContext& ctx) {
   const int32_t ns = static_cast<int32_t>(sites.size());
   std::vector<std::vector<int32_t>> nb(ns);
-  const std::vector<double> edge_length = adjacency_edge_lengths(m, adj);
+  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
   tbb::enumerable_thread_specific<GrowWorkspace> scratch;
   tbb::parallel_for(0, ns, [&](int32_t s) {
     if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, edge_length, sites[s], radius, scratch.local());

@@ -60,7 +60,7 @@ CvtQuality cvt_quality(const Mesh& m, std::span<const int32_t> label, std::span<
       fail(ErrorCode::BadUsage, "cvt quality: vertex " + std::to_string(v) + " has label " + std::to_string(label[v]) +
                                     ", outside 0.." + std::to_string(ns - 1));
   CvtQuality q;
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   q.cell_area.assign(ns, 0.0);
   for (int32_t v = 0; v < n; ++v) q.cell_area[label[v]] += mass[v];
   double total = 0;

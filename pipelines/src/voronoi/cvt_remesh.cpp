@@ -36,7 +36,7 @@ void add_sites(const Mesh& m, const MeshDerived& d, const HeatDiffusion& H, std:
   run_with_threads(std::max(1, threads), [&] { nb = geodesic_neighborhoods(m, d.adjacency, fresh, radius, ctx); });
   heat_voronoi_add(H, m, sites, first, nb, {}, r.voronoi, ctx);
   r.sites = std::move(sites);
-  r.label = r.voronoi.label;
+  r.label.assign(r.voronoi.label.begin(), r.voronoi.label.end());
 }
 
 }  // namespace

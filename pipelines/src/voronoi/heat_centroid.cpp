@@ -1,6 +1,7 @@
 // Heat centroids and their quadratic refinement (pipelines/include/locus/pipelines/voronoi/heat_centroid.hpp;
 // thesis §3.5 eqs. 3.24-3.29, §3.7.1 "Centroids on faces").
 #include "locus/pipelines/voronoi/heat_centroid.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <Eigen/Dense>
 
@@ -29,7 +30,7 @@ CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjac
   }
   for (int32_t v = 0; v < g.n; ++v) g.vf_offsets[v + 1] += g.vf_offsets[v];
   g.vf_faces.resize(g.vf_offsets[g.n]);
-  std::vector<int64_t> fill(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
+  HostVector<int64_t> fill(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[fill[v]++] = f;
@@ -83,7 +84,7 @@ HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& h
   r.point = vertex_point(c);
   // Fit points: c and its `rings` rings; one ring more while that gives fewer than 6
   // values (six coefficients; boundary corners can have tiny rings).
-  std::vector<int32_t> pts{c};
+  HostVector<int32_t> pts{c};
   size_t ring_begin = 0;
   for (int ring = 0; ring < rings || (pts.size() < 7 && ring < rings + 1); ++ring) {
     const size_t ring_end = pts.size();
@@ -195,7 +196,7 @@ HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const Centroid
   const int32_t n = m.num_vertices();
   if (n != H.n || g.n != n) fail(ErrorCode::BadUsage, "heat centroid: operator or geometry of another mesh");
   if (cell.empty()) fail(ErrorCode::BadUsage, "heat centroid: the cell is empty");
-  std::vector<double> u(n, 0.0);
+  HostVector<double> u(n, 0.0);
   for (size_t k = 0; k < cell.size(); ++k) {
     if (cell[k] < 0 || cell[k] >= n)
       fail(ErrorCode::BadUsage, "heat centroid: cell entry " + std::to_string(k) + " is vertex " +

@@ -98,7 +98,7 @@ void label_from_top_sites(const Mesh& m, HeatVoronoi& V) {
 // nb_first) or batch_kept (per batch) or neither (full solves).
 void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                 std::span<const int32_t> order, std::span<const std::vector<int32_t>> neighborhoods, int32_t nb_first,
-                std::span<const std::vector<int32_t>> batch_kept, HeatVoronoi& V, const RunContext& ctx) {
+                std::span<const HostVector<int32_t>> batch_kept, HeatVoronoi& V, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const bool local = !neighborhoods.empty() || !batch_kept.empty();
   const int32_t nb = static_cast<int32_t>((order.size() + kLanes - 1) / kLanes);
@@ -171,7 +171,7 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
 
 HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                               std::span<const std::vector<int32_t>> neighborhoods,
-                              std::span<const std::vector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
+                              std::span<const HostVector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
                               const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
@@ -227,7 +227,7 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
 
 HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                                  std::span<const int32_t> batch_order,
-                                 std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx) {
+                                 std::span<const HostVector<int32_t>> batch_kept, const RunContext& ctx) {
   if (batch_kept.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no kept sets given");
   return heat_voronoi_impl(H, m, sites, {}, batch_kept, batch_order, ctx);
 }

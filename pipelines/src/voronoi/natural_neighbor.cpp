@@ -34,7 +34,7 @@ NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mes
   std::vector<int64_t> fill(F.vf_offsets.begin(), F.vf_offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f)
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) F.vf_faces[fill[v]++] = f;
-  F.cell_area = partition_cells(m, F.face_area, F.voronoi, static_cast<int32_t>(sites.size())).area;
+  F.cell_area = std::vector<double>(partition_cells(m, F.face_area, F.voronoi, static_cast<int32_t>(sites.size())).area);
   return F;
 }
 

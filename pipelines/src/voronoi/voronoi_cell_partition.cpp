@@ -1,6 +1,7 @@
 // Fractional partition of triangles among heat-Voronoi cells
 // (pipelines/include/locus/pipelines/voronoi/voronoi_cell_partition.hpp; thesis eqs. 3.19-3.21, 3.9-3.11).
 #include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
+#include "locus/core/host_allocator.hpp"
 
 #include <oneapi/tbb/parallel_for.h>
 
@@ -126,7 +127,7 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
   }
   for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
   st.faces.resize(st.offsets[n]);
-  std::vector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
+  HostVector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
@@ -193,7 +194,7 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
   return area;
 }
 
-std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
+HostVector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": face areas need a triangle mesh");
   if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
@@ -206,14 +207,14 @@ std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const dou
     }
     return s;
   };
-  std::vector<double> area(nf);
+  HostVector<double> area(nf);
   for (int32_t f = 0; f < nf; ++f)
     area[f] = heron(len2(m.f1[f], m.f2[f]), len2(m.f2[f], m.f0[f]), len2(m.f0[f], m.f1[f]));
   return area;
 }
 
-std::vector<double> face_areas(const Mesh& m) {
-  std::vector<double> p(3 * static_cast<size_t>(m.num_vertices()));
+HostVector<double> face_areas(const Mesh& m) {
+  HostVector<double> p(3 * static_cast<size_t>(m.num_vertices()));
   for (int32_t v = 0; v < m.num_vertices(); ++v) {
     p[3 * static_cast<size_t>(v)] = m.x[v];
     p[3 * static_cast<size_t>(v) + 1] = m.y[v];
@@ -239,10 +240,10 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   // the result does not depend on the thread count.
   constexpr int32_t kChunk = 4096;
   const int32_t nchunks = (nf + kChunk - 1) / kChunk;
-  std::vector<std::vector<Entry>> chunk_entries(nchunks);
-  std::vector<int64_t> chunk_split(nchunks, 0), chunk_fallback(nchunks, 0);
+  std::vector<HostVector<Entry>> chunk_entries(nchunks);
+  HostVector<int64_t> chunk_split(nchunks, 0), chunk_fallback(nchunks, 0);
   tbb::parallel_for(0, nchunks, [&](int32_t ch) {
-    std::vector<Entry>& entries = chunk_entries[ch];
+    HostVector<Entry>& entries = chunk_entries[ch];
     entries.reserve(4 * static_cast<size_t>(kChunk));
     for (int32_t f = ch * kChunk; f < std::min(nf, (ch + 1) * kChunk); ++f) {
       const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
@@ -279,19 +280,19 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
     P.fallback_faces += chunk_fallback[ch];
   }
   // Counting sort by cell (chunk order kept), then by vertex within each cell; merge equal vertices.
-  std::vector<int64_t> start(static_cast<size_t>(cells) + 1, 0);
+  HostVector<int64_t> start(static_cast<size_t>(cells) + 1, 0);
   for (const auto& entries : chunk_entries)
     for (const Entry& e : entries) ++start[e.cell + 1];
   for (int32_t c = 0; c < cells; ++c) start[c + 1] += start[c];
-  std::vector<Entry> sorted(start[cells]);
+  HostVector<Entry> sorted(start[cells]);
   {
-    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    HostVector<int64_t> fill(start.begin(), start.end() - 1);
     for (const auto& entries : chunk_entries)
       for (const Entry& e : entries) sorted[fill[e.cell]++] = e;
   }
   // Per cell: sort by vertex (then weight) and merge in place (parallel over cells, each cell's
   // arithmetic in a fixed order), then compact.
-  std::vector<int64_t> kept(cells, 0);
+  HostVector<int64_t> kept(cells, 0);
   P.area.assign(cells, 0.0);
   tbb::parallel_for(0, cells, [&](int32_t c) {
     auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];

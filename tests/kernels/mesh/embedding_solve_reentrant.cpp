@@ -30,7 +30,7 @@ TEST_CASE("embedding system: concurrent solves equal sequential ones") {
   // Four problems: different fixed positions and right-hand sides.
   std::vector<Coords> pos(4), rhs(4);
   for (int p = 0; p < 4; ++p) {
-    pos[p] = Coords{m.x, m.y, m.z};
+    pos[p] = Coords{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)};
     for (int k = 0; k < 3; ++k) {
       for (double& x : pos[p][k]) x *= 1.0 + 0.1 * p + 0.01 * k;
       rhs[p][k].assign(static_cast<size_t>(nv), 0.001 * (p + 1) * (k + 1));

@@ -37,7 +37,7 @@ TEST_CASE("derive_mesh: the separate functions' values, bit for bit") {
     CHECK(d.adjacency.offsets == a.offsets);
     CHECK(d.adjacency.neighbors == a.neighbors);
     CHECK(same_bits(d.h, mean_edge_length(m)));
-    const std::vector<double> mass = lumped_mass(m);
+    const auto mass = lumped_mass(m);
     REQUIRE(d.mass.size() == mass.size());
     for (size_t k = 0; k < mass.size(); ++k) CHECK(same_bits(d.mass[k], mass[k]));
     std::vector<int32_t> comp;

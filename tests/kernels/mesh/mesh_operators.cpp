@@ -72,7 +72,7 @@ Eigen::VectorXd area_third_oracle(const Mesh& m) {
   return M;
 }
 
-std::vector<double> multiply(const CscMatrix& A, const std::vector<double>& x) {
+std::vector<double> multiply(const CscMatrix& A, ConstView<double> x) {
   std::vector<double> y(x.size());
   symmetric_multiply(A, x.data(), y.data());
   return y;
@@ -184,14 +184,14 @@ TEST_CASE("linear precision: L_C x = L_C y = 0 at interior vertices of planar me
 
 TEST_CASE("lumped mass (eq. 3.6): a third of the incident areas, total = surface area") {
   for (const Mesh& m : {make_icosphere(2, 0.5), make_random_sphere(300, 4), make_disk(5, 0.3, 2)}) {
-    const std::vector<double> M = lumped_mass(m);
+    const auto M = lumped_mass(m);
     const Eigen::VectorXd R = area_third_oracle(m);
     for (int32_t i = 0; i < m.num_vertices(); ++i) CHECK(M[i] == doctest::Approx(R[i]).epsilon(1e-10));
   }
   // Unit square grid: total exactly 1; an interior vertex of the regular pattern has
   // six triangles of area h^2/2, i.e. mass h^2.
   const int32_t n = 16;
-  const std::vector<double> g = lumped_mass(make_grid(n));
+  const auto g = lumped_mass(make_grid(n));
   double total = 0;
   for (double v : g) total += v;
   CHECK(total == doctest::Approx(1.0).epsilon(1e-14));
@@ -211,7 +211,7 @@ TEST_CASE("lumped mass (eq. 3.6): a third of the incident areas, total = surface
   // The CSC form holds the same numbers on its diagonal and zeros elsewhere.
   const Mesh s = make_icosphere(2);
   const CscMatrix Mc = mass_matrix_as_csc(s);
-  const std::vector<double> Md = lumped_mass(s);
+  const auto Md = lumped_mass(s);
   for (int32_t j = 0; j < Mc.ncols; ++j)
     for (int64_t p = Mc.colptr[j]; p < Mc.colptr[j + 1]; ++p) CHECK(Mc.values[p] == (p == Mc.colptr[j] ? Md[j] : 0.0));
 }
@@ -224,7 +224,7 @@ TEST_CASE("mean-curvature normal approaches (2/r) n on icospheres; points outwar
   double previous_rms = 1e300, previous_angle = 1e300;
   for (int level = 1; level <= 5; ++level) {
     const Mesh m = make_icosphere(level, r);
-    const std::vector<double> hn = mean_curvature_normals(m), n = area_weighted_normals(m), M = lumped_mass(m);
+    const auto hn = mean_curvature_normals(m), n = area_weighted_normals(m), M = lumped_mass(m);
     double sq = 0, area = 0, angle = 0, mean_magnitude = 0;
     for (int32_t i = 0; i < m.num_vertices(); ++i) {
       double d2 = 0, mag2 = 0, dot = 0;
@@ -250,14 +250,14 @@ TEST_CASE("mean-curvature normal approaches (2/r) n on icospheres; points outwar
   CHECK(previous_angle < 0.002);
   // Outward on an irregular convex surface.
   const Mesh s = make_random_sphere(3000, 8);
-  const std::vector<double> hn = mean_curvature_normals(s);
+  const auto hn = mean_curvature_normals(s);
   for (int32_t i = 0; i < s.num_vertices(); ++i)
     CHECK(hn[3 * i] * s.x[i] + hn[3 * i + 1] * s.y[i] + hn[3 * i + 2] * s.z[i] > 0);
 }
 
 TEST_CASE("area-weighted normals: unit, radial on spheres, outward on the quad torus") {
   const Mesh m = make_icosphere(3, 3.0);
-  const std::vector<double> n = area_weighted_normals(m);
+  const auto n = area_weighted_normals(m);
   for (int32_t i = 0; i < m.num_vertices(); ++i) {
     const double len = std::sqrt(n[3 * i] * n[3 * i] + n[3 * i + 1] * n[3 * i + 1] + n[3 * i + 2] * n[3 * i + 2]);
     CHECK(len == doctest::Approx(1.0).epsilon(1e-14));
@@ -265,7 +265,7 @@ TEST_CASE("area-weighted normals: unit, radial on spheres, outward on the quad t
   }
   const double R = 1.0;
   const Mesh q = make_quad_torus(24, 12, R, 0.4);
-  const std::vector<double> nq = area_weighted_normals(q);
+  const auto nq = area_weighted_normals(q);
   for (int32_t i = 0; i < q.num_vertices(); ++i) {
     const double rho = std::hypot(q.x[i], q.y[i]);
     const double ox = q.x[i] - R * q.x[i] / rho, oy = q.y[i] - R * q.y[i] / rho, oz = q.z[i];
@@ -297,7 +297,7 @@ TEST_CASE("regularized Laplacian: -L + eps M, Cholesky residual <= 1e-10 whateve
   {
     const CscMatrix A = regularized_laplacian(ico, 1e-3);
     const CscMatrix L = cotan_laplacian(ico);
-    const std::vector<double> M = lumped_mass(ico);
+    const auto M = lumped_mass(ico);
     double tl = 0, tm = 0;
     for (int32_t j = 0; j < L.ncols; ++j) tl -= L.values[L.colptr[j]], tm += M[j];
     const double eps = 1e-3 * tl / tm;

@@ -60,7 +60,7 @@ TEST_CASE("planning with the vertex-supernode table gives the plain plan, sets e
   const CscMatrix A = test::grid_laplacian(80, 70, 0.01);
   const NumericFactor F = factorize(analyze(A, order_matrix(A)), A);
   const SymbolicFactor& S = *F.symbolic;
-  const std::vector<int32_t> vs = vertex_supernodes(S);
+  const HostVector<int32_t> vs = vertex_supernodes(S);
   REQUIRE(vs.size() == static_cast<size_t>(S.n));
   std::mt19937_64 rng(5);
   SolvePlan p;

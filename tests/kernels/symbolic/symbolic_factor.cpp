@@ -9,6 +9,7 @@
 
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/error.hpp"
+#include "locus/view.hpp"
 #include "tests/kernels/matrix_fixtures.hpp"
 
 using namespace locus;
@@ -21,7 +22,7 @@ struct BruteSymbolic {
 };
 
 // Symbolic elimination of P A P^T with perm (factor numbering).
-BruteSymbolic brute_force(const CscMatrix& A, const std::vector<int32_t>& iperm) {
+BruteSymbolic brute_force(const CscMatrix& A, ConstView<int32_t> iperm) {
   const int32_t n = A.ncols;
   std::vector<std::vector<char>> B(n, std::vector<char>(n, 0));
   for (int32_t j = 0; j < n; ++j)

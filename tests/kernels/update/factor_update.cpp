@@ -38,7 +38,7 @@ using SpMat = Eigen::SparseMatrix<double>;
 // Bi-Laplacian K M^{-1} K with K = -L_C + eps M, by Eigen sparse products.
 CscMatrix bilaplacian(const Mesh& m, double rel) {
   const SpMat K = test::to_eigen(regularized_laplacian(m, rel));
-  const std::vector<double> M = lumped_mass(m);
+  const auto M = lumped_mass(m);
   Eigen::VectorXd minv(static_cast<Eigen::Index>(M.size()));
   for (size_t i = 0; i < M.size(); ++i) minv[static_cast<Eigen::Index>(i)] = 1.0 / M[i];
   const SpMat B = (K * minv.asDiagonal() * K).pruned();
@@ -511,7 +511,7 @@ TEST_CASE("a non-positive pivot of A_II names the global vertex") {
   std::vector<int32_t> I = bfs_patch(P.adj, 40, n / 4);
   std::vector<uint8_t> in(n, 0);
   for (int32_t v : I) in[v] = 1;
-  const std::vector<int32_t>& ip = P.L.symbolic->iperm;
+  const auto& ip = P.L.symbolic->iperm;
   int32_t root = -1;
   for (int32_t v : I)
     for (int64_t p = P.adj.offsets[v]; p < P.adj.offsets[v + 1]; ++p)
@@ -607,7 +607,7 @@ TEST_CASE("a non-finite entry in a recomputed supernode keeps its message (prepa
   const std::vector<int32_t> I = bfs_patch(P.adj, 40, n / 4);
   std::vector<uint8_t> in(n, 0);
   for (int32_t v : I) in[v] = 1;
-  const std::vector<int32_t>& ip = P.L.symbolic->iperm;
+  const auto& ip = P.L.symbolic->iperm;
   int32_t root = -1;
   for (int32_t v : I)
     for (int64_t p = P.adj.offsets[v]; p < P.adj.offsets[v + 1]; ++p)

@@ -136,7 +136,7 @@ TEST_CASE("icosphere: the deformation solves the constrained system (Eigen oracl
     Lp.setFromTriplets(t.begin(), t.end());
     Eigen::SparseMatrix<double> E = Lp;
     if (energy == DeformEnergy::Bilaplacian) {
-      const std::vector<double> M = lumped_mass(sphere);
+      const auto M = lumped_mass(sphere);
       Eigen::VectorXd minv(n);
       for (int32_t i = 0; i < n; ++i) minv[i] = 1.0 / M[i];
       E = Lp * minv.asDiagonal() * Lp;

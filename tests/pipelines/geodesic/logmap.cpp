@@ -115,7 +115,7 @@ TEST_CASE("log map: angles from the batched neighbor solves equal direct solves 
   Eigen::SparseMatrix<double> E(A.nrows, A.ncols);
   E.setFromTriplets(t.begin(), t.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> chol(E);
-  const std::vector<double> hn = mean_curvature_normals(m);
+  const auto hn = mean_curvature_normals(m);
   double n[3] = {hn[3 * c], hn[3 * c + 1], hn[3 * c + 2]};
   const double nl = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (double& x : n) x /= nl;

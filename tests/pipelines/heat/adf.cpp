@@ -114,7 +114,7 @@ TEST_CASE("adf: heat kernel signature decreases strictly in t at every vertex") 
 
 TEST_CASE("adf: limits 1/M_ii for small t and 1/area for large t") {
   const Mesh m = make_icosphere(3);
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   double area = 0;
   for (double a : mass) area += a;
   const std::vector<double> ts{1e-9, 1e4};

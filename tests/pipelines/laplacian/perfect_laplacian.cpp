@@ -96,7 +96,7 @@ TEST_CASE("embedding system matches a dense solve of eq. 2.4 (planar, in space, 
       fixed = boundary_flags(m);
     else
       fixed[5] = 1;  // a single pin: then Σ b must vanish for the system to be consistent
-    Coords fixed_pos{m.x, m.y, m.z}, b;
+    Coords fixed_pos{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)}, b;
     for (auto& c : fixed_pos)
       for (double& x : c) x += 0.3 * rng.uniform();
     if (variant >= 1)
@@ -284,7 +284,7 @@ TEST_CASE("random planar polygon meshes: convex faces always, steady state where
     const auto T = (i % 2 == 0) ? test::random_square(50, rng) : test::random_disk(50, rng);
     const Mesh m = test::remove_random_edges(T, 0.25, rng);
     REQUIRE(!m.is_triangle_mesh());
-    Coords in{m.x, m.y, m.z};
+    Coords in{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)};
     double in_min = 1;
     for (int32_t f = 0; f < m.num_faces(); ++f) in_min = std::min(in_min, min_corner_turn(m, in, f));
     if (in_min < 0) ++nonconvex_inputs;
@@ -429,7 +429,7 @@ TEST_CASE("perfect Laplacian polygon-mesh convergence study" * doctest::skip()) 
     for (int i = 0; i < n; ++i) {
       const auto T = (i % 2 == 0) ? test::random_square(50, rng) : test::random_disk(50, rng);
       const Mesh m = test::remove_random_edges(T, 0.25, rng);
-      Coords in{m.x, m.y, m.z};
+      Coords in{std::vector<double>(m.x), std::vector<double>(m.y), std::vector<double>(m.z)};
       double in_min = 1;
       for (int32_t f = 0; f < m.num_faces(); ++f) in_min = std::min(in_min, min_corner_turn(m, in, f));
       nonconvex_in += in_min < 0;

@@ -55,12 +55,12 @@ TEST_CASE("cvt: heat operator from edge lengths equals the cotan heat operator; 
     p3[3 * v + 1] = m.y[v];
     p3[3 * v + 2] = m.z[v];
   }
-  std::vector<double> mass;
+  HostVector<double> mass;
   double h = 0;
   const double t = 0.01;
   const CscMatrix A = heat_operator_from_positions(m, p3, 3, t, mass, h);
   const CscMatrix B = heat_operator(m, t);
-  const std::vector<double> mref = lumped_mass(m);
+  const auto mref = lumped_mass(m);
   REQUIRE(A.colptr == B.colptr);
   REQUIRE(A.rowind == B.rowind);
   for (size_t k = 0; k < A.values.size(); ++k) CHECK(A.values[k] == doctest::Approx(B.values[k]).epsilon(1e-10));
@@ -68,7 +68,7 @@ TEST_CASE("cvt: heat operator from edge lengths equals the cotan heat operator; 
   CHECK(h == doctest::Approx(mean_edge_length(m)).epsilon(1e-12));
   // Lift with lambda = 0: positions scaled by 1/2 (the sphere's bounding box side is ~2).
   const std::vector<double> lifted = lifted_positions(m, 0.0);
-  std::vector<double> mass6;
+  HostVector<double> mass6;
   double h6 = 0;
   heat_operator_from_positions(m, lifted, 6, t, mass6, h6);
   double side = 0;
@@ -203,7 +203,7 @@ TEST_CASE("cvt: anisotropic lift runs on a torus; cancellation stops with Error(
 namespace {
 
 Mesh scaled_to_unit_area(Mesh m) {
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   double area = 0;
   for (double a : mass) area += a;
   const double s = 1.0 / std::sqrt(area);

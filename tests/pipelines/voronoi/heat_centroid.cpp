@@ -68,7 +68,7 @@ TEST_CASE("heat centroid: hottest vertex equals the dense solve's argmax") {
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
   for (int32_t j = 0; j < n; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) D(A.rowind[p], j) = D(j, A.rowind[p]) = A.values[p];
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
   for (int32_t v : cell) b[v] = mass[v];
   const Eigen::VectorXd u = D.ldlt().solve(b);

@@ -46,7 +46,7 @@ TEST_CASE("cell partition: linear heat on a grid splits triangles along the exac
   const Mesh m = make_grid(17, 0.3, 4);
   const HeatVoronoi V = linear_heat(m, {[](double x, double) { return x; }, [](double, double y) { return y; },
                                         [](double, double) { return 0.6; }});
-  const std::vector<double> fa = face_areas(m);
+  const auto fa = face_areas(m);
   const CellPartition P = partition_cells(m, fa, V, 3);
   CHECK(P.area[0] == doctest::Approx(0.32).epsilon(1e-12));
   CHECK(P.area[1] == doctest::Approx(0.32).epsilon(1e-12));
@@ -67,7 +67,7 @@ TEST_CASE("cell partition: linear heat on a grid splits triangles along the exac
   CHECK(mx[2] == doctest::Approx(0.108).epsilon(1e-12));
   CHECK(mx[0] == doctest::Approx((1 - 0.216) / 3).epsilon(1e-12));
   // Whole-vertex-star loads would be off by about a grid cell: the split is what makes this exact.
-  const std::vector<double> mass = lumped_mass(m);
+  const auto mass = lumped_mass(m);
   double vertex_area2 = 0;
   for (int32_t v = 0; v < m.num_vertices(); ++v)
     if (V.label[v] == 2) vertex_area2 += mass[v];
@@ -82,7 +82,7 @@ TEST_CASE("cell partition: single cell gives the lumped mass; missing heat value
   V.top_site.assign(static_cast<size_t>(n) * kVoronoiTopK, -1);
   V.top_value.assign(static_cast<size_t>(n) * kVoronoiTopK, 0.0);
   for (int32_t v = 0; v < n; ++v) V.top_site[static_cast<size_t>(v) * kVoronoiTopK] = 0;
-  const std::vector<double> fa = face_areas(m), mass = lumped_mass(m);
+  const auto fa = face_areas(m), mass = lumped_mass(m);
   const CellPartition P = partition_cells(m, fa, V, 1);
   REQUIRE(P.offsets[1] == n);
   for (int32_t v = 0; v < n; ++v) CHECK(P.load[v] == doctest::Approx(mass[v]).epsilon(1e-12));
@@ -103,7 +103,7 @@ TEST_CASE("cell partition: cell-by-cell loads give the exact areas and moments o
   const Mesh m = make_grid(17, 0.3, 4);
   const HeatVoronoi V = linear_heat(m, {[](double x, double) { return x; }, [](double, double y) { return y; },
                                         [](double, double) { return 0.6; }});
-  const std::vector<double> fa = face_areas(m);
+  const auto fa = face_areas(m);
   const VertexStars st = vertex_stars(m, fa);
   const int32_t n = m.num_vertices();
   std::vector<double> acc(n, 0.0);

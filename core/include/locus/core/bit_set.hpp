@@ -18,7 +18,8 @@ inline void set_bit(std::span<uint64_t> bits, int32_t i) {
 }
 
 // Appends the ids of the set bits to `out`, ascending.
-inline void append_set_bits(std::span<const uint64_t> bits, std::vector<int32_t>& out) {
+template <class Ids>
+inline void append_set_bits(std::span<const uint64_t> bits, Ids& out) {
   for (size_t w = 0; w < bits.size(); ++w)
     for (uint64_t b = bits[w]; b != 0; b &= b - 1) out.push_back(static_cast<int32_t>(w * 64 + std::countr_zero(b)));
 }

@@ -1,6 +1,9 @@
 // The host's allocator for locus' large buffers (issue 24 item 2; README
 // "Embedding: the allocator").
 //
+// Public (installed as locus/core/host_allocator.hpp): Mesh and CscMatrix
+// hold their arrays in HostVector.
+//
 // A host (game engine, DCC plugin) hands locus malloc/free-style callbacks with
 // locus_set_allocator; the buffers allocated through host_allocate() then come
 // from them. What goes through here: every std container typed with
@@ -15,11 +18,16 @@
 // so a block is always freed by the allocator that made it, even when the host
 // switches allocators while locus still holds blocks (caches of a Session).
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <new>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "locus/export.h"
+
+LOCUS_API_BEGIN
 namespace locus {
 
 using HostAllocFn = void* (*)(std::size_t size, void* user);
@@ -38,6 +46,13 @@ void* host_allocate(std::size_t bytes);
 void host_deallocate(void* p) noexcept;
 // Size in bytes the block was allocated with (for realloc).
 std::size_t host_allocation_size(const void* p) noexcept;
+
+}  // namespace locus
+LOCUS_API_END
+
+// Hidden like the rest of locus' types: the vector instantiations over it stay
+// out of the shared library's exports (the host instantiates its own).
+namespace locus {
 
 // A std allocator over host_allocate: containers of any element type up to
 // 16-byte alignment. Stateless; any instance frees any block (the header knows
@@ -61,8 +76,41 @@ struct HostAllocator {
   bool operator!=(const HostAllocator<U>&) const noexcept { return false; }
 };
 
-// A vector in the host's memory: workspaces and per-batch buffers of the solves.
+// A vector in the host's memory: the arrays of Mesh and CscMatrix, the derived
+// mesh and symbolic structures, workspaces and per-query buffers. A std::vector
+// with the host's allocator, plus the conversions a caller holding std::vectors
+// needs: it is built (and so assigned) from a std::vector by copying, and
+// converts back explicitly (std::vector<T> v(host_vector)).
 template <typename T>
-using HostVector = std::vector<T, HostAllocator<T>>;
+class HostVector : public std::vector<T, HostAllocator<T>> {
+  using Base = std::vector<T, HostAllocator<T>>;
+
+ public:
+  using Base::Base;
+  HostVector() = default;
+  HostVector(const Base& v) : Base(v) {}  // NOLINT: a std::vector<T, HostAllocator<T>> is one
+  HostVector(Base&& v) noexcept : Base(std::move(v)) {}  // NOLINT
+  HostVector(const std::vector<T>& v) : Base(v.begin(), v.end()) {}  // NOLINT: implicit by design
+  explicit operator std::vector<T>() const { return std::vector<T>(this->begin(), this->end()); }
+};
+
+// Element-wise comparison with a std::vector (found by argument-dependent
+// lookup).
+template <typename T>
+bool operator==(const HostVector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
+}
+template <typename T>
+bool operator==(const std::vector<T>& a, const HostVector<T>& b) {
+  return b == a;
+}
+template <typename T>
+bool operator!=(const HostVector<T>& a, const std::vector<T>& b) {
+  return !(a == b);
+}
+template <typename T>
+bool operator!=(const std::vector<T>& a, const HostVector<T>& b) {
+  return !(b == a);
+}
 
 }  // namespace locus

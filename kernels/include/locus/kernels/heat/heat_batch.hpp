@@ -24,9 +24,9 @@ namespace locus {
 class HeatBatch {
  public:
   std::vector<int32_t> src_offsets{0};
-  std::vector<int32_t> src_vertex;
-  std::vector<double> src_weight;
-  std::vector<int32_t> kept;
+  HostVector<int32_t> src_vertex;
+  HostVector<double> src_weight;
+  HostVector<int32_t> kept;
   HostVector<double> values;  // in the host's memory (host_allocator.hpp)
 
   int32_t count() const { return full_ ? n_ : static_cast<int32_t>(kept.size()); }
@@ -51,9 +51,9 @@ class HeatBatch {
   SolvePlan plan_;      // reused: planning does not allocate once warm
   PlanWorkspace pws_;
   HostVector<double> work_, rhs_;
-  std::vector<int32_t> support_;
-  std::vector<uint8_t> mark_;  // n, zero between uses
-  std::vector<int32_t> spos_;  // n, -1 between uses: position of a source vertex in support_
+  HostVector<int32_t> support_;
+  HostVector<uint8_t> mark_;  // n, zero between uses
+  HostVector<int32_t> spos_;  // n, -1 between uses: position of a source vertex in support_
 };
 // Solves b's sources on H (full when b.kept is empty, else selective on b.kept).
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b);

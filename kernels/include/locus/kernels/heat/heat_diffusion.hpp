@@ -22,7 +22,7 @@ struct HeatDiffusion {
   int32_t n = 0;
   double h = 0;  // mean edge length in the operator's metric
   double t = 0;  // diffusion time used
-  std::vector<double> mass;  // lumped mass in the operator's metric
+  HostVector<double> mass;  // lumped mass in the operator's metric
   NumericFactor factor;
   double operator_s = 0, order_s = 0, analyze_s = 0, factor_s = 0;
 };
@@ -35,7 +35,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double
                                      const RunContext& ctx);
 // Any operator A = M - t L already built (e.g. on a lifted metric, pipelines/voronoi/cvt_lloyd),
 // with its lumped mass, mean edge length and t.
-HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, std::vector<double> mass, double h, double t,
+HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, HostVector<double> mass, double h, double t,
                                      const RunContext& ctx);
 
 }  // namespace locus

@@ -9,7 +9,8 @@
 namespace locus {
 
 // Restores the heap after heap[at]'s key decreased (or it was just appended).
-inline void index_heap_sift_up(std::vector<int32_t>& heap, const double* dist, int32_t* pos, int32_t at) {
+template <class Heap>
+inline void index_heap_sift_up(Heap& heap, const double* dist, int32_t* pos, int32_t at) {
   int32_t* h = heap.data();
   const int32_t v = h[at];
   const double key = dist[v];
@@ -25,7 +26,8 @@ inline void index_heap_sift_up(std::vector<int32_t>& heap, const double* dist, i
 }
 
 // Removes and returns the id with the smallest key (the heap must not be empty).
-inline int32_t index_heap_pop_min(std::vector<int32_t>& heap, const double* dist, int32_t* pos) {
+template <class Heap>
+inline int32_t index_heap_pop_min(Heap& heap, const double* dist, int32_t* pos) {
   int32_t* h = heap.data();
   const int32_t top = h[0];
   const int32_t last = h[heap.size() - 1];

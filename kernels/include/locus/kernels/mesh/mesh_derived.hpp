@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh.hpp"
 
@@ -30,8 +32,8 @@ struct MeshDerived {
   EdgeIncidence incidence;  // the operators and checks take it instead of rebuilding it
   Adjacency adjacency;
   double h = 0;                    // mean edge length
-  std::vector<double> mass;        // lumped mass (triangle meshes), else empty
-  std::vector<int32_t> component;  // per vertex, -1 for unreferenced vertices
+  HostVector<double> mass;        // lumped mass (triangle meshes), else empty
+  HostVector<int32_t> component;  // per vertex, -1 for unreferenced vertices
   int32_t components = 0;
   MeshRequirements checked{false, false, false, false, false, false, false};
 };

@@ -15,17 +15,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/mesh.hpp"
 
 namespace locus {
 
 struct TriangleGradients {
   int32_t nv = 0, nf = 0;
-  std::vector<int32_t> tri;         // 3 * nf: corners of face k at tri[3k .. 3k+2]
-  std::vector<double> area;         // nf
-  std::vector<double> basis;        // 9 * nf: grad(phi_s) of corner s at basis[9k + 3s .. +2]
-  std::vector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR), ascending face id
-  std::vector<int32_t> vf_faces;
+  HostVector<int32_t> tri;         // 3 * nf: corners of face k at tri[3k .. 3k+2]
+  HostVector<double> area;         // nf
+  HostVector<double> basis;        // 9 * nf: grad(phi_s) of corner s at basis[9k + 3s .. +2]
+  HostVector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR), ascending face id
+  HostVector<int32_t> vf_faces;
 
   // g = sum_s u_s grad(phi_s) in face k.
   void gradient(int32_t k, double u0, double u1, double u2, double g[3]) const {

@@ -27,7 +27,7 @@ struct EdgeIncidence;
 // beside the numeric assembly. `edges` sorted as unique_edges gives them.
 CscMatrix operator_pattern(int32_t nv, const Edges& edges);
 CscMatrix cotan_laplacian(const Mesh& m);                 // L_C
-std::vector<double> lumped_mass(const Mesh& m);           // diag of M: one third of incident triangle areas
+HostVector<double> lumped_mass(const Mesh& m);           // diag of M: one third of incident triangle areas
 CscMatrix mass_matrix_as_csc(const Mesh& m);              // M on the pattern of L_C (zeros off the diagonal)
 CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc = nullptr);  // M - t L_C
 // -L_C + eps * M with eps relative to the operator's own scale,
@@ -45,10 +45,10 @@ CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-6, const EdgeInci
 // Per-vertex normals, unit length, 3*nv interleaved (x,y,z): the normalized sum of the
 // vector areas of the incident faces (polygon faces allowed here); 0 at unreferenced
 // vertices.
-std::vector<double> area_weighted_normals(const Mesh& m);
+HostVector<double> area_weighted_normals(const Mesh& m);
 // Mean-curvature normal vector -(M^{-1} L_C p)_i (eq. 6.1/6.2 up to sign: points
 // outward on a convex surface, magnitude = 2 * mean curvature, i.e. 2/r on a sphere of
 // radius r), 3*nv interleaved; 0 at unreferenced vertices.
-std::vector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc = nullptr);
+HostVector<double> mean_curvature_normals(const Mesh& m, const EdgeIncidence* inc = nullptr);
 
 }  // namespace locus

@@ -12,18 +12,20 @@
 #include <string>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/mesh.hpp"
 
 namespace locus {
 
 struct Adjacency {              // symmetric vertex graph, no self loops
-  std::vector<int64_t> offsets; // nv + 1
-  std::vector<int32_t> neighbors;  // sorted ascending per vertex
+  HostVector<int64_t> offsets; // nv + 1
+  HostVector<int32_t> neighbors;  // sorted ascending per vertex
 };
 
 struct Edges {                  // unique undirected edges of the faces, e0 < e1, sorted lexicographically
-  std::vector<int32_t> e0, e1;
-  std::vector<int32_t> face_count;  // faces incident to each edge (1 boundary, 2 interior, >2 non-manifold)
+  HostVector<int32_t> e0, e1;
+  HostVector<int32_t> face_count;  // faces incident to each edge (1 boundary, 2 interior, >2 non-manifold)
 };
 
 // Edges together with their half-edges. A corner c is an index into
@@ -31,9 +33,9 @@ struct Edges {                  // unique undirected edges of the faces, e0 < e1
 // vertex of the same face. Built by one bucket sort on the smaller endpoint, O(#corners).
 struct EdgeIncidence {
   Edges edges;
-  std::vector<int32_t> corner_edge;          // per corner: edge id of its half-edge, -1 if both ends coincide
-  std::vector<int64_t> edge_corner_offsets;  // ne + 1: CSR of the corners whose half-edge is that edge
-  std::vector<int32_t> edge_corners;         //   (ascending corner index, i.e. ascending face)
+  HostVector<int32_t> corner_edge;          // per corner: edge id of its half-edge, -1 if both ends coincide
+  HostVector<int64_t> edge_corner_offsets;  // ne + 1: CSR of the corners whose half-edge is that edge
+  HostVector<int32_t> edge_corners;         //   (ascending corner index, i.e. ascending face)
 };
 
 // Throws BadInput (naming the mesh source, face and vertex) unless x/y/z have equal
@@ -65,7 +67,7 @@ double mean_edge_length(const Mesh& m, const Edges& edges);
 struct MeshReport {
   int32_t n_vertices = 0, n_faces = 0;
   int64_t n_edges = 0;
-  std::vector<int64_t> face_degree_histogram;  // index = degree (0..max)
+  HostVector<int64_t> face_degree_histogram;  // index = degree (0..max)
   int32_t components = 0;              // over referenced vertices
   int32_t boundary_loops = 0;
   int64_t euler_characteristic = 0;    // V - E + F (referenced vertices)

@@ -92,11 +92,11 @@ struct GrowSeed {
 // Scratch of the vertex selection: n-sized arrays reset only where a grow
 // touched them (dist +inf, state 0 between calls).
 struct GrowWorkspace {
-  std::vector<double> dist;      // Geodesic: tentative distance
-  std::vector<int32_t> level;    // Rings: BFS depth; Geodesic: heap position
-  std::vector<uint8_t> state;    // 0 unseen, 1 queued, 2 taken
-  std::vector<int32_t> heap;     // Geodesic: binary min-heap of queued vertices (by dist)
-  std::vector<int32_t> touched;  // vertices whose state is not 0
+  HostVector<double> dist;      // Geodesic: tentative distance
+  HostVector<int32_t> level;    // Rings: BFS depth; Geodesic: heap position
+  HostVector<uint8_t> state;    // 0 unseen, 1 queued, 2 taken
+  HostVector<int32_t> heap;     // Geodesic: binary min-heap of queued vertices (by dist)
+  HostVector<int32_t> touched;  // vertices whose state is not 0
 };
 
 // Selects the vertices of a grow into `out` (cleared first), in the order taken
@@ -106,11 +106,19 @@ struct GrowWorkspace {
 // a seed out of range, no seed, max_vertices < 1, a negative or NaN radius, or
 // Geodesic without edge lengths.
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                      const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out);
+                      const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
+// The same into a std::vector (tools and tests; a copy of the grown vertices).
+inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                             const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
+  HostVector<int32_t> grown;
+  const int32_t depth = grow_vertices(adj, edge_length, seeds, opt, ws, grown);
+  out.assign(grown.begin(), grown.end());
+  return depth;
+}
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
-std::vector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
+HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
 
 // Rings from one seed, without a workspace (allocates n bytes per call): the
 // first `count` vertices of the BFS from `seed` (count <= 1 gives the seed).
@@ -121,9 +129,9 @@ std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int3
 struct PatchGrower {
   const Mesh* mesh = nullptr;
   Adjacency adjacency;
-  std::vector<double> edge_length;  // per adjacency entry: |x_j - x_i| for neighbor j of vertex i
-  std::vector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR)
-  std::vector<int32_t> vf_faces;    //   ascending face ids
+  HostVector<double> edge_length;  // per adjacency entry: |x_j - x_i| for neighbor j of vertex i
+  HostVector<int64_t> vf_offsets;  // nv + 1: faces incident to each vertex (CSR)
+  HostVector<int32_t> vf_faces;    //   ascending face ids
 };
 
 // Throws BadInput unless `m` is a valid triangle mesh (mesh_topology checks).
@@ -135,7 +143,7 @@ PatchGrower prepare_patch_grower(const Mesh& m, const Adjacency& adjacency);
 
 // Per-thread scratch of patch growing.
 struct PatchWorkspace {
-  std::vector<int32_t> local;  // nv: local index of a global vertex during a call; all -1 between calls
+  HostVector<int32_t> local;  // nv: local index of a global vertex during a call; all -1 between calls
   GrowWorkspace grow;
 };
 
@@ -153,7 +161,15 @@ int32_t patch_vertex_count(int32_t nv, double fraction);
 // The vertices only: grow_vertices on the grower's adjacency and edge lengths
 // from one center. Uses ws.grow; returns the BFS depth (Rings) or 0.
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
-                            std::vector<int32_t>& out);
+                            HostVector<int32_t>& out);
+// The same into a std::vector (tools and tests; a copy of the grown vertices).
+inline int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
+                                   std::vector<int32_t>& out) {
+  HostVector<int32_t> grown;
+  const int32_t depth = grow_patch_vertices(g, center, opt, ws, grown);
+  out.assign(grown.begin(), grown.end());
+  return depth;
+}
 
 // Grows the patch around `center` (BadUsage if the center is out of range or
 // opt.max_vertices < 1; a count above the center's component size stops at the

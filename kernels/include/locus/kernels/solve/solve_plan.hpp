@@ -20,19 +20,19 @@ namespace locus {
 
 struct SolvePlan {
   int32_t n = 0;
-  std::vector<int32_t> rhs;       // support of b (original ids, as given)
-  std::vector<int32_t> outputs;   // wanted (exact) or kept (approximate) ids, as given
-  std::vector<int32_t> forward;   // supernodes, ascending
-  std::vector<int32_t> backward;  // supernodes, descending
-  std::vector<int32_t> touched;   // supernodes whose columns the solve reads or writes (forward ∪ backward), ascending
+  HostVector<int32_t> rhs;       // support of b (original ids, as given)
+  HostVector<int32_t> outputs;   // wanted (exact) or kept (approximate) ids, as given
+  HostVector<int32_t> forward;   // supernodes, ascending
+  HostVector<int32_t> backward;  // supernodes, descending
+  HostVector<int32_t> touched;   // supernodes whose columns the solve reads or writes (forward ∪ backward), ascending
   bool approximate = false;
   // Approximate plans: kept factor columns, ascending (entries elsewhere are zero).
-  std::vector<int32_t> kept_cols;
+  HostVector<int32_t> kept_cols;
   // Approximate plans: the forward supernodes that are kept or have a kept
   // ancestor, ascending. The others only feed entries that Algorithm 2 sets to
   // zero, so a solver may skip them and still return the same kept values
   // (kernels/include/locus/kernels/solve/solve_selective.hpp); it must then read unkept entries as zero.
-  std::vector<int32_t> forward_pruned;
+  HostVector<int32_t> forward_pruned;
   int64_t forward_columns = 0, backward_columns = 0;  // sizes, for reporting
 
   std::size_t num_outputs() const { return outputs.size(); }
@@ -50,9 +50,9 @@ SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t>
 // the plan's size, not to the number of supernodes — small queries on a big
 // mesh (single heat values, log-map patches, CVT cells) plan many times.
 struct PlanWorkspace {
-  std::vector<uint8_t> seen;
-  std::vector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
-  std::vector<uint64_t> bits;     // ascending order of large supernode sets (scratch)
+  HostVector<uint8_t> seen;
+  HostVector<uint8_t> col_seen;  // one mark per factor column (approximate plans), zero between calls
+  HostVector<uint64_t> bits;     // ascending order of large supernode sets (scratch)
 };
 
 // The same plans written into a caller-owned plan (its vectors' capacity is
@@ -65,7 +65,7 @@ void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_
 // Supernode of every vertex (S.col_to_super[S.iperm[v]]), for the planner below:
 // a region of 20k-200k scattered vertices then costs one random lookup per
 // vertex instead of two.
-std::vector<int32_t> vertex_supernodes(const SymbolicFactor& S);
+HostVector<int32_t> vertex_supernodes(const SymbolicFactor& S);
 // plan_subset_solve with that table (empty: the two lookups); the same plan.
 void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> vertex_super,
                        std::span<const int32_t> rhs_support, std::span<const int32_t> wanted, SolvePlan& plan,

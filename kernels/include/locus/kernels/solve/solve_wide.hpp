@@ -30,10 +30,10 @@ namespace locus {
 constexpr int kMaxWideLanes = 32;
 
 struct WideSolveWorkspace {
-  std::vector<int32_t> local;     // n: local row of a touched factor column (stale elsewhere, never read)
-  std::vector<double> x;          // touched columns x lanes (row r at x[r * lanes])
-  std::vector<int32_t> rows;      // local rows below one supernode's diagonal block
-  std::vector<int32_t> out_rows;  // after a solve: the row of x holding plan.outputs[k]
+  HostVector<int32_t> local;     // n: local row of a touched factor column (stale elsewhere, never read)
+  HostVector<double> x;          // touched columns x lanes (row r at x[r * lanes])
+  HostVector<int32_t> rows;      // local rows below one supernode's diagonal block
+  HostVector<int32_t> out_rows;  // after a solve: the row of x holding plan.outputs[k]
 };
 
 // `out` may be empty: the results then stay in ws.x (output k at row

@@ -7,11 +7,13 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 namespace locus {
 
 // Graph in CSR (symmetric adjacency, factor numbering), etree parent[] and its
 // postorder. Returns nnz of each column of L, diagonal included.
-std::vector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx,
+HostVector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::span<const int32_t> idx,
                                    std::span<const int32_t> parent, std::span<const int32_t> post);
 
 }  // namespace locus

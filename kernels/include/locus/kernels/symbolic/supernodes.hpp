@@ -7,13 +7,15 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 
 namespace locus {
 
 // parent[] and col_count[] in a postordered numbering (every subtree contiguous).
 // Returns super_first_col (ns + 1 entries).
-std::vector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::span<const int32_t> col_count,
+HostVector<int32_t> relaxed_supernodes(std::span<const int32_t> parent, std::span<const int32_t> col_count,
                                         const SymbolicOptions& opt);
 
 }  // namespace locus

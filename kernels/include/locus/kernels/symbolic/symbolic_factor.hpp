@@ -15,6 +15,8 @@
 #include <memory>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
+
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
@@ -36,31 +38,31 @@ struct SymbolicOptions {
 
 struct SymbolicFactor {
   int32_t n = 0;
-  std::vector<int32_t> perm, iperm;  // see Ordering
+  HostVector<int32_t> perm, iperm;  // see Ordering
 
   // Column elimination tree of P A P^T (factor numbering); parent = -1 at roots.
-  std::vector<int32_t> parent;
-  std::vector<int32_t> col_count;    // nnz of each column of L (with diagonal), exact (before amalgamation)
+  HostVector<int32_t> parent;
+  HostVector<int32_t> col_count;    // nnz of each column of L (with diagonal), exact (before amalgamation)
   int64_t nnz_exact = 0;             // sum of col_count
   int32_t etree_height = 0;          // longest leaf-to-root path, in columns
 
   // Supernodes: columns super_first_col[s] .. super_first_col[s+1]-1.
   int32_t ns = 0;
-  std::vector<int32_t> super_first_col;  // ns + 1
-  std::vector<int32_t> col_to_super;     // n
-  std::vector<int32_t> super_parent;     // ns, -1 at roots; parent > child (postorder)
-  std::vector<int64_t> super_row_ptr;    // ns + 1, into super_rows
-  std::vector<int32_t> super_rows;       // rows of each supernode, ascending; the first
+  HostVector<int32_t> super_first_col;  // ns + 1
+  HostVector<int32_t> col_to_super;     // n
+  HostVector<int32_t> super_parent;     // ns, -1 at roots; parent > child (postorder)
+  HostVector<int64_t> super_row_ptr;    // ns + 1, into super_rows
+  HostVector<int32_t> super_rows;       // rows of each supernode, ascending; the first
                                          // ncols(s) are its own columns
-  std::vector<int64_t> super_value_ptr;  // ns + 1: block of s = nrows(s) x ncols(s), column-major, ld = nrows(s)
+  HostVector<int64_t> super_value_ptr;  // ns + 1: block of s = nrows(s) x ncols(s), column-major, ld = nrows(s)
   int64_t nnz_L = 0;                     // stored entries of L (lower trapezoids incl. amalgamation zeros)
   int32_t super_etree_height = 0;
 
   // Where A's stored entries go in L's values, grouped by supernode so each
   // supernode's task assembles its own block: for k in a_super_ptr[s]..[s+1],
   // L.values[a_dst[k]] = A.values[a_src[k]].
-  std::vector<int64_t> a_super_ptr;      // ns + 1
-  std::vector<int64_t> a_src, a_dst;     // nnz(A)
+  HostVector<int64_t> a_super_ptr;      // ns + 1
+  HostVector<int64_t> a_src, a_dst;     // nnz(A)
   uint64_t a_pattern_hash = 0;           // of A's colptr/rowind: refactorization checks the pattern
   int64_t a_nnz = 0;
   int64_t max_update_entries = 0;        // largest dense update block (workspace size)
@@ -68,8 +70,8 @@ struct SymbolicFactor {
 
   // Supernodes that update s in a left-looking factorization, ascending
   // (descendants d with a row in s's column range), CSR.
-  std::vector<int64_t> update_ptr;       // ns + 1
-  std::vector<int32_t> update_from;
+  HostVector<int64_t> update_ptr;       // ns + 1
+  HostVector<int32_t> update_from;
 
   int32_t ncols(int32_t s) const { return super_first_col[s + 1] - super_first_col[s]; }
   int32_t nrows(int32_t s) const { return static_cast<int32_t>(super_row_ptr[s + 1] - super_row_ptr[s]); }
@@ -107,8 +109,8 @@ void validate_symbolic(const SymbolicFactor& S, int64_t num_values);
 // Row structure of L in CSR (factor numbering): for each row i, the columns j < i with
 // L_ij stored (supernodal pattern), ascending. Chapter 5 (factor-once updates) needs it.
 struct RowStructure {
-  std::vector<int64_t> row_ptr;  // n + 1
-  std::vector<int32_t> cols;
+  HostVector<int64_t> row_ptr;  // n + 1
+  HostVector<int32_t> cols;
 };
 RowStructure row_structure(const SymbolicFactor& s);
 

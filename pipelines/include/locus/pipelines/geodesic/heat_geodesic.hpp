@@ -125,13 +125,13 @@ struct HeatGeodesicOptions {
 // is all -1 between queries, so a query touches only its region).
 struct PatchRegion {
   int32_t patch_size = 0;
-  std::vector<int32_t> verts;      // the patch (caller's order), then its one ring
-  std::vector<int32_t> faces;      // faces with at least one patch vertex, ascending
-  std::vector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
-  std::vector<int32_t> local;      // n: index into verts, -1 elsewhere
-  std::vector<int32_t> order;      // the patch in ascending vertex order (scratch of build_region)
-  std::vector<uint64_t> bits;      // n bits, all zero between queries (scratch of build_region)
-  std::vector<uint64_t> face_bits;  // one bit per face, all zero between queries (scratch of build_region)
+  HostVector<int32_t> verts;      // the patch (caller's order), then its one ring
+  HostVector<int32_t> faces;      // faces with at least one patch vertex, ascending
+  HostVector<int32_t> face_local;  // 3 per face: its corners' indices into verts (no lookups in `local` later)
+  HostVector<int32_t> local;      // n: index into verts, -1 elsewhere
+  HostVector<int32_t> order;      // the patch in ascending vertex order (scratch of build_region)
+  HostVector<uint64_t> bits;      // n bits, all zero between queries (scratch of build_region)
+  HostVector<uint64_t> face_bits;  // one bit per face, all zero between queries (scratch of build_region)
 };
 
 struct HeatGeodesicWorkspace {
@@ -139,11 +139,11 @@ struct HeatGeodesicWorkspace {
   SolvePlan heat_plan, poisson_plan;  // reused across queries: planning allocates nothing once warm
   PlanWorkspace plan_ws;
   PatchRegion region;
-  std::vector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
-  std::vector<double> hlb;            // localized divergence: {h, log h, b, pad} per region vertex
-  std::vector<double> rho;            // level-set rim: -log h per region vertex
-  std::vector<int32_t> rim_order, rim_pos, rim_offsets, rim_faces, rim_later;  // level-set rim: continuation
-  std::vector<uint8_t> rim_known;
+  HostVector<double> h, b, x, logh;  // per region vertex (or per vertex for full queries)
+  HostVector<double> hlb;            // localized divergence: {h, log h, b, pad} per region vertex
+  HostVector<double> rho;            // level-set rim: -log h per region vertex
+  HostVector<int32_t> rim_order, rim_pos, rim_offsets, rim_faces, rim_later;  // level-set rim: continuation
+  HostVector<uint8_t> rim_known;
   double poisson_s = 0;               // thread CPU time of the last localized Poisson plan + solve (reporting)
   // Set by every query: output vertices whose heat underflowed (below the
   // smallest normal double: no direction there, the distance is interpolated)
@@ -239,12 +239,12 @@ class HeatGeodesic {
   TriangleGradients grad_;
   double h_ = 0, t_ = 0;
   NumericFactor heat_, poisson_;
-  std::vector<int32_t> component_;
+  HostVector<int32_t> component_;
   int32_t num_components_ = 0;
   // 4 per vertex-face entry (grad_.vf_faces order): that face's corners and the
   // face itself, so a region walks each patch vertex's faces in one contiguous read.
-  std::vector<int32_t> vf_corners_;
-  std::vector<int32_t> vertex_super_;  // n: supernode of each vertex in the heat factor (solve planning)
+  HostVector<int32_t> vf_corners_;
+  HostVector<int32_t> vertex_super_;  // n: supernode of each vertex in the heat factor (solve planning)
   bool shared_symbolic_ = true;        // both factors have the same supernodes (plans carry over)
 };
 

@@ -131,29 +131,29 @@ struct LogMapStats {
 
 struct LogMapWorkspace {
   HeatGeodesicWorkspace geo;
-  std::vector<int32_t> sources;
-  std::vector<int32_t> ring2, sorted_sources;
-  std::vector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
-  std::vector<double> star;       // lattice corrections' scratch: (ex, ey, w) per star edge in the center's frame
-  std::vector<int32_t> star_ends;  // lattice corrections' scratch: far ends of one star's edges
-  std::vector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
-  std::vector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
-  std::vector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
-  std::vector<double> path_moments;        // Path correction: edge moments per (sector, radius bin)
+  HostVector<int32_t> sources;
+  HostVector<int32_t> ring2, sorted_sources;
+  HostVector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
+  HostVector<double> star;       // lattice corrections' scratch: (ex, ey, w) per star edge in the center's frame
+  HostVector<int32_t> star_ends;  // lattice corrections' scratch: far ends of one star's edges
+  HostVector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
+  HostVector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
+  HostVector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
+  HostVector<double> path_moments;        // Path correction: edge moments per (sector, radius bin)
   double path_rmax = 1;
-  std::vector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
-  std::vector<double> theta;      // finish_angles: raw angle per patch vertex, then its gradient's x and y (padded)
-  std::vector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
-  std::vector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
-  std::vector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
+  HostVector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
+  HostVector<double> theta;      // finish_angles: raw angle per patch vertex, then its gradient's x and y (padded)
+  HostVector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
+  HostVector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
+  HostVector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
   SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
   PlanWorkspace plan_ws;
   WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/include/locus/kernels/solve/solve_wide.hpp)
-  std::vector<double> rhs_wide, out_wide;
-  std::vector<double> out8;        // full variant: one 8-lane batch
-  std::vector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
-  std::vector<double> dist_full;   // n, full variant
-  std::vector<double> work_full;   // full variant: solve8's work array, kept across queries
+  HostVector<double> rhs_wide, out_wide;
+  HostVector<double> out8;        // full variant: one 8-lane batch
+  HostVector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
+  HostVector<double> dist_full;   // n, full variant
+  HostVector<double> work_full;   // full variant: solve8's work array, kept across queries
 };
 
 class HeatLogMap {
@@ -227,7 +227,7 @@ class HeatLogMap {
   void path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const;
   void add_path_star(int32_t v, double weight, const double n[3], const double e1[3], const double e2[3], double inv_h,
                      double* cell, LogMapWorkspace& ws) const;
-  static double path_offset_at(const std::vector<double>& table, double th, double r, double rmax);
+  static double path_offset_at(const HostVector<double>& table, double th, double r, double rmax);
   void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
                      LogMapStats& st, LogMapWorkspace& ws) const;
   static void scale_by_distance(const LogMapOutput& out);
@@ -236,9 +236,9 @@ class HeatLogMap {
 
   LogMapOptions opt_;
   HeatGeodesic geo_;
-  std::vector<double> x_, y_, z_;  // positions
-  std::vector<double> normal_;     // 3 * n: eq. 6.2 (mean-curvature normal, area normal where it vanishes)
-  std::vector<uint8_t> boundary_;  // n: on a boundary edge
+  HostVector<double> x_, y_, z_;  // positions
+  HostVector<double> normal_;     // 3 * n: eq. 6.2 (mean-curvature normal, area normal where it vanishes)
+  HostVector<uint8_t> boundary_;  // n: on a boundary edge
 };
 
 // Triangles with all three corners in the patch whose (u, v) image has negative

@@ -106,7 +106,7 @@ struct LloydOptions {
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
-  std::vector<int32_t> label;     // per vertex, cell of the final sites
+  HostVector<int32_t> label;     // per vertex, cell of the final sites
   HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
   double h = 0, t = 0;            // in the operator's metric
   double t_centroid = 0;          // the centroids' diffusion time (t unless set apart)
@@ -171,7 +171,7 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
 // lower pattern diagonal + edges. Returns the mass and the mean edge length.
 // Throws BadInput naming the face if a triangle has zero area in that metric.
 CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
-                                       std::vector<double>& mass, double& mean_edge);
+                                       HostVector<double>& mass, double& mean_edge);
 // The R^6 lift (p, lambda n) of the mesh scaled to a unit bounding box (6 per vertex).
 std::vector<double> lifted_positions(const Mesh& m, double lambda);
 

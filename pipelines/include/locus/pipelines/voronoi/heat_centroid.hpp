@@ -29,10 +29,10 @@ namespace locus {
 
 struct CentroidGeometry {
   int32_t n = 0;
-  std::vector<int64_t> vf_offsets;  // n + 1: faces incident to each vertex (CSR), ascending
-  std::vector<int32_t> vf_faces;
+  HostVector<int64_t> vf_offsets;  // n + 1: faces incident to each vertex (CSR), ascending
+  HostVector<int32_t> vf_faces;
   Adjacency adj;
-  std::vector<double> normals;      // 3n, area-weighted unit normals
+  HostVector<double> normals;      // 3n, area-weighted unit normals
 };
 CentroidGeometry prepare_centroid_geometry(const Mesh& m);
 // The same with m's vertex adjacency already built (MeshDerived::adjacency).

@@ -39,9 +39,9 @@ namespace locus {
 inline constexpr int kVoronoiTopK = 4;
 
 struct HeatVoronoi {
-  std::vector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
-  std::vector<int32_t> top_site;   // nv * kVoronoiTopK, -1 where fewer values were seen
-  std::vector<double> top_value;   // nv * kVoronoiTopK, descending per vertex
+  HostVector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
+  HostVector<int32_t> top_site;   // nv * kVoronoiTopK, -1 where fewer values were seen
+  HostVector<double> top_value;   // nv * kVoronoiTopK, descending per vertex
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
@@ -63,7 +63,7 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
 // batch and shared with its centroid solves.
 HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                                  std::span<const int32_t> batch_order,
-                                 std::span<const std::vector<int32_t>> batch_kept, const RunContext& ctx);
+                                 std::span<const HostVector<int32_t>> batch_kept, const RunContext& ctx);
 
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
 // the functions above; its top-K lists are kept) and sites[first_new ..] are

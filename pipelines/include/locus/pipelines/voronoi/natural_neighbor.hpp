@@ -36,7 +36,7 @@ struct NaturalNeighborField {
   std::vector<SurfacePoint> sites;
   std::vector<std::array<double, 3>> site_position;
   HeatVoronoi voronoi;                  // full solves: complete top-K lists
-  std::vector<double> face_area;        // R^3
+  HostVector<double> face_area;        // R^3
   std::vector<int64_t> vf_offsets;      // faces around each vertex (CSR)
   std::vector<int32_t> vf_faces;
   std::vector<double> cell_area;        // a_i

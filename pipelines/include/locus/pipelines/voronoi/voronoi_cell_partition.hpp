@@ -32,10 +32,10 @@
 namespace locus {
 
 struct CellPartition {
-  std::vector<int64_t> offsets;  // cells + 1 (CSR)
-  std::vector<int32_t> vertex;   // per cell: vertices with a nonzero load, ascending
-  std::vector<double> load;      // int_C phi_vertex dA, in the metric of face_area
-  std::vector<double> area;      // per cell
+  HostVector<int64_t> offsets;  // cells + 1 (CSR)
+  HostVector<int32_t> vertex;   // per cell: vertices with a nonzero load, ascending
+  HostVector<double> load;      // int_C phi_vertex dA, in the metric of face_area
+  HostVector<double> area;      // per cell
   int64_t split_faces = 0;       // triangles shared by two or three cells
   int64_t fallback_faces = 0;    // of those, split by vertex labels (a heat value was missing)
 };
@@ -54,8 +54,8 @@ struct StarFace {
   double area;
 };
 struct VertexStars {
-  std::vector<int64_t> offsets;  // n + 1
-  std::vector<StarFace> faces;   // incident triangles of each vertex, ascending face id
+  HostVector<int64_t> offsets;  // n + 1
+  HostVector<StarFace> faces;   // incident triangles of each vertex, ascending face id
 };
 VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area);
 
@@ -80,8 +80,8 @@ void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fr
 
 // Triangle areas of a mesh whose positions are given in `dim` dimensions
 // (pos[v * dim + c]), by Kahan's stable Heron formula.
-std::vector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
+HostVector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
 // The same for the mesh's own R^3 positions.
-std::vector<double> face_areas(const Mesh& m);
+HostVector<double> face_areas(const Mesh& m);
 
 }  // namespace locus
