@@ -59,7 +59,7 @@ namespace {
 // +infinity / other components: NaN (no value); a NaN from the solver in a
 // component with a source is an error, never an answer.
 void finish_distance(const State& s, const std::vector<char>& has_source, View<double> out, double t) {
-  const std::vector<int32_t>& comp = s.derived->component;
+  const auto& comp = s.derived->component;
   for (size_t i = 0; i < out.size(); ++i) {
     if (!has_source[comp[i]] || std::isinf(out[i])) {
       out[i] = std::numeric_limits<double>::quiet_NaN();
@@ -105,7 +105,7 @@ void polygon_geodesic(State& s, std::span<const SurfacePoint> sources, View<doub
   ctx.check_cancel();
   g.distance_from_heat(h, first, std::span<double>(out.data(), out.size()));
   // Per component: shifted so that the minimum over its sources is 0 (session_geodesic.cpp).
-  const std::vector<int32_t>& comp = s.derived->component;
+  const auto& comp = s.derived->component;
   std::vector<double> shift(static_cast<size_t>(s.derived->components), std::numeric_limits<double>::infinity());
   for (const SurfacePoint& p : sources) {
     int32_t v[3];

@@ -177,7 +177,7 @@ struct RegularizedLaplacian {
 // The polygon log map's patches: the Dijkstra disk over the polygon edges (as `locus logmap`).
 struct PolygonPatches {
   Adjacency adjacency;
-  std::vector<double> edge_length;
+  HostVector<double> edge_length;
 };
 
 struct State {

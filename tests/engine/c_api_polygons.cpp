@@ -91,7 +91,7 @@ TEST_CASE("c api: polygon sessions equal the C++ Session; views; bad faces named
 
   // Bad input: a face of 2 corners, a bow-tie, offsets not from 0, an id out of range.
   Guard bad;
-  std::vector<int32_t> off = q.face_offsets, ids = q.face_vertices;
+  std::vector<int32_t> off(q.face_offsets), ids(q.face_vertices);
   std::vector<int32_t> short_off = off;
   short_off[3] = short_off[2] + 2;
   CHECK(locus_session_create_polygons(xyz.data(), nv, short_off.data(), ids.data(), nf, &bad.s) == LOCUS_BAD_INPUT);

@@ -28,9 +28,6 @@ bool usable_positions(const OrderingOptions& opt, int32_t n) {
   return true;
 }
 
-// Ordering keeps std::vector (analyze() in kernels/symbolic takes them as such).
-std::vector<int32_t> to_std(const HostVector<int32_t>& v) { return {v.begin(), v.end()}; }
-
 }  // namespace
 
 Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunContext& ctx) {
@@ -54,8 +51,8 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
   ctx.check_cancel();
   ctx.report(0.0, "ordering");  // a chance to cancel before the first separator
   switch (method) {
-    case M::Amd: o.perm = to_std(minimum_degree_order(g)); break;
-    case M::Metis: o.perm = to_std(metis_nested_dissection(g, opt.seed, ctx)); break;
+    case M::Amd: o.perm = minimum_degree_order(g); break;
+    case M::Metis: o.perm = metis_nested_dissection(g, opt.seed, ctx); break;
     default: {
       NestedDissectionOptions nd;
       nd.separator = geometric && opt.separator == OrderingOptions::Separator::Geometric
@@ -66,7 +63,7 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
       nd.metis_seed = opt.seed;
       nd.coarse_levels = opt.coarse_levels;
       nd.coarse_min_vertices = opt.coarse_min_vertices;
-      o.perm = to_std(nested_dissection(g, opt.x, opt.y, opt.z, nd, ctx));
+      o.perm = nested_dissection(g, opt.x, opt.y, opt.z, nd, ctx);
     }
   }
   ctx.check_cancel();

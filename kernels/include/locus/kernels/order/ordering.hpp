@@ -14,14 +14,15 @@
 #include <span>
 #include <vector>
 
+#include "locus/core/host_allocator.hpp"
 #include "locus/run_context.hpp"
 #include "locus/sparse_matrix.hpp"
 
 namespace locus {
 
 struct Ordering {
-  std::vector<int32_t> perm;   // perm[k]  = original index eliminated k-th
-  std::vector<int32_t> iperm;  // iperm[i] = position of original index i
+  HostVector<int32_t> perm;   // perm[k]  = original index eliminated k-th
+  HostVector<int32_t> iperm;  // iperm[i] = position of original index i
 };
 
 struct OrderingOptions {
