@@ -66,7 +66,7 @@ void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* t
   }
   idx_t options[METIS_NOPTIONS];
   set_options(options, seed);
-  std::vector<idx_t> iperm(static_cast<size_t>(nv));
+  HostVector<idx_t> iperm(static_cast<size_t>(nv));
   MetisRandomScope rng;
   MetisCallScope call(ticker);
   check_status(METIS_NodeND(&nv, mut(g.xadj), mut(g.adj), nullptr, options, perm, iperm.data()), g.n(),
@@ -82,7 +82,7 @@ void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t
   if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
   idx_t options[METIS_NOPTIONS];
   set_options(options, seed);
-  std::vector<idx_t> where(static_cast<size_t>(nv));
+  HostVector<idx_t> where(static_cast<size_t>(nv));
   idx_t sepsize = 0;
   {
     MetisRandomScope rng;

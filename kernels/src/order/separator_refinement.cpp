@@ -115,7 +115,7 @@ class Refiner {
   HostVector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
   HostVector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
   int32_t pw_[3] = {0, 0, 0};   // vertices per side and in the separator
-  std::priority_queue<Entry> heap_;
+  std::priority_queue<Entry, HostVector<Entry>> heap_;
   HostVector<int32_t> moved_, pulled_, pulled_begin_;
 };
 
