@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <utility>
 
@@ -52,9 +53,11 @@ void check_time(double t_factor, double t_abs) {
 // is computed, so the ordering and the symbolic analysis of that pattern run
 // beside the assembly of the values (the same ordering: it reads the pattern
 // only). On a new mesh this is most of the time to a first answer
-// (docs/ordering.md, "first answer").
-HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, double t, HostVector<double> mass,
-                             const RunContext& ctx) {
+// (docs/ordering.md, "first answer"). `checked_mass` checks the mesh and returns
+// its lumped mass; it runs beside the ordering too, before the assembly (a
+// mesh it refuses is refused once the ordering of its edges has finished).
+HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, double t,
+                             const std::function<HostVector<double>()>& checked_mass, const RunContext& ctx) {
   HeatDiffusion H;
   H.n = m.num_vertices();
   H.h = h;
@@ -78,6 +81,7 @@ HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, 
       },
       [&] {
         const CancelScope scope(ticker);
+        H.mass = checked_mass();
         A = heat_operator(m, t, &inc);
       });
   // Beside each other the phases have no separate wall times: the ordering's
@@ -88,40 +92,46 @@ HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, 
   ctx.check_cancel();
   H.factor = factorize(S, A, ctx.sub(0.80, 1.0));
   H.factor_s = sw.lap();
-  H.mass = std::move(mass);
   return H;
+}
+
+MeshRequirements heat_requirements() {
+  MeshRequirements req;
+  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
+  return req;
 }
 
 }  // namespace
 
 HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_abs, const RunContext& ctx) {
-  MeshRequirements req;
-  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  check_requirements(m, req);
+  validate_mesh_arrays(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   check_time(t_factor, t_abs);
   BatchStopwatch sw;
+  // The edges come first (the pattern); the checks read them too.
   const EdgeIncidence inc = edge_incidence(m);
   const double h = mean_edge_length(m, inc.edges);  // = mean_edge_length(m), the same summation
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
-  HostVector<double> mass = lumped_mass(m);
   const double op_s = sw.lap();
-  HeatDiffusion H = prepare_beside(m, inc, h, t, std::move(mass), ctx);
+  HeatDiffusion H = prepare_beside(m, inc, h, t, [&] {
+    check_requirements(m, heat_requirements(), analyze_mesh(m, inc));
+    return lumped_mass(m);
+  }, ctx);
   H.operator_s = op_s;
   return H;
 }
 
 HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double t_factor, double t_abs,
                                      const RunContext& ctx) {
-  MeshRequirements req;
-  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  if (!requirements_checked(d, req)) check_requirements(m, req);
   check_derived_of(d, m, "heat diffusion");
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   check_time(t_factor, t_abs);
   const double h = d.h;  // mean_edge_length(m), summed in the same order
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
-  return prepare_beside(m, d.incidence, h, t, HostVector<double>(d.mass.begin(), d.mass.end()), ctx);
+  return prepare_beside(m, d.incidence, h, t, [&] {
+    if (!requirements_checked(d, heat_requirements())) check_requirements(m, heat_requirements(), analyze_mesh(m, d.incidence));
+    return HostVector<double>(d.mass.begin(), d.mass.end());
+  }, ctx);
 }
 
 }  // namespace locus
