@@ -100,7 +100,14 @@ Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc)
 
 }  // namespace
 
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap) {
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker) {
+  // Each step is one pass over the graph (~10-40 ms at 416k): a C host's
+  // chance to cancel (its progress callback) comes between them.
+  const auto poll = [ticker] {
+    if (!ticker) return;
+    ticker->tick();
+    ticker->context().check_cancel();
+  };
   const int32_t n = g.n();
   cmap.resize(static_cast<size_t>(n));
   std::iota(cmap.begin(), cmap.end(), 0);
@@ -111,9 +118,11 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
   int32_t nc = n;
   HostVector<int32_t> map;
   for (int level = 0; level < levels && nc > 1; ++level) {
+    poll();
     const int32_t next = match(cur, 0x5eed0000ULL + static_cast<uint64_t>(level), map);
     if (next == nc) break;  // nothing matched (no edges)
     for (int32_t& c : cmap) c = map[c];
+    poll();
     if (level + 1 < levels) cur = contract(cur, map, next);
     nc = next;
   }

@@ -45,6 +45,8 @@ class Dissector {
         ticker_(ctx, "ordering", root.n()),
         local_(static_cast<size_t>(root.n()), -1) {}
 
+  ProgressTicker& ticker() const { return ticker_; }
+
   // Progress: vertices placed (in leaves and separators) of the root's.
   void order(Node node, int32_t* out) const {
     ctx_.check_cancel();
@@ -61,6 +63,7 @@ class Dissector {
     ticker_.add(nsep);
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
+      poll();
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
       if (!node.x.empty()) {
         const auto gather = [&ids = child[s].global](const HostVector<double>& from, HostVector<double>& to) {
@@ -90,6 +93,13 @@ class Dissector {
   }
 
  private:
+  // Between the passes over a node's graph (10-40 ms each at the top levels of
+  // a 416k mesh): a report, the C host's chance to cancel, and the flag.
+  void poll() const {
+    ticker_.tick();
+    ctx_.check_cancel();
+  }
+
   void separator(const Node& node, HostVector<int8_t>& part) const {
     const int32_t m = node.g.n();
     if (!node.coarse.empty() && m >= opt_.coarse_min_vertices) {
@@ -97,11 +107,14 @@ class Dissector {
       // the projected (about two vertices thick) separator refined here.
       HostVector<int32_t> vwgt;
       const AdjacencyGraph h = contract_graph(node.g, node.coarse, node.nc, vwgt);
+      poll();
       HostVector<int8_t> coarse_part;
       metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, vwgt);
       part.resize(static_cast<size_t>(m));
       for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+      poll();
       refine_vertex_separator(node.g, part, opt_.refinement);
+      poll();
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     } else {
@@ -199,8 +212,6 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   root.g = g;
   root.global.resize(n);
   std::iota(root.global.begin(), root.global.end(), 0);
-  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
-    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse);
   if (opt.separator == NestedDissectionOptions::Separator::Geometric) {
     root.x.assign(x.begin(), x.end());
     root.y.assign(y.begin(), y.end());
@@ -208,6 +219,8 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   }
   const bool parallel = ctx.threads != 1;
   const Dissector d(g, opt, ctx, parallel);
+  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
+    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
   run_with_threads(ctx.threads, [&] { d.order(std::move(root), perm.data()); });
   return perm;
 }

@@ -13,6 +13,7 @@
 
 #include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/adjacency_graph.hpp"
+#include "locus/kernels/parallel/progress_ticker.hpp"
 
 namespace locus {
 
@@ -22,7 +23,8 @@ namespace locus {
 // pairs each unmatched one with the unmatched neighbor joined by the most
 // edges of the original graph (ties: fewest neighbors, then lowest index).
 // Deterministic.
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap);
+// `ticker`, when given, reports and polls the cancel flag between the passes.
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr);
 
 // The graph of g contracted along coarse[v] in [0, nc): coarse vertices
 // joined when any of their vertices are; vwgt[c] = vertices of c. Self loops
