@@ -6,13 +6,12 @@
 //
 // A host (game engine, DCC plugin) hands locus malloc/free-style callbacks with
 // locus_set_allocator; the buffers allocated through host_allocate() then come
-// from them. What goes through here: every std container typed with
-// HostAllocator / DefaultInitAllocator (numeric factor values, factorization
-// and solve workspaces, selected-inversion blocks, the large arrays of the
-// symbolic analysis and the ordering) and every allocation METIS makes
-// (cmake/metis.cmake renames its malloc/calloc/realloc/free to
-// kernels/src/order/metis_memory.cpp). What does not: other std containers,
-// oneTBB's task storage, Eigen's and OpenBLAS' own buffers (docs/shipping.md).
+// from them. What goes through here: every container typed with HostVector /
+// HostAllocator / DefaultInitAllocator, which covers every block of 64 KB or
+// more of a geodesic, log map or CVT call (ctest allocator_unrouted), and
+// every allocation METIS makes (cmake/metis.cmake renames its
+// malloc/calloc/realloc/free to kernels/src/order/metis_memory.cpp). What does
+// not: OpenBLAS' own buffer pool (docs/shipping.md).
 //
 // Each block carries a 32-byte header naming the callbacks that allocated it,
 // so a block is always freed by the allocator that made it, even when the host
