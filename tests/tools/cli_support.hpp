@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "locus/mesh_io.hpp"
+
 extern char** environ;
 
 namespace locus::test_cli {
@@ -24,6 +26,16 @@ namespace locus::test_cli {
 namespace fs = std::filesystem;
 
 inline const std::string kLocus = LOCUS_BINARY_DIR "/locus";
+
+// The values of the named vertex property of a mesh file, read back by locus' readers.
+inline std::vector<double> vertex_property(const std::string& path, const std::string& name) {
+  locus::MeshAttributes a;
+  locus::read_mesh(path, {}, &a);
+  for (const auto& p : a.vertex)
+    if (p.name == name) return p.values;
+  FAIL("no property " << name << " in " << path);
+  return {};
+}
 
 inline bool have_locus() {
   if (fs::exists(kLocus)) return true;

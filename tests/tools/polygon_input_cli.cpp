@@ -38,15 +38,6 @@ std::string quad_torus_off(int n, int m) {
   return s.str();
 }
 
-std::vector<double> property(const std::string& path, const std::string& name) {
-  locus::MeshAttributes a;
-  locus::read_mesh(path, {}, &a);
-  for (const auto& p : a.vertex)
-    if (p.name == name) return p.values;
-  FAIL("no property " << name << " in " << path);
-  return {};
-}
-
 }  // namespace
 
 // A localized geodesic (--fraction < 1) has no polygon path: it triangulates on
@@ -70,7 +61,7 @@ TEST_CASE("polygon input: localized geodesic on quads equals it on their triangu
     CHECK(rq.json()["input"]["triangulated"]["triangles"] == 256);
     locus::Mesh back = locus::read_mesh(a);
     if (ext == "ply") {  // the OBJ's '#vp' block is read back by the independent-reader test
-      const std::vector<double> dq = property(a, "distance"), dt = property(b, "distance");
+      const std::vector<double> dq = vertex_property(a, "distance"), dt = vertex_property(b, "distance");
       REQUIRE(dq.size() == dt.size());
       for (size_t v = 0; v < dq.size(); ++v) CHECK((dq[v] == dt[v] || (std::isnan(dq[v]) && std::isnan(dt[v]))));
     }

@@ -16,19 +16,6 @@
 
 using namespace locus::test_cli;
 
-namespace {
-
-std::vector<double> property(const std::string& path, const std::string& name) {
-  locus::MeshAttributes a;
-  locus::read_mesh(path, {}, &a);
-  for (const auto& p : a.vertex)
-    if (p.name == name) return p.values;
-  FAIL("no property " << name << " in " << path);
-  return {};
-}
-
-}  // namespace
-
 TEST_CASE("session on polygons equals the CLI: geodesic, log map, cvt labels") {
   if (!have_locus()) return;
   Scratch dir("session_polygon");
@@ -48,8 +35,8 @@ TEST_CASE("session on polygons equals the CLI: geodesic, log map, cvt labels") {
     const Run g = run_locus(dir, args);
     REQUIRE_MESSAGE(g.status == 0, g.err);
     CHECK(g.json()["method"] == "heat-full-polygon");
-    CHECK(s.geodesic_distance(5, q) == property(dir / "g.ply", "distance"));
-    CHECK(locus::Session::from_file(quads).geodesic_distance(5, q) == property(dir / "g.ply", "distance"));
+    CHECK(s.geodesic_distance(5, q) == vertex_property(dir / "g.ply", "distance"));
+    CHECK(locus::Session::from_file(quads).geodesic_distance(5, q) == vertex_property(dir / "g.ply", "distance"));
 
     args = {"logmap", quads, "--center", "5", "--fraction", "0.3", "-o", dir / "l.ply", "--json"};
     args.insert(args.end(), time.begin(), time.end());
@@ -57,12 +44,12 @@ TEST_CASE("session on polygons equals the CLI: geodesic, log map, cvt labels") {
     REQUIRE_MESSAGE(l.status == 0, l.err);
     CHECK(l.json()["method"] == "heat-full-polygon");
     const locus::LogMapResult r = s.logmap(5, 0.3, q);
-    const std::vector<double> in_patch = property(dir / "l.ply", "in_patch");
+    const std::vector<double> in_patch = vertex_property(dir / "l.ply", "in_patch");
     int64_t cnt = 0;
     for (double x : in_patch) cnt += x == 1;
     CHECK(cnt == static_cast<int64_t>(r.patch.size()));
-    const std::vector<double> u = property(dir / "l.ply", "u"), v = property(dir / "l.ply", "v"),
-                              d = property(dir / "l.ply", "distance"), a = property(dir / "l.ply", "angle");
+    const std::vector<double> u = vertex_property(dir / "l.ply", "u"), v = vertex_property(dir / "l.ply", "v"),
+                              d = vertex_property(dir / "l.ply", "distance"), a = vertex_property(dir / "l.ply", "angle");
     for (size_t p = 0; p < r.patch.size(); ++p) {
       const int32_t i = r.patch[p];
       CHECK(in_patch[i] == 1);
@@ -77,7 +64,7 @@ TEST_CASE("session on polygons equals the CLI: geodesic, log map, cvt labels") {
   const Run c = run_locus(dir, {"cvt", quads, "--sites", "12", "--iters", "3", "--seed", "4", "--labels",
                                 dir / "c.ply", "-o", dir / "remesh.obj"});
   REQUIRE_MESSAGE(c.status == 0, c.err);
-  const std::vector<double> labels = property(dir / "c.ply", "label");
+  const std::vector<double> labels = vertex_property(dir / "c.ply", "label");
   const locus::CvtResult r = s.cvt(12, 3, 4, {}, true);
   REQUIRE(labels.size() == r.label.size());
   for (size_t i = 0; i < labels.size(); ++i) CHECK(labels[i] == r.label[i]);

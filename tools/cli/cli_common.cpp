@@ -408,16 +408,22 @@ std::string heat_time_text(const HeatTimeOptions& ht, double t_factor) {
   return ht.t_text.empty() ? format_number(t_factor) + "h2" : ht.t_text;
 }
 
+double parse_h2_multiple(const std::string& text, const std::string& option, bool allow_zero) {
+  double c = -1;
+  const char* first = text.data();
+  const char* last = first + text.size();
+  auto [ptr, ec] = std::from_chars(first, last, c);
+  if (ec != std::errc() || ptr != last || !(allow_zero ? c >= 0 : c > 0) || !std::isfinite(c))
+    fail(ErrorCode::BadUsage, option + " must be a finite " + (allow_zero ? "number >= 0" : "positive number") +
+                                  " (got '" + text + "')");
+  return c;
+}
+
 TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec) {
   if (!ht.t_factor.empty()) {
     if (!ht.t_text.empty())
       fail(ErrorCode::BadUsage, "--t and --t-factor name one diffusion time; give --t only (--t-factor C is --t Ch2)");
-    double c = 0;
-    const char* first = ht.t_factor.data();
-    const char* last = first + ht.t_factor.size();
-    auto [ptr, ec] = std::from_chars(first, last, c);
-    if (ec != std::errc() || ptr != last || !(c > 0) || !std::isfinite(c))
-      fail(ErrorCode::BadUsage, "--t-factor must be a finite positive number (got '" + ht.t_factor + "')");
+    const double c = parse_h2_multiple(ht.t_factor, "--t-factor", false);
     log("--t-factor is deprecated and will be removed; use --t " + ht.t_factor + "h2");
     return TimeSpec{c, true};
   }

@@ -185,6 +185,9 @@ struct HeatTimeOptions {
   std::string t_factor;  // --t-factor C as given ("" = not given)
 };
 void add_heat_time_options(CLI::App* app, HeatTimeOptions& ht, const std::string& default_text, bool factor_alias);
+// A deprecated spelling's bare number C (a multiple of h^2): Error(BadUsage)
+// naming `option` unless it is finite and > 0 (>= 0 with allow_zero).
+double parse_h2_multiple(const std::string& text, const std::string& option, bool allow_zero);
 // Error(BadUsage) for both spellings at once, a bad --t or a non-positive --t-factor.
 TimeSpec heat_time_spec(const HeatTimeOptions& ht, const TimeSpec& default_spec);
 // The JSON's `t_spec`: --t as given, else the time used as a multiple of h^2 ("4h2").

@@ -7,8 +7,6 @@
 // 23); --labels writes the input with a per-vertex `label` property (the cell),
 // --sites-out the sites; --json reports the timings, the `remesh` object
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
-#include <charconv>
-#include <cmath>
 #include <ostream>
 #include <string>
 #include <mutex>
@@ -59,12 +57,7 @@ TimeSpec centroid_time_spec(const CvtOptions& o) {
     if (!o.centroid_t.empty())
       fail(ErrorCode::BadUsage,
            "--centroid-t and --t-centroid name one time; give --centroid-t only (--t-centroid C is --centroid-t Ch2)");
-    double c = -1;
-    const char* first = o.t_centroid.data();
-    const char* last = first + o.t_centroid.size();
-    auto [ptr, ec] = std::from_chars(first, last, c);
-    if (ec != std::errc() || ptr != last || !(c >= 0) || !std::isfinite(c))
-      fail(ErrorCode::BadUsage, "--t-centroid must be a finite number >= 0 (got '" + o.t_centroid + "')");
+    const double c = parse_h2_multiple(o.t_centroid, "--t-centroid", true);
     log("--t-centroid is deprecated and will be removed; use " +
         (c > 0 ? "--centroid-t " + o.t_centroid + "h2" : std::string("no option (0 is the cells' t)")));
     return TimeSpec{c, true};

@@ -44,6 +44,9 @@ HeatDiffusion prepare_heat_diffusion(const CscMatrix& A, HostVector<double> mass
 
 namespace {
 
+// The defaults: triangles, manifold, no degenerate faces, no unreferenced vertices.
+const MeshRequirements kHeatRequirements{};
+
 void check_time(double t_factor, double t_abs) {
   if (!(t_abs >= 0) || !std::isfinite(t_abs) || (t_abs == 0 && (!(t_factor > 0) || !std::isfinite(t_factor))))
     fail(ErrorCode::BadUsage, "heat diffusion: the diffusion time must be a finite positive number");
@@ -95,12 +98,6 @@ HeatDiffusion prepare_beside(const Mesh& m, const EdgeIncidence& inc, double h, 
   return H;
 }
 
-MeshRequirements heat_requirements() {
-  MeshRequirements req;
-  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  return req;
-}
-
 }  // namespace
 
 HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_abs, const RunContext& ctx) {
@@ -114,7 +111,7 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, double t_factor, double t_ab
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
   const double op_s = sw.lap();
   HeatDiffusion H = prepare_beside(m, inc, h, t, [&] {
-    check_requirements(m, heat_requirements(), analyze_mesh(m, inc));
+    check_requirements(m, kHeatRequirements, analyze_mesh(m, inc));
     return lumped_mass(m);
   }, ctx);
   H.operator_s = op_s;
@@ -129,8 +126,8 @@ HeatDiffusion prepare_heat_diffusion(const Mesh& m, const MeshDerived& d, double
   const double h = d.h;  // mean_edge_length(m), summed in the same order
   const double t = t_abs > 0 ? t_abs : t_factor * h * h;
   return prepare_beside(m, d.incidence, h, t, [&] {
-    if (!requirements_checked(d, heat_requirements())) check_requirements(m, heat_requirements(), analyze_mesh(m, d.incidence));
-    return HostVector<double>(d.mass.begin(), d.mass.end());
+    if (!requirements_checked(d, kHeatRequirements)) check_requirements(m, kHeatRequirements, analyze_mesh(m, d.incidence));
+    return d.mass;
   }, ctx);
 }
 
