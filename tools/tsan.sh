@@ -35,7 +35,7 @@ prefix="$tbb_dir/prefix"
 version=$(dpkg-query -W -f='${source:Version}' libtbb-dev)
 srcpkg=$(dpkg-query -W -f='${source:Package}' libtbb-dev)
 cc_id="$(gcc -dumpfullversion 2>/dev/null || echo unknown)"
-stamp="$srcpkg $version tsan gcc-$cc_id"
+stamp="$srcpkg $version tsan gcc-$cc_id nohwloc"
 if [ -f "$prefix/lib/cmake/TBB/TBBConfig.cmake" ] && [ "$(cat "$prefix/.locus-stamp" 2>/dev/null)" = "$stamp" ]; then
   say "instrumented oneTBB cached ($stamp)"
 else
@@ -52,11 +52,13 @@ else
   # apt checked the files against the signed Sources index; dpkg-source's own
   # signature check of the .dsc needs debian-keyring and only warns without it.
   (cd "$tbb_dir/src" && dpkg-source -x "$dsc" tree >"$tbb_dir/unpack.log" 2>&1) || { cat "$tbb_dir/unpack.log"; exit 1; }
-  # Only the tbb library (no tests, examples, tbbmalloc or Python): the tests
-  # link TBB::tbb only. IPO is off under TSan in oneTBB's CMake already.
+  # Only the tbb library (no tests, examples, tbbmalloc, Python or tbbbind): the
+  # tests link TBB::tbb only. Without the hwloc switch, a machine with
+  # libhwloc-dev configures tbbbind, which the install step then looks for and
+  # fails (CI, stop 31). IPO is off under TSan in oneTBB's CMake already.
   cmake -S "$tbb_dir/src/tree" -B "$tbb_dir/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBB4PY_BUILD=OFF -DTBBMALLOC_BUILD=OFF \
-    -DTBB_STRICT=OFF -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_LIBDIR=lib >"$tbb_dir/configure.log" 2>&1 ||
+    -DTBB_STRICT=OFF -DTBB_DISABLE_HWLOC_AUTOMATIC_SEARCH=ON -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_LIBDIR=lib >"$tbb_dir/configure.log" 2>&1 ||
     { tail -40 "$tbb_dir/configure.log"; exit 1; }
   cmake --build "$tbb_dir/build" -j2 --target tbb >"$tbb_dir/build.log" 2>&1 || { tail -40 "$tbb_dir/build.log"; exit 1; }
   cmake --install "$tbb_dir/build" >"$tbb_dir/install.log" 2>&1 || { tail -40 "$tbb_dir/install.log"; exit 1; }
