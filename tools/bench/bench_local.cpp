@@ -16,7 +16,9 @@
 //    Also the single-entry value (A^{-1})_ii at --pairs random vertices: the
 //    forward-only path walk (pipelines/adf), a subset solve (plan + forward +
 //    backward), CHOLMOD Bset = {i}, a full solve. Reported: medians, the median
-//    of the per-pair ratios, columns visited, the etree height.
+//    of the per-pair ratios, columns visited, the etree height. Lanes: an
+//    8-lane subset solve against 8 one-lane ones, and a 24-lane one (24
+//    random sources and targets, kernels/solve_wide) against three 8-lane ones.
 // 2. Auto-diffusion at ALL vertices: selected inversion (kernels/
 //    selected_inversion) vs the per-vertex path walk over all vertices (both
 //    with --threads) vs full solves (median of --adf-sample single full solves
@@ -53,6 +55,7 @@
 #include "locus/kernels/solve/selected_inversion.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
+#include "locus/kernels/solve/solve_wide.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/heat/adf.hpp"
@@ -281,6 +284,64 @@ Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, cons
                   {"eight_lane_s", cli::median(eight_s)},
                   {"speedup_eight_lane_over_one_lane_x8", cli::median(r8)},
                   {"max_rel_diff", worst8}};
+  }
+
+  // 24 lanes (issue 26; the log map's batches are 7-22 sources): one wide
+  // subset solve of 24 sources x 24 targets, plan included, against three
+  // 8-lane solves of the same plan (the older path, the accuracy reference).
+  {
+    constexpr int kWide = 24;
+    std::vector<double> wide_s, three8_s, plan_s, fw, bw;
+    double worst = 0;
+    SolveWorkspace lws;
+    WideSolveWorkspace wws;
+    for (int p = 0; p < std::max(5, bo.pairs / 10); ++p) {
+      ctx.check_cancel();
+      std::vector<int32_t> src(kWide), tgt(kWide);
+      for (auto& v : src) v = pick(rng);
+      for (auto& v : tgt) v = pick(rng);
+      std::sort(src.begin(), src.end());
+      src.erase(std::unique(src.begin(), src.end()), src.end());
+      Stopwatch sw;
+      const SolvePlan plan = plan_subset_solve(*H.symbolic, src, tgt);
+      const double tp = sw.seconds();
+      const size_t ns = src.size(), nt = tgt.size();
+      std::vector<double> rhs(ns * kWide, 0.0), out(nt * kWide);
+      for (size_t k = 0; k < ns; ++k) rhs[k * kWide + k] = 1.0;
+      sw.restart();
+      solve_planned_wide(F, plan, kWide, rhs, out, wws);
+      const double tw = sw.seconds();
+      // The same lanes in batches of 8 (lanes >= ns stay zero).
+      // Differences relative to the largest value (a target far from every
+      // source holds values near rounding level, where a pointwise ratio says nothing).
+      std::vector<double> rhs8(ns * kLanes), out8(nt * kLanes);
+      double t8 = 0, diff = 0, scale = 0;
+      for (int b = 0; b < kWide / kLanes; ++b) {
+        std::fill(rhs8.begin(), rhs8.end(), 0.0);
+        for (size_t k = 0; k < ns; ++k)
+          if (k / kLanes == static_cast<size_t>(b)) rhs8[k * kLanes + k % kLanes] = 1.0;
+        sw.restart();
+        solve_planned8(F, plan, rhs8, out8, lws);
+        t8 += sw.seconds();
+        for (size_t q = 0; q < nt; ++q)
+          for (int l = 0; l < kLanes; ++l) {
+            diff = std::max(diff, std::abs(out[q * kWide + b * kLanes + l] - out8[q * kLanes + l]));
+            scale = std::max(scale, std::abs(out8[q * kLanes + l]));
+          }
+      }
+      worst = std::max(worst, diff / std::max(scale, 1e-300));
+      wide_s.push_back(tw);
+      three8_s.push_back(t8);
+      plan_s.push_back(tp);
+      fw.push_back(static_cast<double>(plan.forward_columns));
+      bw.push_back(static_cast<double>(plan.backward_columns));
+    }
+    j["lanes24"] = {{"plan_s", cli::median(plan_s)},
+                    {"wide_solve_s", cli::median(wide_s)},
+                    {"three_eight_lane_s", cli::median(three8_s)},
+                    {"forward_columns", cli::median(fw)},
+                    {"backward_columns", cli::median(bw)},
+                    {"max_diff_vs_eight_lane_rel_to_max", worst}};
   }
 
   // "Everything": a subset plan whose support and wanted set are all vertices
