@@ -453,16 +453,18 @@ BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) {
   validate_operator_spec(spec);
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
-  check_requirements(m, MeshRequirements{});
+  // One edge incidence for the checks, h and the assembly (each would build its own).
+  const EdgeIncidence inc = edge_incidence(m);
+  check_requirements(m, MeshRequirements{}, analyze_mesh(m, inc));
   BuiltOperator op;
-  op.h = mean_edge_length(m);
+  op.h = mean_edge_length(m, inc.edges);
   if (!(op.h > 0) || !std::isfinite(op.h))
     fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(op.h) + ", cannot scale the operator");
   if (spec.kind == "laplacian") {
-    op.A = regularized_laplacian(m);
+    op.A = regularized_laplacian(m, kLaplacianRegularization, &inc);
   } else {
     op.t = spec.t_text.empty() ? op.h * op.h : parse_time_spec(spec.t_text).resolve(op.h);
-    op.A = heat_operator(m, op.t);
+    op.A = heat_operator(m, op.t, &inc);
   }
   return op;
 }

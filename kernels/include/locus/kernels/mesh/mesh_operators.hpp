@@ -40,7 +40,8 @@ CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc = null
 // rel = 1e-8 gives 1.6e-10..3.8e-10, rel = 1e-6 gives 1.6e-12..3.7e-12, the 1e-10
 // target with a 25x margin. The price: every eigenvalue of the pencil moves by eps,
 // about rel * mean(diag(-L_C)) / mean(diag(M)) (grows with the vertex count).
-CscMatrix regularized_laplacian(const Mesh& m, double rel = 1e-6, const EdgeIncidence* inc = nullptr);
+constexpr double kLaplacianRegularization = 1e-6;
+CscMatrix regularized_laplacian(const Mesh& m, double rel = kLaplacianRegularization, const EdgeIncidence* inc = nullptr);
 
 // Per-vertex normals, unit length, 3*nv interleaved (x,y,z): the normalized sum of the
 // vector areas of the incident faces (polygon faces allowed here); 0 at unreferenced
