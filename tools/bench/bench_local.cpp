@@ -489,8 +489,8 @@ std::vector<int32_t> patch_sizes(const Options& bo, int32_t n) {
   return sizes;
 }
 
-// K, F: the regularized Laplacian of m and its factor (shared with section 4).
-Json bench_patches(const Mesh& m, const CscMatrix& K, const NumericFactor& F, const Options& bo, uint64_t seed,
+// F: the factor of m's regularized Laplacian (shared with section 4).
+Json bench_patches(const Mesh& m, const NumericFactor& F, const Options& bo, uint64_t seed,
                    const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   Json j;
@@ -686,7 +686,7 @@ int run_bench_local(const cli::CommonOptions& opt, const Options& bo, const RunC
     const CscMatrix K = regularized_laplacian(m);
     const NumericFactor F = factorize(analyze(K, order_matrix(K)), K, ctx);
     const double global_factor_s = fsw.seconds();
-    j["patch"] = bench_patches(m, K, F, bo, opt.seed, ctx);
+    j["patch"] = bench_patches(m, F, bo, opt.seed, ctx);
     j["patch"]["global_factor_s"] = global_factor_s;
     cli::log("bench local: circle-boundary patch map (factor-once update)");
     j["patch_circle"] = bench_circle_patches(m, K, F, bo, opt.seed, ctx);

@@ -389,3 +389,127 @@ TEST_CASE("random polygon soups: analysis never fails on valid indices and its c
     }
   }
 }
+
+namespace {
+
+// Brute-force manifold report from the definition, with std::map over the
+// faces' own half-edges: the non-manifold edges (> 2 faces, or 2 faces running
+// it the same way), and per vertex the fans (its corners joined across the
+// edges of exactly two faces).
+struct BruteManifold {
+  int64_t bad_edges = 0, bad_vertices = 0;
+  std::pair<int32_t, int32_t> first_edge{-1, -1};
+  std::array<int32_t, 3> first_edge_faces{-1, -1, -1};  // face count, first two faces
+  int32_t first_vertex = -1, first_vertex_fans = 0;
+};
+
+BruteManifold brute_manifold(const Mesh& m) {
+  struct Half {
+    int32_t face, pos;
+    bool up;  // runs from the smaller to the larger end
+  };
+  std::map<std::pair<int32_t, int32_t>, std::vector<Half>> edges;
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    const int32_t d = static_cast<int32_t>(vs.size());
+    for (int32_t k = 0; k < d; ++k) {
+      const int32_t u = vs[k], w = vs[(k + 1) % d];
+      if (u != w) edges[{std::min(u, w), std::max(u, w)}].push_back({f, k, u < w});
+    }
+  }
+  BruteManifold b;
+  // Corners as (face, position); parent pointers in a map.
+  std::map<std::pair<int32_t, int32_t>, std::pair<int32_t, int32_t>> parent;
+  const auto find = [&](std::pair<int32_t, int32_t> c) {
+    while (parent.at(c) != c) c = parent.at(c);
+    return c;
+  };
+  for (int32_t f = 0; f < m.num_faces(); ++f)
+    for (int32_t k = 0; k < static_cast<int32_t>(m.face(f).size()); ++k) parent[{f, k}] = {f, k};
+  for (const auto& [key, hs] : edges) {
+    const bool bad = hs.size() > 2 || (hs.size() == 2 && hs[0].up == hs[1].up);
+    if (bad) {
+      if (b.bad_edges++ == 0) {
+        b.first_edge = key;
+        b.first_edge_faces = {static_cast<int32_t>(hs.size()), hs[0].face, hs[1].face};
+      }
+    }
+    if (hs.size() != 2) continue;
+    for (const int32_t v : {key.first, key.second}) {
+      std::pair<int32_t, int32_t> at[2];
+      for (int i = 0; i < 2; ++i) {
+        const auto vs = m.face(hs[i].face);
+        const int32_t d = static_cast<int32_t>(vs.size());
+        at[i] = {hs[i].face, vs[hs[i].pos] == v ? hs[i].pos : (hs[i].pos + 1) % d};
+      }
+      const auto ra = find(at[0]), rb = find(at[1]);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
+  std::map<int32_t, std::set<std::pair<int32_t, int32_t>>> fans;
+  for (int32_t f = 0; f < m.num_faces(); ++f)
+    for (int32_t k = 0; k < static_cast<int32_t>(m.face(f).size()); ++k) fans[m.face(f)[k]].insert(find({f, k}));
+  for (const auto& [v, roots] : fans)
+    if (roots.size() > 1 && b.bad_vertices++ == 0) {
+      b.first_vertex = v;
+      b.first_vertex_fans = static_cast<int32_t>(roots.size());
+    }
+  return b;
+}
+
+void check_against_brute(const Mesh& m) {
+  const MeshReport r = analyze_mesh(m);
+  const BruteManifold b = brute_manifold(m);
+  CHECK(r.non_manifold_edges == b.bad_edges);
+  CHECK(r.non_manifold_vertices == b.bad_vertices);
+  CHECK(r.first_non_manifold_vertex == b.first_vertex);
+  if (b.first_vertex >= 0) CHECK(r.first_non_manifold_vertex_fans == b.first_vertex_fans);
+  CHECK(r.first_non_manifold_edge_v0 == b.first_edge.first);
+  CHECK(r.first_non_manifold_edge_v1 == b.first_edge.second);
+  if (b.bad_edges > 0) {
+    CHECK(r.first_non_manifold_edge_faces == b.first_edge_faces[0]);
+    CHECK(r.first_non_manifold_edge_face_a == b.first_edge_faces[1]);
+    CHECK(r.first_non_manifold_edge_face_b == b.first_edge_faces[2]);
+  }
+  CHECK(r.manifold == (b.bad_edges == 0 && b.bad_vertices == 0));
+}
+
+}  // namespace
+
+TEST_CASE("manifold checks equal a brute-force count on soups and on damaged spheres") {
+  std::mt19937_64 rng(2026);
+  // Soups: every defect at once, polygons and repeated vertices included.
+  for (int trial = 0; trial < 200; ++trial) {
+    Mesh m;
+    const int32_t nv = 1 + static_cast<int32_t>(rng() % 10);
+    for (int32_t v = 0; v < nv; ++v) m.add_vertex(double(rng() % 5), double(rng() % 5), double(rng() % 3));
+    for (int32_t f = 0, nf = static_cast<int32_t>(rng() % 12); f < nf; ++f) {
+      std::vector<int32_t> vs(3 + rng() % 3);
+      for (auto& v : vs) v = static_cast<int32_t>(rng() % nv);
+      m.add_face(vs);
+    }
+    check_against_brute(m);
+  }
+  // Icospheres with a few faces removed, duplicated or flipped, or two vertices
+  // merged (pinches: several fans at one vertex): sparse defects among many
+  // good vertices.
+  const Mesh sphere = make_icosphere(2);
+  for (int trial = 0; trial < 60; ++trial) {
+    Mesh m;
+    for (int32_t v = 0; v < sphere.num_vertices(); ++v) m.add_vertex(sphere.x[v], sphere.y[v], sphere.z[v]);
+    const int32_t a = static_cast<int32_t>(rng() % sphere.num_vertices());
+    const int32_t b = static_cast<int32_t>(rng() % sphere.num_vertices());
+    const bool merge = trial % 3 == 0;
+    for (int32_t f = 0; f < sphere.num_faces(); ++f) {
+      std::vector<int32_t> vs(sphere.face(f).begin(), sphere.face(f).end());
+      if (merge)
+        for (auto& v : vs) v = v == b ? a : v;
+      const uint64_t dice = rng() % 100;
+      if (dice < 3) continue;                              // a hole
+      if (dice < 5) std::swap(vs[1], vs[2]);               // flipped
+      m.add_face(vs);
+      if (dice >= 98) m.add_face(vs);                      // a third face on its edges
+    }
+    check_against_brute(m);
+  }
+}
