@@ -11,6 +11,8 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 
 #include "locus/core/host_allocator.hpp"
@@ -27,8 +29,11 @@ struct Node {
   AdjacencyGraph g;
   HostVector<int32_t> global;  // original vertex of each local vertex
   HostVector<double> x, y, z;  // positions (empty without geometry)
-  HostVector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
-  int32_t nc = 0;               // coarse vertices of this node
+  // Shared coarsening restricted to this node (empty: none): coarse[l][v] =
+  // vertex of level l + 1 of the node's level-l vertex v (level 0: its own
+  // vertices); nc[l] = vertices of level l + 1.
+  std::vector<HostVector<int32_t>> coarse;
+  std::vector<int32_t> nc;
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -61,6 +66,14 @@ class Dissector {
     // progress (an edgeless graph comes back whole on one side): AMD whole.
     if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
+    if (std::getenv("LOCUS_ND_DEBUG") && m >= 300) {  // TEMPORARY
+      HostVector<int8_t> mp;
+      metis_vertex_separator(node.g, opt_.metis_seed, mp, nullptr);
+      const int32_t ms = static_cast<int32_t>(std::count(mp.begin(), mp.end(), int8_t{2}));
+      const int32_t m0 = static_cast<int32_t>(std::count(mp.begin(), mp.end(), int8_t{0}));
+      std::fprintf(stderr, "node %d sep %d sides %d %d metis %d sides %d %d ratio %.3f\n", m, nsep, nside0,
+                   m - nsep - nside0, ms, m0, m - ms - m0, double(nsep) / ms);
+    }
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
       poll();
@@ -103,18 +116,7 @@ class Dissector {
   void separator(const Node& node, HostVector<int8_t>& part) const {
     const int32_t m = node.g.n();
     if (!node.coarse.empty() && m >= opt_.coarse_min_vertices) {
-      // METIS on the node's contraction along the shared coarsening, then
-      // the projected (about two vertices thick) separator refined here.
-      HostVector<int32_t> vwgt;
-      const AdjacencyGraph h = contract_graph(node.g, node.coarse, node.nc, vwgt);
-      poll();
-      HostVector<int8_t> coarse_part;
-      metis_vertex_separator(h, opt_.metis_seed, coarse_part, &ticker_, vwgt);
-      part.resize(static_cast<size_t>(m));
-      for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
-      poll();
-      refine_vertex_separator(node.g, part, opt_.refinement);
-      poll();
+      multilevel_separator(node, part);
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     } else {
@@ -122,17 +124,60 @@ class Dissector {
     }
   }
 
-  // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
-  static void restrict_coarse(const Node& parent, Node& child) {
-    HostVector<int32_t> id(static_cast<size_t>(parent.nc), -1);
-    child.coarse.resize(child.global.size());
-    int32_t nc = 0;
-    for (size_t k = 0; k < child.global.size(); ++k) {  // child.global: parent-local indices here
-      int32_t& c = id[parent.coarse[child.global[k]]];
-      if (c < 0) c = nc++;
-      child.coarse[k] = c;
+  // METIS on the node's coarsest contraction along the shared coarsening,
+  // then the separator projected one level at a time (about two vertices
+  // thick after each step) and refined by weighted FM passes at every
+  // level, as a multilevel bisection's uncoarsening does.
+  void multilevel_separator(const Node& node, HostVector<int8_t>& part) const {
+    // Levels used: while the next one keeps at least coarse_min_coarsest vertices.
+    int levels = 0;
+    while (levels < static_cast<int>(node.nc.size()) && node.nc[levels] >= opt_.coarse_min_coarsest) ++levels;
+    std::vector<AdjacencyGraph> gs(static_cast<size_t>(levels));  // gs[l - 1]: level l
+    std::vector<HostVector<int32_t>> vw(static_cast<size_t>(levels) + 1), ew(static_cast<size_t>(levels) + 1);
+    const bool edge_weights = opt_.metis_edge_weights;
+    for (int l = 0; l < levels; ++l) {
+      const AdjacencyGraph& fine = l == 0 ? node.g : gs[l - 1];
+      gs[l] = contract_graph(fine, node.coarse[l], node.nc[l], vw[l + 1], vw[l], edge_weights ? &ew[l + 1] : nullptr,
+                             ew[l]);
+      poll();
     }
-    child.nc = nc;
+    const AdjacencyGraph& coarsest = levels == 0 ? node.g : gs[levels - 1];
+    metis_vertex_separator(coarsest, opt_.metis_seed, part, &ticker_, vw[levels], ew[levels]);
+    poll();
+    for (int l = levels - 1; l >= 0; --l) {
+      const AdjacencyGraph& fine = l == 0 ? node.g : gs[l - 1];
+      HostVector<int8_t> up(static_cast<size_t>(fine.n()));
+      for (int32_t v = 0; v < fine.n(); ++v) up[v] = part[node.coarse[l][v]];
+      part = std::move(up);
+      if (l == 0 || opt_.refine_every_level) refine_vertex_separator(fine, part, opt_.refinement, vw[l]);
+      poll();
+    }
+  }
+
+  // The child's hierarchy: at each level the parent's vertices that have a
+  // vertex of the child in them, renumbered in order of first appearance.
+  static void restrict_coarse(const Node& parent, Node& child) {
+    const size_t levels = parent.coarse.size();
+    child.coarse.resize(levels);
+    child.nc.resize(levels);
+    HostVector<int32_t> from = child.global;  // parent's index of each child vertex at the current level
+    for (size_t l = 0; l < levels; ++l) {
+      HostVector<int32_t> id(static_cast<size_t>(parent.nc[l]), -1);
+      HostVector<int32_t> next;  // parent's index of each child vertex at level l + 1
+      HostVector<int32_t>& map = child.coarse[l];
+      map.resize(from.size());
+      for (size_t k = 0; k < from.size(); ++k) {
+        const int32_t pc = parent.coarse[l][from[k]];
+        int32_t& c = id[pc];
+        if (c < 0) {
+          c = static_cast<int32_t>(next.size());
+          next.push_back(pc);
+        }
+        map[k] = c;
+      }
+      child.nc[l] = static_cast<int32_t>(next.size());
+      from = std::move(next);
+    }
   }
 
   void leaf_done(const Node& node, int32_t* out) const {
@@ -219,8 +264,11 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   }
   const bool parallel = ctx.threads != 1;
   const Dissector d(g, opt, ctx, parallel);
-  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
-    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
+  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis) {
+    CoarseningHierarchy h = coarsening_hierarchy(g, opt.coarse_levels, &d.ticker());
+    root.coarse = std::move(h.maps);
+    root.nc.assign(h.sizes.begin() + 1, h.sizes.end());
+  }
   run_with_threads(ctx.threads, [&] { d.order(std::move(root), perm.data()); });
   return perm;
 }

@@ -42,6 +42,14 @@ struct NestedDissectionOptions {
   // coarse_levels rounds of matching, refined on their own vertices (0: off).
   int coarse_levels = 0;
   int32_t coarse_min_vertices = 5000;
+  // A node contracts level after level while the next level keeps at least
+  // this many vertices (METIS then separates that coarsest level).
+  int32_t coarse_min_coarsest = 0;
+  // Weighted FM passes at every level on the way back (else only on the
+  // node's own vertices, after projecting straight from the coarsest level).
+  bool refine_every_level = true;
+  // METIS gets the contraction's edge weights (fine edges per coarse edge).
+  bool metis_edge_weights = true;
   SeparatorRefinementOptions refinement;
 };
 
