@@ -100,7 +100,7 @@ Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc)
 
 }  // namespace
 
-CoarseningHierarchy coarsening_hierarchy(const AdjacencyGraph& g, int levels, ProgressTicker* ticker) {
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker) {
   // Each step is one pass over the graph (~10-40 ms at 416k): a C host's
   // chance to cancel (its progress callback) comes between them.
   const auto poll = [ticker] {
@@ -108,43 +108,34 @@ CoarseningHierarchy coarsening_hierarchy(const AdjacencyGraph& g, int levels, Pr
     ticker->tick();
     ticker->context().check_cancel();
   };
-  CoarseningHierarchy h;
-  h.sizes.push_back(g.n());
+  const int32_t n = g.n();
+  cmap.resize(static_cast<size_t>(n));
+  std::iota(cmap.begin(), cmap.end(), 0);
   Weighted cur;
   cur.xadj.assign(g.xadj.begin(), g.xadj.end());
   cur.adj.assign(g.adj.begin(), g.adj.end());
   cur.wgt.assign(g.adj.size(), 1);
-  for (int level = 0; level < levels && h.sizes.back() > 1; ++level) {
+  int32_t nc = n;
+  HostVector<int32_t> map;
+  for (int level = 0; level < levels && nc > 1; ++level) {
     poll();
-    HostVector<int32_t> map;
     const int32_t next = match(cur, 0x5eed0000ULL + static_cast<uint64_t>(level), map);
-    if (next == h.sizes.back()) break;  // nothing matched (no edges)
+    if (next == nc) break;  // nothing matched (no edges)
+    for (int32_t& c : cmap) c = map[c];
     poll();
     if (level + 1 < levels) cur = contract(cur, map, next);
-    h.maps.push_back(std::move(map));
-    h.sizes.push_back(next);
+    nc = next;
   }
-  return h;
-}
-
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker) {
-  const CoarseningHierarchy h = coarsening_hierarchy(g, levels, ticker);
-  cmap.resize(static_cast<size_t>(g.n()));
-  std::iota(cmap.begin(), cmap.end(), 0);
-  for (const HostVector<int32_t>& map : h.maps)
-    for (int32_t& c : cmap) c = map[c];
-  return h.sizes.back();
+  return nc;
 }
 
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              HostVector<int32_t>& vwgt, std::span<const int32_t> fine_vwgt,
-                              HostVector<int32_t>* ewgt, std::span<const int32_t> fine_ewgt) {
+                              HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt) {
   const int32_t n = g.n();
-  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
-  for (int32_t v = 0; v < n; ++v) ++start[coarse[v] + 1];
-  for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
   vwgt.assign(static_cast<size_t>(nc), 0);
-  for (int32_t v = 0; v < n; ++v) vwgt[coarse[v]] += fine_vwgt.empty() ? 1 : fine_vwgt[v];
+  for (int32_t v = 0; v < n; ++v) ++vwgt[coarse[v]];
+  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
+  for (int32_t c = 0; c < nc; ++c) start[c + 1] = start[c] + vwgt[c];
   {
     HostVector<int32_t> pos(start.begin(), start.end() - 1);
     for (int32_t v = 0; v < n; ++v) members[pos[coarse[v]]++] = v;
@@ -157,7 +148,7 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
     ewgt->clear();
     ewgt->reserve(g.adj.size() / 2);
   }
-  // slot[d]: where coarse neighbor d sits in the current row (below the row's start: not yet in it).
+  // slot[d]: where coarse neighbor d sits in the row being built (below the row's start: not in it yet).
   HostVector<int32_t> slot(static_cast<size_t>(nc), -1);
   for (int32_t c = 0; c < nc; ++c) {
     const int32_t row = h.xadj.back();
@@ -166,19 +157,39 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
       for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
         const int32_t d = coarse[g.adj[p]];
         if (d == c) continue;
-        const int32_t w = fine_ewgt.empty() ? 1 : fine_ewgt[p];
         if (slot[d] < row) {
           slot[d] = static_cast<int32_t>(h.adj.size());
           h.adj.push_back(d);
-          if (ewgt) ewgt->push_back(w);
+          if (ewgt) ewgt->push_back(1);
         } else if (ewgt) {
-          (*ewgt)[slot[d]] += w;
+          ++(*ewgt)[slot[d]];
         }
       }
     }
     h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
   }
   return h;
+}
+
+AdjacencyGraph restrict_contraction(const AdjacencyGraph& h, std::span<const int32_t> keep, int32_t nkept,
+                                    std::span<const int32_t> ewgt, HostVector<int32_t>* kept_ewgt) {
+  HostVector<int32_t> from(static_cast<size_t>(nkept));  // vertex of h behind each kept one
+  for (int32_t c = 0; c < h.n(); ++c)
+    if (keep[c] >= 0) from[keep[c]] = c;
+  AdjacencyGraph r;
+  r.xadj.assign(1, 0);
+  r.xadj.reserve(static_cast<size_t>(nkept) + 1);
+  if (kept_ewgt) kept_ewgt->clear();
+  for (int32_t k = 0; k < nkept; ++k) {
+    const int32_t c = from[k];
+    for (int32_t p = h.xadj[c]; p < h.xadj[c + 1]; ++p)
+      if (const int32_t d = keep[h.adj[p]]; d >= 0) {
+        r.adj.push_back(d);
+        if (kept_ewgt && !ewgt.empty()) kept_ewgt->push_back(ewgt[p]);
+      }
+    r.xadj.push_back(static_cast<int32_t>(r.adj.size()));
+  }
+  return r;
 }
 
 }  // namespace locus

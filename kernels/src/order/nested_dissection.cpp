@@ -11,8 +11,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <numeric>
 
 #include "locus/core/host_allocator.hpp"
@@ -29,11 +27,13 @@ struct Node {
   AdjacencyGraph g;
   HostVector<int32_t> global;  // original vertex of each local vertex
   HostVector<double> x, y, z;  // positions (empty without geometry)
-  // Shared coarsening restricted to this node (empty: none): coarse[l][v] =
-  // vertex of level l + 1 of the node's level-l vertex v (level 0: its own
-  // vertices); nc[l] = vertices of level l + 1.
-  std::vector<HostVector<int32_t>> coarse;
-  std::vector<int32_t> nc;
+  HostVector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
+  int32_t nc = 0;               // coarse vertices of this node
+  // The node's graph contracted along `coarse`, with edge multiplicities:
+  // the root's exactly (contract_graph), a child's taken from its parent's
+  // (restrict_coarse). Empty until separator() needs it.
+  AdjacencyGraph cg;
+  HostVector<int32_t> cew;
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -66,14 +66,6 @@ class Dissector {
     // progress (an edgeless graph comes back whole on one side): AMD whole.
     if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
-    if (std::getenv("LOCUS_ND_DEBUG") && m >= 300) {  // TEMPORARY
-      HostVector<int8_t> mp;
-      metis_vertex_separator(node.g, opt_.metis_seed, mp, nullptr);
-      const int32_t ms = static_cast<int32_t>(std::count(mp.begin(), mp.end(), int8_t{2}));
-      const int32_t m0 = static_cast<int32_t>(std::count(mp.begin(), mp.end(), int8_t{0}));
-      std::fprintf(stderr, "node %d sep %d sides %d %d metis %d sides %d %d ratio %.3f\n", m, nsep, nside0,
-                   m - nsep - nside0, ms, m0, m - ms - m0, double(nsep) / ms);
-    }
     Node child[2];
     for (int8_t s = 0; s < 2; ++s) {
       poll();
@@ -113,10 +105,31 @@ class Dissector {
     ctx_.check_cancel();
   }
 
-  void separator(const Node& node, HostVector<int8_t>& part) const {
+  void separator(Node& node, HostVector<int8_t>& part) const {
     const int32_t m = node.g.n();
     if (!node.coarse.empty() && m >= opt_.coarse_min_vertices) {
-      multilevel_separator(node, part);
+      // METIS on the node's contraction along the shared coarsening, then
+      // the projected (about two vertices thick) separator refined here.
+      // METIS gets the coarse edges' multiplicities: with every edge
+      // weighing 1 its heavy-edge matching of the contraction is blind
+      // (separators ~3% longer, docs/ordering.md). A large node contracts its
+      // own graph; a smaller one got its contraction from its parent.
+      HostVector<int32_t> vwgt;
+      if (node.cg.n() != node.nc || m >= opt_.exact_min_vertices) {
+        node.cg = contract_graph(node.g, node.coarse, node.nc, vwgt, &node.cew);
+      } else {
+        vwgt.assign(static_cast<size_t>(node.nc), 0);
+        for (const int32_t c : node.coarse) ++vwgt[c];
+      }
+      poll();
+      HostVector<int8_t> coarse_part;
+      metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
+                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
+      part.resize(static_cast<size_t>(m));
+      for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+      poll();
+      refine_vertex_separator(node.g, part, opt_.refinement);
+      poll();
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     } else {
@@ -124,60 +137,19 @@ class Dissector {
     }
   }
 
-  // METIS on the node's coarsest contraction along the shared coarsening,
-  // then the separator projected one level at a time (about two vertices
-  // thick after each step) and refined by weighted FM passes at every
-  // level, as a multilevel bisection's uncoarsening does.
-  void multilevel_separator(const Node& node, HostVector<int8_t>& part) const {
-    // Levels used: while the next one keeps at least coarse_min_coarsest vertices.
-    int levels = 0;
-    while (levels < static_cast<int>(node.nc.size()) && node.nc[levels] >= opt_.coarse_min_coarsest) ++levels;
-    std::vector<AdjacencyGraph> gs(static_cast<size_t>(levels));  // gs[l - 1]: level l
-    std::vector<HostVector<int32_t>> vw(static_cast<size_t>(levels) + 1), ew(static_cast<size_t>(levels) + 1);
-    const bool edge_weights = opt_.metis_edge_weights;
-    for (int l = 0; l < levels; ++l) {
-      const AdjacencyGraph& fine = l == 0 ? node.g : gs[l - 1];
-      gs[l] = contract_graph(fine, node.coarse[l], node.nc[l], vw[l + 1], vw[l], edge_weights ? &ew[l + 1] : nullptr,
-                             ew[l]);
-      poll();
-    }
-    const AdjacencyGraph& coarsest = levels == 0 ? node.g : gs[levels - 1];
-    metis_vertex_separator(coarsest, opt_.metis_seed, part, &ticker_, vw[levels], ew[levels]);
-    poll();
-    for (int l = levels - 1; l >= 0; --l) {
-      const AdjacencyGraph& fine = l == 0 ? node.g : gs[l - 1];
-      HostVector<int8_t> up(static_cast<size_t>(fine.n()));
-      for (int32_t v = 0; v < fine.n(); ++v) up[v] = part[node.coarse[l][v]];
-      part = std::move(up);
-      if (l == 0 || opt_.refine_every_level) refine_vertex_separator(fine, part, opt_.refinement, vw[l]);
-      poll();
-    }
-  }
-
-  // The child's hierarchy: at each level the parent's vertices that have a
-  // vertex of the child in them, renumbered in order of first appearance.
+  // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
   static void restrict_coarse(const Node& parent, Node& child) {
-    const size_t levels = parent.coarse.size();
-    child.coarse.resize(levels);
-    child.nc.resize(levels);
-    HostVector<int32_t> from = child.global;  // parent's index of each child vertex at the current level
-    for (size_t l = 0; l < levels; ++l) {
-      HostVector<int32_t> id(static_cast<size_t>(parent.nc[l]), -1);
-      HostVector<int32_t> next;  // parent's index of each child vertex at level l + 1
-      HostVector<int32_t>& map = child.coarse[l];
-      map.resize(from.size());
-      for (size_t k = 0; k < from.size(); ++k) {
-        const int32_t pc = parent.coarse[l][from[k]];
-        int32_t& c = id[pc];
-        if (c < 0) {
-          c = static_cast<int32_t>(next.size());
-          next.push_back(pc);
-        }
-        map[k] = c;
-      }
-      child.nc[l] = static_cast<int32_t>(next.size());
-      from = std::move(next);
+    HostVector<int32_t> id(static_cast<size_t>(parent.nc), -1);
+    child.coarse.resize(child.global.size());
+    int32_t nc = 0;
+    for (size_t k = 0; k < child.global.size(); ++k) {  // child.global: parent-local indices here
+      int32_t& c = id[parent.coarse[child.global[k]]];
+      if (c < 0) c = nc++;
+      child.coarse[k] = c;
     }
+    child.nc = nc;
+    if (parent.cg.n() == parent.nc)  // the parent's contraction, restricted (graph_coarsening.hpp)
+      child.cg = restrict_contraction(parent.cg, id, nc, parent.cew, &child.cew);
   }
 
   void leaf_done(const Node& node, int32_t* out) const {
@@ -264,11 +236,8 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   }
   const bool parallel = ctx.threads != 1;
   const Dissector d(g, opt, ctx, parallel);
-  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis) {
-    CoarseningHierarchy h = coarsening_hierarchy(g, opt.coarse_levels, &d.ticker());
-    root.coarse = std::move(h.maps);
-    root.nc.assign(h.sizes.begin() + 1, h.sizes.end());
-  }
+  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
+    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
   run_with_threads(ctx.threads, [&] { d.order(std::move(root), perm.data()); });
   return perm;
 }

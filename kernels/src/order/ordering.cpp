@@ -2,7 +2,6 @@
 #include "locus/kernels/order/ordering.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <numeric>
 #include <string>
 
@@ -64,20 +63,6 @@ Ordering order_matrix(const CscMatrix& A, const OrderingOptions& opt, const RunC
       nd.metis_seed = opt.seed;
       nd.coarse_levels = opt.coarse_levels;
       nd.coarse_min_vertices = opt.coarse_min_vertices;
-      {  // TEMPORARY experiment knobs (h-order), removed before merge
-        const auto env = [](const char* k, double d) { const char* v = std::getenv(k); return v ? std::atof(v) : d; };
-        if (nd.coarse_levels > 0) nd.coarse_levels = static_cast<int>(env("LOCUS_ND_LEVELS", nd.coarse_levels));
-        nd.coarse_min_vertices = static_cast<int32_t>(env("LOCUS_ND_MINV", nd.coarse_min_vertices));
-        nd.coarse_min_coarsest = static_cast<int32_t>(env("LOCUS_ND_MINC", nd.coarse_min_coarsest));
-        nd.refine_every_level = env("LOCUS_ND_EVERY", nd.refine_every_level ? 1 : 0) != 0;
-        nd.refinement.max_imbalance = env("LOCUS_ND_BAL", nd.refinement.max_imbalance);
-        nd.refinement.balance_with_separator = env("LOCUS_ND_BALSEP", 0) != 0;
-        nd.refinement.patience_factor = static_cast<int32_t>(env("LOCUS_ND_PF", 2));
-        nd.refinement.patience_cap = static_cast<int32_t>(env("LOCUS_ND_PCAP", 300));
-        nd.refinement.stretch = static_cast<int32_t>(env("LOCUS_ND_STRETCH", 1));
-        nd.metis_edge_weights = env("LOCUS_ND_EW", 1) != 0;
-        nd.refinement.passes = static_cast<int>(env("LOCUS_ND_PASSES", nd.refinement.passes));
-      }
       o.perm = nested_dissection(g, opt.x, opt.y, opt.z, nd, ctx);
     }
   }

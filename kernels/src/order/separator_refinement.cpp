@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <tuple>
 #include <queue>
 #include <utility>
 
@@ -12,19 +13,12 @@ namespace {
 
 class Refiner {
  public:
-  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt,
-          std::span<const int32_t> vwgt)
-      : g_(g),
-        part_(part),
-        opt_(opt),
-        vwgt_(vwgt),
-        gain_(static_cast<size_t>(g.n()), 0),
-        stamp_(static_cast<size_t>(g.n()), -1) {
+  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt)
+      : g_(g), part_(part), opt_(opt), gain_(static_cast<size_t>(g.n()), 0), stamp_(static_cast<size_t>(g.n()), -1) {
     for (int32_t v = 0; v < g.n(); ++v) {
-      pw_[part_[v]] += w(v);
+      ++pw_[part_[v]];
       if (part_[v] == 2) sep_.push_back(v);
     }
-    total_ = pw_[0] + pw_[1] + pw_[2];
   }
 
   int32_t run() {
@@ -36,26 +30,23 @@ class Refiner {
   }
 
  private:
-  using Entry = std::pair<int32_t, int32_t>;  // (gain, -vertex): best gain first, then the lowest vertex
+  // (gain, push count, vertex): best gain first, ties last in first out. LIFO
+  // keeps a pass working where it just moved (the separator's front), which
+  // gave 1-2% less fill than ties by vertex index (docs/ordering.md).
+  using Entry = std::tuple<int32_t, int64_t, int32_t>;
 
-  bool balanced(int32_t a, int32_t b) const {
-    return std::max(a, b) <= opt_.max_imbalance * 0.5 * (opt_.balance_with_separator ? total_ : a + b);
-  }
+  bool balanced(int32_t a, int32_t b) const { return std::max(a, b) <= opt_.max_imbalance * 0.5 * (a + b); }
 
-  int32_t w(int32_t v) const { return vwgt_.empty() ? 1 : vwgt_[v]; }
-
-  // Weight of v's neighbors on `side`.
   int32_t neighbors_in(int32_t v, int8_t side) const {
     int32_t k = 0;
-    for (int32_t p = g_.xadj[v]; p < g_.xadj[v + 1]; ++p)
-      if (part_[g_.adj[p]] == side) k += w(g_.adj[p]);
+    for (int32_t p = g_.xadj[v]; p < g_.xadj[v + 1]; ++p) k += part_[g_.adj[p]] == side;
     return k;
   }
 
   void push(int32_t v, int8_t other, int pass) {
     if (stamp_[v] == pass) return;
-    gain_[v] = w(v) - neighbors_in(v, other);
-    heap_.emplace(gain_[v], -v);
+    gain_[v] = 1 - neighbors_in(v, other);
+    heap_.emplace(gain_[v], ++pushes_, v);
   }
 
   // One pass toward side `to`; true when it shrank the separator.
@@ -67,31 +58,30 @@ class Refiner {
     int32_t best_sep = pw_[2], best_diff = std::abs(pw_[0] - pw_[1]);
     bool best_balanced = balanced(pw_[0], pw_[1]);
     size_t best_len = 0;
-    // Hill climbing: up to `patience` moves past the best state, or `stretch`
-    // times that while the separator stays within 10% of the best.
-    const int32_t nsep = static_cast<int32_t>(sep_.size());
-    const int32_t patience = std::clamp(opt_.patience_factor * nsep, 20, opt_.patience_cap);
+    // Hill climbing: `patience` moves past the best state of the pass, or
+    // `stretch` times as many while the separator stays within 10% of it
+    // (the longer climbs find the shorter separators: docs/ordering.md).
+    const int32_t patience = std::clamp(2 * start_sep, 20, opt_.patience);
     const int32_t stretched = opt_.stretch * patience;
     int32_t since_best = 0;
     moved_.clear();
     pulled_.clear();
     pulled_begin_.clear();
-    while (!heap_.empty() && since_best <= stretched && (since_best <= patience || pw_[2] * 10 <= best_sep * 11)) {
-      const auto [gn, neg] = heap_.top();
+    while (!heap_.empty() && since_best <= stretched && (since_best <= patience || 10 * pw_[2] <= 11 * best_sep)) {
+      const auto [gn, tie, v] = heap_.top();
       heap_.pop();
-      const int32_t v = -neg;
       if (part_[v] != 2 || stamp_[v] == pass || gain_[v] != gn) continue;  // stale entry
-      const int32_t wv = w(v), k = wv - gn;  // k: weight of the neighbors pulled from `other`
-      stamp_[v] = pass;                      // moved or refused: not again in this pass
-      if (!balanced(pw_[to] + wv, pw_[other] - k) && pw_[to] + wv > pw_[other] - k) continue;
+      const int32_t k = 1 - gn;                                            // neighbors pulled from `other`
+      stamp_[v] = pass;  // moved or refused: not again in this pass
+      if (!balanced(pw_[to] + 1, pw_[other] - k) && pw_[to] + 1 > pw_[other] - k) continue;
       part_[v] = to;
       moved_.push_back(v);
       pulled_begin_.push_back(static_cast<int32_t>(pulled_.size()));
       for (int32_t p = g_.xadj[v]; p < g_.xadj[v + 1]; ++p)
         if (const int32_t w = g_.adj[p]; part_[w] == other) { part_[w] = 2; pulled_.push_back(w); }
-      pw_[to] += wv;
+      pw_[to] += 1;
       pw_[other] -= k;
-      pw_[2] += k - wv;
+      pw_[2] += k - 1;
       // Gains that changed: the vertices that entered the separator, and
       // the separator vertices next to them (one neighbor fewer on `other`).
       for (size_t q = pulled_begin_.back(); q < pulled_.size(); ++q) {
@@ -116,17 +106,16 @@ class Refiner {
       const int32_t v = moved_.back();
       const size_t b = static_cast<size_t>(pulled_begin_.back());
       for (size_t q = b; q < pulled_.size(); ++q) part_[pulled_[q]] = other;
-      int32_t k = 0;
-      for (size_t q = b; q < pulled_.size(); ++q) k += w(pulled_[q]);
+      const int32_t k = static_cast<int32_t>(pulled_.size() - b);
       pulled_.resize(b);
       part_[v] = 2;
-      pw_[to] -= w(v);
+      pw_[to] -= 1;
       pw_[other] += k;
-      pw_[2] -= k - w(v);
+      pw_[2] -= k - 1;
       moved_.pop_back();
       pulled_begin_.pop_back();
     }
-    // The separator now: the old one but the moved vertices, and the pulled ones kept.
+    // The separator now: the old one without the moved vertices, and the pulled ones kept.
     size_t kept = 0;
     for (const int32_t v : sep_)
       if (part_[v] == 2) sep_[kept++] = v;
@@ -139,12 +128,11 @@ class Refiner {
   const AdjacencyGraph& g_;
   HostVector<int8_t>& part_;
   const SeparatorRefinementOptions& opt_;
-  std::span<const int32_t> vwgt_;  // empty: every vertex weighs 1
   HostVector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
   HostVector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
-  int32_t total_ = 0;
-  int32_t pw_[3] = {0, 0, 0};   // weight per side and of the separator
+  int32_t pw_[3] = {0, 0, 0};   // vertices per side and in the separator
   std::priority_queue<Entry, HostVector<Entry>> heap_;
+  int64_t pushes_ = 0;
   HostVector<int32_t> sep_;  // the separator's vertices at the start of a pass
   HostVector<int32_t> moved_, pulled_, pulled_begin_;
 };
@@ -152,8 +140,8 @@ class Refiner {
 }  // namespace
 
 int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
-                                const SeparatorRefinementOptions& opt, std::span<const int32_t> vwgt) {
-  return Refiner(g, part, opt, vwgt).run();
+                                const SeparatorRefinementOptions& opt) {
+  return Refiner(g, part, opt).run();
 }
 
 }  // namespace locus

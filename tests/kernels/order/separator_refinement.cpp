@@ -51,9 +51,9 @@ TEST_CASE("separator refinement: a thick jagged band on a grid thins to one colu
     CHECK(is_separator(g, part));
     CHECK(after == ny);
     CHECK(after < before);
-    // Balanced as asked: each side at most 1.2x half of the rest.
+    // Balanced as asked: each side at most max_imbalance x half of the rest.
     const int32_t a = count_of(part, 0), b = count_of(part, 1);
-    CHECK(std::max(a, b) <= 1.2 * 0.5 * (a + b));
+    CHECK(std::max(a, b) <= SeparatorRefinementOptions{}.max_imbalance * 0.5 * (a + b));
   }
 }
 

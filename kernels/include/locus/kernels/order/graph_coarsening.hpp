@@ -4,8 +4,9 @@
 // graph ~11 times; that was most of the ordering's time (docs/ordering.md).
 // Here the graph is matched once (heavy-edge matching, a few levels); each
 // node of the dissection contracts its own subgraph along that map in one
-// pass, asks METIS for a separator of the small weighted graph, and refines
-// the projected separator on its own vertices (separator_refinement.hpp).
+// pass (or cuts it out of its parent's contraction), asks METIS for a
+// separator of the small weighted graph, and refines the projected separator
+// on its own vertices (separator_refinement.hpp).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -17,21 +18,6 @@
 
 namespace locus {
 
-// The levels of a multilevel coarsening: maps[l][v] = vertex of level l + 1
-// that vertex v of level l belongs to (level 0: the graph itself); sizes[l] =
-// vertices of level l (levels() + 1 entries). Rounds that match nothing
-// (no edges left) end it early.
-struct CoarseningHierarchy {
-  std::vector<HostVector<int32_t>> maps;
-  std::vector<int32_t> sizes;
-  int levels() const { return static_cast<int>(maps.size()); }
-};
-
-// `levels` rounds of heavy-edge matching as described under coarsening_map,
-// each round's map kept (the nested dissection refines its separators at
-// every level on the way back, as a multilevel bisection does).
-CoarseningHierarchy coarsening_hierarchy(const AdjacencyGraph& g, int levels, ProgressTicker* ticker = nullptr);
-
 // cmap[v] = coarse vertex of v after `levels` rounds of matching (each coarse
 // vertex stands for at most 2^levels vertices); returns the number of coarse
 // vertices. Each round visits the vertices in a fixed pseudo-random order and
@@ -42,13 +28,22 @@ CoarseningHierarchy coarsening_hierarchy(const AdjacencyGraph& g, int levels, Pr
 int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr);
 
 // The graph of g contracted along coarse[v] in [0, nc): coarse vertices
-// joined when any of their vertices are; vwgt[c] = summed fine_vwgt of c's
-// vertices (fine_vwgt empty: each weighs 1). With ewgt, (*ewgt)[p] = summed
-// fine_ewgt (one per entry of g.adj; empty: 1) of the fine edges behind
-// coarse edge h.adj[p]. Self loops dropped; neighbor lists in order of first
-// appearance (METIS needs no order).
+// joined when any of their vertices are; vwgt[c] = vertices of c; with
+// ewgt, (*ewgt)[p] = the edges of g behind coarse edge h.adj[p] (what a
+// heavy-edge matching of h needs). Self loops dropped; neighbor lists in
+// order of first appearance (METIS needs no order).
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              HostVector<int32_t>& vwgt, std::span<const int32_t> fine_vwgt = {},
-                              HostVector<int32_t>* ewgt = nullptr, std::span<const int32_t> fine_ewgt = {});
+                              HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt = nullptr);
+
+// The contraction of a subgraph, cut out of the contraction h of the whole
+// graph (one pass over h instead of one over the subgraph): keep[c] = index
+// of coarse vertex c in the result (it has a vertex in the subgraph), or -1;
+// nkept of them. The edges of h between kept vertices stay, with their
+// weights ewgt (one per entry of h.adj; empty: none) in *kept_ewgt. That is
+// the subgraph's exact contraction, except that a coarse vertex that lost
+// vertices keeps the edges it had through them: extra edges only, so a
+// vertex separator of the result separates the exact contraction too.
+AdjacencyGraph restrict_contraction(const AdjacencyGraph& h, std::span<const int32_t> keep, int32_t nkept,
+                                    std::span<const int32_t> ewgt = {}, HostVector<int32_t>* kept_ewgt = nullptr);
 
 }  // namespace locus
