@@ -130,7 +130,7 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
 }
 
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              HostVector<int32_t>& vwgt) {
+                              HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt) {
   const int32_t n = g.n();
   vwgt.assign(static_cast<size_t>(nc), 0);
   for (int32_t v = 0; v < n; ++v) ++vwgt[coarse[v]];
@@ -144,17 +144,52 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
   h.xadj.assign(1, 0);
   h.xadj.reserve(static_cast<size_t>(nc) + 1);
   h.adj.reserve(g.adj.size() / 2);
-  HostVector<int32_t> mark(static_cast<size_t>(nc), -1);
+  if (ewgt) {
+    ewgt->clear();
+    ewgt->reserve(g.adj.size() / 2);
+  }
+  // slot[d]: where coarse neighbor d sits in the row being built (below the row's start: not in it yet).
+  HostVector<int32_t> slot(static_cast<size_t>(nc), -1);
   for (int32_t c = 0; c < nc; ++c) {
-    mark[c] = c;
+    const int32_t row = h.xadj.back();
     for (int32_t q = start[c]; q < start[c + 1]; ++q) {
       const int32_t v = members[q];
-      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
-        if (const int32_t d = coarse[g.adj[p]]; mark[d] != c) { mark[d] = c; h.adj.push_back(d); }
+      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+        const int32_t d = coarse[g.adj[p]];
+        if (d == c) continue;
+        if (slot[d] < row) {
+          slot[d] = static_cast<int32_t>(h.adj.size());
+          h.adj.push_back(d);
+          if (ewgt) ewgt->push_back(1);
+        } else if (ewgt) {
+          ++(*ewgt)[slot[d]];
+        }
+      }
     }
     h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
   }
   return h;
+}
+
+AdjacencyGraph restrict_contraction(const AdjacencyGraph& h, std::span<const int32_t> keep, int32_t nkept,
+                                    std::span<const int32_t> ewgt, HostVector<int32_t>* kept_ewgt) {
+  HostVector<int32_t> from(static_cast<size_t>(nkept));  // vertex of h behind each kept one
+  for (int32_t c = 0; c < h.n(); ++c)
+    if (keep[c] >= 0) from[keep[c]] = c;
+  AdjacencyGraph r;
+  r.xadj.assign(1, 0);
+  r.xadj.reserve(static_cast<size_t>(nkept) + 1);
+  if (kept_ewgt) kept_ewgt->clear();
+  for (int32_t k = 0; k < nkept; ++k) {
+    const int32_t c = from[k];
+    for (int32_t p = h.xadj[c]; p < h.xadj[c + 1]; ++p)
+      if (const int32_t d = keep[h.adj[p]]; d >= 0) {
+        r.adj.push_back(d);
+        if (kept_ewgt && !ewgt.empty()) kept_ewgt->push_back(ewgt[p]);
+      }
+    r.xadj.push_back(static_cast<int32_t>(r.adj.size()));
+  }
+  return r;
 }
 
 }  // namespace locus

@@ -4,8 +4,9 @@
 // graph ~11 times; that was most of the ordering's time (docs/ordering.md).
 // Here the graph is matched once (heavy-edge matching, a few levels); each
 // node of the dissection contracts its own subgraph along that map in one
-// pass, asks METIS for a separator of the small weighted graph, and refines
-// the projected separator on its own vertices (separator_refinement.hpp).
+// pass (or cuts it out of its parent's contraction), asks METIS for a
+// separator of the small weighted graph, and refines the projected separator
+// on its own vertices (separator_refinement.hpp).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -27,9 +28,22 @@ namespace locus {
 int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr);
 
 // The graph of g contracted along coarse[v] in [0, nc): coarse vertices
-// joined when any of their vertices are; vwgt[c] = vertices of c. Self loops
-// dropped; neighbor lists in order of first appearance (METIS needs no order).
+// joined when any of their vertices are; vwgt[c] = vertices of c; with
+// ewgt, (*ewgt)[p] = the edges of g behind coarse edge h.adj[p] (what a
+// heavy-edge matching of h needs). Self loops dropped; neighbor lists in
+// order of first appearance (METIS needs no order).
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
-                              HostVector<int32_t>& vwgt);
+                              HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt = nullptr);
+
+// The contraction of a subgraph, cut out of the contraction h of the whole
+// graph (one pass over h instead of one over the subgraph): keep[c] = index
+// of coarse vertex c in the result (it has a vertex in the subgraph), or -1;
+// nkept of them. The edges of h between kept vertices stay, with their
+// weights ewgt (one per entry of h.adj; empty: none) in *kept_ewgt. That is
+// the subgraph's exact contraction, except that a coarse vertex that lost
+// vertices keeps the edges it had through them: extra edges only, so a
+// vertex separator of the result separates the exact contraction too.
+AdjacencyGraph restrict_contraction(const AdjacencyGraph& h, std::span<const int32_t> keep, int32_t nkept,
+                                    std::span<const int32_t> ewgt = {}, HostVector<int32_t>* kept_ewgt = nullptr);
 
 }  // namespace locus

@@ -31,9 +31,12 @@ struct MetisSeparatorOptions {
 };
 
 // part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator
-// (vertex weights vwgt when given, one per vertex: balance by weight).
+// (vertex weights vwgt when given, one per vertex: balance by weight; edge
+// weights adjwgt when given, one per entry of g.adj, symmetric: they guide
+// METIS' heavy-edge matching).
 void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t>& part,
-                            ProgressTicker* ticker = nullptr, std::span<const int32_t> vwgt = {});
+                            ProgressTicker* ticker = nullptr, std::span<const int32_t> vwgt = {},
+                            std::span<const int32_t> adjwgt = {});
 
 // METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
 // separator, the two halves ordered at once on two oneTBB threads of the

@@ -55,8 +55,8 @@ struct OrderingOptions {
   // coarse_levels rounds of heavy-edge matching (graph_coarsening.hpp); a
   // node of at least coarse_min_vertices takes METIS' separator of its
   // contraction (8x smaller at 3 levels), refined on its own vertices by FM
-  // passes. 0.63x the ordering's CPU at 416k for 1.04x the fill of METIS on
-  // every node (docs/ordering.md); coarse_levels = 0 calls METIS on every
+  // passes. ~0.65x the ordering's CPU at 416k for 1.01x the fill of METIS
+  // on every node (docs/ordering.md); coarse_levels = 0 calls METIS on every
   // node's full graph.
   int coarse_levels = 3;
   int32_t coarse_min_vertices = 1000;
