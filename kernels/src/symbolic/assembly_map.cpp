@@ -22,19 +22,30 @@ struct Entry {
 
 struct Workspace {
   HostVector<int32_t> rowpos;  // row -> local index in the current supernode (stale elsewhere)
-  HostVector<Entry> entries;
+  HostVector<Entry> entries, column, merged;  // a supernode's entries, one column's, merge buffer
 };
 
 void map_supernode(SymbolicFactor& S, const HalfGraph& g, int32_t s, Workspace& w) {
   const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1], nr = S.nrows(s);
   const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
   for (int32_t t = 0; t < nr; ++t) w.rowpos[rows[t]] = t;
+  // Each column's list is ascending in src (the graph keeps A's order); its
+  // diagonal goes in at its place, and the columns are merged one by one.
+  const auto by_src = [](const Entry& a, const Entry& b) { return a.src < b.src; };
   w.entries.clear();
   for (int32_t c = f; c < l; ++c) {
-    if (g.diag[c] >= 0) w.entries.push_back({g.diag[c], c, c});
-    for (int64_t q = g.ptr[c]; q < g.ptr[c + 1]; ++q) w.entries.push_back({g.src[q], g.idx[q], c});
+    HostVector<Entry>& col = c == f ? w.entries : w.column;
+    col.clear();
+    const int64_t d = g.diag[c];
+    int64_t q = g.ptr[c];
+    for (; q < g.ptr[c + 1] && g.src[q] < d; ++q) col.push_back({g.src[q], g.idx[q], c});
+    if (d >= 0) col.push_back({d, c, c});
+    for (; q < g.ptr[c + 1]; ++q) col.push_back({g.src[q], g.idx[q], c});
+    if (c == f) continue;
+    w.merged.resize(w.entries.size() + col.size());
+    std::merge(w.entries.begin(), w.entries.end(), col.begin(), col.end(), w.merged.begin(), by_src);
+    std::swap(w.entries, w.merged);
   }
-  std::sort(w.entries.begin(), w.entries.end(), [](const Entry& a, const Entry& b) { return a.src < b.src; });
   int64_t k = S.a_super_ptr[s];
   for (const Entry& e : w.entries) {
     const int32_t t = w.rowpos[e.row];
@@ -59,7 +70,7 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A, const HalfGraph& above)
   if (S.a_super_ptr[ns] != A.nnz()) fail(ErrorCode::Internal, "assembly map: the half graph does not match the matrix");
   S.a_src.resize(static_cast<size_t>(A.nnz()));
   S.a_dst.resize(static_cast<size_t>(A.nnz()));
-  tbb::enumerable_thread_specific<Workspace> ws([n] { return Workspace{HostVector<int32_t>(n, -1), {}}; });
+  tbb::enumerable_thread_specific<Workspace> ws([n] { return Workspace{HostVector<int32_t>(n, -1), {}, {}, {}}; });
   tbb::parallel_for(tbb::blocked_range<int32_t>(0, ns, 256), [&](const tbb::blocked_range<int32_t>& r) {
     Workspace& w = ws.local();
     for (int32_t s = r.begin(); s < r.end(); ++s) {

@@ -125,8 +125,9 @@ void compute_update_lists(SymbolicFactor& S) {
 
 namespace {
 
-// complete_symbolic with A's Above half graph in S's numbering (with src) at hand.
-void complete_symbolic_from(SymbolicFactor& S, const CscMatrix& A, const HalfGraph& above) {
+// complete_symbolic with A's Above half graph in S's numbering (with src) at
+// hand, and S.a_pattern_hash set if `hashed`.
+void complete_symbolic_from(SymbolicFactor& S, const CscMatrix& A, const HalfGraph& above, bool hashed) {
   const int32_t n = S.n, ns = S.ns;
   S.a_nnz = A.nnz();
   S.super_etree_height = tree_height(S.super_parent);
@@ -158,7 +159,7 @@ void complete_symbolic_from(SymbolicFactor& S, const CscMatrix& A, const HalfGra
 
   // The pattern hash, the assembly map (itself parallel over supernodes) and
   // the update lists read the structure only and write disjoint fields.
-  tbb::parallel_invoke([&] { S.a_pattern_hash = pattern_hash(A); }, [&] { compute_update_lists(S); },
+  tbb::parallel_invoke([&] { if (!hashed) S.a_pattern_hash = pattern_hash(A); }, [&] { compute_update_lists(S); },
                        [&] { assembly_map(S, A, above); });
 }
 
@@ -168,7 +169,7 @@ void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
   if (A.ncols != S.n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
   HalfGraph above;
   permuted_half_graph(A, S.iperm, Half::Above, true, std::min(kMaxGraphChunks, tbb::this_task_arena::max_concurrency()), above);
-  complete_symbolic_from(S, A, above);
+  complete_symbolic_from(S, A, above, false);
 }
 
 void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
@@ -245,10 +246,11 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
   const int32_t n = S.n;
   const int chunks = std::min(tasks, kMaxGraphChunks);
   const auto bound = [tasks](int64_t total) { return tasks <= 1 ? total : std::max<int64_t>(1, total / (4 * tasks)); };
-  // (1) etree in the given order, then renumber by its postorder.
+  // (1) etree in the given order, then renumber by its postorder; the
+  // pattern hash (sequential by nature) meanwhile.
   HalfGraph g;
-  permuted_half_graph(A, ordering.iperm, Half::Below, false, chunks, g);
-  {
+  tbb::parallel_invoke([&] { S.a_pattern_hash = pattern_hash(A); }, [&] {
+    permuted_half_graph(A, ordering.iperm, Half::Below, false, chunks, g);
     HostVector<int32_t> parent0 = elimination_tree(n, g.ptr, g.idx);
     const HostVector<int32_t> post = tree_postorder(parent0);
     HostVector<int32_t> ipost(n);
@@ -264,7 +266,7 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
       const int32_t p0 = parent0[post[k]];
       S.parent[k] = p0 < 0 ? -1 : ipost[p0];
     }
-  }
+  });
   phase_done();
   permuted_half_graph(A, S.iperm, Half::Above, true, chunks, g);
   phase_done();
@@ -308,7 +310,7 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
   }
   phase_done();
   // (5) the rest: assembly map, update lists, sizes.
-  complete_symbolic_from(S, A, g);
+  complete_symbolic_from(S, A, g, true);
 }
 
 }  // namespace
