@@ -110,11 +110,14 @@ struct PieceResult {
   HostVector<int32_t> roots;                       // nodes whose parent is a top node
 };
 
-struct Outside {  // thread-local state of rows above the piece being swept
+// Thread-local state of the rows above the piece being swept: they are top
+// nodes (ancestors of the piece's roots), indexed by their rank among them.
+struct Outside {
   HostVector<int32_t> maxfirst, prevleaf;
 };
 
-void sweep_piece(CountSweep& c, int32_t b, int32_t e, Outside& out, PieceResult& r) {
+void sweep_piece(CountSweep& c, int32_t b, int32_t e, std::span<const int32_t> top_rank, Outside& out,
+                 PieceResult& r) {
   for (int32_t j = b; j < e; ++j) {
     cancel_point(j);
     const int32_t pj = c.parent[j];
@@ -122,11 +125,12 @@ void sweep_piece(CountSweep& c, int32_t b, int32_t e, Outside& out, PieceResult&
     else if (pj != -1) --c.delta[pj];
     const auto state = [&](int32_t i) {
       if (i < e) return std::tie(c.maxfirst[i], c.prevleaf[i]);
-      if (out.prevleaf[i] == -1) {  // first leaf of i in this piece (always a leaf)
+      const int32_t t = top_rank[i];
+      if (out.prevleaf[t] == -1) {  // first leaf of i in this piece (always a leaf)
         r.rows.push_back(i);
         r.first_leaf.push_back(j);
       }
-      return std::tie(out.maxfirst[i], out.prevleaf[i]);
+      return std::tie(out.maxfirst[t], out.prevleaf[t]);
     };
     const auto lca = [&](int32_t q) {
       if (q < e) --c.delta[q];
@@ -137,7 +141,7 @@ void sweep_piece(CountSweep& c, int32_t b, int32_t e, Outside& out, PieceResult&
   }
   r.last_leaf.resize(r.rows.size());
   for (size_t t = 0; t < r.rows.size(); ++t) {
-    const int32_t i = r.rows[t];
+    const int32_t i = top_rank[r.rows[t]];
     r.last_leaf[t] = out.prevleaf[i];
     out.prevleaf[i] = out.maxfirst[i] = -1;
   }
@@ -161,13 +165,14 @@ HostVector<int32_t> column_counts_postordered(int32_t n, std::span<const int64_t
 
   const int32_t np = part.num_pieces();
   std::vector<PieceResult> res(static_cast<size_t>(np));
-  tbb::enumerable_thread_specific<Outside> outside([n] {
-    return Outside{HostVector<int32_t>(n, -1), HostVector<int32_t>(n, -1)};
+  const size_t ntop = part.top.size();
+  HostVector<int32_t> top_rank(ntop > 0 ? n : 0, -1);
+  for (size_t t = 0; t < ntop; ++t) top_rank[part.top[t]] = static_cast<int32_t>(t);
+  tbb::enumerable_thread_specific<Outside> outside([ntop] {
+    return Outside{HostVector<int32_t>(ntop, -1), HostVector<int32_t>(ntop, -1)};
   });
   const auto piece = [&](int32_t q) {
-    Outside dummy;  // a single piece spanning everything has no rows above it
-    Outside& out = part.top.empty() ? dummy : outside.local();
-    sweep_piece(c, part.piece_begin[q], part.piece_end[q], out, res[q]);
+    sweep_piece(c, part.piece_begin[q], part.piece_end[q], top_rank, outside.local(), res[q]);
   };
   if (np == 1) piece(0);
   else tbb::parallel_for(0, np, piece);

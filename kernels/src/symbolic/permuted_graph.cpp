@@ -9,18 +9,23 @@
 
 namespace locus {
 
-void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half half, bool with_src, int chunks,
-                         HalfGraph& g) {
+HostVector<int32_t> column_chunks(const CscMatrix& A, int chunks) {
   const int32_t n = A.ncols;
-  const bool below = half == Half::Below;
   const int64_t nnz = A.nnz();
-  // Chunk c scatters columns [first[c], first[c+1]), about nnz / chunks entries each.
   chunks = static_cast<int>(std::clamp<int64_t>(chunks, 1, std::max(1, n)));
   HostVector<int32_t> first(static_cast<size_t>(chunks) + 1, n);
   first[0] = 0;
-  for (int c = 1; c < chunks; ++c)
+  for (int c = 1; c < chunks; ++c)  // the column holding entry nnz * c / chunks starts chunk c
     first[c] = static_cast<int32_t>(std::upper_bound(A.colptr.begin(), A.colptr.end(), nnz * c / chunks) -
                                     A.colptr.begin()) - 1;
+  return first;
+}
+
+void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half half, int chunks, HalfGraph& g) {
+  const int32_t n = A.ncols;
+  const bool below = half == Half::Below;
+  const HostVector<int32_t> first = column_chunks(A, chunks);
+  chunks = static_cast<int>(first.size()) - 1;
   const auto target = [&](int32_t i, int32_t j) {  // (list, neighbour) of entry (i, j)
     const int32_t a = pos[i], b = pos[j];
     return below ? std::pair{std::max(a, b), std::min(a, b)} : std::pair{std::min(a, b), std::max(a, b)};
@@ -50,22 +55,15 @@ void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half 
     g.ptr[k + 1] = g.ptr[k] + run;
   }
   g.idx.resize(static_cast<size_t>(g.ptr[n]));
-  g.src.resize(with_src ? static_cast<size_t>(g.ptr[n]) : 0);
-  g.diag.assign(with_src ? static_cast<size_t>(n) : 0, -1);
   each_chunk([&](int c) {
     int32_t* next = offset.data() + static_cast<size_t>(c) * n;
     for (int32_t j = first[c]; j < first[c + 1]; ++j) {
       cancel_point(j);
       for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
         const int32_t i = A.rowind[p];
-        if (i == j) {
-          if (with_src) g.diag[pos[j]] = p;
-          continue;
-        }
+        if (i == j) continue;
         const auto [list, nb] = target(i, j);
-        const int64_t q = g.ptr[list] + next[list]++;
-        g.idx[q] = nb;
-        if (with_src) g.src[q] = p;
+        g.idx[g.ptr[list] + next[list]++] = nb;
       }
     }
   });

@@ -41,8 +41,8 @@ namespace {
 // Below this many columns the analysis runs on the calling thread alone
 // (~2 ms at 16k columns; see docs/ordering.md "Parallel symbolic analysis").
 constexpr int32_t kParallelMinColumns = 16384;
-// The graph scatter's counters cost chunks * n * 4 bytes; two cores' worth
-// of memory traffic saturates ~4 chunks.
+// The scatters' counters (graphs, assembly map) cost chunks * n words; more
+// chunks than ~4 only add counters to a memory-bound loop.
 constexpr int kMaxGraphChunks = 4;
 
 void check_lower(const CscMatrix& A) {
@@ -125,9 +125,9 @@ void compute_update_lists(SymbolicFactor& S) {
 
 namespace {
 
-// complete_symbolic with A's Above half graph in S's numbering (with src) at
-// hand, and S.a_pattern_hash set if `hashed`.
-void complete_symbolic_from(SymbolicFactor& S, const CscMatrix& A, const HalfGraph& above, bool hashed) {
+// complete_symbolic with S.a_pattern_hash already set if `hashed`; oneTBB
+// tasks when chunks > 1 (the assembly map's chunk count).
+void complete_symbolic_with(SymbolicFactor& S, const CscMatrix& A, bool hashed, int chunks) {
   const int32_t n = S.n, ns = S.ns;
   S.a_nnz = A.nnz();
   S.super_etree_height = tree_height(S.super_parent);
@@ -159,17 +159,23 @@ void complete_symbolic_from(SymbolicFactor& S, const CscMatrix& A, const HalfGra
 
   // The pattern hash, the assembly map (itself parallel over supernodes) and
   // the update lists read the structure only and write disjoint fields.
-  tbb::parallel_invoke([&] { if (!hashed) S.a_pattern_hash = pattern_hash(A); }, [&] { compute_update_lists(S); },
-                       [&] { assembly_map(S, A, above); });
+  const auto hash = [&] {
+    if (!hashed) S.a_pattern_hash = pattern_hash(A);
+  };
+  if (chunks <= 1) {
+    hash();
+    compute_update_lists(S);
+    assembly_map(S, A, 1);
+    return;
+  }
+  tbb::parallel_invoke(hash, [&] { compute_update_lists(S); }, [&] { assembly_map(S, A, chunks); });
 }
 
 }  // namespace
 
 void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
   if (A.ncols != S.n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
-  HalfGraph above;
-  permuted_half_graph(A, S.iperm, Half::Above, true, std::min(kMaxGraphChunks, tbb::this_task_arena::max_concurrency()), above);
-  complete_symbolic_from(S, A, above, false);
+  complete_symbolic_with(S, A, false, std::min(kMaxGraphChunks, tbb::this_task_arena::max_concurrency()));
 }
 
 void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
@@ -249,8 +255,8 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
   // (1) etree in the given order, then renumber by its postorder; the
   // pattern hash (sequential by nature) meanwhile.
   HalfGraph g;
-  tbb::parallel_invoke([&] { S.a_pattern_hash = pattern_hash(A); }, [&] {
-    permuted_half_graph(A, ordering.iperm, Half::Below, false, chunks, g);
+  const auto etree_and_postorder = [&] {
+    permuted_half_graph(A, ordering.iperm, Half::Below, chunks, g);
     HostVector<int32_t> parent0 = elimination_tree(n, g.ptr, g.idx);
     const HostVector<int32_t> post = tree_postorder(parent0);
     HostVector<int32_t> ipost(n);
@@ -266,9 +272,16 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
       const int32_t p0 = parent0[post[k]];
       S.parent[k] = p0 < 0 ? -1 : ipost[p0];
     }
-  });
+  };
+  const auto hash = [&] { S.a_pattern_hash = pattern_hash(A); };
+  if (tasks > 1) {
+    tbb::parallel_invoke(hash, etree_and_postorder);
+  } else {
+    hash();
+    etree_and_postorder();
+  }
   phase_done();
-  permuted_half_graph(A, S.iperm, Half::Above, true, chunks, g);
+  permuted_half_graph(A, S.iperm, Half::Above, chunks, g);
   phase_done();
 
   // (2) column counts over the subtrees of the (now postordered) etree.
@@ -310,7 +323,8 @@ void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& orde
   }
   phase_done();
   // (5) the rest: assembly map, update lists, sizes.
-  complete_symbolic_from(S, A, g, true);
+  g = {};  // freed before the assembly map's buffers
+  complete_symbolic_with(S, A, true, chunks);
 }
 
 }  // namespace
@@ -342,7 +356,11 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Small matrices take ~1 ms: waking workers would cost more than they save.
   const int tasks = n < kParallelMinColumns ? 1 : std::max(1, threads);
-  run_with_threads(tasks, [&] { build_structure(*S, A, ordering, opt, tasks, phase_done); });
+  // One task: no oneTBB algorithm runs, so no arena is needed either (an
+  // arena of another concurrency, entered from a oneTBB worker, would be a
+  // fresh one per call: task_arenas.hpp).
+  if (tasks == 1) build_structure(*S, A, ordering, opt, 1, phase_done);
+  else run_with_threads(tasks, [&] { build_structure(*S, A, ordering, opt, tasks, phase_done); });
   ticker.add(1.0);
   return S;
 }

@@ -14,6 +14,7 @@
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/symbolic/assembly_map.hpp"
 #include "locus/kernels/symbolic/column_counts.hpp"
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/kernels/symbolic/permuted_graph.hpp"
@@ -236,7 +237,7 @@ HostVector<int64_t> unit_weights(size_t n) { return HostVector<int64_t>(n, 1); }
 
 }  // namespace
 
-TEST_CASE("subtree partitions: column counts, row structures and graphs agree with brute force for every partition") {
+TEST_CASE("subtree partitions: column counts and row structures of every partition and graph chunking match brute force") {
   for (uint64_t seed = 1; seed <= 10; ++seed) {
     CAPTURE(seed);
     const int32_t n = 30 + static_cast<int32_t>(seed * 37 % 170);
@@ -248,14 +249,33 @@ TEST_CASE("subtree partitions: column counts, row structures and graphs agree wi
     const BruteSymbolic b = brute_force(A, S->iperm);
     REQUIRE(S->col_count == b.count);
     HalfGraph g1, g;
-    permuted_half_graph(A, S->iperm, Half::Above, true, 1, g1);
-    for (int chunks : {2, 3, 7}) {  // the same graph for every chunk count
-      permuted_half_graph(A, S->iperm, Half::Above, true, chunks, g);
+    permuted_half_graph(A, S->iperm, Half::Above, 1, g1);
+    for (int chunks : {2, 3, 7}) {  // the same graph and assembly map for every chunk count
+      permuted_half_graph(A, S->iperm, Half::Above, chunks, g);
       CHECK(g.ptr == g1.ptr);
       CHECK(g.idx == g1.idx);
-      CHECK(g.src == g1.src);
-      CHECK(g.diag == g1.diag);
+      SymbolicFactor T = *S;
+      T.a_src.assign(T.a_src.size(), -1);
+      T.a_dst.assign(T.a_dst.size(), -1);
+      assembly_map(T, A, chunks);
+      CHECK(T.a_super_ptr == S->a_super_ptr);
+      CHECK(T.a_src == S->a_src);
+      CHECK(T.a_dst == S->a_dst);
     }
+    // The assembly map against the brute-force pattern: every entry of A
+    // lands at its own (row, column) of L, in its column's supernode.
+    for (int32_t s = 0; s < S->ns; ++s)
+      for (int64_t k = S->a_super_ptr[s]; k < S->a_super_ptr[s + 1]; ++k) {
+        const int64_t off = S->a_dst[k] - S->super_value_ptr[s];
+        const int32_t c = S->super_first_col[s] + static_cast<int32_t>(off / S->nrows(s));
+        const int32_t r = S->super_rows[S->super_row_ptr[s] + off % S->nrows(s)];
+        const int64_t p = S->a_src[k];
+        const int32_t j = static_cast<int32_t>(std::upper_bound(A.colptr.begin(), A.colptr.end(), p) - A.colptr.begin()) - 1;
+        const int32_t a = S->iperm[A.rowind[p]], bb = S->iperm[j];
+        CHECK(r == std::max(a, bb));
+        CHECK(c == std::min(a, bb));
+        if (k > S->a_super_ptr[s]) CHECK(S->a_src[k - 1] < p);  // ascending in A within a group
+      }
     for (int64_t bound : {int64_t{1}, int64_t{2}, int64_t{5}, int64_t{17}, int64_t{A.ncols / 3}, int64_t{A.ncols}}) {
       CAPTURE(bound);
       const SubtreePartition P = subtree_partition(S->parent, unit_weights(S->n), bound);
@@ -272,7 +292,7 @@ TEST_CASE("subtree partitions: column counts, row structures and graphs agree wi
   }
 }
 
-TEST_CASE("symbolic analysis: every array identical for 1, 2, 3 and 8 threads; counts as Eigen's (icosphere, 41k)") {
+TEST_CASE("symbolic analysis: every array identical at 1/2/3/8 threads and column counts as Eigen's (icosphere 41k)") {
   const Mesh m = make_icosphere(6);  // 40962 vertices: above the size where the analysis goes parallel
   const CscMatrix A = heat_operator(m, 1e-4);
   for (auto method : {OrderingOptions::Method::NestedDissection, OrderingOptions::Method::Amd}) {

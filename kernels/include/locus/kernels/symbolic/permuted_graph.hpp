@@ -1,8 +1,8 @@
 // Half of the symmetric adjacency of P A P^T (thesis §4.2), the input of the
 // symbolic analysis: for each new index k its neighbours below k (Below: what
-// the etree needs) or above k (Above: what the column counts, the supernode
-// row structures and the assembly map need). Half the entries of the full
-// graph, so half the work to build.
+// the etree needs) or above k (Above: what the column counts and the
+// supernode row structures need). Half the entries of the full graph, so half
+// the work to build.
 //
 // Built by a scatter over A's entries in their order, which keeps each k's
 // neighbours in ascending entry order. The entries are split into `chunks`
@@ -21,18 +21,19 @@
 namespace locus {
 
 struct HalfGraph {
-  HostVector<int64_t> ptr;   // n + 1
-  HostVector<int32_t> idx;   // neighbours of k: idx[ptr[k] .. ptr[k+1])
-  HostVector<int64_t> src;   // with_src: the index in A.rowind of each entry
-  HostVector<int64_t> diag;  // with_src: the index of A's diagonal entry of k, or -1
+  HostVector<int64_t> ptr;  // n + 1
+  HostVector<int32_t> idx;  // neighbours of k: idx[ptr[k] .. ptr[k+1])
 };
 
 enum class Half { Below, Above };
 
 // A lower CSC with sorted rows (original numbering), pos[i] the new index of
 // original i. The diagonal is not among the neighbours. Chunks (>= 1) cost
-// chunks * n * 4 bytes of counters.
-void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half half, bool with_src, int chunks,
-                         HalfGraph& g);
+// chunks * n * 4 bytes of counters; one chunk: no oneTBB algorithm runs.
+void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half half, int chunks, HalfGraph& g);
+
+// A's columns in `chunks` consecutive ranges of about nnz / chunks entries:
+// chunk c is [first[c], first[c+1]); fewer chunks for tiny matrices.
+HostVector<int32_t> column_chunks(const CscMatrix& A, int chunks);
 
 }  // namespace locus
