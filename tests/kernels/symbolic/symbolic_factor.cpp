@@ -8,7 +8,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <numeric>
+#include <string_view>
 #include <random>
 #include <set>
 
@@ -325,5 +327,23 @@ TEST_CASE("symbolic analysis: every array identical at 1/2/3/8 threads and colum
       ctx.threads = threads;
       check_same(*S1, *analyze(A, o, {}, ctx));
     }
+    // Progress reaches the caller, and a cancel raised from it stops the parallel analysis.
+    std::atomic<bool> cancel{false};
+    RunContext ctx;
+    ctx.threads = 2;
+    ctx.cancel = &cancel;
+    int reports = 0;
+    ctx.progress = [&](double, std::string_view) {
+      ++reports;
+      cancel = true;
+    };
+    ErrorCode code = ErrorCode::Internal;
+    try {
+      (void)analyze(A, o, {}, ctx);
+    } catch (const Error& e) {
+      code = e.code();
+    }
+    CHECK(reports >= 1);
+    CHECK(code == ErrorCode::Cancelled);
   }
 }
