@@ -39,7 +39,7 @@ namespace locus {
 namespace {
 
 // Below this many columns the analysis runs on the calling thread alone
-// (~2 ms at 16k columns; see docs/ordering.md "Parallel symbolic analysis").
+// (~4 ms at 16k columns; see docs/ordering.md "Parallel symbolic analysis").
 constexpr int32_t kParallelMinColumns = 16384;
 // The scatters' counters (graphs, assembly map) cost chunks * n words; more
 // chunks than ~4 only add counters to a memory-bound loop.
