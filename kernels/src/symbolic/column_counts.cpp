@@ -6,6 +6,12 @@
 // the least common ancestor of consecutive leaves subtracts one (found with a
 // disjoint-set forest over processed nodes). Each non-root node subtracts one
 // from its parent, and summing over subtrees gives the counts.
+//
+// Over subtrees (column_counts_postordered): every contribution is a +1 or
+// -1 at a node, so the sweep can be cut anywhere the contributions can be
+// attributed. A piece's own rows are complete inside it; for a row above, the
+// -1 linking the leaf before the piece to its first leaf in it lands on a
+// top node and is found in the top pass from the last leaf handed over.
 #include "locus/kernels/symbolic/column_counts.hpp"
 #include "locus/core/host_allocator.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
@@ -58,10 +64,6 @@ HostVector<int32_t> column_counts(int32_t n, std::span<const int64_t> ptr, std::
   return delta;
 }
 
-}  // namespace locus
-
-namespace locus {
-
 namespace {
 
 // State of one column_counts_postordered call. Row i's state (the first
@@ -105,7 +107,7 @@ struct CountSweep {
 
 // A piece's hand-over to the top pass.
 struct PieceResult {
-  HostVector<int32_t> rows, first_leaf, last_leaf;  // rows above the piece with leaves in it
+  HostVector<int32_t> rows, last_leaf;  // rows above the piece with leaves in it, and their last leaf
   HostVector<int32_t> top_minus;                   // -1s that fall on top nodes
   HostVector<int32_t> roots;                       // nodes whose parent is a top node
 };
@@ -126,10 +128,7 @@ void sweep_piece(CountSweep& c, int32_t b, int32_t e, std::span<const int32_t> t
     const auto state = [&](int32_t i) {
       if (i < e) return std::tie(c.maxfirst[i], c.prevleaf[i]);
       const int32_t t = top_rank[i];
-      if (out.prevleaf[t] == -1) {  // first leaf of i in this piece (always a leaf)
-        r.rows.push_back(i);
-        r.first_leaf.push_back(j);
-      }
+      if (out.prevleaf[t] == -1) r.rows.push_back(i);  // i's first leaf in this piece (always a leaf)
       return std::tie(out.maxfirst[t], out.prevleaf[t]);
     };
     const auto lca = [&](int32_t q) {
