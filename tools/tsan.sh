@@ -97,7 +97,7 @@ run() {  # run NAME DOCTEST-ARGS...: one group of test cases
   fi
 }
 run "ordering (nested dissection task tree at 1/2/3/8 threads, per-thread METIS random numbers)" --source-file='*tests/kernels/*/ordering*'
-run "symbolic analysis (assembly map and update lists as two tasks)" --source-file='*tests/kernels/*/symbolic_factor*'
+run "symbolic analysis (subtree pieces, chunked scatters, assembly map; 1/2/3/8 threads)" --source-file='*tests/kernels/*/symbolic_factor*'
 run "factorization" --source-file='*tests/kernels/*/supernodal_factor*'
 run "solves" --source-file='*tests/kernels/*/solve_*'
 run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'

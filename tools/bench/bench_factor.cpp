@@ -133,7 +133,7 @@ void run_locus(const CscMatrix& A, const OrderingOptions& oo, const Rhs& rhs, co
   const Ordering ord = order_matrix(A, oo, ctx);
   out.order_s.push_back(sw.seconds());
   sw.restart();
-  std::shared_ptr<const SymbolicFactor> sym = analyze(A, ord);
+  std::shared_ptr<const SymbolicFactor> sym = analyze(A, ord, {}, ctx);
   out.symbolic_s.push_back(sw.seconds());
   out.analyze_s.push_back(out.order_s.back() + out.symbolic_s.back());
   ctx.check_cancel();
@@ -519,7 +519,7 @@ cli::Json run_orderings(const CscMatrix& A, const Positions& pos, const Options&
       order_s[i].push_back(sw.seconds());
       order_cpu_s[i].push_back(cpu_now() - cpu0);
       sw.restart();
-      sym[i] = analyze(A, ord);
+      sym[i] = analyze(A, ord, {}, ctx);
       symbolic_s[i].push_back(sw.seconds());
       ctx.check_cancel();
     }

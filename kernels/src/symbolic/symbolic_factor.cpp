@@ -6,13 +6,17 @@
 // (Gilbert–Ng–Peyton); (3) relaxed supernodes; (4) supernode row structures,
 // from the graph and the children's structures, in O(sum of supernode rows);
 // (5) the A -> L assembly map, the left-looking update lists and workspace size.
-// (1), (2) and (4) read half of the permuted graph each (neighbors below,
-// resp. above, a column: all they use), which halves building it; the two
-// parts of (5) are independent and run as two tasks (issue 26).
+// (1) reads the neighbours below each column, (2), (4) and (5) those above
+// (all they use), which halves building the graphs. After (1) every subtree is
+// a contiguous range, so (2) and (4) sweep disjoint subtrees as parallel
+// oneTBB tasks and the nodes above them after (subtree_partition.hpp); (5) is
+// parallel over supernodes. Every result is independent of the thread count
+// (issue 26; docs/ordering.md "Parallel symbolic analysis").
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/core/host_allocator.hpp"
 
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <string>
@@ -20,6 +24,11 @@
 #include "locus/kernels/symbolic/column_counts.hpp"
 #include "locus/kernels/symbolic/etree.hpp"
 #include "locus/kernels/symbolic/supernodes.hpp"
+#include "locus/kernels/symbolic/assembly_map.hpp"
+#include "locus/kernels/symbolic/permuted_graph.hpp"
+#include "locus/kernels/symbolic/subtree_partition.hpp"
+#include "locus/kernels/symbolic/supernode_rows.hpp"
+#include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/error.hpp"
 #include "locus/view.hpp"
 #include "locus/kernels/parallel/progress_ticker.hpp"
@@ -28,6 +37,13 @@
 namespace locus {
 
 namespace {
+
+// Below this many columns the analysis runs on the calling thread alone
+// (~4 ms at 16k columns; see docs/ordering.md "Parallel symbolic analysis").
+constexpr int32_t kParallelMinColumns = 16384;
+// The scatters' counters (graphs, assembly map) cost chunks * n words; more
+// chunks than ~4 only add counters to a memory-bound loop.
+constexpr int kMaxGraphChunks = 4;
 
 void check_lower(const CscMatrix& A) {
   if (A.nrows != A.ncols)
@@ -45,43 +61,6 @@ void check_lower(const CscMatrix& A) {
         fail(ErrorCode::BadUsage, "matrix is not lower-stored with sorted unique rows (column " + std::to_string(j) +
                                       ", row " + std::to_string(i) + ")");
       prev = i;
-    }
-  }
-}
-
-// Half of the symmetric adjacency (no diagonal) of P A P^T, where pos[i] is
-// the new index of original i: for each new index k, its neighbors below k
-// (Below: what the etree needs) or above k (Above: what the column counts and
-// row structures need). Half the entries of the full graph, so half the work.
-enum class Half { Below, Above };
-void permuted_half_graph(const CscMatrix& A, ConstView<int32_t> pos, Half half, HostVector<int64_t>& ptr,
-                         HostVector<int32_t>& idx) {
-  const int32_t n = A.ncols;
-  ptr.assign(static_cast<size_t>(n) + 1, 0);
-  const bool below = half == Half::Below;
-  for (int32_t j = 0; j < n; ++j) {
-    cancel_point(j);
-    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
-      const int32_t i = A.rowind[p];
-      if (i == j) continue;
-      const int32_t a = pos[i], b = pos[j];
-      ++ptr[(below ? std::max(a, b) : std::min(a, b)) + 1];
-    }
-  }
-  for (int32_t k = 0; k < n; ++k) ptr[k + 1] += ptr[k];
-  idx.resize(static_cast<size_t>(ptr[n]));
-  HostVector<int64_t> next(ptr.begin(), ptr.end() - 1);
-  for (int32_t j = 0; j < n; ++j) {
-    cancel_point(j);
-    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
-      const int32_t i = A.rowind[p];
-      if (i == j) continue;
-      const int32_t a = pos[i], b = pos[j];
-      const int32_t lo = std::min(a, b), hi = std::max(a, b);
-      if (below)
-        idx[next[hi]++] = lo;
-      else
-        idx[next[lo]++] = hi;
     }
   }
 }
@@ -146,49 +125,10 @@ void compute_update_lists(SymbolicFactor& S) {
 
 namespace {
 
-// (5a) Where A's entries go in L's values, grouped by supernode.
-void assembly_map(SymbolicFactor& S, const CscMatrix& A) {
+// complete_symbolic with S.a_pattern_hash already set if `hashed`; oneTBB
+// tasks when chunks > 1 (the assembly map's chunk count).
+void complete_symbolic_with(SymbolicFactor& S, const CscMatrix& A, bool hashed, int chunks) {
   const int32_t n = S.n, ns = S.ns;
-  HostVector<int32_t> rowpos(n, -1);  // row -> local index within the current supernode
-  const int64_t nnzA = A.nnz();
-  S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  HostVector<int32_t> entry_col(nnzA), entry_row(nnzA);
-  for (int32_t j = 0; j < n; ++j) {
-    cancel_point(j);
-    for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p) {
-      const int32_t a = S.iperm[A.rowind[p]], b = S.iperm[j];
-      entry_col[p] = std::min(a, b);
-      entry_row[p] = std::max(a, b);
-      ++S.a_super_ptr[S.col_to_super[entry_col[p]] + 1];
-    }
-  }
-  for (int32_t s = 0; s < ns; ++s) S.a_super_ptr[s + 1] += S.a_super_ptr[s];
-  S.a_src.resize(nnzA);
-  S.a_dst.resize(nnzA);
-  {
-    HostVector<int64_t> next(S.a_super_ptr.begin(), S.a_super_ptr.end() - 1);
-    for (int64_t p = 0; p < nnzA; ++p) S.a_src[next[S.col_to_super[entry_col[p]]]++] = p;
-  }
-  for (int32_t s = 0; s < ns; ++s) {
-    cancel_point(s);
-    const int32_t f = S.super_first_col[s], nr = S.nrows(s);
-    for (int32_t t = 0; t < nr; ++t) rowpos[S.super_rows[S.super_row_ptr[s] + t]] = t;
-    for (int64_t k = S.a_super_ptr[s]; k < S.a_super_ptr[s + 1]; ++k) {
-      const int64_t p = S.a_src[k];
-      const int32_t t = rowpos[entry_row[p]];
-      if (t < 0 || t >= nr || S.super_rows[S.super_row_ptr[s] + t] != entry_row[p])
-        fail(ErrorCode::Internal, "symbolic structure misses entry (" + std::to_string(entry_row[p]) + ", " +
-                                      std::to_string(entry_col[p]) + ") of the matrix");
-      S.a_dst[k] = S.super_value_ptr[s] + static_cast<int64_t>(entry_col[p] - f) * nr + rowpos[entry_row[p]];
-    }
-  }
-}
-
-}  // namespace
-
-void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
-  const int32_t n = S.n, ns = S.ns;
-  if (A.ncols != n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
   S.a_nnz = A.nnz();
   S.super_etree_height = tree_height(S.super_parent);
   if (static_cast<int32_t>(S.parent.size()) != n) {  // column etree from the supernodal structure
@@ -217,10 +157,25 @@ void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
     S.max_super_rows = std::max<int32_t>(S.max_super_rows, static_cast<int32_t>(r));
   }
 
-  // The assembly map and the update lists read the structure only and write
-  // disjoint fields: one task each.
-  tbb::parallel_invoke([&] { S.a_pattern_hash = pattern_hash(A); assembly_map(S, A); },
-                       [&] { compute_update_lists(S); });
+  // The pattern hash, the assembly map (itself parallel over supernodes) and
+  // the update lists read the structure only and write disjoint fields.
+  const auto hash = [&] {
+    if (!hashed) S.a_pattern_hash = pattern_hash(A);
+  };
+  if (chunks <= 1) {
+    hash();
+    compute_update_lists(S);
+    assembly_map(S, A, 1);
+    return;
+  }
+  tbb::parallel_invoke(hash, [&] { compute_update_lists(S); }, [&] { assembly_map(S, A, chunks); });
+}
+
+}  // namespace
+
+void complete_symbolic(SymbolicFactor& S, const CscMatrix& A) {
+  if (A.ncols != S.n) fail(ErrorCode::BadUsage, "complete_symbolic: matrix size differs from the factor's");
+  complete_symbolic_with(S, A, false, std::min(kMaxGraphChunks, tbb::this_task_arena::max_concurrency()));
 }
 
 void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
@@ -286,6 +241,94 @@ void validate_symbolic(const SymbolicFactor& S, int64_t num_values) {
   }
 }
 
+namespace {
+
+// Everything after the checks, in the arena of `tasks` threads. Pieces of
+// the etree weigh at most 1/(4 tasks) of the total, so that oneTBB can
+// balance them; one task: one piece, the plain sequential sweep.
+template <class PhaseDone>
+void build_structure(SymbolicFactor& S, const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt,
+                     int tasks, const PhaseDone& phase_done) {
+  const int32_t n = S.n;
+  const int chunks = std::min(tasks, kMaxGraphChunks);
+  const auto bound = [tasks](int64_t total) { return tasks <= 1 ? total : std::max<int64_t>(1, total / (4 * tasks)); };
+  // (1) etree in the given order, then renumber by its postorder; the
+  // pattern hash (sequential by nature) meanwhile.
+  HalfGraph g;
+  const auto etree_and_postorder = [&] {
+    permuted_half_graph(A, ordering.iperm, Half::Below, chunks, g);
+    HostVector<int32_t> parent0 = elimination_tree(n, g.ptr, g.idx);
+    const HostVector<int32_t> post = tree_postorder(parent0);
+    HostVector<int32_t> ipost(n);
+    for (int32_t k = 0; k < n; ++k) ipost[post[k]] = k;
+    S.perm.resize(n);
+    S.iperm.resize(n);
+    for (int32_t k = 0; k < n; ++k) {
+      S.perm[k] = ordering.perm[post[k]];
+      S.iperm[S.perm[k]] = k;
+    }
+    S.parent.resize(n);
+    for (int32_t k = 0; k < n; ++k) {
+      const int32_t p0 = parent0[post[k]];
+      S.parent[k] = p0 < 0 ? -1 : ipost[p0];
+    }
+  };
+  const auto hash = [&] { S.a_pattern_hash = pattern_hash(A); };
+  if (tasks > 1) {
+    tbb::parallel_invoke(hash, etree_and_postorder);
+  } else {
+    hash();
+    etree_and_postorder();
+  }
+  phase_done();
+  permuted_half_graph(A, S.iperm, Half::Above, chunks, g);
+  phase_done();
+
+  // (2) column counts over the subtrees of the (now postordered) etree.
+  {
+    HostVector<int64_t> w(n);
+    for (int32_t k = 0; k < n; ++k) w[k] = 1 + g.ptr[k + 1] - g.ptr[k];
+    const SubtreePartition part = subtree_partition(S.parent, std::move(w), bound(g.ptr[n] + n));
+    S.col_count = column_counts_postordered(n, g.ptr, g.idx, S.parent, part);
+  }
+  S.nnz_exact = 0;
+  for (int32_t c : S.col_count) S.nnz_exact += c;
+  S.etree_height = tree_height(S.parent);
+  phase_done();
+
+  // (3) supernodes.
+  S.super_first_col = relaxed_supernodes(S.parent, S.col_count, opt);
+  const int32_t ns = S.ns = static_cast<int32_t>(S.super_first_col.size()) - 1;
+  S.col_to_super.resize(n);
+  for (int32_t s = 0; s < ns; ++s)
+    for (int32_t j = S.super_first_col[s]; j < S.super_first_col[s + 1]; ++j) S.col_to_super[j] = s;
+  S.super_parent.resize(ns);
+  for (int32_t s = 0; s < ns; ++s) {
+    const int32_t p = S.parent[S.super_first_col[s + 1] - 1];
+    S.super_parent[s] = p < 0 ? -1 : S.col_to_super[p];
+  }
+  phase_done();
+
+  // (4) row structures over the subtrees of the supernodal etree.
+  {
+    HostVector<int64_t> w(ns);
+    int64_t total = 0;
+    for (int32_t s = 0; s < ns; ++s) {
+      const int32_t f = S.super_first_col[s], l = S.super_first_col[s + 1];
+      w[s] = (l - f) + S.col_count[l - 1] + (g.ptr[l] - g.ptr[f]);
+      total += w[s];
+    }
+    const SubtreePartition part = subtree_partition(S.super_parent, std::move(w), bound(total));
+    supernode_rows(S, g.ptr, g.idx, part);
+  }
+  phase_done();
+  // (5) the rest: assembly map, update lists, sizes.
+  g = {};  // freed before the assembly map's buffers
+  complete_symbolic_with(S, A, true, chunks);
+}
+
+}  // namespace
+
 std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering& ordering, const SymbolicOptions& opt,
                                               const RunContext& ctx) {
   ctx.check_cancel();
@@ -310,92 +353,14 @@ std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& A, const Ordering
     ticker.add(1.0);
   };
 
-  // (1) etree in METIS order, then renumber by its postorder.
-  HostVector<int64_t> gptr;
-  HostVector<int32_t> gidx;
-  permuted_half_graph(A, ordering.iperm, Half::Below, gptr, gidx);
-  HostVector<int32_t> parent0 = elimination_tree(n, gptr, gidx);
-  HostVector<int32_t> post = tree_postorder(parent0);
-  HostVector<int32_t> ipost(n);
-  for (int32_t k = 0; k < n; ++k) ipost[post[k]] = k;
-  S->perm.resize(n);
-  S->iperm.resize(n);
-  for (int32_t k = 0; k < n; ++k) {
-    S->perm[k] = ordering.perm[post[k]];
-    S->iperm[S->perm[k]] = k;
-  }
-  S->parent.resize(n);
-  for (int32_t k = 0; k < n; ++k) {
-    const int32_t p0 = parent0[post[k]];
-    S->parent[k] = p0 < 0 ? -1 : ipost[p0];
-  }
-  parent0.clear();
-  parent0.shrink_to_fit();
-  phase_done();
-  permuted_half_graph(A, S->iperm, Half::Above, gptr, gidx);
-  phase_done();
-
-  // (2) column counts; the postorder is now the identity.
-  for (int32_t k = 0; k < n; ++k) post[k] = k;
-  S->col_count = column_counts(n, gptr, gidx, S->parent, post);
-  S->nnz_exact = 0;
-  for (int32_t c : S->col_count) S->nnz_exact += c;
-  S->etree_height = tree_height(S->parent);
-
-  phase_done();
-  // (3) supernodes.
-  S->super_first_col = relaxed_supernodes(S->parent, S->col_count, opt);
-  const int32_t ns = S->ns = static_cast<int32_t>(S->super_first_col.size()) - 1;
-  S->col_to_super.resize(n);
-  for (int32_t s = 0; s < ns; ++s)
-    for (int32_t j = S->super_first_col[s]; j < S->super_first_col[s + 1]; ++j) S->col_to_super[j] = s;
-  S->super_parent.resize(ns);
-  for (int32_t s = 0; s < ns; ++s) {
-    const int32_t p = S->parent[S->super_first_col[s + 1] - 1];
-    S->super_parent[s] = p < 0 ? -1 : S->col_to_super[p];
-  }
-  S->super_etree_height = tree_height(S->super_parent);
-
-  phase_done();
-  // (4) row structures: own columns, then A's rows below, then the children's rows below.
-  HostVector<int32_t> child_ptr(static_cast<size_t>(ns) + 1, 0), children(ns);
-  for (int32_t s = 0; s < ns; ++s)
-    if (S->super_parent[s] >= 0) ++child_ptr[S->super_parent[s] + 1];
-  for (int32_t s = 0; s < ns; ++s) child_ptr[s + 1] += child_ptr[s];
-  {
-    HostVector<int32_t> next(child_ptr.begin(), child_ptr.end() - 1);
-    for (int32_t s = 0; s < ns; ++s)
-      if (S->super_parent[s] >= 0) children[next[S->super_parent[s]]++] = s;
-  }
-  HostVector<int32_t> mark(n, -1);
-  S->super_row_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  S->super_rows.reserve(static_cast<size_t>(S->nnz_exact / std::max<int64_t>(1, n / std::max(1, ns))) + n);
-  for (int32_t s = 0; s < ns; ++s) {
-    if ((s & 1023) == 0) {
-      ctx.check_cancel();
-      ticker.tick();
-    }
-    const int32_t f = S->super_first_col[s], l = S->super_first_col[s + 1];
-    for (int32_t c = f; c < l; ++c) S->super_rows.push_back(c);
-    const size_t below = S->super_rows.size();
-    for (int32_t c = f; c < l; ++c)
-      for (int64_t p = gptr[c]; p < gptr[c + 1]; ++p) {
-        const int32_t r = gidx[p];
-        if (r >= l && mark[r] != s) { mark[r] = s; S->super_rows.push_back(r); }
-      }
-    for (int32_t q = child_ptr[s]; q < child_ptr[s + 1]; ++q) {
-      const int32_t c = children[q];
-      for (int64_t p = S->super_row_ptr[c] + S->ncols(c); p < S->super_row_ptr[c + 1]; ++p) {
-        const int32_t r = S->super_rows[p];
-        if (r >= l && mark[r] != s) { mark[r] = s; S->super_rows.push_back(r); }
-      }
-    }
-    std::sort(S->super_rows.begin() + static_cast<int64_t>(below), S->super_rows.end());
-    S->super_row_ptr[s + 1] = static_cast<int64_t>(S->super_rows.size());
-  }
-  S->super_rows.shrink_to_fit();
-  phase_done();
-  complete_symbolic(*S, A);
+  const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
+  // Small matrices take ~1 ms: waking workers would cost more than they save.
+  const int tasks = n < kParallelMinColumns ? 1 : std::max(1, threads);
+  // One task: no oneTBB algorithm runs, so no arena is needed either (an
+  // arena of another concurrency, entered from a oneTBB worker, would be a
+  // fresh one per call: task_arenas.hpp).
+  if (tasks == 1) build_structure(*S, A, ordering, opt, 1, phase_done);
+  else run_with_threads(tasks, [&] { build_structure(*S, A, ordering, opt, tasks, phase_done); });
   ticker.add(1.0);
   return S;
 }

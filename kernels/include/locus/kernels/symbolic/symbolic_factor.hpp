@@ -81,8 +81,10 @@ struct SymbolicFactor {
 
 // Throws BadInput if A is not square or not lower-stored with sorted rows.
 // The cancel flag in ctx is polled between the phases (each O(nnz(A)) or
-// O(nnz(L)) of work) and raises Error(Cancelled); the last phases run as
-// oneTBB tasks of the caller's arena.
+// O(nnz(L)) of work) and inside the calling thread's loops, and raises
+// Error(Cancelled). From 16 384 columns on, the phases run as oneTBB tasks
+// on ctx.threads threads (0: the caller's arena), over disjoint subtrees of
+// the etree; the result is the same for every thread count.
 std::shared_ptr<const SymbolicFactor> analyze(const CscMatrix& lower, const Ordering& ordering,
                                               const SymbolicOptions& opt = {}, const RunContext& ctx = {});
 
