@@ -199,16 +199,22 @@ class Dissector {
       const auto it = std::lower_bound(ids.begin(), ids.end(), w);
       return it != ids.end() && *it == w ? static_cast<int32_t>(it - ids.begin()) : halo_index(w);
     };
+    // Rows come out sorted without a sort: the root's lists are ascending,
+    // and so are the leaf's local indices (< m) and the halo's (>= m) taken
+    // apart, so a row is its leaf entries in order, then its halo entries.
     AdjacencyGraph h;
     const int32_t nh = m + static_cast<int32_t>(halo.size());
     h.xadj.assign(1, 0);
+    HostVector<int32_t> row_halo;
     for (int32_t k = 0; k < nh; ++k) {
       const int32_t v = k < m ? ids[k] : halo[k - m];
+      row_halo.clear();
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
         const int32_t l = k < m ? from_leaf_row(root_.adj[p]) : from_halo_row(root_.adj[p]);
-        if (l >= 0) h.adj.push_back(l);
+        if (l >= m) row_halo.push_back(l);
+        else if (l >= 0) h.adj.push_back(l);
       }
-      std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());
+      h.adj.insert(h.adj.end(), row_halo.begin(), row_halo.end());
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
     for (const int32_t v : ids) local_[v] = -1;
