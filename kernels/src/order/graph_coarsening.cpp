@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <numeric>
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include "locus/core/host_allocator.hpp"
 
 namespace locus {
@@ -61,9 +64,20 @@ int32_t match(const Weighted& g, uint64_t seed, HostVector<int32_t>& map) {
   return nc;
 }
 
-// g contracted along map (nc coarse vertices), edge weights summed.
-Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc) {
-  const int32_t n = g.n();
+// Coarse rows per block of the contraction below: blocks are built in
+// parallel, each row depending on its coarse vertex only, so the result is
+// the same for any thread count (and equal to one sequential pass).
+constexpr int32_t kContractBlock = 4096;
+
+// The rows of (xadj, adj) contracted along map[v] in [0, nc): coarse
+// neighbors in order of first appearance (members ascending, each one's
+// list in order), self loops dropped; with wgt, (*wgt)[q] = the sum of
+// weight(p) over the fine edges p behind coarse edge q.
+template <class Weight>
+void contract_rows(std::span<const int32_t> xadj, std::span<const int32_t> adj, std::span<const int32_t> map,
+                   int32_t nc, Weight weight, HostVector<int32_t>& hx, HostVector<int32_t>& hadj,
+                   HostVector<int32_t>* wgt) {
+  const int32_t n = static_cast<int32_t>(xadj.size()) - 1;
   HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
   for (int32_t v = 0; v < n; ++v) ++start[map[v] + 1];
   for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
@@ -71,30 +85,69 @@ Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc)
     HostVector<int32_t> pos(start.begin(), start.end() - 1);
     for (int32_t v = 0; v < n; ++v) members[pos[map[v]]++] = v;
   }
-  Weighted h;
-  h.xadj.reserve(static_cast<size_t>(nc) + 1);
-  h.xadj.push_back(0);
-  h.adj.reserve(g.adj.size());
-  h.wgt.reserve(g.adj.size());
-  HostVector<int32_t> slot(static_cast<size_t>(nc), -1);
-  for (int32_t c = 0; c < nc; ++c) {
-    const int32_t row = h.xadj.back();
-    for (int32_t q = start[c]; q < start[c + 1]; ++q) {
-      const int32_t v = members[q];
-      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
-        const int32_t d = map[g.adj[p]];
-        if (d == c) continue;
-        if (slot[d] < row) {
-          slot[d] = static_cast<int32_t>(h.adj.size());
-          h.adj.push_back(d);
-          h.wgt.push_back(g.wgt[p]);
-        } else {
-          h.wgt[slot[d]] += g.wgt[p];
+  struct Block {
+    HostVector<int32_t> adj, wgt;
+  };
+  struct Scratch {
+    HostVector<int32_t> row, slot;  // row[d] == c: d is in row c already, at slot[d]
+  };
+  const int32_t nb = (nc + kContractBlock - 1) / kContractBlock;
+  std::vector<Block> blocks(static_cast<size_t>(nb));
+  hx.assign(static_cast<size_t>(nc) + 1, 0);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const auto build = [&](int32_t b) {
+    Scratch& s = scratch.local();
+    if (s.row.empty()) {
+      s.row.assign(static_cast<size_t>(nc), -1);
+      s.slot.resize(static_cast<size_t>(nc));
+    }
+    Block& out = blocks[b];
+    const int32_t c_end = std::min(nc, (b + 1) * kContractBlock);
+    for (int32_t c = b * kContractBlock; c < c_end; ++c) {
+      const size_t row_start = out.adj.size();
+      for (int32_t q = start[c]; q < start[c + 1]; ++q) {
+        const int32_t v = members[q];
+        for (int32_t p = xadj[v]; p < xadj[v + 1]; ++p) {
+          const int32_t d = map[adj[p]];
+          if (d == c) continue;
+          if (s.row[d] != c) {
+            s.row[d] = c;
+            s.slot[d] = static_cast<int32_t>(out.adj.size());
+            out.adj.push_back(d);
+            if (wgt) out.wgt.push_back(weight(p));
+          } else if (wgt) {
+            out.wgt[s.slot[d]] += weight(p);
+          }
         }
       }
+      hx[c + 1] = static_cast<int32_t>(out.adj.size() - row_start);
     }
-    h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
+  };
+  if (nb <= 1) {
+    if (nb == 1) build(0);
+  } else {
+    tbb::parallel_for(0, nb, build);
   }
+  for (int32_t c = 0; c < nc; ++c) hx[c + 1] += hx[c];
+  hadj.resize(static_cast<size_t>(hx[nc]));
+  if (wgt) wgt->resize(hadj.size());
+  const auto place = [&](int32_t b) {
+    const size_t at = static_cast<size_t>(hx[static_cast<size_t>(b) * kContractBlock]);
+    std::copy(blocks[b].adj.begin(), blocks[b].adj.end(), hadj.begin() + at);
+    if (wgt) std::copy(blocks[b].wgt.begin(), blocks[b].wgt.end(), wgt->begin() + at);
+    blocks[b] = Block{};
+  };
+  if (nb <= 1) {
+    if (nb == 1) place(0);
+  } else {
+    tbb::parallel_for(0, nb, place);
+  }
+}
+
+// g contracted along map (nc coarse vertices), edge weights summed.
+Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc) {
+  Weighted h;
+  contract_rows(g.xadj, g.adj, map, nc, [&w = g.wgt](int32_t p) { return w[p]; }, h.xadj, h.adj, &h.wgt);
   return h;
 }
 
@@ -131,43 +184,10 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
 
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
                               HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt) {
-  const int32_t n = g.n();
   vwgt.assign(static_cast<size_t>(nc), 0);
-  for (int32_t v = 0; v < n; ++v) ++vwgt[coarse[v]];
-  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
-  for (int32_t c = 0; c < nc; ++c) start[c + 1] = start[c] + vwgt[c];
-  {
-    HostVector<int32_t> pos(start.begin(), start.end() - 1);
-    for (int32_t v = 0; v < n; ++v) members[pos[coarse[v]]++] = v;
-  }
+  for (const int32_t c : coarse) ++vwgt[c];
   AdjacencyGraph h;
-  h.xadj.assign(1, 0);
-  h.xadj.reserve(static_cast<size_t>(nc) + 1);
-  h.adj.reserve(g.adj.size() / 2);
-  if (ewgt) {
-    ewgt->clear();
-    ewgt->reserve(g.adj.size() / 2);
-  }
-  // slot[d]: where coarse neighbor d sits in the row being built (below the row's start: not in it yet).
-  HostVector<int32_t> slot(static_cast<size_t>(nc), -1);
-  for (int32_t c = 0; c < nc; ++c) {
-    const int32_t row = h.xadj.back();
-    for (int32_t q = start[c]; q < start[c + 1]; ++q) {
-      const int32_t v = members[q];
-      for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
-        const int32_t d = coarse[g.adj[p]];
-        if (d == c) continue;
-        if (slot[d] < row) {
-          slot[d] = static_cast<int32_t>(h.adj.size());
-          h.adj.push_back(d);
-          if (ewgt) ewgt->push_back(1);
-        } else if (ewgt) {
-          ++(*ewgt)[slot[d]];
-        }
-      }
-    }
-    h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
-  }
+  contract_rows(g.xadj, g.adj, coarse, nc, [](int32_t) { return 1; }, h.xadj, h.adj, ewgt);
   return h;
 }
 

@@ -39,6 +39,8 @@ struct Node {
 // Below this many vertices a node's two sides run in the same task: a task
 // switch costs more than ordering a few hundred vertices.
 constexpr int32_t kParallelMinVertices = 4000;
+// Above this many vertices a node extracts its two sides' subgraphs at once.
+constexpr int32_t kParallelExtractVertices = 50000;
 
 class Dissector {
  public:
@@ -67,7 +69,7 @@ class Dissector {
     if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
     Node child[2];
-    for (int8_t s = 0; s < 2; ++s) {
+    const auto extract = [&](int8_t s) {
       poll();
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
       if (!node.x.empty()) {
@@ -81,6 +83,14 @@ class Dissector {
       }
       if (!node.coarse.empty() && child[s].g.n() >= opt_.coarse_min_vertices) restrict_coarse(node, child[s]);
       for (int32_t& v : child[s].global) v = node.global[v];
+    };
+    // The two sides' subgraphs are independent: at the top levels, where
+    // the other thread would otherwise wait for this node, both at once.
+    if (parallel_ && m >= kParallelExtractVertices)
+      tbb::parallel_invoke([&] { extract(0); }, [&] { extract(1); });
+    else {
+      extract(0);
+      extract(1);
     }
     const int32_t n0 = child[0].g.n(), n1 = child[1].g.n();
     int32_t* sep_out = out + n0 + n1;
@@ -189,16 +199,22 @@ class Dissector {
       const auto it = std::lower_bound(ids.begin(), ids.end(), w);
       return it != ids.end() && *it == w ? static_cast<int32_t>(it - ids.begin()) : halo_index(w);
     };
+    // Rows come out sorted without a sort: the root's lists are ascending,
+    // and so are the leaf's local indices (< m) and the halo's (>= m) taken
+    // apart, so a row is its leaf entries in order, then its halo entries.
     AdjacencyGraph h;
     const int32_t nh = m + static_cast<int32_t>(halo.size());
     h.xadj.assign(1, 0);
+    HostVector<int32_t> row_halo;
     for (int32_t k = 0; k < nh; ++k) {
       const int32_t v = k < m ? ids[k] : halo[k - m];
+      row_halo.clear();
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
         const int32_t l = k < m ? from_leaf_row(root_.adj[p]) : from_halo_row(root_.adj[p]);
-        if (l >= 0) h.adj.push_back(l);
+        if (l >= m) row_halo.push_back(l);
+        else if (l >= 0) h.adj.push_back(l);
       }
-      std::sort(h.adj.begin() + h.xadj.back(), h.adj.end());
+      h.adj.insert(h.adj.end(), row_halo.begin(), row_halo.end());
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
     for (const int32_t v : ids) local_[v] = -1;
@@ -236,9 +252,12 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   }
   const bool parallel = ctx.threads != 1;
   const Dissector d(g, opt, ctx, parallel);
-  if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices && opt.separator == NestedDissectionOptions::Separator::Metis)
-    root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
-  run_with_threads(ctx.threads, [&] { d.order(std::move(root), perm.data()); });
+  run_with_threads(ctx.threads, [&] {  // the coarsening's contractions run in parallel blocks too
+    if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices &&
+        opt.separator == NestedDissectionOptions::Separator::Metis)
+      root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
+    d.order(std::move(root), perm.data());
+  });
   return perm;
 }
 

@@ -89,6 +89,23 @@ TEST_CASE("ordering: every method gives the same permutation with 1, 2, 3 and 8 
   }
 }
 
+TEST_CASE("ordering: nested dissection of 53 000 vertices (parallel contractions and sides) is the same with 1, 2, 3, 8 threads") {
+  // Above 50 000 vertices a node contracts its own graph in parallel blocks
+  // and extracts its two sides as two tasks; the 110 x 90 grid above is too
+  // small for either.
+  const CscMatrix a = test::grid_laplacian(230, 230, 0.01);
+  const OrderingOptions oo = with(Method::NestedDissection);
+  RunContext one;
+  one.threads = 1;
+  const Ordering ref = order_matrix(a, oo, one);
+  check_permutation(ref, a.ncols);
+  for (int t : {2, 3, 8}) {
+    RunContext ctx;
+    ctx.threads = t;
+    CHECK(order_matrix(a, oo, ctx).perm == ref.perm);
+  }
+}
+
 TEST_CASE("ordering: concurrent calls equal sequential ones") {
   const CscMatrix a = test::grid_laplacian(120, 110, 0.01);
   const CscMatrix b = test::random_spd(8000, 5, 3);

@@ -31,7 +31,9 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
 // joined when any of their vertices are; vwgt[c] = vertices of c; with
 // ewgt, (*ewgt)[p] = the edges of g behind coarse edge h.adj[p] (what a
 // heavy-edge matching of h needs). Self loops dropped; neighbor lists in
-// order of first appearance (METIS needs no order).
+// order of first appearance (METIS needs no order). Rows are built in fixed
+// blocks in parallel (oneTBB, the caller's arena): the same graph for any
+// thread count.
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
                               HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt = nullptr);
 

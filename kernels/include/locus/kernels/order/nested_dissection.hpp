@@ -8,7 +8,7 @@
 // coarsening of the whole graph made before the tree (graph_coarsening.hpp),
 // and FM passes refine the projected separator on the node's own vertices
 // (separator_refinement.hpp): METIS no longer coarsens every node from
-// scratch (0.6x the ordering's CPU at 416k, within 1% of its fill,
+// scratch (0.55x the ordering's CPU at 416k, within 1% of its fill,
 // docs/ordering.md). Nodes below exact_min_vertices take their contraction
 // from their parent's instead of contracting their own graph.
 //
