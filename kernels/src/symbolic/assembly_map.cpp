@@ -54,15 +54,7 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A, int chunks) {
     }
   });
   S.a_super_ptr.assign(static_cast<size_t>(ns) + 1, 0);
-  for (int32_t s = 0; s < ns; ++s) {
-    int64_t run = 0;
-    for (int c = 0; c < chunks; ++c) {
-      const int64_t m = offset[static_cast<size_t>(c) * ns + s];
-      offset[static_cast<size_t>(c) * ns + s] = run;
-      run += m;
-    }
-    S.a_super_ptr[s + 1] = S.a_super_ptr[s] + run;
-  }
+  chunk_starts(offset.data(), chunks, static_cast<size_t>(ns), S.a_super_ptr.data());
   S.a_src.resize(static_cast<size_t>(nnz));
   S.a_dst.resize(static_cast<size_t>(nnz));
   HostVector<int32_t> entry_row(static_cast<size_t>(nnz)), entry_col(static_cast<size_t>(nnz));  // by group slot

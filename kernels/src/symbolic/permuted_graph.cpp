@@ -45,15 +45,7 @@ void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half 
     }
   });
   g.ptr.assign(static_cast<size_t>(n) + 1, 0);
-  for (int32_t k = 0; k < n; ++k) {
-    int32_t run = 0;
-    for (int c = 0; c < chunks; ++c) {
-      const int32_t m = offset[static_cast<size_t>(c) * n + k];
-      offset[static_cast<size_t>(c) * n + k] = run;
-      run += m;
-    }
-    g.ptr[k + 1] = g.ptr[k] + run;
-  }
+  chunk_starts(offset.data(), chunks, static_cast<size_t>(n), g.ptr.data());
   g.idx.resize(static_cast<size_t>(g.ptr[n]));
   each_chunk([&](int c) {
     int32_t* next = offset.data() + static_cast<size_t>(c) * n;

@@ -69,32 +69,8 @@ void check_permutation(const Ordering& o, size_t n) {
   CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(n));
 }
 
-}  // namespace
-
-TEST_CASE("ordering: every method gives the same permutation with 1, 2, 3 and 8 threads") {
-  const int nx = 110, ny = 90;
-  const CscMatrix a = test::grid_laplacian(nx, ny, 0.01);
-  const GridPositions pos(nx, ny);
-  for (const OrderingOptions& oo : {with(Method::NestedDissection), with(Method::NestedDissection, &pos),
-                                    with(Method::Amd), with(Method::Metis), with(Method::Auto)}) {
-    RunContext one;
-    one.threads = 1;
-    const Ordering ref = order_matrix(a, oo, one);
-    check_permutation(ref, a.ncols);
-    for (int t : {2, 3, 8}) {
-      RunContext ctx;
-      ctx.threads = t;
-      CHECK(order_matrix(a, oo, ctx).perm == ref.perm);
-    }
-  }
-}
-
-TEST_CASE("ordering: nested dissection of 53 000 vertices (parallel contractions and sides) is the same with 1, 2, 3, 8 threads") {
-  // Above 50 000 vertices a node contracts its own graph in parallel blocks
-  // and extracts its two sides as two tasks; the 110 x 90 grid above is too
-  // small for either.
-  const CscMatrix a = test::grid_laplacian(230, 230, 0.01);
-  const OrderingOptions oo = with(Method::NestedDissection);
+// The ordering at 1 thread is a permutation, and 2, 3 and 8 threads give the same one.
+void check_same_for_thread_counts(const CscMatrix& a, const OrderingOptions& oo) {
   RunContext one;
   one.threads = 1;
   const Ordering ref = order_matrix(a, oo, one);
@@ -104,6 +80,25 @@ TEST_CASE("ordering: nested dissection of 53 000 vertices (parallel contractions
     ctx.threads = t;
     CHECK(order_matrix(a, oo, ctx).perm == ref.perm);
   }
+}
+
+}  // namespace
+
+TEST_CASE("ordering: every method gives the same permutation with 1, 2, 3 and 8 threads") {
+  const int nx = 110, ny = 90;
+  const CscMatrix a = test::grid_laplacian(nx, ny, 0.01);
+  const GridPositions pos(nx, ny);
+  for (const OrderingOptions& oo : {with(Method::NestedDissection), with(Method::NestedDissection, &pos),
+                                    with(Method::Amd), with(Method::Metis), with(Method::Auto)})
+    check_same_for_thread_counts(a, oo);
+}
+
+TEST_CASE("ordering: nested dissection of 53 000 vertices (parallel contractions and sides) is the same with 1, 2, 3, 8 threads") {
+  // Above 50 000 vertices a node contracts its own graph in parallel blocks
+  // and extracts its two sides as two tasks; the 110 x 90 grid above is too
+  // small for either.
+  const CscMatrix a = test::grid_laplacian(230, 230, 0.01);
+  check_same_for_thread_counts(a, with(Method::NestedDissection));
 }
 
 TEST_CASE("ordering: concurrent calls equal sequential ones") {

@@ -12,6 +12,7 @@
 // count. (Gathering each k's neighbours from A and its transpose instead was
 // 5x slower: the ordering scatters A's columns over memory.)
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -35,5 +36,22 @@ void permuted_half_graph(const CscMatrix& A, std::span<const int32_t> pos, Half 
 // A's columns in `chunks` consecutive ranges of about nnz / chunks entries:
 // chunk c is [first[c], first[c+1]); fewer chunks for tiny matrices.
 HostVector<int32_t> column_chunks(const CscMatrix& A, int chunks);
+
+// The counting step of a chunked scatter: offset[c * n + k] holds chunk c's
+// count for list k on entry and where chunk c's entries start within list k
+// on return (chunks in order, so any chunk count gives the same lists);
+// ptr[k + 1] = ptr[k] + list k's total.
+template <class Count, class Ptr>
+void chunk_starts(Count* offset, int chunks, std::size_t n, Ptr* ptr) {
+  for (std::size_t k = 0; k < n; ++k) {
+    Count run = 0;
+    for (int c = 0; c < chunks; ++c) {
+      const Count m = offset[static_cast<std::size_t>(c) * n + k];
+      offset[static_cast<std::size_t>(c) * n + k] = run;
+      run += m;
+    }
+    ptr[k + 1] = ptr[k] + run;
+  }
+}
 
 }  // namespace locus
