@@ -96,7 +96,7 @@ run() {  # run NAME DOCTEST-ARGS...: one group of test cases
     status=1
   fi
 }
-run "ordering (nested dissection task tree at 1/2/3/8 threads, per-thread METIS random numbers)" --source-file='*tests/kernels/*/ordering*'
+run "ordering (nested dissection task tree at 1/2/3/8 threads, per-thread METIS random numbers, parallel contraction blocks)" --source-file='*tests/kernels/order/*'
 run "symbolic analysis (subtree pieces, chunked scatters, assembly map; 1/2/3/8 threads)" --source-file='*tests/kernels/*/symbolic_factor*'
 run "factorization" --source-file='*tests/kernels/*/supernodal_factor*'
 run "solves" --source-file='*tests/kernels/*/solve_*'
