@@ -164,6 +164,111 @@ double rel(double a, double ref) { return std::abs(a - ref) / std::max(std::abs(
 
 // ------------------------------------------------------- 1. heat values ----
 
+using Pick = std::uniform_int_distribution<int32_t>;
+
+// k random sources, sorted with repeats dropped (they would sum into one
+// lane), and k random targets, drawn in that order.
+std::pair<std::vector<int32_t>, std::vector<int32_t>> random_query(int k, Pick& pick, std::mt19937_64& rng) {
+  std::vector<int32_t> src(static_cast<size_t>(k)), tgt(static_cast<size_t>(k));
+  for (auto& v : src) v = pick(rng);
+  for (auto& v : tgt) v = pick(rng);
+  std::sort(src.begin(), src.end());
+  src.erase(std::unique(src.begin(), src.end()), src.end());
+  return {src, tgt};
+}
+
+// Lanes: one 8-lane subset solve against 8 one-lane solves with the same plan
+// (support = 8 random sources, wanted = 8 random targets; lane k is e_{s_k}).
+Json bench_lanes8(const NumericFactor& F, int rounds, Pick& pick, std::mt19937_64& rng, const RunContext& ctx) {
+  std::vector<double> one_s, eight_s, r8;
+  double worst8 = 0;
+  SolveWorkspace lws;
+  for (int p = 0; p < rounds; ++p) {
+    ctx.check_cancel();
+    const auto [src, tgt] = random_query(kLanes, pick, rng);
+    const SolvePlan plan = plan_subset_solve(*F.symbolic, src, tgt);
+    const size_t ns = src.size(), nt = tgt.size();
+    std::vector<double> rhs8(ns * kLanes, 0.0), out8(nt * kLanes), out1(nt * kLanes), rhs1(ns), o1(nt);
+    for (size_t k = 0; k < ns; ++k) rhs8[k * kLanes + k] = 1.0;
+    Stopwatch sw;
+    for (size_t lane = 0; lane < ns; ++lane) {
+      std::fill(rhs1.begin(), rhs1.end(), 0.0);
+      rhs1[lane] = 1.0;
+      solve_planned(F, plan, rhs1, o1, lws);
+      for (size_t q = 0; q < nt; ++q) out1[q * kLanes + lane] = o1[q];
+    }
+    const double t1 = sw.seconds();
+    sw.restart();
+    solve_planned8(F, plan, rhs8, out8, lws);
+    const double t8 = sw.seconds();
+    for (size_t q = 0; q < nt; ++q)
+      for (size_t lane = 0; lane < ns; ++lane)
+        worst8 = std::max(worst8, rel(out8[q * kLanes + lane], out1[q * kLanes + lane]));
+    // Scale to 8 lanes when duplicate sources left fewer.
+    one_s.push_back(t1 * kLanes / static_cast<double>(ns));
+    eight_s.push_back(t8);
+    r8.push_back(ratio(one_s.back(), t8));
+  }
+  return {{"one_lane_x8_s", cli::median(one_s)},
+          {"eight_lane_s", cli::median(eight_s)},
+          {"speedup_eight_lane_over_one_lane_x8", cli::median(r8)},
+          {"max_rel_diff", worst8}};
+}
+
+// 24 lanes (issue 26; the log map's batches are 7-22 sources): one wide
+// subset solve of 24 sources x 24 targets, plan included, against three
+// 8-lane solves of the same plan (the older path, the accuracy reference).
+Json bench_lanes24(const NumericFactor& F, int rounds, Pick& pick, std::mt19937_64& rng, const RunContext& ctx) {
+  constexpr int kWide = 24;
+  std::vector<double> wide_s, three8_s, plan_s, fw, bw;
+  double worst = 0;
+  SolveWorkspace lws;
+  WideSolveWorkspace wws;
+  for (int p = 0; p < rounds; ++p) {
+    ctx.check_cancel();
+    const auto [src, tgt] = random_query(kWide, pick, rng);
+    Stopwatch sw;
+    const SolvePlan plan = plan_subset_solve(*F.symbolic, src, tgt);
+    const double tp = sw.seconds();
+    const size_t ns = src.size(), nt = tgt.size();
+    std::vector<double> rhs(ns * kWide, 0.0), out(nt * kWide);
+    for (size_t k = 0; k < ns; ++k) rhs[k * kWide + k] = 1.0;
+    sw.restart();
+    solve_planned_wide(F, plan, kWide, rhs, out, wws);
+    const double tw = sw.seconds();
+    // The same lanes in batches of 8 (lanes >= ns stay zero).
+    // Differences relative to the largest value (a target far from every
+    // source holds values near rounding level, where a pointwise ratio says nothing).
+    std::vector<double> rhs8(ns * kLanes), out8(nt * kLanes);
+    double t8 = 0, diff = 0, scale = 0;
+    for (int b = 0; b < kWide / kLanes; ++b) {
+      std::fill(rhs8.begin(), rhs8.end(), 0.0);
+      for (size_t k = 0; k < ns; ++k)
+        if (k / kLanes == static_cast<size_t>(b)) rhs8[k * kLanes + k % kLanes] = 1.0;
+      sw.restart();
+      solve_planned8(F, plan, rhs8, out8, lws);
+      t8 += sw.seconds();
+      for (size_t q = 0; q < nt; ++q)
+        for (int l = 0; l < kLanes; ++l) {
+          diff = std::max(diff, std::abs(out[q * kWide + b * kLanes + l] - out8[q * kLanes + l]));
+          scale = std::max(scale, std::abs(out8[q * kLanes + l]));
+        }
+    }
+    worst = std::max(worst, diff / std::max(scale, 1e-300));
+    wide_s.push_back(tw);
+    three8_s.push_back(t8);
+    plan_s.push_back(tp);
+    fw.push_back(static_cast<double>(plan.forward_columns));
+    bw.push_back(static_cast<double>(plan.backward_columns));
+  }
+  return {{"plan_s", cli::median(plan_s)},
+          {"wide_solve_s", cli::median(wide_s)},
+          {"three_eight_lane_s", cli::median(three8_s)},
+          {"forward_columns", cli::median(fw)},
+          {"backward_columns", cli::median(bw)},
+          {"max_diff_vs_eight_lane_rel_to_max", worst}};
+}
+
 Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, const RunContext& ctx) {
   const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx);
   const NumericFactor& F = H.factors[0];
@@ -244,105 +349,9 @@ Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, cons
 #endif
   j["pairs"] = pairs;
 
-  // Lanes: one 8-lane subset solve against 8 one-lane solves with the same plan
-  // (support = 8 random sources, wanted = 8 random targets; lane k is e_{s_k}).
-  {
-    std::vector<double> one_s, eight_s, r8;
-    double worst8 = 0;
-    SolveWorkspace lws;
-    for (int p = 0; p < std::max(5, bo.pairs / 10); ++p) {
-      ctx.check_cancel();
-      std::vector<int32_t> src(kLanes), tgt(kLanes);
-      for (auto& v : src) v = pick(rng);
-      for (auto& v : tgt) v = pick(rng);
-      std::sort(src.begin(), src.end());
-      src.erase(std::unique(src.begin(), src.end()), src.end());
-      const SolvePlan plan = plan_subset_solve(*H.symbolic, src, tgt);
-      const size_t ns = src.size(), nt = tgt.size();
-      std::vector<double> rhs8(ns * kLanes, 0.0), out8(nt * kLanes), out1(nt * kLanes), rhs1(ns), o1(nt);
-      for (size_t k = 0; k < ns; ++k) rhs8[k * kLanes + k] = 1.0;
-      Stopwatch sw;
-      for (size_t lane = 0; lane < ns; ++lane) {
-        std::fill(rhs1.begin(), rhs1.end(), 0.0);
-        rhs1[lane] = 1.0;
-        solve_planned(F, plan, rhs1, o1, lws);
-        for (size_t q = 0; q < nt; ++q) out1[q * kLanes + lane] = o1[q];
-      }
-      const double t1 = sw.seconds();
-      sw.restart();
-      solve_planned8(F, plan, rhs8, out8, lws);
-      const double t8 = sw.seconds();
-      for (size_t q = 0; q < nt; ++q)
-        for (size_t lane = 0; lane < ns; ++lane)
-          worst8 = std::max(worst8, rel(out8[q * kLanes + lane], out1[q * kLanes + lane]));
-      // Scale to 8 lanes when duplicate sources left fewer.
-      one_s.push_back(t1 * kLanes / static_cast<double>(ns));
-      eight_s.push_back(t8);
-      r8.push_back(ratio(one_s.back(), t8));
-    }
-    j["lanes"] = {{"one_lane_x8_s", cli::median(one_s)},
-                  {"eight_lane_s", cli::median(eight_s)},
-                  {"speedup_eight_lane_over_one_lane_x8", cli::median(r8)},
-                  {"max_rel_diff", worst8}};
-  }
-
-  // 24 lanes (issue 26; the log map's batches are 7-22 sources): one wide
-  // subset solve of 24 sources x 24 targets, plan included, against three
-  // 8-lane solves of the same plan (the older path, the accuracy reference).
-  {
-    constexpr int kWide = 24;
-    std::vector<double> wide_s, three8_s, plan_s, fw, bw;
-    double worst = 0;
-    SolveWorkspace lws;
-    WideSolveWorkspace wws;
-    for (int p = 0; p < std::max(5, bo.pairs / 10); ++p) {
-      ctx.check_cancel();
-      std::vector<int32_t> src(kWide), tgt(kWide);
-      for (auto& v : src) v = pick(rng);
-      for (auto& v : tgt) v = pick(rng);
-      std::sort(src.begin(), src.end());
-      src.erase(std::unique(src.begin(), src.end()), src.end());
-      Stopwatch sw;
-      const SolvePlan plan = plan_subset_solve(*H.symbolic, src, tgt);
-      const double tp = sw.seconds();
-      const size_t ns = src.size(), nt = tgt.size();
-      std::vector<double> rhs(ns * kWide, 0.0), out(nt * kWide);
-      for (size_t k = 0; k < ns; ++k) rhs[k * kWide + k] = 1.0;
-      sw.restart();
-      solve_planned_wide(F, plan, kWide, rhs, out, wws);
-      const double tw = sw.seconds();
-      // The same lanes in batches of 8 (lanes >= ns stay zero).
-      // Differences relative to the largest value (a target far from every
-      // source holds values near rounding level, where a pointwise ratio says nothing).
-      std::vector<double> rhs8(ns * kLanes), out8(nt * kLanes);
-      double t8 = 0, diff = 0, scale = 0;
-      for (int b = 0; b < kWide / kLanes; ++b) {
-        std::fill(rhs8.begin(), rhs8.end(), 0.0);
-        for (size_t k = 0; k < ns; ++k)
-          if (k / kLanes == static_cast<size_t>(b)) rhs8[k * kLanes + k % kLanes] = 1.0;
-        sw.restart();
-        solve_planned8(F, plan, rhs8, out8, lws);
-        t8 += sw.seconds();
-        for (size_t q = 0; q < nt; ++q)
-          for (int l = 0; l < kLanes; ++l) {
-            diff = std::max(diff, std::abs(out[q * kWide + b * kLanes + l] - out8[q * kLanes + l]));
-            scale = std::max(scale, std::abs(out8[q * kLanes + l]));
-          }
-      }
-      worst = std::max(worst, diff / std::max(scale, 1e-300));
-      wide_s.push_back(tw);
-      three8_s.push_back(t8);
-      plan_s.push_back(tp);
-      fw.push_back(static_cast<double>(plan.forward_columns));
-      bw.push_back(static_cast<double>(plan.backward_columns));
-    }
-    j["lanes24"] = {{"plan_s", cli::median(plan_s)},
-                    {"wide_solve_s", cli::median(wide_s)},
-                    {"three_eight_lane_s", cli::median(three8_s)},
-                    {"forward_columns", cli::median(fw)},
-                    {"backward_columns", cli::median(bw)},
-                    {"max_diff_vs_eight_lane_rel_to_max", worst}};
-  }
+  const int rounds = std::max(5, bo.pairs / 10);
+  j["lanes"] = bench_lanes8(F, rounds, pick, rng, ctx);
+  j["lanes24"] = bench_lanes24(F, rounds, pick, rng, ctx);
 
   // "Everything": a subset plan whose support and wanted set are all vertices
   // degrades to the full solve; its time against solve() on the same rhs.
