@@ -46,21 +46,20 @@ AdjacencyGraph induced_subgraph(const AdjacencyGraph& g, std::span<const int8_t>
   global.clear();
   for (int32_t v = 0; v < n; ++v)
     if (part[v] == which) { local[v] = static_cast<int32_t>(global.size()); global.push_back(v); }
+  // One pass over the rows: the adjacency is reserved for every edge of the
+  // side's vertices (the few that cross to the separator are not kept)
+  // instead of counted in a pass of its own.
+  size_t bound = 0;
+  for (const int32_t v : global) bound += static_cast<size_t>(g.xadj[v + 1] - g.xadj[v]);
   AdjacencyGraph h;
   h.xadj.resize(global.size() + 1);
   h.xadj[0] = 0;
-  int64_t edges = 0;
-  for (size_t k = 0; k < global.size(); ++k) {
-    const int32_t v = global[k];
-    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) edges += part[g.adj[p]] == which;
-  }
-  h.adj.resize(static_cast<size_t>(edges));
-  int32_t e = 0;
+  h.adj.reserve(bound);
   for (size_t k = 0; k < global.size(); ++k) {
     const int32_t v = global[k];
     for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p)
-      if (part[g.adj[p]] == which) h.adj[e++] = local[g.adj[p]];
-    h.xadj[k + 1] = e;
+      if (const int32_t l = local[g.adj[p]]; l >= 0) h.adj.push_back(l);
+    h.xadj[k + 1] = static_cast<int32_t>(h.adj.size());
   }
   return h;
 }

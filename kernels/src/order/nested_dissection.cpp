@@ -8,6 +8,7 @@
 // means dissection does not pay there, and the node is ordered by AMD whole.
 #include "locus/kernels/order/nested_dissection.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -50,7 +51,7 @@ class Dissector {
         ctx_(ctx),
         parallel_(parallel),
         ticker_(ctx, "ordering", root.n()),
-        local_(static_cast<size_t>(root.n()), -1) {}
+        index_([n = root.n()] { return HostVector<int32_t>(static_cast<size_t>(n), -1); }) {}
 
   ProgressTicker& ticker() const { return ticker_; }
 
@@ -58,7 +59,7 @@ class Dissector {
   void order(Node node, int32_t* out) const {
     ctx_.check_cancel();
     ticker_.tick();
-    const int32_t m = node.g.n();
+    const int32_t m = static_cast<int32_t>(node.global.size());
     if (m <= opt_.leaf_size) return leaf_done(node, out);
     HostVector<int8_t> part;
     separator(node, part);
@@ -69,8 +70,16 @@ class Dissector {
     if (2 * nsep > m || (nsep == 0 && (nside0 == 0 || nside0 == m))) return leaf_done(node, out);
     ticker_.add(nsep);
     Node child[2];
+    const int32_t side_size[2] = {nside0, m - nsep - nside0};
     const auto extract = [&](int8_t s) {
       poll();
+      if (opt_.halo && side_size[s] <= opt_.leaf_size) {
+        // A leaf with its halo reads the root's graph (leaf()): its vertex
+        // list is all it needs.
+        for (int32_t v = 0; v < m; ++v)
+          if (part[v] == s) child[s].global.push_back(node.global[v]);
+        return;
+      }
       child[s].g = induced_subgraph(node.g, part, s, child[s].global);
       if (!node.x.empty()) {
         const auto gather = [&ids = child[s].global](const HostVector<double>& from, HostVector<double>& to) {
@@ -92,7 +101,7 @@ class Dissector {
       extract(0);
       extract(1);
     }
-    const int32_t n0 = child[0].g.n(), n1 = child[1].g.n();
+    const int32_t n0 = side_size[0], n1 = side_size[1];
     int32_t* sep_out = out + n0 + n1;
     for (int32_t v = 0; v < m; ++v)
       if (part[v] == 2) *sep_out++ = node.global[v];
@@ -134,7 +143,8 @@ class Dissector {
       poll();
       HostVector<int8_t> coarse_part;
       metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
-                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
+                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>(),
+                             opt_.coarse_metis);
       part.resize(static_cast<size_t>(m));
       for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
       poll();
@@ -164,7 +174,7 @@ class Dissector {
 
   void leaf_done(const Node& node, int32_t* out) const {
     leaf(node, out);
-    ticker_.add(node.g.n());
+    ticker_.add(static_cast<double>(node.global.size()));
   }
 
   void leaf(const Node& node, int32_t* out) const {
@@ -174,50 +184,42 @@ class Dissector {
       return;
     }
     // The leaf plus its halo: root-graph neighbors outside the leaf (all in
-    // separators above it, never in another leaf). local_ holds the leaf's
-    // own local indices while it is built: every vertex is in one leaf only,
-    // and the rows of the leaf's own vertices read local_ only at their
-    // neighbors, which are the leaf's or separator vertices (never written),
-    // so concurrent leaves share the array without a race. The rows of halo
-    // vertices must not read it (a halo vertex borders other leaves, whose
-    // entries may be set at that moment): there both lists are searched.
+    // separators above it, never in another leaf). The thread's own index
+    // array maps root vertices to the leaf-plus-halo numbering: a halo vertex
+    // borders other leaves, which other threads may be building at the same
+    // moment, so one shared array would race (and binary searches in the
+    // halo list cost a third of this function, docs/ordering.md).
     const HostVector<int32_t>& ids = node.global;  // ascending
-    const int32_t m = node.g.n();
-    for (int32_t k = 0; k < m; ++k) local_[ids[k]] = k;
+    const int32_t m = static_cast<int32_t>(ids.size());
+    HostVector<int32_t>& index = index_.local();
+    for (int32_t k = 0; k < m; ++k) index[ids[k]] = k;
     HostVector<int32_t> halo;
     for (const int32_t v : ids)
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p)
-        if (local_[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
+        if (index[root_.adj[p]] < 0) halo.push_back(root_.adj[p]);
     std::sort(halo.begin(), halo.end());
     halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
-    const auto halo_index = [&](int32_t w) -> int32_t {
-      const auto it = std::lower_bound(halo.begin(), halo.end(), w);
-      return it != halo.end() && *it == w ? m + static_cast<int32_t>(it - halo.begin()) : -1;
-    };
-    const auto from_leaf_row = [&](int32_t w) { return local_[w] >= 0 ? local_[w] : halo_index(w); };
-    const auto from_halo_row = [&](int32_t w) -> int32_t {
-      const auto it = std::lower_bound(ids.begin(), ids.end(), w);
-      return it != ids.end() && *it == w ? static_cast<int32_t>(it - ids.begin()) : halo_index(w);
-    };
+    const int32_t nh = m + static_cast<int32_t>(halo.size());
+    for (int32_t k = m; k < nh; ++k) index[halo[k - m]] = k;
     // Rows come out sorted without a sort: the root's lists are ascending,
     // and so are the leaf's local indices (< m) and the halo's (>= m) taken
     // apart, so a row is its leaf entries in order, then its halo entries.
     AdjacencyGraph h;
-    const int32_t nh = m + static_cast<int32_t>(halo.size());
     h.xadj.assign(1, 0);
     HostVector<int32_t> row_halo;
     for (int32_t k = 0; k < nh; ++k) {
       const int32_t v = k < m ? ids[k] : halo[k - m];
       row_halo.clear();
       for (int32_t p = root_.xadj[v]; p < root_.xadj[v + 1]; ++p) {
-        const int32_t l = k < m ? from_leaf_row(root_.adj[p]) : from_halo_row(root_.adj[p]);
+        const int32_t l = index[root_.adj[p]];
         if (l >= m) row_halo.push_back(l);
         else if (l >= 0) h.adj.push_back(l);
       }
       h.adj.insert(h.adj.end(), row_halo.begin(), row_halo.end());
       h.xadj.push_back(static_cast<int32_t>(h.adj.size()));
     }
-    for (const int32_t v : ids) local_[v] = -1;
+    for (const int32_t v : ids) index[v] = -1;
+    for (const int32_t v : halo) index[v] = -1;
     HostVector<int32_t> constraint(nh, 0);
     std::fill(constraint.begin() + m, constraint.end(), 1);
     const HostVector<int32_t> p = constrained_minimum_degree_order(h, constraint);
@@ -231,7 +233,9 @@ class Dissector {
   const RunContext& ctx_;
   bool parallel_;
   mutable ProgressTicker ticker_;
-  mutable HostVector<int32_t> local_;  // leaf(): local index of each vertex of the leaf being built, else -1
+  // leaf(): per thread, each root vertex's index in the leaf being built (its
+  // own vertices, then its halo), else -1.
+  mutable tbb::enumerable_thread_specific<HostVector<int32_t>> index_;
 };
 
 }  // namespace

@@ -21,6 +21,7 @@
 // vertices placed, reported at most every 20 ms (progress_ticker.hpp).
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -49,8 +50,14 @@ struct NestedDissectionOptions {
   bool metis_edge_weights = true;
   // Nodes of at least this many vertices contract their own graph; smaller
   // ones cut their contraction out of their parent's (restrict_contraction:
-  // a pass over the small graph instead of the node's, -0.1 s at 416k).
-  int32_t exact_min_vertices = 50000;
+  // a pass over the small graph instead of the node's). Default: only the
+  // root contracts (with 5 coarse levels contracting the large nodes again
+  // gains no fill and costs 10% of the ordering at 416k, docs/ordering.md).
+  int32_t exact_min_vertices = std::numeric_limits<int32_t>::max();
+  // METIS' effort on a contraction: 3 refinement passes per level, one
+  // multilevel run. The FM passes on the node's own graph follow, so METIS'
+  // full effort bought no fill (docs/ordering.md).
+  MetisSeparatorOptions coarse_metis{.niter = 3, .single_run = true};
   SeparatorRefinementOptions refinement;
 };
 

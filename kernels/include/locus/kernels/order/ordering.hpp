@@ -54,13 +54,13 @@ struct OrderingOptions {
   // NestedDissection with METIS separators: the graph is coarsened once by
   // coarse_levels rounds of heavy-edge matching (graph_coarsening.hpp); a
   // node of at least coarse_min_vertices takes METIS' separator of its
-  // contraction (~6.5x smaller at 3 levels), refined on its own vertices by
-  // FM passes. ~0.55x the ordering's CPU at 416k for 1.007x the fill of
-  // METIS on every node (docs/ordering.md); coarse_levels = 0 calls METIS
-  // on every node's full graph. 256: every node above the default leaf
-  // size (METIS on the small nodes' own graphs was a quarter of the
-  // ordering's CPU, for no less fill).
-  int coarse_levels = 3;
+  // contraction (~26x smaller at 5 levels), refined on its own vertices by
+  // FM passes. 5 levels: 0.7x the ordering's CPU of 3 at 416k for the same
+  // fill within 1% (docs/ordering.md); coarse_levels = 0 calls METIS on
+  // every node's full graph. 256: every node above the default leaf size
+  // (METIS on the small nodes' own graphs was a quarter of the ordering's
+  // CPU, for no less fill).
+  int coarse_levels = 5;
   int32_t coarse_min_vertices = 256;
   int32_t leaf_size = 256;  // NestedDissection: leaves of at most this many vertices by (C)AMD
   bool halo = true;         // NestedDissection: leaves ordered with their separator halo (CAMD)
