@@ -24,7 +24,7 @@
 
 // kernels/src/order/metis_trap.c: METIS_ComputeVertexSeparator inside GKlib's error trap.
 extern "C" int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* adjwgt,
-                                            idx_t* options, int single_run, idx_t* sepsize, idx_t* part);
+                                            idx_t* options, idx_t* sepsize, idx_t* part);
 
 namespace locus {
 
@@ -76,14 +76,12 @@ void node_nd(const AdjacencyGraph& g, int seed, int32_t* perm, ProgressTicker* t
 }  // namespace
 
 void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t>& part, ProgressTicker* ticker,
-                            std::span<const int32_t> vwgt, std::span<const int32_t> adjwgt,
-                            const MetisSeparatorOptions& effort) {
+                            std::span<const int32_t> vwgt, std::span<const int32_t> adjwgt) {
   idx_t nv = g.n();
   part.assign(nv, 0);
   if (nv < 2 || g.adj.empty()) return;  // nothing to separate (METIS rejects edgeless graphs)
   idx_t options[METIS_NOPTIONS];
   set_options(options, seed);
-  options[METIS_OPTION_NITER] = effort.niter;
   HostVector<idx_t> where(static_cast<size_t>(nv));
   idx_t sepsize = 0;
   {
@@ -91,8 +89,7 @@ void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t
     MetisCallScope call(ticker);
     idx_t* w = vwgt.empty() ? nullptr : const_cast<idx_t*>(vwgt.data());
     idx_t* ew = adjwgt.empty() ? nullptr : const_cast<idx_t*>(adjwgt.data());
-    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), w, ew, options,
-                                              effort.single_run ? 1 : 0, &sepsize, where.data()),
+    check_status(locus_metis_vertex_separator(&nv, mut(g.xadj), mut(g.adj), w, ew, options, &sepsize, where.data()),
                  g.n(), "METIS_ComputeVertexSeparator", call);
   }
   for (idx_t v = 0; v < nv; ++v) part[v] = static_cast<int8_t>(where[v]);

@@ -10,21 +10,16 @@
 /* METIS_ComputeVertexSeparator's work with edge weights as well: its public
  * entry point takes vertex weights only, so a contracted graph's edges would
  * all weigh 1 and METIS' heavy-edge matching would lose which coarse vertices
- * are joined by many fine edges. Same steps, through METIS' own functions.
- * single_run: one multilevel bisection (MlevelNodeBisectionL1) where METIS
- * keeps the best of five on graphs above 5000 vertices. */
+ * are joined by many fine edges. Same steps, through METIS' own functions. */
 static int vertex_separator_weighted(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* adjwgt,
-                                     idx_t* options, int single_run, idx_t* sepsize, idx_t* part) {
+                                     idx_t* options, idx_t* sepsize, idx_t* part) {
   ctrl_t* ctrl = SetupCtrl(METIS_OP_OMETIS, options, 1, 3, NULL, NULL);
   if (ctrl == NULL) return METIS_ERROR_INPUT;
   InitRandom(ctrl->seed);
   graph_t* graph = SetupGraph(ctrl, *nvtxs, 1, xadj, adjncy, vwgt, NULL, adjwgt);
   AllocateWorkSpace(ctrl, graph);
   ctrl->CoarsenTo = 100;
-  if (single_run)
-    MlevelNodeBisectionL1(ctrl, graph, LARGENIPARTS);
-  else
-    MlevelNodeBisectionMultiple(ctrl, graph);
+  MlevelNodeBisectionMultiple(ctrl, graph);
   *sepsize = graph->pwgts[2];
   icopy(*nvtxs, graph->where, part);
   FreeGraph(&graph);
@@ -33,14 +28,13 @@ static int vertex_separator_weighted(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, i
 }
 
 int locus_metis_vertex_separator(idx_t* nvtxs, idx_t* xadj, idx_t* adjncy, idx_t* vwgt, idx_t* adjwgt,
-                                 idx_t* options, int single_run, idx_t* sepsize, idx_t* part) {
+                                 idx_t* options, idx_t* sepsize, idx_t* part) {
   int sigrval = 0;
   volatile int rc = METIS_OK;
   if (!gk_malloc_init()) return METIS_ERROR_MEMORY;
   gk_sigtrap();
   if ((sigrval = gk_sigcatch()) != 0) goto SIGTHROW;
-  rc = adjwgt || single_run
-           ? vertex_separator_weighted(nvtxs, xadj, adjncy, vwgt, adjwgt, options, single_run, sepsize, part)
+  rc = adjwgt ? vertex_separator_weighted(nvtxs, xadj, adjncy, vwgt, adjwgt, options, sepsize, part)
               : METIS_ComputeVertexSeparator(nvtxs, xadj, adjncy, vwgt, options, sepsize, part);
 SIGTHROW:
   gk_siguntrap();

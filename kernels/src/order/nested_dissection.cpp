@@ -143,8 +143,7 @@ class Dissector {
       poll();
       HostVector<int8_t> coarse_part;
       metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
-                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>(),
-                             opt_.coarse_metis);
+                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
       part.resize(static_cast<size_t>(m));
       for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
       poll();

@@ -16,16 +16,6 @@
 
 namespace locus {
 
-// METIS' effort per separator: niter refinement passes per level (METIS'
-// default 10), and single_run: one multilevel run instead of METIS' best of
-// five on graphs above 5000 vertices. The nested dissection's separators of
-// contractions take less (nested_dissection.hpp): its FM passes on the
-// node's own graph follow anyway.
-struct MetisSeparatorOptions {
-  int niter = 10;
-  bool single_run = false;
-};
-
 // part[v] = 0 or 1 (sides) or 2 (separator), by METIS_ComputeVertexSeparator
 // (vertex weights vwgt when given, one per vertex: balance by weight; edge
 // weights adjwgt when given, one per entry of g.adj, symmetric: they guide
@@ -34,7 +24,7 @@ struct MetisSeparatorOptions {
 // (Error(Cancelled); metis_call.hpp).
 void metis_vertex_separator(const AdjacencyGraph& g, int seed, HostVector<int8_t>& part,
                             ProgressTicker* ticker = nullptr, std::span<const int32_t> vwgt = {},
-                            std::span<const int32_t> adjwgt = {}, const MetisSeparatorOptions& effort = {});
+                            std::span<const int32_t> adjwgt = {});
 
 // METIS_NodeND; graphs of 4000 vertices or more split once by a METIS
 // separator, the two halves ordered at once on two oneTBB threads of the

@@ -54,10 +54,6 @@ struct NestedDissectionOptions {
   // root contracts (with 5 coarse levels contracting the large nodes again
   // gains no fill and costs 10% of the ordering at 416k, docs/ordering.md).
   int32_t exact_min_vertices = std::numeric_limits<int32_t>::max();
-  // METIS' effort on a contraction: 3 refinement passes per level, one
-  // multilevel run. The FM passes on the node's own graph follow, so METIS'
-  // full effort bought no fill (docs/ordering.md).
-  MetisSeparatorOptions coarse_metis{.niter = 3, .single_run = true};
   SeparatorRefinementOptions refinement;
 };
 
