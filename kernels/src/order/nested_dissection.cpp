@@ -16,6 +16,7 @@
 
 #include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/graph_coarsening.hpp"
+#include "locus/kernels/order/level_separator.hpp"
 #include "locus/kernels/order/metis_ordering.hpp"
 #include "locus/kernels/order/minimum_degree.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
@@ -142,8 +143,9 @@ class Dissector {
       }
       poll();
       HostVector<int8_t> coarse_part;
-      metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
-                             opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
+      if (node.cg.n() >= opt_.level_separator_below || !level_separator(node.cg, vwgt, coarse_part))
+        metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
+                               opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
       part.resize(static_cast<size_t>(m));
       for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
       poll();
