@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <tuple>
+#include <utility>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -14,53 +17,163 @@ namespace locus {
 
 namespace {
 
-// A weighted CSR graph: one round of matching needs the edge multiplicities.
+// A CSR graph with edge multiplicities; wgt empty: every edge counts 1 (the
+// input graph, matched without copying it).
 struct Weighted {
   HostVector<int32_t> xadj, adj, wgt;
+};
+struct GraphView {
+  std::span<const int32_t> xadj, adj, wgt;
   int32_t n() const { return static_cast<int32_t>(xadj.size()) - 1; }
+  int32_t weight(int32_t p) const { return wgt.empty() ? 1 : wgt[p]; }
 };
 
-// A fixed, scattered visiting order: k -> (k * stride + offset) mod n with
-// stride coprime to n (a full cycle), stride near n / golden ratio so that
-// consecutive visits land far apart. No sort, no library shuffle.
-HostVector<int32_t> visit_order(int32_t n, uint64_t seed) {
-  HostVector<int32_t> order(static_cast<size_t>(n));
-  if (n == 0) return order;
-  uint64_t stride = static_cast<uint64_t>(0.6180339887 * n) | 1;
-  while (std::gcd(stride, static_cast<uint64_t>(n)) != 1) stride += 2;
-  uint64_t v = seed % static_cast<uint64_t>(n);
-  for (int32_t k = 0; k < n; ++k) {
-    order[k] = static_cast<int32_t>(v);
-    v += stride;
-    if (v >= static_cast<uint64_t>(n)) v -= static_cast<uint64_t>(n);
-  }
-  return order;
+// The last tie-break of an edge {a, b}: a mix of the pair (symmetric: of
+// a + b and a ^ b) and the round's seed, so that a vertex's preference among
+// equal neighbors is pseudo-random, not by index. 32 bits: two edges of one
+// vertex tie ~1 in 4 billion times (see handshake_matching).
+uint32_t edge_hash(int32_t a, int32_t b, uint64_t seed) {
+  const uint64_t sum = static_cast<uint32_t>(a + b), diff = static_cast<uint32_t>(a ^ b);
+  const uint64_t x = (((sum << 32) | diff) ^ seed) * 0x9e3779b97f4a7c15ULL;
+  return static_cast<uint32_t>(x >> 32);
 }
 
-// One round of heavy-edge matching: map[v] in [0, returned count).
-int32_t match(const Weighted& g, uint64_t seed, HostVector<int32_t>& map) {
-  const int32_t n = g.n();
-  HostVector<int32_t> mate(static_cast<size_t>(n), -1);
-  for (const int32_t v : visit_order(n, seed)) {
-    if (mate[v] >= 0) continue;
-    int32_t best = v, best_w = 0, best_d = 0;
-    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
-      const int32_t w = g.adj[p];
-      if (mate[w] >= 0 || w == v) continue;
-      const int32_t dw = g.xadj[w + 1] - g.xadj[w];
-      if (best == v || g.wgt[p] > best_w || (g.wgt[p] == best_w && (dw < best_d || (dw == best_d && w < best)))) {
-        best = w;
-        best_w = g.wgt[p];
-        best_d = dw;
-      }
-    }
-    mate[v] = best;
-    mate[best] = v;
+// The rank of edge {v, w} from v's side: a heavier edge first, then a
+// neighbor with fewer neighbors, then a higher edge_hash. v's own degree
+// being fixed, that is the order of the symmetric key (weight, -(deg v +
+// deg w), hash): the same order from both ends. One integer (weights and
+// degrees above 65535 count as 65535), so that picking the best takes no
+// unpredictable branch: the branches on the ranks, not the random reads,
+// were the matching's cost.
+uint64_t rank_of(int32_t weight, int32_t degree, uint32_t hash) {
+  const uint64_t w = static_cast<uint64_t>(std::min(weight, 0xffff));
+  const uint64_t d = static_cast<uint64_t>(0xffff - std::min(degree, 0xffff));
+  return (w << 48) | (d << 32) | hash;
+}
+
+// v's two favourite unmatched neighbors (-1: none). free_deg[w] = degree of
+// w while w is unmatched, -1 once matched.
+std::pair<int32_t, int32_t> favourites(const GraphView& g, int32_t v, const int32_t* free_deg, uint64_t seed) {
+  int32_t first = -1, second = -1;
+  uint64_t r1 = 0, r2 = 0;  // 0: none (every edge ranks above: weight >= 1)
+  // Selections by masks: compilers turn conditional moves of this loop into
+  // branches, which the random ranks mispredict half of the time.
+  const auto pick = [](uint64_t mask, auto yes, auto no) {
+    using T = decltype(yes);
+    return static_cast<T>((static_cast<uint64_t>(yes) & mask) | (static_cast<uint64_t>(no) & ~mask));
+  };
+  for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+    const int32_t w = g.adj[p];
+    const int32_t dw = free_deg[w];
+    const uint64_t valid = 0 - static_cast<uint64_t>((dw >= 0) & (w != v));
+    const uint64_t r = rank_of(g.weight(p), dw, edge_hash(v, w, seed)) & valid;
+    const uint64_t above1 = 0 - static_cast<uint64_t>(r > r1), above2 = 0 - static_cast<uint64_t>(r > r2);
+    r2 = pick(above1, r1, pick(above2, r, r2));
+    second = pick(above1, first, pick(above2, w, second));
+    r1 = pick(above1, r, r1);
+    first = pick(above1, w, first);
   }
-  map.assign(static_cast<size_t>(n), -1);
-  int32_t nc = 0;
-  for (int32_t v = 0; v < n; ++v)
-    if (map[v] < 0) { map[v] = nc; map[mate[v]] = nc; ++nc; }
+  return {first, second};
+}
+
+// Heavy-edge matching by handshakes: every unmatched vertex points at its
+// favourite unmatched neighbor, mutual pointers match, repeat. The edge with
+// the largest key among the unmatched is always mutual, so every round
+// matches some (at 416k, 7 rounds match all but a few dozen vertices), and
+// the result is the greedy matching in decreasing key order whatever the
+// thread count: rounds are synchronous (a round reads only the previous
+// rounds' matches). Leaves ms.mate[v] (v itself: left single).
+// The matching's arrays, kept from one level to the next (see ContractSpace).
+struct MatchSpace {
+  HostVector<int32_t> mate, free_deg, fav, next, active;
+};
+
+void handshake_matching(const GraphView& g, uint64_t seed, MatchSpace& ms) {
+  const int32_t n = g.n();
+  for (HostVector<int32_t>* a : {&ms.mate, &ms.free_deg, &ms.fav, &ms.next, &ms.active})
+    a->resize(static_cast<size_t>(n));
+  HostVector<int32_t>& mate = ms.mate;
+  HostVector<int32_t>& free_deg = ms.free_deg;
+  HostVector<int32_t>& fav = ms.fav;
+  HostVector<int32_t>& next = ms.next;
+  HostVector<int32_t>& active = ms.active;
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 4096), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t v = r.begin(); v < r.end(); ++v) {
+      mate[v] = v;
+      free_deg[v] = g.xadj[v + 1] - g.xadj[v];
+      active[v] = v;
+    }
+  });
+  constexpr int kMaxRounds = 32;  // then the few left are matched in index order
+  for (int round = 0; round < kMaxRounds && !active.empty(); ++round) {
+    const auto each = [&](auto&& f) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i) f(active[i]);
+      });
+    };
+    // A favourite changes only when it is matched (the unmatched only shrink);
+    // then the runner-up of the last scan, if still unmatched, is the new
+    // favourite (next[v] == -2: unknown, scan again).
+    each([&](int32_t v) {
+      if (round > 0 && free_deg[fav[v]] >= 0) return;
+      if (round > 0 && next[v] != -2 && (next[v] < 0 || free_deg[next[v]] >= 0)) {
+        fav[v] = next[v];
+        next[v] = -2;
+      } else {
+        std::tie(fav[v], next[v]) = favourites(g, v, free_deg.data(), seed);
+      }
+    });
+    each([&](int32_t v) {
+      if (fav[v] >= 0 && fav[fav[v]] == v) {
+        mate[v] = fav[v];
+        free_deg[v] = -1;
+      }
+    });
+    size_t kept = 0;
+    for (const int32_t v : active)
+      if (free_deg[v] >= 0 && fav[v] >= 0) active[kept++] = v;
+    active.resize(kept);
+  }
+  for (const int32_t v : active)
+    if (free_deg[v] >= 0)
+      if (const int32_t w = favourites(g, v, free_deg.data(), seed).first; w >= 0) {
+        mate[v] = w;
+        mate[w] = v;
+        free_deg[v] = free_deg[w] = -1;
+      }
+}
+
+// Vertices per block of the numbering below (fixed: the same numbers for
+// any thread count).
+constexpr int32_t kNumberBlock = 16384;
+
+// Coarse numbers of a matching: pairs and singles numbered in ascending order
+// of their lower vertex (lead[c]); map[v] in [0, returned count).
+int32_t number_pairs(const HostVector<int32_t>& mate, HostVector<int32_t>& map, HostVector<int32_t>& lead) {
+  const int32_t n = static_cast<int32_t>(mate.size());
+  const int32_t nb = (n + kNumberBlock - 1) / kNumberBlock;
+  HostVector<int32_t> first(static_cast<size_t>(nb) + 1, 0);
+  tbb::parallel_for(0, nb, [&](int32_t b) {
+    int32_t k = 0;
+    for (int32_t v = b * kNumberBlock; v < std::min(n, (b + 1) * kNumberBlock); ++v) k += mate[v] >= v;
+    first[b + 1] = k;
+  });
+  for (int32_t b = 0; b < nb; ++b) first[b + 1] += first[b];
+  const int32_t nc = first[nb];
+  map.resize(static_cast<size_t>(n));
+  lead.resize(static_cast<size_t>(nc));
+  tbb::parallel_for(0, nb, [&](int32_t b) {
+    int32_t c = first[b];
+    for (int32_t v = b * kNumberBlock; v < std::min(n, (b + 1) * kNumberBlock); ++v)
+      if (mate[v] >= v) {
+        map[v] = c;
+        lead[c++] = v;
+      }
+  });
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 4096), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t v = r.begin(); v < r.end(); ++v)
+      if (mate[v] < v) map[v] = map[mate[v]];
+  });
   return nc;
 }
 
@@ -69,86 +182,110 @@ int32_t match(const Weighted& g, uint64_t seed, HostVector<int32_t>& map) {
 // the same for any thread count (and equal to one sequential pass).
 constexpr int32_t kContractBlock = 4096;
 
+// Buffers of a contraction, kept from one level to the next: fresh memory
+// costs a page fault per 4 KiB on first touch, ~1.6 ms per 16 MB here, as
+// much as the contraction's own work at 416k.
+struct ContractSpace {
+  HostVector<int32_t> adj, wgt;  // the blocks' rows, each block at base[b]
+  HostVector<size_t> base, used;
+  tbb::enumerable_thread_specific<HostVector<int32_t>> row, slot;  // see build below
+};
+
 // The rows of (xadj, adj) contracted along map[v] in [0, nc): coarse
 // neighbors in order of first appearance (members ascending, each one's
 // list in order), self loops dropped; with wgt, (*wgt)[q] = the sum of
 // weight(p) over the fine edges p behind coarse edge q.
-template <class Weight>
+// members(c, f) calls f(v) for the vertices v of c, ascending.
+template <class Members, class Weight>
 void contract_rows(std::span<const int32_t> xadj, std::span<const int32_t> adj, std::span<const int32_t> map,
-                   int32_t nc, Weight weight, HostVector<int32_t>& hx, HostVector<int32_t>& hadj,
-                   HostVector<int32_t>* wgt) {
-  const int32_t n = static_cast<int32_t>(xadj.size()) - 1;
-  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
-  for (int32_t v = 0; v < n; ++v) ++start[map[v] + 1];
-  for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
-  {
-    HostVector<int32_t> pos(start.begin(), start.end() - 1);
-    for (int32_t v = 0; v < n; ++v) members[pos[map[v]]++] = v;
-  }
-  struct Block {
-    HostVector<int32_t> adj, wgt;
-  };
-  struct Scratch {
-    HostVector<int32_t> row, slot;  // row[d] == c: d is in row c already, at slot[d]
-  };
+                   int32_t nc, Members members, Weight weight, HostVector<int32_t>& hx, HostVector<int32_t>& hadj,
+                   HostVector<int32_t>* wgt, ContractSpace& ws) {
   const int32_t nb = (nc + kContractBlock - 1) / kContractBlock;
-  std::vector<Block> blocks(static_cast<size_t>(nb));
+  const auto for_blocks = [nb](auto&& f) {
+    if (nb == 1) f(0);
+    else if (nb > 1) tbb::parallel_for(0, nb, f);
+  };
+  // Room for each block: its members' degrees, and a spare entry per row.
+  ws.base.assign(static_cast<size_t>(nb) + 1, 0);
+  ws.used.resize(static_cast<size_t>(nb));
+  for_blocks([&](int32_t b) {
+    size_t room = 0;
+    for (int32_t c = b * kContractBlock; c < std::min(nc, (b + 1) * kContractBlock); ++c)
+      members(c, [&](int32_t v) { room += static_cast<size_t>(xadj[v + 1] - xadj[v]) + 1; });
+    ws.base[b + 1] = room;
+  });
+  for (int32_t b = 0; b < nb; ++b) ws.base[b + 1] += ws.base[b];
+  if (ws.adj.size() < ws.base[nb]) ws.adj.resize(ws.base[nb]);
+  if (wgt && ws.wgt.size() < ws.base[nb]) ws.wgt.resize(ws.base[nb]);
   hx.assign(static_cast<size_t>(nc) + 1, 0);
-  tbb::enumerable_thread_specific<Scratch> scratch;
+  // row[d] == c: d is in row c already, at slot[d]. A row is built without
+  // a branch on that test (a random one, mispredicted in a third of the
+  // edges): a repeated neighbor is written again over itself, a self loop
+  // into the row's spare entry past its end.
   const auto build = [&](int32_t b) {
-    Scratch& s = scratch.local();
-    if (s.row.empty()) {
-      s.row.assign(static_cast<size_t>(nc), -1);
-      s.slot.resize(static_cast<size_t>(nc));
+    HostVector<int32_t>& row_v = ws.row.local();
+    HostVector<int32_t>& slot_v = ws.slot.local();
+    if (row_v.size() < static_cast<size_t>(nc)) {
+      row_v.assign(static_cast<size_t>(nc), -1);
+      slot_v.assign(static_cast<size_t>(nc), 0);
     }
-    Block& out = blocks[b];
-    const int32_t c_end = std::min(nc, (b + 1) * kContractBlock);
-    for (int32_t c = b * kContractBlock; c < c_end; ++c) {
-      const size_t row_start = out.adj.size();
-      for (int32_t q = start[c]; q < start[c + 1]; ++q) {
-        const int32_t v = members[q];
+    int32_t* const row = row_v.data();
+    int32_t* const slot = slot_v.data();
+    int32_t* const a = ws.adj.data();
+    int32_t* const wt = wgt ? ws.wgt.data() : nullptr;
+    size_t len = ws.base[b];
+    for (int32_t c = b * kContractBlock; c < std::min(nc, (b + 1) * kContractBlock); ++c) {
+      const size_t row_start = len;
+      size_t spare = row_start;
+      members(c, [&](int32_t v) { spare += static_cast<size_t>(xadj[v + 1] - xadj[v]); });
+      row[c] = c;
+      slot[c] = static_cast<int32_t>(spare - ws.base[b]);
+      members(c, [&](int32_t v) {
         for (int32_t p = xadj[v]; p < xadj[v + 1]; ++p) {
           const int32_t d = map[adj[p]];
-          if (d == c) continue;
-          if (s.row[d] != c) {
-            s.row[d] = c;
-            s.slot[d] = static_cast<int32_t>(out.adj.size());
-            out.adj.push_back(d);
-            if (wgt) out.wgt.push_back(weight(p));
-          } else if (wgt) {
-            out.wgt[s.slot[d]] += weight(p);
+          const bool seen = row[d] == c;
+          const size_t mask = 0 - static_cast<size_t>(seen);
+          const size_t at = ((ws.base[b] + static_cast<size_t>(slot[d])) & mask) | (len & ~mask);
+          a[at] = d;
+          if (wt) {
+            wt[len] = 0;
+            wt[at] += weight(p);
           }
+          row[d] = c;
+          slot[d] = static_cast<int32_t>(at - ws.base[b]);
+          len += !seen;
         }
-      }
-      hx[c + 1] = static_cast<int32_t>(out.adj.size() - row_start);
+      });
+      hx[c + 1] = static_cast<int32_t>(len - row_start);
     }
+    ws.used[b] = len - ws.base[b];
   };
-  if (nb <= 1) {
-    if (nb == 1) build(0);
-  } else {
-    tbb::parallel_for(0, nb, build);
-  }
+  for_blocks(build);
+  // Stale marks of an earlier call (another graph) must not match: row
+  // holds coarse numbers of this call only after a reset.
+  for (auto& r : ws.row) std::fill(r.begin(), r.end(), -1);
   for (int32_t c = 0; c < nc; ++c) hx[c + 1] += hx[c];
   hadj.resize(static_cast<size_t>(hx[nc]));
   if (wgt) wgt->resize(hadj.size());
-  const auto place = [&](int32_t b) {
-    const size_t at = static_cast<size_t>(hx[static_cast<size_t>(b) * kContractBlock]);
-    std::copy(blocks[b].adj.begin(), blocks[b].adj.end(), hadj.begin() + at);
-    if (wgt) std::copy(blocks[b].wgt.begin(), blocks[b].wgt.end(), wgt->begin() + at);
-    blocks[b] = Block{};
-  };
-  if (nb <= 1) {
-    if (nb == 1) place(0);
-  } else {
-    tbb::parallel_for(0, nb, place);
-  }
+  for_blocks([&](int32_t b) {
+    const auto from = static_cast<std::ptrdiff_t>(ws.base[b]), count = static_cast<std::ptrdiff_t>(ws.used[b]);
+    const auto at = static_cast<std::ptrdiff_t>(hx[static_cast<size_t>(b) * kContractBlock]);
+    std::copy(ws.adj.begin() + from, ws.adj.begin() + from + count, hadj.begin() + at);
+    if (wgt) std::copy(ws.wgt.begin() + from, ws.wgt.begin() + from + count, wgt->begin() + at);
+  });
 }
 
-// g contracted along map (nc coarse vertices), edge weights summed.
-Weighted contract(const Weighted& g, const HostVector<int32_t>& map, int32_t nc) {
-  Weighted h;
-  contract_rows(g.xadj, g.adj, map, nc, [&w = g.wgt](int32_t p) { return w[p]; }, h.xadj, h.adj, &h.wgt);
-  return h;
+// g contracted along a matching (number_pairs: lead, map; mate), edge
+// weights summed, into h: coarse vertex c is lead[c] and its mate.
+void contract_pairs(const GraphView& g, const HostVector<int32_t>& map, const HostVector<int32_t>& lead,
+                    const HostVector<int32_t>& mate, Weighted& h, ContractSpace& ws) {
+  const auto members = [&](int32_t c, auto&& f) {
+    const int32_t v = lead[c];
+    f(v);
+    if (mate[v] != v) f(mate[v]);
+  };
+  const int32_t nc = static_cast<int32_t>(lead.size());
+  contract_rows(g.xadj, g.adj, map, nc, members, [&g](int32_t p) { return g.weight(p); }, h.xadj, h.adj, &h.wgt, ws);
 }
 
 }  // namespace
@@ -162,22 +299,42 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
     ticker->context().check_cancel();
   };
   const int32_t n = g.n();
-  cmap.resize(static_cast<size_t>(n));
-  std::iota(cmap.begin(), cmap.end(), 0);
-  Weighted cur;
-  cur.xadj.assign(g.xadj.begin(), g.xadj.end());
-  cur.adj.assign(g.adj.begin(), g.adj.end());
-  cur.wgt.assign(g.adj.size(), 1);
+  Weighted levels_g[2];  // the graphs of the levels after the first, alternating
+  GraphView view{g.xadj, g.adj, {}};  // the current level's graph: g itself first
+  std::vector<HostVector<int32_t>> maps;  // maps[k][v]: v's vertex at level k + 1
+  MatchSpace ms;
+  ContractSpace cs;
   int32_t nc = n;
-  HostVector<int32_t> map;
+  HostVector<int32_t> lead;
   for (int level = 0; level < levels && nc > 1; ++level) {
     poll();
-    const int32_t next = match(cur, 0x5eed0000ULL + static_cast<uint64_t>(level), map);
+    handshake_matching(view, 0x5eed0000ULL + static_cast<uint64_t>(level), ms);
+    HostVector<int32_t> map;
+    const int32_t next = number_pairs(ms.mate, map, lead);
     if (next == nc) break;  // nothing matched (no edges)
-    for (int32_t& c : cmap) c = map[c];
     poll();
-    if (level + 1 < levels) cur = contract(cur, map, next);
+    if (level + 1 < levels) {
+      Weighted& h = levels_g[level % 2];
+      contract_pairs(view, map, lead, ms.mate, h, cs);
+      view = GraphView{h.xadj, h.adj, h.wgt};
+    }
+    maps.push_back(std::move(map));
     nc = next;
+  }
+  // Composed from the coarsest level down: each pass is over one level's
+  // vertices (n + n/2 + ... instead of levels x n random reads).
+  for (size_t k = maps.size(); k-- > 1;) {
+    HostVector<int32_t>& fine = maps[k - 1];
+    const HostVector<int32_t>& coarse = maps[k];
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, fine.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t v = r.begin(); v < r.end(); ++v) fine[v] = coarse[fine[v]];
+    });
+  }
+  if (maps.empty()) {
+    cmap.resize(static_cast<size_t>(n));
+    std::iota(cmap.begin(), cmap.end(), 0);
+  } else {
+    cmap = std::move(maps[0]);
   }
   return nc;
 }
@@ -186,8 +343,20 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
                               HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt) {
   vwgt.assign(static_cast<size_t>(nc), 0);
   for (const int32_t c : coarse) ++vwgt[c];
+  const int32_t n = g.n();
+  HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v) ++start[coarse[v] + 1];
+  for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
+  {
+    HostVector<int32_t> pos(start.begin(), start.end() - 1);
+    for (int32_t v = 0; v < n; ++v) members[pos[coarse[v]]++] = v;
+  }
+  const auto each = [&](int32_t c, auto&& f) {
+    for (int32_t q = start[c]; q < start[c + 1]; ++q) f(members[q]);
+  };
   AdjacencyGraph h;
-  contract_rows(g.xadj, g.adj, coarse, nc, [](int32_t) { return 1; }, h.xadj, h.adj, ewgt);
+  ContractSpace ws;
+  contract_rows(g.xadj, g.adj, coarse, nc, each, [](int32_t) { return 1; }, h.xadj, h.adj, ewgt, ws);
   return h;
 }
 
