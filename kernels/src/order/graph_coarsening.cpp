@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <numeric>
 #include <tuple>
 #include <utility>
@@ -11,20 +12,35 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "locus/core/default_init_allocator.hpp"
 #include "locus/core/host_allocator.hpp"
 
 namespace locus {
 
 namespace {
 
-// A CSR graph with edge multiplicities; wgt empty: every edge counts 1 (the
-// input graph, matched without copying it).
+// Scratch arrays are not zeroed on allocation: fresh memory costs a page
+// fault per 4 KiB on first touch (~6 ms per 16 MB here, a quarter of the
+// coarsening at 416k), and zeroing would take them all on one thread up
+// front. Each array's first writes are the parallel passes that fill it.
+template <class T>
+using Scratch = std::vector<T, DefaultInitAllocator<T>>;
+
+// A graph with edge multiplicities whose rows may have gaps between them:
+// row v is adj[beg[v]] .. adj[end[v] - 1] (a contraction writes each row
+// within room for its fine rows and leaves it there: no second copy).
 struct Weighted {
-  HostVector<int32_t> xadj, adj, wgt;
+  Scratch<int32_t> beg, end, adj, wgt;
 };
+// The graph one matching round works on; wgt empty: every edge counts 1
+// (the input graph, with end = xadj + 1, matched without copying it).
 struct GraphView {
-  std::span<const int32_t> xadj, adj, wgt;
-  int32_t n() const { return static_cast<int32_t>(xadj.size()) - 1; }
+  const int32_t* beg;
+  const int32_t* end;
+  int32_t nv;
+  std::span<const int32_t> adj, wgt;
+  int32_t n() const { return nv; }
+  int32_t degree(int32_t v) const { return end[v] - beg[v]; }
   int32_t weight(int32_t p) const { return wgt.empty() ? 1 : wgt[p]; }
 };
 
@@ -62,7 +78,7 @@ std::pair<int32_t, int32_t> favourites(const GraphView& g, int32_t v, const int3
     using T = decltype(yes);
     return static_cast<T>((static_cast<uint64_t>(yes) & mask) | (static_cast<uint64_t>(no) & ~mask));
   };
-  for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+  for (int32_t p = g.beg[v]; p < g.end[v]; ++p) {
     const int32_t w = g.adj[p];
     const int32_t dw = free_deg[w];
     const uint64_t valid = 0 - static_cast<uint64_t>((dw >= 0) & (w != v));
@@ -85,22 +101,22 @@ std::pair<int32_t, int32_t> favourites(const GraphView& g, int32_t v, const int3
 // rounds' matches). Leaves ms.mate[v] (v itself: left single).
 // The matching's arrays, kept from one level to the next (see ContractSpace).
 struct MatchSpace {
-  HostVector<int32_t> mate, free_deg, fav, next, active;
+  Scratch<int32_t> mate, free_deg, fav, next, active;
 };
 
 void handshake_matching(const GraphView& g, uint64_t seed, MatchSpace& ms) {
   const int32_t n = g.n();
-  for (HostVector<int32_t>* a : {&ms.mate, &ms.free_deg, &ms.fav, &ms.next, &ms.active})
+  for (Scratch<int32_t>* a : {&ms.mate, &ms.free_deg, &ms.fav, &ms.next, &ms.active})
     a->resize(static_cast<size_t>(n));
-  HostVector<int32_t>& mate = ms.mate;
-  HostVector<int32_t>& free_deg = ms.free_deg;
-  HostVector<int32_t>& fav = ms.fav;
-  HostVector<int32_t>& next = ms.next;
-  HostVector<int32_t>& active = ms.active;
+  Scratch<int32_t>& mate = ms.mate;
+  Scratch<int32_t>& free_deg = ms.free_deg;
+  Scratch<int32_t>& fav = ms.fav;
+  Scratch<int32_t>& next = ms.next;
+  Scratch<int32_t>& active = ms.active;
   tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 4096), [&](const tbb::blocked_range<int32_t>& r) {
     for (int32_t v = r.begin(); v < r.end(); ++v) {
       mate[v] = v;
-      free_deg[v] = g.xadj[v + 1] - g.xadj[v];
+      free_deg[v] = g.degree(v);
       active[v] = v;
     }
   });
@@ -149,10 +165,10 @@ constexpr int32_t kNumberBlock = 16384;
 
 // Coarse numbers of a matching: pairs and singles numbered in ascending order
 // of their lower vertex (lead[c]); map[v] in [0, returned count).
-int32_t number_pairs(const HostVector<int32_t>& mate, HostVector<int32_t>& map, HostVector<int32_t>& lead) {
+int32_t number_pairs(const Scratch<int32_t>& mate, Scratch<int32_t>& map, Scratch<int32_t>& lead) {
   const int32_t n = static_cast<int32_t>(mate.size());
   const int32_t nb = (n + kNumberBlock - 1) / kNumberBlock;
-  HostVector<int32_t> first(static_cast<size_t>(nb) + 1, 0);
+  Scratch<int32_t> first(static_cast<size_t>(nb) + 1, 0);
   tbb::parallel_for(0, nb, [&](int32_t b) {
     int32_t k = 0;
     for (int32_t v = b * kNumberBlock; v < std::min(n, (b + 1) * kNumberBlock); ++v) k += mate[v] >= v;
@@ -182,24 +198,26 @@ int32_t number_pairs(const HostVector<int32_t>& mate, HostVector<int32_t>& map, 
 // the same for any thread count (and equal to one sequential pass).
 constexpr int32_t kContractBlock = 4096;
 
-// Buffers of a contraction, kept from one level to the next: fresh memory
-// costs a page fault per 4 KiB on first touch, ~1.6 ms per 16 MB here, as
-// much as the contraction's own work at 416k.
+// Scratch of the contraction, kept from one level to the next: fresh memory
+// costs a page fault per 4 KiB on first touch, ~6 ms per 16 MB here, as much
+// as the contraction's own work at 416k.
 struct ContractSpace {
-  HostVector<int32_t> adj, wgt;  // the blocks' rows, each block at base[b]
-  HostVector<size_t> base, used;
-  tbb::enumerable_thread_specific<HostVector<int32_t>> row, slot;  // see build below
+  HostVector<size_t> base;
+  tbb::enumerable_thread_specific<Scratch<int32_t>> row, slot;  // see contract_rows
 };
 
-// The rows of (xadj, adj) contracted along map[v] in [0, nc): coarse
-// neighbors in order of first appearance (members ascending, each one's
-// list in order), self loops dropped; with wgt, (*wgt)[q] = the sum of
-// weight(p) over the fine edges p behind coarse edge q.
-// members(c, f) calls f(v) for the vertices v of c, ascending.
-template <class Members, class Weight>
-void contract_rows(std::span<const int32_t> xadj, std::span<const int32_t> adj, std::span<const int32_t> map,
-                   int32_t nc, Members members, Weight weight, HostVector<int32_t>& hx, HostVector<int32_t>& hadj,
-                   HostVector<int32_t>* wgt, ContractSpace& ws) {
+// The rows of g contracted along map[v] in [0, nc), written into (adj, wgt)
+// with gaps: row c is adj[beg[c]] .. adj[end[c] - 1], coarse neighbors in
+// order of first appearance (members ascending, each one's list in order),
+// self loops dropped; with wgt, wgt[q] = the sum of g.weight(p) over the
+// fine edges p behind coarse edge q. members(c, f) calls f(v) for the
+// vertices v of c, ascending. Coarse rows in fixed blocks, in parallel
+// (the caller's arena): the same rows for any thread count.
+template <class Members>
+void contract_rows(const GraphView& g, std::span<const int32_t> map, int32_t nc, Members members,
+                   Scratch<int32_t>& beg, Scratch<int32_t>& end, Scratch<int32_t>& adj, Scratch<int32_t>* wgt,
+                   ContractSpace& ws) {
+  constexpr int32_t kShortRow = 48;  // fine entries of a row deduplicated locally
   const int32_t nb = (nc + kContractBlock - 1) / kContractBlock;
   const auto for_blocks = [nb](auto&& f) {
     if (nb == 1) f(0);
@@ -207,85 +225,101 @@ void contract_rows(std::span<const int32_t> xadj, std::span<const int32_t> adj, 
   };
   // Room for each block: its members' degrees, and a spare entry per row.
   ws.base.assign(static_cast<size_t>(nb) + 1, 0);
-  ws.used.resize(static_cast<size_t>(nb));
   for_blocks([&](int32_t b) {
     size_t room = 0;
-    for (int32_t c = b * kContractBlock; c < std::min(nc, (b + 1) * kContractBlock); ++c)
-      members(c, [&](int32_t v) { room += static_cast<size_t>(xadj[v + 1] - xadj[v]) + 1; });
+    for (int32_t c = b * kContractBlock; c < std::min(nc, (b + 1) * kContractBlock); ++c) {
+      room += 1;
+      members(c, [&](int32_t v) { room += static_cast<size_t>(g.degree(v)); });
+    }
     ws.base[b + 1] = room;
   });
   for (int32_t b = 0; b < nb; ++b) ws.base[b + 1] += ws.base[b];
-  if (ws.adj.size() < ws.base[nb]) ws.adj.resize(ws.base[nb]);
-  if (wgt && ws.wgt.size() < ws.base[nb]) ws.wgt.resize(ws.base[nb]);
-  hx.assign(static_cast<size_t>(nc) + 1, 0);
+  if (ws.base[nb] > static_cast<size_t>(INT32_MAX))
+    throw std::length_error("graph coarsening: more than 2^31 entries");  // fewer than g's own
+  adj.resize(ws.base[nb]);
+  if (wgt) wgt->resize(ws.base[nb]);
+  beg.resize(static_cast<size_t>(nc));
+  end.resize(static_cast<size_t>(nc));
   // row[d] == c: d is in row c already, at slot[d]. A row is built without
   // a branch on that test (a random one, mispredicted in a third of the
   // edges): a repeated neighbor is written again over itself, a self loop
   // into the row's spare entry past its end.
-  const auto build = [&](int32_t b) {
-    HostVector<int32_t>& row_v = ws.row.local();
-    HostVector<int32_t>& slot_v = ws.slot.local();
+  for_blocks([&](int32_t b) {
+    Scratch<int32_t>& row_v = ws.row.local();
+    Scratch<int32_t>& slot_v = ws.slot.local();
     if (row_v.size() < static_cast<size_t>(nc)) {
       row_v.assign(static_cast<size_t>(nc), -1);
       slot_v.assign(static_cast<size_t>(nc), 0);
     }
     int32_t* const row = row_v.data();
     int32_t* const slot = slot_v.data();
-    int32_t* const a = ws.adj.data();
-    int32_t* const wt = wgt ? ws.wgt.data() : nullptr;
-    size_t len = ws.base[b];
+    int32_t* const a = adj.data();
+    int32_t* const wt = wgt ? wgt->data() : nullptr;
+    auto len = static_cast<int32_t>(ws.base[b]);
     for (int32_t c = b * kContractBlock; c < std::min(nc, (b + 1) * kContractBlock); ++c) {
-      const size_t row_start = len;
-      size_t spare = row_start;
-      members(c, [&](int32_t v) { spare += static_cast<size_t>(xadj[v + 1] - xadj[v]); });
+      beg[c] = len;
+      int32_t spare = len;
+      members(c, [&](int32_t v) { spare += g.degree(v); });
+      if (spare - len <= kShortRow) {
+        // Short row: the coarse neighbors gathered first (independent
+        // random reads that overlap), then deduplicated among themselves.
+        int32_t d[kShortRow], w[kShortRow];
+        int32_t k = 0;
+        members(c, [&](int32_t v) {
+          for (int32_t p = g.beg[v]; p < g.end[v]; ++p, ++k) {
+            d[k] = map[g.adj[p]];
+            w[k] = g.weight(p);
+          }
+        });
+        const int32_t start = len;
+        for (int32_t i = 0; i < k; ++i) {
+          if (d[i] == c) continue;
+          int32_t at = start;
+          while (at < len && a[at] != d[i]) ++at;
+          if (at == len) {
+            a[len++] = d[i];
+            if (wt) wt[at] = 0;
+          }
+          if (wt) wt[at] += w[i];
+        }
+        end[c] = len;
+        continue;
+      }
       row[c] = c;
-      slot[c] = static_cast<int32_t>(spare - ws.base[b]);
+      slot[c] = spare;
       members(c, [&](int32_t v) {
-        for (int32_t p = xadj[v]; p < xadj[v + 1]; ++p) {
-          const int32_t d = map[adj[p]];
+        for (int32_t p = g.beg[v]; p < g.end[v]; ++p) {
+          const int32_t d = map[g.adj[p]];
           const bool seen = row[d] == c;
-          const size_t mask = 0 - static_cast<size_t>(seen);
-          const size_t at = ((ws.base[b] + static_cast<size_t>(slot[d])) & mask) | (len & ~mask);
+          const int32_t mask = -static_cast<int32_t>(seen);
+          const int32_t at = (slot[d] & mask) | (len & ~mask);
           a[at] = d;
           if (wt) {
             wt[len] = 0;
-            wt[at] += weight(p);
+            wt[at] += g.weight(p);
           }
           row[d] = c;
-          slot[d] = static_cast<int32_t>(at - ws.base[b]);
+          slot[d] = at;
           len += !seen;
         }
       });
-      hx[c + 1] = static_cast<int32_t>(len - row_start);
+      end[c] = len;
     }
-    ws.used[b] = len - ws.base[b];
-  };
-  for_blocks(build);
-  // Stale marks of an earlier call (another graph) must not match: row
-  // holds coarse numbers of this call only after a reset.
-  for (auto& r : ws.row) std::fill(r.begin(), r.end(), -1);
-  for (int32_t c = 0; c < nc; ++c) hx[c + 1] += hx[c];
-  hadj.resize(static_cast<size_t>(hx[nc]));
-  if (wgt) wgt->resize(hadj.size());
-  for_blocks([&](int32_t b) {
-    const auto from = static_cast<std::ptrdiff_t>(ws.base[b]), count = static_cast<std::ptrdiff_t>(ws.used[b]);
-    const auto at = static_cast<std::ptrdiff_t>(hx[static_cast<size_t>(b) * kContractBlock]);
-    std::copy(ws.adj.begin() + from, ws.adj.begin() + from + count, hadj.begin() + at);
-    if (wgt) std::copy(ws.wgt.begin() + from, ws.wgt.begin() + from + count, wgt->begin() + at);
   });
+  // Marks of this call must not meet the next call's coarse numbers.
+  for (auto& r : ws.row) std::fill(r.begin(), r.end(), -1);
 }
 
 // g contracted along a matching (number_pairs: lead, map; mate), edge
 // weights summed, into h: coarse vertex c is lead[c] and its mate.
-void contract_pairs(const GraphView& g, const HostVector<int32_t>& map, const HostVector<int32_t>& lead,
-                    const HostVector<int32_t>& mate, Weighted& h, ContractSpace& ws) {
+void contract_pairs(const GraphView& g, const Scratch<int32_t>& map, const Scratch<int32_t>& lead,
+                    const Scratch<int32_t>& mate, Weighted& h, ContractSpace& ws) {
   const auto members = [&](int32_t c, auto&& f) {
     const int32_t v = lead[c];
     f(v);
     if (mate[v] != v) f(mate[v]);
   };
-  const int32_t nc = static_cast<int32_t>(lead.size());
-  contract_rows(g.xadj, g.adj, map, nc, members, [&g](int32_t p) { return g.weight(p); }, h.xadj, h.adj, &h.wgt, ws);
+  contract_rows(g, map, static_cast<int32_t>(lead.size()), members, h.beg, h.end, h.adj, &h.wgt, ws);
 }
 
 }  // namespace
@@ -300,23 +334,23 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
   };
   const int32_t n = g.n();
   Weighted levels_g[2];  // the graphs of the levels after the first, alternating
-  GraphView view{g.xadj, g.adj, {}};  // the current level's graph: g itself first
-  std::vector<HostVector<int32_t>> maps;  // maps[k][v]: v's vertex at level k + 1
+  GraphView view{g.xadj.data(), g.xadj.data() + 1, n, g.adj, {}};  // the current level's graph: g itself first
+  std::vector<Scratch<int32_t>> maps;  // maps[k][v]: v's vertex at level k + 1
   MatchSpace ms;
   ContractSpace cs;
   int32_t nc = n;
-  HostVector<int32_t> lead;
+  Scratch<int32_t> lead;
   for (int level = 0; level < levels && nc > 1; ++level) {
     poll();
     handshake_matching(view, 0x5eed0000ULL + static_cast<uint64_t>(level), ms);
-    HostVector<int32_t> map;
+    Scratch<int32_t> map;
     const int32_t next = number_pairs(ms.mate, map, lead);
     if (next == nc) break;  // nothing matched (no edges)
     poll();
     if (level + 1 < levels) {
       Weighted& h = levels_g[level % 2];
       contract_pairs(view, map, lead, ms.mate, h, cs);
-      view = GraphView{h.xadj, h.adj, h.wgt};
+      view = GraphView{h.beg.data(), h.end.data(), next, h.adj, h.wgt};
     }
     maps.push_back(std::move(map));
     nc = next;
@@ -324,18 +358,16 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
   // Composed from the coarsest level down: each pass is over one level's
   // vertices (n + n/2 + ... instead of levels x n random reads).
   for (size_t k = maps.size(); k-- > 1;) {
-    HostVector<int32_t>& fine = maps[k - 1];
-    const HostVector<int32_t>& coarse = maps[k];
+    Scratch<int32_t>& fine = maps[k - 1];
+    const Scratch<int32_t>& coarse = maps[k];
     tbb::parallel_for(tbb::blocked_range<size_t>(0, fine.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t v = r.begin(); v < r.end(); ++v) fine[v] = coarse[fine[v]];
     });
   }
-  if (maps.empty()) {
-    cmap.resize(static_cast<size_t>(n));
-    std::iota(cmap.begin(), cmap.end(), 0);
-  } else {
-    cmap = std::move(maps[0]);
-  }
+  cmap.resize(static_cast<size_t>(n));
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 4096), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t v = r.begin(); v < r.end(); ++v) cmap[v] = maps.empty() ? v : maps[0][v];
+  });
   return nc;
 }
 
@@ -354,9 +386,22 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
   const auto each = [&](int32_t c, auto&& f) {
     for (int32_t q = start[c]; q < start[c + 1]; ++q) f(members[q]);
   };
-  AdjacencyGraph h;
   ContractSpace ws;
-  contract_rows(g.xadj, g.adj, coarse, nc, each, [](int32_t) { return 1; }, h.xadj, h.adj, ewgt, ws);
+  Weighted rows;
+  const GraphView view{g.xadj.data(), g.xadj.data() + 1, n, g.adj, {}};
+  contract_rows(view, coarse, nc, each, rows.beg, rows.end, rows.adj, ewgt ? &rows.wgt : nullptr, ws);
+  AdjacencyGraph h;
+  h.xadj.resize(static_cast<size_t>(nc) + 1);
+  h.xadj[0] = 0;
+  for (int32_t c = 0; c < nc; ++c) h.xadj[c + 1] = h.xadj[c] + rows.end[c] - rows.beg[c];
+  h.adj.resize(static_cast<size_t>(h.xadj[nc]));
+  if (ewgt) ewgt->resize(h.adj.size());
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, nc, kContractBlock), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t c = r.begin(); c < r.end(); ++c) {
+      std::copy(rows.adj.begin() + rows.beg[c], rows.adj.begin() + rows.end[c], h.adj.begin() + h.xadj[c]);
+      if (ewgt) std::copy(rows.wgt.begin() + rows.beg[c], rows.wgt.begin() + rows.end[c], ewgt->begin() + h.xadj[c]);
+    }
+  });
   return h;
 }
 
