@@ -92,17 +92,20 @@ std::pair<int32_t, int32_t> favourites(const GraphView& g, int32_t v, const int3
   return {first, second};
 }
 
-// Heavy-edge matching by handshakes: every unmatched vertex points at its
-// favourite unmatched neighbor, mutual pointers match, repeat. The edge with
-// the largest key among the unmatched is always mutual, so every round
-// matches some (at 416k, 7 rounds match all but a few dozen vertices), and
-// the result is the greedy matching in decreasing key order whatever the
-// thread count: rounds are synchronous (a round reads only the previous
-// rounds' matches). Leaves ms.mate[v] (v itself: left single).
-// The matching's arrays, kept from one level to the next (see ContractSpace).
+// The matching's arrays, kept from one level to the next.
 struct MatchSpace {
   Scratch<int32_t> mate, free_deg, fav, next, active;
 };
+
+// Heavy-edge matching by handshakes: every unmatched vertex points at its
+// favourite unmatched neighbor, mutual pointers match, repeat. The edge of
+// the highest rank among the unmatched is mutual, so every round matches
+// some (at 416k, 7 rounds leave a few dozen vertices to check), and the
+// result is the greedy matching in decreasing rank order (up to the rare
+// equal ranks) whatever the thread count: rounds are synchronous, a round
+// reading only the previous rounds' matches. After kMaxRounds (never
+// reached on the meshes) the rest are matched in index order, one thread.
+// Leaves ms.mate[v] (v itself: left single).
 
 void handshake_matching(const GraphView& g, uint64_t seed, MatchSpace& ms) {
   const int32_t n = g.n();
@@ -120,7 +123,7 @@ void handshake_matching(const GraphView& g, uint64_t seed, MatchSpace& ms) {
       active[v] = v;
     }
   });
-  constexpr int kMaxRounds = 32;  // then the few left are matched in index order
+  constexpr int kMaxRounds = 32;
   for (int round = 0; round < kMaxRounds && !active.empty(); ++round) {
     const auto each = [&](auto&& f) {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
