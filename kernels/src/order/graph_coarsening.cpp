@@ -94,7 +94,7 @@ std::pair<int32_t, int32_t> favourites(const GraphView& g, int32_t v, const int3
 
 // The matching's arrays, kept from one level to the next.
 struct MatchSpace {
-  Scratch<int32_t> mate, free_deg, fav, next, active;
+  Scratch<int32_t> mate, free_deg, fav, next, active, spare;  // active, spare: lists
 };
 
 // Heavy-edge matching by handshakes: every unmatched vertex points at its
@@ -109,53 +109,76 @@ struct MatchSpace {
 
 void handshake_matching(const GraphView& g, uint64_t seed, MatchSpace& ms) {
   const int32_t n = g.n();
-  for (Scratch<int32_t>* a : {&ms.mate, &ms.free_deg, &ms.fav, &ms.next, &ms.active})
+  for (Scratch<int32_t>* a : {&ms.mate, &ms.free_deg, &ms.fav, &ms.next, &ms.active, &ms.spare})
     a->resize(static_cast<size_t>(n));
-  Scratch<int32_t>& mate = ms.mate;
-  Scratch<int32_t>& free_deg = ms.free_deg;
-  Scratch<int32_t>& fav = ms.fav;
-  Scratch<int32_t>& next = ms.next;
-  Scratch<int32_t>& active = ms.active;
+  int32_t* const mate = ms.mate.data();
+  int32_t* const free_deg = ms.free_deg.data();
+  int32_t* const fav = ms.fav.data();
+  int32_t* const next = ms.next.data();
   tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 4096), [&](const tbb::blocked_range<int32_t>& r) {
     for (int32_t v = r.begin(); v < r.end(); ++v) {
       mate[v] = v;
       free_deg[v] = g.degree(v);
-      active[v] = v;
+      ms.active[v] = v;
     }
   });
+  // A favourite changes only when it is matched (the unmatched only shrink);
+  // then the runner-up of the last scan, if still unmatched, is the new
+  // favourite (next[v] == -2: unknown, scan again).
+  const auto update = [&](int32_t v, bool first) {
+    if (!first && free_deg[fav[v]] >= 0) return;
+    if (!first && next[v] != -2 && (next[v] < 0 || free_deg[next[v]] >= 0)) {
+      fav[v] = next[v];
+      next[v] = -2;
+    } else {
+      std::tie(fav[v], next[v]) = favourites(g, v, free_deg, seed);
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, n, 2048), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t v = r.begin(); v < r.end(); ++v) update(v, true);
+  });
+  // Each round: the handshakes and the count of the still unmatched vertices
+  // with a favourite per fixed block of the list (one pass), then their
+  // list packed block by block with their favourites updated (another).
   constexpr int kMaxRounds = 32;
-  for (int round = 0; round < kMaxRounds && !active.empty(); ++round) {
-    const auto each = [&](auto&& f) {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) f(active[i]);
-      });
-    };
-    // A favourite changes only when it is matched (the unmatched only shrink);
-    // then the runner-up of the last scan, if still unmatched, is the new
-    // favourite (next[v] == -2: unknown, scan again).
-    each([&](int32_t v) {
-      if (round > 0 && free_deg[fav[v]] >= 0) return;
-      if (round > 0 && next[v] != -2 && (next[v] < 0 || free_deg[next[v]] >= 0)) {
-        fav[v] = next[v];
-        next[v] = -2;
-      } else {
-        std::tie(fav[v], next[v]) = favourites(g, v, free_deg.data(), seed);
+  constexpr size_t kBlock = 4096;
+  size_t count = static_cast<size_t>(n);
+  std::vector<size_t> first;
+  const auto keep = [&](int32_t v) { return free_deg[v] >= 0 && fav[v] >= 0; };
+  for (int round = 0; count > 0; ++round) {
+    const int32_t* const list = ms.active.data();
+    const size_t nb = (count + kBlock - 1) / kBlock;
+    first.assign(nb + 1, 0);
+    tbb::parallel_for(size_t{0}, nb, [&](size_t b) {
+      size_t k = 0;
+      for (size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i) {
+        const int32_t v = list[i];
+        if (fav[v] >= 0 && fav[fav[v]] == v) {
+          mate[v] = fav[v];
+          free_deg[v] = -1;
+        }
+        k += keep(v);
       }
+      first[b + 1] = k;
     });
-    each([&](int32_t v) {
-      if (fav[v] >= 0 && fav[fav[v]] == v) {
-        mate[v] = fav[v];
-        free_deg[v] = -1;
-      }
+    for (size_t b = 0; b < nb; ++b) first[b + 1] += first[b];
+    const bool last = round + 1 == kMaxRounds;
+    int32_t* const out = ms.spare.data();
+    tbb::parallel_for(size_t{0}, nb, [&](size_t b) {
+      size_t at = first[b];
+      for (size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i)
+        if (const int32_t v = list[i]; keep(v)) {
+          out[at++] = v;
+          if (!last) update(v, false);
+        }
     });
-    size_t kept = 0;
-    for (const int32_t v : active)
-      if (free_deg[v] >= 0 && fav[v] >= 0) active[kept++] = v;
-    active.resize(kept);
+    std::swap(ms.active, ms.spare);
+    count = first[nb];
+    if (last) break;
   }
-  for (const int32_t v : active)
-    if (free_deg[v] >= 0)
-      if (const int32_t w = favourites(g, v, free_deg.data(), seed).first; w >= 0) {
+  for (size_t i = 0; i < count; ++i)
+    if (const int32_t v = ms.active[i]; free_deg[v] >= 0)
+      if (const int32_t w = favourites(g, v, free_deg, seed).first; w >= 0) {
         mate[v] = w;
         mate[w] = v;
         free_deg[v] = free_deg[w] = -1;
