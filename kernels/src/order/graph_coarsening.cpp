@@ -49,7 +49,8 @@ struct GraphView {
 // equal neighbors is pseudo-random, not by index. 32 bits: two edges of one
 // vertex tie ~1 in 4 billion times (see handshake_matching).
 uint32_t edge_hash(int32_t a, int32_t b, uint64_t seed) {
-  const uint64_t sum = static_cast<uint32_t>(a + b), diff = static_cast<uint32_t>(a ^ b);
+  const uint64_t sum = static_cast<uint32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
+  const uint64_t diff = static_cast<uint32_t>(a ^ b);
   const uint64_t x = (((sum << 32) | diff) ^ seed) * 0x9e3779b97f4a7c15ULL;
   return static_cast<uint32_t>(x >> 32);
 }
