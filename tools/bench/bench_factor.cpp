@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/order/graph_coarsening.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
@@ -54,6 +55,7 @@ struct Options {
   std::string cholmod_ordering = "default";  // default (AMD, METIS only if AMD fills badly) | metis | amd
   std::vector<std::string> orderings{"auto", "metis", "amd", "nd", "nd_metis", "nd_geometric"};  // the "orderings" section
   int32_t leaf_size = 0;                      // --leaf-size (0: OrderingOptions' default)
+  int coarse_levels = -1;                     // --coarse-levels (-1: OrderingOptions' default)
   bool orderings_only = false;                // skip the peers (ordering experiments)
   std::string threads_list;                   // "1,2,4": the "scaling" section
   std::string scaling_ordering = "auto";      // the ordering of the "scaling" section
@@ -64,9 +66,11 @@ struct Positions {
   std::span<const double> x, y, z;
 };
 
-OrderingOptions ordering_options(const std::string& name, const Positions& pos, int32_t leaf_size = 0) {
+OrderingOptions ordering_options(const std::string& name, const Positions& pos, int32_t leaf_size = 0,
+                                 int coarse_levels = -1) {
   OrderingOptions o;
   if (leaf_size > 0) o.leaf_size = leaf_size;
+  if (coarse_levels >= 0) o.coarse_levels = coarse_levels;
   o.x = pos.x;
   o.y = pos.y;
   o.z = pos.z;
@@ -512,7 +516,7 @@ cli::Json run_orderings(const CscMatrix& A, const Positions& pos, const Options&
   };
   for (int r = 0; r < bo.repeats; ++r)
     for (size_t i = 0; i < k; ++i) {
-      const OrderingOptions oo = ordering_options(bo.orderings[i], pos, bo.leaf_size);
+      const OrderingOptions oo = ordering_options(bo.orderings[i], pos, bo.leaf_size, bo.coarse_levels);
       const double cpu0 = cpu_now();
       Stopwatch sw;
       const Ordering ord = order_matrix(A, oo, ctx);
@@ -523,6 +527,22 @@ cli::Json run_orderings(const CscMatrix& A, const Positions& pos, const Options&
       symbolic_s[i].push_back(sw.seconds());
       ctx.check_cancel();
     }
+  // The shared coarsening alone (graph_coarsening.hpp), timed apart: it runs
+  // before the dissection's task tree, on its critical path.
+  std::vector<double> coarsen_s, coarsen_cpu_s;
+  int32_t coarse_n = 0;
+  const OrderingOptions nd = ordering_options("nd", pos, bo.leaf_size, bo.coarse_levels);
+  if (std::find(bo.orderings.begin(), bo.orderings.end(), "nd") != bo.orderings.end() && nd.coarse_levels > 0) {
+    const AdjacencyGraph g = adjacency_of(A);
+    HostVector<int32_t> cmap;
+    for (int r = 0; r < bo.repeats; ++r) {
+      const double cpu0 = cpu_now();
+      Stopwatch sw;
+      coarse_n = coarsening_map(g, nd.coarse_levels, cmap);
+      coarsen_s.push_back(sw.seconds());
+      coarsen_cpu_s.push_back(cpu_now() - cpu0);
+    }
+  }
   for (size_t i = 0; i < k; ++i) {
     const std::string& name = bo.orderings[i];
     out[name] = {{"order_s", cli::median(order_s[i])},
@@ -534,6 +554,12 @@ cli::Json run_orderings(const CscMatrix& A, const Positions& pos, const Options&
                  {"super_etree_height", sym[i]->super_etree_height},
                  {"supernodes", sym[i]->ns},
                  {"flops", static_cast<double>(sym[i]->flops())}};
+    if (name == "nd" && !coarsen_s.empty()) {
+      out[name]["coarsen_s"] = cli::median(coarsen_s);
+      out[name]["coarsen_cpu_s"] = cli::median(coarsen_cpu_s);
+      out[name]["coarse_levels"] = nd.coarse_levels;
+      out[name]["coarse_vertices"] = coarse_n;
+    }
     cli::log("bench factor: ordering " + name + " " + out[name].dump());
   }
   return out;
@@ -649,6 +675,10 @@ void register_factor_bench(cli::CommandTable& table) {
                   "(default: all but nd_nohalo)")
       ->delimiter(',');
   app->add_option("--leaf-size", bo->leaf_size, "Nested dissection leaf size in the \"orderings\" section");
+  app->add_option("--coarse-levels", bo->coarse_levels,
+                  "Nested dissection: rounds of matching of the shared coarsening in the \"orderings\" section "
+                  "(default: OrderingOptions')")
+      ->check(CLI::Range(0, 30));
   app->add_flag("--orderings-only", bo->orderings_only, "Only the \"orderings\" section (no peers)");
   app->add_option("--threads-list", bo->threads_list,
                   "Comma-separated thread counts (1,2,4,8,16): every phase of locus and CHOLMOD at each, "

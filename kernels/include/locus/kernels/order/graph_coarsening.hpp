@@ -20,10 +20,14 @@ namespace locus {
 
 // cmap[v] = coarse vertex of v after `levels` rounds of matching (each coarse
 // vertex stands for at most 2^levels vertices); returns the number of coarse
-// vertices. Each round visits the vertices in a fixed pseudo-random order and
-// pairs each unmatched one with the unmatched neighbor joined by the most
-// edges of the original graph (ties: fewest neighbors, then lowest index).
-// Deterministic.
+// vertices. Each round is a maximal heavy-edge matching of the current
+// graph: edges ranked by the number of edges of the original graph they
+// stand for, then by the fewest neighbors of the two ends, then by a hash
+// of the pair (pseudo-random, fixed); every unmatched vertex points at its
+// best-ranked unmatched neighbor and mutual pointers match, in synchronous
+// rounds (about the greedy matching in rank order). Coarse vertices are
+// numbered in the order of their lowest vertex. Parallel (oneTBB, the
+// caller's arena) and the same map for any thread count.
 // `ticker`, when given, reports and polls the cancel flag between the passes.
 int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr);
 
