@@ -83,6 +83,10 @@ struct Options {
   std::string patch_sizes = "2000,10000,30000,50000";
   int patch_centers = 5;
   bool skip_adf = false, skip_patch = false;
+  // The heat section's ordering: auto (the library's default), or metis
+  // (METIS_NodeND, the ordering before issue 26), nd, amd: the local solves
+  // of two orderings compared in one binary.
+  std::string ordering = "auto";
 };
 
 double ratio(double peer, double mine) { return mine > 0 ? peer / mine : 0.0; }
@@ -269,12 +273,39 @@ Json bench_lanes24(const NumericFactor& F, int rounds, Pick& pick, std::mt19937_
           {"max_diff_vs_eight_lane_rel_to_max", worst}};
 }
 
+// factor_heat_operators with the ordering of --ordering.
+HeatFactors factor_heat(const Mesh& m, double t, const std::string& ordering, const RunContext& ctx) {
+  if (ordering == "auto") return factor_heat_operators(m, std::vector<double>{t}, ctx);
+  using M = OrderingOptions::Method;
+  OrderingOptions oo;
+  if (ordering == "metis") oo.method = M::Metis;
+  else if (ordering == "nd") oo.method = M::NestedDissection;
+  else if (ordering == "amd") oo.method = M::Amd;
+  else fail(ErrorCode::BadUsage, "bench local: --ordering " + ordering + " (auto, metis, nd or amd)");
+  HeatFactors H;
+  H.t = {t};
+  Stopwatch sw;
+  const CscMatrix A = heat_operator(m, t);
+  H.operator_s = sw.seconds();
+  sw = Stopwatch();
+  const Ordering ord = order_matrix(A, oo, ctx);
+  H.order_s = sw.seconds();
+  sw = Stopwatch();
+  H.symbolic = analyze(A, ord, {}, ctx);
+  H.analyze_s = sw.seconds();
+  sw = Stopwatch();
+  H.factors.push_back(factorize(H.symbolic, A, ctx));
+  H.numeric_s = sw.seconds();
+  return H;
+}
+
 Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, const RunContext& ctx) {
-  const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx);
+  const HeatFactors H = factor_heat(m, t, bo.ordering, ctx);
   const NumericFactor& F = H.factors[0];
   const int32_t n = F.n();
   Json j;
   j["t"] = t;
+  j["ordering"] = bo.ordering;
   j["etree_height"] = H.symbolic->etree_height;
   j["super_etree_height"] = H.symbolic->super_etree_height;
   j["nnz_L"] = H.symbolic->nnz_L;
@@ -725,6 +756,8 @@ void register_local_bench(cli::CommandTable& table) {
   app->add_option("--patch-centers", bo->patch_centers, "Random centers per patch size (default 5)")
       ->check(CLI::Range(1, 10000));
   app->add_flag("--skip-adf", bo->skip_adf, "Skip the all-vertex auto-diffusion section");
+  app->add_option("--ordering", bo->ordering, "Ordering of the heat section: auto (default), metis, nd, amd")
+      ->check(CLI::IsMember({"auto", "metis", "nd", "amd"}));
   app->add_flag("--skip-patch", bo->skip_patch, "Skip the patch parameterization section");
 }
 

@@ -9,10 +9,13 @@
 #include "locus/kernels/order/nested_dissection.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
+#include <vector>
 
 #include "locus/core/host_allocator.hpp"
 #include "locus/kernels/order/graph_coarsening.hpp"
@@ -143,19 +146,59 @@ class Dissector {
       }
       poll();
       HostVector<int8_t> coarse_part;
-      if (node.cg.n() >= opt_.level_separator_below || !level_separator(node.cg, vwgt, coarse_part))
-        metis_vertex_separator(node.cg, opt_.metis_seed, coarse_part, &ticker_, vwgt,
-                               opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
-      part.resize(static_cast<size_t>(m));
-      for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
-      poll();
-      refine_vertex_separator(node.g, part, opt_.refinement);
+      if (node.cg.n() < opt_.level_separator_below && level_separator(node.cg, vwgt, coarse_part)) {
+        project_and_refine(node, coarse_part, part);
+      } else if (m < opt_.tries_min_vertices || opt_.separator_tries <= 1) {
+        metis_on_contraction(node, vwgt, opt_.metis_seed, part);
+      } else {
+        best_of_tries(node, vwgt, part);
+      }
       poll();
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
     } else {
       metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
     }
+  }
+
+  // METIS' separator of the node's contraction (seed `seed`), projected and refined.
+  void metis_on_contraction(const Node& node, const HostVector<int32_t>& vwgt, int seed,
+                            HostVector<int8_t>& part) const {
+    HostVector<int8_t> coarse_part;
+    metis_vertex_separator(node.cg, seed, coarse_part, &ticker_, vwgt,
+                           opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
+    poll();
+    project_and_refine(node, coarse_part, part);
+  }
+
+  void project_and_refine(const Node& node, const HostVector<int8_t>& coarse_part, HostVector<int8_t>& part) const {
+    const int32_t m = node.g.n();
+    part.resize(static_cast<size_t>(m));
+    for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+    refine_vertex_separator(node.g, part, opt_.refinement);
+  }
+
+  // The smallest of separator_tries refined separators (METIS seeds
+  // metis_seed + k; ties: the lowest k), tried in parallel. The top
+  // separators lie on every local solve's path (docs/ordering.md), and at
+  // the top of the tree the other threads would wait anyway.
+  void best_of_tries(const Node& node, const HostVector<int32_t>& vwgt, HostVector<int8_t>& part) const {
+    const int tries = opt_.separator_tries;
+    std::vector<HostVector<int8_t>> parts(static_cast<size_t>(tries));
+    const auto one = [&](int k) { metis_on_contraction(node, vwgt, opt_.metis_seed + k, parts[k]); };
+    if (parallel_) {
+      tbb::parallel_for(0, tries, one);
+    } else {
+      for (int k = 0; k < tries; ++k) one(k);
+    }
+    int best = 0;
+    int32_t best_size = std::numeric_limits<int32_t>::max();
+    for (int k = 0; k < tries; ++k)
+      if (const auto size = static_cast<int32_t>(std::count(parts[k].begin(), parts[k].end(), int8_t{2})); size < best_size) {
+        best = k;
+        best_size = size;
+      }
+    part = std::move(parts[best]);
   }
 
   // The child's coarse vertices: the parent's that have a vertex in it, renumbered.
