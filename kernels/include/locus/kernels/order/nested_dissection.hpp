@@ -10,7 +10,9 @@
 // (separator_refinement.hpp): METIS no longer coarsens every node from
 // scratch (0.55x the ordering's CPU at 416k, within 1% of its fill,
 // docs/ordering.md). Nodes below exact_min_vertices take their contraction
-// from their parent's instead of contracting their own graph.
+// from their parent's instead of contracting their own graph; the smallest
+// contractions are cut by a level structure (level_separator.hpp), and the
+// largest nodes keep the best of several separators (separator_tries).
 //
 // Deterministic: every task's result depends on its subgraph only, and its
 // place in the ordering on the sizes of the subgraphs before it, never on
