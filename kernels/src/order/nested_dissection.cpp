@@ -231,8 +231,8 @@ class Dissector {
     // separators above it, never in another leaf). The thread's own index
     // array maps root vertices to the leaf-plus-halo numbering: a halo vertex
     // borders other leaves, which other threads may be building at the same
-    // moment, so one shared array would race (and binary searches in the
-    // halo list cost a third of this function, docs/ordering.md).
+    // moment, so one shared array would race; a per-thread one also spares
+    // the binary searches in the leaf's and the halo's lists.
     const HostVector<int32_t>& ids = node.global;  // ascending
     const int32_t m = static_cast<int32_t>(ids.size());
     HostVector<int32_t>& index = index_.local();
