@@ -273,34 +273,19 @@ Json bench_lanes24(const NumericFactor& F, int rounds, Pick& pick, std::mt19937_
           {"max_diff_vs_eight_lane_rel_to_max", worst}};
 }
 
-// factor_heat_operators with the ordering of --ordering.
-HeatFactors factor_heat(const Mesh& m, double t, const std::string& ordering, const RunContext& ctx) {
-  if (ordering == "auto") return factor_heat_operators(m, std::vector<double>{t}, ctx);
+// The ordering options of --ordering (auto: the library's default).
+OrderingOptions ordering_of(const std::string& name) {
   using M = OrderingOptions::Method;
   OrderingOptions oo;
-  if (ordering == "metis") oo.method = M::Metis;
-  else if (ordering == "nd") oo.method = M::NestedDissection;
-  else if (ordering == "amd") oo.method = M::Amd;
-  else fail(ErrorCode::BadUsage, "bench local: --ordering " + ordering + " (auto, metis, nd or amd)");
-  HeatFactors H;
-  H.t = {t};
-  Stopwatch sw;
-  const CscMatrix A = heat_operator(m, t);
-  H.operator_s = sw.seconds();
-  sw = Stopwatch();
-  const Ordering ord = order_matrix(A, oo, ctx);
-  H.order_s = sw.seconds();
-  sw = Stopwatch();
-  H.symbolic = analyze(A, ord, {}, ctx);
-  H.analyze_s = sw.seconds();
-  sw = Stopwatch();
-  H.factors.push_back(factorize(H.symbolic, A, ctx));
-  H.numeric_s = sw.seconds();
-  return H;
+  if (name == "metis") oo.method = M::Metis;
+  else if (name == "nd") oo.method = M::NestedDissection;
+  else if (name == "amd") oo.method = M::Amd;
+  else if (name != "auto") fail(ErrorCode::BadUsage, "bench local: --ordering " + name + " (auto, metis, nd or amd)");
+  return oo;
 }
 
 Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, const RunContext& ctx) {
-  const HeatFactors H = factor_heat(m, t, bo.ordering, ctx);
+  const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx, ordering_of(bo.ordering));
   const NumericFactor& F = H.factors[0];
   const int32_t n = F.n();
   Json j;

@@ -400,11 +400,10 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
 
 AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> coarse, int32_t nc,
                               HostVector<int32_t>& vwgt, HostVector<int32_t>* ewgt) {
-  vwgt.assign(static_cast<size_t>(nc), 0);
-  for (const int32_t c : coarse) ++vwgt[c];
   const int32_t n = g.n();
   HostVector<int32_t> start(static_cast<size_t>(nc) + 1, 0), members(static_cast<size_t>(n));
   for (int32_t v = 0; v < n; ++v) ++start[coarse[v] + 1];
+  vwgt.assign(start.begin() + 1, start.end());  // members per coarse vertex
   for (int32_t c = 0; c < nc; ++c) start[c + 1] += start[c];
   {
     HostVector<int32_t> pos(start.begin(), start.end() - 1);

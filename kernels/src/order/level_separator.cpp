@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <utility>
 
 namespace locus {
 
@@ -31,23 +32,22 @@ int32_t bfs_levels(const AdjacencyGraph& g, int32_t root, HostVector<int32_t>& l
 bool level_separator(const AdjacencyGraph& g, std::span<const int32_t> vwgt, HostVector<int8_t>& part) {
   const int32_t n = g.n();
   if (n < 3) return false;
-  HostVector<int32_t> level, order;
+  HostVector<int32_t> level, order, try_level, try_order;
   // A pseudo-peripheral root: restart from a least-connected vertex of the
   // last level while that makes the structure deeper (long and thin level
-  // structures have small levels).
-  int32_t root = 0, depth = bfs_levels(g, 0, level, order), last_root = 0;
+  // structures have small levels). level/order keep the deepest so far.
+  int32_t depth = bfs_levels(g, 0, level, order);
   if (static_cast<int32_t>(order.size()) != n) return false;  // not connected
   for (int round = 0; round < 4; ++round) {
     int32_t c = order.back();
     for (auto it = order.rbegin(); it != order.rend() && level[*it] == depth - 1; ++it)
       if (g.degree(*it) < g.degree(c) || (g.degree(*it) == g.degree(c) && *it < c)) c = *it;
-    last_root = c;
-    const int32_t d = bfs_levels(g, c, level, order);
+    const int32_t d = bfs_levels(g, c, try_level, try_order);
     if (d <= depth) break;
-    root = c;
+    std::swap(level, try_level);
+    std::swap(order, try_order);
     depth = d;
   }
-  if (last_root != root) bfs_levels(g, root, level, order);
   if (depth < 3) return false;
   HostVector<int64_t> w(static_cast<size_t>(depth), 0);
   for (int32_t v = 0; v < n; ++v) w[level[v]] += vwgt.empty() ? 1 : vwgt[v];

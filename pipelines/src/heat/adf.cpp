@@ -86,7 +86,8 @@ void for_each_vertex(int32_t n, std::span<const int32_t> vertices, const RunCont
 
 }  // namespace
 
-HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, const RunContext& ctx) {
+HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, const RunContext& ctx,
+                                  const OrderingOptions& ordering) {
   if (t.empty()) fail(ErrorCode::BadUsage, "heat operators: no diffusion time given");
   for (size_t k = 0; k < t.size(); ++k)
     if (!(std::isfinite(t[k]) && t[k] > 0))
@@ -102,7 +103,7 @@ HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, cons
   ctx.check_cancel();
   // The pattern (diagonal + edges) does not depend on t: order and analyze once.
   t0 = std::chrono::steady_clock::now();
-  const Ordering ord = order_matrix(A[0]);
+  const Ordering ord = order_matrix(A[0], ordering);
   H.order_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   H.symbolic = analyze(A[0], ord);

@@ -36,6 +36,14 @@ int32_t count_of(const HostVector<int8_t>& part, int8_t s) {
   return static_cast<int32_t>(std::count(part.begin(), part.end(), s));
 }
 
+// coarse[v] drawn uniformly from [0, nc): a map for the contraction tests.
+HostVector<int32_t> random_coarse_map(int32_t n, int32_t nc, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  HostVector<int32_t> coarse(static_cast<size_t>(n));
+  for (int32_t& c : coarse) c = static_cast<int32_t>(rng() % nc);
+  return coarse;
+}
+
 // The refinement as its header states it, written the plain way: every gain
 // recounted from the neighbors whenever it may have changed, the queue a
 // binary heap of (gain, push count, vertex). The library keeps gains
@@ -196,10 +204,8 @@ TEST_CASE("coarsening: every coarse vertex is a connected group of at most 2^lev
 
 TEST_CASE("coarsening: the contraction of a graph is the set of its coarse edges, with the right weights") {
   const AdjacencyGraph g = adjacency_of(test::random_spd(500, 5, 4));
-  std::mt19937_64 rng(8);
   const int32_t nc = 90;
-  HostVector<int32_t> coarse(static_cast<size_t>(g.n()));
-  for (int32_t& c : coarse) c = static_cast<int32_t>(rng() % nc);
+  const HostVector<int32_t> coarse = random_coarse_map(g.n(), nc, 8);
   HostVector<int32_t> vwgt;
   HostVector<int32_t> ewgt;
   const AdjacencyGraph h = contract_graph(g, coarse, nc, vwgt, &ewgt);
@@ -348,10 +354,8 @@ TEST_CASE("coarsening: a contraction of many blocks is the brute-force one, for 
   // every row holds its coarse neighbors in order of first appearance
   // (members ascending, each one's list in order), with the summed weights.
   const AdjacencyGraph g = adjacency_of(test::grid_laplacian(180, 150, 0.01));
-  std::mt19937_64 rng(9);
   const int32_t nc = 11000;
-  HostVector<int32_t> coarse(static_cast<size_t>(g.n()));
-  for (int32_t& c : coarse) c = static_cast<int32_t>(rng() % nc);
+  const HostVector<int32_t> coarse = random_coarse_map(g.n(), nc, 9);
   std::vector<std::vector<int32_t>> want(static_cast<size_t>(nc)), want_w(static_cast<size_t>(nc));
   for (int32_t v = 0; v < g.n(); ++v)  // v ascending: members of each coarse vertex ascending
     for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {

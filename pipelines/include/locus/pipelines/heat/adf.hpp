@@ -36,6 +36,7 @@
 
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
@@ -53,7 +54,9 @@ struct HeatFactors {
 
 // Throws BadUsage unless every t is finite and > 0; BadInput for meshes the
 // operators reject (mesh_operators.hpp); Numerical for a non-SPD operator.
-HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, const RunContext& ctx = {});
+// `ordering`: the fill-reducing ordering's options (default: Auto).
+HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, const RunContext& ctx = {},
+                                  const OrderingOptions& ordering = {});
 
 enum class AdfMethod { Subset, Selinv, Full };
 // "subset" / "selinv" / "full"; BadUsage for anything else.
