@@ -12,24 +12,43 @@ namespace {
 
 class Refiner {
  public:
-  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt)
-      : g_(g), part_(part), opt_(opt), gain_(static_cast<size_t>(g.n()), 0), stamp_(static_cast<size_t>(g.n()), -1),
-        joined_(static_cast<size_t>(g.n()), -1) {
-    int32_t max_degree = 0;
-    for (int32_t v = 0; v < g.n(); ++v) max_degree = std::max(max_degree, g.xadj[v + 1] - g.xadj[v]);
-    min_gain_ = 1 - max_degree;
-    buckets_.resize(static_cast<size_t>(max_degree) + 1);
-    for (int32_t v = 0; v < g.n(); ++v) {
-      ++pw_[part_[v]];
-      if (part_[v] == 2) sep_.push_back(v);
+  Refiner(const AdjacencyGraph& g, HostVector<int8_t>& part, const SeparatorRefinementOptions& opt,
+          SeparatorRefinementWorkspace& ws)
+      : g_(g), part_(part), opt_(opt), ws_(ws), gain_(ws.gain), stamp_(ws.stamp), joined_(ws.joined),
+        buckets_(ws.buckets), sep_(ws.sep), moved_(ws.moved), pulled_(ws.pulled), pulled_begin_(ws.pulled_begin) {
+    const int32_t n = g.n();
+    // The workspace's marks only grow (stamps and move numbers are never
+    // reused), so a call costs nothing per vertex it never touches.
+    if (gain_.size() < static_cast<size_t>(n)) {
+      gain_.resize(static_cast<size_t>(n));
+      stamp_.resize(static_cast<size_t>(n), -1);
+      joined_.resize(static_cast<size_t>(n), -1);
     }
+    first_pass_ = ws.next_pass;
+    int32_t max_degree = 0;
+    for (int32_t v = 0; v < n; ++v) max_degree = std::max(max_degree, g.xadj[v + 1] - g.xadj[v]);
+    min_gain_ = 1 - max_degree;
+    for (auto& b : buckets_) b.clear();
+    if (buckets_.size() < static_cast<size_t>(max_degree) + 1) buckets_.resize(static_cast<size_t>(max_degree) + 1);
+    sep_.clear();
+    int32_t side0 = 0;
+    for (int32_t v = 0; v < n; ++v) {
+      const int8_t s = part_[v];
+      side0 += s == 0;
+      if (s == 2) sep_.push_back(v);
+    }
+    pw_[0] = side0;
+    pw_[2] = static_cast<int32_t>(sep_.size());
+    pw_[1] = n - side0 - pw_[2];
   }
+
+  ~Refiner() { ws_.next_pass = first_pass_ + opt_.passes; }
 
   int32_t run() {
     int bad_passes = 0;
     int8_t to = pw_[0] <= pw_[1] ? 0 : 1;  // first toward the lighter side: that also evens the balance
     for (int pass = 0; pass < opt_.passes && bad_passes < 2 && pw_[2] > 0; ++pass, to = static_cast<int8_t>(1 - to))
-      bad_passes = one_pass(pass, to) ? 0 : bad_passes + 1;
+      bad_passes = one_pass(first_pass_ + pass, to) ? 0 : bad_passes + 1;
     return pw_[2];
   }
 
@@ -68,14 +87,14 @@ class Refiner {
     return k;
   }
 
-  void push(int32_t v, int8_t other, int pass) {
+  void push(int32_t v, int8_t other, int64_t pass) {
     if (stamp_[v] == pass) return;
     gain_[v] = 1 - neighbors_in(v, other);
     enqueue(gain_[v], v);
   }
 
   // One pass toward side `to`; true when it shrank the separator.
-  bool one_pass(int pass, int8_t to) {
+  bool one_pass(int64_t pass, int8_t to) {
     const int8_t other = static_cast<int8_t>(1 - to);
     clear_queue();
     for (const int32_t v : sep_) push(v, other, pass);
@@ -113,10 +132,10 @@ class Refiner {
       // the entries come in the order a recount of each would push them
       // (same ties, same moves as recounting every neighbor's neighbors).
       const size_t b = static_cast<size_t>(pulled_begin_.back());
-      ++move_id_;
+      const int64_t move_id = ++ws_.move_id;
       for (size_t q = b; q < pulled_.size(); ++q) {
         const int32_t w = pulled_[q];
-        joined_[w] = move_id_;
+        joined_[w] = move_id;
         gain_[w] = 1 - neighbors_in(w, other);
       }
       for (size_t q = b; q < pulled_.size(); ++q) {
@@ -124,7 +143,7 @@ class Refiner {
         enqueue(gain_[w], w);
         for (int32_t p = g_.xadj[w]; p < g_.xadj[w + 1]; ++p)
           if (const int32_t x = g_.adj[p]; part_[x] == 2 && stamp_[x] != pass) {
-            if (joined_[x] != move_id_) ++gain_[x];
+            if (joined_[x] != move_id) ++gain_[x];
             enqueue(gain_[x], x);
           }
       }
@@ -166,23 +185,26 @@ class Refiner {
   const AdjacencyGraph& g_;
   HostVector<int8_t>& part_;
   const SeparatorRefinementOptions& opt_;
-  HostVector<int32_t> gain_;   // 1 - neighbors on the pass' `other` side (separator vertices)
-  HostVector<int32_t> stamp_;  // pass in which the vertex left the separator (locked)
-  HostVector<int64_t> joined_;  // move that pulled the vertex into the separator
-  int64_t move_id_ = 0;
+  SeparatorRefinementWorkspace& ws_;
+  int64_t first_pass_ = 0;     // this call's passes are first_pass_ + 0, 1, ...
+  HostVector<int32_t>& gain_;  // 1 - neighbors on the pass' `other` side (separator vertices)
+  HostVector<int64_t>& stamp_;  // pass in which the vertex left the separator (locked)
+  HostVector<int64_t>& joined_;  // move that pulled the vertex into the separator
   int32_t pw_[3] = {0, 0, 0};   // vertices per side and in the separator
-  std::vector<HostVector<int32_t>> buckets_;  // entries of gain min_gain_ + b, latest last (some stale)
+  std::vector<HostVector<int32_t>>& buckets_;  // entries of gain min_gain_ + b, latest last (some stale)
   int32_t min_gain_ = 0;
   int32_t top_ = -1;  // no entries above this bucket
-  HostVector<int32_t> sep_;  // the separator's vertices at the start of a pass
-  HostVector<int32_t> moved_, pulled_, pulled_begin_;
+  HostVector<int32_t>& sep_;  // the separator's vertices at the start of a pass
+  HostVector<int32_t>&moved_, &pulled_, &pulled_begin_;
 };
 
 }  // namespace
 
 int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
-                                const SeparatorRefinementOptions& opt) {
-  return Refiner(g, part, opt).run();
+                                const SeparatorRefinementOptions& opt, SeparatorRefinementWorkspace* ws) {
+  if (ws) return Refiner(g, part, opt, *ws).run();
+  SeparatorRefinementWorkspace own;
+  return Refiner(g, part, opt, own).run();
 }
 
 }  // namespace locus

@@ -22,6 +22,9 @@ HostVector<int32_t> minimum_degree_order(const AdjacencyGraph& g);
 // dissection orders a leaf with its halo (the separator vertices around it)
 // as constraint-1 vertices: the leaf's order then accounts for the fill its
 // boundary will take (Pellegrini's halo ordering). Returns the whole order.
+// g as every AdjacencyGraph: symmetric, no self loops, no repeated neighbor;
+// with ascending lists the order is exactly camd_order's. Constraint values
+// lie in [0, n) (else BadUsage).
 HostVector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, const HostVector<int32_t>& constraint);
 
 }  // namespace locus

@@ -32,9 +32,24 @@ struct SeparatorRefinementOptions {
   int32_t stretch = 3;     // ... or this times as long while the separator stays within 10% of the best
 };
 
+// Arrays of one thread's refinements, kept from call to call: per-vertex
+// marks sized for the largest graph so far, which a call only reads where it
+// wrote them, so a call costs nothing for the vertices it never touches (a
+// fresh set costs 16 bytes and a page fault share per vertex of the graph,
+// 1-2 ms at 416k, at every node of a dissection). Not for two calls at once.
+struct SeparatorRefinementWorkspace {
+  HostVector<int32_t> gain;
+  HostVector<int64_t> stamp, joined;
+  int64_t next_pass = 0, move_id = 0;
+  std::vector<HostVector<int32_t>> buckets;
+  HostVector<int32_t> sep, moved, pulled, pulled_begin;
+};
+
 // part[v] = 0, 1 (sides) or 2 (separator), no edge between sides 0 and 1 (on
-// entry and on return). Returns the separator size.
+// entry and on return). Returns the separator size. `ws`: a workspace to
+// reuse (none: one for this call).
 int32_t refine_vertex_separator(const AdjacencyGraph& g, HostVector<int8_t>& part,
-                                const SeparatorRefinementOptions& opt = {});
+                                const SeparatorRefinementOptions& opt = {},
+                                SeparatorRefinementWorkspace* ws = nullptr);
 
 }  // namespace locus
