@@ -349,9 +349,27 @@ void contract_pairs(const GraphView& g, const Scratch<int32_t>& map, const Scrat
   contract_rows(g, map, static_cast<int32_t>(lead.size()), members, h.beg, h.end, h.adj, &h.wgt, ws);
 }
 
+// The graph of `view` without gaps, its edge weights (1 for g itself).
+void compact_view(const GraphView& view, int32_t nv, Contraction& out) {
+  AdjacencyGraph& h = out.graph;
+  h.xadj.resize(static_cast<size_t>(nv) + 1);
+  h.xadj[0] = 0;
+  for (int32_t c = 0; c < nv; ++c) h.xadj[c + 1] = h.xadj[c] + view.degree(c);
+  h.adj.resize(static_cast<size_t>(h.xadj[nv]));
+  out.ewgt.resize(h.adj.size());
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, nv, kContractBlock), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t c = r.begin(); c < r.end(); ++c)
+      for (int32_t p = view.beg[c], q = h.xadj[c]; p < view.end[c]; ++p, ++q) {
+        h.adj[q] = view.adj[p];
+        out.ewgt[q] = view.weight(p);
+      }
+  });
+}
+
 }  // namespace
 
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker) {
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker,
+                       Contraction* coarsest) {
   // Each step is one pass over the graph (~10-40 ms at 416k): a C host's
   // chance to cancel (its progress callback) comes between them.
   const auto poll = [ticker] {
@@ -374,7 +392,9 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
     const int32_t next = number_pairs(ms.mate, map, lead);
     if (next == nc) break;  // nothing matched (no edges)
     poll();
-    if (level + 1 < levels) {
+    // The last level's graph only when the caller wants it: from the level
+    // above, a pass over ~2^(levels-1) times fewer rows than contract_graph's.
+    if (level + 1 < levels || coarsest) {
       Weighted& h = levels_g[level % 2];
       contract_pairs(view, map, lead, ms.mate, h, cs);
       view = GraphView{h.beg.data(), h.end.data(), next, h.adj, h.wgt};
@@ -382,6 +402,7 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
     maps.push_back(std::move(map));
     nc = next;
   }
+  if (coarsest) compact_view(view, nc, *coarsest);
   // Composed from the coarsest level down: each pass is over one level's
   // vertices (n + n/2 + ... instead of levels x n random reads).
   for (size_t k = maps.size(); k-- > 1;) {

@@ -35,10 +35,12 @@ struct Node {
   HostVector<int32_t> coarse;  // shared coarsening: coarse vertex of each local vertex (empty: none)
   int32_t nc = 0;               // coarse vertices of this node
   // The node's graph contracted along `coarse`, with edge multiplicities:
-  // the root's exactly (contract_graph), a child's taken from its parent's
-  // (restrict_coarse). Empty until separator() needs it.
+  // the root's from the coarsening itself, a child's taken from its
+  // parent's (restrict_coarse), a node's own when it is large
+  // (exact_min_vertices). Empty until separator() needs it.
   AdjacencyGraph cg;
   HostVector<int32_t> cew;
+  int depth = 0;  // levels below the root
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -105,6 +107,7 @@ class Dissector {
       extract(0);
       extract(1);
     }
+    child[0].depth = child[1].depth = node.depth + 1;
     const int32_t n0 = side_size[0], n1 = side_size[1];
     int32_t* sep_out = out + n0 + n1;
     for (int32_t v = 0; v < m; ++v)
@@ -148,10 +151,10 @@ class Dissector {
       HostVector<int8_t> coarse_part;
       if (node.cg.n() < opt_.level_separator_below && level_separator(node.cg, vwgt, coarse_part)) {
         project_and_refine(node, coarse_part, part);
-      } else if (m < opt_.tries_min_vertices || opt_.separator_tries <= 1) {
+      } else if (const int tries = tries_at(node); tries <= 1) {
         metis_on_contraction(node, vwgt, opt_.metis_seed, part);
       } else {
-        best_of_tries(node, vwgt, part);
+        best_of_tries(node, vwgt, tries, part);
       }
       poll();
     } else if (opt_.separator == NestedDissectionOptions::Separator::Geometric) {
@@ -175,15 +178,22 @@ class Dissector {
     const int32_t m = node.g.n();
     part.resize(static_cast<size_t>(m));
     for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
-    refine_vertex_separator(node.g, part, opt_.refinement);
+    refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
   }
 
-  // The smallest of separator_tries refined separators (METIS seeds
-  // metis_seed + k; ties: the lowest k), tried in parallel. The top
-  // separators lie on every local solve's path (docs/ordering.md), and at
-  // the top of the tree the other threads would wait anyway.
-  void best_of_tries(const Node& node, const HostVector<int32_t>& vwgt, HostVector<int8_t>& part) const {
-    const int tries = opt_.separator_tries;
+  // Separators to try at this node: separator_tries at the root, half as
+  // many one level down, and so on (at least one), at nodes of at least
+  // tries_min_vertices vertices.
+  int tries_at(const Node& node) const {
+    if (node.g.n() < opt_.tries_min_vertices || node.depth >= 31) return 1;
+    return std::max(1, opt_.separator_tries >> node.depth);
+  }
+
+  // The smallest of `tries` refined separators (METIS seeds metis_seed + k;
+  // ties: the lowest k), tried in parallel. The top separators lie on every
+  // local solve's path (docs/ordering.md), and at the top of the tree the
+  // other threads would wait anyway.
+  void best_of_tries(const Node& node, const HostVector<int32_t>& vwgt, int tries, HostVector<int8_t>& part) const {
     std::vector<HostVector<int8_t>> parts(static_cast<size_t>(tries));
     const auto one = [&](int k) { metis_on_contraction(node, vwgt, opt_.metis_seed + k, parts[k]); };
     if (parallel_) {
@@ -280,6 +290,8 @@ class Dissector {
   // leaf(): per thread, each root vertex's index in the leaf being built (its
   // own vertices, then its halo), else -1.
   mutable tbb::enumerable_thread_specific<HostVector<int32_t>> index_;
+  // project_and_refine(): per thread (a refinement never waits on other tasks).
+  mutable tbb::enumerable_thread_specific<SeparatorRefinementWorkspace> refine_ws_;
 };
 
 }  // namespace
@@ -302,8 +314,13 @@ HostVector<int32_t> nested_dissection(const AdjacencyGraph& g, std::span<const d
   const Dissector d(g, opt, ctx, parallel);
   run_with_threads(ctx.threads, [&] {  // the coarsening's contractions run in parallel blocks too
     if (opt.coarse_levels > 0 && n >= opt.coarse_min_vertices &&
-        opt.separator == NestedDissectionOptions::Separator::Metis)
-      root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker());
+        opt.separator == NestedDissectionOptions::Separator::Metis) {
+      // The root's contraction comes with the map (graph_coarsening.hpp).
+      Contraction top;
+      root.nc = coarsening_map(g, opt.coarse_levels, root.coarse, &d.ticker(), &top);
+      root.cg = std::move(top.graph);
+      root.cew = std::move(top.ewgt);
+    }
     d.order(std::move(root), perm.data());
   });
   return perm;

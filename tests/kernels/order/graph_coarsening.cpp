@@ -132,3 +132,38 @@ TEST_CASE("coarsening: the same map for 1, 2, 3 and 8 threads on a scattered 230
     }
   }
 }
+
+TEST_CASE("coarsening: the last level's graph given with the map is contract_graph's, for 1, 2 and 8 threads") {
+  // contract_graph along the map is the oracle (itself checked against a
+  // brute-force set construction in separator_refinement.cpp): the same
+  // neighbors with the same weights in every row, the order aside.
+  const AdjacencyGraph g = scattered_grid(120, 90, 9);
+  for (const int levels : {1, 2, 5}) {
+    CAPTURE(levels);
+    HostVector<int32_t> cmap;
+    const int32_t nc = coarsening_map(g, levels, cmap);
+    HostVector<int32_t> vwgt, ewgt;
+    const AdjacencyGraph want = contract_graph(g, cmap, nc, vwgt, &ewgt);
+    const auto rows = [](const AdjacencyGraph& h, const HostVector<int32_t>& w) {
+      std::vector<std::vector<std::pair<int32_t, int32_t>>> r(static_cast<size_t>(h.n()));
+      for (int32_t c = 0; c < h.n(); ++c) {
+        for (int32_t p = h.xadj[c]; p < h.xadj[c + 1]; ++p) r[c].emplace_back(h.adj[p], w[p]);
+        std::sort(r[c].begin(), r[c].end());
+      }
+      return r;
+    };
+    const auto want_rows = rows(want, ewgt);
+    for (const int threads : {1, 2, 8}) {
+      CAPTURE(threads);
+      HostVector<int32_t> got_map;
+      Contraction top;
+      int32_t got_nc = 0;
+      tbb::task_arena(threads).execute([&] { got_nc = coarsening_map(g, levels, got_map, nullptr, &top); });
+      CHECK(got_nc == nc);
+      CHECK(got_map == cmap);  // asking for the graph does not change the map
+      REQUIRE(top.graph.n() == nc);
+      REQUIRE(top.ewgt.size() == top.graph.adj.size());
+      CHECK(rows(top.graph, top.ewgt) == want_rows);
+    }
+  }
+}

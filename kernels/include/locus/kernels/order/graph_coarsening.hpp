@@ -29,7 +29,15 @@ namespace locus {
 // numbered in the order of their lowest vertex. Parallel (oneTBB, the
 // caller's arena) and the same map for any thread count.
 // `ticker`, when given, reports and polls the cancel flag between the passes.
-int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr);
+// With `coarsest`, also the graph of the last level (what contract_graph
+// would give, up to the order in the neighbor lists), from the level above
+// it: a pass over that level's rows instead of over g's.
+struct Contraction {
+  AdjacencyGraph graph;
+  HostVector<int32_t> ewgt;  // edges of g behind each entry of graph.adj
+};
+int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>& cmap, ProgressTicker* ticker = nullptr,
+                       Contraction* coarsest = nullptr);
 
 // The graph of g contracted along coarse[v] in [0, nc): coarse vertices
 // joined when any of their vertices are; vwgt[c] = vertices of c; with
