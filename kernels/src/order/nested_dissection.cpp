@@ -13,6 +13,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <bit>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -40,7 +41,6 @@ struct Node {
   // (exact_min_vertices). Empty until separator() needs it.
   AdjacencyGraph cg;
   HostVector<int32_t> cew;
-  int depth = 0;  // levels below the root
 };
 
 // Below this many vertices a node's two sides run in the same task: a task
@@ -107,7 +107,6 @@ class Dissector {
       extract(0);
       extract(1);
     }
-    child[0].depth = child[1].depth = node.depth + 1;
     const int32_t n0 = side_size[0], n1 = side_size[1];
     int32_t* sep_out = out + n0 + n1;
     for (int32_t v = 0; v < m; ++v)
@@ -151,7 +150,7 @@ class Dissector {
       HostVector<int8_t> coarse_part;
       if (node.cg.n() < opt_.level_separator_below && level_separator(node.cg, vwgt, coarse_part)) {
         project_and_refine(node, coarse_part, part);
-      } else if (const int tries = tries_at(node); tries <= 1) {
+      } else if (const int tries = tries_at(m); tries <= 1) {
         metis_on_contraction(node, vwgt, opt_.metis_seed, part);
       } else {
         best_of_tries(node, vwgt, tries, part);
@@ -181,12 +180,12 @@ class Dissector {
     refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
   }
 
-  // Separators to try at this node: separator_tries at the root, half as
-  // many one level down, and so on (at least one), at nodes of at least
-  // tries_min_vertices vertices.
-  int tries_at(const Node& node) const {
-    if (node.g.n() < opt_.tries_min_vertices || node.depth >= 31) return 1;
-    return std::max(1, opt_.separator_tries >> node.depth);
+  // Separators to try at a node of m vertices: separator_tries from
+  // tries_full_vertices up, half as many for every halving of m below
+  // (nested_dissection.hpp), at least one.
+  int tries_at(int32_t m) const {
+    const int64_t scaled = static_cast<int64_t>(opt_.separator_tries) * m / std::max(1, opt_.tries_full_vertices);
+    return static_cast<int>(std::bit_floor(static_cast<uint64_t>(std::clamp<int64_t>(scaled, 1, std::max(1, opt_.separator_tries)))));
   }
 
   // The smallest of `tries` refined separators (METIS seeds metis_seed + k;

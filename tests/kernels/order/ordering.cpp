@@ -21,6 +21,7 @@
 
 #include "locus/error.hpp"
 #include "locus/kernels/order/geometric_separator.hpp"
+#include "locus/kernels/order/nested_dissection.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "tests/kernels/matrix_fixtures.hpp"
 
@@ -99,6 +100,34 @@ TEST_CASE("ordering: nested dissection of 53 000 vertices (parallel contractions
   // small for either.
   const CscMatrix a = test::grid_laplacian(230, 230, 0.01);
   check_same_for_thread_counts(a, with(Method::NestedDissection));
+}
+
+TEST_CASE("nested dissection: separator tries (8, 4, 2 down the tree, in parallel) give the same permutation with 1, 2, 3, 8 threads") {
+  // tries_full_vertices small enough that the 53 000-vertex root tries 8
+  // seeds, its children 4 and their children 2: the parallel tries and the
+  // choice among them (the smallest separator, ties to the lowest seed)
+  // must not depend on which thread finished first.
+  const AdjacencyGraph g = adjacency_of(test::grid_laplacian(230, 230, 0.01));
+  NestedDissectionOptions opt;
+  opt.separator = NestedDissectionOptions::Separator::Metis;
+  opt.coarse_levels = 5;
+  opt.coarse_min_vertices = 256;
+  opt.tries_full_vertices = 50000;
+  RunContext one;
+  one.threads = 1;
+  const HostVector<int32_t> ref = nested_dissection(g, {}, {}, {}, opt, one);
+  std::vector<int32_t> seen(ref.begin(), ref.end());
+  std::sort(seen.begin(), seen.end());
+  for (int32_t k = 0; k < g.n(); ++k) REQUIRE(seen[k] == k);
+  for (const int t : {2, 3, 8}) {
+    RunContext ctx;
+    ctx.threads = t;
+    CHECK(nested_dissection(g, {}, {}, {}, opt, ctx) == ref);
+  }
+  // The tries changed the ordering: one seed alone gives another one.
+  NestedDissectionOptions single = opt;
+  single.separator_tries = 1;
+  CHECK(nested_dissection(g, {}, {}, {}, single, one) != ref);
 }
 
 TEST_CASE("ordering: concurrent calls equal sequential ones") {

@@ -62,14 +62,17 @@ struct NestedDissectionOptions {
   // 0.08 s of CPU; the FM passes that follow make up for the cruder cut
   // (fill +0.4%, docs/ordering.md).
   int32_t level_separator_below = 100;
-  // Nodes of at least tries_min_vertices vertices keep the smallest of
-  // separator_tries separators (METIS seeds metis_seed + k, each refined),
-  // tried in parallel. The top separators lie on every local solve's path:
-  // at 416k, against METIS_NodeND, one try gave the 24-lane solve +8% and
-  // the single heat value +3%; 8 tries +3.5% and -8%, for 0.09 s more of
-  // the ordering on 2 threads (docs/ordering.md).
+  // Large nodes keep the smallest of several separators (METIS seeds
+  // metis_seed + k, each refined), tried in parallel: separator_tries at
+  // nodes of tries_full_vertices or more, half as many for every halving of
+  // the node below that (at 416k: 8 at the root, 4, 2, then one from 52k
+  // down). The top separators lie on every local solve's path: at 416k,
+  // against METIS_NodeND, one try gave the 24-lane solve +8% and the single
+  // heat value +3%; 8 tries at every node of 50 000 or more +3.5% and -8%,
+  // for 0.09 s more of the ordering on 2 threads; these halving tries cost
+  // half of that for about the same reach (docs/ordering.md).
   int separator_tries = 8;
-  int32_t tries_min_vertices = 50000;
+  int32_t tries_full_vertices = 400000;
   SeparatorRefinementOptions refinement;
 };
 
