@@ -65,14 +65,14 @@ struct NestedDissectionOptions {
   // Large nodes keep the smallest of several separators (METIS seeds
   // metis_seed + k, each refined), tried in parallel: separator_tries at
   // nodes of tries_full_vertices or more, half as many for every halving of
-  // the node below that (at 416k: 8 at the root, 4, 2, then one from 52k
-  // down). The top separators lie on every local solve's path: at 416k,
-  // against METIS_NodeND, one try gave the 24-lane solve +8% and the single
-  // heat value +3%; 8 tries at every node of 50 000 or more +3.5% and -8%,
-  // for 0.09 s more of the ordering on 2 threads; these halving tries cost
-  // half of that for about the same reach (docs/ordering.md).
+  // the node below that, at least one (at 416k: 4 at the root, 2 at its
+  // children, then one). The top separators lie on every local solve's
+  // path: at 416k one try gave the 24-lane solve +8% against METIS_NodeND.
+  // Twice as many (8 at the 416k root, 4, 2) cost 0.07 s more CPU there for
+  // the same ordering, and on four other inputs gave no better fill or
+  // etree overall (docs/ordering.md).
   int separator_tries = 8;
-  int32_t tries_full_vertices = 400000;
+  int32_t tries_full_vertices = 800000;
   SeparatorRefinementOptions refinement;
 };
 
