@@ -184,8 +184,9 @@ class Dissector {
   // tries_full_vertices up, half as many for every halving of m below
   // (nested_dissection.hpp), at least one.
   int tries_at(int32_t m) const {
-    const int64_t scaled = static_cast<int64_t>(opt_.separator_tries) * m / std::max(1, opt_.tries_full_vertices);
-    return static_cast<int>(std::bit_floor(static_cast<uint64_t>(std::clamp<int64_t>(scaled, 1, std::max(1, opt_.separator_tries)))));
+    const int64_t most = std::max(1, opt_.separator_tries);
+    const int64_t scaled = most * m / std::max(1, opt_.tries_full_vertices);
+    return static_cast<int>(std::bit_floor(static_cast<uint64_t>(std::clamp<int64_t>(scaled, 1, most))));
   }
 
   // The smallest of `tries` refined separators (METIS seeds metis_seed + k;
