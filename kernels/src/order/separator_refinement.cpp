@@ -195,7 +195,9 @@ class Refiner {
   int32_t min_gain_ = 0;
   int32_t top_ = -1;  // no entries above this bucket
   HostVector<int32_t>& sep_;  // the separator's vertices at the start of a pass
-  HostVector<int32_t>&moved_, &pulled_, &pulled_begin_;
+  HostVector<int32_t>& moved_;
+  HostVector<int32_t>& pulled_;
+  HostVector<int32_t>& pulled_begin_;
 };
 
 }  // namespace
