@@ -1,6 +1,9 @@
 // The subcommands of `locus-bench`, one file each (tools/bench/bench_<name>.cpp).
 // They share the grammar of the `locus` tool (tools/cli/cli_common.hpp).
 #pragma once
+#include <string>
+
+#include "locus/kernels/order/ordering.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::bench {
@@ -14,5 +17,12 @@ void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (
 void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Session queries, RSS, cancellation; --big
 void register_cancel_bench(cli::CommandTable& table);  // cancel: C API cancel latency of the first geodesic query
 void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's figures (issue 23)
+
+// The ordering a bench names: auto (the library's default), metis
+// (METIS_NodeND, the ordering before issue 26), amd, nd (nested
+// dissection), nd_geometric (plane-cut separators, given positions),
+// nd_nohalo (AMD leaves without their halo), nd_metis (METIS on every
+// node's own graph). BadUsage for any other name.
+OrderingOptions ordering_by_name(const std::string& name);
 
 }  // namespace locus::bench

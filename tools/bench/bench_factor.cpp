@@ -68,20 +68,12 @@ struct Positions {
 
 OrderingOptions ordering_options(const std::string& name, const Positions& pos, int32_t leaf_size = 0,
                                  int coarse_levels = -1) {
-  OrderingOptions o;
+  OrderingOptions o = ordering_by_name(name);
   if (leaf_size > 0) o.leaf_size = leaf_size;
-  if (coarse_levels >= 0) o.coarse_levels = coarse_levels;
+  if (coarse_levels >= 0 && name != "nd_metis") o.coarse_levels = coarse_levels;
   o.x = pos.x;
   o.y = pos.y;
   o.z = pos.z;
-  using M = OrderingOptions::Method;
-  if (name == "metis") o.method = M::Metis;
-  else if (name == "amd") o.method = M::Amd;
-  else if (name == "nd") o.method = M::NestedDissection;
-  else if (name == "nd_geometric") { o.method = M::NestedDissection; o.separator = OrderingOptions::Separator::Geometric; }
-  else if (name == "nd_nohalo") { o.method = M::NestedDissection; o.halo = false; }
-  else if (name == "nd_metis") { o.method = M::NestedDissection; o.coarse_levels = 0; }  // METIS on every node's graph
-  else if (name != "auto") fail(ErrorCode::BadUsage, "unknown ordering '" + name + "'");
   return o;
 }
 
@@ -660,6 +652,19 @@ int run_bench_factor(const cli::CommonOptions& opt, const Options& bo, const Run
 }
 
 }  // namespace
+
+OrderingOptions ordering_by_name(const std::string& name) {
+  using M = OrderingOptions::Method;
+  OrderingOptions o;
+  if (name == "metis") o.method = M::Metis;
+  else if (name == "amd") o.method = M::Amd;
+  else if (name == "nd") o.method = M::NestedDissection;
+  else if (name == "nd_geometric") { o.method = M::NestedDissection; o.separator = OrderingOptions::Separator::Geometric; }
+  else if (name == "nd_nohalo") { o.method = M::NestedDissection; o.halo = false; }
+  else if (name == "nd_metis") { o.method = M::NestedDissection; o.coarse_levels = 0; }  // METIS on every node's graph
+  else if (name != "auto") fail(ErrorCode::BadUsage, "unknown ordering '" + name + "'");
+  return o;
+}
 
 void register_factor_bench(cli::CommandTable& table) {
   auto bo = std::make_shared<Options>();

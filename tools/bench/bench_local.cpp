@@ -273,19 +273,8 @@ Json bench_lanes24(const NumericFactor& F, int rounds, Pick& pick, std::mt19937_
           {"max_diff_vs_eight_lane_rel_to_max", worst}};
 }
 
-// The ordering options of --ordering (auto: the library's default).
-OrderingOptions ordering_of(const std::string& name) {
-  using M = OrderingOptions::Method;
-  OrderingOptions oo;
-  if (name == "metis") oo.method = M::Metis;
-  else if (name == "nd") oo.method = M::NestedDissection;
-  else if (name == "amd") oo.method = M::Amd;
-  else if (name != "auto") fail(ErrorCode::BadUsage, "bench local: --ordering " + name + " (auto, metis, nd or amd)");
-  return oo;
-}
-
 Json bench_pairs(const Mesh& m, double t, const Options& bo, uint64_t seed, const RunContext& ctx) {
-  const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx, ordering_of(bo.ordering));
+  const HeatFactors H = factor_heat_operators(m, std::vector<double>{t}, ctx, ordering_by_name(bo.ordering));
   const NumericFactor& F = H.factors[0];
   const int32_t n = F.n();
   Json j;

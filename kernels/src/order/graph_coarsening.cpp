@@ -349,21 +349,24 @@ void contract_pairs(const GraphView& g, const Scratch<int32_t>& map, const Scrat
   contract_rows(g, map, static_cast<int32_t>(lead.size()), members, h.beg, h.end, h.adj, &h.wgt, ws);
 }
 
-// The graph of `view` without gaps, its edge weights (1 for g itself).
-void compact_view(const GraphView& view, int32_t nv, Contraction& out) {
-  AdjacencyGraph& h = out.graph;
+// The graph of `view` without gaps between its rows; with ewgt, its edge
+// weights too (1 for an unweighted view). Rows in parallel blocks.
+AdjacencyGraph compact_rows(const GraphView& view, HostVector<int32_t>* ewgt) {
+  const int32_t nv = view.n();
+  AdjacencyGraph h;
   h.xadj.resize(static_cast<size_t>(nv) + 1);
   h.xadj[0] = 0;
   for (int32_t c = 0; c < nv; ++c) h.xadj[c + 1] = h.xadj[c] + view.degree(c);
   h.adj.resize(static_cast<size_t>(h.xadj[nv]));
-  out.ewgt.resize(h.adj.size());
+  if (ewgt) ewgt->resize(h.adj.size());
   tbb::parallel_for(tbb::blocked_range<int32_t>(0, nv, kContractBlock), [&](const tbb::blocked_range<int32_t>& r) {
     for (int32_t c = r.begin(); c < r.end(); ++c)
       for (int32_t p = view.beg[c], q = h.xadj[c]; p < view.end[c]; ++p, ++q) {
         h.adj[q] = view.adj[p];
-        out.ewgt[q] = view.weight(p);
+        if (ewgt) (*ewgt)[q] = view.weight(p);
       }
   });
+  return h;
 }
 
 }  // namespace
@@ -402,7 +405,7 @@ int32_t coarsening_map(const AdjacencyGraph& g, int levels, HostVector<int32_t>&
     maps.push_back(std::move(map));
     nc = next;
   }
-  if (coarsest) compact_view(view, nc, *coarsest);
+  if (coarsest) coarsest->graph = compact_rows(view, &coarsest->ewgt);
   // Composed from the coarsest level down: each pass is over one level's
   // vertices (n + n/2 + ... instead of levels x n random reads).
   for (size_t k = maps.size(); k-- > 1;) {
@@ -437,19 +440,7 @@ AdjacencyGraph contract_graph(const AdjacencyGraph& g, std::span<const int32_t> 
   Weighted rows;
   const GraphView view{g.xadj.data(), g.xadj.data() + 1, n, g.adj, {}};
   contract_rows(view, coarse, nc, each, rows.beg, rows.end, rows.adj, ewgt ? &rows.wgt : nullptr, ws);
-  AdjacencyGraph h;
-  h.xadj.resize(static_cast<size_t>(nc) + 1);
-  h.xadj[0] = 0;
-  for (int32_t c = 0; c < nc; ++c) h.xadj[c + 1] = h.xadj[c] + rows.end[c] - rows.beg[c];
-  h.adj.resize(static_cast<size_t>(h.xadj[nc]));
-  if (ewgt) ewgt->resize(h.adj.size());
-  tbb::parallel_for(tbb::blocked_range<int32_t>(0, nc, kContractBlock), [&](const tbb::blocked_range<int32_t>& r) {
-    for (int32_t c = r.begin(); c < r.end(); ++c) {
-      std::copy(rows.adj.begin() + rows.beg[c], rows.adj.begin() + rows.end[c], h.adj.begin() + h.xadj[c]);
-      if (ewgt) std::copy(rows.wgt.begin() + rows.beg[c], rows.wgt.begin() + rows.end[c], ewgt->begin() + h.xadj[c]);
-    }
-  });
-  return h;
+  return compact_rows(GraphView{rows.beg.data(), rows.end.data(), nc, rows.adj, rows.wgt}, ewgt);
 }
 
 AdjacencyGraph restrict_contraction(const AdjacencyGraph& h, std::span<const int32_t> keep, int32_t nkept,

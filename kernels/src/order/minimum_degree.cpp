@@ -17,6 +17,38 @@
 
 namespace locus {
 
+namespace {
+
+// What amd_2 and camd_2 take instead of a matrix: the graph's lists (Pe,
+// Len) in a copy they may overwrite (Iw), with iwlen - nnz entries of elbow
+// room (both need at least n). An AdjacencyGraph already is the A + A^T
+// that amd_order / camd_order would form (symmetric, no diagonal, no
+// duplicates).
+struct MinimumDegreeInput {
+  HostVector<int32_t> pe, len, iw;
+  int iwlen = 0, nnz = 0;
+};
+
+MinimumDegreeInput minimum_degree_input(const AdjacencyGraph& g, int64_t elbow, const char* what) {
+  const int32_t n = g.n();
+  const int64_t nnz = g.xadj[n];
+  const int64_t iwlen = nnz + nnz / 5 + elbow;
+  if (iwlen > INT32_MAX)
+    fail(ErrorCode::ResourceLimit,
+         std::string(what) + " ordering: a graph of " + std::to_string(nnz) + " edges exceeds 32-bit indices");
+  MinimumDegreeInput in;
+  in.pe.assign(g.xadj.begin(), g.xadj.end() - 1);
+  in.len.resize(static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v) in.len[v] = g.degree(v);
+  in.iw.resize(static_cast<size_t>(iwlen));
+  std::copy(g.adj.begin(), g.adj.end(), in.iw.begin());
+  in.iwlen = static_cast<int>(iwlen);
+  in.nnz = static_cast<int>(nnz);
+  return in;
+}
+
+}  // namespace
+
 HostVector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
   const int32_t n = g.n();
   HostVector<int32_t> perm(static_cast<size_t>(n));
@@ -25,21 +57,13 @@ HostVector<int32_t> minimum_degree_order(const AdjacencyGraph& g) {
     std::iota(perm.begin(), perm.end(), 0);
     return perm;
   }
-  // amd_2 directly: amd_order would check the input, form A + A^T and copy
-  // it, all of which an AdjacencyGraph already is (symmetric, no diagonal,
-  // no duplicates); amd_2 needs a copy it may overwrite, with elbow room.
+  // amd_2 directly: amd_order would check the input, form A + A^T and copy it.
   double control[AMD_CONTROL], info[AMD_INFO];
   amd_defaults(control);
-  const int64_t nnz = g.xadj[n];
-  const int64_t iwlen = nnz + nnz / 5 + 2 * static_cast<int64_t>(n);  // amd_2 needs >= nnz + n
-  if (iwlen > INT32_MAX)
-    fail(ErrorCode::ResourceLimit, "AMD ordering: a graph of " + std::to_string(nnz) + " edges exceeds 32-bit indices");
-  HostVector<int32_t> pe(g.xadj.begin(), g.xadj.end() - 1), len(n), iw(static_cast<size_t>(iwlen));
+  MinimumDegreeInput in = minimum_degree_input(g, 2 * static_cast<int64_t>(n), "AMD");
   HostVector<int32_t> nv(n), next(n), head(n), elen(n), degree(n), w(n);
-  for (int32_t v = 0; v < n; ++v) len[v] = g.degree(v);
-  std::copy(g.adj.begin(), g.adj.end(), iw.begin());
-  amd_2(n, pe.data(), iw.data(), len.data(), static_cast<int>(iwlen), static_cast<int>(nnz), nv.data(), next.data(),
-        perm.data(), head.data(), elen.data(), degree.data(), w.data(), control, info);
+  amd_2(n, in.pe.data(), in.iw.data(), in.len.data(), in.iwlen, in.nnz, nv.data(), next.data(), perm.data(),
+        head.data(), elen.data(), degree.data(), w.data(), control, info);
   return perm;
 }
 
@@ -67,17 +91,10 @@ HostVector<int32_t> constrained_minimum_degree_order(const AdjacencyGraph& g, co
   // each in order), so the order is the same as its.
   double control[CAMD_CONTROL], info[CAMD_INFO];
   camd_defaults(control);
-  const int64_t nnz = g.xadj[n];
-  const int64_t iwlen = nnz + nnz / 5 + static_cast<int64_t>(n);  // camd_2 needs >= nnz + n
-  if (iwlen > INT32_MAX)
-    fail(ErrorCode::ResourceLimit, "CAMD ordering: a graph of " + std::to_string(nnz) + " edges exceeds 32-bit indices");
-  HostVector<int32_t> pe(g.xadj.begin(), g.xadj.end() - 1), len(n), iw(static_cast<size_t>(iwlen));
+  MinimumDegreeInput in = minimum_degree_input(g, n, "CAMD");
   HostVector<int32_t> nv(n), last(n), head(n + 1), elen(n), degree(n), w(n + 1), bucket_set(n);
-  for (int32_t v = 0; v < n; ++v) len[v] = g.degree(v);
-  std::copy(g.adj.begin(), g.adj.end(), iw.begin());
-  camd_2(n, pe.data(), iw.data(), len.data(), static_cast<int>(iwlen), static_cast<int>(nnz), nv.data(), last.data(),
-         perm.data(), head.data(), elen.data(), degree.data(), w.data(), control, info, constraint.data(),
-         bucket_set.data());
+  camd_2(n, in.pe.data(), in.iw.data(), in.len.data(), in.iwlen, in.nnz, nv.data(), last.data(), perm.data(),
+         head.data(), elen.data(), degree.data(), w.data(), control, info, constraint.data(), bucket_set.data());
   return perm;
 }
 

@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -163,21 +162,23 @@ class Dissector {
     }
   }
 
-  // METIS' separator of the node's contraction (seed `seed`), projected and refined.
-  void metis_on_contraction(const Node& node, const HostVector<int32_t>& vwgt, int seed,
-                            HostVector<int8_t>& part) const {
+  // METIS' separator of the node's contraction (seed `seed`), projected and
+  // refined; returns its size.
+  int32_t metis_on_contraction(const Node& node, const HostVector<int32_t>& vwgt, int seed,
+                               HostVector<int8_t>& part) const {
     HostVector<int8_t> coarse_part;
     metis_vertex_separator(node.cg, seed, coarse_part, &ticker_, vwgt,
                            opt_.metis_edge_weights ? std::span<const int32_t>(node.cew) : std::span<const int32_t>());
     poll();
-    project_and_refine(node, coarse_part, part);
+    return project_and_refine(node, coarse_part, part);
   }
 
-  void project_and_refine(const Node& node, const HostVector<int8_t>& coarse_part, HostVector<int8_t>& part) const {
+  // The coarse separator on the node's vertices, refined; returns its size.
+  int32_t project_and_refine(const Node& node, const HostVector<int8_t>& coarse_part, HostVector<int8_t>& part) const {
     const int32_t m = node.g.n();
     part.resize(static_cast<size_t>(m));
     for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
-    refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
+    return refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
   }
 
   // Separators to try at a node of m vertices: separator_tries from
@@ -195,19 +196,14 @@ class Dissector {
   // other threads would wait anyway.
   void best_of_tries(const Node& node, const HostVector<int32_t>& vwgt, int tries, HostVector<int8_t>& part) const {
     std::vector<HostVector<int8_t>> parts(static_cast<size_t>(tries));
-    const auto one = [&](int k) { metis_on_contraction(node, vwgt, opt_.metis_seed + k, parts[k]); };
+    std::vector<int32_t> sizes(static_cast<size_t>(tries));
+    const auto one = [&](int k) { sizes[k] = metis_on_contraction(node, vwgt, opt_.metis_seed + k, parts[k]); };
     if (parallel_) {
       tbb::parallel_for(0, tries, one);
     } else {
       for (int k = 0; k < tries; ++k) one(k);
     }
-    int best = 0;
-    int32_t best_size = std::numeric_limits<int32_t>::max();
-    for (int k = 0; k < tries; ++k)
-      if (const auto size = static_cast<int32_t>(std::count(parts[k].begin(), parts[k].end(), int8_t{2})); size < best_size) {
-        best = k;
-        best_size = size;
-      }
+    const auto best = std::min_element(sizes.begin(), sizes.end()) - sizes.begin();  // the first of the smallest
     part = std::move(parts[best]);
   }
 
