@@ -5,52 +5,110 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace locus {
 
 namespace {
 
-// The best split of the vertices ranked along direction d: side[v] = 1 for the
-// first k in rank order, with k inside the balance window and cutting the
-// fewest edges (ties: the k nearest the middle). Returns the cut size.
+// Split points are bin boundaries: the projections are binned uniformly, and
+// the range is narrowed around the balance window until the window spans
+// enough boundaries. A sort of the window (every split point) was over half
+// of the nested dissection's CPU at 104k (perf); with the FM passes after the
+// cut (nested_dissection.cpp) the bins fill no more (docs/ordering.md).
+constexpr int32_t kMaxBins = 2048;
+constexpr int kNarrowRounds = 4;
+
+// Scratch of best_split_along, kept across directions.
+struct SplitSpace {
+  HostVector<double> proj;
+  HostVector<int32_t> bin, below;
+  HostVector<int64_t> diff;
+};
+
+// The best split of the vertices along direction d: side[v] = 1 for the
+// vertices below a threshold, their count inside the balance window, the
+// threshold the bin boundary cutting the fewest edges (ties: the count
+// nearest the middle). Edges with neither end inside the window's bins are
+// not counted (they would cross every candidate). Returns the cut size, or
+// -1 when no boundary lies in the window (all projections equal).
 int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std::span<const double> y,
-                         std::span<const double> z, const Eigen::Vector3d& d, double window,
-                         HostVector<int32_t>& rank, HostVector<double>& proj, HostVector<int8_t>& side) {
+                         std::span<const double> z, const Eigen::Vector3d& d, double window, SplitSpace& sp,
+                         HostVector<int8_t>& side) {
   const int32_t m = g.n();
-  proj.resize(m);
-  for (int32_t v = 0; v < m; ++v) proj[v] = d.x() * x[v] + d.y() * y[v] + d.z() * z[v];
-  rank.resize(m);
-  std::iota(rank.begin(), rank.end(), 0);
-  const auto less = [&proj](int32_t a, int32_t b) { return proj[a] < proj[b] || (proj[a] == proj[b] && a < b); };
+  sp.proj.resize(m);
+  double a = std::numeric_limits<double>::infinity(), b = -a;
+  for (int32_t v = 0; v < m; ++v) {
+    const double q = d.x() * x[v] + d.y() * y[v] + d.z() * z[v];
+    sp.proj[v] = q;
+    a = std::min(a, q);
+    b = std::max(b, q);
+  }
+  if (!(b > a)) return -1;
   const int32_t half = m / 2;
   const int32_t lo = std::clamp(static_cast<int32_t>(std::floor(m * (0.5 - window))), 1, half);
   const int32_t hi = std::clamp(static_cast<int32_t>(std::ceil(m * (0.5 + window))), half, m - 1);
-  std::nth_element(rank.begin(), rank.begin() + lo, rank.end(), less);
-  std::nth_element(rank.begin() + lo, rank.begin() + hi, rank.end(), less);
-  std::sort(rank.begin() + lo, rank.begin() + hi, less);
-  side.assign(m, 0);
-  for (int32_t k = 0; k < lo; ++k) side[rank[k]] = 1;
-  int64_t cut = 0;
-  for (int32_t k = 0; k < lo; ++k) {
-    const int32_t v = rank[k];
-    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) cut += side[g.adj[p]] == 0;
+  // Bins 1..bins cover [a, b) uniformly, 0 is below, bins + 1 above; fewer
+  // bins on small graphs, where the passes over the bins would outweigh the
+  // ones over the vertices. below[k]: the vertices in bins < k (side 1 of
+  // boundary k). The window: boundaries kl..kh, below[k] in [lo, hi].
+  const int32_t bins = std::clamp(m / 2, 64, kMaxBins), enough = bins / 8;
+  sp.bin.resize(m);
+  sp.below.resize(static_cast<size_t>(bins) + 3);
+  double scale = 0;
+  int32_t kl = 0, kh = 0;
+  for (int round = 0;; ++round) {
+    scale = bins / (b - a) * (1 - 1e-12);  // b itself in the last bin
+    std::fill(sp.below.begin(), sp.below.end(), 0);
+    for (int32_t v = 0; v < m; ++v) {
+      const double t = (sp.proj[v] - a) * scale;
+      const int32_t k = t < 0 ? 0 : t >= bins ? bins + 1 : 1 + static_cast<int32_t>(t);
+      sp.bin[v] = k;
+      ++sp.below[k + 1];
+    }
+    for (int32_t k = 1; k < bins + 3; ++k) sp.below[k] += sp.below[k - 1];
+    kl = 0;
+    while (sp.below[kl] < lo) ++kl;  // below[bins + 2] = m > lo
+    kh = kl - 1;
+    while (kh + 1 < bins + 3 && sp.below[kh + 1] <= hi) ++kh;
+    if (kh - kl + 1 >= enough || round + 1 == kNarrowRounds || kl < 2 || kh > bins) break;
+    // Narrow to the bins holding the window's ends: bin kl - 1 (the lo-th
+    // vertex) to bin kh (the one after the hi-th).
+    const double na = a + (kl - 2) / scale, nb = a + kh / scale;
+    a = na;
+    b = nb;
   }
-  int64_t best_cut = cut;
-  int32_t best_k = lo;
-  for (int32_t k = lo; k < hi; ++k) {  // move rank[k] to side 1: the split becomes k + 1
-    const int32_t v = rank[k];
-    int32_t in = 0;
-    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) in += side[g.adj[p]];
-    cut += (g.degree(v) - in) - in;
-    side[v] = 1;
-    const int32_t kk = k + 1;
-    if (cut < best_cut || (cut == best_cut && std::abs(kk - half) < std::abs(best_k - half))) {
-      best_cut = cut;
-      best_k = kk;
+  if (kl > kh) return -1;
+  // cut(k) = edges with min bin < k <= max bin, by differences over k.
+  sp.diff.assign(static_cast<size_t>(bins) + 3, 0);
+  const int32_t first_bin = kl - 1, last_bin = kh;  // bins whose vertices border a candidate
+  for (int32_t v = 0; v < m; ++v) {
+    const int32_t bv = sp.bin[v];
+    if (bv < first_bin || bv > last_bin) continue;
+    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) {
+      const int32_t w = g.adj[p];
+      const int32_t bw = sp.bin[w];
+      const bool w_inside = bw >= first_bin && bw <= last_bin;
+      if (bw == bv || (w_inside && w < v)) continue;  // each edge once
+      ++sp.diff[std::min(bv, bw) + 1];
+      --sp.diff[std::max(bv, bw) + 1];
     }
   }
-  for (int32_t k = best_k; k < hi; ++k) side[rank[k]] = 0;
+  int64_t cut = 0, best_cut = -1;
+  int32_t best_k = kl;
+  for (int32_t k = 0; k <= kh; ++k) {
+    cut += sp.diff[k];
+    if (k < kl) continue;
+    const int64_t off = std::abs(static_cast<int64_t>(sp.below[k]) - half);
+    if (best_cut < 0 || cut < best_cut ||
+        (cut == best_cut && off < std::abs(static_cast<int64_t>(sp.below[best_k]) - half))) {
+      best_cut = cut;
+      best_k = k;
+    }
+  }
+  side.resize(m);
+  for (int32_t v = 0; v < m; ++v) side[v] = sp.bin[v] < best_k ? 1 : 0;
   return best_cut;
 }
 
@@ -65,14 +123,21 @@ void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std
   Eigen::Vector3d c(0, 0, 0);
   for (int32_t v = 0; v < m; ++v) c += Eigen::Vector3d(x[v], y[v], z[v]);
   c /= m;
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  // Six scalar sums: the matrix is symmetric.
+  double sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
   for (int32_t v = 0; v < m; ++v) {
-    const Eigen::Vector3d q = Eigen::Vector3d(x[v], y[v], z[v]) - c;
-    cov += q * q.transpose();
+    const double qx = x[v] - c.x(), qy = y[v] - c.y(), qz = z[v] - c.z();
+    sxx += qx * qx;
+    sxy += qx * qy;
+    sxz += qx * qz;
+    syy += qy * qy;
+    syz += qy * qz;
+    szz += qz * qz;
   }
+  Eigen::Matrix3d cov;
+  cov << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  HostVector<int32_t> rank;
-  HostVector<double> proj;
+  SplitSpace sp;
   HostVector<int8_t> side, best_side;
   int64_t best = -1;
   // The three principal axes, then the four diagonals between them: a cut
@@ -84,11 +149,16 @@ void geometric_separator(const AdjacencyGraph& g, std::span<const double> x, std
       for (double s2 : {1.0, -1.0}) dirs.push_back((V.col(2) + s1 * V.col(1) + s2 * V.col(0)).normalized());
   const double window = opt.balance_window;
   for (const Eigen::Vector3d& d : dirs) {
-    const int64_t cut = best_split_along(g, x, y, z, d, window, rank, proj, side);
-    if (best < 0 || cut < best) {
+    const int64_t cut = best_split_along(g, x, y, z, d, window, sp, side);
+    if (cut >= 0 && (best < 0 || cut < best)) {
       best = cut;
       best_side.swap(side);
     }
+  }
+  if (best < 0) {
+    // Every direction degenerate (the points coincide): halves by index.
+    best_side.resize(m);
+    for (int32_t v = 0; v < m; ++v) best_side[v] = v < m / 2 ? 1 : 0;
   }
   part.assign(best_side.begin(), best_side.end());
   minimum_cover_separator(g, part);

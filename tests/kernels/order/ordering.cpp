@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/order/geometric_separator.hpp"
 #include "locus/kernels/order/nested_dissection.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
@@ -183,7 +185,7 @@ TEST_CASE("ordering: a cancel flag stops the caller; later orderings are unchang
   }
 }
 
-TEST_CASE("ordering: nested dissection's fill is within 5% of METIS_NodeND's (shared coarsening or not); geometric within 40%") {
+TEST_CASE("ordering: nested dissection's fill is within 5% of METIS_NodeND's (shared coarsening, METIS or geometric separators)") {
   const int nx = 160, ny = 150;
   const CscMatrix a = test::grid_laplacian(nx, ny, 0.01);
   const GridPositions pos(nx, ny);
@@ -198,11 +200,31 @@ TEST_CASE("ordering: nested dissection's fill is within 5% of METIS_NodeND's (sh
   CHECK(fill(nd) <= 1.05 * ref);
   nd.coarse_levels = 0;  // METIS on every node's whole graph
   CHECK(fill(nd) <= 1.05 * ref);
-  CHECK(fill(geo) <= 1.40 * ref);
+  CHECK(fill(geo) <= 1.05 * ref);  // plane cuts refined by FM passes
   // AMD on a grid this size: no better than nested dissection by far, no worse by much.
   const double amd = static_cast<double>(fill(with(Method::Amd)));
   CHECK(amd >= 0.8 * ref);
   CHECK(amd <= 1.6 * ref);
+}
+
+// Plane cuts through a triangle mesh are jagged: the FM passes after the cut
+// must bring the fill to METIS_NodeND's. Without them the irregular sphere
+// filled 1.10x (the torus 1.01x, the grid of the test above 1.20x).
+TEST_CASE("ordering: geometric separators fill within 5% of METIS_NodeND's on curved meshes") {
+  for (const Mesh& mesh : {make_random_sphere(20000, 3), make_torus(240, 80)}) {
+    const CscMatrix a = cotan_laplacian(mesh);
+    OrderingOptions geo;
+    geo.method = Method::NestedDissection;
+    geo.separator = OrderingOptions::Separator::Geometric;
+    geo.x = mesh.x;
+    geo.y = mesh.y;
+    geo.z = mesh.z;
+    OrderingOptions metis;
+    metis.method = Method::Metis;
+    const auto ref = static_cast<double>(analyze(a, order_matrix(a, metis))->nnz_exact);
+    const auto got = static_cast<double>(analyze(a, order_matrix(a, geo))->nnz_exact);
+    CHECK(got <= 1.05 * ref);
+  }
 }
 
 TEST_CASE("ordering: bad positions are a usage error; non-finite ones fall back to METIS separators") {
@@ -214,6 +236,28 @@ TEST_CASE("ordering: bad positions are a usage error; non-finite ones fall back 
   pos.x[7] = std::nan("");
   OrderingOptions nan_pos = with(Method::NestedDissection, &pos);
   CHECK(order_matrix(a, nan_pos).perm == order_matrix(a, with(Method::NestedDissection)).perm);
+}
+
+TEST_CASE("ordering: a geometric separator of coincident points still separates") {
+  const CscMatrix a = test::grid_laplacian(30, 20, 0.01);
+  const AdjacencyGraph g = adjacency_of(a);
+  const std::vector<double> zero(600, 0.0);
+  HostVector<int8_t> part;
+  geometric_separator(g, zero, zero, zero, {}, part);
+  int32_t count[3] = {0, 0, 0};
+  for (int32_t v = 0; v < g.n(); ++v) {
+    ++count[part[v]];
+    for (int32_t p = g.xadj[v]; p < g.xadj[v + 1]; ++p) CHECK_FALSE((part[v] == 0 && part[g.adj[p]] == 1));
+  }
+  CHECK(count[0] > 0);
+  CHECK(count[1] > 0);
+  OrderingOptions oo = with(Method::NestedDissection);
+  oo.separator = OrderingOptions::Separator::Geometric;
+  oo.x = oo.y = oo.z = zero;
+  const Ordering o = order_matrix(a, oo);
+  std::vector<int32_t> perm(o.perm.begin(), o.perm.end());
+  std::sort(perm.begin(), perm.end());
+  for (int32_t k = 0; k < 600; ++k) CHECK(perm[k] == k);
 }
 
 TEST_CASE("ordering: the separator of a bisection is a minimum vertex cover of its cut edges") {

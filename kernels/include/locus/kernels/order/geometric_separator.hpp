@@ -1,17 +1,19 @@
 // Vertex separators from vertex positions (issue 26; thesis §4.2): the mesh's
 // geometry tells roughly where a short cut lies, so a plane cut plus a small
-// combinatorial repair can stand in for METIS' multilevel search. On
-// armadillo the plane cuts are 1.5-1.8x longer than METIS' separators and
-// the ordering fills 1.1-1.25x; it is an option, not the default
-// (docs/ordering.md).
+// combinatorial repair can stand in for METIS' multilevel search. The cut
+// alone is jagged (1.5-1.8x METIS' separators on armadillo, 1.1-1.25x the
+// fill); the nested dissection refines it by FM passes
+// (separator_refinement.hpp), after which the fill is METIS_NodeND's (0.97x
+// at 26k, 1.00x at 104k, 1.03x at 416k on armadillo). It is an option, not
+// the default: at 416k its etree is 1.17x METIS_NodeND's and it costs more
+// than the shared-coarsening separators (docs/ordering.md).
 //
 // The cut: for each principal axis of the points' inertia (and the diagonals
-// between them), the vertices are
-// ranked by their coordinate along it, and the split point is chosen inside a
-// window around the median to cut the fewest edges; the axis with the fewest
-// cut edges wins. The separator: a minimum vertex cover of the cut edges
-// (König: a maximum matching of the bipartite cut graph), so no vertex is in
-// the separator that a smaller cover could leave out.
+// between them), the split point along it is chosen among bin boundaries
+// inside a window around the median to cut the fewest edges; the direction
+// with the fewest cut edges wins. The separator: a minimum vertex cover of
+// the cut edges (König: a maximum matching of the bipartite cut graph), so no
+// vertex is in the separator that a smaller cover could leave out.
 #pragma once
 #include <cstdint>
 #include <span>

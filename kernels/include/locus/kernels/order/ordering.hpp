@@ -33,9 +33,11 @@ struct OrderingOptions {
     Metis,             // METIS_NodeND, one top split on two threads (the pre-task-tree ordering)
     Natural            // identity
   } method = Method::Auto;
-  // NestedDissection's separators: METIS' multilevel ones, or plane cuts from
-  // the vertex positions below (Geometric: ~0.85x the time, 1.1-1.25x the
-  // fill on armadillo, docs/ordering.md; without usable positions METIS is used).
+  // NestedDissection's separators: METIS' on the shared coarsening, or plane
+  // cuts from the vertex positions below refined by FM passes (Geometric: the
+  // same fill up to 104k on armadillo, 1.03x and a 1.17x taller etree at
+  // 416k, 1.1-1.2x the CPU, docs/ordering.md; without usable positions METIS
+  // is used).
   enum class Separator { Metis, Geometric } separator = Separator::Metis;
   int seed = 7;  // METIS random seed (fixed: same input, same ordering)
   // Vertex positions, one per matrix column (a mesh's x, y, z when the matrix
