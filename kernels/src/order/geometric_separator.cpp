@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 namespace locus {
 
@@ -76,6 +75,7 @@ int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std
     // Narrow to the bins holding the window's ends: bin kl - 1 (the lo-th
     // vertex) to bin kh (the one after the hi-th).
     const double na = a + (kl - 2) / scale, nb = a + kh / scale;
+    if (!(nb > na)) break;  // no finer range in doubles: keep these bins
     a = na;
     b = nb;
   }

@@ -260,6 +260,22 @@ TEST_CASE("ordering: a geometric separator of coincident points still separates"
   for (int32_t k = 0; k < 600; ++k) CHECK(perm[k] == k);
 }
 
+// One vertex a million grid widths away: the bins are narrowed to the grid,
+// so the cut is still one column of the 30 x 20 grid (20 vertices).
+TEST_CASE("ordering: a geometric separator with a far outlier cuts the grid across") {
+  const CscMatrix a = test::grid_laplacian(30, 20, 0.01);
+  const AdjacencyGraph g = adjacency_of(a);
+  GridPositions pos(30, 20);
+  std::fill(pos.z.begin(), pos.z.end(), 0.0);
+  pos.x[599] = 3e7;
+  HostVector<int8_t> part;
+  geometric_separator(g, pos.x, pos.y, pos.z, {}, part);
+  int32_t count[3] = {0, 0, 0};
+  for (int32_t v = 0; v < g.n(); ++v) ++count[part[v]];
+  CHECK(count[2] <= 21);
+  CHECK(std::min(count[0], count[1]) >= 180);
+}
+
 TEST_CASE("ordering: the separator of a bisection is a minimum vertex cover of its cut edges") {
   std::mt19937_64 rng(5);
   for (int trial = 0; trial < 40; ++trial) {
