@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace locus {
 
@@ -25,6 +26,42 @@ struct SplitSpace {
   HostVector<int32_t> bin, below;
   HostVector<int64_t> diff;
 };
+
+// Bins the projections sp.proj[0..m) in [a, b] (their range, b > a): bins
+// 1..bins cover a range uniformly, 0 is below it, bins + 1 above; the range
+// is narrowed around the balance window [lo, hi] until the window spans
+// enough boundaries. Fewer bins on small graphs, where the passes over the
+// bins would outweigh the ones over the vertices. Leaves sp.bin and
+// sp.below[k] = the vertices in bins < k (side 1 of boundary k); returns the
+// window's boundaries {kl, kh}, below[k] in [lo, hi] (kh < kl: none).
+std::pair<int32_t, int32_t> bin_window(int32_t m, double a, double b, int32_t lo, int32_t hi, SplitSpace& sp) {
+  const int32_t bins = static_cast<int32_t>(sp.below.size()) - 3, enough = bins / 8;
+  sp.bin.resize(m);
+  int32_t kl = 0, kh = 0;
+  for (int round = 0;; ++round) {
+    const double scale = bins / (b - a) * (1 - 1e-12);  // b itself in the last bin
+    std::fill(sp.below.begin(), sp.below.end(), 0);
+    for (int32_t v = 0; v < m; ++v) {
+      const double t = (sp.proj[v] - a) * scale;
+      const int32_t k = t < 0 ? 0 : t >= bins ? bins + 1 : 1 + static_cast<int32_t>(t);
+      sp.bin[v] = k;
+      ++sp.below[k + 1];
+    }
+    for (int32_t k = 1; k < bins + 3; ++k) sp.below[k] += sp.below[k - 1];
+    kl = 0;
+    while (sp.below[kl] < lo) ++kl;  // below[bins + 2] = m > lo
+    kh = kl - 1;
+    while (kh + 1 < bins + 3 && sp.below[kh + 1] <= hi) ++kh;
+    if (kh - kl + 1 >= enough || round + 1 == kNarrowRounds || kl < 2 || kh > bins) break;
+    // Narrow to the bins holding the window's ends: bin kl - 1 (the lo-th
+    // vertex) to bin kh (the one after the hi-th).
+    const double na = a + (kl - 2) / scale, nb = a + kh / scale;
+    if (!(nb > na)) break;  // no finer range in doubles: keep these bins
+    a = na;
+    b = nb;
+  }
+  return {kl, kh};
+}
 
 // The best split of the vertices along direction d: side[v] = 1 for the
 // vertices below a threshold, their count inside the balance window, the
@@ -48,37 +85,9 @@ int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std
   const int32_t half = m / 2;
   const int32_t lo = std::clamp(static_cast<int32_t>(std::floor(m * (0.5 - window))), 1, half);
   const int32_t hi = std::clamp(static_cast<int32_t>(std::ceil(m * (0.5 + window))), half, m - 1);
-  // Bins 1..bins cover [a, b) uniformly, 0 is below, bins + 1 above; fewer
-  // bins on small graphs, where the passes over the bins would outweigh the
-  // ones over the vertices. below[k]: the vertices in bins < k (side 1 of
-  // boundary k). The window: boundaries kl..kh, below[k] in [lo, hi].
-  const int32_t bins = std::clamp(m / 2, 64, kMaxBins), enough = bins / 8;
-  sp.bin.resize(m);
+  const int32_t bins = std::clamp(m / 2, 64, kMaxBins);
   sp.below.resize(static_cast<size_t>(bins) + 3);
-  double scale = 0;
-  int32_t kl = 0, kh = 0;
-  for (int round = 0;; ++round) {
-    scale = bins / (b - a) * (1 - 1e-12);  // b itself in the last bin
-    std::fill(sp.below.begin(), sp.below.end(), 0);
-    for (int32_t v = 0; v < m; ++v) {
-      const double t = (sp.proj[v] - a) * scale;
-      const int32_t k = t < 0 ? 0 : t >= bins ? bins + 1 : 1 + static_cast<int32_t>(t);
-      sp.bin[v] = k;
-      ++sp.below[k + 1];
-    }
-    for (int32_t k = 1; k < bins + 3; ++k) sp.below[k] += sp.below[k - 1];
-    kl = 0;
-    while (sp.below[kl] < lo) ++kl;  // below[bins + 2] = m > lo
-    kh = kl - 1;
-    while (kh + 1 < bins + 3 && sp.below[kh + 1] <= hi) ++kh;
-    if (kh - kl + 1 >= enough || round + 1 == kNarrowRounds || kl < 2 || kh > bins) break;
-    // Narrow to the bins holding the window's ends: bin kl - 1 (the lo-th
-    // vertex) to bin kh (the one after the hi-th).
-    const double na = a + (kl - 2) / scale, nb = a + kh / scale;
-    if (!(nb > na)) break;  // no finer range in doubles: keep these bins
-    a = na;
-    b = nb;
-  }
+  const auto [kl, kh] = bin_window(m, a, b, lo, hi, sp);
   if (kl > kh) return -1;
   // cut(k) = edges with min bin < k <= max bin, by differences over k.
   sp.diff.assign(static_cast<size_t>(bins) + 3, 0);
