@@ -30,13 +30,14 @@ struct SplitSpace {
 // Bins the projections sp.proj[0..m) in [a, b] (their range, b > a): bins
 // 1..bins cover a range uniformly, 0 is below it, bins + 1 above; the range
 // is narrowed around the balance window [lo, hi] until the window spans
-// enough boundaries. Fewer bins on small graphs, where the passes over the
-// bins would outweigh the ones over the vertices. Leaves sp.bin and
-// sp.below[k] = the vertices in bins < k (side 1 of boundary k); returns the
-// window's boundaries {kl, kh}, below[k] in [lo, hi] (kh < kl: none).
-std::pair<int32_t, int32_t> bin_window(int32_t m, double a, double b, int32_t lo, int32_t hi, SplitSpace& sp) {
-  const int32_t bins = static_cast<int32_t>(sp.below.size()) - 3, enough = bins / 8;
+// enough boundaries. Leaves sp.bin and sp.below[k] = the vertices in bins
+// < k (side 1 of boundary k); returns the window's boundaries {kl, kh},
+// below[k] in [lo, hi] (kh < kl: none).
+std::pair<int32_t, int32_t> bin_window(int32_t m, double a, double b, int32_t lo, int32_t hi, int32_t bins,
+                                       SplitSpace& sp) {
+  const int32_t enough = bins / 8;
   sp.bin.resize(m);
+  sp.below.resize(static_cast<size_t>(bins) + 3);
   int32_t kl = 0, kh = 0;
   for (int round = 0;; ++round) {
     const double scale = bins / (b - a) * (1 - 1e-12);  // b itself in the last bin
@@ -85,9 +86,10 @@ int64_t best_split_along(const AdjacencyGraph& g, std::span<const double> x, std
   const int32_t half = m / 2;
   const int32_t lo = std::clamp(static_cast<int32_t>(std::floor(m * (0.5 - window))), 1, half);
   const int32_t hi = std::clamp(static_cast<int32_t>(std::ceil(m * (0.5 + window))), half, m - 1);
+  // Fewer bins on small graphs, where the passes over the bins would
+  // outweigh the ones over the vertices.
   const int32_t bins = std::clamp(m / 2, 64, kMaxBins);
-  sp.below.resize(static_cast<size_t>(bins) + 3);
-  const auto [kl, kh] = bin_window(m, a, b, lo, hi, sp);
+  const auto [kl, kh] = bin_window(m, a, b, lo, hi, bins, sp);
   if (kl > kh) return -1;
   // cut(k) = edges with min bin < k <= max bin, by differences over k.
   sp.diff.assign(static_cast<size_t>(bins) + 3, 0);

@@ -160,7 +160,7 @@ class Dissector {
       // passes as METIS' projected separators get shorten it (at 104k the
       // fill went from 1.16x METIS_NodeND's to 1.00x, docs/ordering.md).
       geometric_separator(node.g, node.x, node.y, node.z, opt_.geometric, part);
-      refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
+      refine(node, part);
     } else {
       metis_vertex_separator(node.g, opt_.metis_seed, part, &ticker_);  // polls the cancel flag inside METIS
     }
@@ -182,6 +182,12 @@ class Dissector {
     const int32_t m = node.g.n();
     part.resize(static_cast<size_t>(m));
     for (int32_t v = 0; v < m; ++v) part[v] = coarse_part[node.coarse[v]];
+    return refine(node, part);
+  }
+
+  // FM passes on a separator of the node's graph, with this thread's
+  // workspace; returns its size.
+  int32_t refine(const Node& node, HostVector<int8_t>& part) const {
     return refine_vertex_separator(node.g, part, opt_.refinement, &refine_ws_.local());
   }
 
@@ -290,7 +296,7 @@ class Dissector {
   // leaf(): per thread, each root vertex's index in the leaf being built (its
   // own vertices, then its halo), else -1.
   mutable tbb::enumerable_thread_specific<HostVector<int32_t>> index_;
-  // project_and_refine(): per thread (a refinement never waits on other tasks).
+  // refine(): per thread (a refinement never waits on other tasks).
   mutable tbb::enumerable_thread_specific<SeparatorRefinementWorkspace> refine_ws_;
 };
 
