@@ -17,6 +17,7 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/morton_order.hpp"
 
 namespace locus {
 
@@ -148,30 +149,22 @@ std::array<int32_t, 4> initial_simplex(const std::vector<int64_t>& P, int32_t n)
 // dominated). Reorders P; `orig` maps storage position to input index, `internal`
 // the reverse.
 void sort_morton(std::vector<int64_t>& P, int32_t n, std::vector<int32_t>& orig, std::vector<int32_t>& internal) {
-  auto spread = [](uint64_t v) {  // 21 bits -> every third bit of 63
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-  };
-  orig.resize(static_cast<size_t>(n));
-  internal.resize(static_cast<size_t>(n));
-  std::vector<std::pair<uint64_t, int32_t>> key(static_cast<size_t>(n));
+  // Codes from the top 21 of the 53 bits of each shifted coordinate.
+  std::vector<uint64_t> code(static_cast<size_t>(n));
   for (int32_t i = 0; i < n; ++i) {
     const int64_t* c = P.data() + 3 * static_cast<size_t>(i);
-    uint64_t k = 0;
-    for (int d = 0; d < 3; ++d) k |= spread(static_cast<uint64_t>(c[d] + kConvexHullMaxCoordinate) >> 32) << d;
-    key[i] = {k, i};
+    uint64_t q[3];
+    for (int d = 0; d < 3; ++d) q[d] = static_cast<uint64_t>(c[d] + kConvexHullMaxCoordinate) >> 32;
+    code[static_cast<size_t>(i)] = morton_code(q[0], q[1], q[2]);
   }
-  std::sort(key.begin(), key.end());
+  orig.resize(static_cast<size_t>(n));
+  internal.resize(static_cast<size_t>(n));
+  MortonWorkspace ws;
+  morton_order(code, orig, ws);
   std::vector<int64_t> sorted(P.size());
   for (int32_t k = 0; k < n; ++k) {
-    orig[k] = key[k].second;
-    internal[key[k].second] = k;
-    for (int d = 0; d < 3; ++d) sorted[3 * static_cast<size_t>(k) + d] = P[3 * static_cast<size_t>(key[k].second) + d];
+    internal[orig[k]] = k;
+    for (int d = 0; d < 3; ++d) sorted[3 * static_cast<size_t>(k) + d] = P[3 * static_cast<size_t>(orig[k]) + d];
   }
   P.swap(sorted);
 }

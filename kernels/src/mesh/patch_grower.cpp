@@ -63,22 +63,42 @@ int32_t grow_rings(const Adjacency& adj, std::span<const GrowSeed> seeds, int32_
   return rings;
 }
 
+// What a plain grow records besides the order: nothing.
+struct NoLabels {
+  void seed(int32_t, size_t) {}
+  void edge(int32_t, int32_t) {}
+};
+
+// Which seed's path reached each vertex (label_nearest_seeds): set whenever the
+// vertex's tentative distance is set or strictly lowered.
+struct SeedLabels {
+  std::span<const int32_t> seed_label;
+  std::span<int32_t> label;
+  void seed(int32_t v, size_t k) { label[v] = seed_label[k]; }
+  void edge(int32_t r, int32_t q) { label[r] = label[q]; }
+};
+
 // Dijkstra with the DEM's heap; ws.touched lists every vertex whose state was set.
+// `rec` hears of every distance set (rec.seed: from seed k; rec.edge: from vertex q).
+template <class Recorder>
 void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<const GrowSeed> seeds,
-                   const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
+                   const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out, Recorder&& rec) {
   double* dist = ws.dist.data();
   uint8_t* state = ws.state.data();
   const bool prune = opt.radius_rule == RadiusRule::PruneBeyond;
   const double radius = opt.max_radius;
-  for (const GrowSeed& s : seeds) {
+  for (size_t k = 0; k < seeds.size(); ++k) {
+    const GrowSeed& s = seeds[k];
     if (state[s.vertex] == 0) {
       state[s.vertex] = 1;
       ws.touched.push_back(s.vertex);
       dist[s.vertex] = s.distance;
+      rec.seed(s.vertex, k);
       ws.heap.push_back(s.vertex);
       sift_up(ws, static_cast<int32_t>(ws.heap.size()) - 1);
     } else if (s.distance < dist[s.vertex]) {
       dist[s.vertex] = s.distance;
+      rec.seed(s.vertex, k);
       sift_up(ws, ws.level[s.vertex]);
     }
   }
@@ -97,10 +117,12 @@ void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<
         state[r] = 1;
         ws.touched.push_back(r);
         dist[r] = nd;
+        rec.edge(r, q);
         ws.heap.push_back(r);
         sift_up(ws, static_cast<int32_t>(ws.heap.size()) - 1);
       } else if (nd < dist[r]) {
         dist[r] = nd;
+        rec.edge(r, q);
         sift_up(ws, ws.level[r]);
       }
     }
@@ -189,6 +211,20 @@ MeshPatch assemble(const PatchGrower& g, std::vector<int32_t> visited, PatchWork
   return p;
 }
 
+void check_seeds(std::span<const GrowSeed> seeds, int32_t nv) {
+  for (const GrowSeed& s : seeds)
+    if (s.vertex < 0 || s.vertex >= nv)
+      fail(ErrorCode::BadUsage, "patch center is vertex " + std::to_string(s.vertex) + ", outside 0.." +
+                                    std::to_string(nv - 1));
+}
+
+void check_edge_lengths(const Adjacency& adj, std::span<const double> edge_length) {
+  if (edge_length.size() != adj.neighbors.size())
+    fail(ErrorCode::BadUsage, "patch grower: geodesic mode needs one edge length per adjacency entry (" +
+                                  std::to_string(edge_length.size()) + " for " +
+                                  std::to_string(adj.neighbors.size()) + ")");
+}
+
 }  // namespace
 
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
@@ -196,10 +232,7 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
   const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
   out.clear();
   if (seeds.empty()) fail(ErrorCode::BadUsage, "patch grower: no seed vertex");
-  for (const GrowSeed& s : seeds)
-    if (s.vertex < 0 || s.vertex >= nv)
-      fail(ErrorCode::BadUsage, "patch center is vertex " + std::to_string(s.vertex) + ", outside 0.." +
-                                    std::to_string(nv - 1));
+  check_seeds(seeds, nv);
   if (opt.max_vertices < 1)
     fail(ErrorCode::BadUsage, "patch vertex count must be >= 1, got " + std::to_string(opt.max_vertices));
   prepare_workspace(ws, nv, opt.mode == GrowMode::Geodesic);
@@ -207,13 +240,24 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
     out.reserve(std::min<size_t>(static_cast<size_t>(opt.max_vertices), static_cast<size_t>(nv)));
     return grow_rings(adj, seeds, opt.max_vertices, ws, out);
   }
-  if (edge_length.size() != adj.neighbors.size())
-    fail(ErrorCode::BadUsage, "patch grower: geodesic mode needs one edge length per adjacency entry (" +
-                                  std::to_string(edge_length.size()) + " for " +
-                                  std::to_string(adj.neighbors.size()) + ")");
+  check_edge_lengths(adj, edge_length);
   if (!(opt.max_radius >= 0)) fail(ErrorCode::BadUsage, "patch grower: the radius must be >= 0");
-  grow_geodesic(adj, edge_length, seeds, opt, ws, out);
+  grow_geodesic(adj, edge_length, seeds, opt, ws, out, NoLabels{});
   return 0;
+}
+
+void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
+  if (label.size() != static_cast<size_t>(nv))
+    fail(ErrorCode::BadUsage, "seed labels: one label per vertex expected");
+  if (seed_label.size() != seeds.size()) fail(ErrorCode::BadUsage, "seed labels: one label per seed expected");
+  check_seeds(seeds, nv);
+  check_edge_lengths(adj, edge_length);
+  std::fill(label.begin(), label.end(), -1);
+  prepare_workspace(ws, nv, true);
+  HostVector<int32_t> settled;
+  grow_geodesic(adj, edge_length, seeds, GrowOptions{GrowMode::Geodesic}, ws, settled, SeedLabels{seed_label, label});
 }
 
 std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int32_t count) {

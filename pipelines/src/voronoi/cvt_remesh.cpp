@@ -1,5 +1,5 @@
 // CVT remeshing: Lloyd, restricted dual, repair by added sites
-// (pipelines/include/locus/pipelines/voronoi/cvt_remesh.hpp; issue 23).
+// (pipelines/include/locus/pipelines/voronoi/cvt_remesh.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 
 #include <oneapi/tbb/task_arena.h>

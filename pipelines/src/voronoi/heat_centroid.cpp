@@ -214,4 +214,55 @@ HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const Centroid
   return refine_heat_maximum(m, g, u, hottest);
 }
 
+double tangential_distance(const Mesh& m, const CentroidGeometry& g, const SurfacePoint& p, const double q[3]) {
+  const auto x = surface_point_position(m, p);
+  double nrm[3] = {0, 0, 0};
+  if (p.face >= 0) {
+    const int32_t a = m.f0[p.face], b = m.f1[p.face], c = m.f2[p.face];
+    const double e1[3] = {m.x[b] - m.x[a], m.y[b] - m.y[a], m.z[b] - m.z[a]};
+    const double e2[3] = {m.x[c] - m.x[a], m.y[c] - m.y[a], m.z[c] - m.z[a]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  } else {
+    for (int k = 0; k < 3; ++k) nrm[k] = g.normals[3 * static_cast<size_t>(p.vertex) + k];
+  }
+  const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  double d[3] = {q[0] - x[0], q[1] - x[1], q[2] - x[2]};
+  if (len > 0) {
+    const double dn = (d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2]) / (len * len);
+    for (int k = 0; k < 3; ++k) d[k] -= dn * nrm[k];
+  }
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+void area_centroid(const Mesh& m, std::span<const int32_t> ids, std::span<const double> w, double out[3]) {
+  double s = 0, sx = 0, sy = 0, sz = 0;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    s += w[k];
+    sx += w[k] * m.x[ids[k]];
+    sy += w[k] * m.y[ids[k]];
+    sz += w[k] * m.z[ids[k]];
+  }
+  out[0] = s > 0 ? sx / s : 0.0;
+  out[1] = s > 0 ? sy / s : 0.0;
+  out[2] = s > 0 ? sz / s : 0.0;
+}
+
+void hottest_vertices(const HeatBatch& hb, int32_t best[kLanes]) {
+  double bv[kLanes];
+  std::fill(best, best + kLanes, -1);
+  std::fill(bv, bv + kLanes, -INFINITY);
+  const int32_t cnt = hb.count();
+  for (int32_t k = 0; k < cnt; ++k) {
+    const double* row = hb.values.data() + static_cast<size_t>(k) * kLanes;
+    const int32_t id = hb.id(k);
+    for (int l = 0; l < kLanes; ++l)
+      if (row[l] > bv[l] || (row[l] == bv[l] && id < best[l])) {
+        bv[l] = row[l];
+        best[l] = id;
+      }
+  }
+}
+
 }  // namespace locus

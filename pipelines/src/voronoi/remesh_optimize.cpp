@@ -1,5 +1,5 @@
 // Edge flips and tangential smoothing of a remesh on its input
-// (pipelines/include/locus/pipelines/voronoi/remesh_optimize.hpp; issue 23).
+// (pipelines/include/locus/pipelines/voronoi/remesh_optimize.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/remesh_optimize.hpp"
 
 #include <oneapi/tbb/parallel_for.h>
@@ -116,111 +116,6 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
   return flips;
 }
 
-// One Jacobi sweep of tangential smoothing with projection onto the input.
-void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
-                 const std::vector<uint8_t>& fixed, double unpin_below, RemeshOptimizeStats& st) {
-  const int32_t n = m.num_vertices();
-  std::vector<int64_t> off(static_cast<size_t>(n) + 1, 0);
-  for (const auto& t : F)
-    for (int32_t v : t) ++off[v + 1];
-  for (int32_t v = 0; v < n; ++v) off[v + 1] += off[v];
-  std::vector<int32_t> vf(static_cast<size_t>(off[n]));
-  std::vector<int64_t> fill(off.begin(), off.end() - 1);
-  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
-    for (int32_t v : F[f]) vf[fill[v]++] = f;
-  std::vector<V3> next(n);
-  std::vector<uint8_t> state(n, 0);  // 0 unchanged, 1 moved, 2 refused, 3 pinned
-  tbb::parallel_for(0, n, [&](int32_t v) {
-    next[v] = pos(m, v);
-    if (fixed[v] || off[v] == off[v + 1]) return;
-    V3 c{0, 0, 0}, nv{0, 0, 0};
-    double area = 0;
-    for (int64_t q = off[v]; q < off[v + 1]; ++q) {
-      const auto& t = F[vf[q]];
-      const V3 p0 = pos(m, t[0]), p1 = pos(m, t[1]), p2 = pos(m, t[2]);
-      const V3 nn = tri_normal(p0, p1, p2);
-      const double a = 0.5 * norm(nn);
-      for (int k = 0; k < 3; ++k) nv[k] += nn[k];
-      area += a;
-    }
-    const double ln = norm(nv);
-    if (!(area > 0) || !(ln > 0)) return;
-    for (int k = 0; k < 3; ++k) nv[k] /= ln;
-    {  // the target: the mean of the ring's vertices (each counted once per incident triangle)
-      V3 u{0, 0, 0};
-      int cnt = 0;
-      for (int64_t q = off[v]; q < off[v + 1]; ++q)
-        for (int32_t w : F[vf[q]])
-          if (w != v) {
-            u[0] += m.x[w];
-            u[1] += m.y[w];
-            u[2] += m.z[w];
-            ++cnt;
-          }
-      for (int k = 0; k < 3; ++k) c[k] = u[k] / cnt;
-    }
-    V3 d = sub(c, next[v]);
-    const double dn = dot(d, nv);
-    for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
-    // Tips and ridges (an incident triangle turned more than 60 degrees from the
-    // vertex normal) keep their vertex: moving it would cut the feature off;
-    // unless one of its triangles has an angle below unpin_below (docs/cvt.md).
-    const double cos_pin = 0.5;
-    const double unpin = unpin_below;
-    double worst = M_PI;
-    for (int64_t q = off[v]; q < off[v + 1]; ++q) {
-      const auto& t = F[vf[q]];
-      worst = std::min(worst, min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])));
-    }
-    for (int64_t q = off[v]; q < off[v + 1] && worst >= unpin; ++q) {
-      const auto& t = F[vf[q]];
-      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
-      if (dot(nn, nv) < cos_pin * norm(nn)) {
-        state[v] = 3;
-        return;
-      }
-    }
-    // The full move, else half, else a quarter (a vertex squeezed between close
-    // neighbors can still spread out).
-    for (double step : {1.0, 0.5, 0.25}) {
-      const V3 goal = {next[v][0] + step * d[0], next[v][1] + step * d[1], next[v][2] + step * d[2]};
-      const ClosestPoint cp = grid.closest(goal);
-      bool ok = cp.face >= 0;
-      if (ok) {
-        const auto fv = input.face(cp.face);
-        const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
-        ok = dot(ni, nv) > 0.5 * norm(ni);
-      }
-      for (int64_t q = off[v]; ok && q < off[v + 1]; ++q) {  // no incident triangle turns over
-        std::array<V3, 3> p, p_new;
-        for (int k = 0; k < 3; ++k) {
-          p[k] = pos(m, F[vf[q]][k]);
-          p_new[k] = F[vf[q]][k] == v ? cp.point : p[k];
-        }
-        const V3 n0 = tri_normal(p[0], p[1], p[2]), n1 = tri_normal(p_new[0], p_new[1], p_new[2]);
-        // A degenerate triangle (no normal beyond rounding noise) may open up in
-        // the vertex normal's direction.
-        const double scale = std::max({dot(sub(p[1], p[0]), sub(p[1], p[0])), dot(sub(p[2], p[0]), sub(p[2], p[0])),
-                                       dot(sub(p[2], p[1]), sub(p[2], p[1]))});
-        ok = norm(n0) > 1e-12 * scale ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
-      }
-      if (ok) {
-        state[v] = 1;
-        next[v] = cp.point;
-        return;
-      }
-    }
-    state[v] = 2;
-  });
-  for (int32_t v = 0; v < n; ++v) {
-    m.x[v] = next[v][0];
-    m.y[v] = next[v][1];
-    m.z[v] = next[v][2];
-    st.moves += state[v] == 1;
-    st.refused += state[v] == 2;
-  }
-}
-
 // Per vertex: its incident triangles (CSR); flips change it, moves do not.
 struct VertexFaces {
   std::vector<int64_t> off;
@@ -235,6 +130,129 @@ struct VertexFaces {
       for (int32_t v : F[t]) f[fill[v]++] = t;
   }
 };
+
+// The unit normal of v's ring (the sum of its triangles' vector areas); false when
+// the ring has no area or its normals cancel.
+bool ring_normal(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
+                 V3& nv) {
+  nv = {0, 0, 0};
+  double area = 0;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+    const auto& t = F[vf.f[q]];
+    const V3 p0 = pos(m, t[0]), p1 = pos(m, t[1]), p2 = pos(m, t[2]);
+    const V3 nn = tri_normal(p0, p1, p2);
+    const double a = 0.5 * norm(nn);
+    for (int k = 0; k < 3; ++k) nv[k] += nn[k];
+    area += a;
+  }
+  const double ln = norm(nv);
+  if (!(area > 0) || !(ln > 0)) return false;
+  for (int k = 0; k < 3; ++k) nv[k] /= ln;
+  return true;
+}
+
+// The smoothing target: the mean of the ring's vertices (each counted once per
+// incident triangle).
+V3 ring_mean(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v) {
+  V3 u{0, 0, 0}, c;
+  int cnt = 0;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q)
+    for (int32_t w : F[vf.f[q]])
+      if (w != v) {
+        u[0] += m.x[w];
+        u[1] += m.y[w];
+        u[2] += m.z[w];
+        ++cnt;
+      }
+  for (int k = 0; k < 3; ++k) c[k] = u[k] / cnt;
+  return c;
+}
+
+// Tips and ridges (an incident triangle turned more than 60 degrees from the
+// vertex normal) keep their vertex: moving it would cut the feature off; unless
+// one of its triangles has an angle below unpin_below (docs/cvt.md).
+bool pinned_feature(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
+                    const V3& nv, double unpin_below) {
+  const double cos_pin = 0.5;
+  double worst = M_PI;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+    const auto& t = F[vf.f[q]];
+    worst = std::min(worst, min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])));
+  }
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1] && worst >= unpin_below; ++q) {
+    const auto& t = F[vf.f[q]];
+    const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+    if (dot(nn, nv) < cos_pin * norm(nn)) return true;
+  }
+  return false;
+}
+
+// v moved by d from p and projected onto the input: the full move, else half,
+// else a quarter (a vertex squeezed between close neighbors can still spread
+// out), accepted when the input's triangle there faces like the ring and no
+// incident triangle turns over. False when every step is refused.
+bool project_move(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
+                  const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v, const V3& nv,
+                  const V3& p, const V3& d, V3& out) {
+  for (double step : {1.0, 0.5, 0.25}) {
+    const V3 goal = {p[0] + step * d[0], p[1] + step * d[1], p[2] + step * d[2]};
+    const ClosestPoint cp = grid.closest(goal);
+    bool ok = cp.face >= 0;
+    if (ok) {
+      const auto fv = input.face(cp.face);
+      const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+      ok = dot(ni, nv) > 0.5 * norm(ni);
+    }
+    for (int64_t q = vf.off[v]; ok && q < vf.off[v + 1]; ++q) {  // no incident triangle turns over
+      std::array<V3, 3> a, b;
+      for (int k = 0; k < 3; ++k) {
+        a[k] = pos(m, F[vf.f[q]][k]);
+        b[k] = F[vf.f[q]][k] == v ? cp.point : a[k];
+      }
+      const V3 n0 = tri_normal(a[0], a[1], a[2]), n1 = tri_normal(b[0], b[1], b[2]);
+      // A degenerate triangle (no normal beyond rounding noise) may open up in
+      // the vertex normal's direction.
+      const double scale = std::max({dot(sub(a[1], a[0]), sub(a[1], a[0])), dot(sub(a[2], a[0]), sub(a[2], a[0])),
+                                     dot(sub(a[2], a[1]), sub(a[2], a[1]))});
+      ok = norm(n0) > 1e-12 * scale ? dot(n0, n1) > 0.5 * norm(n0) * norm(n1) : dot(n1, nv) > 0;
+    }
+    if (ok) {
+      out = cp.point;
+      return true;
+    }
+  }
+  return false;
+}
+
+// One Jacobi sweep of tangential smoothing with projection onto the input: each
+// free vertex moves towards its ring's mean, in its tangent plane.
+void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
+                 const std::vector<uint8_t>& fixed, double unpin_below, RemeshOptimizeStats& st) {
+  const int32_t n = m.num_vertices();
+  const VertexFaces vf(n, F);
+  std::vector<V3> next(n);
+  std::vector<uint8_t> state(n, 0);  // 0 unchanged, 1 moved, 2 refused, 3 pinned
+  tbb::parallel_for(0, n, [&](int32_t v) {
+    next[v] = pos(m, v);
+    V3 nv;
+    if (fixed[v] || vf.off[v] == vf.off[v + 1] || !ring_normal(m, F, vf, v, nv)) return;
+    V3 d = sub(ring_mean(m, F, vf, v), next[v]);
+    const double dn = dot(d, nv);
+    for (int k = 0; k < 3; ++k) d[k] -= dn * nv[k];
+    if (pinned_feature(m, F, vf, v, nv, unpin_below)) {
+      state[v] = 3;
+      return;
+    }
+    state[v] = project_move(input, grid, m, F, vf, v, nv, next[v], d, next[v]) ? 1 : 2;
+  });
+  for (int32_t v = 0; v < n; ++v) {
+    m.x[v] = next[v][0];
+    m.y[v] = next[v][1];
+    m.z[v] = next[v][2];
+    st.moves += state[v] == 1;
+    st.refused += state[v] == 2;
+  }
+}
 
 // The smallest angle of v's triangles with v at p; -1 when a triangle would
 // turn more than 60 degrees from its current normal (or over).

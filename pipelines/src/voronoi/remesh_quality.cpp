@@ -1,5 +1,5 @@
 // Topology, angles and Hausdorff distance of a remesh
-// (pipelines/include/locus/pipelines/voronoi/remesh_quality.hpp; issue 23).
+// (pipelines/include/locus/pipelines/voronoi/remesh_quality.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 
 #include <oneapi/tbb/parallel_reduce.h>

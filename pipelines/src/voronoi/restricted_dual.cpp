@@ -1,5 +1,5 @@
 // Restricted-Delaunay dual of a vertex-labelled partition and its closed-ball
-// checks (pipelines/include/locus/pipelines/voronoi/restricted_dual.hpp; issue 23).
+// checks (pipelines/include/locus/pipelines/voronoi/restricted_dual.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/restricted_dual.hpp"
 
 #include <algorithm>

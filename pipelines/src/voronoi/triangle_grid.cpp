@@ -1,5 +1,5 @@
 // Uniform grid of triangles, nearest-point queries
-// (pipelines/include/locus/pipelines/voronoi/triangle_grid.hpp; issue 23).
+// (pipelines/include/locus/pipelines/voronoi/triangle_grid.hpp).
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 #include <algorithm>

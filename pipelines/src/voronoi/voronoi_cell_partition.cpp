@@ -68,17 +68,6 @@ struct Entry {
   double w;
 };
 
-double heron(double l2a, double l2b, double l2c) {
-  double l[3] = {std::sqrt(l2a), std::sqrt(l2b), std::sqrt(l2c)};
-  std::sort(l, l + 3, std::greater<double>());
-  const double a = l[0], b = l[1], c = l[2];
-  const double q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return q > 0 ? 0.25 * std::sqrt(q) : 0.0;
-}
-
-}  // namespace
-
-namespace {
 
 // Label a's part of the triangle (see split_triangle).
 void split_part(int nl, const int32_t* lab, const double (*u)[3], int a, double& fraction, double* centroid) {
@@ -194,50 +183,14 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
   return area;
 }
 
-HostVector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim) {
-  const int32_t n = m.num_vertices(), nf = m.num_faces();
-  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": face areas need a triangle mesh");
-  if (dim < 1 || pos.size() != static_cast<size_t>(n) * dim)
-    fail(ErrorCode::BadUsage, "face areas: expected " + std::to_string(dim) + " values per vertex");
-  auto len2 = [&](int32_t a, int32_t b) {
-    double s = 0;
-    for (int c = 0; c < dim; ++c) {
-      const double d = pos[static_cast<size_t>(a) * dim + c] - pos[static_cast<size_t>(b) * dim + c];
-      s += d * d;
-    }
-    return s;
-  };
-  HostVector<double> area(nf);
-  for (int32_t f = 0; f < nf; ++f)
-    area[f] = heron(len2(m.f1[f], m.f2[f]), len2(m.f2[f], m.f0[f]), len2(m.f0[f], m.f1[f]));
-  return area;
-}
+namespace {
 
-HostVector<double> face_areas(const Mesh& m) {
-  HostVector<double> p(3 * static_cast<size_t>(m.num_vertices()));
-  for (int32_t v = 0; v < m.num_vertices(); ++v) {
-    p[3 * static_cast<size_t>(v)] = m.x[v];
-    p[3 * static_cast<size_t>(v) + 1] = m.y[v];
-    p[3 * static_cast<size_t>(v) + 2] = m.z[v];
-  }
-  return face_areas_from_positions(m, p, 3);
-}
-
-CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, const HeatVoronoi& V, int32_t cells) {
-  const int32_t n = m.num_vertices(), nf = m.num_faces();
-  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
-  if (face_area.size() != static_cast<size_t>(nf))
-    fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
-  if (V.label.size() != static_cast<size_t>(n) || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
-    fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
-  if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");
-  for (int32_t v = 0; v < n; ++v)
-    if (V.label[v] < 0 || V.label[v] >= cells)
-      fail(ErrorCode::BadUsage, "cell partition: vertex " + std::to_string(v) + " has label " +
-                                    std::to_string(V.label[v]) + ", outside 0.." + std::to_string(cells - 1));
-  CellPartition P;
-  // Faces in fixed chunks, processed in parallel and concatenated in chunk order:
-  // the result does not depend on the thread count.
+// Faces in fixed chunks, processed in parallel and concatenated in chunk order
+// (the result does not depend on the thread count): each face's (cell, vertex,
+// load) entries, and per chunk the split and fallback counts added to P.
+std::vector<HostVector<Entry>> split_faces_in_chunks(const Mesh& m, std::span<const double> face_area,
+                                                     const HeatVoronoi& V, CellPartition& P) {
+  const int32_t nf = m.num_faces();
   constexpr int32_t kChunk = 4096;
   const int32_t nchunks = (nf + kChunk - 1) / kChunk;
   std::vector<HostVector<Entry>> chunk_entries(nchunks);
@@ -279,7 +232,12 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
     P.split_faces += chunk_split[ch];
     P.fallback_faces += chunk_fallback[ch];
   }
-  // Counting sort by cell (chunk order kept), then by vertex within each cell; merge equal vertices.
+  return chunk_entries;
+}
+
+// The entries sorted by cell (counting sort, chunk order kept), then by vertex
+// within each cell with equal vertices merged: P's CSR loads and cell areas.
+void merge_by_cell(const std::vector<HostVector<Entry>>& chunk_entries, int32_t cells, CellPartition& P) {
   HostVector<int64_t> start(static_cast<size_t>(cells) + 1, 0);
   for (const auto& entries : chunk_entries)
     for (const Entry& e : entries) ++start[e.cell + 1];
@@ -321,6 +279,25 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
       P.vertex[P.offsets[c] + k] = sorted[start[c] + k].vertex;
       P.load[P.offsets[c] + k] = sorted[start[c] + k].w;
     }
+}
+
+}  // namespace
+
+CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, const HeatVoronoi& V, int32_t cells) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
+  if (face_area.size() != static_cast<size_t>(nf))
+    fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
+  if (V.label.size() != static_cast<size_t>(n) || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
+    fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
+  if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");
+  for (int32_t v = 0; v < n; ++v)
+    if (V.label[v] < 0 || V.label[v] >= cells)
+      fail(ErrorCode::BadUsage, "cell partition: vertex " + std::to_string(v) + " has label " +
+                                    std::to_string(V.label[v]) + ", outside 0.." + std::to_string(cells - 1));
+  CellPartition P;
+  const std::vector<HostVector<Entry>> entries = split_faces_in_chunks(m, face_area, V, P);
+  merge_by_cell(entries, cells, P);
   return P;
 }
 

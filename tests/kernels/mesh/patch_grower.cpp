@@ -3,7 +3,8 @@
 // (linear scan for the nearest unsettled vertex) on the same edge-length formula.
 // Geodesic order is compared exactly on meshes without distance ties (random
 // spheres); on a regular grid (many ties) the order must be non-decreasing in
-// distance and the set must be the nearest vertices.
+// distance and the set must be the nearest vertices. The labels of a
+// multi-source Dijkstra (label_nearest_seeds) against Bellman-Ford.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -212,4 +213,93 @@ TEST_CASE("patch grower: grow_patch assembles the selected vertices; usage error
         ErrorCode::BadUsage);
   CHECK(code([&] { prepare_patch_grower(make_quad_torus(4, 4)); }) == ErrorCode::BadInput);
   CHECK(patch_vertex_count(400, 0.1) == 40);
+}
+
+namespace {
+
+// Multi-source shortest paths by Bellman-Ford over the undirected edges (relax
+// every edge both ways until nothing changes), each vertex labelled by the seed
+// its shortest path starts from. No heap, no settle order: an oracle for the
+// labels on meshes without distance ties.
+void oracle_bellman_ford(const Mesh& m, const std::vector<GrowSeed>& seeds, const std::vector<int32_t>& seed_label,
+                         std::vector<double>& d, std::vector<int32_t>& label) {
+  const int32_t n = m.num_vertices();
+  d.assign(static_cast<size_t>(n), kInf);
+  label.assign(static_cast<size_t>(n), -1);
+  for (size_t k = 0; k < seeds.size(); ++k)
+    if (seeds[k].distance < d[seeds[k].vertex]) {
+      d[seeds[k].vertex] = seeds[k].distance;
+      label[seeds[k].vertex] = seed_label[k];
+    }
+  const auto nb = neighbor_sets(m);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int32_t i = 0; i < n; ++i)
+      for (int32_t j : nb[i])
+        if (d[i] + edge(m, i, j) < d[j]) {
+          d[j] = d[i] + edge(m, i, j);
+          label[j] = label[i];
+          changed = true;
+        }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("label_nearest_seeds: the labels of multi-source shortest paths (Bellman-Ford oracle)") {
+  const Mesh m = make_random_sphere(500, 11);
+  const PatchGrower g = prepare_patch_grower(m);
+  GrowWorkspace ws;
+  // Three sites as the CVT seeds them: a corner triple at small distances, a
+  // lone vertex, and a pair; labels need not be the seed indices.
+  const std::vector<GrowSeed> seeds = {{3, 0.01}, {40, 0.02}, {41, 0.005}, {250, 0.0}, {477, 0.03}, {100, 0.0}};
+  const std::vector<int32_t> seed_label = {7, 7, 7, 2, 5, 5};
+  std::vector<double> d;
+  std::vector<int32_t> want;
+  oracle_bellman_ford(m, seeds, seed_label, d, want);
+  std::vector<int32_t> got(static_cast<size_t>(m.num_vertices()), 99);
+  label_nearest_seeds(g.adjacency, g.edge_length, seeds, seed_label, ws, got);
+  CHECK(got == want);
+  CHECK(std::count(got.begin(), got.end(), 7) > 0);
+  CHECK(std::count(got.begin(), got.end(), 2) > 0);
+  CHECK(std::count(got.begin(), got.end(), 5) > 0);
+  // The workspace is clean afterwards: a plain grow from it gives the oracle's order.
+  std::vector<int32_t> order;
+  oracle_dijkstra(m, {{9, 0.0}}, order);
+  CHECK(grow(g, {{9, 0.0}}, geodesic_disk(500), ws) == order);
+  // A vertex reached by two seeds of equal distance keeps the first seed's label.
+  std::vector<int32_t> tie(static_cast<size_t>(m.num_vertices()));
+  label_nearest_seeds(g.adjacency, g.edge_length, std::vector<GrowSeed>{{8, 0.0}, {8, 0.0}}, std::vector<int32_t>{1, 2},
+                      ws, tie);
+  CHECK(std::all_of(tie.begin(), tie.end(), [](int32_t l) { return l == 1; }));
+}
+
+TEST_CASE("label_nearest_seeds: unreached components get -1; no seeds; usage errors") {
+  Mesh m = make_random_sphere(60, 2);
+  const int32_t n0 = m.num_vertices();
+  // A second, disjoint triangle.
+  for (int k = 0; k < 3; ++k) {
+    m.x.push_back(5.0 + k);
+    m.y.push_back(k == 2 ? 1.0 : 0.0);
+    m.z.push_back(0.0);
+  }
+  m.add_triangle(n0, n0 + 1, n0 + 2);
+  const Adjacency adj = vertex_adjacency(m);
+  const HostVector<double> len = adjacency_edge_lengths(m, adj);
+  GrowWorkspace ws;
+  std::vector<int32_t> label(static_cast<size_t>(m.num_vertices()));
+  label_nearest_seeds(adj, len, std::vector<GrowSeed>{{0, 0.0}}, std::vector<int32_t>{4}, ws, label);
+  for (int32_t v = 0; v < n0; ++v) CHECK(label[v] == 4);
+  for (int32_t v = n0; v < n0 + 3; ++v) CHECK(label[v] == -1);
+  label_nearest_seeds(adj, len, std::vector<GrowSeed>{}, std::vector<int32_t>{}, ws, label);
+  CHECK(std::all_of(label.begin(), label.end(), [](int32_t l) { return l == -1; }));
+  CHECK_THROWS_AS(label_nearest_seeds(adj, len, std::vector<GrowSeed>{{n0 + 3, 0.0}}, std::vector<int32_t>{0}, ws, label),
+                  Error);
+  CHECK_THROWS_AS(label_nearest_seeds(adj, len, std::vector<GrowSeed>{{0, 0.0}}, std::vector<int32_t>{}, ws, label),
+                  Error);
+  CHECK_THROWS_AS(label_nearest_seeds(adj, {}, std::vector<GrowSeed>{{0, 0.0}}, std::vector<int32_t>{0}, ws, label),
+                  Error);
+  std::vector<int32_t> short_label(3);
+  CHECK_THROWS_AS(
+      label_nearest_seeds(adj, len, std::vector<GrowSeed>{{0, 0.0}}, std::vector<int32_t>{0}, ws, short_label), Error);
 }

@@ -1,8 +1,7 @@
 // Tests for pipelines/cvt_lloyd and pipelines/cvt_quality (thesis §3.7.1).
 // Oracles: analytic facts (an icosahedron with one cell per vertex has an
 // equilateral dual; Lloyd lowers the CVT energy, so cell areas even out and dual
-// angles grow on a sphere); kernels/mesh_operators' heat operator for the
-// edge-length operator; the full solver for the localized one; runs with 1 and 2
+// angles grow on a sphere); the full solver for the localized one; runs with 1 and 2
 // threads for determinism.
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 
@@ -44,38 +43,6 @@ TEST_CASE("cvt quality: icosahedron with one cell per vertex has an equilateral 
   CHECK(q2.dual_triangles == 0);
   CHECK(q2.area_variance == doctest::Approx(((11.0 / 12 - 0.5) * (11.0 / 12 - 0.5) + (1.0 / 12 - 0.5) * (1.0 / 12 - 0.5)) / 2));
   CHECK_THROWS_AS(cvt_quality(m, std::vector<int32_t>(m.num_vertices(), 2), std::span<const SurfacePoint>(sites).subspan(0, 2)), Error);
-}
-
-TEST_CASE("cvt: heat operator from edge lengths equals the cotan heat operator; lifted at lambda 0 it is scaled") {
-  const Mesh m = make_random_sphere(300, 8);
-  const int32_t n = m.num_vertices();
-  std::vector<double> p3(3 * static_cast<size_t>(n));
-  for (int32_t v = 0; v < n; ++v) {
-    p3[3 * v] = m.x[v];
-    p3[3 * v + 1] = m.y[v];
-    p3[3 * v + 2] = m.z[v];
-  }
-  HostVector<double> mass;
-  double h = 0;
-  const double t = 0.01;
-  const CscMatrix A = heat_operator_from_positions(m, p3, 3, t, mass, h);
-  const CscMatrix B = heat_operator(m, t);
-  const auto mref = lumped_mass(m);
-  REQUIRE(A.colptr == B.colptr);
-  REQUIRE(A.rowind == B.rowind);
-  for (size_t k = 0; k < A.values.size(); ++k) CHECK(A.values[k] == doctest::Approx(B.values[k]).epsilon(1e-10));
-  for (int32_t v = 0; v < n; ++v) CHECK(mass[v] == doctest::Approx(mref[v]).epsilon(1e-12));
-  CHECK(h == doctest::Approx(mean_edge_length(m)).epsilon(1e-12));
-  // Lift with lambda = 0: positions scaled by 1/2 (the sphere's bounding box side is ~2).
-  const std::vector<double> lifted = lifted_positions(m, 0.0);
-  HostVector<double> mass6;
-  double h6 = 0;
-  heat_operator_from_positions(m, lifted, 6, t, mass6, h6);
-  double side = 0;
-  for (const auto* c : {&m.x, &m.y, &m.z})
-    side = std::max(side, *std::max_element(c->begin(), c->end()) - *std::min_element(c->begin(), c->end()));
-  CHECK(h6 == doctest::Approx(h / side).epsilon(1e-12));
-  for (int32_t v = 0; v < n; ++v) CHECK(mass6[v] == doctest::Approx(mref[v] / (side * side)).epsilon(1e-12));
 }
 
 TEST_CASE("cvt: Lloyd on an icosphere raises the mean dual angle and evens out cell areas") {
@@ -234,7 +201,7 @@ void check_area_variance(const Mesh& sphere, const Mesh& torus, int32_t sites, d
 }  // namespace
 
 // Thesis §3.7.1: on a torus and a sphere of unit area (similar resolution), 20 and 500
-// sites, 100 iterations: cell-area variance ~1e-6 and ~1e-8; the issue's targets are
+// sites, 100 iterations: cell-area variance ~1e-6 and ~1e-8; the targets here are
 // 2e-6 and 2e-8. Both cases use `locus cvt`'s defaults (t = 4h^2, two fit rings) and
 // split-triangle areas, seed 1.
 // 500 sites: the bound needs ~90 vertices per cell on the torus. Measured (seed 1;
@@ -242,7 +209,7 @@ void check_area_variance(const Mesh& sphere, const Mesh& torus, int32_t sites, d
 // (1.74e-8, 1.09e-8),
 // 320 x 144 torus (46080 vertices) 1.87e-8 (1.36e-8, 1.40e-8); the 160 x 72 torus
 // gives 2.6e-8, and at t = h^2 the 320 x 144 torus gives 2.5e-8. ~25 s, hence stress.
-// With the weighted centroid refit (fit_sigma 1, session 6), seed 1: 1.76e-8, 1.80e-8.
+// With the weighted centroid refit (fit_sigma 1), seed 1: 1.76e-8, 1.80e-8.
 TEST_CASE("cvt stress: cell-area variance on a unit-area sphere and torus, 500 sites, 100 iterations" *
           doctest::test_suite("stress")) {
   check_area_variance(scaled_to_unit_area(make_icosphere(5)), scaled_to_unit_area(make_torus(320, 144)), 500, 2e-8);
@@ -329,7 +296,7 @@ TEST_CASE("cvt study: sphere, 20 sites: heat-CVT cell-area variance vs the exact
   cell_area_spread(exact, ecv, evar);
   MESSAGE("sphere 20 sites: heat CVT area variance " << var << " (cv " << cv << "), exact geodesic CVT " << evar
                                                      << " (cv " << ecv << ")");
-  CHECK(evar > 2e-6);            // the issue's bound is below the exact CVT's own spread
+  CHECK(evar > 2e-6);            // the 2e-6 bound is below the exact CVT's own spread
   CHECK(var < 1.5 * evar);       // the heat CVT is as even as the exact one
   // Same configuration: the sorted cell areas agree within a few percent of the mean area.
   std::vector<double> a = r.cell_area, b = exact;

@@ -1,4 +1,4 @@
-// Tests for pipelines/voronoi restricted_dual, cvt_remesh and remesh_quality (issue 23).
+// Tests for pipelines/voronoi restricted_dual, cvt_remesh and remesh_quality (thesis §3.7.1).
 // Oracles: the sphere (the dual of a Euclidean Voronoi partition of points on a
 // sphere is their convex hull: every triangle's plane has all other sites on one
 // side, and a closed genus-0 dual has 2S - 4 triangles); analytic defect counts of

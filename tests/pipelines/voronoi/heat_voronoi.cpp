@@ -138,7 +138,7 @@ TEST_CASE("heat voronoi: top-K heat values equal a dense solve of (M - tL_C) u =
 
 TEST_CASE("heat voronoi: bisector RMS error converges quadratically in the edge length (4 resolutions)") {
   // Thesis Fig. 3.1: least-squares slope of log RMS (eq. 3.22) on log h over four
-  // random spheres (h halves from one to the next); issue 6 asks for >= 1.7.
+  // random spheres (h halves from one to the next); the bound is 1.7.
   // `locus-bench voronoi-convergence random-sphere` runs the same study.
   const int32_t sizes[4] = {1000, 4000, 16000, 64000};
   std::vector<Mesh> meshes;

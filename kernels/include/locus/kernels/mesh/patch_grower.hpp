@@ -27,10 +27,11 @@
 //     geodesic --fraction, benches): Geodesic with max_vertices = the patch
 //     size. A log map is radial, so its patch should be a disk in distance, not
 //     in hops (on anisotropic triangulations a BFS patch is elongated).
-//   - CVT first neighborhoods (pipelines/voronoi cvt_lloyd): Geodesic from the
-//     site's face corners (seed distance = |corner - site|), RadiusRule::
+//   - CVT first neighborhoods (pipelines/voronoi site_neighborhoods): Geodesic
+//     from the site's face corners (seed distance = |corner - site|), RadiusRule::
 //     PruneBeyond at the expected cell radius, no vertex limit; the caller sorts
 //     the vertices. A cell is a metric ball, so its neighborhood is one too.
+//     Or the sites' first cells: label_nearest_seeds from every site's corners.
 //
 // Prepare once per mesh (adjacency, edge lengths, vertex-to-face incidence),
 // then grow any number of patches with a caller-owned workspace: a query costs
@@ -115,6 +116,17 @@ inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_
   out.assign(grown.begin(), grown.end());
   return depth;
 }
+
+// Graph-geodesic Voronoi labels: one Dijkstra from all seeds at once (the
+// Geodesic loop above, without limits); label[v] = seed_label[k] of the seed k
+// whose path to v is shortest. A vertex changes label only for a strictly
+// shorter path, so ties keep the label that reached it first (seeds in the given
+// order, then the heap's settle order): deterministic. -1 where no seed reaches
+// (another component). No seeds: all -1. BadUsage on a seed out of range, or
+// sizes that do not match (one label per vertex, one per seed, one edge length
+// per adjacency entry).
+void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.

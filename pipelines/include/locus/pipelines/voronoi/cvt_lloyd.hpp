@@ -6,7 +6,7 @@
 // Anisotropic (lambda > 0): the mesh is scaled to a unit bounding box (largest side
 // 1) and lifted to R^6 by (p, lambda n) with area-weighted vertex normals n; the
 // cotan weights, lumped masses and h of the lifted mesh come from its 6-D edge
-// lengths (heat_operator_from_positions below), so cells and centroids follow the metric
+// lengths (heat_operator_from_positions, kernels/include/locus/kernels/mesh/lifted_metric.hpp), so cells and centroids follow the metric
 // that also measures normal variation (thesis: lambda = 0.05).
 // iteration: (1) labels = heat Voronoi of the current sites, 8 sites per solve;
 // (2) batches of 8 neighboring cells (breadth-first patches of the cell adjacency
@@ -56,6 +56,10 @@
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
+// Declared there, part of this header's interface: geodesic_neighborhoods (site
+// neighborhoods); heat_operator_from_positions and lifted_positions (the lift).
+#include "locus/kernels/mesh/lifted_metric.hpp"
+#include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 
 namespace locus {
 
@@ -157,22 +161,5 @@ LloydResult cvt_lloyd(const Mesh& m, std::vector<SurfacePoint> initial, const Ll
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const RunContext& ctx);
 LloydResult cvt_lloyd(const Mesh& m, const MeshDerived& d, std::vector<SurfacePoint> initial,
                       const LloydOptions& opt, const RunContext& ctx);
-
-// Lloyd's first neighborhoods (localized solves): per site, the vertices within
-// geodesic (Dijkstra) distance `radius` of it, sorted; in parallel, in the
-// caller's arena.
-std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
-                                                         std::span<const SurfacePoint> sites, double radius,
-                                                         const RunContext& ctx);
-
-// Heat operator M - t L of a triangle mesh whose vertex positions are given in
-// `dim` dimensions (pos[v * dim + c]): cotan weights and lumped masses computed
-// from edge lengths only (Heron's area, cot = (a^2 + b^2 - c^2) / 4A), on the
-// lower pattern diagonal + edges. Returns the mass and the mean edge length.
-// Throws BadInput naming the face if a triangle has zero area in that metric.
-CscMatrix heat_operator_from_positions(const Mesh& m, std::span<const double> pos, int dim, double t,
-                                       HostVector<double>& mass, double& mean_edge);
-// The R^6 lift (p, lambda n) of the mesh scaled to a unit bounding box (6 per vertex).
-std::vector<double> lifted_positions(const Mesh& m, double lambda);
 
 }  // namespace locus

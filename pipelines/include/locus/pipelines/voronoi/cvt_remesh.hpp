@@ -1,4 +1,4 @@
-// CVT remeshing (issue 23; thesis §3.7.1): Lloyd's method with heat cells and
+// CVT remeshing (thesis §3.7.1): Lloyd's method with heat cells and
 // centroids (cvt_lloyd.hpp), then the restricted-Delaunay dual of the final
 // cells (restricted_dual.hpp), made a manifold with the input's topology by
 // adding sites where the cells break the closed-ball property.

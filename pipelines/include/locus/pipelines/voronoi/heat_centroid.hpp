@@ -22,6 +22,7 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh.hpp"
+#include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
 
@@ -67,5 +68,18 @@ HeatCentroid refine_heat_maximum(const Mesh& m, const CentroidGeometry& g, std::
 // `cell` lists vertex ids (non-empty, valid).
 HeatCentroid heat_centroid(const HeatDiffusion& H, const Mesh& m, const CentroidGeometry& g,
                            std::span<const int32_t> cell, bool refine);
+
+// The discrete maxima of an 8-lane batch solution (Lloyd's centroid step): the
+// hottest kept vertex of every lane in one pass, largest heat, smallest id on
+// ties (deterministic); -1 for a batch without kept vertices.
+void hottest_vertices(const HeatBatch& hb, int32_t best[kLanes]);
+
+// The centroid's bias diagnostic (LloydResult::centroid_bias). area_centroid:
+// sum_i b_i x_i / sum_i b_i, the exact area centroid (R^3) of a cell whose load is
+// w at vertices ids (the hat functions reproduce x on every triangle); the origin
+// for a load summing to 0. tangential_distance: |q - p| with the component along
+// the surface normal at p removed (p's face normal, or the vertex normal of g).
+void area_centroid(const Mesh& m, std::span<const int32_t> ids, std::span<const double> w, double out[3]);
+double tangential_distance(const Mesh& m, const CentroidGeometry& g, const SurfacePoint& p, const double q[3]);
 
 }  // namespace locus

@@ -1,4 +1,4 @@
-// Angle optimization of a remesh on its input surface (issue 23): the dual of
+// Angle optimization of a remesh on its input surface (thesis §3.7.1): the dual of
 // the heat CVT is already well shaped (~48 degrees mean smallest angle on
 // armadillo), but its vertices are the cells' heat centroids and its
 // connectivity that of discrete cells (a Voronoi edge shorter than the input's

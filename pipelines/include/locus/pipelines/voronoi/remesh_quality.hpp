@@ -1,4 +1,4 @@
-// Quality of a remeshed surface against its input (issue 23, the JSON `remesh`
+// Quality of a remeshed surface against its input (the JSON `remesh`
 // object): topology (manifold, genus, components, boundary loops, from
 // kernels/mesh analyze_mesh), the per-triangle smallest angles (the figure
 // geogram's vorpalite and the thesis' Table 3.7.1 report) and the two-sided

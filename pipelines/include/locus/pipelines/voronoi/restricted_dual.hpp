@@ -1,6 +1,6 @@
 // The restricted-Delaunay dual of a vertex-labelled Voronoi partition of a
 // triangle mesh, and the checks that make it a manifold with the input's
-// topology (issue 23; the dual triangulation of thesis §3.7.1, Table 3.7.1).
+// topology (the dual triangulation of thesis §3.7.1, Table 3.7.1).
 //
 // Cells: the heat Voronoi labels split every triangle along its bisectors
 // (eqs. 3.19-3.21), so cell A is a regular neighbourhood of the subcomplex K_A

@@ -1,5 +1,5 @@
 // Nearest point on a triangle mesh through a uniform grid over its triangles
-// (issue 23: the remesh's Hausdorff distance and the projection of its vertices
+// (for the remesh's Hausdorff distance and the projection of its vertices
 // back onto the input during the optimization of remesh_optimize.hpp).
 //
 // Each triangle (polygons as fans) is listed in every cell its bounding box

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
+#include "locus/kernels/mesh/lifted_metric.hpp"  // face_areas, face_areas_from_positions
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 
 namespace locus {
@@ -77,11 +78,5 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
 // fraction[a]: the share of the triangle's area of label a's part (the shares sum
 // to 1); centroid[a]: barycentric coordinates of that part's centroid.
 void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fraction, double (*centroid)[3]);
-
-// Triangle areas of a mesh whose positions are given in `dim` dimensions
-// (pos[v * dim + c]), by Kahan's stable Heron formula.
-HostVector<double> face_areas_from_positions(const Mesh& m, std::span<const double> pos, int dim);
-// The same for the mesh's own R^3 positions.
-HostVector<double> face_areas(const Mesh& m);
 
 }  // namespace locus

@@ -1,0 +1,48 @@
+// The set-up of Lloyd's method before its iterations
+// (pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp; thesis §3.7.1, §3.3):
+// every component gets a site, the input is checked, and the operators of the
+// cells and the centroids are prepared (in R^3 or in the R^6 lift). Internal to
+// pipelines/src/voronoi (cvt_lloyd.cpp).
+#pragma once
+#include <span>
+#include <vector>
+
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/parallel/stopwatch.hpp"
+#include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+// Random sites can miss a small component (whose vertices would then get no
+// heat): each component without a site takes one from the component with the
+// most sites (its last one), placed at the component's lowest vertex. Seeded
+// draws stay as they were wherever every component was hit.
+void give_every_component_a_site(const Mesh& m, const MeshDerived* given, std::vector<SurfacePoint>& sites);
+
+// The checks of a run: options, the mesh's requirements, the sites, a site in every
+// component. given: m's derived data, or null to derive it here (after the
+// requirement checks, so the errors come in the same order); `own` holds it then.
+const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, std::span<const SurfacePoint> sites,
+                                     const LloydOptions& opt, MeshDerived& own);
+
+// The operators of one run: the cells' (opt.prepared, or M - t L of the mesh or of
+// its R^6 lift) and the centroids' (the same, or with t_centroid_factor a second
+// numeric factor on the same symbolic factor), and the face areas in the cells'
+// metric. Filled in place: H and Hc may point at H_own and Hc_own.
+struct LloydOperators {
+  HeatDiffusion H_own, Hc_own;
+  const HeatDiffusion* H = nullptr;
+  const HeatDiffusion* Hc = nullptr;
+  HostVector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
+};
+
+// Checks the diffusion times and a prepared operator, then builds `ops`; the
+// factorization's phases are timed on `sw`.
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
+                             BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops);
+
+}  // namespace locus

@@ -1,0 +1,74 @@
+// Dijkstra balls and graph-geodesic cells of sites
+// (pipelines/include/locus/pipelines/voronoi/site_neighborhoods.hpp; thesis §3.6).
+#include "locus/pipelines/voronoi/site_neighborhoods.hpp"
+#include "locus/core/host_allocator.hpp"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace locus {
+
+namespace {
+
+// Vertices within graph distance `radius` of a surface point, sorted: the patch
+// grower's geodesic ball from the corners of the point's support.
+std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::span<const double> edge_length,
+                                   const SurfacePoint& s, double radius, GrowWorkspace& w) {
+  GrowSeed seeds[3];
+  const int cnt = site_seeds(m, s, seeds);
+  GrowOptions o;
+  o.mode = GrowMode::Geodesic;
+  o.max_radius = radius;
+  o.radius_rule = RadiusRule::PruneBeyond;
+  HostVector<int32_t> out;
+  grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
+  std::sort(out.begin(), out.end());
+  return std::vector<int32_t>(out);
+}
+
+}  // namespace
+
+int site_seeds(const Mesh& m, const SurfacePoint& s, GrowSeed seeds[3]) {
+  const auto p = surface_point_position(m, s);
+  int32_t sv[3];
+  double sw[3];
+  const int cnt = surface_point_support(m, s, sv, sw);
+  for (int k = 0; k < cnt; ++k)
+    seeds[k] = {sv[k], std::sqrt((m.x[sv[k]] - p[0]) * (m.x[sv[k]] - p[0]) + (m.y[sv[k]] - p[1]) * (m.y[sv[k]] - p[1]) +
+                                 (m.z[sv[k]] - p[2]) * (m.z[sv[k]] - p[2]))};
+  return cnt;
+}
+
+std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Adjacency& adj,
+                                                         std::span<const SurfacePoint> sites, double radius,
+                                                         const RunContext& ctx) {
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  std::vector<std::vector<int32_t>> nb(ns);
+  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
+  tbb::enumerable_thread_specific<GrowWorkspace> scratch;
+  tbb::parallel_for(0, ns, [&](int32_t s) {
+    if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, edge_length, sites[s], radius, scratch.local());
+  });
+  ctx.check_cancel();
+  return nb;
+}
+
+HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites) {
+  std::vector<GrowSeed> seeds;
+  std::vector<int32_t> seed_site;
+  for (int32_t s = 0; s < static_cast<int32_t>(sites.size()); ++s) {
+    GrowSeed g[3];
+    const int cnt = site_seeds(m, sites[s], g);
+    seeds.insert(seeds.end(), g, g + cnt);
+    seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
+  }
+  HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
+  GrowWorkspace ws;
+  label_nearest_seeds(adj, adjacency_edge_lengths(m, adj), seeds, seed_site, ws, label);
+  return label;
+}
+
+}  // namespace locus
