@@ -229,6 +229,7 @@ class HeatLogMap {
   HostVector<uint8_t> boundary_;  // n: on a boundary edge
 };
 
+// Quality of a map over its patch (pipelines/src/geodesic/logmap_patch_quality.cpp).
 // Triangles with all three corners in the patch whose (u, v) image has negative
 // signed area (the map's orientation is that of the faces). `local` is
 // scratch of num_vertices() entries, all -1 between calls.
