@@ -1,5 +1,5 @@
 // Accuracy of the heat log map against analytic maps, the protocol of thesis
-// §6.7 / Table 6.8.1 and issue #7: t = h^2, patch = the vertices within
+// §6.7 / Table 6.8.1: t = h^2, patch = the vertices within
 // geodesic distance 0.5 of the center, E_d = mean |d - d_exact|, E_a = mean
 // |angle - angle_exact - delta| with delta the best global rotation (circular
 // mean), both over the patch without the center, averaged over centers.
@@ -8,7 +8,7 @@
 // tangent plane; on the Gaussian bump z = exp(-(x^2 + y^2) / sigma^2) around
 // its peak the polar angle (rotational symmetry) and the radial arc length by
 // Simpson quadrature. The default suite runs a coarse bump (fast); the
-// mean-edge-0.01 surfaces of the issue's targets are skipped by default
+// mean-edge-0.01 surfaces of the accuracy targets are skipped by default
 // (seconds each: `locus-tests -tc='log map accuracy*' --no-skip`), the same
 // centers as `locus-bench logmap-accuracy SPEC --centers 10` (default seed).
 #include <doctest/doctest.h>
@@ -263,10 +263,10 @@ TEST_CASE("log map accuracy: icosphere 5, the path lattice correction beats the 
   CHECK(local_vs_full < 1e-12);
 }
 
-// Issue #27: irregular centers. An icosphere's 12 corners (valence 5,
-// shape-regular stars, lattice defects) and random centers, level 5
-// (h ~ 0.038), the defaults (t = 4 h^2, Auto) against the estimators the
-// automatic choice used to pick there (LogHeat + Path + recenter) and t = h^2.
+// Irregular centers. An icosphere's 12 corners (valence 5, shape-regular
+// stars, lattice defects) and random centers, level 5 (h ~ 0.038), the
+// defaults (t = 4 h^2, Auto) against LogHeat + Path + recenter (what Auto
+// would be without the defect class) and t = h^2.
 TEST_CASE("log map accuracy: icosphere 5, the defaults at the valence-5 corners and at random centers") {
   const Mesh m = make_icosphere(5);
   std::vector<int32_t> valence(m.num_vertices(), 0), corners;
@@ -303,7 +303,7 @@ TEST_CASE("log map accuracy: icosphere 5, the defaults at the valence-5 corners 
   CHECK(random_def < 3.5e-3);
 }
 
-// Issue #7's and #27's targets at mean edge ~0.01, with the defaults (slow:
+// The accuracy targets at mean edge ~0.01 (the bounds in the test names), with the defaults (slow:
 // skipped unless --no-skip; figures and commands in docs/logmap.md).
 TEST_CASE("log map accuracy: random-point sphere at mean edge 0.01 meets E_d <= 4e-3, E_a <= 1.5e-2" *
           doctest::skip()) {

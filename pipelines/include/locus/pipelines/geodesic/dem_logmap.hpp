@@ -33,9 +33,12 @@
 
 namespace locus {
 
+// Where a vertex is in the Dijkstra propagation.
+enum class DemVertexState : uint8_t { Unseen, Queued, Finalized };
+
 struct DemWorkspace {
   std::vector<double> dist;     // n, +inf between queries
-  std::vector<uint8_t> state;   // n: 0 unseen, 1 queued, 2 finalized; 0 between queries
+  std::vector<DemVertexState> state;  // n: Unseen between queries
   std::vector<int32_t> parent;  // n
   std::vector<int32_t> heap_pos;
   std::vector<double> u, v;     // n: map coordinates of finalized vertices
@@ -63,6 +66,15 @@ class DemLogMap {
                 std::span<double> v, DemWorkspace& ws) const;
 
  private:
+  // Steps of query(): the workspace sized and the center queued; a finalized
+  // vertex's frame (the center's own, or its parent's transported) and
+  // coordinates; the relaxation of its edges.
+  void begin_query(int32_t center, DemWorkspace& ws) const;
+  void center_frame(int32_t q, DemWorkspace& ws) const;
+  void transport_frame(int32_t p, int32_t q, DemWorkspace& ws) const;
+  void average_coordinates(int32_t q, DemWorkspace& ws) const;
+  void relax(int32_t q, DemWorkspace& ws) const;
+
   std::vector<double> x_, y_, z_;
   std::vector<double> normal_;       // 3n
   std::vector<int64_t> adj_offsets;  // n + 1

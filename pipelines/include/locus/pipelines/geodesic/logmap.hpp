@@ -40,14 +40,14 @@
 //    angle off 2 pi / valence by > 25 % or an edge ratio > 1.6); HeatAverage at
 //    shape-regular stars whose valence is not 6 (lattice defects, e.g. an
 //    icosphere's corners: a symmetric star has no convexity bias, and there the
-//    plain average measured better, logmap.cpp prepare_center); LogHeat elsewhere.
+//    plain average measured better, logmap_estimator.cpp prepare_center); LogHeat elsewhere.
 //    Defaults: LatticeCorrection::Path (at regular valence-6 stars) and recenter.
 // Where some (h_k)_j is not positive (non-Delaunay meshes, underflow) the log
 // estimators fall back to HeatAverage for that vertex, counted in the stats.
 // Corrections after the gradient estimate (LogMapEstimator; defaults in LogMapOptions):
 //  * lattice (LatticeCorrection::Star / Ring / Path): map the gradient direction
-//    to the normal of the heat kernel's dispersion set (see below; logmap.cpp,
-//    prepare_lattice, path_offsets), from the center's star, from the stars of
+//    to the normal of the heat kernel's dispersion set (see below; logmap_lattice.cpp,
+//    logmap_path.cpp), from the center's star, from the stars of
 //    the center and its ring, or (Path, the default) from the stars along the
 //    ray to each vertex; applied at regular valence-6 stars only.
 //  * recenter: on irregular meshes each vertex's heat carries a factor that does
@@ -66,7 +66,8 @@
 // face normals, so consistently oriented triangles keep their orientation.
 //
 // Thread safety: const after construction; concurrent queries (from oneTBB
-// tasks or the caller's threads) each need their own LogMapWorkspace. A query
+// tasks or the caller's threads) each need their own LogMapWorkspace
+// (logmap_workspace.hpp). A query
 // itself runs on the calling thread only.
 #pragma once
 #include <cstdint>
@@ -74,9 +75,8 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
-#include "locus/kernels/solve/solve_plan.hpp"
-#include "locus/kernels/solve/solve_wide.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "locus/pipelines/geodesic/logmap_workspace.hpp"
 
 namespace locus {
 
@@ -89,7 +89,7 @@ enum class LogMapAngle { Auto, LogHeat, LogHeatTwoRing, HeatAverage };
 // dispersion relation summed over the stars of the patch vertices near the ray
 // from i to j (a sector of the first-pass map, radius below j's), weighted per
 // unit length, each star turned into i's tangent plane by the minimal rotation
-// of its normal (logmap.cpp, path_offsets).
+// of its normal (logmap_path.cpp).
 enum class LatticeCorrection { None, Star, Ring, Path };
 
 // How a query turns heat values into angles (see above).
@@ -127,33 +127,6 @@ struct LogMapStats {
   // solve, distance (divergence + Poisson plan and solve; Poisson solve alone in
   // poisson_s), angles (gradients, logs, corrections, output).
   double region_s = 0, center_s = 0, plan_s = 0, heat_s = 0, distance_s = 0, poisson_s = 0, angles_s = 0;
-};
-
-struct LogMapWorkspace {
-  HeatGeodesicWorkspace geo;
-  HostVector<int32_t> sources;
-  HostVector<int32_t> ring2, sorted_sources;
-  HostVector<double> coef1, coef2, phi;  // 2 * |S|: one-ring and two-ring estimator coefficients
-  HostVector<double> star;       // lattice corrections' scratch: (ex, ey, w) per star edge in the center's frame
-  HostVector<int32_t> star_ends;  // lattice corrections' scratch: far ends of one star's edges
-  HostVector<double> lattice;    // lattice correction: direction offset per table angle, empty = none
-  HostVector<double> path;       // Path correction: offsets per (sector, radius bin); path_angle: first-pass angles
-  HostVector<double> path_angle, path_r;  // first-pass angle and heat radius per patch vertex
-  HostVector<double> path_moments;        // Path correction: edge moments per (sector, radius bin)
-  double path_rmax = 1;
-  HostVector<double> grad;       // 3 per patch vertex: estimated gradient, usable flag
-  HostVector<double> theta;      // finish_angles: raw angle per patch vertex, then its gradient's x and y (padded)
-  HostVector<double> logrow, rowbuf;  // one heat row and its log, padded to whole SIMD batches
-  HostVector<double> cpad;            // estimator coefficients de-interleaved and padded (see begin_gradients)
-  HostVector<int32_t> row_owner; // localized: region index of each row of the wide solve's x, -1 elsewhere
-  SolvePlan plan;                 // heat plan, reused across queries (no per-query allocation)
-  PlanWorkspace plan_ws;
-  WideSolveWorkspace wide;         // localized: all sources in one pass (kernels/include/locus/kernels/solve/solve_wide.hpp)
-  HostVector<double> rhs_wide, out_wide;
-  HostVector<double> out8;        // full variant: one 8-lane batch
-  HostVector<double> heat;        // localized: region x (lanes rounded up to 8); full: n x |S|; row-major
-  HostVector<double> dist_full;   // n, full variant
-  HostVector<double> work_full;   // full variant: solve8's work array, kept across queries
 };
 
 class HeatLogMap {
@@ -204,35 +177,50 @@ class HeatLogMap {
   void frame(int32_t i, double n[3], double e1[3], double e2[3]) const;
 
  private:
-  // Returns the resolved estimator (Auto replaced by its choice for this center).
-  LogMapEstimator prepare_center(int32_t center, LogMapEstimator e, LogMapWorkspace& ws) const;
-  void prepare_lattice(const double e1[3], const double e2[3], LatticeCorrection lattice, size_t ring1,
-                       LogMapWorkspace& ws) const;
+  // Each step lives in the file named beside it (pipelines/src/geodesic/).
+  struct StarFrame;  // logmap_parts.hpp
+  // logmap_frame.cpp: vertex normals (eq. 6.2) and the classes of a star.
+  void prepare(const Mesh& m, const MeshDerived* derived = nullptr);
   bool irregular_star(int32_t i) const;
   bool defect_star(int32_t i) const;
-  void begin_gradients(size_t patch_size, LogMapWorkspace& ws) const;
-  // f: the row's heat values; padded: f holds zeros up to the next whole SIMD batch.
+  // logmap_estimator.cpp: sources and coefficients per center (returns the
+  // resolved estimator: Auto replaced by its choice for this center), then
+  // the gradient estimate per patch vertex from its heat row f (padded: f
+  // holds zeros up to the next whole SIMD batch).
+  LogMapEstimator prepare_center(int32_t center, LogMapEstimator e, LogMapWorkspace& ws) const;
+  void two_ring_coefficients(int32_t i, const double e1[3], const double e2[3], LogMapEstimatorWorkspace& ew) const;
+  void begin_gradients(size_t patch_size, LogMapEstimatorWorkspace& ew, LogMapPathWorkspace& pw) const;
   void vertex_gradient(size_t p, bool is_center, bool is_source, const double* f, bool padded, double h_center,
-                       const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
-  void two_ring_coefficients(int32_t i, const double e1[3], const double e2[3], LogMapWorkspace& ws) const;
-  // Steps of a localized query: the heat from every source, then the gradients
-  // (one wide solve read in the solver's row order, or several passes gathered).
+                       const LogMapEstimator& est, LogMapStats& st, LogMapEstimatorWorkspace& ew,
+                       LogMapPathWorkspace& pw) const;
+  // logmap_lattice.cpp: dispersion stars; the Star / Ring table from `stars`.
+  void add_star_edges(int32_t v, const StarFrame& frame, double weight, double& mass,
+                      DispersionStarScratch& star) const;
+  void prepare_lattice(const double e1[3], const double e2[3], std::span<const int32_t> stars,
+                       LogMapLatticeWorkspace& lw) const;
+  // logmap_path.cpp: the Path table around center i from the first-pass angles.
+  void path_offsets(std::span<const int32_t> patch, int32_t i, LogMapPathWorkspace& pw) const;
+  void add_path_star(int32_t v, double weight, const double n[3], const double e1[3], const double e2[3], double inv_h,
+                     double* cell, DispersionStarScratch& star) const;
+  // logmap_angles.cpp: corrections, angles and the unit directions; then (u, v).
+  void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
+                     LogMapStats& st, LogMapWorkspace& ws) const;
+  static void scale_by_distance(const LogMapOutput& out);
+  // logmap_query.cpp: the steps of the two queries (the heat from every
+  // source: one wide solve read in the solver's row order, several passes
+  // gathered, or full solves) and the head and tail they share.
+  LogMapEstimator begin_query(int32_t center, std::span<const int32_t> patch, const LogMapEstimator& estimator,
+                              int32_t region_size, LogMapStats& st, LogMapWorkspace& ws) const;
   void solve_heat_one_pass(int32_t lanes, LogMapWorkspace& ws) const;
   void gradients_from_rows(int32_t lanes, int32_t center_local, const LogMapEstimator& est, LogMapStats& st,
                            LogMapWorkspace& ws) const;
   void solve_heat_passes(int32_t lanes, int32_t passes, LogMapWorkspace& ws) const;
-  void gradients_from_passes(std::span<const int32_t> patch, int32_t center, int32_t center_local, size_t stride,
-                             const LogMapEstimator& est, LogMapStats& st, LogMapWorkspace& ws) const;
-  // LatticeCorrection::Path: offsets per (sector, radius) from the first-pass angles.
-  void path_offsets(std::span<const int32_t> patch, LogMapWorkspace& ws) const;
-  void add_path_star(int32_t v, double weight, const double n[3], const double e1[3], const double e2[3], double inv_h,
-                     double* cell, LogMapWorkspace& ws) const;
-  static double path_offset_at(const HostVector<double>& table, double th, double r, double rmax);
-  void finish_angles(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
-                     LogMapStats& st, LogMapWorkspace& ws) const;
-  static void scale_by_distance(const LogMapOutput& out);
-
-  void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // tangent frames (eq. 6.2)
+  void solve_heat_full(int32_t batches, LogMapWorkspace& ws) const;
+  void gradients_from_table(std::span<const int32_t> patch, int32_t center, std::span<const int32_t> row_of,
+                            size_t center_row, size_t stride, const LogMapEstimator& est, LogMapStats& st,
+                            LogMapWorkspace& ws) const;
+  void finish_query(std::span<const int32_t> patch, const LogMapOutput& out, const LogMapEstimator& est,
+                    LogMapStats& st, LogMapWorkspace& ws) const;
 
   LogMapOptions opt_;
   HeatGeodesic geo_;
@@ -241,6 +229,7 @@ class HeatLogMap {
   HostVector<uint8_t> boundary_;  // n: on a boundary edge
 };
 
+// Quality of a map over its patch (pipelines/src/geodesic/logmap_patch_quality.cpp).
 // Triangles with all three corners in the patch whose (u, v) image has negative
 // signed area (the map's orientation is that of the faces). `local` is
 // scratch of num_vertices() entries, all -1 between calls.
