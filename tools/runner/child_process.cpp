@@ -1,10 +1,15 @@
-// One item's child process (see child_process.hpp).
+// One item's child process (see child_process.hpp). The child is started with
+// fork and exec rather than posix_spawn because it must ask for
+// PR_SET_PDEATHSIG itself: it is killed (SIGKILL) when the runner dies, however
+// the runner dies, so no orphan goes on computing and writing into the --out
+// folder. It inherits the folder's lock descriptor (out_folder_lock.hpp).
 #include "tools/runner/child_process.hpp"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <system_error>
@@ -41,37 +46,52 @@ std::vector<std::string> child_command(const std::string& exe, const RunOptions&
   return args;
 }
 
+namespace {
+
+// In the child between fork and exec: only async-signal-safe calls.
+[[noreturn]] void exec_child(pid_t runner, const char* exe, char* const* argv, const char* out, const char* err) {
+  // Die with the runner, whatever kills it (SIGKILL included): an orphan would
+  // go on computing and writing into the folder. If the runner is already gone
+  // (it died before prctl took effect), the parent is no longer `runner`.
+  if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != runner) ::_exit(127);
+  // Own process group: a terminal Ctrl-C reaches the runner only, which forwards
+  // exactly one SIGINT (a child's second SIGINT would kill it before it can stop cleanly).
+  ::setpgid(0, 0);
+  // Default SIGINT and SIGTERM (the child's own handler then turns Ctrl-C into
+  // exit 5), also when the runner was started with them ignored.
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  ::sigaction(SIGINT, &dfl, nullptr);
+  ::sigaction(SIGTERM, &dfl, nullptr);
+  const int in_fd = ::open("/dev/null", O_RDONLY);
+  const int out_fd = ::open(out, O_WRONLY | O_TRUNC);
+  const int err_fd = ::open(err, O_WRONLY | O_TRUNC);
+  if (in_fd < 0 || out_fd < 0 || err_fd < 0) ::_exit(127);
+  if (::dup2(in_fd, STDIN_FILENO) < 0 || ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(err_fd, STDERR_FILENO) < 0)
+    ::_exit(127);
+  for (int fd : {in_fd, out_fd, err_fd})
+    if (fd > STDERR_FILENO) ::close(fd);
+  ::execve(exe, argv, environ);
+  static const char kMessage[] = "locus: error: run: cannot execute the locus executable\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  ::_exit(127);
+}
+
+}  // namespace
+
 pid_t spawn_item(const std::string& exe, const RunOptions& o, Item& it, const fs::path& out_dir,
                  int threads_per_item) {
   std::vector<std::string> args = child_command(exe, o, it, out_dir, threads_per_item);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-
   it.out_capture = make_capture(out_dir, it.stem, "stdout");
   it.err_capture = make_capture(out_dir, it.stem, "stderr");
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, it.out_capture.c_str(), O_WRONLY | O_TRUNC, 0);
-  posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, it.err_capture.c_str(), O_WRONLY | O_TRUNC, 0);
-  // The child starts with default SIGINT handling (its own handler then turns Ctrl-C into exit 5).
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t def;
-  sigemptyset(&def);
-  sigaddset(&def, SIGINT);
-  sigaddset(&def, SIGTERM);
-  posix_spawnattr_setsigdefault(&attr, &def);
-  // Own process group: a terminal Ctrl-C reaches the runner only, which forwards
-  // exactly one SIGINT (a child's second SIGINT would kill it before it can stop cleanly).
-  posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, exe.c_str(), &fa, &attr, argv.data(), environ);
-  posix_spawnattr_destroy(&attr);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) fail(ErrorCode::Internal, "run: cannot start " + exe + ": " + std::strerror(rc));
+  const pid_t runner = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) exec_child(runner, exe.c_str(), argv.data(), it.out_capture.c_str(), it.err_capture.c_str());
+  if (pid < 0) fail(ErrorCode::Internal, "run: cannot start " + exe + ": " + std::strerror(errno));
+  ::setpgid(pid, pid);  // also here, so the group exists before the runner may signal it
   return pid;
 }
 

@@ -25,8 +25,10 @@ std::vector<std::string> child_command(const std::string& exe, const RunOptions&
                                        const std::filesystem::path& out_dir, int threads_per_item);
 
 // Creates the item's capture files and starts its child in a process group
-// of its own, with SIGINT and SIGTERM at their defaults; returns its pid.
-// Error(Internal) when it cannot be started.
+// of its own, with SIGINT and SIGTERM at their defaults, killed (SIGKILL) when
+// the runner dies; returns its pid. Error(Internal) when it cannot be forked
+// (an exec failure is the child's exit status 127). The child inherits every
+// descriptor not marked close-on-exec (the --out folder's lock among them).
 pid_t spawn_item(const std::string& exe, const RunOptions& o, Item& it, const std::filesystem::path& out_dir,
                  int threads_per_item);
 

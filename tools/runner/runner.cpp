@@ -1,8 +1,10 @@
 // `locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR [--jobs J]
 // [--threads N] [--ext EXT] [--json]`: one pipeline (any locus command) over
 // many meshes, each input in a child process of this same executable
-// (README "locus run"). This file is the sequence: parse, plan the items,
-// resume, run the pool, write the summary.
+// (README "locus run"). This file is the sequence: parse, take the --out
+// folder (refusing a folder of other options, removing stale temporaries),
+// plan the items, resume, run the pool, check the reports still hold this
+// run's results, write the summary.
 //
 // Exit status: 0 every input succeeded; 3 some input failed (bad file,
 // numerical failure or crash: each is reported and skipped, the run goes on);
@@ -25,7 +27,9 @@
 #include "tools/runner/job_plan.hpp"
 #include "tools/runner/merge.hpp"
 #include "tools/runner/out_files.hpp"
+#include "tools/runner/out_folder_lock.hpp"
 #include "tools/runner/process_pool.hpp"
+#include "tools/runner/report_check.hpp"
 #include "tools/runner/resume.hpp"
 #include "tools/runner/run_options.hpp"
 #include "tools/runner/summary.hpp"
@@ -48,6 +52,7 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
   const fs::path out_dir = o.out;
   create_out_folder(o.out);
   if (!o.merge.empty()) return merge_summaries(o);
+  OutFolderLock folder(out_dir, o);
   std::vector<std::string> ignored;
   std::vector<Item> items = select_shard(expand_inputs(o.inputs, o.recursive, ignored), o.shard, o.shards);
   const int total_threads =
@@ -64,6 +69,7 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
     for (size_t k = 0; k < items.size(); ++k) resume_item(items[k], o, out_dir, lines[k]);
   const PoolOutcome outcome = run_pool(job, items, lines);
 
+  confirm_reports(lines, items, o);
   Json item_list = Json::array();
   for (size_t k = 0; k < items.size(); ++k)
     item_list.push_back(lines[k].is_null() ? unreported_line(items[k]) : lines[k]);
@@ -72,6 +78,7 @@ int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& c
   const int status = count_summary(summary, outcome.cancelled, outcome.usage_failures);
   const fs::path path = summary_path(out_dir, o.shard, o.shards);
   write_summary(o, summary, path);
+  folder.clean_up_if_alone(summary["succeeded"].get<size_t>() > 0);
   if (status == static_cast<int>(ErrorCode::BadUsage))
     std::cerr << "locus: error: run: " << o.pipeline << " refused its options on every input (see " << path.string()
               << ")\n";
