@@ -27,7 +27,7 @@ TEST_CASE("runner: SIGKILL takes the children with it; --resume removes stale te
   locus::write_mesh((in / "a_big.off").string(), big);
   locus::write_mesh((in / "b_small.off").string(), small);
   const std::string out = dir / "out";
-  const std::vector<std::string> args = {"run", "cvt", in.string(), "--sites", "300", "--iters", "25", "--out", out,
+  const std::vector<std::string> args = {"run", "cvt", in.string(), "--sites", "300", "--iters", "60", "--out", out,
                                          "--jobs", "2", "--threads", "2", "--json"};
   const pid_t runner = start_locus(cap, args);
   // Wait until the long item's child runs.
