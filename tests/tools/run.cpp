@@ -1,4 +1,4 @@
-// `locus run` (tools/cli/cmd_run.cpp) as users run it: a folder with two good
+// `locus run` (tools/runner/) as users run it: a folder with two good
 // meshes, one garbage mesh file and one non-mesh file; the garbage is reported
 // and skipped, the good ones produce their output and report, the summary
 // counts are right and the exit status says an input failed (3). Ctrl-C
@@ -50,7 +50,7 @@ TEST_CASE("run: cvt over a folder with a garbage file reports it, processes the 
   CHECK(s["items"][2]["exit_status"] == 3);
   CHECK(s["items"][2]["error"].get<std::string>().find("c_garbage.ply") != std::string::npos);
 
-  // Per-input reports hold the pipeline's own JSON; the outputs are the remeshes (issue 23).
+  // Per-input reports hold the pipeline's own JSON; the outputs are the remeshes.
   const auto a = nlohmann::json::parse(slurp(fs::path(out) / "a_sphere.json"));
   CHECK(a["status"] == "ok");
   CHECK(a["result"]["command"] == "cvt");
@@ -68,13 +68,18 @@ TEST_CASE("run: cvt over a folder with a garbage file reports it, processes the 
   CHECK(c["status"] == "failed");
   CHECK(c["result"].is_null());
   CHECK(c["stderr"].get<std::string>().find("error") != std::string::npos);
-  // No scratch files left behind.
-  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string()[0] != '.');
+  // No scratch files left behind (the hidden files are the folder's lock and options stamp).
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    CHECK((name[0] != '.' || name == ".locus-run.lock" || name == ".locus-run.json"));
+  }
 
   // Everything readable: exit 0. A missing input: reported, exit 3.
-  CHECK(run_locus(dir, {"run", "info", (in / "a_sphere.off").string(), (in / "b_torus.obj").string(), "--out", out})
+  const std::string info_out = dir / "info";
+  CHECK(run_locus(dir, {"run", "info", (in / "a_sphere.off").string(), (in / "b_torus.obj").string(), "--out",
+                        info_out})
             .status == 0);
-  const Run missing = run_locus(dir, {"run", "info", (in / "nope.off").string(), "--out", out, "--json"});
+  const Run missing = run_locus(dir, {"run", "info", (in / "nope.off").string(), "--out", info_out, "--json"});
   CHECK(missing.status == 3);
   CHECK(missing.json()["failed"] == 1);
 }

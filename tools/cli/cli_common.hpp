@@ -342,10 +342,4 @@ void register_voronoi_command(CommandTable& table);
 void register_cvt_command(CommandTable& table);
 void register_geodesic_commands(CommandTable& table);  // geodesic, logmap
 
-// `locus run PIPELINE FILE-OR-FOLDER... [pipeline options] --out DIR` (cmd_run.cpp).
-// Its grammar differs from the per-mesh commands: main() hands it argv when
-// argv[1] is "run" (the table only lists it in --help, CommandTable::add_listing);
-// `commands` are the valid PIPELINE names. Throws locus::Error for bad usage.
-int run_pipeline_runner(int argc, char** argv, const std::vector<std::string>& commands);
-
 }  // namespace locus::cli

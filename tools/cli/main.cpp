@@ -1,12 +1,14 @@
 // The `locus` command-line tool: command dispatch. Each command lives in its
 // own file (cmd_<name>.cpp) and registers itself here; the grammar, exit
-// statuses and shared helpers are in cli_common.
+// statuses and shared helpers are in cli_common. `locus run` (one command over
+// many meshes) is the runner of tools/runner/, with a grammar of its own.
 #include <exception>
 #include <iostream>
 #include <string>
 
 #include "locus/error.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/runner/runner.hpp"
 
 int main(int argc, char** argv) {
   // CommandTable::run maps every error of a command to an exit status; this
@@ -24,7 +26,7 @@ int main(int argc, char** argv) {
     table.add_listing("run", "Run one command over many meshes: locus run PIPELINE FILE-OR-FOLDER... [options] --out DIR");
     if (argc >= 2 && std::string(argv[1]) == "run") {
       try {
-        return locus::cli::run_pipeline_runner(argc, argv, table.names());
+        return locus::runner::run_pipeline_runner(argc, argv, table.names());
       } catch (const locus::Error& e) {
         std::cerr << "locus: error: " << e.what() << "\n";
         return e.exit_status();
