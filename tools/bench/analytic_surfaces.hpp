@@ -11,6 +11,8 @@
 // tangent plane of p_c; on the bump the azimuth atan2(y, x) and the arc length
 // of the radial profile by Simpson quadrature.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>

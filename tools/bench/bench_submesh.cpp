@@ -261,7 +261,7 @@ struct SubmeshRun {
   FactorUpdater& copying;  // (a') and A_II for the other contenders
   const int threads, blas_default;
 #ifdef LOCUS_HAVE_CHOLMOD
-  Cholmod ch;
+  Cholmod ch{};
 #endif
 
   PatchTimes time_contenders(const std::vector<int32_t>& I, const FactorUpdate& ref, int rotation);

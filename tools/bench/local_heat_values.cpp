@@ -223,7 +223,7 @@ struct HeatValues {
 #endif
   std::mt19937_64 rng, order_rng;
   std::uniform_int_distribution<int32_t> pick{0, n - 1};
-  HeatWorkspace ws;
+  HeatWorkspace ws{};
 
   Json pairs();
   Json everything();
