@@ -1,19 +1,26 @@
 #!/usr/bin/env python3
-"""Prints the longest functions of the library (README "Layout": none over ~150 lines).
+"""Prints the longest functions of the library and tools (README "Layout": none over 100 lines).
 
-    python3 tools/longest_functions.py [--top 10] [--max 150] [DIR ...]   (default: kernels pipelines)
+    python3 tools/longest_functions.py [--top 10] [--max 100] [DIR ...]
+    (default DIRs: every library and tools folder, core kernels io pipelines engine tools python/src)
+
+The check a reviewer runs is `python3 tools/longest_functions.py --max 100`.
 
 A function is a brace block opened at namespace or class scope after a
 parameter list; its length runs from the line of its name to its closing
 brace (lambdas and local classes count toward the function holding them).
-Comments and string literals are blanked first. With --max, exits 1 when a
-function is longer (a check a reviewer can run)."""
+`extern "C" { ... }` blocks are scopes like namespaces. Comments and string
+literals are blanked first. With --max, exits 1 when a function is longer and
+lists those functions."""
 import argparse
 import os
 import re
 import sys
 
-KEYWORDS_BLOCK = re.compile(r'\b(namespace|class|struct|union|enum)\b[^;{()]*$')
+# Scopes that hold declarations, not code. String literals are blanked before
+# matching, so `extern "C" {` reads as `extern     {`.
+CONTAINERS = r'\b(namespace|class|struct|union|enum|extern)\b'
+KEYWORDS_BLOCK = re.compile(CONTAINERS + r'[^;{()]*$')
 CONTROL = re.compile(r'\b(if|for|while|switch|catch|do|else|try)\s*$')
 
 
@@ -71,7 +78,7 @@ def functions(path):
             if inside_fn:
                 stack.append('block')
             elif KEYWORDS_BLOCK.search(head.strip().split('\n')[-1] if head.strip() else '') or \
-                    re.search(r'\b(namespace|class|struct|union|enum)\b', head) and ')' not in head:
+                    re.search(CONTAINERS, head) and ')' not in head:
                 stack.append('container')
                 head_start = i + 1
             elif ')' in head and not CONTROL.search(head.rstrip()) and not re.search(r'=\s*$', head.rstrip()):
@@ -96,9 +103,12 @@ def functions(path):
     return results
 
 
+DEFAULT_DIRS = ['core', 'kernels', 'io', 'pipelines', 'engine', 'tools', 'python/src']
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument('dirs', nargs='*', default=['kernels', 'pipelines'])
+    ap.add_argument('dirs', nargs='*', default=DEFAULT_DIRS)
     ap.add_argument('--top', type=int, default=10)
     ap.add_argument('--max', type=int, default=0)
     a = ap.parse_args()
@@ -115,6 +125,8 @@ def main():
         print(f'{length:5d}  {os.path.relpath(path, root)}:{line}  {name}')
     if a.max and found and found[0][0] > a.max:
         over = [r for r in found if r[0] > a.max]
+        for length, path, line, name in over[a.top:]:
+            print(f'{length:5d}  {os.path.relpath(path, root)}:{line}  {name}')
         print(f'{len(over)} function(s) over {a.max} lines', file=sys.stderr)
         return 1
     return 0

@@ -84,22 +84,21 @@ Array arr(const char* name, const V& v) {
   return {name, v.data(), static_cast<uint64_t>(v.size()), static_cast<uint32_t>(sizeof(typename V::value_type))};
 }
 
+// Calls f(name, array) for every array of the symbolic factor the file keeps,
+// in file order: the one list the writer and the reader share.
+template <class Symbolic, class F>
+void for_each_symbolic_array(Symbolic& S, F&& f) {
+  f("perm", S.perm), f("iperm", S.iperm), f("parent", S.parent), f("col_count", S.col_count);
+  f("super_first_col", S.super_first_col), f("col_to_super", S.col_to_super), f("super_parent", S.super_parent);
+  f("super_row_ptr", S.super_row_ptr), f("super_rows", S.super_rows), f("super_value_ptr", S.super_value_ptr);
+  f("a_super_ptr", S.a_super_ptr), f("a_src", S.a_src), f("a_dst", S.a_dst);
+}
+
 // The symbolic arrays, then one values section per factor.
 std::vector<Array> arrays_of(const SymbolicFactor& S, std::span<const FactorEntry> entries,
                              std::vector<std::string>& value_names) {
-  std::vector<Array> a = {arr("perm", S.perm),
-                          arr("iperm", S.iperm),
-                          arr("parent", S.parent),
-                          arr("col_count", S.col_count),
-                          arr("super_first_col", S.super_first_col),
-                          arr("col_to_super", S.col_to_super),
-                          arr("super_parent", S.super_parent),
-                          arr("super_row_ptr", S.super_row_ptr),
-                          arr("super_rows", S.super_rows),
-                          arr("super_value_ptr", S.super_value_ptr),
-                          arr("a_super_ptr", S.a_super_ptr),
-                          arr("a_src", S.a_src),
-                          arr("a_dst", S.a_dst)};
+  std::vector<Array> a;
+  for_each_symbolic_array(S, [&](const char* name, const auto& v) { a.push_back(arr(name, v)); });
   value_names.clear();
   for (size_t k = 0; k < entries.size(); ++k) value_names.push_back(k == 0 ? "values" : "values" + std::to_string(k));
   for (size_t k = 0; k < entries.size(); ++k) a.push_back(arr(value_names[k].c_str(), entries[k].factor->values));
@@ -231,6 +230,70 @@ bool read_at(int fd, void* dst, uint64_t bytes, uint64_t offset) {
   return true;
 }
 
+// A loaded factor's values: a positive diagonal and finite entries. 0 = fine,
+// 1 = a non-positive diagonal, 2 = a non-finite entry; the first supernode at
+// fault decides, so the message does not depend on the threads.
+void check_factor_values(const std::string& path, const SymbolicFactor& S, std::span<const double> values) {
+  std::vector<uint8_t> fault(static_cast<size_t>(S.ns), 0);
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, S.ns, 64), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t s = r.begin(); s < r.end(); ++s) {
+      const double* L = values.data() + S.super_value_ptr[s];
+      const int32_t nr = S.nrows(s);
+      for (int32_t j = 0; j < S.ncols(s) && !fault[s]; ++j) {
+        const double* col = L + static_cast<int64_t>(j) * nr;
+        if (!(col[j] > 0) || !std::isfinite(col[j])) fault[s] = 1;
+        // Finite test without a branch per entry: x - x is 0 for finite x, NaN otherwise.
+        double probe = 0;
+        for (int32_t i = j; i < nr; ++i) probe += col[i] - col[i];
+        if (probe != 0 && !fault[s]) fault[s] = 2;
+      }
+    }
+  });
+  for (uint8_t e : fault) {
+    if (e == 1) bad_file(path, "corrupted: non-positive diagonal in the factor");
+    if (e == 2) bad_file(path, "corrupted: non-finite factor entry");
+  }
+}
+
+// The header (magic, format) and the flatbuffers metadata after it, verified.
+std::vector<uint8_t> read_metadata(const std::string& path, int fd, uint64_t file_size) {
+  char header[kHeaderBytes];
+  if (!read_at(fd, header, kHeaderBytes, 0)) bad_file(path, "cannot read the header");
+  uint32_t fmt = 0;
+  uint64_t meta_size = 0;
+  std::memcpy(&fmt, header + 8, 4);
+  std::memcpy(&meta_size, header + 16, 8);
+  if (std::memcmp(header, kMagic, 8) != 0) bad_file(path, "not a locus factor cache");
+  if (fmt != kFactorCacheFormat)
+    bad_file(path, "factor cache format " + std::to_string(fmt) + ", this locus reads format " + std::to_string(kFactorCacheFormat));
+  if (meta_size > file_size - kHeaderBytes || meta_size > (64u << 20)) bad_file(path, "truncated or corrupted metadata");
+  std::vector<uint8_t> meta(meta_size);
+  if (!read_at(fd, meta.data(), meta_size, kHeaderBytes)) bad_file(path, "truncated metadata");
+  flatbuffers::Verifier verifier(meta.data(), meta.size());
+  if (!fbs::VerifyFactorCacheBuffer(verifier)) bad_file(path, "corrupted metadata");
+  return meta;
+}
+
+// The numeric factors a file holds: the `factors` list, or (older files) one "values" section.
+struct FactorLabel {
+  std::string kind, section;
+  double t;
+};
+
+std::vector<FactorLabel> factor_labels(const std::string& path, const fbs::FactorCache* fc) {
+  std::vector<FactorLabel> labels;
+  if (fc->factors()) {
+    for (const fbs::Factor* f : *fc->factors()) {
+      if (!f || !f->section()) bad_file(path, "corrupted: factor without a values section");
+      labels.push_back({f->operator_kind() ? f->operator_kind()->str() : "", f->section()->str(), f->t()});
+    }
+  } else {
+    labels.push_back({fc->operator_kind() ? fc->operator_kind()->str() : "", "values", fc->t()});
+  }
+  if (labels.empty()) bad_file(path, "holds no factor");
+  return labels;
+}
+
 }  // namespace
 
 LoadedFactors load_factors(const std::string& path, uint64_t expected_mesh_hash) {
@@ -242,20 +305,7 @@ LoadedFactors load_factors(const std::string& path, uint64_t expected_mesh_hash)
   file.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (file.fd < 0) bad_file(path, "cannot open");
   if (file_size < kHeaderBytes) bad_file(path, "truncated (no header)");
-  char header[kHeaderBytes];
-  if (!read_at(file.fd, header, kHeaderBytes, 0)) bad_file(path, "cannot read the header");
-  uint32_t fmt = 0;
-  uint64_t meta_size = 0;
-  std::memcpy(&fmt, header + 8, 4);
-  std::memcpy(&meta_size, header + 16, 8);
-  if (std::memcmp(header, kMagic, 8) != 0) bad_file(path, "not a locus factor cache");
-  if (fmt != kFactorCacheFormat)
-    bad_file(path, "factor cache format " + std::to_string(fmt) + ", this locus reads format " + std::to_string(kFactorCacheFormat));
-  if (meta_size > file_size - kHeaderBytes || meta_size > (64u << 20)) bad_file(path, "truncated or corrupted metadata");
-  std::vector<uint8_t> meta(meta_size);
-  if (!read_at(file.fd, meta.data(), meta_size, kHeaderBytes)) bad_file(path, "truncated metadata");
-  flatbuffers::Verifier verifier(meta.data(), meta.size());
-  if (!fbs::VerifyFactorCacheBuffer(verifier)) bad_file(path, "corrupted metadata");
+  const std::vector<uint8_t> meta = read_metadata(path, file.fd, file_size);
   const fbs::FactorCache* fc = fbs::GetFactorCache(meta.data());
   if (fc->format_version() != kFactorCacheFormat) bad_file(path, "format version mismatch in metadata");
   LoadedFactors out;
@@ -313,34 +363,8 @@ LoadedFactors load_factors(const std::string& path, uint64_t expected_mesh_hash)
     }
     if (sum != s->checksum()) bad_file(path, "corrupted: checksum mismatch in section " + name);
   };
-  load("perm", S->perm);
-  load("iperm", S->iperm);
-  load("parent", S->parent);
-  load("col_count", S->col_count);
-  load("super_first_col", S->super_first_col);
-  load("col_to_super", S->col_to_super);
-  load("super_parent", S->super_parent);
-  load("super_row_ptr", S->super_row_ptr);
-  load("super_rows", S->super_rows);
-  load("super_value_ptr", S->super_value_ptr);
-  load("a_super_ptr", S->a_super_ptr);
-  load("a_src", S->a_src);
-  load("a_dst", S->a_dst);
-  // The numeric factors: the `factors` list, or (older files) one "values" section.
-  struct Label {
-    std::string kind, section;
-    double t;
-  };
-  std::vector<Label> labels;
-  if (fc->factors()) {
-    for (const fbs::Factor* f : *fc->factors()) {
-      if (!f || !f->section()) bad_file(path, "corrupted: factor without a values section");
-      labels.push_back({f->operator_kind() ? f->operator_kind()->str() : "", f->section()->str(), f->t()});
-    }
-  } else {
-    labels.push_back({fc->operator_kind() ? fc->operator_kind()->str() : "", "values", fc->t()});
-  }
-  if (labels.empty()) bad_file(path, "holds no factor");
+  for_each_symbolic_array(*S, [&](const char* name, auto& v) { load(name, v); });
+  const std::vector<FactorLabel> labels = factor_labels(path, fc);
   out.factors.resize(labels.size());
   for (size_t k = 0; k < labels.size(); ++k) {
     load(labels[k].section, out.factors[k].values);
@@ -355,27 +379,7 @@ LoadedFactors load_factors(const std::string& path, uint64_t expected_mesh_hash)
   S->max_super_rows = 0;
   for (int32_t s = 0; s < S->ns; ++s) S->max_super_rows = std::max(S->max_super_rows, S->nrows(s));
   for (NumericFactor& f : out.factors) {
-    // 0 = fine, 1 = a non-positive diagonal, 2 = a non-finite entry; the first
-    // supernode at fault decides, so the message does not depend on the threads.
-    std::vector<uint8_t> fault(static_cast<size_t>(S->ns), 0);
-    tbb::parallel_for(tbb::blocked_range<int32_t>(0, S->ns, 64), [&](const tbb::blocked_range<int32_t>& r) {
-      for (int32_t s = r.begin(); s < r.end(); ++s) {
-        const double* L = f.values.data() + S->super_value_ptr[s];
-        const int32_t nr = S->nrows(s);
-        for (int32_t j = 0; j < S->ncols(s) && !fault[s]; ++j) {
-          const double* col = L + static_cast<int64_t>(j) * nr;
-          if (!(col[j] > 0) || !std::isfinite(col[j])) fault[s] = 1;
-          // Finite test without a branch per entry: x - x is 0 for finite x, NaN otherwise.
-          double probe = 0;
-          for (int32_t i = j; i < nr; ++i) probe += col[i] - col[i];
-          if (probe != 0 && !fault[s]) fault[s] = 2;
-        }
-      }
-    });
-    for (uint8_t e : fault) {
-      if (e == 1) bad_file(path, "corrupted: non-positive diagonal in the factor");
-      if (e == 2) bad_file(path, "corrupted: non-finite factor entry");
-    }
+    check_factor_values(path, *S, f.values);
     f.symbolic = S;
   }
   return out;

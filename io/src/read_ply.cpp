@@ -5,7 +5,7 @@
 // count and index types. Every other element and property (normals, colours,
 // edges, materials, list properties such as texcoord) is skipped by its
 // declared size, except that the vertex element's scalar properties are
-// returned as MeshAttributes when asked (issue 22 item 2). `comment` and `obj_info` lines are ignored. Not from the
+// returned as MeshAttributes when asked. `comment` and `obj_info` lines are ignored. Not from the
 // thesis: file plumbing.
 //
 // Hostile input: before anything is allocated, the header counts are checked
@@ -230,19 +230,12 @@ class BinaryBody {
     }
     return u;
   }
-  // Reads one value of type t (bounds already checked by need()).
+  // Reads one value of type t (bounds already checked by need()). Every
+  // integer type fits an int64 and a double exactly.
   double as_double(Type t) {
-    switch (t) {
-      case Type::I8: return load<int8_t>();
-      case Type::U8: return load<uint8_t>();
-      case Type::I16: return load<int16_t>();
-      case Type::U16: return load<uint16_t>();
-      case Type::I32: return load<int32_t>();
-      case Type::U32: return load<uint32_t>();
-      case Type::F32: return load<float>();
-      case Type::F64: return load<double>();
-    }
-    return 0;
+    if (t == Type::F32) return load<float>();
+    if (t == Type::F64) return load<double>();
+    return static_cast<double>(as_int(t));
   }
   int64_t as_int(Type t) {  // t is an integer type
     switch (t) {

@@ -1,6 +1,5 @@
-// `locus-bench cancel MESH`: how soon a C host's cancel takes effect (issue 24
-// item 3). Not a test: at 416k vertices (armadillo --subdivide 2) it runs for
-// minutes.
+// `locus-bench cancel MESH`: how soon a C host's cancel takes effect. Not a
+// test: at 416k vertices (armadillo --subdivide 2) it runs for minutes.
 //
 // Through the C API, as a host would: a session from arrays, then the first
 // call (--call geodesic: ordering, symbolic analysis, numeric factorization of

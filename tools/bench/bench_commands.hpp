@@ -10,16 +10,18 @@ namespace locus::bench {
 
 // `locus-bench factor`: locus vs CHOLMOD vs Eigen on one operator.
 void register_factor_bench(cli::CommandTable& table);
-void register_logmap_bench(cli::CommandTable& table);  // logmap, logmap-accuracy, geodesic-accuracy
+void register_logmap_bench(cli::CommandTable& table);             // logmap: localized vs full vs DEM timings
+void register_logmap_accuracy_bench(cli::CommandTable& table);    // logmap-accuracy on analytic surfaces
+void register_geodesic_accuracy_bench(cli::CommandTable& table);  // geodesic-accuracy on analytic surfaces
 void register_submesh_bench(cli::CommandTable& table);  // factor-once update vs refactoring
 void register_local_bench(cli::CommandTable& table);  // local: heat values, ADF at all vertices, patch parameterization
 void register_voronoi_bench(cli::CommandTable& table);  // voronoi-convergence (thesis Fig. 3.1)
 void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Session queries, RSS, cancellation; --big
 void register_cancel_bench(cli::CommandTable& table);  // cancel: C API cancel latency of the first geodesic query
-void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's figures (issue 23)
+void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's published figures
 
 // The ordering a bench names: auto (the library's default), metis
-// (METIS_NodeND, the ordering before issue 26), amd, nd (nested
+// (METIS_NodeND, the former default), amd, nd (nested
 // dissection), nd_geometric (plane-cut separators, given positions),
 // nd_nohalo (AMD leaves without their halo), nd_metis (METIS on every
 // node's own graph). BadUsage for any other name.

@@ -1,14 +1,14 @@
-// `locus-bench remesh MESH --sites 2000,5000`: CVT remeshing (issue 23) as
+// `locus-bench remesh MESH --sites 2000,5000`: CVT remeshing (thesis §3.7) as
 // `locus cvt MESH --sites N -o out.obj` runs it, timed from loading the mesh to
 // the written file (read, --subdivide, factor, Lloyd, repair, dual,
 // optimization, write), --repeats times per site count; medians of the wall
 // time, of the process CPU time (which the machine's load does not inflate)
 // and of every phase, the remesh's quality (remesh_quality.hpp: topology,
 // per-triangle smallest angles, Hausdorff distance; computed after the timed
-// part) and the issue's targets: geogram vorpalite's wall time measured on this
-// machine for the same input and point count (quoted from issue 23: armadillo
-// 26k: 1,000 points 1.24 s, 2,000 1.54 s, 10,000 3.42 s; armadillo x2 (416k):
-// 10,000 17.7 s), the ratio to it and the Done-when checks (wall <= 2x geogram,
+// part) and the targets: geogram vorpalite's wall time measured on one
+// machine for the same input and point count (armadillo 26k: 1,000 points
+// 1.24 s, 2,000 1.54 s, 10,000 3.42 s; armadillo x2 (416k): 10,000 17.7 s),
+// the ratio to it and the target checks (wall <= 2x geogram,
 // mean smallest angle >= 51, global smallest >= 25 at 2,000 sites,
 // hausdorff_rel <= 1% at 5,000, mean >= 51 at 416k). One JSON object.
 #include <cmath>
@@ -48,7 +48,7 @@ std::string loadavg() {
   return a;
 }
 
-// geogram vorpalite (issue 23's table): wall seconds for (input vertices, points).
+// geogram vorpalite's measured wall seconds for (input vertices, points).
 double geogram_wall(int32_t nv, int32_t sites) {
   if (nv == 26002) {
     if (sites == 1000) return 1.24;
@@ -184,7 +184,7 @@ int run_remesh_bench(const cli::CommonOptions& opt, const RemeshBenchOptions& o,
 
 void register_remesh_bench(cli::CommandTable& table) {
   auto o = std::make_shared<RemeshBenchOptions>();
-  CLI::App* app = table.add("remesh", "CVT remeshing, load to written file, vs geogram's figures (issue 23)",
+  CLI::App* app = table.add("remesh", "CVT remeshing, load to written file, vs geogram's measured figures",
                             [o](const cli::CommonOptions& opt, const RunContext& ctx) {
                               return run_remesh_bench(opt, *o, ctx);
                             });

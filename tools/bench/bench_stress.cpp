@@ -1,5 +1,5 @@
 // `locus-bench stress MESH`: concurrency, memory and cancellation stress of one
-// locus::Session (issue 10, item 4). Not a test: it runs for minutes.
+// locus::Session. Not a test: it runs for minutes.
 //
 // 1. Reference answers: a seeded set of queries — heat geodesic distance, heat
 //    log maps, heat values by subset solves, ROI deformations (factor-once
@@ -288,6 +288,52 @@ int run_big(const cli::CommonOptions& opt, const Options& bo, const RunContext& 
   return finite == static_cast<int64_t>(r.patch.size()) && peak_rss_mb() <= 20.0 * 1024.0 ? 0 : 4;
 }
 
+// The cancellation latency of long pipelines: cvt on the session, and the
+// factorization of the mesh subdivided until it has >= 200k vertices (long
+// enough to cancel), each cancelled after delays that reach setup, the first
+// iterations and the steady state.
+struct CancelLatency {
+  Json runs = Json::array();
+  double worst = 0;  // ms
+  int cancelled_ok = 0;
+  int64_t factorize_n = 0;
+};
+
+CancelLatency measure_cancel_latency(Session& s, const Mesh& mesh, const Options& bo, uint64_t seed) {
+  CancelLatency r;
+  // A factorization long enough to cancel: the mesh subdivided until it has >= 200k vertices.
+  Mesh big = mesh;
+  while (bo.cancel_repeats > 0 && big.num_vertices() < 200000) big = subdivide_midpoint(big, 1);
+  const double hb = mean_edge_length(big);
+  const CscMatrix A = heat_operator(big, hb * hb);
+  auto S = analyze(A, order_matrix(A));
+  r.factorize_n = A.ncols;
+  for (int rep = 0; rep < bo.cancel_repeats; ++rep) {
+    // Different points of each pipeline: setup, first iterations, steady state.
+    constexpr double kDelays[] = {10, 60, 250, 800, 2000};
+    const double delay = kDelays[rep % 5] * (1 + rep / 5);
+    struct Case { const char* name; std::function<void(const RunContext&)> body; };
+    const Case cases[] = {
+        {"cvt", [&](const RunContext& c2) { s.cvt(std::max(2, s.num_vertices() / 50), 100000, seed + rep, c2); }},
+        {"factorize", [&](const RunContext& c2) { (void)factorize(S, A, c2); }},
+    };
+    for (const Case& cs : cases) {
+      std::string why;
+      const double ms = cancel_latency(cs.body, delay, why);
+      Json e{{"pipeline", cs.name}, {"delay_ms", delay}};
+      if (ms >= 0) {
+        e["latency_ms"] = ms;
+        r.worst = std::max(r.worst, ms);
+        ++r.cancelled_ok;
+      } else {
+        e["not_measured"] = why;
+      }
+      r.runs.push_back(e);
+    }
+  }
+  return r;
+}
+
 int run_stress(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
   if (!(bo.seconds > 0)) fail(ErrorCode::BadUsage, "--seconds must be positive");
   if (!(bo.fraction > 0 && bo.fraction <= 1)) fail(ErrorCode::BadUsage, "--fraction must be in (0, 1]");
@@ -347,39 +393,10 @@ int run_stress(const cli::CommonOptions& opt, const Options& bo, const RunContex
   const double rss_end = rss_mb();
 
   // 4. Cancellation latency of long pipelines.
-  Json cancel = Json::array();
-  double worst = 0;
-  int cancelled_ok = 0;
-  // A factorization long enough to cancel: the mesh subdivided until it has >= 200k vertices.
-  Mesh big = in.mesh;
-  while (bo.cancel_repeats > 0 && big.num_vertices() < 200000) big = subdivide_midpoint(big, 1);
-  const double hb = mean_edge_length(big);
-  const CscMatrix A = heat_operator(big, hb * hb);
-  auto S = analyze(A, order_matrix(A));
-  j["cancel_factorize_n"] = A.ncols;
-  for (int rep = 0; rep < bo.cancel_repeats; ++rep) {
-    // Different points of each pipeline: setup, first iterations, steady state.
-    constexpr double kDelays[] = {10, 60, 250, 800, 2000};
-    const double delay = kDelays[rep % 5] * (1 + rep / 5);
-    struct Case { const char* name; std::function<void(const RunContext&)> body; };
-    const Case cases[] = {
-        {"cvt", [&](const RunContext& c2) { s.cvt(std::max(2, s.num_vertices() / 50), 100000, opt.seed + rep, c2); }},
-        {"factorize", [&](const RunContext& c2) { (void)factorize(S, A, c2); }},
-    };
-    for (const Case& cs : cases) {
-      std::string why;
-      const double ms = cancel_latency(cs.body, delay, why);
-      Json e{{"pipeline", cs.name}, {"delay_ms", delay}};
-      if (ms >= 0) {
-        e["latency_ms"] = ms;
-        worst = std::max(worst, ms);
-        ++cancelled_ok;
-      } else {
-        e["not_measured"] = why;
-      }
-      cancel.push_back(e);
-    }
-  }
+  const CancelLatency cl = measure_cancel_latency(s, in.mesh, bo, opt.seed);
+  j["cancel_factorize_n"] = cl.factorize_n;
+  const double worst = cl.worst;
+  const int cancelled_ok = cl.cancelled_ok;
 
   j["seconds"] = run_s;
   j["queries"] = c.queries.load() - warm_queries;
@@ -395,7 +412,7 @@ int run_stress(const cli::CommonOptions& opt, const Options& bo, const RunContex
   j["peak_rss_mb"] = peak_rss_mb();
   j["cancel_latency_ms"] = worst;
   j["cancel_measured"] = cancelled_ok;
-  j["cancel_runs"] = cancel;
+  j["cancel_runs"] = cl.runs;
   const SessionStats st = s.stats();
   j["session_stats"] = {{"symbolic_analyses", st.symbolic_analyses}, {"numeric_factorizations", st.numeric_factorizations},
                         {"heat_engines", st.heat_engines}, {"deform_operators", st.deform_operators}};

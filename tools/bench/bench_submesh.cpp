@@ -8,7 +8,7 @@
 //                         unchanged whole blocks borrowed from L, the others recomputed or copied;
 //                         A_II not extracted (FactorUpdateOptions::submatrix = false): like (b)-(d),
 //                         which are handed A_II, it is not charged for that
-//   (a') update_copying:  the copying form with A_II extracted (the headline until session 7)
+//   (a') update_copying:  the copying form with A_II extracted (the former headline)
 //   (b) locus refactor:   locus analyze(A_II, restricted order) + factorize
 //   (c) CHOLMOD given:    cholmod_analyze_p with that order (CHOLMOD_GIVEN, no postorder) + factorize
 //   (d) CHOLMOD METIS:    cholmod_analyze with METIS (its own ordering of A_II) + factorize
@@ -220,6 +220,251 @@ struct Cell {
   int rowdel_capped = 0;
 };
 
+// The set I of one patch: a BFS patch around `seed`, or (scattered) uniformly
+// random vertices (thesis Fig. 5.11's extreme).
+std::vector<int32_t> patch_set(const Adjacency& adj, int32_t n, int32_t seed, int32_t count, const std::string& sets) {
+  std::vector<int32_t> I;
+  if (sets == "bfs") {
+    I = grow_ring_vertices(adj, seed, count);
+  } else {
+    std::vector<uint8_t> in(static_cast<size_t>(n), 0);
+    std::mt19937_64 pick(static_cast<uint64_t>(seed));
+    while (static_cast<int32_t>(I.size()) < count) {
+      const int32_t v = static_cast<int32_t>(pick() % static_cast<uint64_t>(n));
+      if (!in[v]) {
+        in[v] = 1;
+        I.push_back(v);
+      }
+    }
+  }
+  return I;
+}
+
+// One patch's measurements: the contenders' times, faults and sizes, the
+// timed update and (b)'s factor (the residual yardstick for the update).
+struct PatchTimes {
+  double t_update = 0, t_copying = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
+  long faults_update = 0, faults_refactor = 0, faults_given = 0;
+  int64_t values_refactor = 0, nnz_exact = 0, flops_refactor = 0;
+  double given_analyze = NAN, given_flops = NAN;
+  FactorUpdate up;
+  NumericFactor scratch;
+};
+
+// The global operator, its factor, the two updaters and the peers: what every patch is measured against.
+struct SubmeshRun {
+  const cli::CommonOptions& opt;
+  const Options& bo;
+  const RunContext& ctx;
+  const CscMatrix& A;
+  FactorUpdater& updater;  // (a): sharing form, A_II not extracted
+  FactorUpdater& copying;  // (a') and A_II for the other contenders
+  const int threads, blas_default;
+#ifdef LOCUS_HAVE_CHOLMOD
+  Cholmod ch{};
+#endif
+
+  PatchTimes time_contenders(const std::vector<int32_t>& I, const FactorUpdate& ref, int rotation);
+  void record(Cell& cell, const PatchTimes& pt, const FactorUpdate& ref, int p);
+};
+
+// The contenders back to back on one patch, their order rotated by `rotation`.
+PatchTimes SubmeshRun::time_contenders(const std::vector<int32_t>& I, const FactorUpdate& ref, int rotation) {
+  const CscMatrix& Aii = ref.A_sub;
+  const std::vector<int32_t> order(ref.factor.symbolic->perm);
+  PatchTimes pt;
+  Stopwatch sw;
+  for (int k = 0; k < 5; ++k) {
+    switch ((k + rotation) % 5) {
+      case 0: {
+        const long f0 = minor_faults();
+        sw.restart();
+        pt.up = updater.update(I, ctx);
+        pt.t_update = sw.seconds();
+        pt.faults_update = minor_faults() - f0;
+        break;
+      }
+      case 4: {
+        sw.restart();
+        const FactorUpdate u = copying.update(I, ctx);
+        pt.t_copying = sw.seconds();
+        break;
+      }
+      case 1: {
+        const long f0 = minor_faults();
+        sw.restart();
+        auto S = analyze(Aii, Ordering{order, std::vector<int32_t>(ref.factor.symbolic->iperm)});
+        pt.scratch = factorize(S, Aii, ctx);
+        pt.t_refactor = sw.seconds();
+        pt.faults_refactor = minor_faults() - f0;
+        pt.values_refactor = static_cast<int64_t>(pt.scratch.values.size());
+        pt.nnz_exact = S->nnz_exact;
+        pt.flops_refactor = S->flops();
+        break;
+      }
+#ifdef LOCUS_HAVE_CHOLMOD
+      case 2: {
+        openblas_set_num_threads(threads);
+        const long f0 = minor_faults();
+        pt.t_given = ch.analyze_factorize(Aii, order);
+        pt.faults_given = minor_faults() - f0;
+        pt.given_analyze = ch.analyze_s;
+        pt.given_flops = ch.flops;
+        openblas_set_num_threads(blas_default);
+        break;
+      }
+      case 3:
+        openblas_set_num_threads(threads);
+        pt.t_metis = ch.analyze_factorize(Aii, {});
+        openblas_set_num_threads(blas_default);
+        break;
+#endif
+      default: break;
+    }
+  }
+  return pt;
+}
+
+// Checks the timed update (it must solve A_II) and adds the patch to its cell.
+void SubmeshRun::record(Cell& cell, const PatchTimes& pt, const FactorUpdate& ref, int p) {
+  const CscMatrix& Aii = ref.A_sub;
+  const FactorUpdate& up = pt.up;
+  // Correctness before speed: the timed update must solve A_II.
+  const std::vector<double> b = cli::random_vector(static_cast<size_t>(Aii.ncols), opt.seed + static_cast<uint64_t>(p));
+  std::vector<double> x = b, xs = b;
+  solve(up.factor, x);
+  solve(pt.scratch, xs);
+  const double res = cli::relative_residual(Aii, x.data(), b.data());
+  const double res_scratch = cli::relative_residual(Aii, xs.data(), b.data());
+  // The bi-Laplacian's condition number is the Laplacian's squared: a fixed
+  // bound would fail good factors, so the update must match a from-scratch
+  // factor of the same matrix (within 100x) or reach 1e-8.
+  if (!(res <= std::max(1e-8, 100.0 * res_scratch)))
+    fail(ErrorCode::Internal, "bench submesh: updated factor gives relative residual " + cli::format_number(res) +
+                                  " (from-scratch factor: " + cli::format_number(res_scratch) + ")");
+  cell.residual.push_back(res);
+  cell.update_s.push_back(pt.t_update);
+  cell.copying_s.push_back(pt.t_copying);
+  cell.mem_owned.push_back(static_cast<double>(up.stats.values_stored - up.stats.values_borrowed) /
+                           static_cast<double>(pt.values_refactor));
+  cell.refactor_s.push_back(pt.t_refactor);
+  cell.cols.push_back(up.stats.columns_updated_fraction);
+  cell.mem.push_back(static_cast<double>(up.stats.values_stored) / static_cast<double>(pt.values_refactor));
+  cell.sp_refactor.push_back(pt.t_refactor / pt.t_update);
+  {
+    Stopwatch sw;
+    const CscMatrix E = principal_submatrix(A, ref.vertices);
+    const double t_extract = sw.seconds();
+    if (E.nnz() != Aii.nnz()) fail(ErrorCode::Internal, "bench submesh: principal_submatrix differs from the update's A_II");
+    cell.extract_s.push_back(t_extract);
+    cell.sp_refactor_extract.push_back((pt.t_refactor + t_extract) / pt.t_update);
+    cell.refactored.push_back(up.stats.refactored ? 1.0 : 0.0);
+    cell.touched_share.push_back(up.stats.touched_share);
+  }
+  cell.structure_s.push_back(up.stats.structure_s);
+  cell.assemble_s.push_back(up.stats.assemble_s);
+  cell.mark_s.push_back(up.stats.mark_s);
+  cell.copy_s.push_back(up.stats.copy_s);
+  cell.factor_s.push_back(up.stats.factor_s);
+  cell.update_faults.push_back(static_cast<double>(pt.faults_update));
+  cell.refactor_faults.push_back(static_cast<double>(pt.faults_refactor));
+  if (!std::isnan(pt.t_given)) cell.given_faults.push_back(static_cast<double>(pt.faults_given));
+  cell.flops_recomputed.push_back(static_cast<double>(up.stats.flops_recomputed));
+  cell.flops_refactor.push_back(static_cast<double>(pt.flops_refactor));
+  if (!std::isnan(pt.given_flops)) {
+    cell.cholmod_flops.push_back(pt.given_flops);
+    cell.given_analyze_s.push_back(pt.given_analyze);
+  }
+  cell.zeros.push_back(1.0 - static_cast<double>(pt.nnz_exact) / static_cast<double>(up.stats.nnz_stored));
+  if (!std::isnan(pt.t_given)) {
+    cell.given_s.push_back(pt.t_given);
+    cell.metis_s.push_back(pt.t_metis);
+    cell.sp_given.push_back(pt.t_given / pt.t_update);
+    cell.sp_given_copying.push_back(pt.t_given / pt.t_copying);
+    cell.sp_metis.push_back(pt.t_metis / pt.t_update);
+  }
+}
+
+cli::Json med(const std::vector<double>& v) { return v.empty() ? cli::Json(nullptr) : cli::Json(cli::median(v)); }
+
+// The JSON of one cell: medians and ratios.
+cli::Json cell_json(const Cell& c) {
+  cli::Json e{{"fraction", c.fraction}, {"patches", c.update_s.size()}};
+  e["update_s"] = med(c.update_s);
+  e["locus_refactor_s"] = med(c.refactor_s);
+  e["cholmod_given_s"] = med(c.given_s);
+  e["cholmod_metis_s"] = med(c.metis_s);
+  e["speedup_vs_cholmod_given"] = med(c.sp_given);
+  e["speedup_vs_cholmod_metis"] = med(c.sp_metis);
+  e["speedup_vs_locus_refactor"] = med(c.sp_refactor);
+  e["extract_s"] = med(c.extract_s);
+  e["speedup_vs_locus_refactor_with_extract"] = med(c.sp_refactor_extract);
+  e["min_speedup_vs_locus_refactor"] = *std::min_element(c.sp_refactor.begin(), c.sp_refactor.end());
+  e["refactored_sets"] = std::count(c.refactored.begin(), c.refactored.end(), 1.0);
+  e["touched_share"] = med(c.touched_share);
+  e["columns_updated_fraction"] = med(c.cols);
+  e["memory_ratio"] = med(c.mem);  // values the factor holds (own and borrowed) / (b)'s
+  e["memory_owned_ratio"] = med(c.mem_owned);  // values it stores itself / (b)'s
+  e["update_copying_s"] = med(c.copying_s);
+  e["speedup_copying_vs_cholmod_given"] = med(c.sp_given_copying);
+  // Entries the restricted structure stores beyond the exact factor of A_II
+  // (explicit zeros: fill of L not present in L', plus L's amalgamation zeros).
+  e["explicit_zero_fraction"] = med(c.zeros);
+  e["update_phases"] = {{"structure_s", med(c.structure_s)}, {"assemble_s", med(c.assemble_s)}, {"mark_s", med(c.mark_s)},
+                        {"copy_s", med(c.copy_s)}, {"factor_s", med(c.factor_s)}};
+  e["update_minor_faults"] = med(c.update_faults);
+  e["locus_refactor_minor_faults"] = med(c.refactor_faults);
+  e["cholmod_given_minor_faults"] = med(c.given_faults);
+  e["flops_recomputed"] = med(c.flops_recomputed);
+  e["flops_refactor"] = med(c.flops_refactor);
+  e["cholmod_given_flops"] = med(c.cholmod_flops);
+  e["cholmod_given_analyze_s"] = med(c.given_analyze_s);
+  e["max_residual"] = *std::max_element(c.residual.begin(), c.residual.end());
+  if (!c.rowdel_s.empty()) {
+    e["cholmod_rowdel_s"] = med(c.rowdel_s);
+    e["cholmod_rowdel_capped"] = c.rowdel_capped;
+  }
+  return e;
+}
+
+// The human-readable table (stderr): medians per cell, then the spread of the speedups.
+std::string cell_table(const cli::CommonOptions& opt, const Options& bo, int32_t n, int threads,
+                       const std::vector<Cell>& cells, const cli::Json& jc) {
+  std::ostringstream table;
+  table << opt.mesh_path << ": n " << n << ", " << bo.op << ", " << bo.patches << " patches per cell, threads "
+        << threads << "\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "%-8s %10s %10s %10s %10s %9s %9s %9s %7s\n", "fraction", "update", "locus_ref",
+                "chol_given", "chol_metis", "x_given", "x_locref", "cols_upd", "mem");
+  table << line;
+  for (size_t k = 0; k < cells.size(); ++k) {
+    const Cell& c = cells[k];
+    const cli::Json& e = jc[k];
+    auto num = [](const cli::Json& v) { return v.is_null() ? NAN : v.get<double>(); };
+    std::snprintf(line, sizeof line, "%-8.3g %10.4g %10.4g %10.4g %10.4g %9.2f %9.2f %9.3f %7.3f\n", c.fraction,
+                  num(e["update_s"]), num(e["locus_refactor_s"]), num(e["cholmod_given_s"]), num(e["cholmod_metis_s"]),
+                  num(e["speedup_vs_cholmod_given"]), num(e["speedup_vs_locus_refactor"]),
+                  num(e["columns_updated_fraction"]), num(e["memory_ratio"]));
+    table << line;
+  }
+  table << "speedup spread (min, q1, median, q3, max):\n";
+  for (const Cell& c : cells) {
+    for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"vs CHOLMOD given", &c.sp_given},
+                                  {"vs CHOLMOD METIS", &c.sp_metis},
+                                  {"vs locus refactor", &c.sp_refactor}}) {
+      if (v->empty()) continue;
+      const auto s = spread(*v);
+      std::snprintf(line, sizeof line, "  %-6.3g %-18s %7.2f %7.2f %7.2f %7.2f %7.2f\n", c.fraction, name, s[0], s[1],
+                    s[2], s[3], s[4]);
+      table << line;
+    }
+    if (!c.rowdel_s.empty())
+      table << "  " << c.fraction << " CHOLMOD rowdel median " << cli::median(c.rowdel_s) << " s"
+            << (c.rowdel_capped ? " (capped: lower bound)" : "") << "\n";
+  }
+  return table.str();
+}
+
 int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const RunContext& ctx) {
   const std::vector<double> fractions = parse_fractions(bo.fractions);
   if (bo.op != "laplacian" && bo.op != "bilaplacian")
@@ -248,7 +493,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
   factor_only.submatrix = false;
   FactorUpdater updater(Lp, A, factor_only);
   const double updater_s = sw.seconds();
-  FactorUpdater copying(L, A);  // (a') and A_II for the other contenders
+  FactorUpdater copying(L, A);
   const Adjacency adj = vertex_adjacency(mesh);
   const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   const int blas_default = openblas_get_num_threads();
@@ -258,9 +503,7 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
 
   std::mt19937_64 rng(opt.seed);
   std::vector<Cell> cells;
-#ifdef LOCUS_HAVE_CHOLMOD
-  Cholmod ch;
-#endif
+  SubmeshRun run{opt, bo, ctx, A, updater, copying, threads, blas_default};
   int rotation = 0;
   for (double frac : fractions) {
     Cell cell;
@@ -269,145 +512,24 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
     for (int p = 0; p < bo.patches; ++p) {
       ctx.check_cancel();
       const int32_t seed = static_cast<int32_t>(rng() % static_cast<uint64_t>(n));
-      std::vector<int32_t> I;
-      if (bo.sets == "bfs") {
-        I = grow_ring_vertices(adj, seed, count);
-      } else {  // scattered: uniformly random vertices (thesis Fig. 5.11's extreme)
-        std::vector<uint8_t> in(static_cast<size_t>(n), 0);
-        std::mt19937_64 pick(static_cast<uint64_t>(seed));
-        while (static_cast<int32_t>(I.size()) < count) {
-          const int32_t v = static_cast<int32_t>(pick() % static_cast<uint64_t>(n));
-          if (!in[v]) {
-            in[v] = 1;
-            I.push_back(v);
-          }
-        }
-      }
+      const std::vector<int32_t> I = patch_set(adj, n, seed, count, bo.sets);
       // A_II and the restricted order, outside the timers (one untimed update provides both).
       const FactorUpdate ref = copying.update(I, ctx);
-      const CscMatrix& Aii = ref.A_sub;
-      const std::vector<int32_t> order(ref.factor.symbolic->perm);
-      double t_update = 0, t_copying = 0, t_refactor = 0, t_given = NAN, t_metis = NAN;
-      long faults_update = 0, faults_refactor = 0, faults_given = 0;
-      int64_t values_refactor = 0, nnz_exact = 0, flops_refactor = 0;
-      double given_analyze = NAN, given_flops = NAN;
-      FactorUpdate up;
-      NumericFactor scratch;  // (b)'s factor: the residual yardstick for the update
-      for (int k = 0; k < 5; ++k) {
-        switch ((k + rotation) % 5) {
-          case 0: {
-            const long f0 = minor_faults();
-            sw.restart();
-            up = updater.update(I, ctx);
-            t_update = sw.seconds();
-            faults_update = minor_faults() - f0;
-            break;
-          }
-          case 4: {
-            sw.restart();
-            const FactorUpdate u = copying.update(I, ctx);
-            t_copying = sw.seconds();
-            break;
-          }
-          case 1: {
-            const long f0 = minor_faults();
-            sw.restart();
-            auto S = analyze(Aii, Ordering{order, std::vector<int32_t>(ref.factor.symbolic->iperm)});
-            scratch = factorize(S, Aii, ctx);
-            t_refactor = sw.seconds();
-            faults_refactor = minor_faults() - f0;
-            values_refactor = static_cast<int64_t>(scratch.values.size());
-            nnz_exact = S->nnz_exact;
-            flops_refactor = S->flops();
-            break;
-          }
-#ifdef LOCUS_HAVE_CHOLMOD
-          case 2: {
-            openblas_set_num_threads(threads);
-            const long f0 = minor_faults();
-            t_given = ch.analyze_factorize(Aii, order);
-            faults_given = minor_faults() - f0;
-            given_analyze = ch.analyze_s;
-            given_flops = ch.flops;
-            openblas_set_num_threads(blas_default);
-            break;
-          }
-          case 3:
-            openblas_set_num_threads(threads);
-            t_metis = ch.analyze_factorize(Aii, {});
-            openblas_set_num_threads(blas_default);
-            break;
-#endif
-          default: break;
-        }
-      }
+      const PatchTimes pt = run.time_contenders(I, ref, rotation);
       ++rotation;
-      // Correctness before speed: the timed update must solve A_II.
-      const std::vector<double> b = cli::random_vector(static_cast<size_t>(Aii.ncols), opt.seed + static_cast<uint64_t>(p));
-      std::vector<double> x = b, xs = b;
-      solve(up.factor, x);
-      solve(scratch, xs);
-      const double res = cli::relative_residual(Aii, x.data(), b.data());
-      const double res_scratch = cli::relative_residual(Aii, xs.data(), b.data());
-      // The bi-Laplacian's condition number is the Laplacian's squared: a fixed
-      // bound would fail good factors, so the update must match a from-scratch
-      // factor of the same matrix (within 100x) or reach 1e-8.
-      if (!(res <= std::max(1e-8, 100.0 * res_scratch)))
-        fail(ErrorCode::Internal, "bench submesh: updated factor gives relative residual " + cli::format_number(res) +
-                                      " (from-scratch factor: " + cli::format_number(res_scratch) + ")");
-      cell.residual.push_back(res);
-      cell.update_s.push_back(t_update);
-      cell.copying_s.push_back(t_copying);
-      cell.mem_owned.push_back(static_cast<double>(up.stats.values_stored - up.stats.values_borrowed) /
-                               static_cast<double>(values_refactor));
-      cell.refactor_s.push_back(t_refactor);
-      cell.cols.push_back(up.stats.columns_updated_fraction);
-      cell.mem.push_back(static_cast<double>(up.stats.values_stored) / static_cast<double>(values_refactor));
-      cell.sp_refactor.push_back(t_refactor / t_update);
-      {
-        sw.restart();
-        const CscMatrix E = principal_submatrix(A, ref.vertices);
-        const double t_extract = sw.seconds();
-        if (E.nnz() != Aii.nnz()) fail(ErrorCode::Internal, "bench submesh: principal_submatrix differs from the update's A_II");
-        cell.extract_s.push_back(t_extract);
-        cell.sp_refactor_extract.push_back((t_refactor + t_extract) / t_update);
-        cell.refactored.push_back(up.stats.refactored ? 1.0 : 0.0);
-        cell.touched_share.push_back(up.stats.touched_share);
-      }
-      cell.structure_s.push_back(up.stats.structure_s);
-      cell.assemble_s.push_back(up.stats.assemble_s);
-      cell.mark_s.push_back(up.stats.mark_s);
-      cell.copy_s.push_back(up.stats.copy_s);
-      cell.factor_s.push_back(up.stats.factor_s);
-      cell.update_faults.push_back(static_cast<double>(faults_update));
-      cell.refactor_faults.push_back(static_cast<double>(faults_refactor));
-      if (!std::isnan(t_given)) cell.given_faults.push_back(static_cast<double>(faults_given));
-      cell.flops_recomputed.push_back(static_cast<double>(up.stats.flops_recomputed));
-      cell.flops_refactor.push_back(static_cast<double>(flops_refactor));
-      if (!std::isnan(given_flops)) {
-        cell.cholmod_flops.push_back(given_flops);
-        cell.given_analyze_s.push_back(given_analyze);
-      }
-      cell.zeros.push_back(1.0 - static_cast<double>(nnz_exact) / static_cast<double>(up.stats.nnz_stored));
-      if (!std::isnan(t_given)) {
-        cell.given_s.push_back(t_given);
-        cell.metis_s.push_back(t_metis);
-        cell.sp_given.push_back(t_given / t_update);
-        cell.sp_given_copying.push_back(t_given / t_copying);
-        cell.sp_metis.push_back(t_metis / t_update);
-      }
+      run.record(cell, pt, ref, p);
 #ifdef LOCUS_HAVE_CHOLMOD
       if (bo.updown && frac == *std::min_element(fractions.begin(), fractions.end())) {
         bool capped = false;
-        cell.rowdel_s.push_back(ch.rowdel(A, ref.vertices, bo.updown_cap, capped));
+        cell.rowdel_s.push_back(run.ch.rowdel(A, ref.vertices, bo.updown_cap, capped));
         cell.rowdel_capped += capped;
       }
 #endif
       cli::log("bench submesh: fraction " + cli::format_number(frac) + " patch " + std::to_string(p + 1) + "/" +
-               std::to_string(bo.patches) + ": update " + cli::format_number(t_update) + " s, locus refactor " +
-               cli::format_number(t_refactor) + " s, CHOLMOD given " + cli::format_number(t_given) +
-               " s, CHOLMOD METIS " + cli::format_number(t_metis) + " s, columns updated " +
-               cli::format_number(up.stats.columns_updated_fraction));
+               std::to_string(bo.patches) + ": update " + cli::format_number(pt.t_update) + " s, locus refactor " +
+               cli::format_number(pt.t_refactor) + " s, CHOLMOD given " + cli::format_number(pt.t_given) +
+               " s, CHOLMOD METIS " + cli::format_number(pt.t_metis) + " s, columns updated " +
+               cli::format_number(pt.up.stats.columns_updated_fraction));
     }
     cells.push_back(std::move(cell));
   }
@@ -430,77 +552,12 @@ int run_bench_submesh(const cli::CommonOptions& opt, const Options& bo, const Ru
 #else
   j["cholmod"] = false;
 #endif
-  auto med = [](const std::vector<double>& v) { return v.empty() ? cli::Json(nullptr) : cli::Json(cli::median(v)); };
   cli::Json jc = cli::Json::array();
-  std::ostringstream table;
-  table << opt.mesh_path << ": n " << n << ", " << bo.op << ", " << bo.patches << " patches per cell, threads "
-        << threads << "\n";
-  char line[256];
-  std::snprintf(line, sizeof line, "%-8s %10s %10s %10s %10s %9s %9s %9s %7s\n", "fraction", "update", "locus_ref",
-                "chol_given", "chol_metis", "x_given", "x_locref", "cols_upd", "mem");
-  table << line;
-  for (const Cell& c : cells) {
-    cli::Json e{{"fraction", c.fraction}, {"patches", c.update_s.size()}};
-    e["update_s"] = med(c.update_s);
-    e["locus_refactor_s"] = med(c.refactor_s);
-    e["cholmod_given_s"] = med(c.given_s);
-    e["cholmod_metis_s"] = med(c.metis_s);
-    e["speedup_vs_cholmod_given"] = med(c.sp_given);
-    e["speedup_vs_cholmod_metis"] = med(c.sp_metis);
-    e["speedup_vs_locus_refactor"] = med(c.sp_refactor);
-    e["extract_s"] = med(c.extract_s);
-    e["speedup_vs_locus_refactor_with_extract"] = med(c.sp_refactor_extract);
-    e["min_speedup_vs_locus_refactor"] = *std::min_element(c.sp_refactor.begin(), c.sp_refactor.end());
-    e["refactored_sets"] = std::count(c.refactored.begin(), c.refactored.end(), 1.0);
-    e["touched_share"] = med(c.touched_share);
-    e["columns_updated_fraction"] = med(c.cols);
-    e["memory_ratio"] = med(c.mem);  // values the factor holds (own and borrowed) / (b)'s
-    e["memory_owned_ratio"] = med(c.mem_owned);  // values it stores itself / (b)'s
-    e["update_copying_s"] = med(c.copying_s);
-    e["speedup_copying_vs_cholmod_given"] = med(c.sp_given_copying);
-    // Entries the restricted structure stores beyond the exact factor of A_II
-    // (explicit zeros: fill of L not present in L', plus L's amalgamation zeros).
-    e["explicit_zero_fraction"] = med(c.zeros);
-    e["update_phases"] = {{"structure_s", med(c.structure_s)}, {"assemble_s", med(c.assemble_s)}, {"mark_s", med(c.mark_s)},
-                          {"copy_s", med(c.copy_s)}, {"factor_s", med(c.factor_s)}};
-    e["update_minor_faults"] = med(c.update_faults);
-    e["locus_refactor_minor_faults"] = med(c.refactor_faults);
-    e["cholmod_given_minor_faults"] = med(c.given_faults);
-    e["flops_recomputed"] = med(c.flops_recomputed);
-    e["flops_refactor"] = med(c.flops_refactor);
-    e["cholmod_given_flops"] = med(c.cholmod_flops);
-    e["cholmod_given_analyze_s"] = med(c.given_analyze_s);
-    e["max_residual"] = *std::max_element(c.residual.begin(), c.residual.end());
-    if (!c.rowdel_s.empty()) {
-      e["cholmod_rowdel_s"] = med(c.rowdel_s);
-      e["cholmod_rowdel_capped"] = c.rowdel_capped;
-    }
-    jc.push_back(e);
-    auto num = [](const cli::Json& v) { return v.is_null() ? NAN : v.get<double>(); };
-    std::snprintf(line, sizeof line, "%-8.3g %10.4g %10.4g %10.4g %10.4g %9.2f %9.2f %9.3f %7.3f\n", c.fraction,
-                  num(e["update_s"]), num(e["locus_refactor_s"]), num(e["cholmod_given_s"]), num(e["cholmod_metis_s"]),
-                  num(e["speedup_vs_cholmod_given"]), num(e["speedup_vs_locus_refactor"]),
-                  num(e["columns_updated_fraction"]), num(e["memory_ratio"]));
-    table << line;
-  }
-  table << "speedup spread (min, q1, median, q3, max):\n";
-  for (const Cell& c : cells) {
-    for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"vs CHOLMOD given", &c.sp_given},
-                                  {"vs CHOLMOD METIS", &c.sp_metis},
-                                  {"vs locus refactor", &c.sp_refactor}}) {
-      if (v->empty()) continue;
-      const auto s = spread(*v);
-      std::snprintf(line, sizeof line, "  %-6.3g %-18s %7.2f %7.2f %7.2f %7.2f %7.2f\n", c.fraction, name, s[0], s[1],
-                    s[2], s[3], s[4]);
-      table << line;
-    }
-    if (!c.rowdel_s.empty())
-      table << "  " << c.fraction << " CHOLMOD rowdel median " << cli::median(c.rowdel_s) << " s"
-            << (c.rowdel_capped ? " (capped: lower bound)" : "") << "\n";
-  }
+  for (const Cell& c : cells) jc.push_back(cell_json(c));
+  const std::string table = cell_table(opt, bo, n, threads, cells, jc);
   j["cells"] = jc;
   j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}};
-  std::cerr << table.str();
+  std::cerr << table;
   if (opt.json) cli::emit(opt, j, {});
   return 0;
 }

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
     locus::cli::CommandTable table("locus-bench", "locus-bench: locus against its peers, medians and ratios");
     locus::bench::register_factor_bench(table);
     locus::bench::register_logmap_bench(table);
+    locus::bench::register_logmap_accuracy_bench(table);
+    locus::bench::register_geodesic_accuracy_bench(table);
     locus::bench::register_submesh_bench(table);
     locus::bench::register_local_bench(table);
     locus::bench::register_voronoi_bench(table);

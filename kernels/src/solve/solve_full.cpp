@@ -15,26 +15,17 @@
 #include "locus/kernels/factor/blas.hpp"
 #include "locus/kernels/simd/lane8.hpp"
 #include "locus/error.hpp"
+#include "supernode_block.hpp"
 
 namespace locus {
 
 namespace {
 constexpr int kBlasCols = 24;
 
-struct Block {
-  int32_t f, k, m;
-  const int32_t* rows;
-  const double* L;
-};
-inline Block block_of(const NumericFactor& F, int32_t s) {
-  const SymbolicFactor& S = *F.symbolic;
-  return {S.super_first_col[s], S.ncols(s), S.nrows(s), S.super_rows.data() + S.super_row_ptr[s],
-          F.block(s)};
-}
 }  // namespace
 
 void forward_supernode(const NumericFactor& F, int32_t s, double* x, double* tmp) {
-  const Block b = block_of(F, s);
+  const SupernodeBlock b = supernode_block(F, s);
   double* xs = x + b.f;
   const int64_t m = b.m;
   const int below = b.m - b.k;
@@ -71,7 +62,7 @@ void forward_supernode(const NumericFactor& F, int32_t s, double* x, double* tmp
 }
 
 void backward_supernode(const NumericFactor& F, int32_t s, double* x, double* tmp) {
-  const Block b = block_of(F, s);
+  const SupernodeBlock b = supernode_block(F, s);
   double* xs = x + b.f;
   const int64_t m = b.m;
   const int below = b.m - b.k;
@@ -96,7 +87,7 @@ void backward_supernode(const NumericFactor& F, int32_t s, double* x, double* tm
 }
 
 void forward_supernode8(const NumericFactor& F, int32_t s, double* x8, double* tmp) {
-  const Block b = block_of(F, s);
+  const SupernodeBlock b = supernode_block(F, s);
   double* xs = x8 + static_cast<int64_t>(b.f) * kLanes;
   const int64_t m = b.m;
   const int below = b.m - b.k;
@@ -139,7 +130,7 @@ void forward_supernode8(const NumericFactor& F, int32_t s, double* x8, double* t
 }
 
 void backward_supernode8(const NumericFactor& F, int32_t s, double* x8, double* tmp) {
-  const Block b = block_of(F, s);
+  const SupernodeBlock b = supernode_block(F, s);
   double* xs = x8 + static_cast<int64_t>(b.f) * kLanes;
   const int64_t m = b.m;
   const int below = b.m - b.k;

@@ -9,6 +9,7 @@
 #include "locus/kernels/simd/lane8.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
+#include "supernode_block.hpp"
 
 namespace locus {
 
@@ -25,10 +26,7 @@ constexpr uint8_t kKept = 1, kNeeded = 2;
 // below s lie in ancestors of s (a chain in the etree), and the needed supernodes
 // are closed under descendants in the reach, so the needed rows are a prefix.
 void forward_needed8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep) {
-  const SymbolicFactor& S = *F.symbolic;
-  const int32_t f = S.super_first_col[s], k = S.ncols(s), m = S.nrows(s);
-  const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
-  const double* L = F.block(s);
+  const auto [f, k, m, rows, L] = supernode_block(F, s);
   int below = m - k;
   while (below > 0 && !(keep[rows[k + below - 1]] & kNeeded)) --below;
   double* xs = x8 + static_cast<int64_t>(f) * kLanes;
@@ -100,10 +98,7 @@ inline void dot_sub8(Lane8& acc, const double* a, const double* x, int count) {
 
 // L^T x = y on supernode s restricted to kept columns; entries outside K read as zero.
 void backward_kept8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep) {
-  const SymbolicFactor& S = *F.symbolic;
-  const int32_t f = S.super_first_col[s], k = S.ncols(s), m = S.nrows(s);
-  const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
-  const double* L = F.block(s);
+  const auto [f, k, m, rows, L] = supernode_block(F, s);
   const int below = m - k;
   for (int i = 0; i < below; ++i) {
     const int32_t r = rows[k + i];

@@ -8,6 +8,7 @@
 #include "locus/kernels/simd/lane8.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
+#include "supernode_block.hpp"
 
 namespace locus {
 
@@ -45,10 +46,7 @@ void zero_unkept_forward(const SymbolicFactor& S, const SolvePlan& plan, const u
 
 // Backward step of Algorithm 2 on one supernode: columns outside the kept set are zero.
 void backward_masked(const NumericFactor& F, int32_t s, double* x, double* tmp, const uint8_t* keep) {
-  const SymbolicFactor& S = *F.symbolic;
-  const int32_t f = S.super_first_col[s], k = S.ncols(s), m = S.nrows(s);
-  const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
-  const double* L = F.block(s);
+  const auto [f, k, m, rows, L] = supernode_block(F, s);
   const int below = m - k;
   for (int i = 0; i < below; ++i) tmp[i] = x[rows[k + i]];
   double* xs = x + f;
@@ -63,10 +61,7 @@ void backward_masked(const NumericFactor& F, int32_t s, double* x, double* tmp, 
 }
 
 void backward_masked8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep) {
-  const SymbolicFactor& S = *F.symbolic;
-  const int32_t f = S.super_first_col[s], k = S.ncols(s), m = S.nrows(s);
-  const int32_t* rows = S.super_rows.data() + S.super_row_ptr[s];
-  const double* L = F.block(s);
+  const auto [f, k, m, rows, L] = supernode_block(F, s);
   const int below = m - k;
   for (int i = 0; i < below; ++i)
     Lane8::load(x8 + static_cast<int64_t>(rows[k + i]) * kLanes).store(tmp + static_cast<int64_t>(i) * kLanes);

@@ -105,15 +105,7 @@ FlipFreeParamResult flipfree_param(const Mesh& m, const FlipFreeParamOptions& op
     P.e1.assign(E.e1.begin(), E.e1.end());
     P.fixed = fixed;
     P.fixed_pos = fixed_pos;
-    P.target_length.resize(ne);
-    for (size_t e = 0; e < ne; ++e) {
-      const int32_t a = E.e0[e], b = E.e1[e];
-      P.target_length[e] = std::sqrt((m.x[b] - m.x[a]) * (m.x[b] - m.x[a]) + (m.y[b] - m.y[a]) * (m.y[b] - m.y[a]) +
-                                     (m.z[b] - m.z[a]) * (m.z[b] - m.z[a]));
-      if (!(P.target_length[e] > 0))
-        fail(ErrorCode::BadInput, mesh_name(m) + ": edge (" + std::to_string(a) + ", " + std::to_string(b) +
-                                      ") has zero length");
-    }
+    perfect_laplacian_detail::set_target_lengths_in_space(m, P);
     PerfectLaplacianResult run = run_perfect_laplacian(P, opt.iteration, ctx);
     uv = std::move(run.pos);
     w = std::move(run.weights);

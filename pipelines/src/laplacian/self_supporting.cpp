@@ -57,7 +57,6 @@ std::vector<double> dead_load(const Mesh& m, double load_density, const std::vec
 // Algorithm 1 in space: supports fixed, b = (0, 0, -F), the input edge lengths as targets.
 PerfectLaplacianProblem support_problem(const Mesh& m, const SelfSupportResult& R) {
   const int32_t nv = m.num_vertices();
-  const size_t ne = R.e0.size();
   PerfectLaplacianProblem P;
   P.nv = nv;
   P.dims = 3;
@@ -69,14 +68,7 @@ PerfectLaplacianProblem support_problem(const Mesh& m, const SelfSupportResult& 
   P.b[1].assign(static_cast<size_t>(nv), 0.0);
   P.b[2].resize(static_cast<size_t>(nv));
   for (int32_t v = 0; v < nv; ++v) P.b[2][v] = -R.load[v];
-  P.target_length.resize(ne);
-  for (size_t e = 0; e < ne; ++e) {
-    const int32_t a = R.e0[e], b = R.e1[e];
-    P.target_length[e] = std::sqrt((m.x[b] - m.x[a]) * (m.x[b] - m.x[a]) + (m.y[b] - m.y[a]) * (m.y[b] - m.y[a]) +
-                                   (m.z[b] - m.z[a]) * (m.z[b] - m.z[a]));
-    if (!(P.target_length[e] > 0))
-      fail(ErrorCode::BadInput, mesh_name(m) + ": edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has zero length");
-  }
+  perfect_laplacian_detail::set_target_lengths_in_space(m, P);
   return P;
 }
 

@@ -1,4 +1,4 @@
-// Tests for the factor-once update, kernels/src/update/factor_update.cpp
+// Tests for the factor-once update, kernels/src/update/
 // (thesis chapter 5): the updated factor L' of A_II against independent
 // oracles — the residual of A_II x = b with A_II assembled here from A by hand; entry-by-entry equality with a from-scratch
 // locus factorization of A_II in the same elimination order (the Cholesky factor
@@ -446,7 +446,7 @@ TEST_CASE("a prepared updater gives bit-identical results for 1 and 2 threads") 
       const SymbolicFactor& Sa = *a.factor.symbolic;
       const SymbolicFactor& Sb = *b.factor.symbolic;
       reordered += a.stats.reordered;
-      shared_copy += b.stats.values_stored - b.stats.values_recomputed >= (int64_t{1} << 16);  // factor_update.cpp's bound
+      shared_copy += b.stats.values_stored - b.stats.values_recomputed >= (int64_t{1} << 16);  // update_copy.cpp's bound
       CHECK(a.stats.reordered == b.stats.reordered);
       check_same_structure(a, b);
       CHECK(Sa.a_src == Sb.a_src);

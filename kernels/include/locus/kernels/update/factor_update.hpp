@@ -128,7 +128,7 @@ class FactorUpdater {
  private:
   // One call of update(): its state and steps (plan, restrict, mark, copy or
   // borrow, refactor the marked supernodes; or the whole copy, or the fresh
-  // factorization of a scattered set), in factor_update.cpp.
+  // factorization of a scattered set), in kernels/src/update/factor_update_call.hpp.
   struct Call;
   // two_threads: inside an arena of >= 2 threads, with the prepared updater
   // (the structure passes may then run side by side).

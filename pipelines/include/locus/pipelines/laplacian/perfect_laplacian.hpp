@@ -200,11 +200,19 @@ double align_similarity(int dims, const Coords& p, const Coords& q, Coords& out)
 // Integrated mean-curvature normal b = L_C x̂ of a polygon mesh (fan triangulation), see above.
 Coords integrated_mean_curvature_normal(const Mesh& m);
 
-// Helpers shared by the multiplicative and the Newton method (perfect_laplacian.cpp).
+// Helpers shared by the multiplicative and the Newton method and the mesh front
+// (perfect_laplacian.cpp).
 namespace perfect_laplacian_detail {
 double median(std::vector<double> v);  // 0 for an empty list
 // Diagonal of the bounding box of the first n points of p in `dims` coordinates.
 double bbox_diagonal(int dims, const Coords& p, size_t n);
+// Length of edge (a, b) of the points p in `dims` coordinates.
+double edge_length(int dims, const Coords& p, int32_t a, int32_t b);
+// P.target_length: the length in space of every edge (P.e0[e], P.e1[e]) of m,
+// the targets when the input shape is kept (flip-free parameterization,
+// self-supporting surfaces); BadInput naming the first edge of zero length
+// (perfect_laplacian_mesh.cpp).
+void set_target_lengths_in_space(const Mesh& m, PerfectLaplacianProblem& P);
 // True when the right-hand side b is zero: the steady state then fixes the
 // weights only up to scale (§2.3.3).
 bool scale_free(const PerfectLaplacianProblem& P);
