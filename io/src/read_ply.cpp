@@ -5,7 +5,7 @@
 // count and index types. Every other element and property (normals, colours,
 // edges, materials, list properties such as texcoord) is skipped by its
 // declared size, except that the vertex element's scalar properties are
-// returned as MeshAttributes when asked (issue 22 item 2). `comment` and `obj_info` lines are ignored. Not from the
+// returned as MeshAttributes when asked. `comment` and `obj_info` lines are ignored. Not from the
 // thesis: file plumbing.
 //
 // Hostile input: before anything is allocated, the header counts are checked
