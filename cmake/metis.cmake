@@ -1,4 +1,4 @@
-# METIS compiled into locus, with a private random generator (issue 21).
+# METIS compiled into locus, with a private random generator.
 #
 # Debian's libmetis.so draws from the C library's rand()/srand(): one generator
 # for the whole process, shared with the host program. locus used to define

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmarks of the Python binding (issue 25 "Done when"); not a test.
+"""Benchmarks of the Python binding (docs/python.md); not a test.
 
     PYTHONPATH=build/python /usr/bin/python3 tools/bench_python.py [--mesh cache/meshes/armadillo.off] [--json]
         [--skip-cancel] [--cancel-repeats 3] [--only overhead|factorization|threads|rss|cancel]

@@ -1,4 +1,4 @@
-// Reading a MeshView into a Mesh (core/include/locus/mesh_view.hpp; issue 24 item 2).
+// Reading a MeshView into a Mesh (core/include/locus/mesh_view.hpp; README "Embedding").
 #include "locus/mesh_view.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Safe writes (locus/io/atomic_file_write.hpp; issue 22 item 3). Not from the
+// Safe writes (locus/io/atomic_file_write.hpp). Not from the
 // thesis: file plumbing. POSIX only (mkostemp, fsync, rename).
 #include "locus/io/atomic_file_write.hpp"
 

@@ -1,5 +1,6 @@
-// ctest `allocator_unrouted` (issue 24: "every allocation above 64 KB of a
-// geodesic, log map and CVT call goes through the host's callbacks"). This
+// ctest `allocator_unrouted` (README "The allocator": every allocation
+// above 64 KB of a geodesic, log map and CVT call goes through the host's
+// callbacks). This
 // program is the host: it replaces the C library's malloc family for its whole
 // process (which a library cannot do, hence its own executable, outside
 // locus-tests) and counts every block of 64 KB or more that a call makes, by

@@ -1,4 +1,4 @@
-// Safe writes (io/include/locus/io/atomic_file_write.hpp; issue 22 item 3):
+// Safe writes (io/include/locus/io/atomic_file_write.hpp):
 // hostile conditions never lose or truncate an existing file.
 #include <doctest/doctest.h>
 

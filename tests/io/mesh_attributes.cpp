@@ -1,5 +1,5 @@
 // Vertex attributes of a PLY input (io/include/locus/mesh_io.hpp
-// MeshAttributes; issue 22 item 2): normals, colours and a custom property are
+// MeshAttributes): normals, colours and a custom property are
 // read with their types, and written back unchanged, float positions as float.
 // The input fixture is hand-written text, not produced by locus' writer.
 #include <doctest/doctest.h>

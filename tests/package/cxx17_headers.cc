@@ -1,4 +1,4 @@
-// ctest `public_headers_cxx17` (issue 24 item 5): every installed public
+// ctest `public_headers_cxx17`: every installed public
 // header compiles as C++17 with only the public include directories
 // (core/include, io/include, engine/include), and locus::View takes what a
 // C++17 host passes. Compiled with -fsyntax-only -std=c++17 -Werror; nothing

@@ -1,4 +1,4 @@
-# ctest dispatch_paths (issue 24 item 5): the default build is for x86-64-v2,
+# ctest dispatch_paths (docs/shipping.md): the default build is for x86-64-v2,
 # and its small dense factor kernels also have AVX2 and AVX-512 versions
 # chosen at load time (kernels/include/locus/kernels/factor/dense_small.hpp).
 # Every version must give the same bits: the factor of one mesh, saved by

@@ -1,6 +1,6 @@
 # Included by run_package_test.cmake: runs the `locus` CLI on armadillo with the
-# arguments the package programs use for the same pipelines (issue 24 "Done
-# when": the C and C++ programs check every pipeline against the CLI's output),
+# arguments the package programs use for the same pipelines (the C and C++
+# programs check every pipeline against the CLI's output),
 # writing JSON and mesh files into ${work}/refs, and hands that directory to the
 # programs through the environment variable LOCUS_PACKAGE_REFS. The programs
 # hard-code the same arguments (tests/package/c/locus_c_demo.c, cli_checks;

@@ -1,4 +1,4 @@
-# ctest shared_exports (issue 24 item 5): liblocus.so exports the public API
+# ctest shared_exports (docs/shipping.md): liblocus.so exports the public API
 # and nothing else: every dynamic symbol it defines is a locus_* C function or
 # belongs to the C++ API in namespace locus (functions, typeinfo, vtables),
 # and the C API and Session are among them. Kernels, METIS, Eigen/TBB/std

@@ -1,4 +1,4 @@
-// Determinism of every pipeline (issue 10 item 5; DESIGN.md "Pipelines and
+// Determinism of every pipeline (DESIGN.md "Pipelines and
 // parallelism": the same input gives the same output whatever the thread count).
 //
 // Each case runs one pipeline three times — with 1 thread, with 2 threads, and

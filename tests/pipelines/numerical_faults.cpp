@@ -1,4 +1,4 @@
-// Numerical faults (issue 10 item 3): degenerate (zero-area) and needle
+// Numerical faults: degenerate (zero-area) and needle
 // triangles, duplicated vertices, meshes with several components, Laplacians
 // that are only semidefinite, and diffusion times 0, negative, NaN, infinite
 // and huge. The contract for every pipeline: a locus::Error with the right
@@ -566,8 +566,8 @@ TEST_CASE("faults: faces collapsed to a single vertex have no edges and are refu
 // fill[label] with label -1: a heap-buffer-overflow (ASan), silent memory
 // corruption in Release. cvt_lloyd now refuses given sites that leave a
 // component without one (BadInput naming a vertex of it), and its random sites
-// reach every component (issue 23: a missed component takes a site from the
-// component with the most).
+// reach every component (a missed component takes a site from the component
+// with the most).
 TEST_CASE("faults: CVT on a mesh with a component that receives no site") {
   // A tiny sphere next to a big one: sites are drawn by area, so all land on the big one.
   const Mesh big = make_icosphere(2);

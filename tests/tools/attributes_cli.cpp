@@ -1,4 +1,4 @@
-// Input attributes survive (issue 22 item 2): a PLY with float positions,
+// Input attributes survive: a PLY with float positions,
 // normals, colours and a custom property, run through geodesic, logmap and
 // cvt (--labels), keeps all of them with their types next to the result.
 // The input is written here by hand as ascii PLY (not by locus' writer).

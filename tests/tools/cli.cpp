@@ -357,7 +357,7 @@ TEST_CASE("cli: hostile files make factor exit 3 with a message naming the probl
       {"zero_area.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 3 1\n", {"degenerate", "zero area", "area"}},
       {"unreferenced.off", std::string("OFF\n7 8 0\n") + kOctahedronVertices + "5 5 5\n" + kOctahedronFaces,
        {"unreferenced", "not referenced", "unused"}},
-      // Quads are triangulated on load (issue 22 item 6); a self-crossing one cannot be.
+      // Quads are triangulated on load; a self-crossing one cannot be.
       {"bowtie.off", "OFF\n4 1 0\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n4 0 1 2 3\n", {"face 0", "cross"}},
       {"garbage.off", garbage, {"off", "header", "expected", "invalid", "magic"}},
       {"garbage.ply", "ply\nformat binary_little_endian 1.0\n" + garbage, {"ply", "header", "expected", "invalid"}},
@@ -432,7 +432,7 @@ TEST_CASE("cli: bad usage exits 2 before touching the file") {
       "factor " + quoted(mesh) + " --operator laplacian --t 2h2",
       "factor " + quoted(mesh) + " --repeat 0",
       "factor " + missing + " --t abc",  // usage is checked before the file is read
-      // Outputs are checked before the file is read too (issue 22): extension,
+      // Outputs are checked before the file is read too: extension,
       // folder, target kind, and formats that cannot hold the result.
       "info " + missing + " -o " + quoted((dir.path / "x.stl").string()),
       "info " + missing + " -o " + quoted((dir.path / "no" / "such" / "x.obj").string()),

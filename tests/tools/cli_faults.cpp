@@ -1,4 +1,4 @@
-// Numerical faults through the `locus` tool (issue 10 item 3): diffusion
+// Numerical faults through the `locus` tool: diffusion
 // times 0, negative, NaN, infinite, overflowing and huge for every command
 // that takes one; zero-area faces, needle triangles, duplicated (unreferenced)
 // vertices and meshes with two components. The contract (README "exit

@@ -1,6 +1,6 @@
 // `locus cvt MESH` as users run it: the default diffusion time is 4h^2 (h the mean
 // edge length, computed here from the mesh), --t h2 selects the thesis's h^2, the
-// issue's JSON keys are present, and a bad --t exits 2.
+// timing and quality JSON keys are present, and a bad --t exits 2.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -33,7 +33,7 @@ double mean_edge(const locus::Mesh& m) {
 
 }  // namespace
 
-TEST_CASE("cvt CLI: default t = 4h^2, --t h2, the issue's JSON keys, bad --t exits 2") {
+TEST_CASE("cvt CLI: default t = 4h^2, --t h2, timing and quality JSON keys, bad --t exits 2") {
   if (!have_locus()) return;
   Scratch dir("cvt-cli");
   const locus::Mesh m = locus::make_icosphere(3);  // 642 vertices

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An independent reader of locus' mesh outputs (issue 22, "Done when" 3).
+"""An independent reader of locus' mesh outputs (tests/tools/independent_reader_cli.cpp).
 
 Only Python's standard library: parses OBJ (v, vt, vn, f and the
 '#locus vertex-properties' / '#vp' comment block), OFF and COFF, and PLY

@@ -1,10 +1,10 @@
-// Outputs read by a second, independent reader (issue 22 "Done when" 3):
+// Outputs read by a second, independent reader:
 // for every command x extension that writes a mesh, the file locus wrote is
 // read by locus' readers and by tests/tools/independent_reader.py (Python's
 // standard library only, written from the format descriptions); both must
 // find the same vertices, faces and per-vertex results (NaN where there is no
 // value). OBJ texture coordinates and normals of the input (vt, vn) reach OBJ
-// and PLY outputs (issue 22 item 2).
+// and PLY outputs.
 #include <doctest/doctest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Polygon input (issue 22 item 6): every triangle-only command accepts a quad
+// Polygon input: every triangle-only command accepts a quad
 // mesh by triangulating it on load; results on the input's vertices equal
 // those of the same command on the triangulated file, and -o writes them on
 // the input's own quads; a face that cannot be triangulated is refused (exit
@@ -42,7 +42,7 @@ std::string quad_torus_off(int n, int m) {
 
 // A localized geodesic (--fraction < 1) has no polygon path: it triangulates on
 // load. (Whole-mesh geodesic and log maps run on the polygons themselves,
-// tests/tools/geodesic_issue27_cli.cpp.)
+// tests/tools/polygon_geodesic_logmap_cli.cpp.)
 TEST_CASE("polygon input: localized geodesic on quads equals it on their triangulation; -o keeps the quads") {
   if (!have_locus()) return;
   Scratch dir("polygon_input");

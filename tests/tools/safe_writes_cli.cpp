@@ -1,4 +1,4 @@
-// The CLI's outputs under hostile conditions (issue 22 items 1 and 3): an
+// The CLI's outputs under hostile conditions: an
 // existing output survives every failed run byte for byte; outputs are checked
 // before the input is read; -o in every format carries the result.
 #include <doctest/doctest.h>

@@ -1,4 +1,4 @@
-// The scripting contract (issue 22 item 8): every command's JSON has the same
+// The scripting contract (README "Outputs"): every command's JSON has the same
 // keys — version, threads (what ran), output, preview, timings {load_s,
 // subdivide_s, total_s} — and one heat-time grammar: --t T with T absolute or
 // a multiple of h^2, the heat method's older --t-factor C accepted as --t Ch2

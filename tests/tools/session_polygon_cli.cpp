@@ -1,5 +1,5 @@
 // A Session on a polygon mesh gives the `locus` CLI's numbers for the same
-// file and arguments, bit for bit (session.hpp "Polygon meshes"; issues 24, 27):
+// file and arguments, bit for bit (session.hpp "Polygon meshes"):
 // whole-mesh geodesic distance and log maps on the polygon operators (default
 // t 8h^2, and an explicit --t), CVT labels on the triangulation. The CLI's
 // outputs are read back from binary PLY.

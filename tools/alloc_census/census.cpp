@@ -1,4 +1,4 @@
-// Allocation census (issue 24 item 2; docs/shipping.md "The host's allocator"):
+// Allocation census (docs/shipping.md "The host's allocator"):
 // every malloc/calloc/realloc/aligned allocation of 64 KB or more during the
 // first geodesic, a log map and a CVT through the C API, split into those made
 // by the host allocator's callbacks (routed) and the others, listed by call

@@ -1,6 +1,6 @@
 // `locus-bench-cgal MESH`: the heat method's precompute (thesis §6.2, the two
 // factorizations of the heat geodesic distance) in locus against CGAL's
-// Heat_method_3, on the same mesh in the same process (issue 26, "Done when" 1).
+// Heat_method_3, on the same mesh in the same process.
 //
 // A separate program, not part of locus-bench or the default build: CGAL is a
 // GPL peer (tests and benchmarks only) and its headers take a minute to compile.
@@ -17,7 +17,7 @@
 //          first answer. The Surface_mesh is built outside the timing, from
 //          the same arrays (locus' Session copies its mesh inside the timing).
 // Both use t = h^2 with h the mean edge length (CGAL's fixed choice, computed
-// the same way in its build(); locus' default is 4 h^2 since issue 27, so it
+// the same way in its build(); locus' default is 4 h^2, so it
 // is asked for h^2 here; t does not change the work). Prints one JSON object: medians, ratios locus / CGAL, threads,
 // and how far the two distance fields are apart (the same method, so they
 // should agree to discretization noise; a large gap would make the timing

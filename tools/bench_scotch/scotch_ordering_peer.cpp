@@ -1,6 +1,6 @@
 // SCOTCH's nested dissection as a peer of locus' orderings (thesis §4.2: the
-// ordering's etree height decides the local solves' cost; issue 26 names
-// SCOTCH, threaded since version 7, as the peer to measure or adopt).
+// ordering's etree height decides the local solves' cost; SCOTCH,
+// threaded since version 7, is the peer to measure or adopt).
 //
 // Not part of the library and not in the default build: Debian's libscotch-dev
 // (CeCILL-C) is installed by `tools/setup.sh --bench-peers`, and

@@ -1,4 +1,4 @@
-// analyze() alone, 1 and 2 threads alternating (issue 26, docs/ordering.md
+// analyze() alone, 1 and 2 threads alternating (docs/ordering.md
 // "Parallel symbolic analysis"): wall and process CPU time medians, and a
 // digest of every array of the SymbolicFactor, so that two builds (before
 // and after a change) can be compared for speed and for identical output.

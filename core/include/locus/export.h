@@ -1,4 +1,4 @@
-/* locus/export.h — which symbols a shared liblocus exports (issue 24 item 5).
+/* locus/export.h — which symbols a shared liblocus exports (docs/shipping.md).
  *
  * The library is compiled with hidden visibility (-fvisibility=hidden): its
  * kernels, pipelines, METIS and template instantiations stay private to

@@ -1,4 +1,4 @@
-// locus::MeshView — a triangle mesh in the host's own buffers (issue 24 item 2).
+// locus::MeshView — a triangle mesh in the host's own buffers.
 //
 // Game engines and DCC tools keep float positions in interleaved vertex
 // buffers and uint16/uint32 indices. A MeshView describes such buffers
@@ -42,7 +42,7 @@ struct MeshView {
 // Topology (manifold, degenerate faces) is checked by the Session, as for files.
 Mesh mesh_from_view(const MeshView& view);
 
-// A polygon mesh (quads, mixed, n-gons; issues 24, 27) in the host's buffers:
+// A polygon mesh (quads, mixed, n-gons) in the host's buffers:
 // positions as in MeshView; faces in CSR form, both arrays of index_type,
 // packed: face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
 // face_offsets has face_count + 1 entries and starts at 0.

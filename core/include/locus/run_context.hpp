@@ -26,7 +26,7 @@ struct RunContext {
   // process allows). locus never writes to stderr; without a callback they are dropped.
   std::function<void(std::string_view text)> message;
   // The part [progress_begin, progress_end] of the caller's overall progress
-  // that this context's fractions map to (sub() narrows it; issue 24 item 3).
+  // that this context's fractions map to (sub() narrows it; README "Cancellation and progress").
   double progress_begin = 0.0, progress_end = 1.0;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }

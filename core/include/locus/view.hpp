@@ -1,5 +1,4 @@
-// locus::View<T> — a pointer and a count, the public headers' array argument
-// (issue 24 item 5).
+// locus::View<T> — a pointer and a count, the public headers' array argument.
 //
 // The library is C++20, but hosts such as DCC plugins build against the VFX
 // Reference Platform, which is C++17 and has no std::span. The public headers

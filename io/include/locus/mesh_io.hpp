@@ -32,7 +32,7 @@ struct VertexProperty {
 };
 
 // What a file holds beyond positions and faces, for carrying it to outputs
-// that keep the input's vertices (issue 22 item 2): every scalar vertex
+// that keep the input's vertices: every scalar vertex
 // property of a PLY other than x, y, z (normals nx ny nz, colours red green
 // blue alpha, texture coordinates, custom ones), in file order with their
 // types; of an OBJ the vt and vn of each vertex (as u v and nx ny nz, when

@@ -1,5 +1,5 @@
-// BLAS thread count borrowed while locus calls OpenBLAS (issue 24 item 4;
-// kernels/include/locus/kernels/factor/blas.hpp says why).
+// BLAS thread count borrowed while locus calls OpenBLAS
+// (kernels/include/locus/kernels/factor/blas.hpp says why).
 #include "locus/kernels/factor/blas.hpp"
 
 #include <mutex>

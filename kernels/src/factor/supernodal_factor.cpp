@@ -121,7 +121,7 @@ class Factorizer {
     return k * m * m - k * k * m + k * k * k / 3.0 + m;
   }
 
-  // Progress by work done (issue 24 item 3): at most one report per ~20 ms,
+  // Progress by work done: at most one report per ~20 ms,
   // from whichever thread finishes work then. A C host cancels by returning
   // nonzero from its progress callback, so these reports are also its chances
   // to stop a factorization (check_cancel runs before every supernode and

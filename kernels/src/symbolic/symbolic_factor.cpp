@@ -11,7 +11,7 @@
 // a contiguous range, so (2) and (4) sweep disjoint subtrees as parallel
 // oneTBB tasks and the nodes above them after (subtree_partition.hpp); (5) is
 // parallel over supernodes. Every result is independent of the thread count
-// (issue 26; docs/ordering.md "Parallel symbolic analysis").
+// (docs/ordering.md "Parallel symbolic analysis").
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/core/host_allocator.hpp"
 

@@ -1,4 +1,4 @@
-// Cholesky core on mesh operators (issue 3 item 6): heat operators M - tL_C at
+// Cholesky core on mesh operators: heat operators M - tL_C at
 // t = h^2 and the regularized Laplacian -L_C + eps M on icosphere, random
 // sphere, torus and disk meshes factor and solve to 1e-10 relative residual;
 // nnz(L) and solutions match Eigen's SimplicialLLT under the same permutation;

@@ -1,4 +1,4 @@
-// Memory budget of a numeric factorization (kernels/include/locus/kernels/factor/memory_budget.hpp, issue 10 item 6).
+// Memory budget of a numeric factorization (kernels/include/locus/kernels/factor/memory_budget.hpp).
 //
 // Oracles: the stored size of L counted from the supernodes' row structures;
 // the heap (glibc mallinfo2) while a real factorization runs — its growth is

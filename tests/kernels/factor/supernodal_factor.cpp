@@ -219,7 +219,7 @@ TEST_CASE("non-finite matrix entries are refused before factoring") {
 }
 
 TEST_CASE("the numeric factorization reports monotone progress and stops at a cancel raised from it") {
-  // issue 24 item 3: a C host cancels through its progress callback, so the
+  // A C host cancels through its progress callback, so the
   // factorization must report while it works, not only at its ends.
   const CscMatrix A = test::grid_laplacian(330, 300, 0.05);
   auto S = analyze(A, order_matrix(A));

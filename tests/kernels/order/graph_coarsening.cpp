@@ -1,5 +1,4 @@
-// The shared coarsening's matching (graph_coarsening.hpp, issue 26; thesis
-// §4.2): one round is a maximal matching along the graph's edges (checked
+// The shared coarsening's matching (graph_coarsening.hpp; thesis §4.2): one round is a maximal matching along the graph's edges (checked
 // against the graph, edge by edge), and the map is the same for any thread
 // count on a graph large enough for the parallel rounds, blocks and
 // contractions, numbered non-locally as a subdivided mesh is.

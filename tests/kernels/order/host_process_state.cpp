@@ -1,4 +1,4 @@
-// The host program's process state around METIS (issue 21). locus compiles
+// The host program's process state around METIS. locus compiles
 // METIS with rand()/srand() and signal()/raise() renamed (cmake/metis.cmake):
 // an embedding program that calls rand() sees the same sequence whether or not
 // locus ran, rand/srand in the process are the C library's (ctest

@@ -1,5 +1,5 @@
 // The minimum-degree orders of small graphs and of the nested dissection's
-// leaves (minimum_degree.hpp, issue 26): CAMD called on the graph directly
+// leaves (minimum_degree.hpp): CAMD called on the graph directly
 // gives the order of SuiteSparse's own entry point camd_order (the oracle:
 // it checks and forms A + A^T itself), keeps each constraint set in its
 // turn, and handles graphs without edges.

@@ -1,4 +1,4 @@
-// Orderings (kernels/include/locus/kernels/order/ordering.hpp, issue 26): every
+// Orderings (kernels/include/locus/kernels/order/ordering.hpp): every
 // method gives a permutation; the same one for 1, 2, 3 and 8 threads and for
 // concurrent callers; a cancel flag raised before or during an ordering stops
 // it with Cancelled and leaves later orderings unchanged; nested dissection's

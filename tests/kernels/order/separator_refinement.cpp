@@ -1,4 +1,4 @@
-// The pieces of the shared-coarsening nested dissection (issue 26):
+// The pieces of the shared-coarsening nested dissection:
 // FM refinement of a vertex separator (separator_refinement.hpp) against the
 // analytic minimum separator of a grid, and the coarsening map and per-node
 // contraction (graph_coarsening.hpp) against brute-force set constructions.

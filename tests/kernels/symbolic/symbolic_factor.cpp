@@ -1,6 +1,6 @@
 // Tests for kernels/symbolic_factor, etree, column_counts, supernodes:
 // against a brute-force symbolic elimination on a dense boolean pattern, and
-// (the parallel analysis over subtrees, issue 26) against Eigen's
+// (the parallel analysis over subtrees) against Eigen's
 // SimplicialLLT and across thread counts and subtree partitions.
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 

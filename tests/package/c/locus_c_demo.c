@@ -5,7 +5,7 @@
  * checks that they are sane; it always also builds a session from arrays (an
  * octahedron refined to a sphere) and checks distances against great circles.
  * With LOCUS_PACKAGE_REFS set (make_references.cmake) it also calls every
- * pipeline of issue 24 and compares with the CLI's outputs for the same arguments.
+ * pipeline of the C API and compares with the CLI's outputs for the same arguments.
  * Exit status 0 when every check passes, 1 otherwise. */
 #include <locus/locus.h>
 
@@ -235,7 +235,7 @@ static void sphere_checks(int levels) {
   free(next);
 }
 
-/* ==== Every pipeline of issue 24 against the CLI (tests/package/make_references.cmake
+/* ==== Every pipeline of the C API against the CLI (tests/package/make_references.cmake
  * wrote the CLI's outputs for the same arguments into $LOCUS_PACKAGE_REFS). ==== */
 
 static char* ref_path(const char* dir, const char* name) {

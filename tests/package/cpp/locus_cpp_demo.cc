@@ -3,8 +3,8 @@
 // through the Mesh API, geodesic distances against great circles, symmetric
 // heat values, the same answers from two threads, errors as locus::Error, and
 // with a mesh path argument a Session read from that file; with
-// LOCUS_PACKAGE_REFS set (make_references.cmake) also every pipeline of issue
-// 24, compared with the CLI's outputs for the same arguments. Exit 0 when every
+// LOCUS_PACKAGE_REFS set (make_references.cmake) also every pipeline of the
+// Session, compared with the CLI's outputs for the same arguments. Exit 0 when every
 // check passes.
 #include <locus/error.hpp>
 #include <locus/session.hpp>
@@ -73,7 +73,7 @@ locus::Mesh icosphere(int levels) {
   return m;
 }
 
-// ==== Every pipeline of issue 24 through the C++ Session against the CLI
+// ==== Every pipeline of the C++ Session against the CLI
 // (tests/package/make_references.cmake wrote the CLI's outputs for the same
 // arguments into $LOCUS_PACKAGE_REFS). C++17: no span, no designated initializers. ====
 

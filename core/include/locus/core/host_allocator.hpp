@@ -1,5 +1,5 @@
-// The host's allocator for locus' large buffers (issue 24 item 2; README
-// "Embedding: the allocator").
+// The host's allocator for locus' large buffers (README "The
+// allocator").
 //
 // Public (installed as locus/core/host_allocator.hpp): Mesh and CscMatrix
 // hold their arrays in HostVector.

@@ -1,4 +1,4 @@
-// Safe writes (issue 22 item 3): every file locus writes is written under a
+// Safe writes: every file locus writes is written under a
 // unique temporary name in the target's folder (mkstemp), fsynced, given the
 // permissions a plain create would give, and renamed into place. A full disk,
 // a file-size limit, a crash or a concurrent writer never leaves a truncated

@@ -1,5 +1,4 @@
-// Saving and loading factors (issue 9 item 3; DESIGN.md "Engine API": factor
-// cache). A file holds one symbolic factor and one or more numeric factors on
+// Saving and loading factors (DESIGN.md "Engine API": factor cache). A file holds one symbolic factor and one or more numeric factors on
 // it (e.g. M - t L_C for several t, or the heat and Poisson operators of the
 // heat method), each labelled with an operator kind and t, plus the locus
 // format version and the content hash of the mesh they were made for.

@@ -1,4 +1,4 @@
-// PNG output for previews (issue 9 item 5): 8-bit RGB, via stb_image_write
+// PNG output for previews: 8-bit RGB, via stb_image_write
 // (Debian libstb-dev). The pixels are written to memory first, then to the
 // file in one write, so a failure names the file and leaves no partial image
 // under its name.

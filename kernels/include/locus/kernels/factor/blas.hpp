@@ -26,8 +26,8 @@ namespace locus::blas {
 
 // OpenBLAS runs single-threaded while locus calls it: parallelism comes from
 // oneTBB tasks around BLAS calls. OpenBLAS' thread count is process-wide (the
-// Debian 12 version has no per-thread setting), so it is borrowed, not taken
-// (issue 24 item 4): the first scope to open (on any thread) saves the host's
+// Debian 12 version has no per-thread setting), so it is borrowed, not taken:
+// the first scope to open (on any thread) saves the host's
 // count and sets 1, the last to close restores the saved count. While locus
 // runs, a host thread calling BLAS itself sees 1; after the call, what it set.
 class SingleThreaded {

@@ -7,7 +7,7 @@
 // vectorizes; the choice depends on the block's size only, so the arithmetic
 // is the same for any thread count.
 //
-// Runtime dispatch (issue 24 item 5): the library is built for x86-64-v2, and
+// Runtime dispatch (docs/shipping.md): the library is built for x86-64-v2, and
 // these loops also get AVX2 and AVX-512 versions (GCC function multiversioning:
 // an ifunc picks one at load time by the CPU). Multiply-adds are never fused
 // in any version (fp-contract off) and every entry is summed in the same

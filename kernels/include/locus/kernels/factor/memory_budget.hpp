@@ -1,4 +1,4 @@
-// Memory budget of a numeric factorization (issue 10, item 6).
+// Memory budget of a numeric factorization.
 //
 // A mesh whose factor does not fit in memory must be refused up front with an
 // estimate, not killed by the OS half-way through. The symbolic analysis knows

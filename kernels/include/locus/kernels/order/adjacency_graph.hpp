@@ -1,4 +1,4 @@
-// The graph an ordering works on (thesis §4.2, issue 26): the off-diagonal
+// The graph an ordering works on (thesis §4.2): the off-diagonal
 // pattern of a symmetric matrix as a symmetric adjacency in CSR, 32-bit
 // indices (what METIS and AMD take), neighbors ascending, no self loops.
 #pragma once

@@ -1,4 +1,4 @@
-// Vertex separators from vertex positions (issue 26; thesis §4.2): the mesh's
+// Vertex separators from vertex positions (thesis §4.2): the mesh's
 // geometry tells roughly where a short cut lies, so a plane cut plus a small
 // combinatorial repair can stand in for METIS' multilevel search. The cut
 // alone is jagged (1.5-1.8x METIS' separators on armadillo, 1.1-1.25x the

@@ -1,5 +1,5 @@
 // One coarsening of the whole graph, shared by every level of the nested
-// dissection (issue 26; thesis §4.2). METIS coarsens each subgraph it
+// dissection (thesis §4.2). METIS coarsens each subgraph it
 // separates from scratch, so a dissection with ~11 levels coarsens the whole
 // graph ~11 times; that was most of the ordering's time (docs/ordering.md).
 // Here the graph is matched once (heavy-edge matching, a few levels); each

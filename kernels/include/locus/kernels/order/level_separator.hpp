@@ -1,4 +1,4 @@
-// Level-structure vertex separators of small graphs (issue 26; thesis §4.2):
+// Level-structure vertex separators of small graphs (thesis §4.2):
 // the nested dissection's nodes of a few hundred to a few thousand vertices
 // have contractions of under ~200 vertices, where a METIS call costs
 // 30-60 us, mostly its fixed setup and repeated initial bisections

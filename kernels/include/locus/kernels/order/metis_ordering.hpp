@@ -1,4 +1,4 @@
-// METIS behind the orderings (issue 26): its vertex separator for the nested
+// METIS behind the orderings: its vertex separator for the nested
 // dissection task tree, and METIS_NodeND as it ran before the task tree (the
 // Method::Metis ordering, kept as the reference the new orderings are
 // measured against, docs/ordering.md). Every call draws its random numbers

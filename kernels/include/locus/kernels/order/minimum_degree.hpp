@@ -1,6 +1,6 @@
 // Approximate minimum degree ordering (AMD; Amestoy, Davis & Duff 1996) of a
 // graph, through SuiteSparse's AMD and CAMD (Debian libamd/libcamd,
-// BSD-3-clause; issue 26).
+// BSD-3-clause).
 // Small graphs, and the leaves of the nested dissection, are ordered by it:
 // below a few thousand vertices it is faster than any separator and its fill
 // is as low as nested dissection's.

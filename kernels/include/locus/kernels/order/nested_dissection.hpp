@@ -1,4 +1,4 @@
-// Nested dissection as a oneTBB task tree (issue 26; thesis §4.2): a vertex
+// Nested dissection as a oneTBB task tree (thesis §4.2): a vertex
 // separator splits the graph, the two sides are ordered as independent tasks,
 // the separator is numbered after both; below `leaf_size` vertices a side is
 // ordered by AMD (kernels/include/locus/kernels/order/minimum_degree.hpp).

@@ -1,6 +1,6 @@
 // Fill-reducing orderings of the graph of a symmetric matrix (thesis §4.2: the
-// etree height an ordering produces decides the cost of local solves; issue
-// 26: the ordering is most of the time to a first answer on a new mesh).
+// etree height an ordering produces decides the cost of local solves; and
+// the ordering is most of the time to a first answer on a new mesh).
 //
 // Methods: nested dissection as a oneTBB task tree with AMD leaves
 // (nested_dissection.hpp), its separators from the vertex positions when the
@@ -50,8 +50,8 @@ struct OrderingOptions {
   // (local solves, numeric time). Measurements: docs/ordering.md.
   int32_t amd_max_vertices = 120000;
   // Auto: below this size the ordering costs milliseconds whatever the
-  // method, so the one with the shorter etree (METIS_NodeND) is kept, and
-  // small systems factor exactly as before issue 26.
+  // method, so the one with the shorter etree (METIS_NodeND) is kept: small
+  // systems factor exactly as with the reference ordering (Method::Metis).
   int32_t amd_min_vertices = 4000;
   // NestedDissection with METIS separators: the graph is coarsened once by
   // coarse_levels rounds of heavy-edge matching (graph_coarsening.hpp); a

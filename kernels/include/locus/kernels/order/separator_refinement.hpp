@@ -1,5 +1,5 @@
-// Vertex-separator refinement by Fiduccia-Mattheyses passes (issue 26;
-// thesis §4.2: the separators of a nested dissection decide its fill). The
+// Vertex-separator refinement by Fiduccia-Mattheyses passes (thesis
+// §4.2: the separators of a nested dissection decide its fill). The
 // cheap separators of the deep levels (level_separator.hpp, the geometric
 // cut) are rough; a few FM passes shorten them to within a few percent of
 // METIS' multilevel ones at a fraction of the cost, because a rough

@@ -1,4 +1,4 @@
-// Cancel points inside serial kernels that take no RunContext (issue 24 item 3).
+// Cancel points inside serial kernels that take no RunContext.
 //
 // Mesh kernels (edge incidence, cotan assembly, gradients) and the phases of
 // the symbolic analysis run 50-300 ms each at 416k vertices without a

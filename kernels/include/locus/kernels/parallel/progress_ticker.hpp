@@ -1,4 +1,4 @@
-// Throttled progress of one phase, from any number of threads (issue 24 item 3).
+// Throttled progress of one phase, from any number of threads.
 //
 // A C host cancels by returning nonzero from its progress callback, so the
 // reports are its chances to stop: long phases report at least every

@@ -44,7 +44,7 @@ class BorrowedArena {
 }  // namespace detail
 
 // The most threads a oneTBB arena may have in this process: asking for more
-// makes oneTBB print a warning on stderr (issue 24 item 4), and cannot be faster.
+// makes oneTBB print a warning on stderr, and cannot be faster.
 inline int max_arena_threads() {
   return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }

@@ -1,4 +1,4 @@
-// Text in preview images (issue 22 item 5: a legend with the quantity's name
+// Text in preview images (a legend with the quantity's name
 // and range): a 5 x 9 pixel bitmap font of its own (digits, lower-case
 // and upper-case letters, the punctuation numbers and names need), drawn at
 // an integer scale; any other character as a box.

@@ -1,4 +1,4 @@
-// The colours of the previews (issue 22 item 5), shared by the rasterizer and
+// The colours of the previews, shared by the rasterizer and
 // the legend drawn under the picture so that the colour bar shows exactly the
 // colours on the surface.
 //  * scalar_colour: a blue -> teal -> green -> yellow map of s in [0, 1]

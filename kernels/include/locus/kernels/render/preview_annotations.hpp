@@ -1,6 +1,6 @@
-// What a preview says besides the coloured surface (issue 22 item 5: "a
-// colour bar with the quantity and its range, markers for sources/centres/
-// sites"): the legend strip under the picture and the marker symbol.
+// What a preview says besides the coloured surface (a colour
+// bar with the quantity and its range, markers for sources, centres and
+// sites): the legend strip under the picture and the marker symbol.
 // Drawn by rasterize_mesh (rasterize.hpp); exposed for its tests.
 #pragma once
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Where a preview looks from (issue 22 item 5: a z-up mesh must not render
+// Where a preview looks from (a z-up mesh must not render
 // on its back). The camera is derived from the surface's principal axes
 // (area-weighted covariance of the face centroids, e1 >= e2 >= e3):
 //  * "up" on the screen is whichever of e1, e2 is closer to the file's y or

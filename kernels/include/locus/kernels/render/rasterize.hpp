@@ -1,4 +1,4 @@
-// A small software rasterizer for previews (issue 9 item 5, issue 22 item 5):
+// A small software rasterizer for previews:
 // the mesh seen from the camera of preview_camera.hpp (its principal axes, or
 // a given direction), coloured by a per-vertex result, Lambert-shaded, with a
 // legend under the picture and markers at given points.
@@ -20,7 +20,7 @@
 //  * Checker: 2 nv values (u, v interleaved); a checkerboard with `checker_cells`
 //    squares across the larger UV extent; NaN = grey.
 // With `edges`, pixels within 0.8 pixel of their triangle's edges are darkened
-// (the wireframe of a remesh over its shaded surface, issue 23).
+// (the wireframe of a remesh over its shaded surface).
 //
 // Legend (when `title` is not empty; preview_legend.hpp): a strip under the
 // picture with the title, and for Scalar a colour bar with the range's ends

@@ -1,5 +1,5 @@
 // Independent subtrees of a postordered elimination tree (thesis §4.2: columns
-// in disjoint subtrees are eliminated independently; issue 26).
+// in disjoint subtrees are eliminated independently).
 //
 // The symbolic analysis walks the etree bottom-up (column counts, supernode row
 // structures). Disjoint subtrees share no state below their roots, so they can

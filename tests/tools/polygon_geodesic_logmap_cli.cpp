@@ -1,4 +1,4 @@
-// `locus geodesic` / `locus logmap` additions of issue 27: polygon meshes
+// `locus geodesic` / `locus logmap` on polygon meshes
 // (whole-mesh heat method on the polygon operators; oracle: the great-circle
 // distance on a cube-sphere), the log map's injectivity radius and
 // --clip-injective (oracle: the clipped map has no flipped triangle), and the
@@ -17,14 +17,14 @@ using namespace locus::test_cli;
 
 TEST_CASE("geodesic/logmap CLI: polygon meshes, injectivity radius, underflow warning") {
   if (!have_locus()) return;
-  Scratch dir("issue27");
+  Scratch dir("polygon_geodesic_logmap");
   const std::string quads = dir / "quads.obj";
   locus::write_mesh(quads, locus::make_cube_sphere(8));  // 384 quads, vertex 0 a cube corner
   const Run g = run_locus(dir, {"geodesic", quads, "--source", "0", "--json"});
   REQUIRE(g.status == 0);
   CHECK(g.json()["method"] == "heat-full-polygon");
   CHECK(std::abs(g.json()["max_distance"].get<double>() - M_PI) < 0.1);  // to the antipodal corner
-  // Localized: no polygon path yet, so the quads are triangulated on load (issue 22).
+  // Localized: no polygon path yet, so the quads are triangulated on load.
   const Run gl = run_locus(dir, {"geodesic", quads, "--source", "0", "--fraction", "0.5", "--json"});
   REQUIRE(gl.status == 0);
   CHECK(gl.json()["method"] == "heat-local");
