@@ -245,7 +245,7 @@ SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const st
   if (!in.triangulated() || p.face < 0) return p;
   const Mesh& poly = in.polygons;
   if (p.face >= poly.num_faces())
-    fail(ErrorCode::BadInput, what + ": face " + std::to_string(p.face) + " does not exist (") +
+    fail(ErrorCode::BadInput, what + ": face " + std::to_string(p.face) + " does not exist (" +
                                   std::to_string(poly.num_faces()) + " faces)");
   const auto fv = poly.face(p.face);
   double x[3] = {0, 0, 0};

@@ -431,7 +431,10 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)
     distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
-  check_distances(distance.first(static_cast<size_t>(np)), std::span<const int32_t>(r.verts.data(), static_cast<size_t>(np)), opt_.t_factor);
+  // (PoissonRhs::Truncated, a measured alternative, bends d inside P by design: not checked.)
+  if (flux)
+    check_distances(distance.first(static_cast<size_t>(np)),
+                    std::span<const int32_t>(r.verts.data(), static_cast<size_t>(np)), opt_.t_factor);
   note_underflow(h.first(static_cast<size_t>(np)), h[source_local], distance, ws);
 }
 
