@@ -115,3 +115,14 @@ def test_set_positions_rejects_nan_and_keeps_old(sphere):
     s.set_positions(2 * V)
     assert s.stats()["positions_version"] == 1
     assert np.allclose(s.geodesic_distance(0), 2 * before, rtol=1e-9)  # distances scale with the mesh
+
+
+def test_meshes_beyond_double_precision_name_the_cause(sphere):
+    V, F = sphere
+    for s, cause in ((1e160, "overflow"), (1e155, "overflow"), (1e-155, "underflow"), (1e-300, "underflow")):
+        with pytest.raises(locus.InputError, match=cause) as info:
+            locus.geodesic_distance(V * s, F, 0)
+        assert "between 1e-150 and 1e+150" in str(info.value) and "zero area" not in str(info.value)
+    d1 = locus.geodesic_distance(V, F, 0)
+    for s in (1e149, 1e-149):
+        assert np.allclose(locus.geodesic_distance(V * s, F, 0) / s, d1, rtol=1e-9, atol=0)
