@@ -60,10 +60,10 @@ void check_mesh_size(const Mesh& m, double diagonal) {
   if (diagonal > kMaxMeshSize)
     fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh is too large for double precision: its bounding-box diagonal is " +
                                   (std::isfinite(diagonal) ? sci(diagonal) : std::string("beyond 1.8e+308")) +
-                                  ", so its areas and squared lengths overflow" + range);
+                                  ": its areas and squared lengths overflow double precision at that size" + range);
   if (diagonal < kMinMeshSize)
     fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh is too small for double precision: its bounding-box diagonal is " +
-                                  sci(diagonal) + ", so its areas and squared lengths underflow" + range);
+                                  sci(diagonal) + ": its areas and squared lengths underflow double precision at that size" + range);
 }
 
 }  // namespace locus
