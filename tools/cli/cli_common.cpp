@@ -212,7 +212,11 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces f
     }
     // Refused before allocating: face indices beyond int32 (exit 3) or more
     // memory than --max-memory for the mesh and its derived data.
-    check_subdivision(in.mesh, opt.subdivide, ctx);
+    try {
+      check_subdivision(in.mesh, opt.subdivide, ctx);
+    } catch (const Error& e) {
+      fail(e.code(), "--subdivide " + std::to_string(opt.subdivide) + ": " + e.what());
+    }
     if (!in.attributes.vertex.empty()) {
       log("--subdivide: the input's " + std::to_string(in.attributes.vertex.size()) +
           " vertex attribute(s) are not carried to the outputs (subdivision makes new vertices)");
