@@ -14,10 +14,22 @@ one-shot: geodesic distance and log maps run on the polygons as the CLI does,
 the other pipelines on a triangulation with the same vertices. Results are NumPy arrays (float64 values, int32
 ids) or namespaces of them. Errors raise locus.InputError, locus.NumericalError,
 locus.Cancelled, locus.ResourceLimitError or locus.UsageError (a ValueError),
-each carrying the engine's message. Every computing call releases the GIL;
+each carrying the engine's message; an argument of the wrong type or out of
+range is a UsageError naming it. Every computing call releases the GIL;
 Ctrl-C cancels it (KeyboardInterrupt).
 """
 import numpy  # noqa: F401  (every array goes through NumPy: fail here, clearly, without it)
+
+from . import _locus
+from ._arguments import check_class as _check_class, checked as _checked
+
+# An argument pybind11 cannot convert raises UsageError naming it (_arguments.py).
+_check_class(_locus.Session, "Session")
+_check_class(_locus.NaturalNeighbors, "NaturalNeighbors")
+for _name in ("read_mesh", "write_mesh", "subdivide", "render_preview", "parameterize_disk",
+              "perfect_laplacian", "self_supporting"):
+    setattr(_locus, _name, _checked(getattr(_locus, _name), _name))
+del _name
 
 from ._locus import (  # noqa: F401  (the package's API)
     __version__,

@@ -1,4 +1,4 @@
-"""One-shot functions: a Session for one call (issue 25, the first tier).
+"""One-shot functions: a Session for one call (the first tier).
 
 Each builds ``Session(V, F)``, runs one query and drops it, so every call
 factors its operator again; for repeated queries on one mesh keep a Session.

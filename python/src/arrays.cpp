@@ -1,4 +1,4 @@
-// NumPy arrays in and out of the engine (issue 25 item 2); arrays.hpp says
+// NumPy arrays in and out of the engine; arrays.hpp says
 // which layouts are read in place and which are converted once.
 #include "arrays.hpp"
 
@@ -159,6 +159,21 @@ Mesh polygon_mesh(const py::handle& V, const py::handle& F) {
     m.add_face(ConstView<int32_t>(ids.data() + offsets[f], size_t(offsets[f + 1] - offsets[f])));
   }
   return m;
+}
+
+int32_t vertex_id(const py::handle& v, int64_t nv, const std::string& what) {
+  PyObject* index = PyNumber_Index(v.ptr());
+  if (!index) {
+    PyErr_Clear();
+    usage_error(what + " must be a vertex id (an integer), got " + py::str(py::type::of(v)).cast<std::string>());
+  }
+  const py::object owned = py::reinterpret_steal<py::object>(index);
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(index, &overflow);
+  if (overflow != 0 || x < 0 || x >= nv)
+    usage_error(what + " " + py::str(owned).cast<std::string>() + " is not a vertex (0.." + std::to_string(nv - 1) +
+                ")");
+  return static_cast<int32_t>(x);
 }
 
 std::vector<int32_t> vertex_ids(const py::handle& ids, const char* name) {

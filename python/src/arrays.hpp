@@ -1,4 +1,4 @@
-// NumPy arrays in and out of the engine (issue 25 item 2).
+// NumPy arrays in and out of the engine.
 //
 // In: positions as an (n, 3) float32 or float64 array and triangles as an
 // (m, 3) int32, uint32, uint16 or int64 array. Rows at any positive stride with
@@ -48,6 +48,10 @@ std::vector<double> positions_xyz(const py::handle& V, int64_t nv, const char* n
 // A 1-D sequence of vertex ids (any integer dtype; a scalar is one id) as int32.
 // Values beyond int32 raise ValueError naming the argument; the engine checks the range.
 std::vector<int32_t> vertex_ids(const py::handle& ids, const char* name);
+
+// One vertex id, any Python integer (numpy's too): UsageError "`what` N is not a
+// vertex (0..nv-1)" when it is outside the mesh, however large (beyond int64 too).
+int32_t vertex_id(const py::handle& v, int64_t nv, const std::string& what);
 
 // Surface points: an int or 1-D integer array (vertices), or a tuple
 // (faces, bary) of an (k,) integer array and a (k, 3) float array (a point

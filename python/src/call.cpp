@@ -1,6 +1,7 @@
 // Running an engine call from Python with the GIL released, Ctrl-C as the
-// cancel flag and the progress callback (issue 25 item 3); call.hpp says how.
+// cancel flag and the progress callback; call.hpp says how.
 #include "call.hpp"
+#include "errors.hpp"
 
 #include <signal.h>
 
@@ -98,6 +99,10 @@ class SigintScope {
 }  // namespace
 
 void run(const CallOptions& opt, const std::function<void(const RunContext&)>& work) {
+  // The CLI's --threads range; a negative count is no thread budget at all.
+  if (opt.threads < 0 || opt.threads > kMaxThreads)
+    usage_error("threads = " + std::to_string(opt.threads) + " is outside 0.." + std::to_string(kMaxThreads) +
+                " (0 = all cores)");
   CallState st;
   RunContext ctx;
   ctx.threads = opt.threads;

@@ -1,4 +1,4 @@
-// Running an engine call from Python (issue 25 item 3): the GIL released for
+// Running an engine call from Python: the GIL released for
 // the whole computation, Ctrl-C turned into the engine's cancel flag, and the
 // progress callback relayed to Python.
 //
@@ -15,9 +15,12 @@
 
 namespace locus::python {
 
+// The largest `threads` a call takes (the CLI's --threads limit).
+inline constexpr int kMaxThreads = 4096;
+
 // What every computing method takes as keyword arguments.
 struct CallOptions {
-  int threads = 0;              // worker threads for this call; 0 = all cores
+  int threads = 0;              // worker threads for this call; 0 = all cores, at most kMaxThreads (run() refuses others)
   pybind11::object progress;    // None or callable(fraction: float, phase: str) -> bool | None
 };
 

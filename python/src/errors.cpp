@@ -1,4 +1,4 @@
-// Python exceptions for locus::Error (issue 25 item 4); errors.hpp says which.
+// Python exceptions for locus::Error; errors.hpp says which.
 #include "errors.hpp"
 
 #include <Python.h>

@@ -30,11 +30,8 @@ py::object geodesic_distance(const Session& s, const py::handle& sources, const 
   const HeatQuery q = heat(t_factor);
   if (py::isinstance<py::int_>(sources) || (py::hasattr(sources, "__index__") && !py::hasattr(sources, "__len__"))) {
     // One vertex: the heat method from a single source, as `locus geodesic --source`.
-    const int64_t v = sources.cast<int64_t>();
-    if (v < 0 || v >= static_cast<int64_t>(nv))
-      usage_error("geodesic_distance: source " + std::to_string(v) + " is not a vertex (0.." +
-                  std::to_string(int64_t(nv) - 1) + ")");
-    run({threads, progress}, [&](const RunContext& ctx) { s.geodesic_distance(int32_t(v), dst, q, ctx); });
+    const int32_t v = vertex_id(sources, static_cast<int64_t>(nv), "geodesic_distance: source");
+    run({threads, progress}, [&](const RunContext& ctx) { s.geodesic_distance(v, dst, q, ctx); });
   } else {
     const std::vector<MeshPoint> pts = mesh_points(sources, "sources");
     run({threads, progress}, [&](const RunContext& ctx) { s.geodesic_distance(ConstView<MeshPoint>(pts), dst, q, ctx); });

@@ -175,6 +175,11 @@ TEST_CASE("cli faults: huge diffusion times give a numerical failure or finite n
   for (const char* f : {"1e300", "1e-300"}) {
     const Run r = locus(s, "geodesic '" + mesh + "' --source 0 --json --t-factor " + f);
     INFO("geodesic --t-factor " << f << " -> " << r.status << ": " << r.err << r.out);
+    if (std::string(f) == "1e300") {  // beyond the heat method's longest time: refused naming the limit
+      CHECK(r.status == 2);
+      CHECK(r.err.find("at most 1e+06 h^2") != std::string::npos);
+      continue;
+    }
     CHECK((r.status == 0 || r.status == 4));
     if (r.status == 0) CHECK(no_nan_in(r.out));
   }

@@ -38,8 +38,8 @@ TEST_CASE("safe writes: a failed run leaves an existing output byte-identical") 
   const std::string old = "an older result the user keeps\n";
   std::ofstream(out) << old;
 
-  // Fails after reading the mesh (vertex out of range): nothing is written.
-  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "99999", "-o", out.string()}).status == 2);
+  // Fails after reading the mesh (vertex out of range, exit 3): nothing is written.
+  CHECK(run_locus(dir, {"geodesic", mesh, "--source", "99999", "-o", out.string()}).status == 3);
   CHECK(slurp(out) == old);
   // A bad preview path is refused before any work, -o untouched.
   const Run bad_preview =

@@ -2,6 +2,7 @@
 // parsing, exit statuses, the SIGINT cancel flag, the thread budget, loading
 // and subdividing the input, JSON output, --t / --operator parsing.
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/written_files.hpp"
 
 #include <oneapi/tbb/global_control.h>
 
@@ -25,6 +26,7 @@
 #include "locus/io/file_extension.hpp"
 #include "locus/io/write_png.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/mesh/subdivision_budget.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/polygon_triangulation.hpp"
@@ -53,6 +55,9 @@ std::string g_tool = "locus";
 
 // Preview images this command wrote (write_preview), for the JSON key `preview`.
 std::vector<std::string> g_previews;
+
+// Files the command staged (log_written), logged once they are committed.
+std::vector<std::string> g_written;
 
 // For the `timings` every command reports: when the command started, and the
 // input's load and subdivision times (load_input).
@@ -97,7 +102,7 @@ CLI::App* CommandTable::add(const std::string& name, const std::string& descript
   app->add_option("--subdivide", c.subdivide, "1:4 midpoint subdivision K times after loading")
       ->check(CLI::Range(0, 16));
   app->add_option("--max-memory", c.max_memory,
-                  "Memory limit of a factorization: bytes or K/M/G/T (e.g. 4G); default 80% of physical memory");
+                  "Memory limit of a subdivision or factorization: bytes or K/M/G/T (e.g. 4G); default 80% of physical memory");
   cmd->app = app;
   commands_.push_back(std::move(cmd));
   return app;
@@ -151,13 +156,17 @@ int CommandTable::run(int argc, char** argv) {
     ctx.threads = chosen->common.threads;
     ctx.cancel = &g_cancel;
     g_command_clock.restart();
+    g_written.clear();
     int status = chosen->body(chosen->common, ctx);
     std::signal(SIGINT, previous);
     if (ctx.cancelled()) {
       std::cerr << tool_ << ": error: cancelled\n";
       return static_cast<int>(ErrorCode::Cancelled);
     }
-    if (status == 0) outputs.commit();
+    if (status == 0) {
+      outputs.commit();
+      for (const std::string& path : g_written) log("wrote " + path);
+    }
     return status;
   } catch (const Error& e) {
     std::cerr << tool_ << ": error: " << e.what() << "\n";
@@ -201,24 +210,13 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces f
       fail(ErrorCode::BadInput, "--subdivide needs a triangle mesh, but face " + std::to_string(f) + " of " +
                                     opt.mesh_path + " has " + std::to_string(in.mesh.face(f).size()) + " vertices");
     }
-    // Faces are indexed by int32 offsets (3 per triangle): refuse before allocating.
-    const double faces_after = in.mesh.num_faces() * std::pow(4.0, opt.subdivide);
-    if (3.0 * faces_after > static_cast<double>(std::numeric_limits<int32_t>::max()))
-      fail(ErrorCode::BadUsage, "--subdivide " + std::to_string(opt.subdivide) + " would make " +
-                                    std::to_string(static_cast<long long>(faces_after)) + " faces from " +
-                                    opt.mesh_path + " (limit 715827882)");
-    // The subdivided mesh, the subdivision's edge table and the topology
-    // analysis every command runs: about 130 bytes per resulting face (peak RSS
-    // of `locus info sphere.off --subdivide 9`: 11 GB for 84M faces). Refused
-    // before allocating, like a factor too large.
-    const double mesh_bytes = 130.0 * faces_after;
-    if (mesh_bytes > static_cast<double>(memory_limit_bytes(ctx)))
-      fail(ErrorCode::ResourceLimit, "--subdivide " + std::to_string(opt.subdivide) + " of " + opt.mesh_path +
-                                         " would need about " + format_number(mesh_bytes / 1073741824.0) +
-                                         " GiB for its " + std::to_string(static_cast<long long>(faces_after)) +
-                                         " faces, more than the memory limit of " +
-                                         format_number(memory_limit_bytes(ctx) / 1073741824.0) +
-                                         " GiB (raise it with --max-memory)");
+    // Refused before allocating: face indices beyond int32 (exit 3) or more
+    // memory than --max-memory for the mesh and its derived data.
+    try {
+      check_subdivision(in.mesh, opt.subdivide, ctx);
+    } catch (const Error& e) {
+      fail(e.code(), "--subdivide " + std::to_string(opt.subdivide) + ": " + e.what());
+    }
     if (!in.attributes.vertex.empty()) {
       log("--subdivide: the input's " + std::to_string(in.attributes.vertex.size()) +
           " vertex attribute(s) are not carried to the outputs (subdivision makes new vertices)");
@@ -251,7 +249,7 @@ SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const st
   if (!in.triangulated() || p.face < 0) return p;
   const Mesh& poly = in.polygons;
   if (p.face >= poly.num_faces())
-    fail(ErrorCode::BadUsage, what + ": face " + std::to_string(p.face) + " does not exist (" +
+    fail(ErrorCode::BadInput, what + ": face " + std::to_string(p.face) + " does not exist (" +
                                   std::to_string(poly.num_faces()) + " faces)");
   const auto fv = poly.face(p.face);
   double x[3] = {0, 0, 0};
@@ -285,7 +283,7 @@ SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const st
       return q;
     }
   }
-  fail(ErrorCode::BadUsage, what + ": the point with weights of corners 0, 1, 2 of face " + std::to_string(p.face) +
+  fail(ErrorCode::BadInput, what + ": the point with weights of corners 0, 1, 2 of face " + std::to_string(p.face) +
                                 " lies outside that polygon");
 }
 
@@ -338,8 +336,10 @@ void add_result(WriteOptions& wo, VertexProperty p) {
 void write_output_mesh(const CommonOptions& opt, const Mesh& m, const WriteOptions& wo) {
   if (opt.output.empty()) return;
   write_mesh(opt.output, m, wo);
-  log("wrote " + opt.output);
+  log_written(opt.output);
 }
+
+void log_written(const std::string& path) { g_written.push_back(path); }
 
 void emit(const CommonOptions& opt, const Json& result, const std::function<void(std::ostream&)>& human) {
   if (opt.json) {
@@ -699,7 +699,7 @@ void write_preview(const Mesh& m, std::span<const double> values, PreviewKind ki
   const RasterImage img = rasterize_mesh(m, values, ro);
   write_png(path, img.width, img.height, img.rgb);
   g_previews.push_back(path);
-  log("wrote " + path);
+  log_written(path);
 }
 
 std::string format_number(double v) {

@@ -112,9 +112,9 @@ enum class PolygonFaces { Triangulate, Keep };
 
 // Reads the mesh (locus::read_mesh), triangulates polygons (Triangulate) and
 // applies --subdivide. Throws Error(BadInput) for unreadable files, polygons
-// that cannot be triangulated (naming the face) and for subdividing a polygon
-// mesh (Keep), and Error(BadUsage) when the subdivision would overflow 32-bit
-// face indices.
+// that cannot be triangulated (naming the face), for subdividing a polygon
+// mesh (Keep) and when the subdivision would overflow 32-bit face indices, and
+// Error(ResourceLimit) when it would exceed the memory limit (subdivision_budget.hpp).
 Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces = PolygonFaces::Triangulate);
 
 // The mesh an output on the input's vertices is written with: the file's
@@ -125,8 +125,8 @@ Mesh with_positions(const Input& in, const Mesh& moved);
 // A point given on the file's faces (FACE, weights of its corners 0, 1, 2) as
 // a point of the mesh the command works on: unchanged for a triangle file;
 // for a triangulated polygon the triangle of that polygon holding the point.
-// Error(BadUsage) naming `what` when the face does not exist or the point is
-// outside the polygon.
+// Error(BadInput) naming `what` when the face does not exist or the point is
+// outside the polygon (both depend on the file).
 SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const std::string& what);
 
 // The worker threads a command runs with: --threads N, or all cores for 0
@@ -315,7 +315,7 @@ void check_preview_options(const PreviewOptions& preview);
 std::string preview_path_with(const std::string& path, const std::string& suffix);
 // Renders and writes the PNG to `path` (default preview.path) (Error(BadUsage)
 // if values has the wrong size, Error(BadInput) if the file cannot be
-// written); logs "wrote <path>".
+// written); logs "wrote <path>" once the command succeeded (written_files.hpp).
 void write_preview(const Mesh& m, std::span<const double> values, PreviewKind kind, const PreviewOptions& preview,
                    const PreviewContent& content, const std::string& path = "");
 

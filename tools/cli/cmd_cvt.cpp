@@ -3,8 +3,8 @@
 // (approximate selective solves, default) or with full solves (--solver full, for
 // comparison), isotropic or anisotropic (--anisotropy lambda). -o writes the
 // remesh: the restricted-Delaunay dual of the final cells, repaired into a
-// manifold with the input's topology (pipelines/.../voronoi/cvt_remesh.hpp, issue
-// 23); --labels writes the input with a per-vertex `label` property (the cell),
+// manifold with the input's topology (pipelines/.../voronoi/cvt_remesh.hpp);
+// --labels writes the input with a per-vertex `label` property (the cell),
 // --sites-out the sites; --json reports the timings, the `remesh` object
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
 #include <ostream>
@@ -23,6 +23,7 @@
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/written_files.hpp"
 #include "tools/cli/heat_factor_cache.hpp"
 
 namespace locus::cli {
@@ -65,7 +66,7 @@ TimeSpec centroid_time_spec(const CvtOptions& o) {
   return o.centroid_t.empty() ? TimeSpec{0.0, true} : parse_time_spec(o.centroid_t);
 }
 
-LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts) {
+LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts, const TimeSpec& tc) {
   LloydOptions lo;
   lo.sites = o.sites;
   lo.iterations = o.iterations;
@@ -76,7 +77,6 @@ LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const 
   lo.refine = !o.no_refine;
   lo.track_quality = o.track;
   lo.split_faces = !o.no_split;
-  const TimeSpec tc = centroid_time_spec(o);
   (tc.times_h2 ? lo.t_centroid_factor : lo.t_centroid_abs) = tc.value;
   lo.fit_rings = o.fit_rings;
   lo.fit_sigma = o.fit_sigma;
@@ -113,7 +113,7 @@ void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r
     wo.vertex_properties.push_back(std::move(polygon));
   }
   write_mesh(path, pts, wo);
-  log("wrote " + path);
+  log_written(path);
 }
 
 Json defects_json(const DualDefects& d) {
@@ -127,7 +127,7 @@ Json defects_json(const DualDefects& d) {
           {"short_boundary_loops", d.short_boundary_loops}};
 }
 
-// The issue's `remesh` object (keys in its order) and the repair's counts.
+// The `remesh` object (keys in the README's order) and the repair's counts.
 Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
   Json j{{"vertices", st.vertices},
          {"faces", st.faces},
@@ -235,6 +235,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
   // (measurements in docs/cvt.md).
   const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
+  const TimeSpec tc = centroid_time_spec(o);
   validate_factor_cache_options(o.fc);
   check_preview_options(o.preview);
   if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
@@ -243,11 +244,17 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
   const double load_s = total.seconds();
+  // Refusals that depend on the file are bad input (exit 3), like the file's own defects.
   if (o.sites > mesh.num_vertices())
-    fail(ErrorCode::BadUsage, "--sites " + std::to_string(o.sites) + " exceeds the " +
+    fail(ErrorCode::BadInput, opt.mesh_path + ": --sites " + std::to_string(o.sites) + " exceeds the " +
                                   std::to_string(mesh.num_vertices()) + " vertices of the mesh");
+  const MeshDerived derived = derive_mesh(mesh);
+  if (o.sites < derived.components)
+    fail(ErrorCode::BadInput, opt.mesh_path + ": --sites " + std::to_string(o.sites) + " for " +
+                                  std::to_string(derived.components) +
+                                  " connected components; every component needs at least one site");
   RemeshOptions ro;
-  ro.lloyd = lloyd_options(opt, o, ts);
+  ro.lloyd = lloyd_options(opt, o, ts, tc);
   ro.max_repair_rounds = o.repair_rounds;
   ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
@@ -277,7 +284,6 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     ro.lloyd.prepared = &prepared;
   }
   const double factor_s = phase.seconds();
-  const MeshDerived derived = derive_mesh(mesh);
   const RemeshResult rr = cvt_remesh(mesh, derived, ro, run);
   const LloydResult& r = rr.lloyd;
   if (!opt.output.empty() && !rr.complete)
@@ -297,7 +303,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     WriteOptions wo = carried_attributes(in);
     add_result(wo, {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
     write_mesh(o.labels_out, output_faces(in), wo);
-    log("wrote " + o.labels_out);
+    log_written(o.labels_out);
   }
   write_sites(o.sites_out, mesh, r, in.face_of);
   write_cvt_preview(mesh, rr, o.preview);
@@ -375,10 +381,11 @@ void register_cvt_command(CommandTable& table) {
                   "Weighted refit of the centroid's maximizer, Gaussian width in one-ring distances (default 1; 0 = none)")
       ->check(CLI::Range(0.0, 100.0));
   app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
+  // Checked at parse time like -o: a bad target is exit 2 before any work.
   app->add_option("--labels", o->labels_out, "Write the input mesh with a per-vertex `label` property (the cell) (PLY)")
-      ->check(non_empty());
+      ->check(output_file({"ply", "obj", "off"}));
   app->add_option("--sites-out", o->sites_out, "Write the final sites as points (PLY keeps face and barycentrics)")
-      ->check(non_empty());
+      ->check(output_file({"ply", "obj", "off"}));
   app->add_option("--repair-rounds", o->repair_rounds,
                   "Rounds of added sites that make the remesh a manifold (default 12)")
       ->check(CLI::Range(0, 1000));

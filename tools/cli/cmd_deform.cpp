@@ -68,7 +68,7 @@ int run_deform(const CommonOptions& opt, const DeformOptions& o, const RunContex
   // Ids are checked before the global factorization so that a typo fails fast.
   for (const auto& [name, v] : {std::pair<const char*, int32_t>{"--roi-seed", o.roi_seed}, {"--handle", o.handle}})
     if (v < 0 || v >= nv)
-      fail(ErrorCode::BadUsage, std::string(name) + " " + std::to_string(v) + " is not a vertex id (the mesh has " +
+      fail(v < 0 ? ErrorCode::BadUsage : ErrorCode::BadInput, std::string(name) + " " + std::to_string(v) + " is not a vertex id (the mesh has " +
                                     std::to_string(nv) + " vertices)");
   ctx.check_cancel();
 

@@ -19,6 +19,7 @@
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/polygon_heat_geodesic.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/written_files.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 
 namespace locus::cli {
@@ -69,7 +70,7 @@ int run_polygon_geodesic(const CommonOptions& opt, const GeodesicOptions& go, co
     add_result(wo, {"distance", VertexProperty::Type::Double, distance});
     add_result(wo, {"valid", VertexProperty::Type::Int, valid});
     write_mesh(opt.output, in.mesh, wo);
-    log("wrote " + opt.output);
+    log_written(opt.output);
   }
   write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,
                 {"geodesic distance from vertex " + std::to_string(source),
@@ -104,7 +105,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
   Input in = load_input(opt, ctx, polygon_native(go) ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   const int32_t n = in.mesh.num_vertices();
   if (go.source < 0 || go.source >= n)
-    fail(ErrorCode::BadUsage, "--source " + std::to_string(go.source) + " is not a vertex of " + opt.mesh_path +
+    fail(go.source < 0 ? ErrorCode::BadUsage : ErrorCode::BadInput, "--source " + std::to_string(go.source) + " is not a vertex of " + opt.mesh_path +
                                   " (" + std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t source = static_cast<int32_t>(go.source);
   if (!in.mesh.is_triangle_mesh()) return run_polygon_geodesic(opt, go, time, in, source, ctx);
@@ -168,7 +169,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicOptions& go, const RunC
     add_result(wo, {"distance", VertexProperty::Type::Double, distance});
     add_result(wo, {"valid", VertexProperty::Type::Int, valid});
     write_mesh(opt.output, output_faces(in), wo);
-    log("wrote " + opt.output);
+    log_written(opt.output);
   }
   write_preview(in.mesh, distance, PreviewKind::Scalar, go.preview,  // NaN (no value): grey
                 {"geodesic distance from vertex " + std::to_string(source) +

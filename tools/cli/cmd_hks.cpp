@@ -29,6 +29,7 @@
 #include "locus/mesh_io.hpp"
 #include "locus/pipelines/heat/adf.hpp"
 #include "tools/cli/heat_signature.hpp"
+#include "tools/cli/written_files.hpp"
 #include "tools/cli/vertex_list.hpp"
 
 namespace locus::cli {
@@ -146,7 +147,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
       add_result(wo, std::move(p));
     }
     write_mesh(opt.output, output_faces(in), wo);
-    log("wrote " + opt.output);
+    log_written(opt.output);
   }
 
   Json j{{"command", command}, {"input", input_json(opt, in)}};

@@ -26,6 +26,7 @@
 #include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/written_files.hpp"
 #include "tools/cli/heat_method_cache.hpp"
 #include "tools/cli/logmap_choices.hpp"
 
@@ -95,7 +96,7 @@ void write_map(const CommonOptions& opt, const Input& in, std::span<const int32_
   add_result(wo, {"valid", VertexProperty::Type::Int, in_patch});
   add_result(wo, {"in_patch", VertexProperty::Type::Int, in_patch});
   write_mesh(opt.output, output_faces(in), wo);
-  log("wrote " + opt.output);
+  log_written(opt.output);
 }
 
 // The checkerboard of (u, v) on the patch (--preview).
@@ -203,7 +204,7 @@ int run_logmap(const CommonOptions& opt, const LogmapOptions& lo, const RunConte
   Input in = load_input(opt, ctx, polygon_native ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   const int32_t n = in.mesh.num_vertices();
   if (lo.center < 0 || lo.center >= n)
-    fail(ErrorCode::BadUsage, "--center " + std::to_string(lo.center) + " is not a vertex of " + opt.mesh_path + " (" +
+    fail(lo.center < 0 ? ErrorCode::BadUsage : ErrorCode::BadInput, "--center " + std::to_string(lo.center) + " is not a vertex of " + opt.mesh_path + " (" +
                                   std::to_string(n) + " vertices, ids 0.." + std::to_string(n - 1) + ")");
   const int32_t center = static_cast<int32_t>(lo.center);
   const double t_factor = heat_t_factor(time, time.times_h2 ? 0.0 : mean_edge_length(in.mesh));

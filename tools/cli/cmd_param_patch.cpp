@@ -33,6 +33,7 @@
 #include "locus/pipelines/param/patch_param.hpp"
 #include "locus/pipelines/param/patch_param_circle.hpp"
 #include "tools/cli/param_patch.hpp"
+#include "tools/cli/written_files.hpp"
 
 namespace locus::cli {
 
@@ -56,7 +57,7 @@ int run_circle(const CommonOptions& opt, const Input& in, const CscMatrix& K, co
     WriteOptions wo;
     wo.uv = &P.uv;
     write_mesh(opt.output, patch.mesh, wo);
-    log("wrote " + opt.output);
+    log_written(opt.output);
   }
   Json j{{"command", "param"}, {"input", input_json(opt, in)}};
   j["domain"] = "patch";
@@ -117,7 +118,7 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
   check_requirements(m, MeshRequirements{});
   if (center < 0 || center >= m.num_vertices())
-    fail(ErrorCode::BadUsage, "--center " + std::to_string(center) + " is outside 0.." +
+    fail(center < 0 ? ErrorCode::BadUsage : ErrorCode::BadInput, "--center " + std::to_string(center) + " is outside 0.." +
                                   std::to_string(m.num_vertices() - 1));
   ctx.check_cancel();
 
@@ -147,7 +148,7 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
     WriteOptions wo;
     wo.uv = &P.uv;
     write_mesh(opt.output, P.patch.mesh, wo);
-    log("wrote " + opt.output);
+    log_written(opt.output);
   }
   Json j{{"command", "param"}, {"input", input_json(opt, in)}};
   j["domain"] = "patch";

@@ -94,7 +94,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   std::vector<SurfacePoint> sites;
   for (size_t k = 0; k < ids.size(); ++k) {
     if (ids[k] >= mesh.num_vertices())
-      fail(ErrorCode::BadUsage, "--sites entry " + std::to_string(k) + " is vertex " + std::to_string(ids[k]) +
+      fail(ErrorCode::BadInput, "--sites entry " + std::to_string(k) + " is vertex " + std::to_string(ids[k]) +
                                     ", but the mesh has " + std::to_string(mesh.num_vertices()) + " vertices");
     sites.push_back(vertex_point(ids[k]));
   }
@@ -106,7 +106,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   const double prepare_s = sw.seconds();
   if (o.random > 0) sites = random_surface_points(mesh, o.random, opt.seed);
   if (static_cast<int64_t>(sites.size()) > mesh.num_vertices())
-    fail(ErrorCode::BadUsage, "more generators than vertices");
+    fail(ErrorCode::BadInput, "more generators than vertices");
   ctx.check_cancel();
   sw.restart();
   const HeatVoronoi V = heat_voronoi(H, mesh, sites, {}, {}, ctx);

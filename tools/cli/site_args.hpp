@@ -61,12 +61,12 @@ inline SurfacePoint parse_surface_point(const std::string& option, const std::st
   return p;
 }
 
-// Vertex ids -> surface points, each checked against the mesh (BadUsage naming the entry).
+// Vertex ids -> surface points, each checked against the mesh (BadInput naming the entry: it depends on the file).
 inline std::vector<SurfacePoint> vertex_sites(const Mesh& m, const std::string& option, const std::vector<int32_t>& ids) {
   std::vector<SurfacePoint> s;
   for (size_t k = 0; k < ids.size(); ++k) {
     if (ids[k] >= m.num_vertices())
-      fail(ErrorCode::BadUsage, option + " entry " + std::to_string(k) + " is vertex " + std::to_string(ids[k]) +
+      fail(ErrorCode::BadInput, option + " entry " + std::to_string(k) + " is vertex " + std::to_string(ids[k]) +
                                     ", but the mesh has " + std::to_string(m.num_vertices()) + " vertices");
     s.push_back(vertex_point(ids[k]));
   }

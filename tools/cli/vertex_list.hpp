@@ -35,7 +35,7 @@ inline std::vector<int32_t> parse_vertex_list(const std::string& text, int32_t n
     if (ec != std::errc() || ptr != item.data() + item.size())
       fail(ErrorCode::BadUsage, option + ": '" + item + "' is not a vertex index");
     if (v < 0 || v >= nv)
-      fail(ErrorCode::BadUsage, option + ": vertex " + item + " is outside 0.." + std::to_string(nv - 1) +
+      fail(v < 0 ? ErrorCode::BadUsage : ErrorCode::BadInput, option + ": vertex " + item + " is outside 0.." + std::to_string(nv - 1) +
                                     " (the mesh has " + std::to_string(nv) + " vertices)");
     ids.push_back(static_cast<int32_t>(v));
   }

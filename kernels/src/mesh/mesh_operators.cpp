@@ -15,6 +15,7 @@
 #include <cmath>
 #include <string>
 
+#include "locus/kernels/mesh/coordinate_range.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
@@ -31,6 +32,7 @@ void require_triangles(const Mesh& m, const char* what) {
     if (!std::isfinite(m.x[v]) || !std::isfinite(m.y[v]) || !std::isfinite(m.z[v]))
       fail(ErrorCode::BadInput, mesh_name(m) + ": vertex " + std::to_string(v) + " has a non-finite coordinate; " +
                                     what + " needs finite positions");
+  check_mesh_size(m);  // areas and squared lengths representable (else every face looked degenerate)
   const int32_t nf = m.num_faces();
   for (int32_t f = 0; f < nf; ++f) {
     const int32_t d = m.face_offsets[f + 1] - m.face_offsets[f];

@@ -18,6 +18,7 @@
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "mesh_topology_union_find.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/coordinate_range.hpp"
 
 namespace locus {
 
@@ -272,6 +273,9 @@ void check_requirements(const Mesh& m, const MeshRequirements& req, const MeshRe
   auto bad = [&](const std::string& what) { fail(ErrorCode::BadInput, name + ": " + what); };
   if (req.finite_coordinates && r.first_non_finite_vertex >= 0)
     bad("vertex " + std::to_string(r.first_non_finite_vertex) + " has a non-finite coordinate");
+  // Before the degenerate faces: at sizes whose areas overflow or underflow every face looks degenerate.
+  if (req.finite_coordinates && r.non_finite_vertices == 0)
+    check_mesh_size(m, bounding_box_diagonal(r.bbox_min, r.bbox_max));
   if (req.triangles && r.first_non_triangle_face >= 0) {
     const int64_t f = r.first_non_triangle_face;
     const int32_t d = m.face_offsets[f + 1] - m.face_offsets[f];

@@ -1,15 +1,16 @@
 // Heat geodesic distance, whole-mesh and localized (pipelines/include/locus/pipelines/geodesic/heat_geodesic.hpp;
-// thesis §6.4.1-6.4.2, eqs. 6.3-6.6).
+// thesis §6.4.1-6.4.2, eqs. 6.3-6.6). The region a localized query works on is
+// built in heat_geodesic_region.cpp; what the method refuses (needles, too long
+// a time, memory, distances that are no answer) is in heat_geodesic_limits.cpp.
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
+#include "heat_geodesic_limits.hpp"
 #include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 
-#include "locus/core/bit_set.hpp"
 #include "locus/kernels/simd/log_array.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
@@ -25,6 +26,8 @@
 #include <tbb/parallel_invoke.h>
 
 namespace locus {
+
+using namespace heat_geodesic_limits;
 
 namespace {
 
@@ -56,38 +59,6 @@ inline void corner_divergence(const TriangleGradients& g, int32_t k, const doubl
   const double* b = g.basis.data() + 9 * static_cast<int64_t>(k);
   const double a = g.area[k];
   for (int s = 0; s < 3; ++s) out[s] = a * (b[3 * s] * X[0] + b[3 * s + 1] * X[1] + b[3 * s + 2] * X[2]);
-}
-
-// Needle triangles: an angle within kMinAngle of 0 or pi gives cotangent
-// weights beyond 1 / kMinAngle. The factorizations still succeed, but the
-// distance silently loses all accuracy (measured on a 5x5 planar grid with one
-// needle, max error against the Euclidean distance: 0.105 without the needle,
-// 0.125 at |cot| ~ 3e5, 0.15 at 3e6, 0.23-0.41 at 1e7-3e7, 0.66 at 3e8: the
-// result is then meaningless). Refused by name instead of answered wrongly.
-constexpr double kMinAngle = 1e-6;  // radians
-
-void check_needles(const Mesh& m) {
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    cancel_point(f);
-    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
-    for (int k = 0; k < 3; ++k) {
-      const int32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-      double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
-      double wx = m.x[c] - m.x[a], wy = m.y[c] - m.y[a], wz = m.z[c] - m.z[a];
-      const double sc = power_of_two_scale(std::max({std::abs(ux), std::abs(uy), std::abs(uz), std::abs(wx),
-                                                     std::abs(wy), std::abs(wz)}));
-      ux *= sc, uy *= sc, uz *= sc, wx *= sc, wy *= sc, wz *= sc;  // exact; no underflow at tiny scales
-      const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
-      const double angle = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ux * wx + uy * wy + uz * wz);
-      if (angle < kMinAngle || angle > M_PI - kMinAngle) {
-        char deg[32];
-        std::snprintf(deg, sizeof deg, "%.3g", angle * 180.0 / M_PI);
-        fail(ErrorCode::BadInput, mesh_name(m) + ": face " + std::to_string(f) + " has an angle of " +
-                                      deg + " degrees at vertex " + std::to_string(a) +
-                                      " (a needle): heat geodesic distances lose all accuracy there; remesh or remove it");
-      }
-    }
-  }
 }
 
 // A += beta (M_consistent - M_lumped) on A's pattern (lower CSC, diagonal first
@@ -143,6 +114,7 @@ void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
     fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
                                   std::to_string(opt.t_factor) + ")");
+  check_time(opt.t_factor);
   if (!(opt.poisson_rel > 0) || !std::isfinite(opt.poisson_rel))
     fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
   if (!(opt.mass_blend >= 0 && opt.mass_blend <= 1))
@@ -173,6 +145,7 @@ double HeatGeodesic::operators(const Mesh& m, const HeatGeodesicOptions& opt, Cs
   const double t = opt.t_factor * h * h;
   heat = heat_operator(m, t);
   blend_mass(m, opt.mass_blend, heat);
+  normalize_heat_operator(heat);
   poisson = poisson_operator(m, opt);
   return t;
 }
@@ -199,6 +172,7 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
     ticker.add(1.0);
     A = heat_operator(m, t_, inc);
     blend_mass(m, opt.mass_blend, A);
+    normalize_heat_operator(A);
     ticker.add(1.0);
     P = poisson_operator(m, opt, inc);
   };
@@ -225,6 +199,13 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
     S = order_and_analyze(A);
   }
   ctx.check_cancel();
+  {
+    auto bytes = [](const auto& v) { return static_cast<double>(v.size() * sizeof(v[0])); };
+    const double held = bytes(grad_.tri) + bytes(grad_.area) + bytes(grad_.basis) + bytes(grad_.vf_offsets) +
+                        bytes(grad_.vf_faces) + bytes(vf_corners_) + bytes(component_) + bytes(A.values) +
+                        bytes(A.rowind) + bytes(A.colptr) + bytes(P.values) + bytes(P.rowind) + bytes(P.colptr);
+    check_memory(grad_.nv, held, *S, ctx);
+  }
   // The two factorizations side by side: on small meshes one alone keeps two
   // threads only half busy (docs/ordering.md). The heat one reports for both;
   // the Poisson one only polls the cancel flag.
@@ -249,96 +230,6 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGe
                      (heat_.symbolic->perm == poisson_.symbolic->perm &&
                       heat_.symbolic->super_first_col == poisson_.symbolic->super_first_col);
   vertex_super_ = locus::vertex_supernodes(*heat_.symbolic);
-}
-
-// How many patch vertices (or faces) ahead the region walks prefetch.
-constexpr int32_t kAhead = 8;
-
-void HeatGeodesic::build_region(std::span<const int32_t> patch, PatchRegion& r) const {
-  const int32_t n = grad_.nv;
-  if (r.local.size() != static_cast<size_t>(n)) r.local.assign(n, -1);
-  r.verts.clear();
-  r.faces.clear();
-  r.face_local.clear();
-  if (patch.empty()) fail(ErrorCode::BadUsage, "the patch is empty");
-  for (size_t k = 0; k < patch.size(); ++k) {
-    const int32_t v = patch[k];
-    if (k + static_cast<size_t>(kAhead) < patch.size() && static_cast<uint32_t>(patch[k + static_cast<size_t>(kAhead)]) < static_cast<uint32_t>(n))
-      __builtin_prefetch(r.local.data() + patch[k + static_cast<size_t>(kAhead)], 1);
-    if (v < 0 || v >= n || r.local[v] >= 0) {
-      const bool dup = v >= 0 && v < n;
-      release_region(r);
-      fail(ErrorCode::BadUsage, "patch entry " + std::to_string(k) + " is vertex " + std::to_string(v) +
-                                    (dup ? ", listed twice" : ", outside 0.." + std::to_string(n - 1)));
-    }
-    r.local[v] = static_cast<int32_t>(r.verts.size());
-    r.verts.push_back(v);
-  }
-  const int32_t np = static_cast<int32_t>(patch.size());
-  r.patch_size = np;
-  // A face is listed once, by its owner: the patch corner in the lowest corner
-  // slot. The patch is fully marked above, so ownership is decided from the
-  // corner records alone (no per-face marks to set and reset: random writes).
-  auto in_patch = [&](int32_t w) { return static_cast<uint32_t>(r.local[w]) < static_cast<uint32_t>(np); };
-  // Patch vertices lie scattered in memory (a subdivided mesh numbers the new
-  // vertices after the old ones), so each one's records are a cache miss; they
-  // are known in advance and fetched ahead in two stages (offsets, then records).
-  // The walk goes in ascending vertex order (the patch's bits in an n-bit set,
-  // read off word by word), so the per-vertex records are read in memory order:
-  // at 50 % of a 416k mesh the caller's (Dijkstra) order made every vertex a
-  // cache miss. Faces and ring vertices are therefore listed in that order.
-  r.order.clear();
-  if (r.bits.size() != bit_words(n)) r.bits.assign(bit_words(n), 0);
-  if (r.face_bits.size() != bit_words(grad_.nf)) r.face_bits.assign(bit_words(grad_.nf), 0);
-  for (int32_t k = 0; k < np; ++k) set_bit(r.bits, r.verts[k]);
-  append_set_bits(r.bits, r.order);
-  std::fill(r.bits.begin(), r.bits.end(), 0);
-  for (int32_t k = 0; k < np; ++k) {
-    if (k + 2 * kAhead < np) __builtin_prefetch(grad_.vf_offsets.data() + r.order[k + 2 * kAhead]);
-    if (k + kAhead < np) __builtin_prefetch(vf_corners_.data() + 4 * grad_.vf_offsets[r.order[k + kAhead]]);
-    const int32_t v = r.order[k];
-    for (int64_t q = grad_.vf_offsets[v]; q < grad_.vf_offsets[v + 1]; ++q) {
-      const int32_t* c = vf_corners_.data() + 4 * q;  // the face's corners in slot order, then the face
-      if (c[0] != v && (in_patch(c[0]) || (c[1] != v && in_patch(c[1])))) continue;
-      const int32_t f = c[3];
-      set_bit(r.face_bits, f);
-      for (int s = 0; s < 3; ++s) {
-        const int32_t w = c[s];
-        if (r.local[w] < 0) {
-          r.local[w] = static_cast<int32_t>(r.verts.size());
-          r.verts.push_back(w);
-        }
-      }
-    }
-  }
-  build_region_faces(r);
-}
-
-void HeatGeodesic::build_region_faces(PatchRegion& r) const {
-  // Faces in ascending order too: the divergence then reads their gradient
-  // bases (72 bytes each) in memory order.
-  r.faces.clear();
-  append_set_bits(r.face_bits, r.faces);
-  std::fill(r.face_bits.begin(), r.face_bits.end(), 0);
-  // Corner indices into verts; the corners' entries of `local` are fetched ahead.
-  const size_t nfl = r.faces.size();
-  r.face_local.resize(3 * nfl);
-  for (size_t q = 0; q < nfl; ++q) {
-    if (q + kAhead < nfl) {
-      const int32_t* ta = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q + kAhead]);
-      for (int s = 0; s < 3; ++s) __builtin_prefetch(r.local.data() + ta[s]);
-    }
-    const int32_t* t = grad_.tri.data() + 3 * static_cast<int64_t>(r.faces[q]);
-    for (int s = 0; s < 3; ++s) r.face_local[3 * q + s] = r.local[t[s]];
-  }
-}
-
-void HeatGeodesic::release_region(PatchRegion& r) const {
-  for (int32_t v : r.verts) r.local[v] = -1;
-  r.verts.clear();
-  r.faces.clear();
-  r.face_local.clear();
-  r.patch_size = 0;
 }
 
 namespace {
@@ -540,6 +431,10 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   const int32_t c = component_[r.verts[source_local]];
   for (int32_t k = 0; k < np; ++k)
     distance[k] = component_[r.verts[k]] == c ? ws.x[k] - d0 : std::numeric_limits<double>::infinity();
+  // (PoissonRhs::Truncated, a measured alternative, bends d inside P by design: not checked.)
+  if (flux)
+    check_distances(distance.first(static_cast<size_t>(np)),
+                    std::span<const int32_t>(r.verts.data(), static_cast<size_t>(np)), opt_.t_factor);
   note_underflow(h.first(static_cast<size_t>(np)), h[source_local], distance, ws);
 }
 
@@ -551,6 +446,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   const int32_t c = component_[source];
   for (int32_t i = 0; i < n; ++i)
     distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
+  check_distances(distance, {}, opt_.t_factor);
   note_underflow(h, h[source], distance, ws);
 }
 

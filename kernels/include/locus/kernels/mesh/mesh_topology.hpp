@@ -101,9 +101,10 @@ inline constexpr double kDegenerateAreaRelative = 1e-14;
 
 // 2^-k with h * 2^-k in [1, 2): area and angle computations multiply edge
 // vectors by it so that cross products neither underflow (a mesh scaled by
-// 1e-150) nor overflow (1e150). A power of two scales exactly, so results on
-// ordinary meshes equal the unscaled formulas' (up to where the compiler fuses
-// multiply-adds: the geodesic snapshot moved in the 16th digit; issue 22 item 3).
+// 1e-149) nor overflow (1e149; coordinate_range.hpp bounds the sizes). A power
+// of two scales exactly, so results on ordinary meshes equal the unscaled
+// formulas' (up to where the compiler fuses multiply-adds: the geodesic
+// snapshot moved in the 16th digit when this was introduced).
 inline double power_of_two_scale(double h) {
   return h > 0 && h <= std::numeric_limits<double>::max() ? std::ldexp(1.0, -std::ilogb(h)) : 1.0;
 }
@@ -114,8 +115,10 @@ MeshReport analyze_mesh(const Mesh& m, const EdgeIncidence& inc);
 
 // What a pipeline needs of its input; check_requirements throws BadInput naming
 // the first offending element (face, edge, vertex) and the mesh's source file.
-// Checks run in this order: finite coordinates, triangles, unreferenced vertices,
-// degenerate faces, manifold edges, manifold vertices, connected, closed.
+// Checks run in this order: finite coordinates, a size whose areas double
+// precision holds (with finite_coordinates; coordinate_range.hpp), triangles,
+// unreferenced vertices, degenerate faces, manifold edges, manifold vertices,
+// connected, closed.
 struct MeshRequirements {
   bool triangles = true;
   bool manifold = true;

@@ -1,4 +1,4 @@
-// Triangulating polygon faces (issue 22 item 6: quads and polygons from DCC
+// Triangulating polygon faces (quads and polygons from DCC
 // tools into the triangle-only pipelines of chapters 3-6; chapter 2's polygon
 // Laplacians, polygon_laplacian.hpp, need no triangulation).
 //
