@@ -3,9 +3,10 @@
 
 The defect kinds the robust Laplacian (kernels/include/locus/kernels/mesh/
 robust_laplacian.hpp) is made for and the defect detection (mesh_defects.hpp)
-reports, planted the same way as kernels/src/mesh/mesh_defects_plant.cpp does
-for the tests (same sites, same constructions), so the accuracy figure measured
-on these files and the one the tests print agree:
+reports, planted the way kernels/src/mesh/mesh_defects_plant.cpp plants them for
+the tests (the same constructions and the same rule for the sites, so the same
+input mesh gets the same defects; this script's icosphere numbers its vertices
+as the kernels' make_icosphere may not):
 
   fin            a triangle on an existing edge, apex h above the edge midpoint (non-manifold edge)
   bowtie         two non-adjacent faces of a vertex's fan removed (non-manifold vertex)

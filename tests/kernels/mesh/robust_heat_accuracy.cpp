@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_defects_plant.hpp"
@@ -125,7 +126,7 @@ TEST_CASE("robust Laplacian: heat distance on an icosphere with planted defects 
     const PlantedDefect kind = static_cast<PlantedDefect>(k);
     const Mesh m = plant_mesh_defect(clean, kind, sites);
     const double e = mean_error(m, heat_distance(m, 0), nv0, 0);
-    MESSAGE(planted_defect_name(kind) << " x" << sites << ": mean error " << e << " (" << e / clean_error
+    MESSAGE(std::string(planted_defect_name(kind)) << " x" << sites << ": mean error " << e << " (" << e / clean_error
                                       << "x clean)");
     CAPTURE(planted_defect_name(kind));
     CHECK(e <= 1.5 * clean_error);
