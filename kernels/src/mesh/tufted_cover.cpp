@@ -30,8 +30,11 @@ void require_finite_triangles(const Mesh& m) {
 }
 
 double distance(const Mesh& m, int32_t a, int32_t b) {
-  // Scaled by a power of two so that the squares neither overflow nor underflow.
   double d[3] = {m.x[b] - m.x[a], m.y[b] - m.y[a], m.z[b] - m.z[a]};
+  const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  // Fast path unless the squares may have underflowed or overflowed; then scaled
+  // by a power of two (exact).
+  if (d2 > 1e-200 && d2 < 1e200) return std::sqrt(d2);
   const double sc = power_of_two_scale(std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])}));
   for (double& c : d) c *= sc;
   return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / sc;
