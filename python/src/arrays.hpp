@@ -1,4 +1,4 @@
-// NumPy arrays in and out of the engine (issue 25 item 2).
+// NumPy arrays in and out of the engine.
 //
 // In: positions as an (n, 3) float32 or float64 array and triangles as an
 // (m, 3) int32, uint32, uint16 or int64 array. Rows at any positive stride with

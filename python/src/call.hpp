@@ -1,4 +1,4 @@
-// Running an engine call from Python (issue 25 item 3): the GIL released for
+// Running an engine call from Python: the GIL released for
 // the whole computation, Ctrl-C turned into the engine's cancel flag, and the
 // progress callback relayed to Python.
 //

@@ -1,4 +1,4 @@
-// Python exceptions for locus::Error (issue 25 item 4).
+// Python exceptions for locus::Error.
 //
 // locus.Error is the base; each ErrorCode maps to one subclass so that a
 // script can catch what it can handle: InputError (the mesh is unsuitable:
