@@ -1,5 +1,4 @@
-// Multi-source heat geodesic distance through the Session (issue 24 item 1;
-// thesis §6.4.1, Crane et al. 2013 §3.2 "the heat method applies to any
+// Multi-source heat geodesic distance through the Session (thesis §6.4.1, Crane et al. 2013 §3.2 "the heat method applies to any
 // source set").
 //
 // The heat step's right-hand side is the hat functions of every source at once

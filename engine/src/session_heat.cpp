@@ -1,4 +1,4 @@
-// Session queries of the local-solve pipelines (issue 24 item 1; thesis §4.6):
+// Session queries of the local-solve pipelines (thesis §4.6):
 // auto-diffusion function, heat kernel signature and pairwise heat exchange,
 // plus the caches every diffusion pipeline shares (the heat operator per t,
 // the regularized Laplacian) and the checks of caller points.

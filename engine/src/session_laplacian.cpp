@@ -1,4 +1,4 @@
-// Session queries of Algorithm 1 (issue 24 item 1; thesis chapter 2): the
+// Session queries of Algorithm 1 (thesis chapter 2): the
 // perfect Laplacian of the Session's mesh (`locus perfect-laplacian`) and the
 // self-supporting surface near it (§2.6, eq. 2.12; `locus selfsupport`).
 //

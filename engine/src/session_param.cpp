@@ -1,4 +1,4 @@
-// Session queries of the parameterizations (issue 24 item 1): the flip-free
+// Session queries of the parameterizations: the flip-free
 // parameterization of a disk-like mesh (thesis §2.6, `locus param`) and the
 // harmonic parameterization of a patch from the global factor (§4.4, `locus
 // param --center`), with Neumann data (eq. 4.6) or the boundary fixed on a

@@ -1,4 +1,4 @@
-// locus::Session on polygon meshes (issues 24, 25, 27; session.hpp "Polygon
+// locus::Session on polygon meshes (session.hpp "Polygon
 // meshes"): the heat method on the polygon operators (thesis §6.4-6.6 on the
 // virtual-vertex operators of pipelines/.../geodesic/polygon_heat_geodesic.hpp),
 // the same computation as `locus geodesic` / `locus logmap` on a polygon file,

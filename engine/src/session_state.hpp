@@ -19,6 +19,8 @@
 #include <cstring>
 #include <future>
 #include <map>
+#include <optional>
+#include <string>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -27,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "locus/engine/factor_store.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
@@ -35,7 +38,10 @@
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
+#include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/heat_time.hpp"
 #include "locus/pipelines/deform/deform.hpp"
+#include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
 #include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "locus/session.hpp"
@@ -111,7 +117,7 @@ class OnceMap {
   std::map<K, std::shared_future<std::shared_ptr<const V>>> map_;
 };
 
-// One monotone progress fraction per Session call (issue 24 item 3): the
+// One monotone progress fraction per Session call: the
 // cached operators the call has to build take [0, build_share) of it (none
 // when they are cached: the first query at 416k vertices is ~97% factoring,
 // docs/shipping.md), the query itself the rest. Reports through either never
@@ -199,6 +205,7 @@ struct State {
   // (its geodesic() serves geodesic_distance), the log map's patches.
   OnceMap<uint64_t, PolygonLogMap> polygon_engines;  // t_factor bits
   OnceMap<int, PolygonPatches> polygon_patches;      // single entry
+  OnceMap<int, DemLogMap> dem;                       // single entry: the DEM log map (logmap method dem)
 };
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.
@@ -240,6 +247,19 @@ void polygon_geodesic(State& s, int32_t source, View<double> out, const HeatQuer
 void polygon_geodesic(State& s, std::span<const SurfacePoint> sources, View<double> out, const HeatQuery& q,
                       const RunContext& ctx);
 LogMapResult polygon_logmap(State& s, int32_t center, int32_t count, const HeatQuery& q, const RunContext& ctx);
+
+// ---- The heat-method commands (session_geodesic_command.cpp, session_logmap_command.cpp) ----
+double seconds_since(std::chrono::steady_clock::time_point t0);
+// Error(BadUsage) unless 0 < fraction <= 1.
+void check_fraction(double fraction);
+// A request's diffusion time (t or t_factor; default 4h2).
+HeatTime heat_method_time(const std::string& t, const std::optional<double>& t_factor);
+// The heat-method engine for t_factor: the Session's cached one, or with a
+// factor cache (save/load) one of the caller's own, its factors loaded or saved.
+std::shared_ptr<const HeatLogMap> heat_method_engine(State& s, double t_factor, const FactorCacheFiles& files,
+                                                     FactorCacheReport& report, const RunContext& ctx);
+// "the heat underflowed at N<what>--t Ch2 (t = T) avoids it".
+std::string underflow_warning(int64_t vertices, double t_no_underflow, double h, const char* what);
 
 }  // namespace session_detail
 

@@ -1,4 +1,4 @@
-// Session queries of the heat-diffusion diagrams (issue 24 item 1; thesis §3.4,
+// Session queries of the heat-diffusion diagrams (thesis §3.4,
 // §3.7.2): Voronoi diagram with its bisector polylines, natural-neighbor
 // coordinates (a prepared field and one-shot) and skinning weights.
 //

@@ -51,6 +51,7 @@ from ._locus import (  # noqa: F401  (the package's API)
 )
 from ._one_shot import (  # noqa: F401
     geodesic_distance,
+    geodesic,
     logmap,
     heat_values,
     cvt,
@@ -68,7 +69,7 @@ __all__ = [
     "Error", "UsageError", "InputError", "NumericalError", "Cancelled", "ResourceLimitError",
     "Session", "NaturalNeighbors",
     "read_mesh", "write_mesh", "subdivide", "render_preview",
-    "geodesic_distance", "logmap", "heat_values", "cvt", "voronoi", "natural_neighbor_coordinates",
+    "geodesic_distance", "geodesic", "logmap", "heat_values", "cvt", "voronoi", "natural_neighbor_coordinates",
     "skinning_weights", "adf", "hks", "heat_exchange", "deform", "param",
     "parameterize_disk", "perfect_laplacian", "self_supporting",
 ]

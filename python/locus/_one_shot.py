@@ -24,17 +24,37 @@ def geodesic_distance(V, F, sources, *, t_factor=None, **call):
     return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
 
 
-def logmap(V, F, center, fraction=0.05, *, t_factor=None, **call):
-    """Heat log map of the geodesic disk of round(fraction * nv) vertices around center.
+def geodesic(V, F, source, *, fraction=1.0, t=None, t_factor=None, save=None, load=None, **call):
+    """`locus geodesic` with every option: distance from vertex `source` and the CLI's statistics.
+
+    fraction: 1 (default) the whole mesh, else the geodesic disk of
+    round(fraction * nv) vertices (exact subset solves). t: the diffusion time
+    as the CLI's --t, a str ('4h2', '0.001') or a number (absolute); None: 4h2
+    (8h2 on polygon meshes). t_factor: t = t_factor * h^2 (not with t).
+    save / load: a factor cache file. Returns a namespace: .distance (NaN
+    without a value), .valid and the statistics. See Session.geodesic.
+    """
+    return Session(V, F).geodesic(source, fraction=fraction, t=t, t_factor=t_factor, save=save, load=load, **call)
+
+
+def logmap(V, F, center, fraction=0.05, *, t=None, t_factor=None, method="heat", angle="auto",
+           lattice="default", recenter="default", clip_injective=False, save=None, load=None, **call):
+    """`locus logmap` with every option: the log map of the geodesic disk of round(fraction * nv) vertices.
 
     F: triangles or a polygon mesh (as geodesic_distance; on polygons the
     polygon log map with full solves, as `locus logmap`).
-    fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (None: 4, 8 on
-    polygon meshes, as the CLI).
+    fraction: in (0, 1] (default 0.05). t, t_factor, save, load: as geodesic.
+    method: 'heat' (localized), 'heat-full' or 'dem'; angle: 'auto', 'log',
+    'two-ring' or 'average'; lattice: 'default', 'none', 'star', 'ring' or
+    'path'; recenter: 'default', 'on' or 'off'; clip_injective: keep only the
+    vertices inside the injectivity radius.
     Returns a namespace: .patch (vertex ids, center first), .distance (units of V),
-    .angle (radians), .u, .v (Cartesian coordinates). See Session.logmap.
+    .angle (radians), .u, .v (Cartesian coordinates) and the CLI's statistics.
+    See Session.logmap.
     """
-    return Session(V, F).logmap(center, fraction, t_factor=t_factor, **call)
+    return Session(V, F).logmap(center, fraction, t=t, t_factor=t_factor, method=method, angle=angle,
+                                lattice=lattice, recenter=recenter, clip_injective=clip_injective, save=save,
+                                load=load, **call)
 
 
 def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):

@@ -1,6 +1,5 @@
-// locus._locus._bench: the C++ peer of tools/bench_python.py (issue 25 "Done
-// when": the binding's overhead per query against the same query in C++, in
-// the same process). Not part of the API.
+// locus._locus._bench: the C++ peer of tools/bench_python.py (the binding's
+// overhead per query against the same query in C++, in the same process). Not part of the API.
 #include <chrono>
 #include <vector>
 

@@ -1,4 +1,4 @@
-// Module-level functions that need no Session (issue 25 item 2): mesh files,
+// Module-level functions that need no Session: mesh files,
 // midpoint subdivision, the engine's PNG preview, and the chapter-2 one-shots
 // on polygon meshes (a Session takes them too; these have nothing to cache).
 #include <string>

@@ -1,4 +1,4 @@
-// The `locus._locus` extension module (issue 25): NumPy in and out of the
+// The `locus._locus` extension module: NumPy in and out of the
 // engine's Session, the GIL released while computing, Ctrl-C as the cancel
 // flag, engine errors as Python exceptions. python/locus/__init__.py re-exports
 // it with the one-shot functions (python/locus/_one_shot.py).
@@ -13,6 +13,7 @@
 namespace locus::python {
 void bind_mesh_functions(pybind11::module_& m);  // mesh_functions.cpp
 void bind_bench_peer(pybind11::module_& m);      // bench_peer.cpp
+void bind_request_fields(pybind11::module_& m);  // session_commands.cpp
 }
 
 PYBIND11_MODULE(_locus, m) {
@@ -27,4 +28,5 @@ PYBIND11_MODULE(_locus, m) {
   locus::python::bind_session(m);
   locus::python::bind_mesh_functions(m);
   locus::python::bind_bench_peer(m);
+  locus::python::bind_request_fields(m);
 }

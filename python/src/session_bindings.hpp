@@ -1,4 +1,4 @@
-// The locus.Session class (issue 25 item 2, the prepared tier), bound in
+// The locus.Session class (the prepared tier), bound in
 // parts by topic: session_class.cpp (construction, positions, stats,
 // preparation), session_geodesic.cpp (heat method: distance, log map, heat
 // values, random points), session_diffusion.cpp (Voronoi, natural neighbors,
@@ -17,6 +17,7 @@ using SessionClass = pybind11::class_<Session>;
 
 void bind_session(pybind11::module_& m);
 void bind_session_geodesic(SessionClass& cls);
+void bind_session_commands(SessionClass& cls);  // geodesic, logmap: every CLI option
 void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
 void bind_session_shape(SessionClass& cls);
 

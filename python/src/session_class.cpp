@@ -1,4 +1,4 @@
-// locus.Session (issue 25 item 2, the prepared tier): one triangle mesh and
+// locus.Session (the prepared tier): one triangle mesh and
 // every factorization derived from it, kept between calls (engine/include/
 // locus/session.hpp). Construction, positions, counters and eager preparation;
 // the queries are bound in session_geodesic/diffusion/shape.cpp.
@@ -159,6 +159,7 @@ void bind_session(py::module_& m) {
            std::to_string(s.num_faces()) + " triangles>";
   });
   bind_session_geodesic(cls);
+  bind_session_commands(cls);
   bind_session_diffusion(m, cls);
   bind_session_shape(cls);
 }

@@ -1,5 +1,6 @@
-// locus.Session: the heat method (thesis §6.4–6.6) — geodesic distance, log
-// maps — and heat values by exact subset solves (ch. 4), random surface points.
+// locus.Session: the heat method (thesis §6.4–6.6) — geodesic distance from
+// vertices and points (the log map and the geodesic command: session_commands.cpp)
+// — and heat values by exact subset solves (ch. 4), random surface points.
 #include <string>
 
 #include "arrays.hpp"
@@ -39,15 +40,6 @@ py::object geodesic_distance(const Session& s, const py::handle& sources, const 
   return array;
 }
 
-py::object logmap(const Session& s, int32_t center, double fraction, const py::handle& t_factor_arg, int threads,
-                  py::object progress) {
-  const double t_factor = heat_method_t_factor(t_factor_arg);
-  LogMapResult r;
-  run({threads, progress}, [&](const RunContext& ctx) { r = s.logmap(center, fraction, heat(t_factor), ctx); });
-  return result(py::dict("patch"_a = take(std::move(r.patch)), "distance"_a = take(std::move(r.distance)),
-                         "angle"_a = take(std::move(r.angle)), "u"_a = take(std::move(r.u)), "v"_a = take(std::move(r.v))));
-}
-
 py::array heat_values(const Session& s, const py::handle& sources, const py::handle& targets, double t_factor, double t,
                       int threads, py::object progress) {
   const std::vector<int32_t> src = vertex_ids(sources, "sources"), dst = vertex_ids(targets, "targets");
@@ -76,17 +68,6 @@ void bind_session_geodesic(SessionClass& cls) {
                        "h their mean edge). The first query per t_factor factors two operators; later ones reuse "
                        "them (stats()).\n"
                        "out: a float64 C-contiguous array of shape (nv,) to write into (no allocation); returned.\n") +
-           kCallArgs).c_str());
-  cls.def("logmap", &logmap, "center"_a, "fraction"_a = 0.05, py::kw_only(), "t_factor"_a = py::none(), "threads"_a = 0,
-          "progress"_a = py::none(),
-          (std::string("logmap(center, fraction=0.05, *, t_factor=None, threads=0, progress=None) -> namespace\n\n"
-                       "Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv) vertices around "
-                       "`center`, by exact subset solves from the global factors. Polygon meshes: the polygon log "
-                       "map with full solves on the disk grown over the polygon edges, as `locus logmap`.\n"
-                       "Returns .patch (int32 vertex ids, center first) and per patch vertex .distance (units of "
-                       "the positions), .angle (radians) and .u, .v = distance * (cos, sin)(angle).\n"
-                       "fraction: in (0, 1] (default 0.05). t_factor: t = t_factor * h^2 (None: 4, 8 on polygon meshes, as "
-                       "the CLI).\n") +
            kCallArgs).c_str());
   cls.def("heat_values", &heat_values, "sources"_a, "targets"_a, py::kw_only(), "t_factor"_a = 1.0, "t"_a = 0.0,
           "threads"_a = 0, "progress"_a = py::none(),

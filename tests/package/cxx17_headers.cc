@@ -3,6 +3,9 @@
 // (core/include, io/include, engine/include), and locus::View takes what a
 // C++17 host passes. Compiled with -fsyntax-only -std=c++17 -Werror; nothing
 // runs. (.cc, not .cpp: the test suite globs tests/*.cpp into locus-tests.)
+#include <locus/engine/geodesic_requests.hpp>
+#include <locus/engine/heat_time.hpp>
+#include <locus/engine/mesh_input.hpp>
 #include <locus/error.hpp>
 #include <locus/locus.h>
 #include <locus/mesh.hpp>

@@ -158,10 +158,10 @@ int run_deform(const CommonOptions& opt, const DeformOptions& o, const RunContex
   j["max_displacement"] = moved;
   j["update_vs_refactor_max_diff"] = diff;
   j["factor_cache"] = factor_cache_json(o.cache, global);
-  j["timings"] = {{"load_s", in.load_s},           {"subdivide_s", in.subdivide_s}, {"operator_s", op.operator_s},
+  j["timings"] = timings(in, {{"operator_s", op.operator_s},
                   {"order_s", op.order_s},         {"analyze_s", op.analyze_s},     {"factor_s", op.factor_s},
                   {"region_s", region_s},          {"update_structure_s", us.structure_s},
-                  {"update_mark_s", us.mark_s},    {"update_copy_s", us.copy_s},    {"update_factor_s", us.factor_s}};
+                  {"update_mark_s", us.mark_s},    {"update_copy_s", us.copy_s},    {"update_factor_s", us.factor_s}});
   write_output_mesh(opt, with_positions(in, out), carried_attributes(in, /*positions_changed=*/true));
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << deform_energy_name(energy) << " deformation, " << nv << " vertices; ROI "

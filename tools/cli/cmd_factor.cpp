@@ -145,7 +145,7 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   j["residual8"] = residual8;
   // max_i |x8[i, lane 0] - x[i]| / max_i |x[i]|: the 8-lane path must agree with the 1-lane one.
   j["solve8_lane0_vs_solve"] = lane0_vs_solve;
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s}};
+  j["timings"] = timings(in, {{"operator_s", operator_s}});
   write_output_mesh(opt, output_faces(in), carried_attributes(in));
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << fo.op.kind << " operator";

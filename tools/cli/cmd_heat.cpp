@@ -90,8 +90,8 @@ int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContex
   j["solve_s"] = median(solve_s);
   j["repeats"] = ho.repeat;
   j["factor_cache"] = factor_cache_json(ho.cache, H);
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
-                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
+  j["timings"] = timings(in, {{"operator_s", operator_s},
+                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat exchange by " << heat_exchange_method_name(method) << ", t = " << t << ", n "
        << m.num_vertices() << "\n  factor " << factor_s << " s, query " << median(query_s) << " s (columns forward "

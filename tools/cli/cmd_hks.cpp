@@ -197,8 +197,8 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
     }
   }
   j["factor_cache"] = factor_cache_json(so.cache, F);
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
-                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}};
+  j["timings"] = timings(in, {{"operator_s", H.operator_s},
+                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}});
   if (!previews.empty()) {
     Json files = Json::array();
     for (const auto& [t, path] : previews) {

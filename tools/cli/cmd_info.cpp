@@ -77,7 +77,7 @@ int run_info(const CommonOptions& opt, const RunContext& ctx) {
 
   Json j{{"command", "info"}, {"input", input_json(opt, in)}};
   j.update(report_json(r));
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"analysis_s", analysis_s}};
+  j["timings"] = timings(in, {{"analysis_s", analysis_s}});
   write_output_mesh(opt, in.mesh, carried_attributes(in));
   emit(opt, j, [&](std::ostream& os) { print_human(os, opt, in, r, analysis_s); });
   return 0;

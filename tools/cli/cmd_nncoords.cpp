@@ -59,7 +59,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   j["degenerate"] = c.degenerate;
   j["clamped"] = c.clamped;
   j["fallback_faces"] = c.fallback_faces;
-  j["timings"] = {{"load_s", in.load_s}, {"prepare_s", prepare_s}, {"query_s", query_s}};
+  j["timings"] = timings(in, {{"prepare_s", prepare_s}, {"query_s", query_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": natural-neighbor coordinates of face " << q.face << " (" << q.bary[0] << ", "
        << q.bary[1] << ", " << q.bary[2] << ")\n";

@@ -85,7 +85,7 @@ int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunCont
     j["first_iter_s"] = r.first_iter_s;
     j["iter_s"] = r.iter_s;
   }
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"param_s", r.total_s}};
+  j["timings"] = timings(in, {{"param_s", r.total_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << po.method << " parameterization\n  flipped faces " << r.faces.flipped_faces
        << ", degenerate faces " << r.faces.degenerate_faces << ", negative weights " << r.negative_weights << "\n";

@@ -88,10 +88,10 @@ int run_circle(const CommonOptions& opt, const Input& in, const CscMatrix& K, co
   j["factor_s"] = Fs.order_s + Fs.analyze_s + Fs.numeric_s;
   j["query_s"] = query_s;
   j["factor_cache"] = factor_cache_json(cache, Fs);
-  j["timings"] = {{"load_s", in.load_s},     {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
+  j["timings"] = timings(in, {{"operator_s", operator_s},
                   {"order_s", Fs.order_s},   {"analyze_s", Fs.analyze_s},     {"numeric_s", Fs.numeric_s},
                   {"prepare_s", prepare_s},  {"grow_s", P.grow_s},            {"system_s", P.system_s},
-                  {"update_s", P.update_s},  {"solve_s", P.solve_s},          {"check_s", P.check_s}};
+                  {"update_s", P.update_s},  {"solve_s", P.solve_s},          {"check_s", P.check_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": patch of " << patch.vertices.size() << " vertices around " << center
        << " (boundary " << P.disk.boundary.size() << " vertices on a circle, " << P.disk.holes_filled
@@ -172,10 +172,10 @@ int run_param_patch(const CommonOptions& opt, int32_t center, double fraction, c
   j["factor_s"] = order_s + analyze_s + numeric_s;
   j["query_s"] = query_s;
   j["factor_cache"] = factor_cache_json(cache, Fs);
-  j["timings"] = {{"load_s", in.load_s},   {"subdivide_s", in.subdivide_s}, {"operator_s", operator_s},
+  j["timings"] = timings(in, {{"operator_s", operator_s},
                   {"order_s", order_s},    {"analyze_s", analyze_s},       {"numeric_s", numeric_s},
                   {"prepare_s", prepare_s}, {"grow_s", P.grow_s},          {"rhs_s", P.rhs_s},
-                  {"solve_s", P.solve_s},  {"check_s", P.check_s}};
+                  {"solve_s", P.solve_s},  {"check_s", P.check_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": patch of " << P.patch.vertices.size() << " vertices around " << center
        << " (boundary " << P.boundary.size() << " vertices, " << P.boundary_loops << " loop(s), Euler characteristic "

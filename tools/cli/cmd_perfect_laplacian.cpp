@@ -140,7 +140,7 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
   j["first_iter_s"] = r.first_iter_s;
   j["iter_s"] = r.iter_s;
   j["iter_ratio"] = r.first_iter_s > 0 ? r.iter_s / r.first_iter_s : 0.0;
-  j["timings"] = {{"load_s", in.load_s}, {"subdivide_s", in.subdivide_s}, {"rhs_s", R.rhs_s}, {"total_s", total_s}};
+  j["timings"] = timings(in, {{"rhs_s", R.rhs_s}, {"total_s", total_s}});
   if (!opt.output.empty()) j["weights_file"] = opt.output + ".weights.txt";
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": perfect Laplacian (" << R.mode << (R.boundary_on_circle ? ", boundary on a circle" : "")

@@ -57,7 +57,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   j["degenerate_vertices"] = W.degenerate;
   j["fallback_faces"] = W.fallback_faces;
   j["max_clamped"] = W.max_clamped;
-  j["timings"] = {{"load_s", in.load_s}, {"factor_s", factor_s}, {"prepare_s", W.prepare_s}, {"weights_s", W.weights_s}};
+  j["timings"] = timings(in, {{"factor_s", factor_s}, {"prepare_s", W.prepare_s}, {"weights_s", W.weights_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": skinning weights of " << k << " handles at " << n << " vertices in " << W.weights_s
        << " s" << (opt.output.empty() ? "" : " -> " + opt.output) << "\n";

@@ -144,9 +144,9 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   j["vertices_without_heat"] = cold;
   j["values_solved_again"] = D.resolved_missing;
   j["factor_cache"] = factor_cache_json(o.fc, cache);
-  j["timings"] = {{"load_s", in.load_s},      {"subdivide_s", in.subdivide_s}, {"operator_s", H.operator_s},
+  j["timings"] = timings(in, {{"operator_s", H.operator_s},
                   {"order_s", H.order_s},     {"analyze_s", H.analyze_s},      {"factor_s", H.factor_s},
-                  {"prepare_s", prepare_s},   {"solve_s", solve_s},            {"diagram_s", diagram_s}};
+                  {"prepare_s", prepare_s},   {"solve_s", solve_s},            {"diagram_s", diagram_s}});
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": heat Voronoi diagram of " << sites.size() << " generators on " << mesh.num_vertices()
        << " vertices (t = " << H.t << ")\n"

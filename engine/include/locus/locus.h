@@ -1,4 +1,4 @@
-/* locus.h — the C API of locus (issue 9 item 2; README "Embedding").
+/* locus.h — the C API of locus (README "Embedding").
  *
  * For game engines, DCC plugins and other languages: opaque session handles,
  * flat arrays with counts, outputs written into caller memory, status codes,
@@ -8,8 +8,8 @@
  * first query factors the operators it needs (heat method: M - tL and
  * -L + eps M, t = h^2 with h the mean edge length), every later query reuses
  * those factors. Every pipeline of the `locus` CLI has a call here (the
- * section "Pipelines added by issue 24" lists the later ones), returning the
- * CLI's numbers for the same arguments. See locus/session.hpp for the algorithms.
+ * diffusion, deformation and shape calls follow the heat method's), returning
+ * the CLI's numbers for the same arguments. See locus/session.hpp for the algorithms.
  *
  * Status codes mirror the exit statuses of the `locus` command-line tool:
  *   LOCUS_OK (0), LOCUS_BAD_USAGE (2: a wrong argument — null pointer, count or
@@ -105,7 +105,7 @@ const char* locus_last_error_message(void);
  * Thread-safe; never fails. */
 int64_t locus_last_error_copy(char* buffer, int64_t capacity);
 
-/* ---- The host's allocator (issue 24 item 2; README "Embedding: the allocator") ----
+/* ---- The host's allocator (README "Embedding: the allocator") ----
  * Routes locus' large buffers through the host's memory: alloc(size, user_data)
  * returns `size` bytes aligned to 16 bytes (as malloc does), or NULL when it
  * has none (the call in progress then fails with LOCUS_BAD_INPUT, "out of
@@ -148,7 +148,7 @@ locus_status locus_session_create_from_file(const char* path, locus_session** ou
 locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
                                   locus_session** out);
 
-/* A triangle mesh in the caller's own buffers (issue 24 item 2): positions as
+/* A triangle mesh in the caller's own buffers: positions as
  * float or double, ids as uint16, uint32 or int32, each at a byte stride, as
  * game engines keep them in interleaved vertex and index buffers. No alignment
  * is needed. float -> double and the id conversions are exact: a view gives
@@ -174,7 +174,7 @@ typedef struct locus_mesh_view {
  * Thread-safe. */
 locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
 
-/* Polygon meshes (quads, mixed, n-gons; issues 24, 27). Faces in CSR form:
+/* Polygon meshes (quads, mixed, n-gons). Faces in CSR form:
  * face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
  * face_offsets has nf + 1 entries, face_offsets[0] = 0 (LOCUS_BAD_USAGE
  * otherwise, as for an id out of range); a face of fewer than 3 corners or one
@@ -259,6 +259,82 @@ locus_status locus_logmap(locus_session* session, int64_t center, double fractio
 locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
                              const locus_run_options* opts);
 
+/* ---- The geodesic and logmap commands, every option of `locus geodesic` and
+ * `locus logmap` (engine/include/locus/engine/geodesic_requests.hpp) ----
+ * Each field is the CLI's option of the same name ('-' as '_') with its
+ * default; locus_*_options_default() returns the defaults (a zero-initialized
+ * struct is not the default here: fraction is not 0). Strings are
+ * NUL-terminated; NULL or "" means the default (or none). Diffusion time: `t`
+ * as text ("4h2": a multiple of h^2, h the mean edge length; "0.001": an
+ * absolute time) or t_factor = C for "Ch2" (0: not given; not both); default
+ * 4h2, 8h2 on polygon meshes. save/load: a factor cache file of the heat
+ * method's two factors (written after factoring / read instead of factoring,
+ * refused with LOCUS_BAD_INPUT when made for another mesh or t). The argument
+ * checks are the CLI's, with its messages. opts->t_factor must be 0 here. */
+typedef struct locus_geodesic_options {
+  int64_t source;    /* source vertex (no default: -1) */
+  double fraction;   /* (0, 1]: 1 (default) the whole mesh, else the geodesic disk of round(fraction * nv) vertices */
+  const char* t;     /* NULL: default */
+  double t_factor;   /* 0: not given */
+  const char* save;  /* NULL: none */
+  const char* load;  /* NULL: none */
+} locus_geodesic_options;
+locus_geodesic_options locus_geodesic_options_default(void);
+
+/* What a geodesic run reports beside the distances (as `locus geodesic --json`). */
+typedef struct locus_geodesic_report {
+  int64_t patch_size;               /* vertices computed */
+  double t_factor, t, h;            /* the time used (t = t_factor h^2) and the mean edge length */
+  double max_distance;
+  int64_t unreachable;              /* vertices in other connected components (NaN) */
+  int64_t heat_underflow_vertices;  /* the heat underflowed there (distances interpolated) */
+  double t_avoiding_underflow;      /* a t that avoids it (0: none underflowed) */
+  double precompute_s, patch_s, query_s;
+} locus_geodesic_report;
+
+/* Heat geodesic distance with every option: out_nv receives vertex-count
+ * doubles, NaN (no value) outside the patch and in other components than the
+ * source. out_report may be NULL. The numbers are `locus geodesic`'s, bit for bit. */
+locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
+                                locus_geodesic_report* out_report, const locus_run_options* opts);
+
+typedef struct locus_logmap_options {
+  int64_t center;          /* center vertex (no default: -1) */
+  double fraction;         /* (0, 1], default 0.05 */
+  const char* t;           /* NULL: default */
+  double t_factor;         /* 0: not given */
+  const char* method;      /* "heat" (default, localized), "heat-full" or "dem" */
+  const char* angle;       /* "auto" (default), "log", "two-ring" or "average" */
+  const char* lattice;     /* "default" (the library's, path), "none", "star", "ring" or "path" */
+  const char* recenter;    /* "default" (the library's, on), "on" or "off" */
+  int32_t clip_injective;  /* nonzero: keep only the patch vertices inside the injectivity radius */
+  const char* save;        /* NULL: none */
+  const char* load;        /* NULL: none */
+} locus_logmap_options;
+locus_logmap_options locus_logmap_options_default(void);
+
+/* What a log map run reports beside the map (as `locus logmap --json`). */
+typedef struct locus_logmap_report {
+  int64_t patch_size;       /* vertices of the map (after clip_injective) */
+  double t_factor, t, h;    /* t, h: 0 for the DEM */
+  double max_distance;
+  int64_t flipped;          /* flipped triangles (polygons on a polygon mesh) */
+  double injectivity_radius; /* INFINITY when none flipped */
+  int32_t clipped_vertices;
+  int32_t sources, batches, passes, angle_fallbacks, two_ring, recentered;  /* heat methods */
+  int64_t heat_underflow_vertices;
+  double t_avoiding_underflow;
+  double precompute_s, patch_s, query_s;
+} locus_logmap_report;
+
+/* Log map with every option: out_uv (2 * vertex-count doubles) as locus_logmap;
+ * out_distance and out_angle (vertex-count doubles each, may be NULL) the
+ * geodesic distance and polar angle, NaN outside the map; out_report may be
+ * NULL. The numbers are `locus logmap`'s, bit for bit. */
+locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
+                              double* out_distance, double* out_angle, locus_logmap_report* out_report,
+                              const locus_run_options* opts);
+
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
  * §3.7; cells and centroids by M - 4h^2 L): `sites` seeded random initial
  * sites (1 <= sites <= vertex count, at least one per connected component:
@@ -272,7 +348,7 @@ locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uin
 locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                           int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts);
 
-/* CVT remeshing (issue 23): the heat CVT as above, then the restricted-Delaunay
+/* CVT remeshing: the heat CVT as above, then the restricted-Delaunay
  * dual of its cells, made a closed manifold with the mesh's genus, components
  * and boundary loops by adding sites where needed, and optimized on the surface.
  * The result is an opaque handle (free it with locus_remesh_destroy); *out is
@@ -306,7 +382,7 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
                                const int64_t* targets, int64_t n_targets, double* out,
                                const locus_run_options* opts);
 
-/* ==== Pipelines added by issue 24. Every call below reuses the session's
+/* ==== Diffusion, deformation and shape. Every call below reuses the session's
  * cached factors: the heat operator M - tL once per t (shared by Voronoi,
  * natural neighbors, skinning, ADF/HKS, heat exchange and heat values), the
  * heat-method factors once per t_factor (geodesic distance, log map), -L + eps M

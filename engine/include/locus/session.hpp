@@ -1,5 +1,5 @@
 // locus::Session — one mesh and everything derived from it, for embedding
-// (issue 9 item 1; README "Embedding").
+// (README "Embedding").
 //
 // A Session validates its mesh once, then answers queries: heat geodesic
 // distance from a vertex or a set of sources (thesis §6.4), heat log maps
@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/geodesic_requests.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/mesh_view.hpp"
@@ -99,7 +100,7 @@ struct CvtResult {
   std::vector<double> site_bary;   // 3 per site: barycentric weights in site_face
   int64_t empty_cells = 0;         // cells without vertices over all iterations (their sites stayed)
   int64_t unreached = 0;           // labels filled by the breadth-first fallback
-  // With remesh (issue 23; pipelines/.../voronoi/cvt_remesh.hpp): the remeshed
+  // With remesh (pipelines/.../voronoi/cvt_remesh.hpp): the remeshed
   // surface, one vertex per non-empty cell, made a manifold with the input's
   // topology by added sites (label and the site arrays then cover them too).
   bool remeshed = false;             // a remesh was asked for and is a manifold
@@ -135,7 +136,7 @@ struct DeformResult {
   double residual = 0;  // of the exact Dirichlet system
 };
 
-// ---- Results of the pipelines added by issue 24 (session_<pipeline>.cpp) ----
+// ---- Results of the diffusion, parameterization and chapter-2 pipelines (session_<pipeline>.cpp) ----
 
 // Heat-diffusion Voronoi diagram (thesis §3.4): labels and the bisector curves.
 struct VoronoiResult {
@@ -272,7 +273,7 @@ PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLapla
                                             const RunContext& ctx = {});
 SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req = {}, const RunContext& ctx = {});
 
-// Polygon meshes (quads, mixed, n-gons; issues 24, 25, 27). A Session takes
+// Polygon meshes (quads, mixed, n-gons). A Session takes
 // them as they are: each face of more than 3 corners must be a simple polygon
 // (Error(BadInput) naming the face otherwise, as the CLI) and is triangulated
 // once by ear clipping (kernels/mesh/polygon_triangulation.hpp), keeping the
@@ -338,6 +339,14 @@ class Session {
   // over the polygon edges (`locus logmap` on the same file, bit for bit).
   LogMapResult logmap(int32_t center, double fraction, const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
+  // The `geodesic` and `logmap` commands with every option of the CLI
+  // (engine/include/locus/engine/geodesic_requests.hpp): localized geodesic
+  // distance (fraction < 1), the time as text or t_factor, the log map's
+  // methods and estimator choices, clip_injective, the factor cache, and the
+  // statistics the CLI reports. `locus geodesic` / `locus logmap` call these.
+  GeodesicReport geodesic(const GeodesicRequest& req, const RunContext& ctx = {}) const;
+  LogmapReport logmap(const LogmapRequest& req, const RunContext& ctx = {}) const;
+
   // Heat values (M - tL)^{-1}_{j,i} for every source i and target j, by exact
   // subset solves (equal to the full solve's entries). Row-major
   // |sources| x |targets|: out[s * |targets| + k] = value at targets[k] of the
@@ -354,7 +363,7 @@ class Session {
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
 
-  // ---- Pipelines added by issue 24. Each reuses the Session's caches: the
+  // ---- Diffusion, parameterization and chapter-2 pipelines. Each reuses the Session's caches: the
   // heat operator M - tL is factored once per t and serves Voronoi diagrams,
   // natural neighbors, skinning weights, ADF/HKS, heat exchange and heat
   // values alike; -L + eps M once for the patch parameterizations. Each

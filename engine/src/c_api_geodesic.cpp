@@ -1,0 +1,210 @@
+// The C API's heat-method calls (locus.h): geodesic distance from one vertex
+// or a set of points, log maps, the valid mask.
+#include "c_api_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+using namespace locus::c_api_detail;
+
+namespace {
+
+std::string text(const char* s, const char* fallback = "") { return s && s[0] ? std::string(s) : std::string(fallback); }
+
+// The time of a C request: its own t / t_factor, or the run options' t_factor
+// (the older calls' spelling) when it gives none; not both.
+void set_time(std::string& t, std::optional<double>& t_factor, const char* t_text, double factor,
+              const CallContext& cc) {
+  t = text(t_text);
+  if (factor != 0.0) t_factor = factor;
+  if (cc.t_factor != 0.0) {
+    if (t_factor || !t.empty())
+      fail(ErrorCode::BadUsage, "the time is given twice: in the options (t or t_factor) and in opts->t_factor");
+    t_factor = cc.t_factor;
+  }
+}
+
+locus::GeodesicRequest request_of(const locus_geodesic_options& o, const CallContext& cc) {
+  locus::GeodesicRequest q;
+  q.source = o.source;
+  q.fraction = o.fraction;
+  set_time(q.t, q.t_factor, o.t, o.t_factor, cc);
+  q.save = text(o.save);
+  q.load = text(o.load);
+  return q;
+}
+
+locus::LogmapRequest request_of(const locus_logmap_options& o, const CallContext& cc) {
+  locus::LogmapRequest q;
+  q.center = o.center;
+  q.fraction = o.fraction;
+  set_time(q.t, q.t_factor, o.t, o.t_factor, cc);
+  q.method = text(o.method, q.method.c_str());
+  q.angle = text(o.angle, q.angle.c_str());
+  q.lattice = text(o.lattice, q.lattice.c_str());
+  q.recenter = text(o.recenter, q.recenter.c_str());
+  q.clip_injective = o.clip_injective != 0;
+  q.save = text(o.save);
+  q.load = text(o.load);
+  return q;
+}
+
+locus_geodesic_report report_of(const locus::GeodesicReport& r) {
+  locus_geodesic_report o;
+  std::memset(&o, 0, sizeof o);
+  o.patch_size = r.patch_size;
+  o.t_factor = r.t_factor, o.t = r.t, o.h = r.h;
+  o.max_distance = r.max_distance;
+  o.unreachable = r.unreachable;
+  o.heat_underflow_vertices = r.heat_underflow_vertices;
+  o.t_avoiding_underflow = r.t_avoiding_underflow;
+  o.precompute_s = r.precompute_s, o.patch_s = r.patch_s, o.query_s = r.query_s;
+  return o;
+}
+
+locus_logmap_report report_of(const locus::LogmapReport& r) {
+  locus_logmap_report o;
+  std::memset(&o, 0, sizeof o);
+  o.patch_size = static_cast<int64_t>(r.patch.size());
+  o.t_factor = r.t_factor, o.t = r.t, o.h = r.h;
+  o.max_distance = r.max_distance;
+  o.flipped = r.flipped;
+  o.injectivity_radius = r.injectivity_radius;
+  o.clipped_vertices = r.clipped_vertices;
+  o.sources = r.sources, o.batches = r.batches, o.passes = r.passes, o.angle_fallbacks = r.angle_fallbacks;
+  o.two_ring = r.two_ring ? 1 : 0, o.recentered = r.recentered ? 1 : 0;
+  o.heat_underflow_vertices = r.heat_underflow_vertices;
+  o.t_avoiding_underflow = r.t_avoiding_underflow;
+  o.precompute_s = r.precompute_s, o.patch_s = r.patch_s, o.query_s = r.query_s;
+  return o;
+}
+
+// The older calls report under their own names: the message's prefix is replaced.
+locus_status rename_error(locus_status st, const char* function) {
+  if (st == LOCUS_OK) return st;
+  const char* m = locus_last_error_message();
+  const char* colon = std::strchr(m, ':');
+  const std::string rest = colon ? std::string(colon) : std::string(": ") + m;
+  set_error(function, rest.size() > 2 ? rest.c_str() + 2 : "");
+  return st;
+}
+
+}  // namespace
+
+extern "C" {
+
+locus_geodesic_options locus_geodesic_options_default(void) {
+  const locus::GeodesicRequest d;
+  locus_geodesic_options o;
+  std::memset(&o, 0, sizeof o);
+  o.source = d.source;
+  o.fraction = d.fraction;
+  return o;
+}
+
+locus_logmap_options locus_logmap_options_default(void) {
+  const locus::LogmapRequest d;
+  locus_logmap_options o;
+  std::memset(&o, 0, sizeof o);
+  o.center = d.center;
+  o.fraction = d.fraction;
+  o.clip_injective = d.clip_injective ? 1 : 0;
+  return o;  // method, angle, lattice, recenter NULL: the request's defaults
+}
+
+locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
+                                locus_geodesic_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_geodesic_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out_nv != nullptr, "out_nv is NULL");
+    CallContext cc(opts);
+    const locus::GeodesicReport r = s.geodesic(request_of(*options, cc), cc.ctx);
+    std::copy(r.distance.begin(), r.distance.end(), out_nv);
+    if (out_report) *out_report = report_of(r);
+  });
+}
+
+locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
+                                        const locus_run_options* opts) {
+  locus_geodesic_options o = locus_geodesic_options_default();
+  o.source = source;
+  return rename_error(locus_geodesic_run(session, &o, out_nv, nullptr, opts), "locus_geodesic_distance");
+}
+
+locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv) {
+  return locus_geodesic_distance_ex(session, source, out_nv, nullptr);
+}
+
+locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
+                              double* out_distance, double* out_angle, locus_logmap_report* out_report,
+                              const locus_run_options* opts) {
+  return guarded("locus_logmap_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out_uv != nullptr, "out_uv is NULL");
+    CallContext cc(opts);
+    const locus::LogmapReport r = s.logmap(request_of(*options, cc), cc.ctx);
+    const size_t n = static_cast<size_t>(s.num_vertices());
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::fill(out_uv, out_uv + 2 * n, nan);
+    if (out_distance) std::fill(out_distance, out_distance + n, nan);
+    if (out_angle) std::fill(out_angle, out_angle + n, nan);
+    for (size_t k = 0; k < r.patch.size(); ++k) {
+      const size_t i = static_cast<size_t>(r.patch[k]);
+      out_uv[2 * i] = r.u[k];
+      out_uv[2 * i + 1] = r.v[k];
+      if (out_distance) out_distance[i] = r.distance[k];
+      if (out_angle) out_angle[i] = r.angle[k];
+    }
+    if (out_report) *out_report = report_of(r);
+  });
+}
+
+locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
+                             const locus_run_options* opts) {
+  locus_logmap_options o = locus_logmap_options_default();
+  o.center = center;
+  o.fraction = fraction;
+  return rename_error(locus_logmap_run(session, &o, out_uv, nullptr, nullptr, nullptr, opts), "locus_logmap");
+}
+
+int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid) {
+  clear_error();
+  if (!values || !out_valid || count < 0 || stride < 1) {
+    set_error("locus_valid_mask", !values      ? "values is NULL"
+                                  : !out_valid ? "out_valid is NULL"
+                                  : count < 0  ? "count < 0"
+                                               : "stride < 1");
+    return -1;
+  }
+  int64_t valid = 0;
+  for (int64_t i = 0; i < count; ++i) {
+    out_valid[i] = std::isnan(values[i * stride]) ? 0 : 1;
+    valid += out_valid[i];
+  }
+  return valid;
+}
+
+locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv) {
+  return locus_logmap_ex(session, center, fraction, out_uv, nullptr);
+}
+
+locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                           int64_t n_sources, double* out_nv, const locus_run_options* opts) {
+  return guarded("locus_geodesic_distance_multi", [&] {
+    locus::Session& s = session_of(session);
+    require(out_nv != nullptr, "out_nv is NULL");
+    const std::vector<locus::MeshPoint> pts = mesh_points(s, sources, n_sources, "sources");
+    CallContext cc(opts);
+    s.geodesic_distance(pts, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+    no_value_as_nan(out_nv, s.num_vertices());
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,105 @@
+// Internals shared by the C API's source files (engine/src/c_api*.cpp): the
+// session handle, the guard that turns every exception into a status and a
+// per-thread message, the RunContext of one call (callbacks, threads, memory
+// limit, t_factor), and the checks of the C arrays a call receives. Not installed.
+//
+// Every entry point runs its body inside guarded(): a locus::Error becomes its
+// status (the CLI's exit status), std::bad_alloc becomes LOCUS_BAD_INPUT (a
+// resource limit), anything else LOCUS_INTERNAL; nothing propagates to the C
+// caller. What only C can get wrong (NULL pointers, counts that do not fit
+// the arrays' index types) is checked here, before anything is allocated from
+// it; what any front end can get wrong (an id out of range, a fraction, a
+// time) is checked once, by the Session.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "locus/error.hpp"
+#include "locus/locus.h"
+#include "locus/session.hpp"
+
+struct locus_session {
+  explicit locus_session(locus::Session s) : session(std::move(s)) {}
+  locus::Session session;
+};
+
+namespace locus::c_api_detail {
+
+using locus::ErrorCode;
+using locus::fail;
+
+// The last error of this thread (c_api_support.cpp).
+void clear_error() noexcept;
+void set_error(const char* function, const char* what) noexcept;
+
+// Upper bounds that keep every derived size within int32 indices and sane memory.
+constexpr int64_t kMaxVertices = std::numeric_limits<int32_t>::max() - 1;
+constexpr int64_t kMaxFaces = std::numeric_limits<int32_t>::max() / 3;
+constexpr int32_t kMaxIterations = 10000;
+constexpr int64_t kMaxHeatValues = int64_t(1) << 28;
+
+locus_status status_of(int exit_status);
+
+template <class F>
+locus_status guarded(const char* function, F&& body) noexcept {
+  clear_error();
+  try {
+    body();
+    return LOCUS_OK;
+  } catch (const locus::Error& e) {
+    set_error(function, e.what());
+    return status_of(e.exit_status());
+  } catch (const std::bad_alloc&) {
+    set_error(function, "out of memory");
+    return LOCUS_BAD_INPUT;
+  } catch (const std::exception& e) {
+    try {
+      set_error(function, (std::string("internal error: ") + e.what()).c_str());
+    } catch (...) {
+      set_error(function, "internal error");
+    }
+    return LOCUS_INTERNAL;
+  } catch (...) {
+    set_error(function, "internal error (unknown exception)");
+    return LOCUS_INTERNAL;
+  }
+}
+
+inline void require(bool ok, const char* message) {
+  if (!ok) fail(ErrorCode::BadUsage, message);
+}
+
+// The RunContext of one call: the C callback behind a mutex (one call at a
+// time, as locus.h promises), its nonzero return raising the cancel flag.
+struct CallContext {
+  std::atomic<bool> cancel{false};
+  std::mutex mu;
+  locus::RunContext ctx;
+  double t_factor = 0.0;  // 0: the method's default (session.hpp's HeatQuery)
+  double last_fraction = 0.0;  // the last fraction passed to the host (under mu)
+
+  explicit CallContext(const locus_run_options* o);
+  locus::HeatQuery heat() const { return locus::HeatQuery{t_factor}; }
+};
+
+locus::Session& session_of(locus_session* s);
+// The C API's "no value" is NaN (locus.h, as the CLI writes it).
+void no_value_as_nan(double* out, int64_t n);
+int32_t vertex_id(const locus::Session& s, int64_t v, const char* what);
+// One C point, checked against a mesh of nv vertices and nf triangles.
+locus::MeshPoint mesh_point(int64_t nv, int64_t nf, const locus_surface_point& p, const char* what, int64_t k);
+std::vector<locus::MeshPoint> mesh_points(const locus::Session& s, const locus_surface_point* p, int64_t n,
+                                          const char* what);
+std::vector<int32_t> vertex_ids(const locus::Session& s, const int64_t* v, int64_t n, const char* what);
+// NULL with 0: every vertex (an empty list for the Session).
+std::vector<int32_t> optional_vertex_ids(const locus::Session& s, const int64_t* v, int64_t n, const char* what);
+// Per-edge outputs of the chapter-2 pipelines into optional caller arrays.
+void copy_edges(const std::vector<int32_t>& edges, const std::vector<double>& values, const std::vector<double>& xyz,
+                int32_t* out_edges, double* out_values, double* out_xyz);
+
+}  // namespace locus::c_api_detail

@@ -1,0 +1,158 @@
+// Option parity of the commands whose work lives in the engine (DESIGN.md
+// "Engine API": every CLI option of a command is a field of the engine's
+// request for it, with the same name and default, reachable from the C API):
+// the options `locus <command> --help` lists (the CLI11 app the CommandTable
+// built) against the engine's request fields (request_fields), the fields of
+// the C options struct in the text of locus.h, and the C defaults against the
+// engine's. Python's keyword arguments: tests/python/test_option_parity.py.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "locus/engine/geodesic_requests.hpp"
+#include "locus/locus.h"
+#include "tests/tools/cli_support.hpp"
+
+namespace {
+
+using namespace locus::test_cli;
+
+// The commands migrated to the engine, and those still pending (their CLI
+// still calls pipelines directly); together every command `locus --help` lists.
+const std::vector<std::string> kMigrated = {"geodesic", "logmap"};
+const std::vector<std::string> kPending = {"adf",   "cvt",  "deform",     "factor",            "heat",
+                                           "hks",   "info", "nncoords",   "param",             "perfect-laplacian",
+                                           "run",   "selfsupport", "skinweights", "voronoi"};
+
+// Options of every command, the CommandTable's: threads and max_memory are
+// the C API's locus_run_options (RunContext), subdivide is MeshInputOptions
+// (the mesh a host passes is its own), seed is unused by these commands;
+// json, output, preview and view are the CLI's presentation of a result.
+const std::set<std::string> kCommon = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory",
+                                       "preview", "view"};
+
+std::string field_name(std::string option) {
+  std::replace(option.begin(), option.end(), '-', '_');
+  return option;
+}
+
+// The long options of `locus <command> --help`, in order, the first spelling
+// of each (--recenter, not its alias --recentre), '-' as '_'.
+std::vector<std::string> cli_options(const std::string& command) {
+  Scratch dir("parity");
+  const Run r = run_locus(dir, {command, "--help"});
+  REQUIRE(r.status == 0);
+  std::vector<std::string> out;
+  std::istringstream in(r.out);
+  std::string line;
+  const std::regex option(R"(^\s+(?:-[A-Za-z],)?--([a-z][a-z0-9-]*))");
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, option)) out.push_back(field_name(m[1]));
+  return out;
+}
+
+// The fields of `typedef struct NAME { ... } NAME;` in locus.h.
+std::vector<std::string> c_struct_fields(const std::string& name) {
+  std::ifstream f(LOCUS_TEST_DATA_DIR "/../../engine/include/locus/locus.h");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  const std::string text = ss.str();
+  const size_t at = text.find("typedef struct " + name + " {");
+  REQUIRE(at != std::string::npos);
+  const size_t end = text.find("} " + name + ";", at);
+  std::string body = text.substr(at, end - at);
+  body = std::regex_replace(body, std::regex(R"(/\*[\s\S]*?\*/)"), "");
+  std::vector<std::string> out;
+  const std::regex decl(R"(([A-Za-z_][A-Za-z0-9_]*)\s*;)");
+  for (auto it = std::sregex_iterator(body.begin(), body.end(), decl); it != std::sregex_iterator(); ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+std::vector<std::string> engine_fields(const std::string& command) {
+  std::vector<std::string> out;
+  for (const locus::RequestField& f : locus::request_fields(command)) out.push_back(f.name);
+  return out;
+}
+
+bool contains(const std::vector<std::string>& v, const std::string& x) {
+  return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+}  // namespace
+
+TEST_CASE("option parity: every command is migrated or listed as pending") {
+  if (!have_locus()) return;
+  Scratch dir("parity-list");
+  const Run r = run_locus(dir, {"--help"});
+  REQUIRE(r.status == 0);
+  const std::regex command(R"(^\s+([a-z][a-z-]*)\s{2,})");
+  std::istringstream in(r.out);
+  std::string line;
+  bool in_commands = false;
+  std::smatch m;
+  int seen = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("Subcommands:", 0) == 0) in_commands = true;
+    if (!in_commands || !std::regex_search(line, m, command)) continue;
+    ++seen;
+    CHECK_MESSAGE((contains(kMigrated, m[1]) || contains(kPending, m[1])), "command " << m[1]);
+  }
+  CHECK(seen == static_cast<int>(kMigrated.size() + kPending.size()));
+}
+
+TEST_CASE("option parity: each CLI option of a migrated command is an engine field and a C field") {
+  if (!have_locus()) return;
+  for (const std::string& command : kMigrated) {
+    CAPTURE(command);
+    const std::vector<std::string> cli = cli_options(command);
+    const std::vector<std::string> engine = engine_fields(command);
+    const std::vector<std::string> c = c_struct_fields("locus_" + command + "_options");
+    REQUIRE(!engine.empty());
+    for (const std::string& o : cli) {
+      if (kCommon.count(o)) continue;
+      CAPTURE(o);
+      CHECK(contains(engine, o));
+    }
+    // And the other way: no engine field the CLI cannot set, none missing in C.
+    for (const std::string& f : engine) {
+      CAPTURE(f);
+      CHECK(contains(cli, f));
+      CHECK(contains(c, f));
+    }
+  }
+}
+
+TEST_CASE("option parity: the C options' defaults are the engine's") {
+  const locus_geodesic_options g = locus_geodesic_options_default();
+  const locus::GeodesicRequest gq;
+  CHECK(g.source == gq.source);
+  CHECK(g.fraction == gq.fraction);
+  CHECK(g.t == nullptr);
+  CHECK(g.t_factor == 0.0);
+  CHECK(g.save == nullptr);
+  CHECK(g.load == nullptr);
+  const locus_logmap_options l = locus_logmap_options_default();
+  const locus::LogmapRequest lq;
+  CHECK(l.center == lq.center);
+  CHECK(l.fraction == lq.fraction);
+  CHECK((l.clip_injective != 0) == lq.clip_injective);
+  // NULL strings mean the engine's defaults, which request_fields lists.
+  CHECK(l.method == nullptr);
+  CHECK(l.angle == nullptr);
+  CHECK(l.lattice == nullptr);
+  CHECK(l.recenter == nullptr);
+  for (const locus::RequestField& f : locus::request_fields("logmap")) {
+    if (f.name == "method") CHECK(f.default_value == lq.method);
+    if (f.name == "fraction") CHECK(f.default_value == "0.05");
+    if (f.name == "clip_injective") CHECK(f.default_value == "false");
+  }
+}
