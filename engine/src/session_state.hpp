@@ -198,7 +198,7 @@ struct State {
   OnceMap<int, DeformOperator> deform_ops;                           // energy
   OnceMap<int, PatchGrower> grower;                                  // single entry: log map patches
   OnceMap<int, HeatDiffusion> cvt_heat;                              // single entry: M - h^2 L for CVT cells
-  // Issue 24's pipelines (session_<pipeline>.cpp):
+  // The diffusion, shape and Voronoi pipelines (session_<pipeline>.cpp):
   OnceMap<uint64_t, HeatDiffusion> diffusion;  // absolute t bits: M - tL (diffusion pipelines, heat values)
   OnceMap<int, RegularizedLaplacian> laplacian;  // single entry: -L + eps M (patch parameterization)
   // Polygon meshes (session_polygon.cpp): the polygon heat method per t_factor

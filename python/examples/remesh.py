@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Remesh a surface by a heat CVT and write the result and its PNG preview (issue 25 item 5).
+"""Remesh a surface by a heat CVT and write the result and its PNG preview.
 
     PYTHONPATH=build/python python3 python/examples/remesh.py cache/meshes/armadillo.off \
         --sites 2000 -o build/armadillo_remeshed.obj --preview build/armadillo_remeshed.png

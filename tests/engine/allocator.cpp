@@ -1,4 +1,4 @@
-// The host's allocator through the C API (issue 24 item 2): locus_set_allocator's
+// The host's allocator through the C API: locus_set_allocator's
 // callbacks receive the large buffers of a geodesic, a log map and a CVT (a
 // block the size of a numeric factor's values, computed here from the symbolic
 // analysis of the operators' pattern, among them), allocations and frees

@@ -1,4 +1,4 @@
-// A host allocator that counts (issue 24 item 2 tests): every block it hands
+// A host allocator that counts: every block it hands
 // out is recorded; a free of a block it did not hand out is counted as foreign
 // (and not freed: it would corrupt the C library's heap if it were not malloc's).
 #pragma once

@@ -328,7 +328,7 @@ TEST_CASE("c api: the last-error pointer stays valid; the copy is whole, cut or 
   const std::string first = locus_last_error_message();
   CHECK(first == "locus_session_vertex_count: session is NULL");
   CHECK(locus_last_error_message() == p);  // same buffer, new content
-  // The evaluation-order trap of issue 24: the pointer is read before the call
+  // An evaluation-order trap: the pointer is read before the call
   // that fails and used after it. It must not dangle, and holds that call's message.
   locus_session* s = nullptr;
   const char* early = locus_last_error_message();

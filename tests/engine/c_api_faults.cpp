@@ -1,4 +1,4 @@
-// Numerical faults through the C API (issue 10 item 3): a mesh with two
+// Numerical faults through the C API: a mesh with two
 // components (geodesic distance NaN, no value, in the other component, with
 // locus_valid_mask's 0 there; log map
 // confined to the center's component, zero heat across), huge and tiny

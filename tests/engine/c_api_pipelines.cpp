@@ -1,4 +1,4 @@
-// Tests for the C API of the pipelines added by issue 24 (engine/include/locus/locus.h,
+// Tests for the C API of the diffusion, shape and Voronoi pipelines (engine/include/locus/locus.h,
 // the section after locus_heat_values): each call returns what the C++ Session
 // returns for the same arguments (the Session is checked against oracles in
 // tests/engine/session_*.cpp), outputs land where locus.h says, and every bad

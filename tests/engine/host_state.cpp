@@ -1,4 +1,4 @@
-// The host's process state survives locus calls (issue 24 item 4): OpenBLAS'
+// The host's process state survives locus calls: OpenBLAS'
 // thread count (kernels/factor/blas.hpp borrows it), the C library's rand()
 // sequence (METIS draws from its own generator: cmake/metis.cmake) and stderr
 // (nothing written; an oversized thread count is clamped and said through the

@@ -1,5 +1,5 @@
 // Tests for mesh views (core/include/locus/mesh_view.hpp, locus_mesh_view in
-// locus.h; issue 24 item 2): float positions interleaved at a 32-byte stride
+// locus.h): float positions interleaved at a 32-byte stride
 // with uint16 ids give bit-identical results to double/int32 arrays holding
 // the same values; unaligned and strided index buffers; every bad argument is
 // refused with its status and a message naming it.

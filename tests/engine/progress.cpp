@@ -1,4 +1,4 @@
-// One monotone progress fraction per call (issue 24 item 3): the first
+// One monotone progress fraction per call: the first
 // geodesic query reports "prepare heat method" around the ordering and the two
 // numeric factorizations, which report inside it (RunContext::sub), so the
 // fractions a host's progress bar sees never go back.

@@ -1,5 +1,5 @@
 // Multi-source heat geodesic distance through the Session
-// (engine/src/session_geodesic.cpp, issue 24 item 1).
+// (engine/src/session_geodesic.cpp).
 // Oracles: an independent dense implementation of the heat method written here
 // (cotan Laplacian, lumped mass, per-face gradient of log u, divergence and the
 // regularized Poisson step solved by Eigen's dense LDLT) on a small sphere;

@@ -1,4 +1,4 @@
-// Tests for the Session queries of the pipelines added by issue 24
+// Tests for the Session queries of the diffusion, shape and Voronoi pipelines
 // (engine/src/session_{heat,voronoi,param,laplacian}.cpp).
 // Oracles: Eigen sparse LDLT solves of M - tL for the auto-diffusion function,
 // the Voronoi labels (hottest generator),

@@ -1,5 +1,5 @@
-// locus::Session on polygon meshes (session.hpp "Polygon meshes"; issues 24,
-// 25, 27). Oracles: the Euclidean distance on a planar quad grid (multi-source
+// locus::Session on polygon meshes (session.hpp "Polygon meshes").
+// Oracles: the Euclidean distance on a planar quad grid (multi-source
 // polygon heat method); the same Session queries on the ear-clipping
 // triangulation given as a triangle mesh (the triangle-only pipelines must run
 // on exactly that, bit for bit); the polygon pipelines called directly (the

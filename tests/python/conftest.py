@@ -1,4 +1,4 @@
-"""Fixtures of the locus Python tests (issue 25 item 6).
+"""Fixtures of the locus Python tests.
 
 Run from the build tree: ``PYTHONPATH=build/python python3 -m pytest tests/python``
 (ctest entry ``python`` does this). The CLI (build/locus) and the shared

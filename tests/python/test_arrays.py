@@ -1,4 +1,4 @@
-"""The dtype and layout matrix, out= arguments and zero-copy results (issue 25 item 2).
+"""The dtype and layout matrix, out= arguments and zero-copy results.
 
 Every accepted representation of the same mesh gives bit-identical answers:
 float32 positions hold the same values as the float64 ones (the fixture

@@ -1,4 +1,4 @@
-"""Ctrl-C and the progress callback cancel a long call (issue 25 item 3).
+"""Ctrl-C and the progress callback cancel a long call.
 
 The factorization of armadillo subdivided once (104k vertices) takes about a
 second; SIGINT arrives while it runs. The latency is measured by

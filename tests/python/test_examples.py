@@ -1,4 +1,4 @@
-"""The README's Python example and python/examples/remesh.py run (issue 25 item 5)."""
+"""The README's Python example and python/examples/remesh.py run."""
 import os
 import re
 import subprocess

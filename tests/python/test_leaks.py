@@ -1,4 +1,4 @@
-"""Reference counting: 1000 calls leave the process size bounded (issue 25 item 6).
+"""Reference counting: 1000 calls leave the process size bounded.
 
 Resident set size from /proc/self/statm after a warm-up (allocator pools,
 caches filled) and after the 1000 calls; a leak of even one mesh copy per

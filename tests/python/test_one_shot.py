@@ -1,5 +1,5 @@
 """Every one-shot function and Session method on small meshes, against what is known
-analytically or by construction (issue 25 item 2)."""
+analytically or by construction."""
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-"""Polygon meshes through locus.Session and the one-shots (issues 24, 25, 27).
+"""Polygon meshes through locus.Session and the one-shots.
 
 F as an (m, k) array, a list of faces or (offsets, indices) gives the same
 Session; its results equal the `locus` CLI's on the same file bit for bit

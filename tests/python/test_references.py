@@ -1,4 +1,4 @@
-"""Python results equal the CLI's and the C API's for the same input (issue 25 item 6).
+"""Python results equal the CLI's and the C API's for the same input.
 
 The CLI's outputs are read back by a small PLY reader written here (not the
 engine's), the C API is called through ctypes on build/liblocus.so. Equality

@@ -1,4 +1,4 @@
-"""One Session queried from four Python threads gives the answers of one thread (issue 25 item 3)."""
+"""One Session queried from four Python threads gives the answers of one thread."""
 import threading
 import time
 

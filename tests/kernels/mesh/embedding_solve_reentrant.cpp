@@ -1,4 +1,4 @@
-// EmbeddingSystem::solve is const and re-entrant (issue 21): its scratch is the
+// EmbeddingSystem::solve is const and re-entrant: its scratch is the
 // caller's workspace or local to the call, so several threads may solve with
 // one factored system at once and get the results of sequential solves, bit
 // for bit, with or without a workspace of their own.
