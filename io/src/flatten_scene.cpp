@@ -100,6 +100,37 @@ uint64_t count_triangles(const aiMesh& m, AssetReport& report) {
   return tris;
 }
 
+// The triangles of the kept meshes through the file vertex -> mesh vertex
+// map; a triangle with a repeated corner is dropped and counted.
+void append_triangles(const std::vector<Instance>& kept, const std::vector<int32_t>& map, uint64_t nf,
+                      const std::string& name, Mesh& m, AssetReport& report) {
+  m.face_offsets.reserve(size_t(nf) + 1);
+  m.face_vertices.reserve(size_t(nf) * 3);
+  int32_t base = 0;
+  for (const Instance& in : kept) {
+    const aiMesh& am = *in.mesh;
+    for (unsigned f = 0; f < am.mNumFaces; ++f) {
+      const aiFace& face = am.mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      int32_t c[3];
+      for (int k = 0; k < 3; ++k) {
+        const unsigned i = face.mIndices[k];
+        if (i >= am.mNumVertices)
+          fail(ErrorCode::BadInput, name + ": " + where(in) + ": face " + std::to_string(f) + " references vertex " +
+                                        std::to_string(i) + " but the mesh has " + std::to_string(am.mNumVertices));
+        c[k] = map[size_t(base) + i];
+      }
+      if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+        ++report.collapsed_faces;
+        continue;
+      }
+      m.face_vertices.insert(m.face_vertices.end(), c, c + 3);
+      m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
+    }
+    base += static_cast<int32_t>(am.mNumVertices);
+  }
+}
+
 }  // namespace
 
 Mesh flatten_scene(const aiScene& scene, const std::string& name, const ReadOptions& opt, AssetReport& report) {
@@ -169,31 +200,7 @@ Mesh flatten_scene(const aiScene& scene, const std::string& name, const ReadOpti
   }
   x = {}, y = {}, z = {};
 
-  m.face_offsets.reserve(size_t(nf) + 1);
-  m.face_vertices.reserve(size_t(nf) * 3);
-  int32_t base = 0;
-  for (const Instance& in : kept) {
-    const aiMesh& am = *in.mesh;
-    for (unsigned f = 0; f < am.mNumFaces; ++f) {
-      const aiFace& face = am.mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      int32_t c[3];
-      for (int k = 0; k < 3; ++k) {
-        const unsigned i = face.mIndices[k];
-        if (i >= am.mNumVertices)
-          fail(ErrorCode::BadInput, name + ": " + where(in) + ": face " + std::to_string(f) + " references vertex " +
-                                        std::to_string(i) + " but the mesh has " + std::to_string(am.mNumVertices));
-        c[k] = map[size_t(base) + i];
-      }
-      if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
-        ++report.collapsed_faces;
-        continue;
-      }
-      m.face_vertices.insert(m.face_vertices.end(), c, c + 3);
-      m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
-    }
-    base += static_cast<int32_t>(am.mNumVertices);
-  }
+  append_triangles(kept, map, nf, name, m, report);
   if (m.num_faces() == 0)
     fail(ErrorCode::BadInput, name + ": every triangle of the scene repeats a corner (" +
                                   std::to_string(report.collapsed_faces) + " degenerate triangles)");
