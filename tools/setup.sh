@@ -10,6 +10,7 @@ PKGS=(
   libtbb-dev libeigen3-dev libopenblas-dev liblapacke-dev
   libxsimd-dev libflatbuffers-dev flatbuffers-compiler doctest-dev
   libcli11-dev nlohmann-json3-dev libstb-dev
+  libassimp-dev                      # asset formats (glTF, FBX, Collada, STL, 3MF, ...) behind read_mesh
   libsuitesparse-dev                 # AMD, CAMD (BSD-3): orderings; CHOLMOD (GPL): test/benchmark peer only
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
   qemu-user                          # ctest dispatch_paths: runs the build on CPUs without AVX2/AVX-512
@@ -19,6 +20,8 @@ PKGS=(
 # (CGAL's Heat_method_3 for locus-bench-cgal, GPL; SCOTCH for locus-bench-scotch,
 # CeCILL-C; never linked into locus).
 # Not by default: CI and the tests do not need them, and Boost is large.
+# assimp-testmodels (real exports, ~100 MB) is not installed either: tests/io/read_assimp.cpp
+# reads a few of them when present and skips that case otherwise.
 if [ "${1:-}" = "--bench-peers" ]; then
   PKGS+=(libcgal-dev libscotch-dev)
 fi

@@ -5,7 +5,8 @@
 // with pointers, which is what makes a 1M-vertex binary PLY load in tens of
 // milliseconds (no iostream, no per-token allocation). Refusals (missing file,
 // a directory, unknown extension, file bigger than ReadOptions::max_bytes) are
-// locus::Error naming the file.
+// locus::Error naming the file. Extensions other than .obj, .off and .ply go
+// to assimp (read_assimp.cpp) when it reads them.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -25,14 +26,28 @@ namespace {
 
 using io::lower_extension;
 
-Mesh dispatch(std::string_view data, const std::string& format, const std::string& name, const ReadOptions& opt,
-              MeshAttributes* attributes) {
+bool own_format(const std::string& ext) { return ext == "obj" || ext == "off" || ext == "ply"; }
+
+const char* kKnownFormats = "expected .obj, .off, .ply or a format assimp reads: .gltf, .glb, .fbx, .dae, .stl, .3mf, "
+                            ".3ds, .x, ...";
+
+// `dir`: the folder of the file read, where a .gltf's external buffers may
+// be ("" for a buffer from memory).
+Mesh dispatch(std::string_view data, const std::string& format, const std::string& name, const std::string& dir,
+              const ReadOptions& opt, MeshAttributes* attributes) {
   if (data.empty()) fail(ErrorCode::BadInput, name + ": the file is empty");
   if (attributes) *attributes = {};
   if (format == "obj") return io::read_obj(data, name, opt, attributes);
   if (format == "off") return io::read_off(data, name, opt, attributes);
   if (format == "ply") return io::read_ply(data, name, opt, attributes);
-  fail(ErrorCode::BadInput, name + ": unknown mesh format '" + format + "' (expected .obj, .off or .ply)");
+  if (io::assimp_reads_extension(format)) return io::read_assimp(data, format, name, dir, opt, attributes);
+  fail(ErrorCode::BadInput, name + ": unknown mesh format '" + format + "' (" + kKnownFormats + ")");
+}
+
+std::string folder_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
 }
 
 // Closes the descriptor on every exit path, including exceptions.
@@ -49,8 +64,8 @@ Mesh read_mesh(const std::string& path, const ReadOptions& opt) { return read_me
 
 Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes) {
   const std::string ext = lower_extension(path);
-  if (ext != "obj" && ext != "off" && ext != "ply")
-    fail(ErrorCode::BadInput, path + ": unknown mesh file extension '" + ext + "' (expected .obj, .off or .ply)");
+  if (!own_format(ext) && !io::assimp_reads_extension(ext))
+    fail(ErrorCode::BadInput, path + ": unknown mesh file extension '" + ext + "' (" + kKnownFormats + ")");
 
   // O_NONBLOCK: opening a FIFO named like a mesh must not wait for a writer;
   // the S_ISREG check below then refuses it. Reads of regular files ignore it.
@@ -75,7 +90,7 @@ Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* 
     if (r == 0) break;  // the file shrank while we read it: parse what is there
     got += static_cast<size_t>(r);
   }
-  return dispatch(std::string_view(buf.data(), got), ext, path, opt, attributes);
+  return dispatch(std::string_view(buf.data(), got), ext, path, folder_of(path), opt, attributes);
 }
 
 Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
@@ -85,7 +100,9 @@ Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& for
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
   if (!fmt.empty() && fmt[0] == '.') fmt.erase(0, 1);
   if (data == nullptr && size != 0) fail(ErrorCode::BadUsage, name + ": null buffer with nonzero size");
-  return dispatch(std::string_view(data ? data : "", data ? size : 0), fmt, name, opt, attributes);
+  return dispatch(std::string_view(data ? data : "", data ? size : 0), fmt, name, "", opt, attributes);
 }
+
+bool is_readable_mesh_extension(const std::string& ext) { return own_format(ext) || io::assimp_reads_extension(ext); }
 
 }  // namespace locus

@@ -237,9 +237,9 @@ TEST_CASE("hostile: file-level problems (missing, directory, unknown extension)"
   const std::string dir = (locus_test::scratch_dir() / "looks_like.ply").string();
   std::filesystem::create_directories(dir);
   check_bad(catch_error([&] { locus::read_mesh(dir); }), {"looks_like.ply", "directory"});
-  check_bad(catch_error([] { locus::read_mesh("mesh.stl"); }), {"mesh.stl", "unknown mesh file extension"});
+  check_bad(catch_error([] { locus::read_mesh("mesh.notamesh"); }), {"mesh.notamesh", "unknown mesh file extension"});
   check_bad(catch_error([] { locus::read_mesh("noextension"); }), {"unknown mesh file extension"});
-  check_bad(catch_error([] { locus::read_mesh_from_memory("x", 1, "stl", "m"); }), {"unknown mesh format"});
+  check_bad(catch_error([] { locus::read_mesh_from_memory("x", 1, "notamesh", "m"); }), {"unknown mesh format"});
   // A FIFO must be refused at once, not block waiting for a writer.
   const auto fifo = (locus_test::scratch_dir() / "pipe.off").string();
   std::filesystem::remove(fifo);

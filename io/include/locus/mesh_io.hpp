@@ -1,4 +1,7 @@
-// Mesh file reading and writing (io/). Formats by extension: .obj .off .ply.
+// Mesh file reading and writing (io/). Formats by extension: .obj .off .ply
+// with locus's own readers; every other format assimp reads (glTF 2.0 .gltf
+// and .glb, FBX, Collada .dae, STL, 3MF, 3DS, DirectX .x, ...) through assimp,
+// flattened into one triangle mesh (io/src/read_assimp.cpp).
 //
 // Readers treat files as hostile: any malformed content raises locus::Error
 // (ErrorCode::BadInput) naming the file and the line / byte offset / element.
@@ -20,7 +23,29 @@ namespace locus {
 struct ReadOptions {
   // Refuse files whose header counts would need more than this many bytes.
   uint64_t max_bytes = uint64_t(8) << 30;
+  // Asset formats read through assimp: weld the flattened scene's vertices by
+  // position (exporters split a vertex at every UV or normal seam; welding
+  // gives back the surface the artist sees). false keeps the file's vertices.
+  // OBJ, OFF and PLY are never welded.
+  bool weld = true;
 };
+
+// How an asset file (one read through assimp) became one mesh. Its "file
+// vertices" are the vertices of the scene's meshes in flattening order: the
+// node tree depth first in file order, each node's meshes in order, each
+// mesh's vertices in order (a mesh used by two nodes is counted twice).
+struct AssetReport {
+  std::string format;                 // assimp's name of the importer ("glTF2 Importer", ...)
+  int32_t mesh_instances = 0;         // node meshes flattened (meshes without triangles are skipped)
+  int64_t file_vertices = 0;          // vertices of the flattened meshes
+  int64_t welded_vertices = 0;        // file_vertices - mesh vertices (0 when not welding)
+  std::vector<int32_t> file_to_vertex;  // file vertex -> mesh vertex (identity when not welding)
+  int64_t skipped_points = 0;         // point primitives (not part of a surface)
+  int64_t skipped_lines = 0;          // line primitives
+  int64_t collapsed_faces = 0;        // triangles whose corners welding merged (dropped)
+  int32_t skipped_meshes = 0;         // node meshes with no triangle (points or lines only)
+};
+
 
 // A named per-vertex property (readers' attributes, writers' results).
 struct VertexProperty {
@@ -44,12 +69,17 @@ struct MeshAttributes {
   std::vector<VertexProperty> vertex;
   bool float_positions = false;
   std::vector<std::string> notes;
+  bool asset = false;  // read through assimp: `asset_report` says how
+  AssetReport asset_report;
 };
 
 Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});
 // Also fills `attributes` (when not null) with what the file holds beyond the mesh.
 Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes);
-// Parses an in-memory buffer; `format` is "obj", "off" or "ply"; `name` is used in messages.
+// Parses an in-memory buffer; `format` is an extension read_mesh knows ("obj",
+// "off", "ply", "glb", "fbx", ...); `name` is used in messages. A buffer read
+// through assimp can reference no other file (a .gltf's external buffers are
+// refused; embedded data: URIs are fine).
 Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
                            const ReadOptions& opt = {}, MeshAttributes* attributes = nullptr);
 
@@ -60,6 +90,9 @@ struct WriteOptions {
   bool float_positions = false;                   // PLY: x y z as float (an input stored so stays so)
   std::string off_colour;                         // OFF: the property shown as colours ("" = the first)
 };
+
+// Whether read_mesh reads files with this extension (lower case, no dot).
+bool is_readable_mesh_extension(const std::string& ext);
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});
 

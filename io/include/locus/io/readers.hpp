@@ -23,3 +23,19 @@ Mesh read_ply(std::string_view data, const std::string& name, const ReadOptions&
               MeshAttributes* attributes = nullptr);
 
 }  // namespace locus::io
+
+namespace locus::io {
+
+// Whether assimp reads files with this extension (lower case, no dot). Also
+// true for obj, off and ply, which read_mesh gives to the readers above.
+bool assimp_reads_extension(const std::string& ext);
+
+// Any format assimp reads (io/src/read_assimp.cpp), flattened into one
+// triangle mesh and welded by position unless opt.weld is false. `format` is
+// the extension that picks assimp's importer. `sibling_dir`: the folder a
+// .gltf's external buffers may be read from ("" = none: only `data`).
+// `attributes` (may be null) receives the AssetReport.
+Mesh read_assimp(std::string_view data, const std::string& format, const std::string& name,
+                 const std::string& sibling_dir, const ReadOptions& opt, MeshAttributes* attributes = nullptr);
+
+}  // namespace locus::io
