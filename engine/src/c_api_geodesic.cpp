@@ -84,16 +84,6 @@ locus_logmap_report report_of(const locus::LogmapReport& r) {
   return o;
 }
 
-// The older calls report under their own names: the message's prefix is replaced.
-locus_status rename_error(locus_status st, const char* function) {
-  if (st == LOCUS_OK) return st;
-  const char* m = locus_last_error_message();
-  const char* colon = std::strchr(m, ':');
-  const std::string rest = colon ? std::string(colon) : std::string(": ") + m;
-  set_error(function, rest.size() > 2 ? rest.c_str() + 2 : "");
-  return st;
-}
-
 }  // namespace
 
 extern "C" {
@@ -132,9 +122,16 @@ locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_opt
 
 locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
                                         const locus_run_options* opts) {
-  locus_geodesic_options o = locus_geodesic_options_default();
-  o.source = source;
-  return rename_error(locus_geodesic_run(session, &o, out_nv, nullptr, opts), "locus_geodesic_distance");
+  // Straight into the caller's buffer (no report arrays): every block of a
+  // query goes through the host's allocator (tests/interpose).
+  return guarded("locus_geodesic_distance", [&] {
+    locus::Session& s = session_of(session);
+    require(out_nv != nullptr, "out_nv is NULL");
+    const int32_t src = vertex_id(s, source, "source");
+    CallContext cc(opts);
+    s.geodesic_distance(src, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
+    no_value_as_nan(out_nv, s.num_vertices());
+  });
 }
 
 locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv) {
@@ -168,10 +165,20 @@ locus_status locus_logmap_run(locus_session* session, const locus_logmap_options
 
 locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
                              const locus_run_options* opts) {
-  locus_logmap_options o = locus_logmap_options_default();
-  o.center = center;
-  o.fraction = fraction;
-  return rename_error(locus_logmap_run(session, &o, out_uv, nullptr, nullptr, nullptr, opts), "locus_logmap");
+  // The Session's log map keeps its arrays in the host's allocator (LogMapResult).
+  return guarded("locus_logmap", [&] {
+    locus::Session& s = session_of(session);
+    require(out_uv != nullptr, "out_uv is NULL");
+    const int32_t c = vertex_id(s, center, "center");
+    CallContext cc(opts);
+    const locus::LogMapResult r = s.logmap(c, fraction, cc.heat(), cc.ctx);
+    const size_t n = static_cast<size_t>(s.num_vertices());
+    std::fill(out_uv, out_uv + 2 * n, std::numeric_limits<double>::quiet_NaN());
+    for (size_t k = 0; k < r.patch.size(); ++k) {
+      out_uv[2 * static_cast<size_t>(r.patch[k])] = r.u[k];
+      out_uv[2 * static_cast<size_t>(r.patch[k]) + 1] = r.v[k];
+    }
+  });
 }
 
 int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid) {

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <string>
 
+#include <pybind11/stl.h>
+
 #include "arrays.hpp"
 #include "call.hpp"
 #include "errors.hpp"

@@ -34,7 +34,7 @@ def test_geodesic_time_spellings(armadillo_session):
     d4 = s.geodesic(0).distance
     assert same(s.geodesic(0, t="4h2").distance, d4)
     assert same(s.geodesic(0, t_factor=4).distance, d4)
-    h = s.mean_edge_length()
+    h = s.mean_edge_length
     r = s.geodesic(0, t=4 * h * h)  # a number is an absolute time
     assert abs(r.t - 4 * h * h) <= 1e-15 * r.t
     for bad in (dict(t="4h2", t_factor=4), dict(t_factor=0), dict(t="-1"), dict(fraction=0)):
@@ -46,7 +46,7 @@ def test_geodesic_time_spellings(armadillo_session):
 
 
 def test_logmap_options_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
-    n = armadillo_session.num_vertices()
+    n = armadillo_session.num_vertices
     for args, kw in ((["--method", "dem"], dict(method="dem")),
                      (["--angle", "log", "--lattice", "none", "--recenter", "off", "--clip-injective"],
                       dict(angle="log", lattice="none", recenter="off", clip_injective=True))):
