@@ -12,6 +12,21 @@
 
 using namespace locus::c_api_detail;
 
+namespace {
+
+// The arguments locus_cvt_ex and locus_cvt_remesh share.
+void check_cvt_call(const locus::Session& s, int32_t sites, int32_t iters, const CallContext& cc) {
+  if (sites < 1 || sites > s.num_vertices())
+    fail(ErrorCode::BadUsage, "sites = " + std::to_string(sites) + " is not in 1.." +
+                                  std::to_string(s.num_vertices()) + " (the vertex count)");
+  if (iters < 0 || iters > kMaxIterations)
+    fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
+  if (cc.t_factor != 0.0)
+    fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
+}
+
+}  // namespace
+
 extern "C" {
 
 locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
@@ -19,14 +34,8 @@ locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, 
   return guarded("locus_cvt", [&] {
     locus::Session& s = session_of(session);
     require(out_labels_nv != nullptr, "out_labels_nv is NULL");
-    if (sites < 1 || sites > s.num_vertices())
-      fail(ErrorCode::BadUsage, "sites = " + std::to_string(sites) + " is not in 1.." +
-                                    std::to_string(s.num_vertices()) + " (the vertex count)");
-    if (iters < 0 || iters > kMaxIterations)
-      fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
     CallContext cc(opts);
-    if (cc.t_factor != 0.0)
-      fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
+    check_cvt_call(s, sites, iters, cc);
     const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels_nv);
     if (out_sites_xyz) std::copy(r.site_xyz.begin(), r.site_xyz.end(), out_sites_xyz);
@@ -50,14 +59,8 @@ locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t ite
   return guarded("locus_cvt_remesh", [&] {
     locus::Session& s = session_of(session);
     require(out != nullptr, "out is NULL");
-    if (sites < 1 || sites > s.num_vertices())
-      fail(ErrorCode::BadUsage, "sites = " + std::to_string(sites) + " is not in 1.." +
-                                    std::to_string(s.num_vertices()) + " (the vertex count)");
-    if (iters < 0 || iters > kMaxIterations)
-      fail(ErrorCode::BadUsage, "iters = " + std::to_string(iters) + " is not in 0.." + std::to_string(kMaxIterations));
     CallContext cc(opts);
-    if (cc.t_factor != 0.0)
-      fail(ErrorCode::BadUsage, "t_factor: cvt uses its own default t = 4h^2; leave t_factor at 0 (default)");
+    check_cvt_call(s, sites, iters, cc);
     auto h = std::make_unique<locus_remesh>();
     h->r = s.cvt(sites, iters, seed, cc.ctx, true);
     if (!h->r.remeshed)
