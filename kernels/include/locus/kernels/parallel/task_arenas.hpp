@@ -3,7 +3,7 @@
 //
 // oneTBB keeps memory for every arena a worker has joined even after the arena
 // is destroyed (measured by the stress run: ~7 KB per arena, 18 -> 88 MB over
-// 10,000 short-lived arenas; cf. oneTBB issue #967), so "one task_arena per
+// 10,000 short-lived arenas; a known oneTBB behaviour, reported upstream), so "one task_arena per
 // factorization" grows a long-running host process without bound. Instead:
 //  * threads <= 0, or equal to the caller's current concurrency: run in place;
 //  * otherwise, on an application thread: an arena of that concurrency
