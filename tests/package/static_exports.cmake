@@ -1,0 +1,52 @@
+# ctest static_exports (docs/shipping.md): liblocus.a defines no strong global
+# symbol outside the public API, so a host with its own METIS, GKlib or any
+# other library locus uses inside links without "multiple definition":
+# every GLOBAL defined symbol is a locus_* C function or, demangled, belongs
+# to namespace locus; weak symbols (inline and template code) may remain.
+# METIS_NodeND and gk_malloc, which locus calls, must not be global.
+#   cmake -DREADELF=... -DCXXFILT=... -DLIB=.../liblocus.a -P static_exports.cmake
+execute_process(COMMAND ${READELF} -sW ${LIB} OUTPUT_VARIABLE table RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${READELF} -sW ${LIB} failed (${rc})")
+endif()
+# "Num: Value Size Type Bind Vis Ndx Name": strong (GLOBAL), defined (Ndx a number).
+string(REGEX MATCHALL "[^\n]* GLOBAL +[A-Z]+ +[0-9]+ [^\n]+" strong "${table}")
+set(names "")
+foreach(line IN LISTS strong)
+  string(REGEX REPLACE "^.* GLOBAL +[A-Z]+ +[0-9]+ " "" name "${line}")
+  list(APPEND names "${name}")
+endforeach()
+list(LENGTH names count)
+if(count EQUAL 0)
+  message(FATAL_ERROR "${LIB} defines no global symbol at all")
+endif()
+string(REPLACE ";" "\n" mangled "${names}")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/static_exports_names.txt "${mangled}\n")
+if(CXXFILT)
+  execute_process(COMMAND ${CXXFILT} INPUT_FILE ${CMAKE_CURRENT_BINARY_DIR}/static_exports_names.txt
+    OUTPUT_VARIABLE demangled)
+else()
+  set(demangled "${mangled}")
+endif()
+string(REPLACE "\n" ";" demangled "${demangled}")
+set(bad "")
+foreach(sym IN LISTS demangled)
+  if(sym STREQUAL "" OR sym MATCHES "^locus_[a-z_0-9]+$" OR sym MATCHES "^(typeinfo for |typeinfo name for |vtable for )?locus::")
+    continue()
+  endif()
+  string(APPEND bad "  ${sym}\n")
+endforeach()
+if(bad)
+  message(FATAL_ERROR "${LIB} defines strong global symbols outside the public API (a host defining them would clash):\n${bad}")
+endif()
+foreach(internal METIS_NodeND gk_malloc)
+  if(table MATCHES " GLOBAL +[A-Z]+ +[0-9]+ ${internal}\n")
+    message(FATAL_ERROR "${LIB} defines ${internal} globally")
+  endif()
+endforeach()
+foreach(want locus_session_create locus_last_error_copy)
+  if(NOT table MATCHES " GLOBAL +DEFAULT +[0-9]+ ${want}\n")
+    message(FATAL_ERROR "${LIB} does not define ${want}")
+  endif()
+endforeach()
+message(STATUS "${LIB}: ${count} strong global symbols, all locus_* or locus::")
