@@ -459,6 +459,15 @@ TEST_CASE("cli: bad usage exits 2 before touching the file") {
   CHECK(help.out.find("info") != std::string::npos);
 }
 
+// Whether process `pid` has a handler installed for `sig` (SigCgt in /proc/PID/status).
+static bool catches_signal(pid_t pid, int sig) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u;
+  return false;
+}
+
 TEST_CASE("cli: SIGINT cancels a long run with exit status 5") {
   if (!have_binary()) return;
   TempDir dir;
@@ -474,7 +483,11 @@ TEST_CASE("cli: SIGINT cancels a long run with exit status 5") {
     ::execl(kBinary.c_str(), "locus", "factor", mesh.c_str(), "--subdivide", "9", "--json", static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  // Signal only once the CLI catches SIGINT: a slow start (a sanitized build on a
+  // loaded machine) would otherwise meet the default action and die of the signal.
+  for (int i = 0; i < 600 && !catches_signal(pid, SIGINT); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   ::kill(pid, SIGINT);
   int raw = 0;
   pid_t done = 0;
