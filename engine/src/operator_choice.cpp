@@ -24,25 +24,25 @@ OperatorChoice parse_operator_choice(const std::string& text) {
 
 namespace {
 
-void add_count(std::string& out, int64_t count, const char* what, const std::string& first) {
+void add_count(std::string& out, int64_t count, const char* one, const char* many, const std::string& first) {
   if (count == 0) return;
   if (!out.empty()) out += ", ";
-  out += std::to_string(count) + " " + what + (count == 1 ? "" : "s") + " (first " + first + ")";
+  out += std::to_string(count) + " " + (count == 1 ? one : many) + " (first " + first + ")";
 }
 
 }  // namespace
 
 std::string OperatorReport::reason() const {
   std::string r;
-  add_count(r, non_manifold_edges, "non-manifold edge",
+  add_count(r, non_manifold_edges, "non-manifold edge", "non-manifold edges",
             std::to_string(first_non_manifold_edge_v0) + "-" + std::to_string(first_non_manifold_edge_v1));
-  add_count(r, non_manifold_vertices, "non-manifold vertex", std::to_string(first_non_manifold_vertex));
-  add_count(r, zero_area_faces, "zero-area face", "face " + std::to_string(first_zero_area_face));
-  add_count(r, needle_faces, "needle face", "face " + std::to_string(first_needle_face));
+  add_count(r, non_manifold_vertices, "non-manifold vertex", "non-manifold vertices", std::to_string(first_non_manifold_vertex));
+  add_count(r, zero_area_faces, "zero-area face", "zero-area faces", "face " + std::to_string(first_zero_area_face));
+  add_count(r, needle_faces, "needle face", "needle faces", "face " + std::to_string(first_needle_face));
   if (inconsistent_orientation_edges)
     r += std::string(r.empty() ? "" : ", ") + std::to_string(inconsistent_orientation_edges) +
          " inconsistently oriented edge" + (inconsistent_orientation_edges == 1 ? "" : "s");
-  add_count(r, unreferenced_vertices, "unreferenced vertex", std::to_string(first_unreferenced_vertex));
+  add_count(r, unreferenced_vertices, "unreferenced vertex", "unreferenced vertices", std::to_string(first_unreferenced_vertex));
   if (r.empty() && asked != OperatorChoice::Auto) r = "asked for";
   return r;
 }

@@ -71,8 +71,8 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoic
                        });
   if (choice != OperatorChoice::Cotan) {
     // What every operator needs first; then the defects, from the same pass.
-    MeshRequirements base;
-    base.triangles = base.finite_coordinates = true;
+    MeshRequirements base = req;
+    base.manifold = base.no_degenerate_faces = base.no_unreferenced_vertices = false;
     check_requirements(m, base, report);
     if (derive_error) std::rethrow_exception(derive_error);
     const OperatorReport op = choose_operator_from(m, d->incidence, report, choice);

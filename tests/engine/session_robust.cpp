@@ -18,6 +18,7 @@
 #include "locus/kernels/mesh/mesh_defects_plant.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/robust_laplacian.hpp"
+#include "locus/locus.h"
 #include "locus/session.hpp"
 #include "tests/engine/session_test_support.hpp"
 
@@ -126,4 +127,25 @@ TEST_CASE("Session operator robust: heat values conserve heat with the robust ma
   double diff = 0;
   for (size_t v = 0; v < dc.size(); ++v) diff = std::max(diff, std::abs(dc[v] - dr[v]));
   CHECK(diff < 1e-3);
+}
+
+TEST_CASE("C API: locus_session_create_ex takes the operator choice") {
+  const Mesh m = plant_mesh_defect(make_icosphere(2), PlantedDefect::Fin, 2);
+  std::vector<double> xyz;
+  for (int32_t v = 0; v < m.num_vertices(); ++v) xyz.insert(xyz.end(), {m.x[v], m.y[v], m.z[v]});
+  const std::vector<int32_t> tris(m.face_vertices.begin(), m.face_vertices.end());
+  locus_session_options opt{LOCUS_OPERATOR_COTAN, 0};
+  locus_session* s = nullptr;
+  CHECK(locus_session_create_ex(xyz.data(), m.num_vertices(), tris.data(), m.num_faces(), &opt, &s) == LOCUS_BAD_INPUT);
+  CHECK(s == nullptr);
+  opt.mesh_operator = 7;
+  CHECK(locus_session_create_ex(xyz.data(), m.num_vertices(), tris.data(), m.num_faces(), &opt, &s) == LOCUS_BAD_USAGE);
+  REQUIRE(locus_session_create(xyz.data(), m.num_vertices(), tris.data(), m.num_faces(), &s) == LOCUS_OK);  // auto
+  CHECK(locus_session_operator(s) == LOCUS_OPERATOR_ROBUST);
+  std::vector<double> d(static_cast<size_t>(m.num_vertices()));
+  CHECK(locus_geodesic_distance(s, 0, d.data()) == LOCUS_OK);
+  CHECK(d[0] == 0.0);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) CHECK(std::isfinite(d[v]));
+  locus_session_destroy(s);
+  CHECK(locus_session_operator(nullptr) == -1);
 }
