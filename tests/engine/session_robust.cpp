@@ -49,7 +49,7 @@ Session session_with(const Mesh& m, OperatorChoice c) {
 
 TEST_CASE("Session operator auto: a clean mesh runs on the cotan operator, bit for bit") {
   const Mesh m = make_icosphere(3);
-  const Session a(Mesh(m));
+  const Session a{Mesh(m)};
   const Session c = session_with(m, OperatorChoice::Cotan);
   CHECK_FALSE(a.operator_report().robust);
   CHECK(a.operator_report().checked);
@@ -72,7 +72,7 @@ TEST_CASE("Session operator: heat distance per planted defect within 1.5x the cl
     CAPTURE(planted_defect_name(kind));
     const Mesh m = plant_mesh_defect(clean, kind, sites);
     CHECK(code_of([&] { session_with(m, OperatorChoice::Cotan); }) == ErrorCode::BadInput);
-    const Session s(Mesh(m));  // auto
+    const Session s{Mesh(m)};  // auto
     const OperatorReport op = s.operator_report();
     CHECK(op.robust);
     CHECK(op.any_defect());
@@ -106,7 +106,7 @@ TEST_CASE("Session operator: heat distance per planted defect within 1.5x the cl
 
 TEST_CASE("Session operator robust: heat values conserve heat with the robust mass") {
   const Mesh m = plant_mesh_defect(make_icosphere(3), PlantedDefect::Fin, 4);
-  const Session s(Mesh(m));
+  const Session s{Mesh(m)};
   REQUIRE(s.operator_report().robust);
   const RobustOperators R = robust_laplacian(m);
   std::vector<int32_t> all(static_cast<size_t>(m.num_vertices()));
