@@ -33,22 +33,42 @@ bool triangle_array(const py::handle& F) {
 
 // The arrays are the mesh's content, so whatever is wrong with them is an
 // InputError, also what mesh_from_view calls a usage error (a vertex id out of range).
-std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F) {
+SessionOptions session_options(const std::string& mesh_operator) {
+  SessionOptions so;
+  try {
+    so.mesh_operator = parse_operator_choice(mesh_operator);
+  } catch (const Error& e) {
+    usage_error(e.what());
+  }
+  return so;
+}
+
+std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F, const std::string& op) {
   std::unique_ptr<Session> s;
+  const SessionOptions so = session_options(op);
   if (!triangle_array(F)) {
     Mesh m = polygon_mesh(V, F);
     py::gil_scoped_release release;
-    return std::make_unique<Session>(std::move(m));
+    return std::make_unique<Session>(std::move(m), so);
   }
   TriangleArrays t = triangle_arrays(V, F);
   try {
     py::gil_scoped_release release;
-    s = std::make_unique<Session>(t.view);
+    s = std::make_unique<Session>(t.view, so);
   } catch (const Error& e) {
     if (e.code() == ErrorCode::BadUsage) throw Error(ErrorCode::BadInput, e.what(), e.where());
     throw;
   }
   return s;
+}
+
+py::dict operator_dict(const Session& s) {
+  const OperatorReport r = s.operator_report();
+  return py::dict("used"_a = r.used(), "asked"_a = operator_choice_name(r.asked), "reason"_a = r.reason(),
+                  "non_manifold_edges"_a = r.non_manifold_edges, "non_manifold_vertices"_a = r.non_manifold_vertices,
+                  "zero_area_faces"_a = r.zero_area_faces, "needle_faces"_a = r.needle_faces,
+                  "inconsistent_orientation_edges"_a = r.inconsistent_orientation_edges,
+                  "unreferenced_vertices"_a = r.unreferenced_vertices);
 }
 
 py::dict stats(const Session& s) {
@@ -69,7 +89,7 @@ HeatQuery heat(double t_factor, double t) {
 
 void bind_session(py::module_& m) {
   SessionClass cls(m, "Session",
-                   "Session(V, F)\n\n"
+                   "Session(V, F, *, operator='auto')\n\n"
                    "One mesh and everything derived from it, kept between calls: the first query of a "
                    "kind factors its operator, later ones reuse the factor (stats() counts the factorizations).\n"
                    "V: (nv, 3) float32 or float64 positions; F: (nf, 3) int32, int64, uint32 or uint16 vertex ids "
@@ -82,20 +102,35 @@ void bind_session(py::module_& m) {
                    "parameterize_disk, perfect_laplacian and self_supporting on the polygons too, every other "
                    "method on the triangulation (face ids of surface points and results are its triangles: .F; "
                    ".triangle_polygon maps them to the faces given).\n"
-                   "The mesh is checked once: finite positions, ids in range, simple polygons, manifold, no zero-area "
-                   "faces, no unreferenced vertices (locus.InputError naming the first offender).\n"
+                   "operator: 'auto' (default: the cotan Laplacian on a clean manifold mesh, the robust one -- "
+                   "intrinsic Delaunay triangulation of the tufted cover -- when the mesh has non-manifold edges or "
+                   "vertices, zero-area or needle faces, inconsistent orientation or unreferenced vertices), 'cotan' "
+                   "or 'robust', as the CLI's --operator; .operator says which and why. On the robust operator "
+                   "unreferenced vertices get NaN distances and logmap refuses.\n"
+                   "The mesh is checked once: finite positions, ids in range, simple polygons; with operator='cotan' "
+                   "also manifold, no zero-area faces, no unreferenced vertices (locus.InputError naming the first "
+                   "offender).\n"
                    "Thread safety: every method may run concurrently from any number of Python threads (the GIL "
                    "is released while computing); results are bit-identical to a query run alone. "
                    "set_positions() may run concurrently with queries: queries already started finish on the old "
                    "positions.");
-  cls.def(py::init(&session_from_arrays), "V"_a, "F"_a);
+  cls.def(py::init(&session_from_arrays), "V"_a, "F"_a, py::kw_only(), "operator"_a = "auto");
   cls.def_static(
       "from_file",
-      [](const std::string& path) {
+      [](const std::string& path, const std::string& op, bool weld) {
+        const SessionOptions so = session_options(op);
+        ReadOptions ro;
+        ro.weld = weld;
         py::gil_scoped_release release;
-        return std::make_unique<Session>(Session::from_file(path));
+        return std::make_unique<Session>(Session::from_file(path, ro, so));
       },
-      "path"_a, "Session.from_file(path)\n\nA Session on a mesh file (.obj, .off, .ply; triangles or polygons).");
+      "path"_a, py::kw_only(), "operator"_a = "auto", "weld"_a = true,
+      "Session.from_file(path, *, operator='auto', weld=True)\n\nA Session on a mesh file (.obj, .off, .ply; "
+      "glTF, FBX, Collada, STL, 3MF and the other formats assimp reads, their vertices welded by position unless "
+      "weld=False; triangles or polygons).");
+  cls.def_property_readonly("operator", &operator_dict,
+                            "The Laplacian the Session runs on: dict(used='cotan'|'robust', asked, reason, and the "
+                            "defect counts that made 'auto' choose the robust one).");
   cls.def_property_readonly("num_vertices", &Session::num_vertices);
   cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
   cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");

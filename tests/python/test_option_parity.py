@@ -18,8 +18,11 @@ MIGRATED = {"geodesic": locus.geodesic, "logmap": locus.logmap}
 PENDING = ["adf", "cvt", "deform", "factor", "heat", "hks", "info", "nncoords", "param", "perfect-laplacian",
            "run", "selfsupport", "skinweights", "voronoi"]
 # The CommandTable's options: threads is every Python call's keyword, subdivide
-# is locus.subdivide, seed is unused by these commands, the rest present a result.
-COMMON = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory", "preview", "view"}
+# is locus.subdivide, seed is unused by these commands, operator is the
+# Session's (Session(V, F, operator=), checked below), no_weld is
+# read_mesh(weld=), the rest present a result.
+COMMON = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory", "preview", "view", "operator",
+          "no_weld"}
 POSITIONAL = {"geodesic": "source", "logmap": "center"}
 
 
@@ -52,6 +55,12 @@ def test_cli_options_are_python_keywords(cli, command):
         if option == POSITIONAL[command]:
             continue  # required, no default
         assert python_default(p.default) == fields[option], f"{command}: default of {option}"
+
+
+@pytest.mark.parametrize("command", sorted(MIGRATED))
+def test_operator_is_a_keyword_with_the_cli_default(cli, command):
+    assert "operator" in cli_options(cli, command)
+    assert inspect.signature(MIGRATED[command]).parameters["operator"].default == "auto"
 
 
 def test_every_command_is_migrated_or_pending(cli):

@@ -38,7 +38,7 @@ int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContex
   const Mesh& m = in.mesh;
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
-  check_requirements(m, MeshRequirements{});
+  check_input_operator(in);
   const double h = mean_edge_length(m);
   if (!(h > 0) || !std::isfinite(h)) fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(h));
   const std::vector<int32_t> S = parse_vertex_list(ho.sources, m.num_vertices(), "--source");
@@ -46,7 +46,7 @@ int run_heat(const CommonOptions& opt, const HeatCliOptions& ho, const RunContex
   const double t = spec.resolve(h);
 
   Stopwatch osw;
-  const CscMatrix A = heat_operator(m, t);
+  const CscMatrix A = input_heat_operator(in, t);
   const double operator_s = osw.seconds();
   const FactorRequest req{"heat", t, &A};
   const Factors H = factor_or_load(ho.cache, m, std::span(&req, 1), ctx);

@@ -94,7 +94,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
   const Mesh& m = in.mesh;
   const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
-  check_requirements(m, MeshRequirements{});
+  check_input_operator(in);
   const double h = mean_edge_length(m);
   if (!(h > 0) || !std::isfinite(h)) fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(h));
   std::vector<double> ts;
@@ -110,7 +110,7 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
   for (double t : ts) {
     if (!(std::isfinite(t) && t > 0))
       fail(ErrorCode::BadUsage, command + ": diffusion time " + format_number(t) + " must be finite and > 0");
-    A.push_back(heat_operator(m, t));
+    A.push_back(input_heat_operator(in, t));
   }
   H.operator_s = osw.seconds();
   std::vector<FactorRequest> req;

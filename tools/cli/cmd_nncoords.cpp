@@ -12,6 +12,7 @@
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "tools/cli/cli_common.hpp"
+#include "tools/cli/heat_factor_cache.hpp"
 #include "tools/cli/site_args.hpp"
 
 namespace locus::cli {
@@ -37,8 +38,7 @@ int run_nncoords(const CommonOptions& opt, const NnOptions& o, const RunContext&
   const SurfacePoint q = point_on_file_face(in, given, "--point");
   check_surface_point(mesh, q, "--point", 0);
   Stopwatch sw;
-  const HeatDiffusion H = ts.times_h2 ? prepare_heat_diffusion(mesh, ts.value, 0.0, ctx)
-                                      : prepare_heat_diffusion(mesh, 1.0, ts.value, ctx);
+  const HeatDiffusion H = input_heat_diffusion(in, ts, ctx);  // cotan or robust (--operator)
   const NaturalNeighborField F = prepare_natural_neighbors(H, mesh, sites, ctx);
   const double prepare_s = sw.seconds();
   sw.restart();

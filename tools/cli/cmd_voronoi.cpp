@@ -102,7 +102,7 @@ int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunCont
   Stopwatch sw;
   // Requirements are checked inside; t as a multiple of h^2 needs h first.
   Factors cache;
-  const HeatDiffusion H = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
+  const HeatDiffusion H = heat_diffusion_cached(o.fc, in, ts, ctx, cache);
   const double prepare_s = sw.seconds();
   if (o.random > 0) sites = random_surface_points(mesh, o.random, opt.seed);
   if (static_cast<int64_t>(sites.size()) > mesh.num_vertices())

@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/operator_choice.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/mesh_view.hpp"
@@ -288,6 +289,14 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
 // are its triangles: mesh() returns it, triangle_polygon() maps each triangle
 // to the caller's face, polygons() returns the faces as given.
 
+// How a Session builds its operators (engine/include/locus/engine/operator_choice.hpp).
+struct SessionOptions {
+  // auto (default): the cotan operator on a clean manifold mesh, bit for bit as
+  // without options; the robust one when the mesh has defects. cotan: the checks
+  // below refuse a mesh with defects. robust: always the robust operator.
+  OperatorChoice mesh_operator = OperatorChoice::Auto;
+};
+
 class Session {
  public:
   // Takes the mesh and checks it: finite coordinates, at least one face, every
@@ -295,18 +304,33 @@ class Session {
   // zero-area faces, no unreferenced vertices (Error(BadInput) naming the
   // first offender and mesh.source). O(nv + nf); builds no operator.
   explicit Session(Mesh mesh);
+  // With the operator choice: auto or robust take meshes with non-manifold
+  // edges or vertices, zero-area or needle faces, inconsistent orientation or
+  // unreferenced vertices (checked: finite coordinates, a face, indices in
+  // range, triangles or simple polygons). On the robust operator, geodesic
+  // distance (single source, sets, the geodesic request, localized included),
+  // heat values and the diffusion queries run on the intrinsic triangulation of
+  // the tufted cover; unreferenced vertices get NaN distances; logmap refuses
+  // (Error(BadInput)); a polygon mesh then runs on its triangulation.
+  Session(Mesh mesh, const SessionOptions& opt);
   // From the host's buffers (float/double positions, uint16/uint32/int32 ids,
   // byte strides): read once into the Session's mesh, the only copy made
   // (mesh_view.hpp). Same checks as Session(Mesh).
   explicit Session(const MeshView& view);
   // A polygon mesh from the host's buffers (mesh_view.hpp), as Session(Mesh).
   explicit Session(const PolygonMeshView& view);
+  explicit Session(const MeshView& view, const SessionOptions& opt);
+  explicit Session(const PolygonMeshView& view, const SessionOptions& opt);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
+  static Session from_file(const std::string& path, const ReadOptions& opt, const SessionOptions& so);
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
   ~Session();
+
+  // The operator the Session runs on and why (the defects found; auto and robust).
+  OperatorReport operator_report() const;
 
   int32_t num_vertices() const;
   int32_t num_faces() const;        // triangles of mesh() (of the triangulation for a polygon mesh)
