@@ -167,7 +167,8 @@ void bind_polygon_one_shots(py::module_& m) {
 void bind_mesh_functions(py::module_& m) {
   m.def("read_mesh", &read, "path"_a,
         "read_mesh(path) -> (V, F)\n\nReads .obj, .off or .ply: V (nv, 3) float64; F (nf, 3) int32 for triangle "
-        "meshes, else a list of int32 arrays (one per polygon). InputError names the file and line of a "
+        "meshes, (nf, k) int32 when every face has k corners (quads), else a list of int32 arrays (one per "
+        "polygon). InputError names the file and line of a "
         "malformed file.");
   m.def("write_mesh", &write, "path"_a, "V"_a, "F"_a, "properties"_a = py::dict(),
         "write_mesh(path, V, F, properties={})\n\nWrites .obj, .off or .ply (format from the extension; PLY binary) "
