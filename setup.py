@@ -38,10 +38,10 @@ class CMakeBuild(build_ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
         build = pathlib.Path(os.environ.get("LOCUS_CMAKE_BUILD_DIR") or
                              pathlib.Path(self.build_temp).resolve() / "cmake")
-        configure = ["cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
-                     f"-DPython3_EXECUTABLE={sys.executable}", "-DLOCUS_BUILD_PYTHON=ON"]
-        if not (build / "CMakeCache.txt").exists():  # a new tree: only what the module needs
-            configure += ["-DLOCUS_BUILD_TESTS=OFF", "-DLOCUS_BUILD_TOOLS=OFF"]
+        configure = ["cmake", "-S", str(ROOT), "-B", str(build)]
+        if not (build / "CMakeCache.txt").exists():  # a new tree: only what the module needs, for this Python
+            configure += ["-DCMAKE_BUILD_TYPE=Release", f"-DPython3_EXECUTABLE={sys.executable}",
+                          "-DLOCUS_BUILD_PYTHON=ON", "-DLOCUS_BUILD_TESTS=OFF", "-DLOCUS_BUILD_TOOLS=OFF"]
         configure += shlex.split(os.environ.get("LOCUS_CMAKE_ARGS", ""))
         subprocess.check_call(configure)
         subprocess.check_call(["cmake", "--build", str(build), "--target", "locus_python",
@@ -62,5 +62,7 @@ setup(
     package_data={"locus": ["py.typed", "*.pyi"]},
     ext_modules=[CMakeExtension("locus._locus")],
     cmdclass={"build_ext": CMakeBuild},
+    # Not build/: that is the CMake build tree of the README's commands.
+    options={"build": {"build_base": "build-python"}},
     zip_safe=False,
 )
