@@ -11,8 +11,8 @@ mesh, computes off Blender's main thread with progress in the status bar
 step. The Session of each object is kept between calls (the second geodesic
 on the same mesh only solves) and rebuilt when the mesh changes.
 
-Install: zip the `locus_addon` folder and use Preferences > Add-ons >
-Install, or start Blender with `--addons locus_addon` and this folder's
+Install: zip the `locus_addon` folder (`python3 -m zipfile -c
+locus_addon.zip blender/locus_addon`) and use Preferences > Add-ons > Install, or start Blender with `--addons locus_addon` and this folder's
 parent in BLENDER_USER_SCRIPTS/addons. The locus module itself must be
 importable by Blender's Python (see docs/blender.md).
 """

@@ -13,6 +13,8 @@
    same input arrays, and they are compared (to float32, what Blender stores).
    Where the module refuses a mesh (locus.Error), the operator must have
    refused it with that message, as a report, with nothing written.
+   Inside Blender also: the add-on's Esc path (progress callback) gives
+   locus.Cancelled, a Ctrl-C during a main-thread call KeyboardInterrupt.
 Prints each operator's wall time on every mesh, first call and second call
 (the Session cached). Without Blender the test prints "SKIPPED:" (ctest's
 SKIP_REGULAR_EXPRESSION).
@@ -243,6 +245,8 @@ def main():
     print("saved .blend reopens with the results; the zip installs and enables")
 
     c = Checker(locus, report["runs"])
+    if report["info"]["sigint"] != "KeyboardInterrupt":
+        c.failures.append(f"Ctrl-C during a call in Blender gave {report['info']['sigint']}, not KeyboardInterrupt")
     if not report["info"]["esc_is_cancelled"]:
         c.failures.append(f"Esc (cancel from the progress callback) raised {report['info']['esc_error']}")
     for name in ("cube", "armadillo", "nonmanifold"):

@@ -15,6 +15,7 @@ module outside Blender and compares.
 import json
 import os
 import pathlib
+import signal
 import sys
 import time
 
@@ -253,6 +254,27 @@ def host_checks():
             "locus_file": locus.__file__, "blender": bpy.app.version_string}
 
 
+def sigint_check():
+    """Ctrl-C during a main-thread locus call in Blender (whose own C handler gets SIGINT) raises
+    KeyboardInterrupt, as under plain Python. One signal only: Blender exits on the second."""
+    locus = sys.modules[ADDON].engine.locus()
+    s = locus.Session(*locus.read_mesh(str(ARMADILLO)))
+    sent = []
+
+    def progress(fraction, phase):
+        if not sent:
+            sent.append(phase)
+            os.kill(os.getpid(), signal.SIGINT)
+
+    try:
+        s.prepare_heat(progress=progress)
+        return "finished"
+    except KeyboardInterrupt:
+        return "KeyboardInterrupt"
+    except locus.Cancelled:
+        return "Cancelled"
+
+
 def main():
     # --addons enabled it (without preferences: LOCUS_MODULE_DIR names the module's folder).
     assert ADDON in sys.modules and hasattr(bpy.types, "LOCUS_PT_panel") and "remesh" in dir(bpy.ops.locus)
@@ -264,6 +286,7 @@ def main():
     saved = OUT / "saved.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(saved))
     info["saved"] = str(saved)
+    info["sigint"] = sigint_check()
     (OUT / "runs.json").write_text(json.dumps({"info": info, "runs": runs}, indent=1, default=str))
 
 
