@@ -103,8 +103,12 @@ class LocusOperator:
             wm.progress_end()
         return self._finish(context, task, result, compute_s, started)
 
+    def _interactive(self, context):
+        """Whether a window's event loop can drive modal(): else the call runs inline (execute)."""
+        return not bpy.app.background and context.window is not None
+
     def invoke(self, context, event):
-        if bpy.app.background or context.window is None:
+        if not self._interactive(context):
             return self.execute(context)
         self._started = time.perf_counter()
         try:

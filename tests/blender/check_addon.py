@@ -244,7 +244,17 @@ def main():
     assert "REOPEN-AND-ZIP-OK" in text, text[-3000:]
     print("saved .blend reopens with the results; the zip installs and enables")
 
+    blender_run(blender, ["--python", str(HERE / "sigint_in_blender.py"), "--", str(out / "sigint.json"),
+                          str(args.module_dir.resolve()), str(armadillo)], env)
+    report["info"].update(json.loads((out / "sigint.json").read_text()))
     c = Checker(locus, report["runs"])
+    modal = report["info"]["modal"]
+    if modal["modal_done"]["results"][-1] != ["FINISHED"] or not modal["modal_done"]["written"]:
+        c.failures.append(f"the interface path (invoke, timer events) did not finish and write: {modal['modal_done']}")
+    if modal["modal_esc"]["results"][-1] != ["CANCELLED"] or modal["modal_esc"]["written"]:
+        c.failures.append(f"Esc did not cancel without writing: {modal['modal_esc']}")
+    print(f"interface path: {modal['modal_done']['results']}; with Esc: {modal['modal_esc']['results']}, "
+          f"{modal['modal_esc']['reports']}")
     if report["info"]["sigint"] != "KeyboardInterrupt":
         c.failures.append(f"Ctrl-C during a call in Blender gave {report['info']['sigint']}, not KeyboardInterrupt")
     if not report["info"]["esc_is_cancelled"]:

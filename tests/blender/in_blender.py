@@ -15,7 +15,6 @@ module outside Blender and compares.
 import json
 import os
 import pathlib
-import signal
 import sys
 import time
 
@@ -254,25 +253,63 @@ def host_checks():
             "locus_file": locus.__file__, "blender": bpy.app.version_string}
 
 
-def sigint_check():
-    """Ctrl-C during a main-thread locus call in Blender (whose own C handler gets SIGINT) raises
-    KeyboardInterrupt, as under plain Python. One signal only: Blender exits on the second."""
-    locus = sys.modules[ADDON].engine.locus()
-    s = locus.Session(*locus.read_mesh(str(ARMADILLO)))
-    sent = []
+class _Recorder:
+    """Stand-ins for what modal operators get from a window: the window manager, workspace, events."""
 
-    def progress(fraction, phase):
-        if not sent:
-            sent.append(phase)
-            os.kill(os.getpid(), signal.SIGINT)
+    def __init__(self):
+        self.calls = []
 
-    try:
-        s.prepare_heat(progress=progress)
-        return "finished"
-    except KeyboardInterrupt:
-        return "KeyboardInterrupt"
-    except locus.Cancelled:
-        return "Cancelled"
+    def __getattr__(self, name):
+        return lambda *args, **kwargs: self.calls.append((name, args)) or name
+
+
+def modal_check(obj):
+    """The interface path (invoke + modal with timer events, Esc) driven by hand, as a window would.
+
+    Background Blender has no event loop, so an object with the operator's
+    mixin and the geodesic operator's prepare() stands in for the registered
+    operator; it computes on the worker thread and writes on the last timer
+    event, and after Esc it writes nothing."""
+    addon = sys.modules[ADDON]
+    base, ops = addon.operator_base, addon.operators
+
+    class Modal(base.LocusOperator):
+        bl_label, bl_idname = "modal check", "LOCUS_OT_modal_check"
+        radius, t_factor, use_modifiers = 0.0, 0.0, False
+        prepare = ops.LOCUS_OT_geodesic.prepare
+
+        def __init__(self, name):
+            self.name, self.reports = name, []
+
+        def report(self, kind, text):
+            self.reports.append((sorted(kind), text))
+
+        def _interactive(self, context):
+            return True
+
+    Event = type("Event", (), {})
+    timer, esc = Event(), Event()
+    timer.type, timer.value, esc.type, esc.value = "TIMER", "NOTHING", "ESC", "PRESS"
+    out = {}
+    for name, events in (("modal_done", []), ("modal_esc", [esc])):
+        activate(obj)
+        select_vertices(obj, [0], 0)
+        ctx = type("Context", (), {})()
+        ctx.active_object, ctx.window, ctx.window_manager = obj, object(), _Recorder()
+        ctx.workspace, ctx.view_layer, ctx.preferences = _Recorder(), bpy.context.view_layer, bpy.context.preferences
+        op = Modal(name)
+        results = [sorted(op.invoke(ctx, None))]
+        for e in events:
+            results.append(sorted(op.modal(ctx, e)))
+        for _ in range(3000):
+            r = op.modal(ctx, timer)
+            if r != {"PASS_THROUGH"}:
+                results.append(sorted(r))
+                break
+            time.sleep(0.01)
+        out[name] = {"results": results, "written": obj.vertex_groups.get(name) is not None,
+                     "reports": op.reports, "status": [c for c in ctx.workspace.calls][-1:]}
+    return out
 
 
 def main():
@@ -286,7 +323,7 @@ def main():
     saved = OUT / "saved.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(saved))
     info["saved"] = str(saved)
-    info["sigint"] = sigint_check()
+    info["modal"] = modal_check(bpy.data.objects["Cube"])
     (OUT / "runs.json").write_text(json.dumps({"info": info, "runs": runs}, indent=1, default=str))
 
 
