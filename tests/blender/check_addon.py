@@ -174,6 +174,8 @@ def timing_table(runs):
     lines = [f"{'mesh':11s} {'operator':16s} {'1st wall':>9s} {'1st calc':>9s} {'session':>8s} "
              f"{'2nd wall':>9s} {'2nd calc':>9s} {'session':>8s}"]
     for r in runs:
+        if r["mesh"] == "cube-cache":
+            continue
         a, b = r["first"], r.get("second", {"wall_s": float("nan"), "compute_s": float("nan"), "session": "-"})
         if "error" in a:
             lines.append(f"{r['mesh']:11s} {r['op']:16s} {a['wall_s']:9.3f} refused: {a['error'][:60]}")
@@ -248,6 +250,9 @@ def main():
                           str(args.module_dir.resolve()), str(armadillo)], env)
     report["info"].update(json.loads((out / "sigint.json").read_text()))
     c = Checker(locus, report["runs"])
+    if report["info"]["cache"] != ["cached", "moved", "cached", "new"]:
+        c.failures.append(f"Session cache: {report['info']['cache']}, expected cached, moved, cached, new")
+    print(f"Session cache as the cube changes (same, moved vertex, same, triangulated): {report['info']['cache']}")
     modal = report["info"]["modal"]
     if modal["modal_done"]["results"][-1] != ["FINISHED"] or not modal["modal_done"]["written"]:
         c.failures.append(f"the interface path (invoke, timer events) did not finish and write: {modal['modal_done']}")

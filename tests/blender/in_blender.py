@@ -253,6 +253,24 @@ def host_checks():
             "locus_file": locus.__file__, "blender": bpy.app.version_string}
 
 
+def cache_check(obj):
+    """The Session cache follows the mesh: new positions keep it (set_positions), new faces replace it."""
+    select_vertices(obj, [0], 0)
+    seen = [run("cube-cache", obj, "geodesic", calls=1, name="cache", use_modifiers=False)["first"]["session"]]
+    obj.data.vertices[1].co.x += 0.05
+    obj.data.update()
+    seen.append(run("cube-cache", obj, "geodesic", calls=1, name="cache", use_modifiers=False)["first"]["session"])
+    seen.append(run("cube-cache", obj, "geodesic", calls=1, name="cache", use_modifiers=False)["first"]["session"])
+    activate(obj)
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="SELECT")
+    bpy.ops.mesh.quads_convert_to_tris()
+    bpy.ops.object.mode_set(mode="OBJECT")
+    select_vertices(obj, [0], 0)
+    seen.append(run("cube-cache", obj, "geodesic", calls=1, name="cache", use_modifiers=False)["first"]["session"])
+    return seen
+
+
 class _Recorder:
     """Stand-ins for what modal operators get from a window: the window manager, workspace, events."""
 
@@ -324,6 +342,7 @@ def main():
     bpy.ops.wm.save_as_mainfile(filepath=str(saved))
     info["saved"] = str(saved)
     info["modal"] = modal_check(bpy.data.objects["Cube"])
+    info["cache"] = cache_check(bpy.data.objects["Cube"])
     (OUT / "runs.json").write_text(json.dumps({"info": info, "runs": runs}, indent=1, default=str))
 
 
