@@ -171,7 +171,8 @@ void bind_mesh_functions(py::module_& m) {
         "read_mesh(path, *, weld=True) -> (V, F)\n\nReads .obj, .off or .ply, and through assimp glTF (.gltf, .glb), "
         "FBX, Collada, STL, 3MF and the other asset formats (the scene flattened with its node transforms, its "
         "vertices welded by position unless weld=False): V (nv, 3) float64; F (nf, 3) int32 for triangle "
-        "meshes, else a list of int32 arrays (one per polygon). InputError names the file and line of a "
+        "meshes, (nf, k) int32 when every face has k corners (quads), else a list of int32 arrays (one per "
+        "polygon). InputError names the file and line of a "
         "malformed file.");
   m.def("write_mesh", &write, "path"_a, "V"_a, "F"_a, "properties"_a = py::dict(),
         "write_mesh(path, V, F, properties={})\n\nWrites .obj, .off or .ply (format from the extension; PLY binary) "

@@ -136,7 +136,8 @@ void bind_session(py::module_& m) {
   cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");
   cls.def_property_readonly("num_polygons", &Session::num_polygons, "Faces as given (num_faces for triangles).");
   cls.def_property_readonly("polygons", [](const Session& s) { return faces_object(s.polygons()); },
-                            "A copy of the faces as given: (nf, 3) int32 for triangles, else a list of int32 arrays.");
+                            "A copy of the faces as given: (nf, k) int32 when every face has k corners (3 for "
+                            "triangles), else a list of int32 arrays.");
   cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
                             "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
   cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");

@@ -9,6 +9,7 @@ import inspect
 import re
 import subprocess
 
+import numpy as np
 import pytest
 
 import locus
@@ -67,3 +68,14 @@ def test_every_command_is_migrated_or_pending(cli):
     text = subprocess.run([str(cli), "--help"], check=True, capture_output=True, text=True).stdout
     listed = re.findall(r"^  ([a-z][a-z-]*)\s{2,}", text.split("Subcommands:")[1], re.M)
     assert sorted(listed) == sorted(list(MIGRATED) + PENDING)
+
+
+def test_diagonal_method_takes_the_cli_name(sphere):
+    """`locus adf --method selinv`: the same name in Python; selected inversion
+    and per-vertex subset solves are two algorithms for the same entries."""
+    s = locus.Session(*sphere)
+    by_selinv = s.auto_diffusion(method="selinv")
+    assert np.allclose(by_selinv, s.auto_diffusion(method="subset"), rtol=1e-9, atol=0)
+    assert np.array_equal(s.auto_diffusion(method="selected_inversion"), by_selinv)
+    with pytest.raises(locus.UsageError, match="selinv"):
+        s.auto_diffusion(method="full-inverse")
