@@ -96,7 +96,7 @@ def test_signatures_of_session_methods(sphere):
     assert list(sig.parameters)[:3] == ["self", "center", "fraction"]
     assert sig.parameters["method"].default == "heat" and sig.parameters["fraction"].default == 0.05
     assert sig.parameters["method"].kind is inspect.Parameter.KEYWORD_ONLY
-    assert list(inspect.signature(locus.Session).parameters) == ["V", "F"]
+    assert list(inspect.signature(locus.Session).parameters) == ["V", "F", "operator"]
     # A bound method: inspect drops self.
     assert list(inspect.signature(locus.Session(*sphere).cvt).parameters)[0] == "sites"
 
