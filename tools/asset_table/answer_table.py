@@ -22,11 +22,11 @@ import subprocess
 import sys
 import tempfile
 
-COMMANDS = {
-    "geodesic": lambda n: ["geodesic", "--source", "0"],
-    "voronoi": lambda n: ["voronoi", "--random", "8"],
-    "skinweights": lambda n: ["skinweights", "--handles", ",".join(str(v) for v in (0, n // 4, n // 2, 3 * n // 4))],
-    "cvt": lambda n: ["cvt", "--sites", str(min(200, n)), "--iters", "2"],
+COMMANDS = {  # each command's options for a mesh of n vertices
+    "geodesic": lambda n: ["--source", "0"],
+    "voronoi": lambda n: ["--random", "8"],
+    "skinweights": lambda n: ["--handles", ",".join(str(v) for v in (0, n // 4, n // 2, 3 * n // 4))],
+    "cvt": lambda n: ["--sites", str(min(200, n)), "--iters", "2"],
 }
 OWN = {"off", "obj", "ply"}
 SKIP = {"txt", "png", "jpg", "jpeg", "tga", "bmp", "dds", "mtl", "bin", "glsl", "xml", "md", "json", "html", "zip",
