@@ -22,11 +22,11 @@ import subprocess
 import sys
 import tempfile
 
-COMMANDS = {
-    "geodesic": lambda n: ["geodesic", "--source", "0"],
-    "voronoi": lambda n: ["voronoi", "--random", "8"],
-    "skinweights": lambda n: ["skinweights", "--handles", ",".join(str(v) for v in (0, n // 4, n // 2, 3 * n // 4))],
-    "cvt": lambda n: ["cvt", "--sites", str(min(200, n)), "--iters", "2"],
+COMMANDS = {  # each command's options for a mesh of n vertices
+    "geodesic": lambda n: ["--source", "0"],
+    "voronoi": lambda n: ["--random", "8"],
+    "skinweights": lambda n: ["--handles", ",".join(str(v) for v in (0, n // 4, n // 2, 3 * n // 4))],
+    "cvt": lambda n: ["--sites", str(min(200, n)), "--iters", "2"],
 }
 OWN = {"off", "obj", "ply"}
 SKIP = {"txt", "png", "jpg", "jpeg", "tga", "bmp", "dds", "mtl", "bin", "glsl", "xml", "md", "json", "html", "zip",
@@ -82,14 +82,16 @@ def main():
         counts = {c: 0 for c in COMMANDS}
         with tempfile.TemporaryDirectory() as tmp:
             for path, n in readable:
+                status = []
                 for c, args in COMMANDS.items():
                     out = ["-o", os.path.join(tmp, "out.ply")] if c == "geodesic" else []  # cvt: labels only
                     st, msg, _ = run(a.locus, [c, path] + args(n) + out, a.timeout)
+                    status.append(f"{c}={st}")
                     if st == 0:
                         counts[c] += 1
                     else:
                         failures.append(f"{c} {path}: exit {st}: {msg}")
-                print(f"{path}: {n} vertices", file=sys.stderr, flush=True)
+                print(f"{path}: {n} vertices: {' '.join(status)}", file=sys.stderr, flush=True)
         for c in COMMANDS:
             lines.append(f"| {folder} (>= {minv} vertices for asset files) | {c} | {counts[c]} / {len(readable)} |")
     text = "\n".join(lines) + "\n\nFailures:\n\n" + ("\n".join("- " + f for f in failures) or "- none") + "\n"
