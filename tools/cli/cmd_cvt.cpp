@@ -46,6 +46,7 @@ struct CvtOptions {
   PreviewOptions preview;
   std::string labels_out, sites_out;
   int repair_rounds = RemeshOptions{}.max_repair_rounds;
+  int refinements = RemeshOptions{}.max_refinements;
   bool no_hausdorff = false;
   int optimize_rounds = RemeshOptions{}.optimize_rounds;
   double stop_energy = 0.0;
@@ -144,7 +145,9 @@ Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
   j["dual_min_angle_deg"] = rr.dual_min_angle_deg;
   j["flips"] = rr.optimize.flips;
   j["smoothing_moves"] = rr.optimize.moves;
+  j["boundary_moves"] = rr.optimize.boundary_moves;  // along the input's boundary curves
   j["repair_rounds"] = rr.repair_rounds;
+  j["refinements"] = rr.refinements;
   j["lloyd_iterations"] = rr.lloyd_iterations;
   j["defects_before_repair"] = defects_json(rr.first_defects);
   j["defects_left"] = defects_json(rr.defects);
@@ -256,6 +259,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   RemeshOptions ro;
   ro.lloyd = lloyd_options(opt, o, ts, tc);
   ro.max_repair_rounds = o.repair_rounds;
+  ro.max_refinements = o.refinements;
   ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
   const bool json = opt.json;
@@ -290,7 +294,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     fail(ErrorCode::Numerical, "cvt: the cells still break the closed-ball property after " +
                                    std::to_string(rr.repair_rounds) + " repair rounds (" +
                                    defects_json(rr.defects).dump() + "); no manifold remesh to write to " +
-                                   opt.output + " (try more --sites or --repair-rounds)");
+                                   opt.output + " (try more --sites, --repair-rounds or --refinements)");
   phase.restart();
   write_output_mesh(opt, rr.remesh);
   const double write_s = phase.seconds();
@@ -389,6 +393,10 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--repair-rounds", o->repair_rounds,
                   "Rounds of added sites that make the remesh a manifold (default 12)")
       ->check(CLI::Range(0, 1000));
+  app->add_option("--refinements", o->refinements,
+                  "Midpoint subdivisions of the input the repair may use where its vertices are too coarse for "
+                  "the cells (default 3; 0 = none)")
+      ->check(CLI::Range(0, 4));
   app->add_option("--optimize", o->optimize_rounds,
                   "Rounds of edge flips and tangential smoothing of the remesh on the input (default 4; 0 = the dual as is)")
       ->check(CLI::Range(0, 100));
