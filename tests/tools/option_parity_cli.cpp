@@ -20,6 +20,7 @@
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/laplacian_requests.hpp"
+#include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/param_request.hpp"
 #include "locus/engine/voronoi_request.hpp"
 #include "locus/locus.h"

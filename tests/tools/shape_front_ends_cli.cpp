@@ -135,7 +135,7 @@ TEST_CASE("param: the CLI, the Session and the C API agree bit for bit (disk on 
   const std::string grid = dir / "grid.off";
   write_text(grid, quad_grid());
   const locus::Session g = locus::Session::from_file(grid);
-  for (const std::string method : {"perfect", "cotan"}) {
+  for (const std::string method : {"perfect", "uniform"}) {  // cotan needs triangles
     CAPTURE(method);
     const std::string out = dir / ("disk-" + method + ".ply");
     REQUIRE(run_locus(dir, {"param", grid, "--method", method, "-o", out}).status == 0);
