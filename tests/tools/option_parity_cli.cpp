@@ -66,11 +66,13 @@ std::vector<std::string> cli_options(const std::string& command) {
   return out;
 }
 
-// The fields of `typedef struct NAME { ... } NAME;` in locus.h.
+// The fields of `typedef struct NAME { ... } NAME;` in locus.h (or locus_commands.h, which it includes).
 std::vector<std::string> c_struct_fields(const std::string& name) {
-  std::ifstream f(LOCUS_TEST_DATA_DIR "/../../engine/include/locus/locus.h");
-  std::stringstream ss;
-  ss << f.rdbuf();
+  std::stringstream ss;  // locus.h and the header of the commands it includes
+  for (const char* h : {"/locus.h", "/locus_commands.h"}) {
+    std::ifstream f(std::string(LOCUS_TEST_DATA_DIR "/../../engine/include/locus") + h);
+    ss << f.rdbuf();
+  }
   const std::string text = ss.str();
   const size_t at = text.find("typedef struct " + name + " {");
   REQUIRE(at != std::string::npos);
