@@ -454,42 +454,24 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
 }
 
 DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) const {
-  const std::shared_ptr<State> s = impl_->current();
-  check_vertex(*s, req.roi_seed, "deform: roi_seed");
-  check_vertex(*s, req.handle_vertex, "deform: handle_vertex");
+  // The command's computation (session_deform_command.cpp) with the older fields.
   if (!(req.roi_fraction > 0 && req.roi_fraction <= 1))
     fail(ErrorCode::BadUsage, "deform: roi_fraction must be in (0, 1] (got " + std::to_string(req.roi_fraction) + ")");
-  if (req.handle_ring < 0) fail(ErrorCode::BadUsage, "deform: handle_ring must be >= 0");
-  for (double c : req.offset)
-    if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "deform: the offset must be finite");
-  const DeformEnergy energy =
-      req.energy == DeformEnergyKind::Bilaplacian ? DeformEnergy::Bilaplacian : DeformEnergy::Laplacian;
-  const CallProgress progress(ctx, !s->deform_ops.contains(static_cast<int>(energy)));
-  const auto op = s->deform_ops.get(static_cast<int>(energy), ctx, [&] {
-    auto o = std::make_shared<const DeformOperator>(prepare_deform_operator(s->mesh, energy, 1e-6, progress.build()));
-    s->counters->deform.fetch_add(1);
-    return o;
-  });
-  const DeformRegion region =
-      make_deform_region(s->derived->adjacency, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
-  const DeformSystem sys = prepare_deform_system(*op, region, progress.query());
-  const Mesh target = handle_target(s->mesh, region, req.offset);
-  Mesh out;
-  const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, s->mesh, target, out);
+  DeformCommandRequest q;
+  q.roi_seed = req.roi_seed;
+  q.roi_fraction = req.roi_fraction;
+  q.handle = req.handle_vertex;
+  q.handle_ring = req.handle_ring;
+  q.offset = req.offset;
+  q.energy = req.energy == DeformEnergyKind::Bilaplacian ? "bilaplacian" : "laplacian";
+  DeformCommandReport c = deform(q, ctx);
   DeformResult r;
-  const int32_t n = impl_->nv;
-  r.xyz.resize(3 * static_cast<size_t>(n));
-  for (int32_t i = 0; i < n; ++i) {
-    r.xyz[3 * static_cast<size_t>(i)] = out.x[i];
-    r.xyz[3 * static_cast<size_t>(i) + 1] = out.y[i];
-    r.xyz[3 * static_cast<size_t>(i) + 2] = out.z[i];
-  }
-  r.roi_size = static_cast<int32_t>(region.roi.size());
-  r.free_size = static_cast<int32_t>(region.free.size());
-  r.columns_updated_fraction = sys.sub.stats.columns_updated_fraction;
-  r.refinement_steps = st.refinement_steps;
-  r.residual = st.residual;
-  progress.finish("deform");
+  r.xyz = std::move(c.xyz);
+  r.roi_size = c.roi_vertices;
+  r.free_size = c.free_vertices;
+  r.columns_updated_fraction = c.columns_updated_fraction;
+  r.refinement_steps = c.refinement_steps;
+  r.residual = c.residual;
   return r;
 }
 

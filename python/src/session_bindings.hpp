@@ -18,6 +18,10 @@ using SessionClass = pybind11::class_<Session>;
 void bind_session(pybind11::module_& m);
 void bind_session_geodesic(SessionClass& cls);
 void bind_session_commands(SessionClass& cls);  // geodesic, logmap: every CLI option
+void bind_session_diffusion_commands(SessionClass& cls);  // adf, hks, heat, nncoords: every CLI option
+void bind_session_param_command(SessionClass& cls);       // param: every CLI option
+void bind_session_laplacian_commands(SessionClass& cls);  // perfect-laplacian, selfsupport: every CLI option
+void bind_session_voronoi_command(SessionClass& cls);     // voronoi: every CLI option
 void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
 void bind_session_shape(SessionClass& cls);
 

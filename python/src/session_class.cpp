@@ -196,6 +196,10 @@ void bind_session(py::module_& m) {
   });
   bind_session_geodesic(cls);
   bind_session_commands(cls);
+  bind_session_diffusion_commands(cls);
+  bind_session_param_command(cls);
+  bind_session_laplacian_commands(cls);
+  bind_session_voronoi_command(cls);
   bind_session_diffusion(m, cls);
   bind_session_shape(cls);
 }

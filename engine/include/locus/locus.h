@@ -582,4 +582,7 @@ LOCUS_API_END
 }
 #endif
 
+/* The CLI commands with every option (locus_<command>_options, _run). */
+#include "locus/locus_commands.h"
+
 #endif /* LOCUS_LOCUS_H */

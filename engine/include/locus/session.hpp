@@ -49,8 +49,13 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/deform_request.hpp"
+#include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/laplacian_requests.hpp"
+#include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/operator_choice.hpp"
+#include "locus/engine/param_request.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/mesh_view.hpp"
@@ -370,6 +375,22 @@ class Session {
   // statistics the CLI reports. `locus geodesic` / `locus logmap` call these.
   GeodesicReport geodesic(const GeodesicRequest& req, const RunContext& ctx = {}) const;
   LogmapReport logmap(const LogmapRequest& req, const RunContext& ctx = {}) const;
+  // The `adf`, `hks` and `heat` commands (engine/include/locus/engine/
+  // diffusion_requests.hpp), with the command's own factors (the factor cache
+  // files of the request); `locus adf|hks|heat` call these.
+  HeatSignatureReport adf(const AdfRequest& req, const RunContext& ctx = {}) const;
+  HeatSignatureReport hks(const HksRequest& req, const RunContext& ctx = {}) const;
+  HeatReport heat(const HeatRequest& req, const RunContext& ctx = {}) const;
+  // The `nncoords` command (engine/include/locus/engine/nncoords_request.hpp).
+  NncoordsReport nncoords(const NncoordsRequest& req, const RunContext& ctx = {}) const;
+  // The `param` command (engine/include/locus/engine/param_request.hpp):
+  // the disk (faces as given) or a patch, with the CLI's statistics.
+  ParamReport param(const ParamRequest& req, const RunContext& ctx = {}) const;
+  // The `perfect-laplacian` and `selfsupport` commands (engine/include/locus/
+  // engine/laplacian_requests.hpp), on the faces as given.
+  PerfectLaplacianCommandReport perfect_laplacian(const PerfectLaplacianCommandRequest& req,
+                                                  const RunContext& ctx = {}) const;
+  SelfSupportCommandReport self_supporting(const SelfSupportCommandRequest& req, const RunContext& ctx = {}) const;
 
   // Heat values (M - tL)^{-1}_{j,i} for every source i and target j, by exact
   // subset solves (equal to the full solve's entries). Row-major
@@ -386,6 +407,12 @@ class Session {
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
+  // The `deform` command (engine/include/locus/engine/deform_request.hpp):
+  // every option of the CLI and its statistics. With compare_with_refactor
+  // (what `locus deform` reports) also the baseline: the free vertices'
+  // block factored from scratch and solved again.
+  DeformCommandReport deform(const DeformCommandRequest& req, const RunContext& ctx = {},
+                             bool compare_with_refactor = false) const;
 
   // ---- Diffusion, parameterization and chapter-2 pipelines. Each reuses the Session's caches: the
   // heat operator M - tL is factored once per t and serves Voronoi diagrams,
