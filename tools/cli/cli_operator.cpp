@@ -6,27 +6,10 @@
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
-#include "locus/kernels/mesh/robust_heat_operators.hpp"
 #include "tools/cli/cli_heat_time.hpp"
 #include "tools/cli/cli_report.hpp"
 
 namespace locus::cli {
-
-void check_input_operator(const Input& in) {
-  MeshRequirements req;
-  if (in.op.robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
-  check_requirements(in.mesh, req);
-}
-
-CscMatrix input_heat_operator(const Input& in, double t) {
-  if (!in.op.robust) return heat_operator(in.mesh, t);
-  return robust_heat_operator(robust_laplacian(in.mesh), t);
-}
-
-HostVector<double> input_mass(const Input& in) {
-  if (!in.op.robust) return lumped_mass(in.mesh);
-  return robust_laplacian(in.mesh).mass;
-}
 
 void add_operator_options(CLI::App* app, OperatorSpec& spec) {
   drop_mesh_operator_option(app);  // this --operator names the matrix

@@ -4,7 +4,6 @@
 #include <string>
 
 #include "locus/mesh.hpp"
-#include "tools/cli/cli_input.hpp"
 #include "locus/sparse_matrix.hpp"
 #include "tools/cli/cli_command_table.hpp"
 
@@ -19,15 +18,6 @@ struct BuiltOperator {
   double t = 0;  // diffusion time used (0 for the Laplacian)
   double h = 0;  // mean edge length of the mesh
 };
-// The mesh-level operator of an input (--operator auto|cotan|robust, the
-// loader's choice in in.op): checks the mesh suits it (the cotan operator's
-// requirements: triangles, manifold, no degenerate faces, no unreferenced
-// vertices; the robust one's: triangles and finite coordinates; BadInput
-// otherwise), and builds M - tL, or its lumped mass, from it.
-void check_input_operator(const Input& in);
-CscMatrix input_heat_operator(const Input& in, double t);
-HostVector<double> input_mass(const Input& in);
-
 // Adds --operator and --t to a command.
 void add_operator_options(CLI::App* app, OperatorSpec& spec);
 // Checks the spec before any work (BadUsage: --t with the Laplacian, bad --t).

@@ -1,6 +1,6 @@
 // The heat operator M - t L_C (or the robust operator's M - tL, --operator) of
-// the diffusion-diagram commands (locus voronoi, locus cvt, locus nncoords) through the CLI factor cache (--save / --load, cli_common.hpp
-// factor_or_load): label "heat" with the resolved t, so a file saved by
+// `locus cvt`'s cells through the CLI factor cache (--save / --load,
+// cli_common.hpp factor_or_load): label "heat" with the resolved t, so a file saved by
 // `locus factor --operator heat`, `locus voronoi` or `locus cvt` with the same t
 // and mesh loads in any of them.
 #pragma once
@@ -53,18 +53,6 @@ inline HeatDiffusion heat_diffusion_cached(const FactorCacheOptions& fc, const M
 inline HeatDiffusion heat_diffusion_cached(const FactorCacheOptions& fc, const Input& in, const TimeSpec& ts,
                                            const RunContext& ctx, Factors& info) {
   return heat_diffusion_cached(fc, in.mesh, ts, ctx, info, in.op.robust);
-}
-
-// M - tL factored for the diffusion commands (no factor cache): t a multiple of
-// h^2 (ts.times_h2) or absolute; the robust operator when the loader chose it.
-inline HeatDiffusion input_heat_diffusion(const Input& in, const TimeSpec& ts, const RunContext& ctx) {
-  if (!in.op.robust)
-    return ts.times_h2 ? prepare_heat_diffusion(in.mesh, ts.value, 0.0, ctx) : prepare_heat_diffusion(in.mesh, 1.0, ts.value, ctx);
-  check_input_operator(in);
-  const double h = mean_edge_length(in.mesh);
-  const double t = ts.resolve(h);
-  const RobustOperators R = robust_laplacian(in.mesh);
-  return prepare_heat_diffusion(robust_heat_operator(R, t), HostVector<double>(R.mass), h, t, ctx);
 }
 
 }  // namespace locus::cli
