@@ -459,8 +459,13 @@ TEST_CASE("cli: bad usage exits 2 before touching the file") {
   CHECK(help.out.find("info") != std::string::npos);
 }
 
-// Whether process `pid` has a handler installed for `sig` (SigCgt in /proc/PID/status).
-static bool catches_signal(pid_t pid, int sig) {
+// Whether process `pid` runs `program` (its argv[0] after exec) and has a handler
+// installed for `sig` (SigCgt in /proc/PID/status). Before the exec the forked
+// child still carries the test runner's handlers (doctest catches SIGINT).
+static bool catches_signal(pid_t pid, const std::string& program, int sig) {
+  std::ifstream cmdline("/proc/" + std::to_string(pid) + "/cmdline");
+  std::string argv0;
+  if (!std::getline(cmdline, argv0, '\0') || argv0 != program) return false;
   std::ifstream status("/proc/" + std::to_string(pid) + "/status");
   std::string line;
   while (std::getline(status, line))
@@ -485,7 +490,7 @@ TEST_CASE("cli: SIGINT cancels a long run with exit status 5") {
   }
   // Signal only once the CLI catches SIGINT: a slow start (a sanitized build on a
   // loaded machine) would otherwise meet the default action and die of the signal.
-  for (int i = 0; i < 600 && !catches_signal(pid, SIGINT); ++i)
+  for (int i = 0; i < 600 && !catches_signal(pid, "locus", SIGINT); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   ::kill(pid, SIGINT);

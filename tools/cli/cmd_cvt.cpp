@@ -284,7 +284,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   Factors cache;
   HeatDiffusion prepared;
   if (o.anisotropy == 0) {
-    prepared = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
+    prepared = heat_diffusion_cached(o.fc, in, ts, ctx, cache);
     ro.lloyd.prepared = &prepared;
   }
   const double factor_s = phase.seconds();
