@@ -85,6 +85,75 @@ HeatQuery heat(double t_factor, double t) {
   return q;
 }
 
+// The Session's read-only views of its mesh and of what it chose.
+void bind_session_state(SessionClass& cls) {
+  cls.def_property_readonly("operator", &operator_dict,
+                            "The Laplacian the Session runs on: dict(used='cotan'|'robust', asked, reason, and the "
+                            "defect counts that made 'auto' choose the robust one).");
+  cls.def_property_readonly("num_vertices", &Session::num_vertices);
+  cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
+  cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");
+  cls.def_property_readonly("num_polygons", &Session::num_polygons, "Faces as given (num_faces for triangles).");
+  cls.def_property_readonly("polygons", [](const Session& s) { return faces_object(s.polygons()); },
+                            "A copy of the faces as given: (nf, k) int32 when every face has k corners (3 for "
+                            "triangles), else a list of int32 arrays.");
+  cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
+                            "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
+  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");
+  cls.def_property_readonly("mean_edge_length", &Session::mean_edge_length,
+                            "h, the mean edge length of the current positions (units of the positions).");
+  cls.def_property_readonly("V", [](const Session& s) { return positions_array(s.mesh()); },
+                            "A copy of the current positions, (nv, 3) float64.");
+  cls.def_property_readonly("F", [](const Session& s) { return faces_object(s.mesh()); },
+                            "A copy of the triangles, (nf, 3) int32 (a polygon mesh's triangulation).");
+}
+
+// Positions, counters and the explicit factorizations (before handing a Session to threads).
+void bind_session_preparation(SessionClass& cls) {
+  cls.def(
+      "set_positions",
+      [](Session& s, const py::handle& V) {
+        const std::vector<double> xyz = positions_xyz(V, s.num_vertices(), "V");
+        py::gil_scoped_release release;
+        s.set_positions(ConstView<double>(xyz));
+      },
+      "V"_a,
+      "set_positions(V)\n\nNew positions ((nv, 3) float32/float64), same connectivity. Checks finiteness and that "
+      "no face becomes degenerate (InputError; the old positions stay). Drops every cached numeric factor and "
+      "keeps the symbolic ones (orderings depend on the connectivity only).");
+  cls.def("stats", &stats,
+          "stats() -> dict\n\nCounters of work done: symbolic_analyses, numeric_factorizations (diffusion "
+          "operators), heat_engines (geodesic/log-map engines; each factors 2 operators), deform_operators, "
+          "positions_version (set_positions calls).");
+  cls.def(
+      "prepare_heat",
+      [](const Session& s, const py::handle& t_factor, int threads, py::object progress) {
+        const double tf = heat_method_t_factor(t_factor);
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(tf, 0.0), ctx); });
+      },
+      py::kw_only(), "t_factor"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_heat(*, t_factor=None, threads=0, progress=None)\n\nFactors the heat method's operators "
+                   "(geodesic_distance, logmap) for t_factor now (None: 4, 8 on polygon meshes), e.g. before "
+                   "handing the Session to threads.\n") +
+       kCallArgs).c_str());
+  cls.def(
+      "prepare_diffusion",
+      [](const Session& s, double t_factor, double t, int threads, py::object progress) {
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_diffusion(heat(t_factor, t), ctx); });
+      },
+      py::kw_only(), "t_factor"_a = 1.0, "t"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_diffusion(*, t_factor=1.0, t=0.0, threads=0, progress=None)\n\nFactors M - tL now "
+                   "(Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange, heat values).\n") + kCallArgs).c_str());
+  cls.def(
+      "prepare_patch_parameterization",
+      [](const Session& s, int threads, py::object progress) {
+        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_patch_parameterization(ctx); });
+      },
+      py::kw_only(), "threads"_a = 0, "progress"_a = py::none(),
+      (std::string("prepare_patch_parameterization(*, threads=0, progress=None)\n\nFactors -L + eps M now "
+                   "(parameterize_patch).\n") + kCallArgs).c_str());
+}
+
 }  // namespace
 
 void bind_session(py::module_& m) {
@@ -128,67 +197,8 @@ void bind_session(py::module_& m) {
       "Session.from_file(path, *, operator='auto', weld=True)\n\nA Session on a mesh file (.obj, .off, .ply; "
       "glTF, FBX, Collada, STL, 3MF and the other formats assimp reads, their vertices welded by position unless "
       "weld=False; triangles or polygons).");
-  cls.def_property_readonly("operator", &operator_dict,
-                            "The Laplacian the Session runs on: dict(used='cotan'|'robust', asked, reason, and the "
-                            "defect counts that made 'auto' choose the robust one).");
-  cls.def_property_readonly("num_vertices", &Session::num_vertices);
-  cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
-  cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");
-  cls.def_property_readonly("num_polygons", &Session::num_polygons, "Faces as given (num_faces for triangles).");
-  cls.def_property_readonly("polygons", [](const Session& s) { return faces_object(s.polygons()); },
-                            "A copy of the faces as given: (nf, k) int32 when every face has k corners (3 for "
-                            "triangles), else a list of int32 arrays.");
-  cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
-                            "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
-  cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");
-  cls.def_property_readonly("mean_edge_length", &Session::mean_edge_length,
-                            "h, the mean edge length of the current positions (units of the positions).");
-  cls.def_property_readonly("V", [](const Session& s) { return positions_array(s.mesh()); },
-                            "A copy of the current positions, (nv, 3) float64.");
-  cls.def_property_readonly("F", [](const Session& s) { return faces_object(s.mesh()); },
-                            "A copy of the triangles, (nf, 3) int32 (a polygon mesh's triangulation).");
-  cls.def(
-      "set_positions",
-      [](Session& s, const py::handle& V) {
-        const std::vector<double> xyz = positions_xyz(V, s.num_vertices(), "V");
-        py::gil_scoped_release release;
-        s.set_positions(ConstView<double>(xyz));
-      },
-      "V"_a,
-      "set_positions(V)\n\nNew positions ((nv, 3) float32/float64), same connectivity. Checks finiteness and that "
-      "no face becomes degenerate (InputError; the old positions stay). Drops every cached numeric factor and "
-      "keeps the symbolic ones (orderings depend on the connectivity only).");
-  cls.def("stats", &stats,
-          "stats() -> dict\n\nCounters of work done: symbolic_analyses, numeric_factorizations (diffusion "
-          "operators), heat_engines (geodesic/log-map engines; each factors 2 operators), deform_operators, "
-          "positions_version (set_positions calls).");
-  cls.def(
-      "prepare_heat",
-      [](const Session& s, const py::handle& t_factor, int threads, py::object progress) {
-        const double tf = heat_method_t_factor(t_factor);
-        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_heat(heat(tf, 0.0), ctx); });
-      },
-      py::kw_only(), "t_factor"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
-      (std::string("prepare_heat(*, t_factor=None, threads=0, progress=None)\n\nFactors the heat method's operators "
-                   "(geodesic_distance, logmap) for t_factor now (None: 4, 8 on polygon meshes), e.g. before "
-                   "handing the Session to threads.\n") +
-       kCallArgs).c_str());
-  cls.def(
-      "prepare_diffusion",
-      [](const Session& s, double t_factor, double t, int threads, py::object progress) {
-        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_diffusion(heat(t_factor, t), ctx); });
-      },
-      py::kw_only(), "t_factor"_a = 1.0, "t"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(),
-      (std::string("prepare_diffusion(*, t_factor=1.0, t=0.0, threads=0, progress=None)\n\nFactors M - tL now "
-                   "(Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange, heat values).\n") + kCallArgs).c_str());
-  cls.def(
-      "prepare_patch_parameterization",
-      [](const Session& s, int threads, py::object progress) {
-        run({threads, progress}, [&](const RunContext& ctx) { s.prepare_patch_parameterization(ctx); });
-      },
-      py::kw_only(), "threads"_a = 0, "progress"_a = py::none(),
-      (std::string("prepare_patch_parameterization(*, threads=0, progress=None)\n\nFactors -L + eps M now "
-                   "(parameterize_patch).\n") + kCallArgs).c_str());
+  bind_session_state(cls);
+  bind_session_preparation(cls);
   cls.def("__repr__", [](const Session& s) {
     return "<locus.Session " + std::to_string(s.num_vertices()) + " vertices, " +
            (s.has_polygons() ? std::to_string(s.num_polygons()) + " polygons as " : std::string()) +

@@ -7,10 +7,11 @@
 // --labels writes the input with a per-vertex `label` property (the cell),
 // --sites-out the sites; --json reports the timings, the `remesh` object
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <ostream>
 #include <string>
-#include <mutex>
-#include <memory>
 #include <vector>
 
 #include "locus/error.hpp"
@@ -232,6 +233,25 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
   return j;
 }
 
+// Progress on stderr: a line when the phase changes, else at most one a second
+// (the Lloyd loop reports every cell solve); nothing with --json.
+std::function<void(double, std::string_view)> throttled_progress(bool json) {
+  struct Throttle {
+    std::mutex m;
+    std::string phase;
+    Stopwatch since;
+  };
+  auto throttle = std::make_shared<Throttle>();
+  return [json, throttle](double f, std::string_view phase) {
+    if (json) return;
+    std::lock_guard<std::mutex> lock(throttle->m);
+    if (phase == throttle->phase && throttle->since.seconds() < 1.0) return;
+    throttle->phase = std::string(phase);
+    throttle->since.restart();
+    log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
+  };
+}
+
 int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
   if (o.solver != "local" && o.solver != "full")
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
@@ -262,23 +282,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   ro.max_refinements = o.refinements;
   ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
-  const bool json = opt.json;
-  // Progress on stderr: a line when the phase changes, else at most one a second
-  // (the Lloyd loop reports every cell solve).
-  struct Throttle {
-    std::mutex m;
-    std::string phase;
-    Stopwatch since;
-  };
-  auto throttle = std::make_shared<Throttle>();
-  run.progress = [json, throttle](double f, std::string_view phase) {
-    if (json) return;
-    std::lock_guard<std::mutex> lock(throttle->m);
-    if (phase == throttle->phase && throttle->since.seconds() < 1.0) return;
-    throttle->phase = std::string(phase);
-    throttle->since.restart();
-    log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
-  };
+  run.progress = throttled_progress(opt.json);
   // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
   Stopwatch phase;
   Factors cache;
