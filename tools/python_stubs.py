@@ -86,7 +86,7 @@ def annotation(function_name, p):
     if (function_name, p.name) in BY_FUNCTION:
         kind = BY_FUNCTION[(function_name, p.name)]
     elif p.name == "t":  # the heat method's t: '4h2' or a number; the diffusion pipelines' t: a number
-        kind = "Union[str, float]" if d is None else "float"
+        kind = "Union[str, float]" if d is None or isinstance(d, str) else "float"
     elif p.name in BY_NAME:
         kind = BY_NAME[p.name]
     else:

@@ -33,6 +33,13 @@ inline constexpr const char* kCallArgs =
     "The GIL is released while the engine computes.";
 
 // The heat method's t_factor argument: None = 0, the engine's default (4; 8 on polygon meshes).
+// A default as Python writes it ('1h2', False, 1e-06), for the signature line a
+// docstring opens with (python/locus/_signatures.py reads it; pybind11's own is off).
+template <class T>
+std::string py_literal(const T& value) {
+  return pybind11::repr(pybind11::cast(value)).template cast<std::string>();
+}
+
 inline double heat_method_t_factor(const pybind11::handle& t_factor) {
   return t_factor.is_none() ? 0.0 : t_factor.cast<double>();
 }

@@ -131,7 +131,7 @@ void bind_session_diffusion_commands(SessionClass& cls) {
   const HeatRequest h;
   cls.def("adf", &adf, "t"_a = a.t, py::kw_only(), "vertices"_a = py::none(), "all"_a = a.all, "method"_a = a.method,
           "save"_a = py::none(), "load"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus adf` with every option: (M - tL)^{-1}_ii (thesis §4.6) at `vertices` or, with "
+          (std::string("adf(t=" + py_literal(a.t) + ", *, vertices=None, all=" + py_literal(a.all) + ", method=" + py_literal(a.method) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus adf` with every option: (M - tL)^{-1}_ii (thesis §4.6) at `vertices` or, with "
                        "all=True, at every vertex (exactly one of the two). t: '1h2' (a multiple of h^2, h the mean "
                        "edge length) or an absolute time ('0.001'). method: 'subset', 'selinv' or 'full'. save / "
                        "load: a factor cache file. Returns .values (one per evaluated vertex), .vertices and the "
@@ -139,20 +139,20 @@ void bind_session_diffusion_commands(SessionClass& cls) {
            kCallArgs).c_str());
   cls.def("hks", &hks, "ts"_a, py::kw_only(), "vertices"_a = py::none(), "all"_a = k.all, "method"_a = k.method,
           "save"_a = py::none(), "load"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus hks` with every option: adf() at several times `ts` (a list of str, as t of adf). "
+          (std::string("hks(ts, *, vertices=None, all=" + py_literal(k.all) + ", method=" + py_literal(k.method) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus hks` with every option: adf() at several times `ts` (a list of str, as t of adf). "
                        "Returns .values (evaluated, len(ts)) and the statistics of adf().\n") +
            kCallArgs).c_str());
   cls.def("heat", &heat, "source"_a, "target"_a, py::kw_only(), "t"_a = h.t, "method"_a = h.method,
           "repeat"_a = h.repeat, "save"_a = py::none(), "load"_a = py::none(), "threads"_a = 0,
           "progress"_a = py::none(),
-          (std::string("`locus heat` with every option: unit heat at every `source` vertex (repeats add), one "
+          (std::string("heat(source, target, *, t=" + py_literal(h.t) + ", method=" + py_literal(h.method) + ", repeat=" + py_literal(h.repeat) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus heat` with every option: unit heat at every `source` vertex (repeats add), one "
                        "backward-Euler step of M - tL, the heat at each `target`. method: 'subset', 'union' or "
                        "'full'; repeat: run the query that many times (median timings). Returns .values (per "
                        "target), .total and the CLI's statistics.\n") +
            kCallArgs).c_str());
   cls.def("nncoords", &nncoords, "sites"_a, "point"_a, py::kw_only(), "t"_a = NncoordsRequest{}.t, "threads"_a = 0,
           "progress"_a = py::none(),
-          (std::string("`locus nncoords` with every option: natural-neighbor (area-stealing) coordinates of `point` "
+          (std::string("nncoords(sites, point, *, t=" + py_literal(NncoordsRequest{}.t) + std::string("") + ", threads=0, progress=None) -> namespace\n\n" + "`locus nncoords` with every option: natural-neighbor (area-stealing) coordinates of `point` "
                        "= (face, b0, b1, b2), a point in a triangle by its barycentric weights, with respect to the "
                        "vertex `sites` (thesis §3.7.2), with heat Voronoi cells at time t ('h2', a multiple of h^2, "
                        "or absolute). Returns .weights (one per site), .natural_neighbors and the CLI's statistics. "

@@ -87,7 +87,7 @@ void bind_session_laplacian_commands(SessionClass& cls) {
           "eps"_a = p.eps, "method"_a = p.method, "anderson"_a = p.anderson, "no_active_set"_a = p.no_active_set,
           "noise"_a = p.noise, "seed"_a = p.seed, "max_iterations"_a = py::none(), "newton"_a = py::none(),
           "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus perfect-laplacian` with every option: Algorithm 1 of thesis ch. 2 on the faces as "
+          (std::string("perfect_laplacian(planar=" + py_literal(p.planar) + ", *, iters=" + py_literal(p.iters) + ", eps=" + py_literal(p.eps) + ", method=" + py_literal(p.method) + ", anderson=" + py_literal(p.anderson) + ", no_active_set=" + py_literal(p.no_active_set) + ", noise=" + py_literal(p.noise) + ", seed=" + py_literal(p.seed) + ", max_iterations=None, newton=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus perfect-laplacian` with every option: Algorithm 1 of thesis ch. 2 on the faces as "
                        "given. planar: use x, y only (one boundary loop). iters, eps: the iteration cap and "
                        "tolerance; method: 'newton' or 'multiplicative' (anderson: its acceleration depth); "
                        "no_active_set: keep iterating every weight; noise, seed: seeded noise of up to noise * h "
@@ -99,7 +99,7 @@ void bind_session_laplacian_commands(SessionClass& cls) {
   const SelfSupportCommandRequest d;
   cls.def("selfsupport", &selfsupport, "support"_a = d.support, py::kw_only(), "load_density"_a = d.load_density,
           "iters"_a = d.iters, "eps"_a = d.eps, "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus selfsupport` with every option: a self-supporting surface (thesis §2.6, eq. 2.12), "
+          (std::string("selfsupport(support=" + py_literal(d.support) + ", *, load_density=" + py_literal(d.load_density) + ", iters=" + py_literal(d.iters) + ", eps=" + py_literal(d.eps) + std::string("") + ", threads=0, progress=None) -> namespace\n\n" + "`locus selfsupport` with every option: a self-supporting surface (thesis §2.6, eq. 2.12), "
                        "supports on the boundary, dead load load_density per unit area. Returns .edges, .forces "
                        "(per edge, >= 0), .V (the equilibrium surface) and the CLI's statistics.\n") +
            kCallArgs).c_str());

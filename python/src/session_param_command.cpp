@@ -69,7 +69,7 @@ void bind_session_param_command(SessionClass& cls) {
   cls.def("param", &param, "method"_a = d.method, py::kw_only(), "iters"_a = d.iters, "eps"_a = d.eps,
           "center"_a = d.center, "fraction"_a = d.fraction, "boundary"_a = d.boundary, "save"_a = py::none(),
           "load"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus param` with every option. center -1 (default): the whole mesh, a disk, polygons as "
+          (std::string("param(method=" + py_literal(d.method) + ", *, iters=" + py_literal(d.iters) + ", eps=" + py_literal(d.eps) + ", center=" + py_literal(d.center) + ", fraction=" + py_literal(d.fraction) + ", boundary=" + py_literal(d.boundary) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus param` with every option. center -1 (default): the whole mesh, a disk, polygons as "
                        "given, flip-free by method 'perfect' (Algorithm 1: iters, eps), 'cotan' or 'uniform'; "
                        "returns .uv (nv, 2). center >= 0: the patch of round(fraction * nv) vertices around it from "
                        "the global factor of -L + eps M (boundary 'neumann' or 'circle'; save / load: a factor "

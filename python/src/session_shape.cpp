@@ -111,7 +111,7 @@ void bind_session_shape(SessionClass& cls) {
   cls.def("deform", &deform, "roi_seed"_a, "handle"_a, "offset"_a, py::kw_only(), "roi_fraction"_a = dq.roi_fraction,
           "handle_ring"_a = dq.handle_ring, "energy"_a = dq.energy, "regularization"_a = dq.regularization,
           "save"_a = py::none(), "load"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("`locus deform` with every option: region-of-interest deformation (thesis ch. 5) on a copy of "
+          (std::string("deform(roi_seed, handle, offset, *, roi_fraction=" + py_literal(dq.roi_fraction) + ", handle_ring=" + py_literal(dq.handle_ring) + ", energy=" + py_literal(dq.energy) + ", regularization=" + py_literal(dq.regularization) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus deform` with every option: region-of-interest deformation (thesis ch. 5) on a copy of "
                        "the positions: the ROI is the breadth-first patch of round(roi_fraction * nv) vertices "
                        "around roi_seed; the handle (vertex `handle` and its handle_ring-ring inside the ROI) moves "
                        "by offset (dx, dy, dz, units of the positions); outside the ROI nothing moves. energy: "

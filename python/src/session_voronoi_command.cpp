@@ -50,7 +50,7 @@ void bind_session_voronoi_command(SessionClass& cls) {
   cls.def("voronoi_command", &run_voronoi_command, py::kw_only(), "sites"_a = py::none(), "random"_a = d.random,
           "t"_a = d.t, "save"_a = py::none(), "load"_a = py::none(), "seed"_a = d.seed, "threads"_a = 0,
           "progress"_a = py::none(),
-          (std::string("`locus voronoi` with every option: the heat Voronoi diagram (thesis §3.4) of the vertex "
+          (std::string("voronoi_command(*, sites=None, random=" + py_literal(d.random) + ", t=" + py_literal(d.t) + ", save=None, load=None, seed=" + py_literal(d.seed) + std::string("") + ", threads=0, progress=None) -> namespace\n\n" + "`locus voronoi` with every option: the heat Voronoi diagram (thesis §3.4) of the vertex "
                        "`sites` or of `random` seeded random surface points (exactly one), t as the CLI's ('h2': "
                        "a multiple of h^2; or absolute). Returns .labels (per vertex), .sites (generator "
                        "positions), .points and .polylines (the diagram's curves) and the CLI's statistics.\n") +

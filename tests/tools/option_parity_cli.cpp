@@ -41,9 +41,10 @@ const std::vector<std::string> kPending = {"cvt", "factor", "info", "run", "skin
 // the C API's locus_run_options (RunContext), subdivide is MeshInputOptions
 // (the mesh a host passes is its own), seed is perfect-laplacian's noise seed (a
 // field of its request and C options) and unused by the others;
-// json, output, preview, preview_t and view are the CLI's presentation of a result.
+// operator is the Session's construction option (SessionOptions, locus_session_create_ex), no_weld
+// the reader's (ReadOptions); json, output, preview, preview_t and view are the CLI's presentation of a result.
 const std::set<std::string> kCommon = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory",
-                                       "preview", "preview_t", "view"};
+                                       "preview", "preview_t", "view", "operator", "no_weld"};
 
 std::string field_name(std::string option) {
   std::replace(option.begin(), option.end(), '-', '_');
