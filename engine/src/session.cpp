@@ -100,6 +100,10 @@ std::shared_ptr<const HeatGeodesic> geodesic_engine(State& s, const HeatQuery& q
     const std::shared_ptr<const HeatLogMap> e = engine(s, q, ctx);
     return std::shared_ptr<const HeatGeodesic>(e, &e->geodesic());
   }
+  return robust_geodesic_engine(s, q, ctx);
+}
+
+std::shared_ptr<const HeatGeodesic> robust_geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   const double tf = heat_method_t_factor(q);
   check_t_factor(tf);
   if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
@@ -242,6 +246,8 @@ Session::Session(Mesh mesh, const SessionOptions& opt) : impl_(std::make_unique<
                             std::make_shared<Counters>());
   impl_->state->polygons = std::move(polygons);
   impl_->state->robust = impl_->op.robust;
+  impl_->robust_fallback = !impl_->op.robust && (opt.mesh_operator == OperatorChoice::Auto ||
+                                                 (opt.mesh_operator == OperatorChoice::Cotan && opt.cotan_chosen_by_auto));
 }
 
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }

@@ -88,29 +88,13 @@ GeodesicReport polygon_geodesic_report(State& s, const GeodesicRequest& req, con
   return r;
 }
 
-GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, const HeatTime& time,
-                                        const RunContext& ctx) {
-  GeodesicReport r;
+// The distances from req.source on `geo`: the whole mesh, or the geodesic
+// disk of round(fraction * n) vertices with exact subset solves.
+void query_distances(State& s, const HeatGeodesic& geo, const GeodesicRequest& req, GeodesicReport& r,
+                     const RunContext& ctx) {
   const int32_t n = s.mesh.num_vertices();
   const int32_t source = static_cast<int32_t>(req.source);
   const bool local = req.fraction < 1.0;
-  r.t_factor = heat_time_factor(time, time.times_h2 ? 0.0 : s.h);
-  const bool cache = req.save.size() + req.load.size() > 0;
-  if (cache && s.robust)
-    fail(ErrorCode::BadUsage, "--save/--load: the factor cache holds the cotan operator's factors; " +
-                                  mesh_name(s.mesh) + " runs on the robust operator");
-  const CallProgress progress(ctx, cache || !geodesic_engine_cached(s, HeatQuery{r.t_factor}));
-  auto t0 = std::chrono::steady_clock::now();
-  std::shared_ptr<const HeatGeodesic> e;
-  if (s.robust) {
-    e = geodesic_engine(s, HeatQuery{r.t_factor}, progress.build());
-  } else {
-    const auto lm = heat_method_engine(s, r.t_factor, {req.save, req.load}, r.factor_cache, progress.build());
-    e = std::shared_ptr<const HeatGeodesic>(lm, &lm->geodesic());
-  }
-  const HeatGeodesic& geo = *e;
-  r.precompute_s = seconds_since(t0);
-  ctx.check_cancel();
   r.distance.assign(static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
   r.valid.assign(static_cast<size_t>(n), local ? 0.0 : 1.0);
   HeatGeodesicWorkspace ws;
@@ -120,7 +104,7 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
     const auto g = grower(s, ctx);
     PatchWorkspace pws;
     std::vector<int32_t> patch;
-    t0 = std::chrono::steady_clock::now();
+    auto t0 = std::chrono::steady_clock::now();
     grow_patch_vertices(*g, source, geodesic_disk(count), pws, patch);
     r.patch_s = seconds_since(t0);
     r.patch_size = static_cast<int32_t>(patch.size());
@@ -133,7 +117,7 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
       r.valid[patch[k]] = 1;
     }
   } else {
-    t0 = std::chrono::steady_clock::now();
+    const auto t0 = std::chrono::steady_clock::now();
     geo.query_full(source, r.distance, ws);
     r.query_s = seconds_since(t0);
   }
@@ -145,6 +129,45 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
     r.t_avoiding_underflow = ws.t_no_underflow;
     r.warnings.push_back(underflow_warning(ws.underflow, ws.t_no_underflow, r.h,
                                            " vertices (no direction there: their distances are interpolated); "));
+  }
+}
+
+// may_fall_back: the operator is `auto` on a clean mesh (cotan). Where the
+// cotan heat method's distance comes out negative (obtuse, badly shaped
+// triangles: the thesis' §6.4 caveat), the query is answered on the robust
+// operator, whose intrinsic Delaunay triangles have no such trouble, and the
+// report says so; with `cotan` asked, the error stands.
+GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, const HeatTime& time,
+                                        bool may_fall_back, const RunContext& ctx) {
+  GeodesicReport r;
+  r.t_factor = heat_time_factor(time, time.times_h2 ? 0.0 : s.h);
+  const bool cache = req.save.size() + req.load.size() > 0;
+  if (cache && s.robust)
+    fail(ErrorCode::BadUsage, "--save/--load: the factor cache holds the cotan operator's factors; " +
+                                  mesh_name(s.mesh) + " runs on the robust operator");
+  const CallProgress progress(ctx, cache || !geodesic_engine_cached(s, HeatQuery{r.t_factor}));
+  auto t0 = std::chrono::steady_clock::now();
+  try {
+    std::shared_ptr<const HeatGeodesic> e;
+    if (s.robust) {
+      e = geodesic_engine(s, HeatQuery{r.t_factor}, progress.build());
+    } else {
+      const auto lm = heat_method_engine(s, r.t_factor, {req.save, req.load}, r.factor_cache, progress.build());
+      e = std::shared_ptr<const HeatGeodesic>(lm, &lm->geodesic());
+    }
+    r.precompute_s = seconds_since(t0);
+    ctx.check_cancel();
+    query_distances(s, *e, req, r, ctx);
+  } catch (const Error& err) {  // a factorization that is not positive definite, or negative distances
+    if (!may_fall_back || err.code() != ErrorCode::Numerical) throw;
+    r.operator_fallback = std::string("the cotan heat method failed (") + err.what() +
+                          "); answered on the robust operator";
+    r.warnings.clear();
+    t0 = std::chrono::steady_clock::now();
+    const auto e = robust_geodesic_engine(s, HeatQuery{r.t_factor}, ctx);
+    r.precompute_s = seconds_since(t0);
+    query_distances(s, *e, req, r, ctx);
+    r.warnings.push_back(r.operator_fallback);
   }
   progress.finish("geodesic distance");
   return r;
@@ -170,8 +193,9 @@ GeodesicReport Session::geodesic(const GeodesicRequest& req, const RunContext& c
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, req.source, "source");
   const HeatTime time = heat_method_time(req.t, req.t_factor);
+  const bool may_fall_back = impl_->robust_fallback && !s->robust;
   GeodesicReport r = s->polygons && !s->robust && keeps_polygons(req) ? polygon_geodesic_report(*s, req, time, ctx)
-                                                       : triangle_geodesic_report(*s, req, time, ctx);
+                                                       : triangle_geodesic_report(*s, req, time, may_fall_back, ctx);
   r.source = static_cast<int32_t>(req.source);
   r.fraction = req.fraction;
   r.t_spec = req.t.empty() ? format_number(r.t_factor) + "h2" : req.t;

@@ -235,6 +235,9 @@ std::shared_ptr<const RobustOperators> robust_operators(State& s, const RunConte
 // HeatGeodesic (cotan), or one on the robust operator's intrinsic triangles.
 std::shared_ptr<const HeatGeodesic> geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx);
 bool geodesic_engine_cached(State& s, const HeatQuery& q);
+// The heat method on the robust operator's intrinsic triangles, whatever the
+// session's operator (auto's fallback when the cotan heat method fails).
+std::shared_ptr<const HeatGeodesic> robust_geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx);
 // BadUsage naming `what` unless v is a vertex of s.mesh.
 void check_vertex(const State& s, int64_t v, const char* what);
 void check_t_factor(double t_factor);
@@ -297,6 +300,7 @@ struct Session::Impl {
   std::vector<int32_t> face_of;  // polygon meshes: per triangle its face as given; empty otherwise
   int64_t polygon_edges = 0;     // polygon meshes: unique edges of the faces as given
   OperatorReport op;             // the operator chosen at construction, and why
+  bool robust_fallback = false;  // auto chose cotan: a failing cotan heat method falls back to robust
 
   std::shared_ptr<session_detail::State> current() const {
     std::lock_guard<std::mutex> lock(mu);

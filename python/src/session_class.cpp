@@ -71,6 +71,24 @@ py::dict operator_dict(const Session& s) {
                   "unreferenced_vertices"_a = r.unreferenced_vertices);
 }
 
+// The mesh report as `locus info --json` gives it (the same keys; genus None when undefined).
+py::dict info_dict(const Session& s) {
+  const MeshInfo r = s.info();
+  py::dict hist;
+  for (size_t d = 0; d < r.face_degree_histogram.size(); ++d)
+    if (r.face_degree_histogram[d] != 0) hist[py::str(std::to_string(d))] = r.face_degree_histogram[d];
+  py::dict bbox("min"_a = py::make_tuple(r.bbox_min[0], r.bbox_min[1], r.bbox_min[2]),
+                "max"_a = py::make_tuple(r.bbox_max[0], r.bbox_max[1], r.bbox_max[2]));
+  return py::dict("n_vertices"_a = r.n_vertices, "n_faces"_a = r.n_faces, "n_edges"_a = r.n_edges,
+                  "face_degree_histogram"_a = hist, "components"_a = r.components,
+                  "boundary_loops"_a = r.boundary_loops, "euler_characteristic"_a = r.euler_characteristic,
+                  "genus"_a = r.genus >= 0 ? py::object(py::int_(r.genus)) : py::object(py::none()),
+                  "manifold"_a = r.manifold, "non_manifold_edges"_a = r.non_manifold_edges,
+                  "non_manifold_vertices"_a = r.non_manifold_vertices, "degenerate_faces"_a = r.degenerate_faces,
+                  "unreferenced_vertices"_a = r.unreferenced_vertices, "bbox"_a = bbox,
+                  "mean_edge_length"_a = r.mean_edge_length);
+}
+
 py::dict stats(const Session& s) {
   const SessionStats st = s.stats();
   return py::dict("symbolic_analyses"_a = st.symbolic_analyses, "numeric_factorizations"_a = st.numeric_factorizations,
@@ -90,6 +108,11 @@ void bind_session_state(SessionClass& cls) {
   cls.def_property_readonly("operator", &operator_dict,
                             "The Laplacian the Session runs on: dict(used='cotan'|'robust', asked, reason, and the "
                             "defect counts that made 'auto' choose the robust one).");
+  cls.def("info", &info_dict,
+          "info() -> dict\n\nSizes, topology and defects of the mesh as given, as `locus info --json` reports them: n_vertices, "
+          "n_faces, n_edges, face_degree_histogram, components, boundary_loops, euler_characteristic, genus (None "
+          "unless a connected manifold), manifold, non_manifold_edges, non_manifold_vertices, degenerate_faces, "
+          "unreferenced_vertices, bbox (min, max), mean_edge_length.");
   cls.def_property_readonly("num_vertices", &Session::num_vertices);
   cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
   cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");

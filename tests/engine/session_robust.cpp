@@ -20,6 +20,7 @@
 #include "locus/kernels/mesh/robust_laplacian.hpp"
 #include "locus/locus.h"
 #include "locus/session.hpp"
+#include "tests/engine/fold_mesh.hpp"
 #include "tests/engine/session_test_support.hpp"
 
 using namespace locus;
@@ -150,4 +151,38 @@ TEST_CASE("C API: locus_session_create_ex takes the operator choice") {
   for (int32_t v = 0; v < m.num_vertices(); ++v) CHECK(std::isfinite(d[v]));
   locus_session_destroy(s);
   CHECK(locus_session_operator(nullptr) == -1);
+}
+
+TEST_CASE("Session operator auto: where the cotan heat method fails on a clean mesh, the robust operator answers") {
+  const Mesh m = locus::test::fold_mesh();
+  GeodesicRequest req;
+  req.source = 0;
+  const Session cotan = session_with(m, OperatorChoice::Cotan);
+  CHECK(code_of([&] { (void)cotan.geodesic(req); }) == ErrorCode::Numerical);
+  const Session a{Mesh(m)};
+  CHECK_FALSE(a.operator_report().robust);  // the mesh is clean: auto chose cotan
+  const GeodesicReport r = a.geodesic(req);
+  CHECK(r.operator_fallback.find("negative") != std::string::npos);
+  REQUIRE(!r.warnings.empty());
+  CHECK(r.warnings.back() == r.operator_fallback);
+  // The same numbers as the robust operator's, and distances, not noise: 0 at
+  // the source, positive elsewhere, below the shortest edge path (Dijkstra
+  // over the edges, an upper bound of the surface distance) by at most 10%.
+  CHECK(r.distance == session_with(m, OperatorChoice::Robust).geodesic(req).distance);
+  std::vector<double> path(12, 1e300);
+  path[0] = 0;
+  for (int round = 0; round < 12; ++round)
+    for (int32_t f = 0; f < m.num_faces(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int32_t t[3] = {m.f0[f], m.f1[f], m.f2[f]};
+        const int32_t u = t[k], v = t[(k + 1) % 3];
+        const double e = std::hypot(m.x[u] - m.x[v], m.y[u] - m.y[v], m.z[u] - m.z[v]);
+        path[v] = std::min(path[v], path[u] + e);
+        path[u] = std::min(path[u], path[v] + e);
+      }
+  CHECK(std::abs(r.distance[0]) <= 1e-9 * r.max_distance);
+  for (int v = 1; v < 12; ++v) {
+    CHECK(r.distance[v] > 0);
+    CHECK(r.distance[v] <= 1.1 * path[v]);
+  }
 }

@@ -112,3 +112,17 @@ def test_voronoi_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
     r = armadillo_session.voronoi_command(random=20, seed=3)
     assert r.corners == report["corners"] and r.empty_cells == report["empty_cells"]
     assert len(r.points) == report["diagram_points"] and r.t == report["t"]
+
+
+def test_info_equals_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    """Session.info() has the keys and numbers of `locus info --json` (the engine's one mesh report)."""
+    report = run_cli(cli, tmp_path, "info", armadillo_path)
+    info = armadillo_session.info()
+    keys = set(report) - {"command", "input", "timings"}
+    assert keys == set(info)
+    for k in keys:
+        want = report[k]
+        got = info[k]
+        if k == "bbox":
+            got = {side: list(v) for side, v in got.items()}
+        assert got == want, k

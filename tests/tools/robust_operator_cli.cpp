@@ -20,6 +20,7 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/session.hpp"
+#include "tests/engine/fold_mesh.hpp"
 #include "tests/tools/cli_support.hpp"
 
 namespace {
@@ -127,4 +128,27 @@ TEST_CASE("heat and hks --operator robust: the CLI's values are the robust Sessi
   REQUIRE(kr.values.size() == 2);
   CHECK(kj["hks"][0][0].get<double>() == kr.values[0]);
   CHECK(kj["hks"][0][1].get<double>() == kr.values[1]);
+}
+
+TEST_CASE("geodesic: auto answers on the robust operator where the cotan heat method fails; cotan refuses") {
+  if (!have_locus()) return;
+  Scratch dir("robust-operator-fallback");
+  const std::string mesh = dir / "fold.off";
+  locus::write_mesh(mesh, locus::test::fold_mesh());
+  const Run refused = run_locus(dir, {"geodesic", mesh, "--source", "0", "--operator", "cotan"});
+  CHECK(refused.status == 4);
+  CHECK(refused.err.find("negative") != std::string::npos);
+  const Run r = run_locus(dir, {"geodesic", mesh, "--source", "0", "--json"});
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = r.json();
+  CHECK(j["input"]["operator"]["used"] == "cotan");  // the mesh is clean
+  CHECK(j["operator_fallback"].get<std::string>().find("robust operator") != std::string::npos);
+  CHECK(r.err.find("warning: the cotan heat method failed") != std::string::npos);
+  // The numbers of a Session on the robust operator, bit for bit.
+  locus::SessionOptions so;
+  so.mesh_operator = locus::OperatorChoice::Robust;
+  locus::GeodesicRequest req;
+  req.source = 0;
+  const locus::GeodesicReport robust = locus::Session::from_file(mesh, {}, so).geodesic(req);
+  CHECK(j["max_distance"].get<double>() == robust.max_distance);
 }

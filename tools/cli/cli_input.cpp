@@ -24,6 +24,7 @@ SessionOptions session_options(const Input& in) {
   SessionOptions so;
   // The loader looked for the defects already: the Session need not look again.
   so.mesh_operator = !in.op.checked ? in.mesh_operator : in.op.robust ? OperatorChoice::Robust : OperatorChoice::Cotan;
+  so.cotan_chosen_by_auto = in.op.checked && in.mesh_operator == OperatorChoice::Auto;
   return so;
 }
 

@@ -38,10 +38,9 @@ Json geodesic_json(const CommonOptions& opt, const Input& in, const GeodesicRepo
   j["query_s"] = r.query_s;
   if (r.factor_cache.used()) j["factor_cache"] = factor_cache_json(r.factor_cache);
   if (!polygon) j["heat_underflow_vertices"] = r.heat_underflow_vertices;  // also a warning
-  if (r.heat_underflow_vertices > 0) {
-    j["t_avoiding_underflow"] = r.t_avoiding_underflow;
-    j["warnings"] = r.warnings;
-  }
+  if (r.heat_underflow_vertices > 0) j["t_avoiding_underflow"] = r.t_avoiding_underflow;
+  if (!r.operator_fallback.empty()) j["operator_fallback"] = r.operator_fallback;  // auto: the robust operator answered
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
   j["timings"] = timings(in);
   return j;
 }

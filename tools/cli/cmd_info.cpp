@@ -1,19 +1,21 @@
 // `locus info MESH`: what the mesh is (sizes, face degrees, topology, bounding
 // box, mean edge length) and what is wrong with it (non-manifold edges and
-// vertices, degenerate faces, unreferenced vertices), from locus::analyze_mesh.
+// vertices, degenerate faces, unreferenced vertices): the engine's mesh_info
+// (engine/include/locus/engine/mesh_info.hpp), as Session::info, the C API and
+// Python report it.
 // info reports problems but does not fail on them: it is the tool a user runs
 // to find out why another command refused the file. Only an unreadable file
 // fails (exit 3).
 #include <iomanip>
 #include <ostream>
 
-#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/engine/mesh_info.hpp"
 #include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {
 namespace {
 
-Json report_json(const MeshReport& r) {
+Json report_json(const MeshInfo& r) {
   Json hist = Json::object();
   for (size_t d = 0; d < r.face_degree_histogram.size(); ++d)
     if (r.face_degree_histogram[d] != 0) hist[std::to_string(d)] = r.face_degree_histogram[d];
@@ -25,7 +27,7 @@ Json report_json(const MeshReport& r) {
   j["components"] = r.components;
   j["boundary_loops"] = r.boundary_loops;
   j["euler_characteristic"] = r.euler_characteristic;
-  // Genus is only defined for a connected manifold; analyze_mesh says -1 otherwise.
+  // Genus is only defined for a connected manifold; mesh_info says -1 otherwise.
   j["genus"] = r.genus >= 0 ? Json(r.genus) : Json(nullptr);
   j["manifold"] = r.manifold;
   j["non_manifold_edges"] = r.non_manifold_edges;
@@ -38,7 +40,7 @@ Json report_json(const MeshReport& r) {
   return j;
 }
 
-void print_human(std::ostream& os, const CommonOptions& opt, const Input& in, const MeshReport& r, double analysis_s) {
+void print_human(std::ostream& os, const CommonOptions& opt, const Input& in, const MeshInfo& r, double analysis_s) {
   os << opt.mesh_path;
   if (opt.subdivide > 0) os << " (subdivided " << opt.subdivide << "x)";
   os << "\n  vertices " << r.n_vertices << ", faces " << r.n_faces << ", edges " << r.n_edges << "\n  face degrees:";
@@ -79,7 +81,7 @@ int run_info(const CommonOptions& opt, const RunContext& ctx) {
   Input in = load_input(opt, ctx, PolygonFaces::Keep);
   ctx.check_cancel();
   Stopwatch sw;
-  const MeshReport r = analyze_mesh(in.mesh);
+  const MeshInfo r = mesh_info(in.mesh);
   const double analysis_s = sw.seconds();
 
   Json j{{"command", "info"}, {"input", input_json(opt, in)}};

@@ -25,12 +25,12 @@ enum class ErrorCode : int {
 // Where a failure happened, for callers that react to it without parsing the
 // message (e.g. the factor-once update renames a submatrix column): the input
 // vertex / row index and the factor column; -1 when not applicable.
-struct ErrorLocation {
+struct LOCUS_API ErrorLocation {
   int64_t vertex = -1;
   int64_t column = -1;
 };
 
-class Error : public std::runtime_error {
+class LOCUS_API Error : public std::runtime_error {
  public:
   Error(ErrorCode code, const std::string& message, ErrorLocation where = {})
       : std::runtime_error(message), code_(code), where_(where) {}

@@ -17,7 +17,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct Mesh {
+struct LOCUS_API Mesh {
   HostVector<double> x, y, z;               // nv each
   HostVector<int32_t> face_offsets{0};      // nf + 1
   HostVector<int32_t> face_vertices;        // face_offsets[nf]

@@ -20,7 +20,7 @@ namespace locus {
 enum class ScalarType : int32_t { Float32 = 1, Float64 = 2 };
 enum class IndexType : int32_t { UInt16 = 1, UInt32 = 2, Int32 = 3 };
 
-struct MeshView {
+struct LOCUS_API MeshView {
   // Vertex i's x, y, z: three consecutive values of position_type starting at
   // (const char*)positions + i * position_stride. Stride 0 = tightly packed.
   const void* positions = nullptr;
@@ -40,13 +40,13 @@ struct MeshView {
 // than its element, an unknown type or a vertex id out of range (naming the
 // triangle); Error(BadInput) for a non-finite coordinate (naming the vertex).
 // Topology (manifold, degenerate faces) is checked by the Session, as for files.
-Mesh mesh_from_view(const MeshView& view);
+LOCUS_API Mesh mesh_from_view(const MeshView& view);
 
 // A polygon mesh (quads, mixed, n-gons) in the host's buffers:
 // positions as in MeshView; faces in CSR form, both arrays of index_type,
 // packed: face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
 // face_offsets has face_count + 1 entries and starts at 0.
-struct PolygonMeshView {
+struct LOCUS_API PolygonMeshView {
   const void* positions = nullptr;
   ScalarType position_type = ScalarType::Float64;
   int64_t position_stride = 0;  // bytes; 0 or >= 3 * sizeof(scalar)
@@ -60,7 +60,7 @@ struct PolygonMeshView {
 // As for MeshView; also Error(BadUsage) for face_offsets[0] != 0 and
 // Error(BadInput) naming a face of fewer than 3 corners (or decreasing offsets).
 // Whether the polygons are simple is the Session's check (it triangulates them).
-Mesh mesh_from_view(const PolygonMeshView& view);
+LOCUS_API Mesh mesh_from_view(const PolygonMeshView& view);
 
 }  // namespace locus
 LOCUS_API_END

@@ -14,7 +14,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct RunContext {
+struct LOCUS_API RunContext {
   int threads = 0;  // worker threads; 0 = all cores (more than the process may use are clamped, with a message)
   // Called with a fraction in [0,1] and a phase name; may be called from worker threads.
   std::function<void(double fraction, std::string_view phase)> progress;

@@ -13,7 +13,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct CscMatrix {
+struct LOCUS_API CscMatrix {
   int32_t nrows = 0, ncols = 0;
   HostVector<int64_t> colptr{0};  // ncols + 1
   HostVector<int32_t> rowind;     // colptr[ncols]
@@ -23,14 +23,14 @@ struct CscMatrix {
 
 // Builds a lower-triangular symmetric CSC matrix from triplets (i, j, v); entries
 // with i < j are mirrored to (j, i); duplicates are summed. O(nnz + n).
-CscMatrix lower_from_triplets(int32_t n, const std::vector<int32_t>& ii, const std::vector<int32_t>& jj,
-                              const std::vector<double>& vv);
+LOCUS_API CscMatrix lower_from_triplets(int32_t n, const std::vector<int32_t>& ii, const std::vector<int32_t>& jj,
+                                        const std::vector<double>& vv);
 
 // y = A x for a lower-stored symmetric A.
-void symmetric_multiply(const CscMatrix& lower, const double* x, double* y);
+LOCUS_API void symmetric_multiply(const CscMatrix& lower, const double* x, double* y);
 
 // Linear combination a*A + b*B of two lower-stored matrices with the SAME pattern.
-CscMatrix combine_same_pattern(double a, const CscMatrix& A, double b, const CscMatrix& B);
+LOCUS_API CscMatrix combine_same_pattern(double a, const CscMatrix& A, double b, const CscMatrix& B);
 
 }  // namespace locus
 LOCUS_API_END

@@ -34,7 +34,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "locus/export.h"  /* LOCUS_API_BEGIN/END: what a shared liblocus exports */
+#include "locus/export.h"  /* LOCUS_API: what a shared liblocus exports */
 #include "locus/version.h" /* LOCUS_VERSION_MAJOR/MINOR/PATCH/STRING, the CMake package version */
 
 #ifdef __cplusplus
@@ -80,13 +80,13 @@ typedef struct locus_run_options {
 } locus_run_options;
 
 /* The defaults: threads 0, no callbacks, no memory limit beyond the default, t_factor 0 (each method's default). */
-locus_run_options locus_run_options_default(void);
+LOCUS_API locus_run_options locus_run_options_default(void);
 
 /* Version of the library (which may differ from the LOCUS_VERSION_* macros of
  * the header a program was compiled with; both equal the CMake package
  * version of their build); any pointer may be NULL. Returns "major.minor.patch"
  * (a static string). Thread-safe, never fails. */
-const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
+LOCUS_API const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
 
 /* Message of the last failed call on this thread ("" after a successful call:
  * every function except this one and locus_last_error_copy clears it on
@@ -95,7 +95,7 @@ const char* locus_version(int32_t* major, int32_t* minor, int32_t* patch);
  * on this thread, so read it after the failed call and before the next one
  * (not as an argument beside that call: C leaves the order of evaluation open).
  * Messages longer than 4095 bytes are cut; locus_last_error_copy has them whole. */
-const char* locus_last_error_message(void);
+LOCUS_API const char* locus_last_error_message(void);
 
 /* Copies the message of the last failed call on this thread into `buffer`
  * (`capacity` bytes; cut to capacity - 1 bytes and NUL-terminated when
@@ -103,7 +103,7 @@ const char* locus_last_error_message(void);
  * returns the message's whole length in bytes, without the NUL:
  * locus_last_error_copy(NULL, 0) + 1 bytes hold it. Does not clear the message.
  * Thread-safe; never fails. */
-int64_t locus_last_error_copy(char* buffer, int64_t capacity);
+LOCUS_API int64_t locus_last_error_copy(char* buffer, int64_t capacity);
 
 /* ---- The host's allocator (README "Embedding: the allocator") ----
  * Routes locus' large buffers through the host's memory: alloc(size, user_data)
@@ -128,7 +128,7 @@ int64_t locus_last_error_copy(char* buffer, int64_t capacity);
  * handle or nncoords field holding them is destroyed. Thread-safe. */
 typedef void* (*locus_alloc_fn)(size_t size, void* user_data);
 typedef void (*locus_free_fn)(void* ptr, void* user_data);
-locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, void* user_data);
+LOCUS_API locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, void* user_data);
 
 /* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
  * Polygon faces: as locus_session_create_polygons.
@@ -138,7 +138,7 @@ locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, vo
  * (boundaries are fine); otherwise LOCUS_BAD_INPUT naming the file and the element.
  * path: NUL-terminated. out: receives the handle (set to NULL on failure).
  * Builds no operator (queries factor on first use). Thread-safe. */
-locus_status locus_session_create_from_file(const char* path, locus_session** out);
+LOCUS_API locus_status locus_session_create_from_file(const char* path, locus_session** out);
 
 /* The Laplacian a session runs on (locus/engine/operator_choice.hpp), one
  * name and default in every front end (CLI --operator, Python operator=):
@@ -161,12 +161,12 @@ typedef struct locus_session_options {
 } locus_session_options;
 
 /* The ..._ex forms take options (NULL = all defaults, as the plain forms). */
-locus_status locus_session_create_from_file_ex(const char* path, const locus_session_options* opt,
-                                               locus_session** out);
+LOCUS_API locus_status locus_session_create_from_file_ex(const char* path, const locus_session_options* opt,
+                                                         locus_session** out);
 
 /* The operator a session runs on: LOCUS_OPERATOR_COTAN or LOCUS_OPERATOR_ROBUST;
  * -1 (with a message) when session is NULL. Thread-safe. */
-int32_t locus_session_operator(const locus_session* session);
+LOCUS_API int32_t locus_session_operator(const locus_session* session);
 
 /* A new session from arrays (copied; the caller keeps ownership):
  * xyz: 3 * nv doubles, vertex i at xyz[3i .. 3i+2], finite;
@@ -174,10 +174,10 @@ int32_t locus_session_operator(const locus_session* session);
  * 1 <= nv < 2^31 - 1 and 1 <= nf <= (2^31 - 1) / 3 (LOCUS_BAD_USAGE otherwise).
  * The arrays must hold that many elements (locus cannot check a pointer's size).
  * Same mesh requirements as locus_session_create_from_file. Thread-safe. */
-locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
-                                  locus_session** out);
-locus_status locus_session_create_ex(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
-                                     const locus_session_options* opt, locus_session** out);
+LOCUS_API locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                            locus_session** out);
+LOCUS_API locus_status locus_session_create_ex(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                               const locus_session_options* opt, locus_session** out);
 
 /* A triangle mesh in the caller's own buffers: positions as
  * float or double, ids as uint16, uint32 or int32, each at a byte stride, as
@@ -203,9 +203,9 @@ typedef struct locus_mesh_view {
  * count, stride or type out of range or a vertex id out of range (naming the
  * triangle); otherwise the requirements of locus_session_create_from_file.
  * Thread-safe. */
-locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
-locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, const locus_session_options* opt,
-                                               locus_session** out);
+LOCUS_API locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
+LOCUS_API locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, const locus_session_options* opt,
+                                                         locus_session** out);
 
 /* Polygon meshes (quads, mixed, n-gons). Faces in CSR form:
  * face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
@@ -222,8 +222,8 @@ locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, cons
  * calls on the triangulation; face ids (locus_surface_point, outputs) and
  * locus_session_face_count are the triangulation's.
  * xyz: 3 * nv doubles as in locus_session_create. Thread-safe. */
-locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const int32_t* face_offsets,
-                                           const int32_t* face_indices, int64_t nf, locus_session** out);
+LOCUS_API locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const int32_t* face_offsets,
+                                                     const int32_t* face_indices, int64_t nf, locus_session** out);
 
 /* The same from the caller's buffers: positions as in locus_mesh_view,
  * face_offsets (face_count + 1 entries) and face_indices packed, both of
@@ -238,29 +238,29 @@ typedef struct locus_polygon_view {
   int32_t index_type;      /* locus_index_type */
   int64_t face_count;      /* 1 <= face_count <= (2^31 - 1) / 3 */
 } locus_polygon_view;
-locus_status locus_session_create_from_polygon_view(const locus_polygon_view* view, locus_session** out);
+LOCUS_API locus_status locus_session_create_from_polygon_view(const locus_polygon_view* view, locus_session** out);
 
 /* Frees the session and everything it cached. NULL is a no-op. Not concurrently
  * with other calls on the same session. */
-void locus_session_destroy(locus_session* session);
+LOCUS_API void locus_session_destroy(locus_session* session);
 
 /* Number of vertices, or -1 (with a message) when session is NULL. */
-int64_t locus_session_vertex_count(const locus_session* session);
+LOCUS_API int64_t locus_session_vertex_count(const locus_session* session);
 
 /* Number of triangles (of the triangulation, for a polygon mesh), or -1 (with
  * a message) when session is NULL. */
-int64_t locus_session_face_count(const locus_session* session);
+LOCUS_API int64_t locus_session_face_count(const locus_session* session);
 
 /* Copies the current vertex positions into out_xyz (3 * vertex-count doubles,
  * vertex i at out_xyz[3i .. 3i+2]). */
-locus_status locus_session_get_positions(const locus_session* session, double* out_xyz);
+LOCUS_API locus_status locus_session_get_positions(const locus_session* session, double* out_xyz);
 
 /* Replaces the vertex positions (3 * nv finite doubles, nv = the vertex count)
  * keeping the connectivity. Factors that depend on positions are rebuilt on
  * the next query; orderings and symbolic factors are kept. Safe concurrently
  * with queries (running ones finish on the old positions). On failure (e.g. a
  * face becomes degenerate: LOCUS_BAD_INPUT) the old positions stay. */
-locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv);
+LOCUS_API locus_status locus_session_set_positions(locus_session* session, const double* xyz, int64_t nv);
 
 /* Heat geodesic distance (Crane et al., thesis §6.4) from vertex `source` to
  * every vertex: out_nv receives vertex-count doubles, 0 at the source, NaN
@@ -268,10 +268,10 @@ locus_status locus_session_set_positions(locus_session* session, const double* x
  * than the source.
  * The first call factors the two heat-method operators (the long part);
  * later calls cost two solves. */
-locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv);
+LOCUS_API locus_status locus_geodesic_distance(locus_session* session, int64_t source, double* out_nv);
 /* The same with options (progress/cancel, threads, t_factor); opts may be NULL. */
-locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
-                                        const locus_run_options* opts);
+LOCUS_API locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, double* out_nv,
+                                                  const locus_run_options* opts);
 
 /* No value. Every output of this API that has no value at a vertex (outside a
  * log-map or parameterization patch, a geodesic distance in another connected
@@ -281,16 +281,16 @@ locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, 
  * for i < count (stride >= 1, in doubles: 1 for distances, 2 for (u, v)
  * pairs). Returns the number of vertices with a value, or -1 (with a message)
  * when a pointer is NULL or count < 0 or stride < 1. */
-int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid);
+LOCUS_API int64_t locus_valid_mask(const double* values, int64_t count, int64_t stride, int32_t* out_valid);
 
 /* Heat log map (thesis §6.5–6.6) of the geodesic disk of round(fraction * nv)
  * vertices (at least 1) around vertex `center`, 0 < fraction <= 1.
  * out_uv: 2 * vertex-count doubles; vertex i gets (u, v) at out_uv[2i], out_uv[2i+1]
  * (geodesic polar coordinates in the tangent plane of the center) when it lies
  * in the disk, NaN in both otherwise. Shares its factors with the geodesic distance. */
-locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv);
-locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
-                             const locus_run_options* opts);
+LOCUS_API locus_status locus_logmap(locus_session* session, int64_t center, double fraction, double* out_uv);
+LOCUS_API locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
+                                       const locus_run_options* opts);
 
 /* ---- The geodesic and logmap commands, every option of `locus geodesic` and
  * `locus logmap` (engine/include/locus/engine/geodesic_requests.hpp) ----
@@ -312,7 +312,7 @@ typedef struct locus_geodesic_options {
   const char* save;  /* NULL: none */
   const char* load;  /* NULL: none */
 } locus_geodesic_options;
-locus_geodesic_options locus_geodesic_options_default(void);
+LOCUS_API locus_geodesic_options locus_geodesic_options_default(void);
 
 /* What a geodesic run reports beside the distances (as `locus geodesic --json`). */
 typedef struct locus_geodesic_report {
@@ -328,8 +328,8 @@ typedef struct locus_geodesic_report {
 /* Heat geodesic distance with every option: out_nv receives vertex-count
  * doubles, NaN (no value) outside the patch and in other components than the
  * source. out_report may be NULL. The numbers are `locus geodesic`'s, bit for bit. */
-locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
-                                locus_geodesic_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
+                                          locus_geodesic_report* out_report, const locus_run_options* opts);
 
 typedef struct locus_logmap_options {
   int64_t center;          /* center vertex (no default: -1) */
@@ -344,7 +344,7 @@ typedef struct locus_logmap_options {
   const char* save;        /* NULL: none */
   const char* load;        /* NULL: none */
 } locus_logmap_options;
-locus_logmap_options locus_logmap_options_default(void);
+LOCUS_API locus_logmap_options locus_logmap_options_default(void);
 
 /* What a log map run reports beside the map (as `locus logmap --json`). */
 typedef struct locus_logmap_report {
@@ -364,9 +364,9 @@ typedef struct locus_logmap_report {
  * out_distance and out_angle (vertex-count doubles each, may be NULL) the
  * geodesic distance and polar angle, NaN outside the map; out_report may be
  * NULL. The numbers are `locus logmap`'s, bit for bit. */
-locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
-                              double* out_distance, double* out_angle, locus_logmap_report* out_report,
-                              const locus_run_options* opts);
+LOCUS_API locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
+                                        double* out_distance, double* out_angle, locus_logmap_report* out_report,
+                                        const locus_run_options* opts);
 
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
  * §3.7; cells and centroids by M - 4h^2 L): `sites` seeded random initial
@@ -374,12 +374,12 @@ locus_status locus_logmap_run(locus_session* session, const locus_logmap_options
  * LOCUS_BAD_USAGE otherwise), 0 <= iters <= 10000 iterations. out_labels_nv: vertex-count
  * int32 labels in [0, sites). The same seed gives the same labels for any
  * thread count. */
-locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
-                       int32_t* out_labels_nv);
+LOCUS_API locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                                 int32_t* out_labels_nv);
 /* The same with options; with out_sites_xyz non-NULL (3 * sites doubles) also the
  * final site positions. opts may be NULL. */
-locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
-                          int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts);
+LOCUS_API locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                                    int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts);
 
 /* CVT remeshing: the heat CVT as above, then the restricted-Delaunay
  * dual of its cells, made a closed manifold with the mesh's genus, components
@@ -400,20 +400,20 @@ typedef struct locus_remesh_stats {
   double hausdorff_rel;        /* to the input, relative to its bounding-box diagonal */
   int32_t added_sites;
 } locus_remesh_stats;
-locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
-                              const locus_run_options* opts, locus_remesh** out);
+LOCUS_API locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
+                                        const locus_run_options* opts, locus_remesh** out);
 /* out_xyz: 3 * vertices doubles; out_tris: 3 * faces int32 (either may be NULL). */
-locus_status locus_remesh_get(const locus_remesh* remesh, double* out_xyz, int32_t* out_tris);
-locus_status locus_remesh_get_stats(const locus_remesh* remesh, locus_remesh_stats* out);
-void locus_remesh_destroy(locus_remesh* remesh);
+LOCUS_API locus_status locus_remesh_get(const locus_remesh* remesh, double* out_xyz, int32_t* out_tris);
+LOCUS_API locus_status locus_remesh_get_stats(const locus_remesh* remesh, locus_remesh_stats* out);
+LOCUS_API void locus_remesh_destroy(locus_remesh* remesh);
 
 /* Entries of the inverse heat operator (M - tL)^{-1} between vertex sets, by
  * exact local solves: out[s * n_targets + k] = value at targets[k] of the heat
  * from sources[s] (n_sources * n_targets doubles). Counts >= 1 and ids in range;
  * n_sources * n_targets <= 2^28. Repeated ids are allowed. opts may be NULL. */
-locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
-                               const int64_t* targets, int64_t n_targets, double* out,
-                               const locus_run_options* opts);
+LOCUS_API locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
+                                         const int64_t* targets, int64_t n_targets, double* out,
+                                         const locus_run_options* opts);
 
 /* ==== Diffusion, deformation and shape. Every call below reuses the session's
  * cached factors: the heat operator M - tL once per t (shared by Voronoi,
@@ -428,7 +428,7 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
 #define LOCUS_PREPARE_HEAT_METHOD 1 /* geodesic distance, log map */
 #define LOCUS_PREPARE_DIFFUSION 2   /* M - tL: Voronoi, natural neighbors, skinning, ADF/HKS, heat exchange/values */
 #define LOCUS_PREPARE_LAPLACIAN 4   /* -L + eps M: patch parameterization */
-locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts);
+LOCUS_API locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts);
 
 /* A point on the surface: a vertex (face < 0: `vertex`), or a face and the
  * barycentric weights of its three corners (in the order of the triangle as
@@ -442,8 +442,8 @@ typedef struct locus_surface_point {
 /* `count` points uniformly distributed by area into out (count entries), from
  * a splitmix64 stream seeded with `seed`: the same on every platform, and the
  * generators of `locus voronoi --random count --seed seed`. */
-locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
-                                         locus_surface_point* out);
+LOCUS_API locus_status locus_random_surface_points(const locus_session* session, int64_t count, uint64_t seed,
+                                                   locus_surface_point* out);
 
 /* ---- Multi-source geodesic distance ----
  * Heat geodesic distance from a set of sources (vertices and points in faces)
@@ -452,8 +452,8 @@ locus_status locus_random_surface_points(const locus_session* session, int64_t c
  * component's sources is 0; NaN (no value) in components without a source.
  * out_nv: vertex-count doubles. n_sources >= 1. opts->t_factor as for
  * locus_geodesic_distance (the same cached factors). */
-locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
-                                           int64_t n_sources, double* out_nv, const locus_run_options* opts);
+LOCUS_API locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
+                                                     int64_t n_sources, double* out_nv, const locus_run_options* opts);
 
 /* ---- Heat Voronoi diagram (thesis §3.4) ----
  * Cells of 1..vertex-count generators by the hottest generator (t =
@@ -482,10 +482,11 @@ typedef struct locus_voronoi_output {
 } locus_voronoi_output;
 /* Upper bounds for any generator set: points <= 4 * faces, lines <= 3 * faces,
  * line points <= 6 * faces. Any pointer may be NULL. */
-locus_status locus_voronoi_bound(const locus_session* session, int64_t* max_points, int64_t* max_lines,
-                                 int64_t* max_line_points);
-locus_status locus_voronoi(locus_session* session, const locus_surface_point* generators, int64_t n_generators,
-                           locus_voronoi_output* out, const locus_run_options* opts);
+LOCUS_API locus_status locus_voronoi_bound(const locus_session* session, int64_t* max_points, int64_t* max_lines,
+                                           int64_t* max_line_points);
+LOCUS_API locus_status locus_voronoi(locus_session* session, const locus_surface_point* generators,
+                                     int64_t n_generators,
+                                     locus_voronoi_output* out, const locus_run_options* opts);
 
 /* ---- Natural-neighbor coordinates (thesis §3.7.2) ----
  * Area-stealing coordinates of a surface point with respect to sites, with heat
@@ -496,19 +497,22 @@ locus_status locus_voronoi(locus_session* session, const locus_surface_point* ge
  * and after locus_session_destroy. One-shot tier: locus_nncoords.
  * out_weights: one double per site (>= 0, summing to 1). */
 typedef struct locus_nncoords_field locus_nncoords_field;
-locus_status locus_nncoords_prepare(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
-                                    const locus_run_options* opts, locus_nncoords_field** out);
-locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_surface_point* point, double* out_weights);
-int64_t locus_nncoords_site_count(const locus_nncoords_field* nn); /* -1 when nn is NULL */
-void locus_nncoords_destroy(locus_nncoords_field* nn);
-locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
-                            const locus_surface_point* point, double* out_weights, const locus_run_options* opts);
+LOCUS_API locus_status locus_nncoords_prepare(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                                              const locus_run_options* opts, locus_nncoords_field** out);
+LOCUS_API locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_surface_point* point,
+                                            double* out_weights);
+LOCUS_API int64_t locus_nncoords_site_count(const locus_nncoords_field* nn); /* -1 when nn is NULL */
+LOCUS_API void locus_nncoords_destroy(locus_nncoords_field* nn);
+LOCUS_API locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
+                                      const locus_surface_point* point, double* out_weights,
+                                      const locus_run_options* opts);
 
 /* ---- Skinning weights (thesis §3.7.2) ----
  * Natural-neighbor coordinates of every vertex with respect to the handles:
  * out: vertex-count * n_handles doubles, vertex v's weights at out[v * n_handles ..]. */
-locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles, int64_t n_handles,
-                                    double* out, const locus_run_options* opts);
+LOCUS_API locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles,
+                                              int64_t n_handles,
+                                              double* out, const locus_run_options* opts);
 
 /* ---- Auto-diffusion function and heat kernel signature (thesis §4.6) ----
  * (M - tL)^{-1}_vv at the given vertices (vertices NULL and n_vertices 0: every
@@ -516,17 +520,20 @@ locus_status locus_skinning_weights(locus_session* session, const locus_surface_
  * locus_hks: t_j = t_factors[j] * h^2, out[k * n_times + j]. selected_inversion
  * nonzero: all diagonal entries at once (faster for all vertices), else one
  * etree path per vertex; the values agree to rounding. */
-locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t n_vertices, int32_t selected_inversion,
-                       double* out, const locus_run_options* opts);
-locus_status locus_hks(locus_session* session, const double* t_factors, int64_t n_times, const int64_t* vertices,
-                       int64_t n_vertices, int32_t selected_inversion, double* out, const locus_run_options* opts);
+LOCUS_API locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t n_vertices,
+                                 int32_t selected_inversion,
+                                 double* out, const locus_run_options* opts);
+LOCUS_API locus_status locus_hks(locus_session* session, const double* t_factors, int64_t n_times,
+                                 const int64_t* vertices,
+                                 int64_t n_vertices, int32_t selected_inversion, double* out,
+                                 const locus_run_options* opts);
 
 /* ---- Pairwise heat exchange (thesis §4.6) ----
  * Unit heat at every source (repeats add), one step of M - tL; out_targets[k] =
  * heat at targets[k] (separate etree subtrees for the two sets: exact). */
-locus_status locus_heat_exchange(locus_session* session, const int64_t* sources, int64_t n_sources,
-                                 const int64_t* targets, int64_t n_targets, double* out_targets,
-                                 const locus_run_options* opts);
+LOCUS_API locus_status locus_heat_exchange(locus_session* session, const int64_t* sources, int64_t n_sources,
+                                           const int64_t* targets, int64_t n_targets, double* out_targets,
+                                           const locus_run_options* opts);
 
 /* ---- Region-of-interest deformation (thesis §5.1, §5.7) ----
  * Moves the handle (handle_vertex and its handle_ring-ring inside the ROI) by
@@ -543,23 +550,23 @@ typedef struct locus_deform_request {
   int32_t bilaplacian;  /* 0: Laplacian energy, nonzero: bilaplacian */
   double offset[3];
 } locus_deform_request;
-locus_status locus_deform(locus_session* session, const locus_deform_request* request, double* out_xyz,
-                          const locus_run_options* opts);
+LOCUS_API locus_status locus_deform(locus_session* session, const locus_deform_request* request, double* out_xyz,
+                                    const locus_run_options* opts);
 
 /* ---- Parameterization ----
  * Disk (thesis §2.6): the whole mesh, which must be a disk; boundary on the unit
  * circle; method 0 perfect (Algorithm 1, max_iterations, eps), 1 cotan,
  * 2 uniform. out_uv: 2 * vertex-count doubles. out_flipped may be NULL. */
-locus_status locus_param_disk(locus_session* session, int32_t method, int32_t max_iterations, double eps,
-                              double* out_uv, int64_t* out_flipped, const locus_run_options* opts);
+LOCUS_API locus_status locus_param_disk(locus_session* session, int32_t method, int32_t max_iterations, double eps,
+                                        double* out_uv, int64_t* out_flipped, const locus_run_options* opts);
 /* Patch (thesis §4.4): the breadth-first patch of round(fraction * nv)
  * vertices around `center`, from the session's factor of -L + eps M: boundary 0
  * Neumann (eq. 4.6), 1 circle (boundary fixed on a circle, holes filled).
  * out_uv: 2 * vertex-count doubles, NaN outside the patch; out_patch_size and
  * out_flipped may be NULL. */
-locus_status locus_param_patch(locus_session* session, int64_t center, double fraction, int32_t boundary,
-                               double* out_uv, int64_t* out_patch_size, int64_t* out_flipped,
-                               const locus_run_options* opts);
+LOCUS_API locus_status locus_param_patch(locus_session* session, int64_t center, double fraction, int32_t boundary,
+                                         double* out_uv, int64_t* out_patch_size, int64_t* out_flipped,
+                                         const locus_run_options* opts);
 
 /* ---- Perfect Laplacian and self-supporting surface (thesis chapter 2) ----
  * Per unique edge of the faces (of the polygons as given for a polygon mesh:
@@ -568,14 +575,17 @@ locus_status locus_param_patch(locus_session* session, int64_t center, double fr
  * (perfect Laplacian: the embedding, aligned onto the input by a similarity in
  * space; self-supporting: the equilibrium surface). Any output may be NULL.
  * out_converged: 1 when the iteration converged within max_iterations. */
-int64_t locus_session_edge_count(const locus_session* session); /* -1 when session is NULL */
-locus_status locus_perfect_laplacian(locus_session* session, int32_t planar, int32_t max_iterations, double eps,
-                                     int32_t* out_edges, double* out_weights, double* out_xyz,
-                                     int32_t* out_converged, const locus_run_options* opts);
+LOCUS_API int64_t locus_session_edge_count(const locus_session* session); /* -1 when session is NULL */
+LOCUS_API locus_status locus_perfect_laplacian(locus_session* session, int32_t planar, int32_t max_iterations,
+                                               double eps,
+                                               int32_t* out_edges, double* out_weights, double* out_xyz,
+                                               int32_t* out_converged, const locus_run_options* opts);
 /* Supports on every boundary loop (the mesh needs one); dead load load_density per unit area. */
-locus_status locus_self_supporting(locus_session* session, double load_density, int32_t max_iterations, double eps,
-                                   int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
-                                   const locus_run_options* opts);
+LOCUS_API locus_status locus_self_supporting(locus_session* session, double load_density, int32_t max_iterations,
+                                             double eps,
+                                             int32_t* out_edges, double* out_forces, double* out_xyz,
+                                             int32_t* out_converged,
+                                             const locus_run_options* opts);
 
 LOCUS_API_END
 #ifdef __cplusplus

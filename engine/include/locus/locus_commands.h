@@ -35,7 +35,7 @@ typedef struct locus_adf_options {
   const char* save;          /* NULL: none */
   const char* load;          /* NULL: none */
 } locus_adf_options;
-locus_adf_options locus_adf_options_default(void);
+LOCUS_API locus_adf_options locus_adf_options_default(void);
 
 typedef struct locus_hks_options {
   const char* const* ts;     /* n_ts times, in the order of the output */
@@ -47,7 +47,7 @@ typedef struct locus_hks_options {
   const char* save;
   const char* load;
 } locus_hks_options;
-locus_hks_options locus_hks_options_default(void);
+LOCUS_API locus_hks_options locus_hks_options_default(void);
 
 /* What an adf or hks run reports beside the values (as `locus adf|hks --json`). */
 typedef struct locus_signature_report {
@@ -61,10 +61,12 @@ typedef struct locus_signature_report {
 /* out: evaluated * (number of times) doubles, out[k * n_times + j] the value at
  * the k-th evaluated vertex for the j-th time; out_t (may be NULL): the times
  * used, absolute; out_report may be NULL. The numbers are the CLI's, bit for bit. */
-locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out, double* out_t,
-                           locus_signature_report* out_report, const locus_run_options* opts);
-locus_status locus_hks_run(locus_session* session, const locus_hks_options* options, double* out, double* out_t,
-                           locus_signature_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out,
+                                     double* out_t,
+                                     locus_signature_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_hks_run(locus_session* session, const locus_hks_options* options, double* out,
+                                     double* out_t,
+                                     locus_signature_report* out_report, const locus_run_options* opts);
 
 typedef struct locus_heat_options {
   const int64_t* source;     /* unit heat at each (repeats add), at least one */
@@ -77,7 +79,7 @@ typedef struct locus_heat_options {
   const char* save;
   const char* load;
 } locus_heat_options;
-locus_heat_options locus_heat_options_default(void);
+LOCUS_API locus_heat_options locus_heat_options_default(void);
 
 typedef struct locus_heat_report {
   double t, h, total;        /* the time used, the mean edge length, the sum of the values */
@@ -88,8 +90,8 @@ typedef struct locus_heat_report {
 } locus_heat_report;
 
 /* out_targets: n_target doubles, the heat at each target; out_report may be NULL. */
-locus_status locus_heat_run(locus_session* session, const locus_heat_options* options, double* out_targets,
-                            locus_heat_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_heat_run(locus_session* session, const locus_heat_options* options, double* out_targets,
+                                      locus_heat_report* out_report, const locus_run_options* opts);
 
 /* The deform command, every option of `locus deform` (engine/include/locus/
  * engine/deform_request.hpp), as the geodesic command's options above:
@@ -109,7 +111,7 @@ typedef struct locus_deform_options {
   const char* save;        /* NULL: none */
   const char* load;        /* NULL: none */
 } locus_deform_options;
-locus_deform_options locus_deform_options_default(void);
+LOCUS_API locus_deform_options locus_deform_options_default(void);
 
 typedef struct locus_deform_report {
   int32_t roi_vertices, handle_vertices, free_vertices;
@@ -118,8 +120,8 @@ typedef struct locus_deform_report {
   double residual, max_displacement;
   double global_factor_s, update_s, solve_s;
 } locus_deform_report;
-locus_status locus_deform_run(locus_session* session, const locus_deform_options* options, double* out_xyz,
-                              locus_deform_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_deform_run(locus_session* session, const locus_deform_options* options, double* out_xyz,
+                                        locus_deform_report* out_report, const locus_run_options* opts);
 
 /* The param command, every option of `locus param` (engine/include/locus/
  * engine/param_request.hpp), as the geodesic command's options above. center
@@ -137,15 +139,15 @@ typedef struct locus_param_options {
   const char* save;       /* patch: NULL: none */
   const char* load;
 } locus_param_options;
-locus_param_options locus_param_options_default(void);
+LOCUS_API locus_param_options locus_param_options_default(void);
 typedef struct locus_param_report {
   int64_t patch_size;     /* vertices with a value (the vertex count for the disk) */
   int64_t flipped_faces, degenerate_faces, negative_weights;
   int32_t boundary_vertices, converged, iterations;
   double query_s;
 } locus_param_report;
-locus_status locus_param_run(locus_session* session, const locus_param_options* options, double* out_uv,
-                             locus_param_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_param_run(locus_session* session, const locus_param_options* options, double* out_uv,
+                                       locus_param_report* out_report, const locus_run_options* opts);
 
 /* The perfect-laplacian and selfsupport commands, every option of `locus
  * perfect-laplacian` and `locus selfsupport` (engine/include/locus/engine/
@@ -162,10 +164,11 @@ typedef struct locus_perfect_laplacian_options {
   double noise;            /* >= 0: seeded noise of up to noise * h per coordinate first (default 0) */
   uint64_t seed;           /* of the noise, default 1 */
 } locus_perfect_laplacian_options;
-locus_perfect_laplacian_options locus_perfect_laplacian_options_default(void);
-locus_status locus_perfect_laplacian_run(locus_session* session, const locus_perfect_laplacian_options* options,
-                                         int32_t* out_edges, double* out_weights, double* out_xyz,
-                                         int32_t* out_converged, const locus_run_options* opts);
+LOCUS_API locus_perfect_laplacian_options locus_perfect_laplacian_options_default(void);
+LOCUS_API locus_status locus_perfect_laplacian_run(locus_session* session,
+                                                   const locus_perfect_laplacian_options* options,
+                                                   int32_t* out_edges, double* out_weights, double* out_xyz,
+                                                   int32_t* out_converged, const locus_run_options* opts);
 
 typedef struct locus_selfsupport_options {
   const char* support;     /* "boundary" (default, the only choice) */
@@ -173,10 +176,11 @@ typedef struct locus_selfsupport_options {
   int32_t iters;           /* default 1000 */
   double eps;              /* default 1e-6 */
 } locus_selfsupport_options;
-locus_selfsupport_options locus_selfsupport_options_default(void);
-locus_status locus_selfsupport_run(locus_session* session, const locus_selfsupport_options* options,
-                                   int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
-                                   const locus_run_options* opts);
+LOCUS_API locus_selfsupport_options locus_selfsupport_options_default(void);
+LOCUS_API locus_status locus_selfsupport_run(locus_session* session, const locus_selfsupport_options* options,
+                                             int32_t* out_edges, double* out_forces, double* out_xyz,
+                                             int32_t* out_converged,
+                                             const locus_run_options* opts);
 
 /* The nncoords command, every option of `locus nncoords` (engine/include/
  * locus/engine/nncoords_request.hpp): out_weights receives n_sites doubles
@@ -188,15 +192,16 @@ typedef struct locus_nncoords_options {
   locus_surface_point point;  /* a point in a face (face >= 0) */
   const char* t;          /* NULL: "h2" */
 } locus_nncoords_options;
-locus_nncoords_options locus_nncoords_options_default(void);
+LOCUS_API locus_nncoords_options locus_nncoords_options_default(void);
 typedef struct locus_nncoords_report {
   double cell_area, clamped, t;
   int32_t at_site, degenerate;
   int64_t fallback_faces;
   double prepare_s, query_s;
 } locus_nncoords_report;
-locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_options* options, double* out_weights,
-                                locus_nncoords_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_options* options,
+                                          double* out_weights,
+                                          locus_nncoords_report* out_report, const locus_run_options* opts);
 
 /* The voronoi command, every option of `locus voronoi` (engine/include/locus/
  * engine/voronoi_request.hpp), as the geodesic command's options above:
@@ -212,13 +217,32 @@ typedef struct locus_voronoi_options {
   const char* load;      /* NULL: none */
   uint64_t seed;         /* of random, default 1 */
 } locus_voronoi_options;
-locus_voronoi_options locus_voronoi_options_default(void);
+LOCUS_API locus_voronoi_options locus_voronoi_options_default(void);
 typedef struct locus_voronoi_report {
   int64_t generators, points, segments, polylines, corners, empty_cells, vertices_without_heat;
   double h, t;
 } locus_voronoi_report;
-locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options, int32_t* out_labels,
-                               locus_voronoi_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options,
+                                         int32_t* out_labels,
+                                         locus_voronoi_report* out_report, const locus_run_options* opts);
+
+/* The info command, `locus info` (engine/include/locus/engine/mesh_info.hpp):
+ * sizes, topology and defects of the session's mesh as given (its polygons for
+ * a polygon mesh), with its current positions. Faces by degree: triangles,
+ * quads and larger. genus -1: undefined (not a connected manifold); the first
+ * offender of each kind -1 when none. The numbers of `locus info --json`. */
+typedef struct locus_info_report {
+  int64_t n_vertices, n_faces, n_edges;
+  int64_t triangles, quads, larger_faces;
+  int64_t components, boundary_loops, euler_characteristic, genus;
+  int32_t manifold;
+  int64_t non_manifold_edges, non_manifold_vertices, degenerate_faces, unreferenced_vertices;
+  double bbox_min[3], bbox_max[3];
+  double mean_edge_length;
+  int64_t first_non_manifold_edge_v0, first_non_manifold_edge_v1, first_non_manifold_vertex;
+  int64_t first_degenerate_face, first_unreferenced_vertex;
+} locus_info_report;
+LOCUS_API locus_status locus_info_run(const locus_session* session, locus_info_report* out);
 
 LOCUS_API_END
 #ifdef __cplusplus

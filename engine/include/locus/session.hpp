@@ -53,6 +53,7 @@
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/laplacian_requests.hpp"
+#include "locus/engine/mesh_info.hpp"
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/operator_choice.hpp"
 #include "locus/engine/param_request.hpp"
@@ -76,14 +77,14 @@ namespace locus {
 // The diffusion pipelines (Voronoi, natural neighbors, skinning, ADF/HKS, heat
 // exchange, heat values) also take an absolute time: t > 0 overrides t_factor.
 // The heat method (geodesic distance, log map) uses t_factor only.
-struct HeatQuery {
+struct LOCUS_API HeatQuery {
   double t_factor = 0.0;  // 0 = the method's default (above)
   double t = 0.0;         // absolute diffusion time; 0 = t_factor * h^2
 };
 
 // A point on the surface: a vertex (face < 0), or a face and the barycentric
 // weights of its corners in the face's order (weights >= 0 summing to 1).
-struct MeshPoint {
+struct LOCUS_API MeshPoint {
   int32_t face = -1;
   int32_t vertex = -1;
   std::array<double, 3> bary{1.0, 0.0, 0.0};
@@ -91,14 +92,14 @@ struct MeshPoint {
   static MeshPoint in_face(int32_t f, double b0, double b1, double b2) { return MeshPoint{f, -1, {b0, b1, b2}}; }
 };
 
-struct LogMapResult {
+struct LOCUS_API LogMapResult {
   HostVector<int32_t> patch;  // the geodesic disk (graph metric), center first
   // Per patch vertex, in patch order: heat geodesic distance, polar angle and
   // Cartesian coordinates (u, v) = distance * (cos, sin)(angle).
   HostVector<double> distance, angle, u, v;
 };
 
-struct CvtResult {
+struct LOCUS_API CvtResult {
   HostVector<int32_t> label;       // per vertex: index of its cell's site
   std::vector<double> site_xyz;    // 3 per site: final site positions
   std::vector<int32_t> site_face;  // per site: face holding it, or -1 when it is a vertex
@@ -125,7 +126,7 @@ enum class DeformEnergyKind { Laplacian, Bilaplacian };
 // Move a handle (a vertex and its k-ring) inside a region of interest (the
 // breadth-first patch of round(roi_fraction * nv) vertices around roi_seed);
 // outside the ROI nothing moves.
-struct DeformRequest {
+struct LOCUS_API DeformRequest {
   int32_t roi_seed = 0;
   double roi_fraction = 0.1;  // in (0, 1]
   int32_t handle_vertex = 0;  // must lie in the ROI
@@ -134,7 +135,7 @@ struct DeformRequest {
   DeformEnergyKind energy = DeformEnergyKind::Laplacian;
 };
 
-struct DeformResult {
+struct LOCUS_API DeformResult {
   std::vector<double> xyz;  // 3 * nv deformed positions, interleaved
   int32_t roi_size = 0, free_size = 0;
   double columns_updated_fraction = 0;  // of the submesh factor, recomputed rather than copied
@@ -145,7 +146,7 @@ struct DeformResult {
 // ---- Results of the diffusion, parameterization and chapter-2 pipelines (session_<pipeline>.cpp) ----
 
 // Heat-diffusion Voronoi diagram (thesis §3.4): labels and the bisector curves.
-struct VoronoiResult {
+struct LOCUS_API VoronoiResult {
   std::vector<int32_t> label;     // per vertex: the generator with the most heat (eq. 3.18)
   std::vector<double> points;     // 3 per diagram point (on mesh edges, and Voronoi corners)
   std::vector<int32_t> line_offsets;  // polyline k = line_points[line_offsets[k] .. line_offsets[k+1])
@@ -156,7 +157,7 @@ struct VoronoiResult {
 };
 
 // Natural-neighbor (area-stealing) coordinates of one point (thesis §3.7.2).
-struct NaturalNeighborResult {
+struct LOCUS_API NaturalNeighborResult {
   std::vector<double> weight;  // one per site, >= 0, summing to 1
   double cell_area = 0;        // area of the point's own cell
   bool at_site = false;        // the point is a site (indicator returned)
@@ -167,7 +168,7 @@ struct NaturalNeighborResult {
 // once, serving any number of point queries. Immutable; coordinates() may run
 // concurrently from any number of threads. Keeps the Session's mesh and heat
 // factor alive (it stays valid after set_positions, on the old positions).
-class NaturalNeighbors {
+class LOCUS_API NaturalNeighbors {
  public:
   NaturalNeighbors();
   ~NaturalNeighbors();
@@ -184,7 +185,7 @@ class NaturalNeighbors {
   friend class Session;
 };
 
-struct SkinningWeightsResult {
+struct LOCUS_API SkinningWeightsResult {
   int32_t handles = 0;
   std::vector<double> weight;  // nv * handles, row-major: vertex v's weights at [v * handles, (v + 1) * handles)
   int64_t degenerate_vertices = 0;
@@ -199,12 +200,12 @@ enum class DiagonalMethod { Subset, SelectedInversion };
 // Flip-free parameterization of a disk-like mesh (thesis §2.6): boundary on the
 // unit circle by arc length; interior by perfect (Algorithm 1), cotan or uniform weights.
 enum class DiskParamMethod { Perfect, Cotan, Uniform };
-struct DiskParamRequest {
+struct LOCUS_API DiskParamRequest {
   DiskParamMethod method = DiskParamMethod::Perfect;
   int32_t max_iterations = 1000;  // Algorithm 1 (perfect)
   double eps = 1e-6;              // Algorithm 1 tolerance (relative to the diagonal)
 };
-struct DiskParamResult {
+struct LOCUS_API DiskParamResult {
   std::vector<double> uv;  // 2 * nv, interleaved
   int64_t flipped_faces = 0, degenerate_faces = 0;
   int64_t negative_weights = 0;
@@ -217,12 +218,12 @@ struct DiskParamResult {
 // Neumann (eq. 4.6, an exact subset solve) or Circle (boundary fixed on a circle,
 // the patch's factor by the factor-once update; holes of the patch are filled).
 enum class PatchBoundary { Neumann, Circle };
-struct PatchParamRequest {
+struct LOCUS_API PatchParamRequest {
   int32_t center = 0;
   double fraction = 0.1;  // in (0, 1]
   PatchBoundary boundary = PatchBoundary::Neumann;
 };
-struct PatchParamResult {
+struct LOCUS_API PatchParamResult {
   std::vector<int32_t> vertices;   // global ids of the patch, center first
   std::vector<int32_t> triangles;  // 3 per patch face, indices into `vertices`
   std::vector<double> uv;          // 2 per patch vertex, normalized into the unit disk
@@ -232,13 +233,13 @@ struct PatchParamResult {
 };
 
 // Algorithm 1 of thesis chapter 2 on the Session's triangle mesh.
-struct PerfectLaplacianRequest {
+struct LOCUS_API PerfectLaplacianRequest {
   bool planar = false;            // use x, y only (one boundary loop needed)
   int32_t max_iterations = 1000;
   double eps = 1e-6;
   bool newton = true;             // false: the multiplicative update of eq. 2.8
 };
-struct PerfectLaplacianOutput {
+struct LOCUS_API PerfectLaplacianOutput {
   std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
   std::vector<double> weights;    // per edge, normalized to unit 2-norm; 0 where a weight decayed
   std::vector<double> xyz;        // 3 * nv: the embedding (planar) or the embedding aligned onto the input (space)
@@ -248,12 +249,12 @@ struct PerfectLaplacianOutput {
 };
 
 // Self-supporting surface (thesis §2.6, eq. 2.12): supports on the boundary.
-struct SelfSupportRequest {
+struct LOCUS_API SelfSupportRequest {
   double load_density = 1.0;
   int32_t max_iterations = 1000;
   double eps = 1e-6;
 };
-struct SelfSupportOutput {
+struct LOCUS_API SelfSupportOutput {
   std::vector<int32_t> edges;     // 2 per unique edge (v0 < v1)
   std::vector<double> forces;     // per edge, >= 0, in load units
   std::vector<double> xyz;        // 3 * nv: the equilibrium surface
@@ -263,7 +264,7 @@ struct SelfSupportOutput {
 };
 
 // Counters of work done, for callers and tests that check "computed once".
-struct SessionStats {
+struct LOCUS_API SessionStats {
   int64_t symbolic_analyses = 0;       // orderings + symbolic factors computed by the Session
   int64_t numeric_factorizations = 0;  // numeric factors computed by the Session (heat values)
   int64_t heat_engines = 0;            // geodesic/log-map engines built (each factors 2 operators)
@@ -274,10 +275,12 @@ struct SessionStats {
 // One-shot forms of the chapter-2 pipelines on any polygon mesh (these have
 // nothing to cache). The Session methods parameterize_disk, perfect_laplacian
 // and self_supporting call them on the Session's faces as given (polygons()). Error(BadInput) names what makes a mesh unsuitable.
-DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req = {}, const RunContext& ctx = {});
-PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req = {},
-                                            const RunContext& ctx = {});
-SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req = {}, const RunContext& ctx = {});
+LOCUS_API DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& req = {},
+                                               const RunContext& ctx = {});
+LOCUS_API PerfectLaplacianOutput perfect_laplacian_of(const Mesh& mesh, const PerfectLaplacianRequest& req = {},
+                                                      const RunContext& ctx = {});
+LOCUS_API SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest& req = {},
+                                               const RunContext& ctx = {});
 
 // Polygon meshes (quads, mixed, n-gons). A Session takes
 // them as they are: each face of more than 3 corners must be a simple polygon
@@ -295,14 +298,19 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
 // to the caller's face, polygons() returns the faces as given.
 
 // How a Session builds its operators (engine/include/locus/engine/operator_choice.hpp).
-struct SessionOptions {
+struct LOCUS_API SessionOptions {
   // auto (default): the cotan operator on a clean manifold mesh, bit for bit as
   // without options; the robust one when the mesh has defects. cotan: the checks
   // below refuse a mesh with defects. robust: always the robust operator.
   OperatorChoice mesh_operator = OperatorChoice::Auto;
+  // With auto (or cotan and this flag: a caller that resolved auto itself, as
+  // the CLI's loader does, and passes cotan for a clean mesh), a geodesic query
+  // whose cotan heat method fails numerically is answered on the robust
+  // operator and says so (GeodesicReport::operator_fallback).
+  bool cotan_chosen_by_auto = false;
 };
 
-class Session {
+class LOCUS_API Session {
  public:
   // Takes the mesh and checks it: finite coordinates, at least one face, every
   // index in range, simple polygons (triangulated, above), manifold, no
@@ -336,6 +344,9 @@ class Session {
 
   // The operator the Session runs on and why (the defects found; auto and robust).
   OperatorReport operator_report() const;
+  // Sizes, topology and defects of the mesh as given (its polygons for a
+  // polygon mesh), with the current positions (engine/mesh_info.hpp).
+  MeshInfo info() const;
 
   int32_t num_vertices() const;
   int32_t num_faces() const;        // triangles of mesh() (of the triangulation for a polygon mesh)

@@ -20,7 +20,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct ReadOptions {
+struct LOCUS_API ReadOptions {
   // Refuse files whose header counts would need more than this many bytes.
   uint64_t max_bytes = uint64_t(8) << 30;
   // Asset formats read through assimp: weld the flattened scene's vertices by
@@ -34,7 +34,7 @@ struct ReadOptions {
 // vertices" are the vertices of the scene's meshes in flattening order: the
 // node tree depth first in file order, each node's meshes in order, each
 // mesh's vertices in order (a mesh used by two nodes is counted twice).
-struct AssetReport {
+struct LOCUS_API AssetReport {
   std::string format;                 // assimp's name of the importer ("glTF2 Importer", ...)
   int32_t mesh_instances = 0;         // node meshes flattened (meshes without triangles are skipped)
   int64_t file_vertices = 0;          // vertices of the flattened meshes
@@ -48,7 +48,7 @@ struct AssetReport {
 
 
 // A named per-vertex property (readers' attributes, writers' results).
-struct VertexProperty {
+struct LOCUS_API VertexProperty {
   // The PLY scalar types; Int is int32.
   enum class Type { Float, Double, Int, Int8, UInt8, Int16, UInt16, UInt32 };
   std::string name;
@@ -65,7 +65,7 @@ struct VertexProperty {
 // of an OFF what its keyword announces (N normals, C colours, ST u v);
 // and whether the positions were stored as float. `notes` say what was
 // found but could not be kept per vertex (an OBJ's texture seams).
-struct MeshAttributes {
+struct LOCUS_API MeshAttributes {
   std::vector<VertexProperty> vertex;
   bool float_positions = false;
   std::vector<std::string> notes;
@@ -73,17 +73,17 @@ struct MeshAttributes {
   AssetReport asset_report;
 };
 
-Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});
+LOCUS_API Mesh read_mesh(const std::string& path, const ReadOptions& opt = {});
 // Also fills `attributes` (when not null) with what the file holds beyond the mesh.
-Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes);
+LOCUS_API Mesh read_mesh(const std::string& path, const ReadOptions& opt, MeshAttributes* attributes);
 // Parses an in-memory buffer; `format` is an extension read_mesh knows ("obj",
 // "off", "ply", "glb", "fbx", ...); `name` is used in messages. A buffer read
 // through assimp can reference no other file (a .gltf's external buffers are
 // refused; embedded data: URIs are fine).
-Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
-                           const ReadOptions& opt = {}, MeshAttributes* attributes = nullptr);
+LOCUS_API Mesh read_mesh_from_memory(const char* data, size_t size, const std::string& format, const std::string& name,
+                                     const ReadOptions& opt = {}, MeshAttributes* attributes = nullptr);
 
-struct WriteOptions {
+struct LOCUS_API WriteOptions {
   std::vector<VertexProperty> vertex_properties;  // PLY: extra vertex properties; OBJ: a '#vp' comment block
   const std::vector<double>* uv = nullptr;        // 2*nv texture coordinates (OBJ vt, PLY u/v)
   bool binary = true;                             // PLY: binary little endian or ascii
@@ -92,9 +92,9 @@ struct WriteOptions {
 };
 
 // Whether read_mesh reads files with this extension (lower case, no dot).
-bool is_readable_mesh_extension(const std::string& ext);
+LOCUS_API bool is_readable_mesh_extension(const std::string& ext);
 
-void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});
+LOCUS_API void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& opt = {});
 
 }  // namespace locus
 LOCUS_API_END

@@ -34,17 +34,17 @@ using HostFreeFn = void (*)(void* ptr, void* user);
 
 // Both callbacks, or neither (nullptr, nullptr: back to the C library's
 // malloc/free). Thread-safe; blocks allocated before keep their callbacks.
-void set_host_allocator(HostAllocFn alloc, HostFreeFn free, void* user) noexcept;
+LOCUS_API void set_host_allocator(HostAllocFn alloc, HostFreeFn free, void* user) noexcept;
 
 // `bytes` from the current allocator, 16-byte aligned; nullptr when it has none to give.
-void* host_allocate_nothrow(std::size_t bytes) noexcept;
+LOCUS_API void* host_allocate_nothrow(std::size_t bytes) noexcept;
 // The same, throwing std::bad_alloc instead of returning nullptr.
-void* host_allocate(std::size_t bytes);
+LOCUS_API void* host_allocate(std::size_t bytes);
 // Frees a block of host_allocate*; nullptr is a no-op. A pointer that did not
 // come from host_allocate* (no header) goes to the C library's free().
-void host_deallocate(void* p) noexcept;
+LOCUS_API void host_deallocate(void* p) noexcept;
 // Size in bytes the block was allocated with (for realloc).
-std::size_t host_allocation_size(const void* p) noexcept;
+LOCUS_API std::size_t host_allocation_size(const void* p) noexcept;
 
 }  // namespace locus
 LOCUS_API_END

@@ -24,7 +24,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct DeformCommandRequest {
+struct LOCUS_API DeformCommandRequest {
   int64_t roi_seed = -1;                // required
   double roi_fraction = 0.1;            // in [0, 1]
   int64_t handle = -1;                  // required, inside the region of interest
@@ -35,7 +35,7 @@ struct DeformCommandRequest {
   std::string save, load;               // factor cache files of the global factor ("" = none)
 };
 
-struct DeformCommandReport {
+struct LOCUS_API DeformCommandReport {
   std::vector<double> xyz;  // 3 * nv deformed positions, interleaved
   std::string energy;
   int32_t n = 0;
@@ -60,7 +60,7 @@ struct DeformCommandReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const DeformCommandRequest& req);
+LOCUS_API void check_request(const DeformCommandRequest& req);
 
 }  // namespace locus
 LOCUS_API_END

@@ -28,7 +28,7 @@ namespace locus {
 // (`all`): exactly one of the two. method: "subset" (an etree path per
 // vertex), "selinv" (selected inversion, all vertices at once) or "full" (one
 // full solve per vertex, the slow reference).
-struct AdfRequest {
+struct LOCUS_API AdfRequest {
   std::string t = "1h2";
   std::vector<int64_t> vertices;  // 0-based ids, order and repetitions kept
   bool all = false;
@@ -37,7 +37,7 @@ struct AdfRequest {
 };
 
 // The same at several times `ts` (in that order).
-struct HksRequest {
+struct LOCUS_API HksRequest {
   std::vector<std::string> ts;
   std::vector<int64_t> vertices;
   bool all = false;
@@ -47,7 +47,7 @@ struct HksRequest {
 
 // adf and hks: values[k * t.size() + j] is the value at the k-th evaluated
 // vertex (vertices[k], or vertex k with all) for the time t[j].
-struct HeatSignatureReport {
+struct LOCUS_API HeatSignatureReport {
   std::vector<double> values;
   std::vector<int32_t> vertices;  // the evaluated vertices; empty with all
   bool all = false;
@@ -69,7 +69,7 @@ struct HeatSignatureReport {
 // subtrees for the forward and the backward solve), "union" (one subtree for
 // both) or "full" (full solves, the reference); repeat: run the query that
 // many times (medians of the timings).
-struct HeatRequest {
+struct LOCUS_API HeatRequest {
   std::vector<int64_t> source;  // required, non-empty
   std::vector<int64_t> target;  // required, non-empty
   std::string t = "1h2";
@@ -78,7 +78,7 @@ struct HeatRequest {
   std::string save, load;
 };
 
-struct HeatReport {
+struct LOCUS_API HeatReport {
   std::vector<double> values;  // per target
   double total = 0;            // their sum
   std::vector<int32_t> sources, targets;
@@ -97,9 +97,9 @@ struct HeatReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const AdfRequest& req);
-void check_request(const HksRequest& req);
-void check_request(const HeatRequest& req);
+LOCUS_API void check_request(const AdfRequest& req);
+LOCUS_API void check_request(const HksRequest& req);
+LOCUS_API void check_request(const HeatRequest& req);
 
 }  // namespace locus
 LOCUS_API_END

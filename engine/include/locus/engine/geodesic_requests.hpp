@@ -27,7 +27,7 @@ LOCUS_API_BEGIN
 namespace locus {
 
 // Where a factor cache file was read or written, and how long that took.
-struct FactorCacheReport {
+struct LOCUS_API FactorCacheReport {
   std::string loaded, saved;  // "" = none
   double load_s = 0, save_s = 0;
   bool used() const { return !loaded.empty() || !saved.empty(); }
@@ -36,7 +36,7 @@ struct FactorCacheReport {
 // Heat geodesic distance from one vertex: on the whole mesh (fraction 1, full
 // solves) or localized to the geodesic disk of round(fraction * nv) vertices
 // around the source (exact subset solves, thesis §6.4.2).
-struct GeodesicRequest {
+struct LOCUS_API GeodesicRequest {
   int64_t source = -1;                  // source vertex, 0-based (required)
   double fraction = 1.0;                // in (0, 1]
   std::string t;                        // diffusion time (above); "" = default
@@ -44,7 +44,7 @@ struct GeodesicRequest {
   std::string save, load;               // factor cache files ("" = none)
 };
 
-struct GeodesicReport {
+struct LOCUS_API GeodesicReport {
   std::vector<double> distance;  // per vertex, units of the positions; NaN = no value (outside the patch, unreachable)
   std::vector<double> valid;     // per vertex: 1 where distance has a value, else 0
   int32_t source = -1;
@@ -60,11 +60,15 @@ struct GeodesicReport {
   std::vector<std::string> warnings;
   double precompute_s = 0, patch_s = 0, query_s = 0;
   FactorCacheReport factor_cache;
+  // With the operator `auto` on a clean mesh, the cotan heat method can still
+  // fail where badly shaped triangles make its distance negative; the query is
+  // then answered on the robust operator and this says why ("" otherwise).
+  std::string operator_fallback;
 };
 
 // Log map (geodesic polar coordinates) of the geodesic disk of
 // round(fraction * nv) vertices around `center` (thesis §6.5-6.6).
-struct LogmapRequest {
+struct LOCUS_API LogmapRequest {
   int64_t center = -1;              // center vertex, 0-based (required)
   double fraction = 0.05;           // in (0, 1]
   std::string t;                    // diffusion time (above); "" = default
@@ -77,7 +81,7 @@ struct LogmapRequest {
   std::string save, load;           // factor cache files ("" = none)
 };
 
-struct LogmapReport {
+struct LOCUS_API LogmapReport {
   // The patch (center first) and per patch vertex: heat geodesic distance,
   // polar angle and Cartesian coordinates (u, v) = distance (cos, sin)(angle).
   std::vector<int32_t> patch;
@@ -107,24 +111,24 @@ struct LogmapReport {
 // Argument checks that need no mesh (ranges, the time's grammar, names of
 // methods, save and load together): Error(BadUsage). The Session runs them
 // on every request; the CLI also before reading the file.
-void check_request(const GeodesicRequest& req);
-void check_request(const LogmapRequest& req);
+LOCUS_API void check_request(const GeodesicRequest& req);
+LOCUS_API void check_request(const LogmapRequest& req);
 
 // The faces a command reads a polygon file with (MeshInputOptions): the
 // heat method runs on the polygons themselves (Keep) unless the request needs
 // triangles (a localized geodesic, the DEM, a factor cache).
-bool keeps_polygons(const GeodesicRequest& req);
-bool keeps_polygons(const LogmapRequest& req);
+LOCUS_API bool keeps_polygons(const GeodesicRequest& req);
+LOCUS_API bool keeps_polygons(const LogmapRequest& req);
 
 // The fields of a command's request, in declaration order, with their
 // defaults as text ("" = none or not given; booleans "false"/"true"): what
 // the option-parity tests hold the CLI, the C API and Python to. Commands:
 // "geodesic", "logmap"; empty for another name.
-struct RequestField {
+struct LOCUS_API RequestField {
   std::string name;
   std::string default_value;
 };
-std::vector<RequestField> request_fields(const std::string& command);
+LOCUS_API std::vector<RequestField> request_fields(const std::string& command);
 
 }  // namespace locus
 LOCUS_API_END

@@ -15,7 +15,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct HeatTime {
+struct LOCUS_API HeatTime {
   double value = 1.0;
   bool times_h2 = true;  // value is a multiple of h^2
   double resolve(double h) const { return times_h2 ? value * h * h : value; }
@@ -23,19 +23,19 @@ struct HeatTime {
 
 // Error(BadUsage) naming `name` and the text unless it is a finite positive
 // time in the grammar above.
-HeatTime parse_heat_time(const std::string& text, const std::string& name = "t");
+LOCUS_API HeatTime parse_heat_time(const std::string& text, const std::string& name = "t");
 
 // The time of a request with the fields `t` (text, "" = not given) and
 // `t_factor` (a multiple of h^2, empty = not given): Error(BadUsage) when both
 // are given or t_factor is not finite and > 0; `fallback` when neither is.
-HeatTime heat_time_of(const std::string& t, const std::optional<double>& t_factor, const HeatTime& fallback);
+LOCUS_API HeatTime heat_time_of(const std::string& t, const std::optional<double>& t_factor, const HeatTime& fallback);
 
 // The time as a multiple of h^2 on a mesh of mean edge length h (the heat
 // method's t_factor): Error(BadInput) when h is not finite and positive.
-double heat_time_factor(const HeatTime& time, double h);
+LOCUS_API double heat_time_factor(const HeatTime& time, double h);
 
 // %.6g of a number, as every message and report of locus prints one.
-std::string format_number(double v);
+LOCUS_API std::string format_number(double v);
 
 }  // namespace locus
 LOCUS_API_END

@@ -17,7 +17,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct PerfectLaplacianCommandRequest {
+struct LOCUS_API PerfectLaplacianCommandRequest {
   bool planar = false;             // use x, y (one boundary loop, held in convex position)
   int32_t iters = 1000;            // iteration cap, 1..1000000
   double eps = 1e-6;               // stop when no vertex moves more than eps * bbox diagonal
@@ -28,7 +28,7 @@ struct PerfectLaplacianCommandRequest {
   uint64_t seed = 1;               // of the noise
 };
 
-struct PerfectLaplacianCommandReport {
+struct LOCUS_API PerfectLaplacianCommandReport {
   std::vector<double> xyz;         // 3 * nv: the embedding (planar) or the embedding aligned onto the input
   std::vector<int32_t> edges;      // 2 per unique edge of the faces (v0 < v1)
   std::vector<double> weights;     // per edge, unit 2-norm; 0 where a weight decayed
@@ -46,14 +46,14 @@ struct PerfectLaplacianCommandReport {
   double order_s = 0, analyze_s = 0, first_iter_s = 0, iter_s = 0, rhs_s = 0, total_s = 0;
 };
 
-struct SelfSupportCommandRequest {
+struct LOCUS_API SelfSupportCommandRequest {
   std::string support = "boundary";  // supported vertices: boundary (the only choice)
   double load_density = 1.0;         // dead load per unit area (> 0)
   int32_t iters = 1000;
   double eps = 1e-6;
 };
 
-struct SelfSupportCommandReport {
+struct LOCUS_API SelfSupportCommandReport {
   std::vector<double> xyz;           // 3 * nv: the equilibrium surface
   std::vector<int32_t> edges;        // 2 per unique edge (v0 < v1)
   std::vector<double> forces;        // per edge, >= 0, in load units
@@ -66,8 +66,8 @@ struct SelfSupportCommandReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const PerfectLaplacianCommandRequest& req);
-void check_request(const SelfSupportCommandRequest& req);
+LOCUS_API void check_request(const PerfectLaplacianCommandRequest& req);
+LOCUS_API void check_request(const SelfSupportCommandRequest& req);
 
 }  // namespace locus
 LOCUS_API_END

@@ -30,7 +30,7 @@ namespace locus {
 // the commands that need triangles, or keep them for those that take polygons.
 enum class PolygonFaces { Triangulate, Keep };
 
-struct MeshInputOptions {
+struct LOCUS_API MeshInputOptions {
   int subdivide = 0;  // 1:4 midpoint subdivisions after loading, 0..16
   PolygonFaces faces = PolygonFaces::Triangulate;
   // Asset formats (read through assimp): weld the scene's vertices by position
@@ -41,7 +41,7 @@ struct MeshInputOptions {
   OperatorChoice mesh_operator = OperatorChoice::Auto;
 };
 
-struct MeshInput {
+struct LOCUS_API MeshInput {
   std::string path;
   Mesh mesh;                  // what the command works on
   MeshAttributes attributes;  // the file's vertex attributes, carried to outputs on its vertices
@@ -63,7 +63,8 @@ struct MeshInput {
   const Mesh& output_faces() const { return triangulated() ? polygons : mesh; }
 };
 
-MeshInput load_mesh_input(const std::string& path, const MeshInputOptions& opt = {}, const RunContext& ctx = {});
+LOCUS_API MeshInput load_mesh_input(const std::string& path, const MeshInputOptions& opt = {},
+                                    const RunContext& ctx = {});
 
 }  // namespace locus
 LOCUS_API_END

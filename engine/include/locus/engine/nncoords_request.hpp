@@ -20,18 +20,18 @@ namespace locus {
 
 // A point in a triangle of the mesh: its barycentric weights (summing to 1)
 // of the triangle's corners in order.
-struct FacePoint {
+struct LOCUS_API FacePoint {
   int64_t face = -1;
   std::array<double, 3> bary{1.0 / 3, 1.0 / 3, 1.0 / 3};
 };
 
-struct NncoordsRequest {
+struct LOCUS_API NncoordsRequest {
   std::vector<int64_t> sites;  // vertex ids, at least one (required)
   FacePoint point;             // the query point (required: face -1 = not given)
   std::string t = "h2";        // diffusion time: "h2", "4h2" (multiples of h^2) or absolute ("0.001")
 };
 
-struct NncoordsReport {
+struct LOCUS_API NncoordsReport {
   std::vector<double> weights;              // one per site, >= 0, summing to 1
   std::vector<int32_t> natural_neighbors;   // the sites with a nonzero weight (ids), in site order
   double cell_area = 0;                     // the point's own cell
@@ -43,7 +43,7 @@ struct NncoordsReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const NncoordsRequest& req);
+LOCUS_API void check_request(const NncoordsRequest& req);
 
 }  // namespace locus
 LOCUS_API_END

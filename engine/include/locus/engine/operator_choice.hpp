@@ -26,13 +26,13 @@ namespace locus {
 enum class OperatorChoice { Auto, Cotan, Robust };
 
 // "auto", "cotan", "robust".
-const char* operator_choice_name(OperatorChoice c);
+LOCUS_API const char* operator_choice_name(OperatorChoice c);
 // The inverse; Error(BadUsage) naming the text and the choices otherwise.
-OperatorChoice parse_operator_choice(const std::string& text);
+LOCUS_API OperatorChoice parse_operator_choice(const std::string& text);
 
 // The defects that make `auto` choose the robust operator (counts, and the
 // first offender of each kind, -1 when none; mesh_defects.hpp).
-struct OperatorReport {
+struct LOCUS_API OperatorReport {
   OperatorChoice asked = OperatorChoice::Auto;
   bool robust = false;  // the operator used: robust, else cotan
   bool checked = false;  // the defects below were looked for (auto and robust on a triangle mesh)
@@ -55,7 +55,7 @@ struct OperatorReport {
 // non-triangle face or a non-finite coordinate when the defects must be looked
 // for). Cotan: nothing is checked here (the queries refuse what they cannot
 // take, as before). O(nv + nf).
-OperatorReport choose_operator(const Mesh& triangles, OperatorChoice choice);
+LOCUS_API OperatorReport choose_operator(const Mesh& triangles, OperatorChoice choice);
 
 }  // namespace locus
 LOCUS_API_END

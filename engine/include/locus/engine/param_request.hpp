@@ -26,7 +26,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct ParamRequest {
+struct LOCUS_API ParamRequest {
   std::string method = "perfect";    // disk: perfect, cotan or uniform
   int32_t iters = 1000;              // disk, perfect: Algorithm 1's iteration cap (>= 1)
   double eps = 1e-6;                 // disk, perfect: Algorithm 1's tolerance (> 0)
@@ -36,7 +36,7 @@ struct ParamRequest {
   std::string save, load;            // patch: factor cache files of the global factor
 };
 
-struct ParamReport {
+struct LOCUS_API ParamReport {
   std::string domain;            // "disk" or "patch"
   std::vector<double> uv;        // disk: 2 per vertex; patch: 2 per patch vertex, in the unit disk
   int64_t flipped_faces = 0, degenerate_faces = 0;
@@ -69,9 +69,9 @@ struct ParamReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const ParamRequest& req);
+LOCUS_API void check_request(const ParamRequest& req);
 // The faces a polygon file is read with: kept for the disk, triangulated for a patch.
-bool keeps_polygons(const ParamRequest& req);
+LOCUS_API bool keeps_polygons(const ParamRequest& req);
 
 }  // namespace locus
 LOCUS_API_END

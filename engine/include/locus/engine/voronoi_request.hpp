@@ -19,7 +19,7 @@ namespace locus {
 
 // Generators: vertex ids (`sites`) or `random` seeded random surface points
 // (uniform by area, splitmix64 from `seed`); exactly one of the two.
-struct VoronoiCommandRequest {
+struct LOCUS_API VoronoiCommandRequest {
   std::vector<int64_t> sites;
   int32_t random = 0;     // 1..100000000 when given
   std::string t = "h2";   // diffusion time: "h2", "4h2" (multiples of h^2) or absolute ("0.001")
@@ -27,7 +27,7 @@ struct VoronoiCommandRequest {
   uint64_t seed = 1;      // of `random`
 };
 
-struct VoronoiCommandReport {
+struct LOCUS_API VoronoiCommandReport {
   std::vector<int32_t> label;           // per vertex: the generator with the most heat (eq. 3.18)
   std::vector<double> site_xyz;         // 3 per generator: its position
   std::vector<double> points;           // 3 per diagram point
@@ -44,14 +44,14 @@ struct VoronoiCommandReport {
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
-void check_request(const VoronoiCommandRequest& req);
+LOCUS_API void check_request(const VoronoiCommandRequest& req);
 
 class Session;
 // The command on the Session's mesh. It factors its own M - tL (the
 // request's cache files; the statistics are the factorization's), so it reads
 // nothing but the mesh of the Session; Session::voronoi is the cached tier.
-VoronoiCommandReport voronoi_command(const Session& session, const VoronoiCommandRequest& req,
-                                     const RunContext& ctx = {});
+LOCUS_API VoronoiCommandReport voronoi_command(const Session& session, const VoronoiCommandRequest& req,
+                                               const RunContext& ctx = {});
 
 }  // namespace locus
 LOCUS_API_END
