@@ -178,6 +178,32 @@ void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns) {
           ++used;
         });
   }
+  F.share_offsets.assign(static_cast<size_t>(n) + 1, 0);
+  F.share_site.clear();
+  F.share_area.clear();
+  F.vertex_area.assign(n, 0.0);
+  std::vector<double> acc(ns, 0.0);
+  std::vector<int32_t> seen;
+  for (int32_t v = 0; v < n; ++v) {
+    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
+      const int32_t f = F.vf_faces[p];
+      F.vertex_area[v] += F.face_area[f] / 3;
+      for (int q = 0; q < 3; ++q) {
+        const int32_t site = F.part_site[3 * static_cast<size_t>(f) + q];
+        if (site < 0) continue;
+        if (acc[site] == 0.0) seen.push_back(site);
+        acc[site] += F.part_area[3 * static_cast<size_t>(f) + q] / 3;
+      }
+    }
+    std::sort(seen.begin(), seen.end());
+    for (int32_t site : seen) {
+      F.share_site.push_back(site);
+      F.share_area.push_back(acc[site]);
+      acc[site] = 0.0;
+    }
+    seen.clear();
+    F.share_offsets[v + 1] = static_cast<int64_t>(F.share_site.size());
+  }
 }
 
 // The site whose cell contains q: among the labels of q's support vertices, the one
@@ -211,37 +237,41 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
 
 namespace {
 
-// Areas q's cell steals from each site (stolen, ns) and its own area aq, over the
-// faces around the taken vertices (ascending, so sums run in a fixed order).
+// Areas q's cell steals from each site (stolen, ns) and its own area aq. Every
+// face with a taken corner changes hands: its old parts are added to `stolen` and
+// its new split (all of it to q when all corners are taken) is taken back. The
+// taken vertices' shares add a third of each incident face per taken corner; the
+// border faces (taken and untaken corners) get the rest of their old parts and
+// their re-split. Sums run in the order of the ascending taken vertices.
 int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<const double> heat_q,
                     NaturalScratch& s, std::vector<double>& stolen, double& aq) {
   const HeatVoronoi& V = F.voronoi;
   const int32_t ns = static_cast<int32_t>(F.sites.size());
   s.faces.clear();
-  for (int32_t v : s.taken)
+  for (int32_t v : s.taken) {
+    for (int64_t p = F.share_offsets[v]; p < F.share_offsets[v + 1]; ++p) stolen[F.share_site[p]] += F.share_area[p];
+    aq += F.vertex_area[v];
     for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
       const int32_t f = F.vf_faces[p];
-      if (!s.face_mark[f]) {
-        s.face_mark[f] = 1;
-        s.faces.push_back(f);
-      }
+      if (s.face_mark[f]) continue;
+      if (s.vertex_mark[m.f0[f]] && s.vertex_mark[m.f1[f]] && s.vertex_mark[m.f2[f]]) continue;
+      s.face_mark[f] = 1;
+      s.faces.push_back(f);
     }
-  std::sort(s.faces.begin(), s.faces.end());
+  }
   int64_t fallback = 0;
   for (int32_t f : s.faces) {
     s.face_mark[f] = 0;
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const bool t[3] = {s.vertex_mark[v[0]] != 0, s.vertex_mark[v[1]] != 0, s.vertex_mark[v[2]] != 0};
+    const int taken = t[0] + t[1] + t[2];
+    const double rest = (3 - taken) / 3.0;
     for (int p = 0; p < 3; ++p) {
       const int32_t site = F.part_site[3 * static_cast<size_t>(f) + p];
-      if (site >= 0) stolen[site] += F.part_area[3 * static_cast<size_t>(f) + p];
+      if (site >= 0) stolen[site] += rest * F.part_area[3 * static_cast<size_t>(f) + p];
     }
-    const bool t0 = s.vertex_mark[v[0]], t1 = s.vertex_mark[v[1]], t2 = s.vertex_mark[v[2]];
-    if (t0 && t1 && t2) {  // inside q's cell: all of it
-      aq += F.face_area[f];
-      fallback += F.part_fallback[f];
-      continue;
-    }
-    const int32_t lnew[3] = {t0 ? ns : V.label[v[0]], t1 ? ns : V.label[v[1]], t2 ? ns : V.label[v[2]]};
+    aq -= taken * F.face_area[f] / 3;  // the taken corners' thirds: replaced by the new split
+    const int32_t lnew[3] = {t[0] ? ns : V.label[v[0]], t[1] ? ns : V.label[v[1]], t[2] ? ns : V.label[v[2]]};
     const bool ok = split_face(
         F.face_area[f], lnew,
         [&](int k, int32_t site, bool& okk) { return site == ns ? heat_q[v[k]] : top_heat(V, v[k], site, okk); },
@@ -306,11 +336,12 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
   r.cell_area = aq;
   if (!(aq > 0)) fail(ErrorCode::Numerical, "natural neighbors: the query's cell has no area");
   double sum = 0, neg = 0;
+  // Areas summed in a different order than they were split leave rounding
+  // residues (|x| ~ 1e-16 aq) where nothing was stolen: those are zero.
+  const double tiny = 1e-12 * aq;
   for (int32_t i = 0; i < ns; ++i) {
-    if (stolen[i] < 0) {
-      neg -= stolen[i];
-      stolen[i] = 0;
-    }
+    if (stolen[i] < 0) neg -= stolen[i];
+    if (stolen[i] <= tiny) stolen[i] = 0;
     sum += stolen[i];
   }
   r.clamped = neg / aq;

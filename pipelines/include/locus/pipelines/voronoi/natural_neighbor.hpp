@@ -50,6 +50,14 @@ struct NaturalNeighborField {
   std::vector<int32_t> part_site;       // 3 per face
   std::vector<double> part_area;        // 3 per face
   std::vector<uint8_t> part_fallback;   // per face: split by vertex labels (a heat value was missing)
+  // Per vertex, a third of its incident faces' parts summed per site (CSR) and a
+  // third of their area: a query adds these over the vertices it takes and
+  // re-splits only the faces on its cell's border, so its cost is one pass over
+  // its cell's vertices.
+  std::vector<int64_t> share_offsets;   // n + 1
+  std::vector<int32_t> share_site;
+  std::vector<double> share_area;
+  std::vector<double> vertex_area;
 };
 
 // H: the prepared heat operator of m (isotropic); sites: at least one, valid.
