@@ -102,6 +102,58 @@ int32_t cover_rings(int32_t n, int32_t samples) {
   return std::max(1, static_cast<int32_t>(std::floor(r)));
 }
 
+// Appends to `samples` the vertices within `rings` edges of a handle vertex that
+// are not samples yet (breadth-first, ascending ids per ring: deterministic).
+void append_near_handles(const Adjacency& adj, std::span<const int32_t> handle_vertices, int32_t rings,
+                         std::vector<int32_t>& samples) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1;
+  std::vector<int32_t> depth(n, -1);
+  std::vector<uint8_t> is_sample(n, 0);
+  for (int32_t v : samples) is_sample[v] = 1;
+  std::vector<int32_t> queue(handle_vertices.begin(), handle_vertices.end());
+  for (int32_t v : queue) depth[v] = 0;
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const int32_t v = queue[q];
+    if (!is_sample[v]) {
+      is_sample[v] = 1;
+      samples.push_back(v);
+    }
+    if (depth[v] == rings) continue;
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
+      const int32_t w = adj.neighbors[p];
+      if (depth[w] < 0) {
+        depth[w] = depth[v] + 1;
+        queue.push_back(w);
+      }
+    }
+  }
+}
+
+constexpr int kRefinePasses = 6;
+constexpr double kRoughJump = 0.03;
+
+// Non-exact vertices whose row differs from a neighbour's by more than
+// kRoughJump in a weight, or has a zero where the neighbour's is not (or the
+// reverse), ascending.
+std::vector<int32_t> rough_vertices(const Adjacency& adj, std::span<const double> w, int32_t k,
+                                    std::span<const uint8_t> exact) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1;
+  std::vector<int32_t> out;
+  for (int32_t v = 0; v < n; ++v) {
+    if (exact[v]) continue;
+    bool rough = false;
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1] && !rough; ++p) {
+      const int32_t u = adj.neighbors[p];
+      for (int32_t j = 0; j < k && !rough; ++j) {
+        const double a = w[static_cast<size_t>(v) * k + j], b = w[static_cast<size_t>(u) * k + j];
+        rough = std::abs(a - b) > kRoughJump || ((a == 0) != (b == 0));
+      }
+    }
+    if (rough) out.push_back(v);
+  }
+  return out;
+}
+
 }  // namespace
 
 SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
@@ -150,13 +202,34 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   W.method = "sampled";
   const Adjacency adj = vertex_adjacency(m);
   W.sample_rings = cover_rings(n, options.samples > 0 ? options.samples : 1024);
-  const std::vector<int32_t> samples = cover_samples(adj, handle_vertices, W.sample_rings);
+  // The weights are steepest next to a handle (a cone at the site, steeper than
+  // any propagation resolves): the vertices within 2 rings + 2 edges of a handle
+  // get exact rows too.
+  std::vector<int32_t> samples = cover_samples(adj, handle_vertices, W.sample_rings);
+  append_near_handles(adj, handle_vertices, 2 * W.sample_rings + 2, samples);
   W.samples = static_cast<int32_t>(samples.size());
   std::vector<double> rows;
   solve_rows(samples, rows);
   W.weights_s = sw.lap();
   const Propagation P = propagate_samples(m, adj, samples, rows, k, W.weight, ctx);
   W.radius = P.radius;
+  // Refinement: where the propagated weights jump between neighbours (steeper
+  // than the samples resolve) or a weight is zero next to a nonzero one (the
+  // support border, widened by the propagation), the vertices get exact rows;
+  // repeated while new such vertices appear, a few passes at most.
+  std::vector<uint8_t> exact(n, 0);
+  for (int32_t v : samples) exact[v] = 1;
+  for (int pass = 0; pass < kRefinePasses; ++pass) {
+    const std::vector<int32_t> todo = rough_vertices(adj, W.weight, k, exact);
+    if (todo.empty()) break;
+    std::vector<double> more;
+    solve_rows(todo, more);
+    for (size_t i = 0; i < todo.size(); ++i) {
+      std::copy_n(more.begin() + i * k, k, W.weight.begin() + static_cast<size_t>(todo[i]) * k);
+      exact[todo[i]] = 1;
+    }
+    W.samples += static_cast<int32_t>(todo.size());
+  }
   W.propagate_s = sw.lap();
   return W;
 }
