@@ -70,7 +70,7 @@ TEST_CASE("propagate samples: sample rows kept, a constant row reproduced, conve
   for (size_t i = 0; i < s.size(); ++i) {  // row (z^2, x^2, y^2) of the unit sphere: sums to 1
     rows[i * k] = m.z[s[i]] * m.z[s[i]];
     rows[i * k + 1] = m.x[s[i]] * m.x[s[i]];
-    rows[i * k + 2] = 1 - rows[i * k] - rows[i * k + 1];
+    rows[i * k + 2] = std::max(0.0, 1 - rows[i * k] - rows[i * k + 1]);
   }
   const Propagation P = propagate_samples(m, adj, s, rows, k, out, {});
   CHECK(P.radius > 0);
