@@ -66,6 +66,6 @@ set(METIS_LIBRARY "")
 
 if(LOCUS_BUILD_TESTS)
   enable_testing()
-  add_test(NAME metis_no_process_symbols COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:locus_static>
+  add_test(NAME metis_no_process_symbols COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:locus_objects>
     -P ${PROJECT_SOURCE_DIR}/tests/kernels/order/no_process_symbols.cmake)
 endif()

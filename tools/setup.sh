@@ -15,6 +15,8 @@ PKGS=(
   clang libclang-rt-14-dev           # libFuzzer + sanitizer runtimes
   qemu-user                          # ctest dispatch_paths: runs the build on CPUs without AVX2/AVX-512
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  python3-tqdm mypy                  # the Python tests' progress-bar and stub checks
+  blender                            # the add-on's ctest runs in Debian's Blender (skipped without it)
 )
 # `tools/setup.sh --bench-peers` also installs the peers only benchmarks use
 # (CGAL's Heat_method_3 for locus-bench-cgal, GPL; SCOTCH for locus-bench-scotch,

@@ -50,52 +50,104 @@ locus_status locus_session_create_from_file(const char* path, locus_session** ou
   });
 }
 
+namespace {
+
+// The arrays of locus_session_create as a Mesh, checked as locus.h says.
+locus::Mesh mesh_from_arrays(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf) {
+  require(xyz != nullptr, "xyz is NULL");
+  require(tris != nullptr, "tris is NULL");
+  if (nv < 1 || nv > kMaxVertices)
+    fail(ErrorCode::BadUsage, "nv = " + std::to_string(nv) + " is not in 1.." + std::to_string(kMaxVertices));
+  if (nf < 1 || nf > kMaxFaces)
+    fail(ErrorCode::BadUsage, "nf = " + std::to_string(nf) + " is not in 1.." + std::to_string(kMaxFaces) +
+                                  (nf == 0 ? " (the mesh has no faces)" : ""));
+  for (int64_t i = 0; i < 3 * nv; ++i)
+    if (!std::isfinite(xyz[i]))
+      fail(ErrorCode::BadInput, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
+                                    "xyz[" + std::to_string(i) + "] = " + std::to_string(xyz[i]) + ")");
+  for (int64_t k = 0; k < 3 * nf; ++k)
+    if (tris[k] < 0 || tris[k] >= nv)  // an id out of range: a usage error, as locus.h says
+      fail(ErrorCode::BadUsage, "triangle " + std::to_string(k / 3) + " references vertex " +
+                                    std::to_string(tris[k]) + " but the mesh has " + std::to_string(nv) +
+                                    " vertices (tris[" + std::to_string(k) + "])");
+  locus::Mesh m;
+  m.x.resize(static_cast<size_t>(nv));
+  m.y.resize(static_cast<size_t>(nv));
+  m.z.resize(static_cast<size_t>(nv));
+  for (int64_t i = 0; i < nv; ++i) {
+    m.x[i] = xyz[3 * i];
+    m.y[i] = xyz[3 * i + 1];
+    m.z[i] = xyz[3 * i + 2];
+  }
+  m.face_offsets.resize(static_cast<size_t>(nf) + 1);
+  for (int64_t f = 0; f <= nf; ++f) m.face_offsets[f] = static_cast<int32_t>(3 * f);
+  m.face_vertices.assign(tris, tris + 3 * nf);
+  m.f0.resize(static_cast<size_t>(nf));
+  m.f1.resize(static_cast<size_t>(nf));
+  m.f2.resize(static_cast<size_t>(nf));
+  for (int64_t f = 0; f < nf; ++f) {
+    m.f0[f] = tris[3 * f];
+    m.f1[f] = tris[3 * f + 1];
+    m.f2[f] = tris[3 * f + 2];
+  }
+  return m;
+}
+
+locus::SessionOptions session_options_of(const locus_session_options* opt) {
+  locus::SessionOptions so;
+  if (!opt) return so;
+  if (opt->mesh_operator < LOCUS_OPERATOR_AUTO || opt->mesh_operator > LOCUS_OPERATOR_ROBUST)
+    fail(ErrorCode::BadUsage, "mesh_operator = " + std::to_string(opt->mesh_operator) +
+                                  " is not LOCUS_OPERATOR_AUTO, _COTAN or _ROBUST");
+  so.mesh_operator = static_cast<locus::OperatorChoice>(opt->mesh_operator);
+  return so;
+}
+
+}  // namespace
+
 locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
                                   locus_session** out) {
+  return locus_session_create_ex(xyz, nv, tris, nf, nullptr, out);
+}
+
+locus_status locus_session_create_ex(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                     const locus_session_options* opt, locus_session** out) {
   if (out) *out = nullptr;
   return guarded("locus_session_create", [&] {
     require(out != nullptr, "out is NULL");
-    require(xyz != nullptr, "xyz is NULL");
-    require(tris != nullptr, "tris is NULL");
-    if (nv < 1 || nv > kMaxVertices)
-      fail(ErrorCode::BadUsage, "nv = " + std::to_string(nv) + " is not in 1.." + std::to_string(kMaxVertices));
-    if (nf < 1 || nf > kMaxFaces)
-      fail(ErrorCode::BadUsage, "nf = " + std::to_string(nf) + " is not in 1.." + std::to_string(kMaxFaces) +
-                                    (nf == 0 ? " (the mesh has no faces)" : ""));
-    for (int64_t i = 0; i < 3 * nv; ++i)
-      if (!std::isfinite(xyz[i]))
-        fail(ErrorCode::BadInput, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
-                                      "xyz[" + std::to_string(i) + "] = " + std::to_string(xyz[i]) + ")");
-    for (int64_t k = 0; k < 3 * nf; ++k)
-      if (tris[k] < 0 || tris[k] >= nv)  // an id out of range: a usage error, as locus.h says
-        fail(ErrorCode::BadUsage, "triangle " + std::to_string(k / 3) + " references vertex " +
-                                      std::to_string(tris[k]) + " but the mesh has " + std::to_string(nv) +
-                                      " vertices (tris[" + std::to_string(k) + "])");
-    locus::Mesh m;
-    m.x.resize(static_cast<size_t>(nv));
-    m.y.resize(static_cast<size_t>(nv));
-    m.z.resize(static_cast<size_t>(nv));
-    for (int64_t i = 0; i < nv; ++i) {
-      m.x[i] = xyz[3 * i];
-      m.y[i] = xyz[3 * i + 1];
-      m.z[i] = xyz[3 * i + 2];
-    }
-    m.face_offsets.resize(static_cast<size_t>(nf) + 1);
-    for (int64_t f = 0; f <= nf; ++f) m.face_offsets[f] = static_cast<int32_t>(3 * f);
-    m.face_vertices.assign(tris, tris + 3 * nf);
-    m.f0.resize(static_cast<size_t>(nf));
-    m.f1.resize(static_cast<size_t>(nf));
-    m.f2.resize(static_cast<size_t>(nf));
-    for (int64_t f = 0; f < nf; ++f) {
-      m.f0[f] = tris[3 * f];
-      m.f1[f] = tris[3 * f + 1];
-      m.f2[f] = tris[3 * f + 2];
-    }
-    *out = new locus_session(locus::Session(std::move(m)));
+    const locus::SessionOptions so = session_options_of(opt);
+    *out = new locus_session(locus::Session(mesh_from_arrays(xyz, nv, tris, nf), so));
   });
 }
 
+locus_status locus_session_create_from_file_ex(const char* path, const locus_session_options* opt,
+                                               locus_session** out) {
+  if (out) *out = nullptr;
+  return guarded("locus_session_create_from_file_ex", [&] {
+    require(out != nullptr, "out is NULL");
+    require(path != nullptr, "path is NULL");
+    require(path[0] != '\0', "path is empty");
+    const locus::SessionOptions so = session_options_of(opt);
+    locus::ReadOptions ro;
+    ro.weld = !(opt && opt->no_weld);
+    *out = new locus_session(locus::Session::from_file(path, ro, so));
+  });
+}
+
+int32_t locus_session_operator(const locus_session* session) {
+  if (!session) {
+    set_error("locus_session_operator", "session is NULL");
+    return -1;
+  }
+  return session->session.operator_report().robust ? LOCUS_OPERATOR_ROBUST : LOCUS_OPERATOR_COTAN;
+}
+
 locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out) {
+  return locus_session_create_from_view_ex(view, nullptr, out);
+}
+
+locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, const locus_session_options* opt,
+                                               locus_session** out) {
   if (out) *out = nullptr;
   return guarded("locus_session_create_from_view", [&] {
     require(out != nullptr, "out is NULL");
@@ -109,7 +161,7 @@ locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_s
     v.index_type = static_cast<locus::IndexType>(view->index_type);
     v.index_stride = view->index_stride;
     v.triangle_count = view->triangle_count;
-    *out = new locus_session(locus::Session(v));
+    *out = new locus_session(locus::Session(v, session_options_of(opt)));
   });
 }
 

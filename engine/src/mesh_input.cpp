@@ -44,8 +44,11 @@ MeshInput load_mesh_input(const std::string& path, const MeshInputOptions& opt, 
   MeshInput in;
   in.path = path;
   in.subdivide = opt.subdivide;
+  in.mesh_operator = opt.mesh_operator;
   auto t0 = std::chrono::steady_clock::now();
-  in.mesh = read_mesh(path, {}, &in.attributes);
+  ReadOptions ro;
+  ro.weld = opt.weld;
+  in.mesh = read_mesh(path, ro, &in.attributes);
   in.load_s = seconds_since(t0);
   for (const std::string& note : in.attributes.notes) ctx.note(note);
   if (opt.faces == PolygonFaces::Triangulate && !in.mesh.is_triangle_mesh()) {
@@ -74,6 +77,12 @@ MeshInput load_mesh_input(const std::string& path, const MeshInputOptions& opt, 
     t0 = std::chrono::steady_clock::now();
     in.mesh = subdivide_midpoint(in.mesh, opt.subdivide);
     in.subdivide_s = seconds_since(t0);
+  }
+  in.op.asked = opt.mesh_operator;
+  if (opt.mesh_operator != OperatorChoice::Cotan && in.mesh.is_triangle_mesh() && in.mesh.num_faces() > 0) {
+    in.op = choose_operator(in.mesh, opt.mesh_operator);
+    if (in.op.robust && in.op.any_defect())
+      ctx.note(path + ": the robust operator (" + in.op.reason() + ")");
   }
   return in;
 }

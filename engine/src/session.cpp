@@ -26,6 +26,8 @@
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
+#include "locus/kernels/mesh/mesh_defects.hpp"
+#include "locus/kernels/mesh/robust_heat_operators.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
@@ -45,7 +47,7 @@ namespace session_detail {
 
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.
-std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
+std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoice choice, OperatorReport* out) {
   validate_mesh_arrays(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   if (m.num_faces() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no faces");
@@ -67,10 +69,55 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m) {
                            derive_error = std::current_exception();
                          }
                        });
+  if (choice != OperatorChoice::Cotan) {
+    // What every operator needs first; then the defects, from the same pass.
+    MeshRequirements base = req;
+    base.manifold = base.no_degenerate_faces = base.no_unreferenced_vertices = false;
+    check_requirements(m, base, report);
+    if (derive_error) std::rethrow_exception(derive_error);
+    const OperatorReport op = choose_operator_from(m, d->incidence, report, choice);
+    if (out) *out = op;
+    if (op.robust) {
+      d->checked = base;
+      return d;
+    }
+  }
   check_requirements(m, req, report);
   if (derive_error) std::rethrow_exception(derive_error);
   d->checked = req;
   return d;
+}
+
+std::shared_ptr<const RobustOperators> robust_operators(State& s, const RunContext& ctx) {
+  return s.robust_ops.get(0, ctx, [&] {
+    ctx.report(0.0, "robust Laplacian");
+    return std::make_shared<const RobustOperators>(robust_laplacian(s.mesh));
+  });
+}
+
+std::shared_ptr<const HeatGeodesic> geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx) {
+  if (!s.robust) {
+    const std::shared_ptr<const HeatLogMap> e = engine(s, q, ctx);
+    return std::shared_ptr<const HeatGeodesic>(e, &e->geodesic());
+  }
+  const double tf = heat_method_t_factor(q);
+  check_t_factor(tf);
+  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+  return s.robust_engines.get(bits_of(tf), ctx, [&] {
+    ctx.report(0.0, "prepare heat method (robust operator)");
+    const std::shared_ptr<const RobustOperators> R = robust_operators(s, ctx);
+    HeatGeodesicOptions o;
+    o.t_factor = tf;
+    auto e = std::make_shared<const HeatGeodesic>(s.mesh, *R, o, ctx, s.derived.get());
+    s.counters->engines.fetch_add(1);
+    ctx.report(1.0, "prepare heat method (robust operator)");
+    return e;
+  });
+}
+
+bool geodesic_engine_cached(State& s, const HeatQuery& q) {
+  const uint64_t key = bits_of(heat_method_t_factor(q));
+  return s.robust ? s.robust_engines.contains(key) : s.engines.contains(key);
 }
 
 void check_vertex(const State& s, int64_t v, const char* what) {
@@ -90,6 +137,9 @@ std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const Run
   const double tf = heat_method_t_factor(q);
   check_t_factor(tf);
   if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+  if (s.robust)  // the log map's frames and transport need one tangent plane per vertex
+    fail(ErrorCode::BadInput, "the log map needs a manifold mesh without degenerate faces, and " + mesh_name(s.mesh) +
+                                  " runs on the robust operator; geodesic distance and the diffusion queries answer on it");
   return s.engines.get(bits_of(tf), ctx, [&] {
     ctx.report(0.0, "prepare heat method");
     LogMapOptions o;
@@ -128,7 +178,15 @@ constexpr double kCvtFactorIterations = 2.2;
 std::shared_ptr<const HeatDiffusion> cvt_heat(State& s, const RunContext& ctx) {
   return s.cvt_heat.get(0, ctx, [&] {
     ctx.report(0.0, "factor heat operator (cvt)");
-    auto H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, *s.derived, kLloydTFactor, 0.0, ctx));
+    std::shared_ptr<const HeatDiffusion> H;
+    if (s.robust) {  // the robust operator's M - tL at cvt_lloyd's default time
+      const std::shared_ptr<const RobustOperators> R = robust_operators(s, ctx);
+      const double t = kLloydTFactor * s.h * s.h;
+      H = std::make_shared<const HeatDiffusion>(
+          prepare_heat_diffusion(robust_heat_operator(*R, t), HostVector<double>(R->mass), s.h, t, ctx));
+    } else {
+      H = std::make_shared<const HeatDiffusion>(prepare_heat_diffusion(s.mesh, *s.derived, kLloydTFactor, 0.0, ctx));
+    }
     s.counters->numeric.fetch_add(1);
     ctx.report(1.0, "factor heat operator (cvt)");
     return H;
@@ -160,7 +218,9 @@ std::shared_ptr<State> make_state(Mesh mesh, std::shared_ptr<const MeshDerived> 
 using namespace session_detail;
 
 
-Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
+Session::Session(Mesh mesh) : Session(std::move(mesh), SessionOptions{}) {}
+
+Session::Session(Mesh mesh, const SessionOptions& opt) : impl_(std::make_unique<Impl>()) {
   std::shared_ptr<const Mesh> polygons;
   impl_->npoly = mesh.num_faces();
   if (!mesh.is_triangle_mesh()) {  // CSR faces that are all triangles (no f0/f1/f2 given) are a triangle mesh
@@ -173,19 +233,28 @@ Session::Session(Mesh mesh) : impl_(std::make_unique<Impl>()) {
     polygons = std::make_shared<const Mesh>(std::move(mesh));
     mesh = std::move(triangles);
   }
-  std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh);
+  impl_->op.asked = opt.mesh_operator;
+  std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh, opt.mesh_operator, &impl_->op);
   impl_->nv = mesh.num_vertices();
   impl_->nf = mesh.num_faces();
   impl_->components = derived->components;
   impl_->state = make_state(std::move(mesh), std::move(derived), 0, std::make_shared<SymbolicCache>(),
                             std::make_shared<Counters>());
   impl_->state->polygons = std::move(polygons);
+  impl_->state->robust = impl_->op.robust;
 }
 
 Session Session::from_file(const std::string& path, const ReadOptions& opt) { return Session(read_mesh(path, opt)); }
+Session Session::from_file(const std::string& path, const ReadOptions& opt, const SessionOptions& so) {
+  return Session(read_mesh(path, opt), so);
+}
 
 Session::Session(const MeshView& view) : Session(mesh_from_view(view)) {}
 Session::Session(const PolygonMeshView& view) : Session(mesh_from_view(view)) {}
+Session::Session(const MeshView& view, const SessionOptions& opt) : Session(mesh_from_view(view), opt) {}
+Session::Session(const PolygonMeshView& view, const SessionOptions& opt) : Session(mesh_from_view(view), opt) {}
+
+OperatorReport Session::operator_report() const { return impl_->op; }
 
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
@@ -210,10 +279,10 @@ std::vector<int32_t> Session::triangle_polygon() const {
 
 void Session::prepare_heat(const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
-  if (s->polygons)
+  if (s->polygons && !s->robust)
     polygon_engine(*s, q, ctx);
   else
-    engine(*s, q, ctx);
+    geodesic_engine(*s, q, ctx);
 }
 
 void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuery& q,
@@ -223,12 +292,12 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
   if (out.size() != static_cast<size_t>(impl_->nv))
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(impl_->nv));
-  if (s->polygons) return polygon_geodesic(*s, source, out, q, ctx);
-  const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
-  const auto e = engine(*s, q, progress.build());
+  if (s->polygons && !s->robust) return polygon_geodesic(*s, source, out, q, ctx);
+  const CallProgress progress(ctx, !geodesic_engine_cached(*s, q));
+  const auto g = geodesic_engine(*s, q, progress.build());
   ctx.check_cancel();
   HeatGeodesicWorkspace ws;
-  e->geodesic().query_full(source, out, ws);
+  g->query_full(source, out, ws);
   // The solver's +infinity (another connected component, no path) is "no
   // value": NaN, as in every output format and the C API (README "Output
   // formats"); a NaN from the solver itself never is an answer.
@@ -236,7 +305,7 @@ void Session::geodesic_distance(int32_t source, View<double> out, const HeatQuer
     if (std::isnan(out[i]))
       fail(ErrorCode::Numerical, "geodesic_distance: the distance from vertex " + std::to_string(source) +
                                      " is NaN at vertex " + std::to_string(i) + " (t = " +
-                                     std::to_string(e->geodesic().time()) + ")");
+                                     std::to_string(g->time()) + ")");
     if (std::isinf(out[i])) out[i] = std::numeric_limits<double>::quiet_NaN();
   }
   progress.finish("geodesic distance");
@@ -385,42 +454,24 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
 }
 
 DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) const {
-  const std::shared_ptr<State> s = impl_->current();
-  check_vertex(*s, req.roi_seed, "deform: roi_seed");
-  check_vertex(*s, req.handle_vertex, "deform: handle_vertex");
+  // The command's computation (session_deform_command.cpp) with the older fields.
   if (!(req.roi_fraction > 0 && req.roi_fraction <= 1))
     fail(ErrorCode::BadUsage, "deform: roi_fraction must be in (0, 1] (got " + std::to_string(req.roi_fraction) + ")");
-  if (req.handle_ring < 0) fail(ErrorCode::BadUsage, "deform: handle_ring must be >= 0");
-  for (double c : req.offset)
-    if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "deform: the offset must be finite");
-  const DeformEnergy energy =
-      req.energy == DeformEnergyKind::Bilaplacian ? DeformEnergy::Bilaplacian : DeformEnergy::Laplacian;
-  const CallProgress progress(ctx, !s->deform_ops.contains(static_cast<int>(energy)));
-  const auto op = s->deform_ops.get(static_cast<int>(energy), ctx, [&] {
-    auto o = std::make_shared<const DeformOperator>(prepare_deform_operator(s->mesh, energy, 1e-6, progress.build()));
-    s->counters->deform.fetch_add(1);
-    return o;
-  });
-  const DeformRegion region =
-      make_deform_region(s->derived->adjacency, req.roi_seed, req.roi_fraction, req.handle_vertex, req.handle_ring);
-  const DeformSystem sys = prepare_deform_system(*op, region, progress.query());
-  const Mesh target = handle_target(s->mesh, region, req.offset);
-  Mesh out;
-  const DeformSolveStats st = solve_deformation(sys.sub.factor, sys, s->mesh, target, out);
+  DeformCommandRequest q;
+  q.roi_seed = req.roi_seed;
+  q.roi_fraction = req.roi_fraction;
+  q.handle = req.handle_vertex;
+  q.handle_ring = req.handle_ring;
+  q.offset = req.offset;
+  q.energy = req.energy == DeformEnergyKind::Bilaplacian ? "bilaplacian" : "laplacian";
+  DeformCommandReport c = deform(q, ctx);
   DeformResult r;
-  const int32_t n = impl_->nv;
-  r.xyz.resize(3 * static_cast<size_t>(n));
-  for (int32_t i = 0; i < n; ++i) {
-    r.xyz[3 * static_cast<size_t>(i)] = out.x[i];
-    r.xyz[3 * static_cast<size_t>(i) + 1] = out.y[i];
-    r.xyz[3 * static_cast<size_t>(i) + 2] = out.z[i];
-  }
-  r.roi_size = static_cast<int32_t>(region.roi.size());
-  r.free_size = static_cast<int32_t>(region.free.size());
-  r.columns_updated_fraction = sys.sub.stats.columns_updated_fraction;
-  r.refinement_steps = st.refinement_steps;
-  r.residual = st.residual;
-  progress.finish("deform");
+  r.xyz = std::move(c.xyz);
+  r.roi_size = c.roi_vertices;
+  r.free_size = c.free_vertices;
+  r.columns_updated_fraction = c.columns_updated_fraction;
+  r.refinement_steps = c.refinement_steps;
+  r.residual = c.residual;
   return r;
 }
 
@@ -440,12 +491,15 @@ void Session::set_positions(ConstView<double> xyz) {
     m.z[i] = xyz[3 * static_cast<size_t>(i) + 2];
   }
   std::shared_ptr<const Mesh> polygons = old->polygons ? polygons_moved(*old->polygons, m) : nullptr;
-  std::shared_ptr<const MeshDerived> derived = check_and_derive(m);  // zero-area faces
+  OperatorReport op;
+  std::shared_ptr<const MeshDerived> derived =  // zero-area faces (the cotan operator's)
+      check_and_derive(m, old->robust ? OperatorChoice::Robust : OperatorChoice::Cotan, &op);
   std::lock_guard<std::mutex> lock(impl_->mu);
   // Versions count calls; concurrent set_positions calls are serialized here (the last one wins).
   std::shared_ptr<State> next = make_state(std::move(m), std::move(derived), impl_->state->version + 1,
                                            impl_->state->symbolic, impl_->state->counters);
   next->polygons = std::move(polygons);  // complete before queries can see it
+  next->robust = old->robust;
   impl_->state = std::move(next);
 }
 

@@ -34,11 +34,11 @@ void Session::geodesic_distance(ConstView<MeshPoint> sources, View<double> out, 
     fail(ErrorCode::BadUsage, "geodesic_distance: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(n));
   const std::vector<SurfacePoint> pts = surface_points(*s, sources, "geodesic_distance: source");
-  if (s->polygons) return polygon_geodesic(*s, pts, out, q, ctx);  // session_polygon.cpp
-  const CallProgress progress(ctx, !s->engines.contains(bits_of(heat_method_t_factor(q))));
-  const auto e = engine(*s, q, progress.build());
+  if (s->polygons && !s->robust) return polygon_geodesic(*s, pts, out, q, ctx);  // session_polygon.cpp
+  const CallProgress progress(ctx, !geodesic_engine_cached(*s, q));
+  const auto e = geodesic_engine(*s, q, progress.build());
   ctx.check_cancel();
-  const HeatGeodesic& g = e->geodesic();
+  const HeatGeodesic& g = *e;
   std::vector<double> h(static_cast<size_t>(n), 0.0);
   for (const SurfacePoint& p : pts) {
     int32_t v[3];

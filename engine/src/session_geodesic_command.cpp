@@ -95,10 +95,20 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
   const int32_t source = static_cast<int32_t>(req.source);
   const bool local = req.fraction < 1.0;
   r.t_factor = heat_time_factor(time, time.times_h2 ? 0.0 : s.h);
-  const CallProgress progress(ctx, req.save.size() + req.load.size() > 0 || !s.engines.contains(bits_of(r.t_factor)));
+  const bool cache = req.save.size() + req.load.size() > 0;
+  if (cache && s.robust)
+    fail(ErrorCode::BadUsage, "--save/--load: the factor cache holds the cotan operator's factors; " +
+                                  mesh_name(s.mesh) + " runs on the robust operator");
+  const CallProgress progress(ctx, cache || !geodesic_engine_cached(s, HeatQuery{r.t_factor}));
   auto t0 = std::chrono::steady_clock::now();
-  const auto e = heat_method_engine(s, r.t_factor, {req.save, req.load}, r.factor_cache, progress.build());
-  const HeatGeodesic& geo = e->geodesic();
+  std::shared_ptr<const HeatGeodesic> e;
+  if (s.robust) {
+    e = geodesic_engine(s, HeatQuery{r.t_factor}, progress.build());
+  } else {
+    const auto lm = heat_method_engine(s, r.t_factor, {req.save, req.load}, r.factor_cache, progress.build());
+    e = std::shared_ptr<const HeatGeodesic>(lm, &lm->geodesic());
+  }
+  const HeatGeodesic& geo = *e;
   r.precompute_s = seconds_since(t0);
   ctx.check_cancel();
   r.distance.assign(static_cast<size_t>(n), std::numeric_limits<double>::quiet_NaN());
@@ -160,7 +170,7 @@ GeodesicReport Session::geodesic(const GeodesicRequest& req, const RunContext& c
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, req.source, "source");
   const HeatTime time = heat_method_time(req.t, req.t_factor);
-  GeodesicReport r = s->polygons && keeps_polygons(req) ? polygon_geodesic_report(*s, req, time, ctx)
+  GeodesicReport r = s->polygons && !s->robust && keeps_polygons(req) ? polygon_geodesic_report(*s, req, time, ctx)
                                                        : triangle_geodesic_report(*s, req, time, ctx);
   r.source = static_cast<int32_t>(req.source);
   r.fraction = req.fraction;

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/robust_heat_operators.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/pipelines/heat/adf.hpp"
 #include "locus/pipelines/heat/heat_exchange.hpp"
@@ -31,12 +32,16 @@ std::shared_ptr<const HeatDiffusion> diffusion(State& s, const HeatQuery& q, con
   const double t = q.t > 0 ? q.t : diffusion_t_factor(q) * s.h * s.h;
   return s.diffusion.get(bits_of(t), ctx, [&] {
     ctx.report(0.0, "factor heat operator");
-    const CscMatrix A = heat_operator(s.mesh, t);
+    const std::shared_ptr<const RobustOperators> R = s.robust ? robust_operators(s, ctx) : nullptr;
+    const CscMatrix A = R ? robust_heat_operator(*R, t) : heat_operator(s.mesh, t);
     auto H = std::make_shared<HeatDiffusion>();
     H->n = s.mesh.num_vertices();
     H->h = s.h;
     H->t = t;
-    H->mass.assign(s.derived->mass.begin(), s.derived->mass.end());
+    if (R)
+      H->mass.assign(R->mass.begin(), R->mass.end());
+    else
+      H->mass.assign(s.derived->mass.begin(), s.derived->mass.end());
     auto S = symbolic_for(s, A, ctx);
     ctx.check_cancel();
     // Inside this phase's progress (the ordering before it takes most of the time, docs/shipping.md).
@@ -55,7 +60,8 @@ std::shared_ptr<const RegularizedLaplacian> laplacian(State& s, const RunContext
   return s.laplacian.get(0, ctx, [&] {
     ctx.report(0.0, "factor Laplacian");
     auto L = std::make_shared<RegularizedLaplacian>();
-    L->K = regularized_laplacian(s.mesh);
+    L->K = s.robust ? robust_regularized_laplacian(*robust_operators(s, ctx), kLaplacianRegularization)
+                    : regularized_laplacian(s.mesh);
     auto S = symbolic_for(s, L->K, ctx);
     ctx.check_cancel();
     L->factor = factorize(S, L->K, ctx.sub(0.8, 1.0));

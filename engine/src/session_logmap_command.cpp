@@ -216,22 +216,4 @@ LogmapReport Session::logmap(const LogmapRequest& req, const RunContext& ctx) co
   return r;
 }
 
-std::vector<RequestField> request_fields(const std::string& command) {
-  if (command == "geodesic") {
-    const GeodesicRequest d;
-    return {{"source", ""}, {"fraction", format_number(d.fraction)}, {"t", d.t}, {"t_factor", ""},
-            {"save", d.save},  {"load", d.load}};
-  }
-  if (command == "logmap") {
-    const LogmapRequest d;
-    return {{"center", ""},        {"fraction", format_number(d.fraction)},
-            {"t", d.t},            {"t_factor", ""},
-            {"method", d.method},  {"angle", d.angle},
-            {"lattice", d.lattice}, {"recenter", d.recenter},
-            {"clip_injective", d.clip_injective ? "true" : "false"},
-            {"save", d.save},      {"load", d.load}};
-  }
-  return {};
-}
-
 }  // namespace locus

@@ -40,6 +40,9 @@
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/heat_time.hpp"
+#include "locus/engine/operator_choice.hpp"
+#include "locus/kernels/mesh/robust_laplacian.hpp"
+#include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/dem_logmap.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
@@ -47,6 +50,12 @@
 #include "locus/session.hpp"
 
 namespace locus {
+
+// choose_operator (operator_choice.hpp) on the edge incidence and one-pass
+// report the Session's check already made (engine/src/operator_choice.cpp).
+OperatorReport choose_operator_from(const Mesh& m, const EdgeIncidence& inc, const MeshReport& report,
+                                    OperatorChoice choice);
+
 namespace session_detail {
 
 inline bool transient_failure(const std::exception_ptr& e) {
@@ -206,10 +215,26 @@ struct State {
   OnceMap<uint64_t, PolygonLogMap> polygon_engines;  // t_factor bits
   OnceMap<int, PolygonPatches> polygon_patches;      // single entry
   OnceMap<int, DemLogMap> dem;                       // single entry: the DEM log map (logmap method dem)
+  // The robust operator (engine/include/locus/engine/operator_choice.hpp): when
+  // `robust`, every Laplacian, mass matrix and heat-method engine of this State
+  // comes from robust_ops (built once per positions) instead of the cotan operator.
+  bool robust = false;
+  OnceMap<int, RobustOperators> robust_ops;          // single entry
+  OnceMap<uint64_t, HeatGeodesic> robust_engines;    // t_factor bits: the heat method on the intrinsic triangles
 };
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.
-std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m);
+// With `choice` auto or robust the defects are looked for in the same pass
+// (`report`); a mesh the robust operator takes is then checked only for what
+// every operator needs (triangles, finite coordinates, a face).
+std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoice choice = OperatorChoice::Cotan,
+                                                    OperatorReport* report = nullptr);
+// The robust Laplacian and mass of s.mesh, built once per positions.
+std::shared_ptr<const RobustOperators> robust_operators(State& s, const RunContext& ctx);
+// The heat method's distance engine for q.t_factor: the log map engine's
+// HeatGeodesic (cotan), or one on the robust operator's intrinsic triangles.
+std::shared_ptr<const HeatGeodesic> geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx);
+bool geodesic_engine_cached(State& s, const HeatQuery& q);
 // BadUsage naming `what` unless v is a vertex of s.mesh.
 void check_vertex(const State& s, int64_t v, const char* what);
 void check_t_factor(double t_factor);
@@ -271,6 +296,7 @@ struct Session::Impl {
   int32_t npoly = 0;       // faces as given (polygon meshes; nf otherwise)
   std::vector<int32_t> face_of;  // polygon meshes: per triangle its face as given; empty otherwise
   int64_t polygon_edges = 0;     // polygon meshes: unique edges of the faces as given
+  OperatorReport op;             // the operator chosen at construction, and why
 
   std::shared_ptr<session_detail::State> current() const {
     std::lock_guard<std::mutex> lock(mu);

@@ -134,11 +134,8 @@ void keep_attributes(const Mesh& m, const std::string& name, CornerAttribute& vt
   }
 }
 
-}  // namespace
-
-Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
-  (void)opt;  // OBJ has no header counts; read_mesh already bounded the file size by max_bytes
-  LineReader lines(data, name);
+// What the reader keeps between lines.
+struct ObjState {
   Mesh m;
   std::vector<int32_t> face;
   std::vector<ForwardRef> forward;
@@ -146,115 +143,152 @@ Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions&
   CornerAttribute vt, vn;
   std::vector<VertexProperty> block;  // the '#vp' block
   int64_t block_rows = 0, block_line = 0;
+};
 
+// "vt u v" / "vn x y z".
+void read_corner_value(LineReader& lines, std::string_view kw, Fields& fields, ObjState& st) {
+  CornerAttribute& table = kw == "vt" ? st.vt : st.vn;
+  std::array<double, 3> c{0, 0, 0};
+  const int want = kw == "vt" ? 2 : 3;
+  for (int k = 0; k < want; ++k) {
+    const std::string_view tok = fields.next();
+    const char* last = tok.data() + tok.size();
+    auto [ptr, ec] = std::from_chars(tok.data(), last, c[static_cast<size_t>(k)]);
+    // nan is a value here: locus writes it for a vertex without UVs (outside a log map's patch).
+    if (tok.empty() || ec != std::errc() || ptr != last)
+      lines.fail(std::string(kw) + " " + std::to_string(table.table.size() + 1) + ": expected " +
+                 std::to_string(want) + " numbers");
+  }
+  table.table.push_back(c);
+}
+
+// "#locus vertex-properties NAME:TYPE ..." (the keyword pair already read).
+void read_block_header(LineReader& lines, Fields& fields, ObjState& st) {
+  st.block.clear();
+  st.block_rows = 0;
+  st.block_line = lines.line_number();
+  for (std::string_view tok = fields.next(); !tok.empty(); tok = fields.next()) {
+    const size_t colon = tok.find(':');
+    if (colon == std::string_view::npos || colon == 0) lines.fail("malformed property " + quote(tok) + " (expected NAME:TYPE)");
+    st.block.push_back({std::string(tok.substr(0, colon)), property_type(tok.substr(colon + 1)), {}});
+  }
+}
+
+// "#vp x y ...": one row of the block.
+void read_block_row(LineReader& lines, Fields& fields, ObjState& st) {
+  for (VertexProperty& p : st.block) {
+    const std::string_view tok = fields.next();
+    double x = 0;
+    const char* last = tok.data() + tok.size();
+    auto [ptr, ec] = std::from_chars(tok.data(), last, x);
+    if (tok.empty() || ec != std::errc() || ptr != last)
+      lines.fail("'#vp' row " + std::to_string(st.block_rows) + ": expected a number for " + p.name);
+    p.values.push_back(x);
+  }
+  ++st.block_rows;
+}
+
+void read_vertex(LineReader& lines, Fields& fields, Mesh& m) {
+  const int64_t v = static_cast<int64_t>(m.x.size());
+  double c[3];
+  for (int k = 0; k < 3; ++k) {
+    const std::string_view tok = fields.next();
+    if (tok.empty() || tok[0] == '#')
+      lines.fail("vertex " + std::to_string(v) + " has " + std::to_string(k) + " coordinates (expected 3)");
+    const std::string bad = parse_coordinate(tok, v, c[k]);
+    if (!bad.empty()) lines.fail(bad);
+  }
+  // Anything after x y z (the optional w, or the r g b some exporters
+  // append) is not part of the geometry and is ignored.
+  const std::string bad = vertex_problem(v, c[0], c[1], c[2]);
+  if (!bad.empty()) lines.fail(bad);
+  if (v >= kMaxCount) lines.fail("more than " + std::to_string(kMaxCount) + " vertices");
+  m.add_vertex(c[0], c[1], c[2]);
+}
+
+// One corner "v", "v/vt", "v//vn" or "v/vt/vn" of face st.nf: its vertex id
+// (0-based), and with `attributes` its vt / vn.
+int32_t read_corner(LineReader& lines, std::string_view tok, int64_t nv_now, bool attributes, ObjState& st) {
+  const int64_t nf = st.nf;
+  const size_t slash = tok.find('/');
+  const std::string_view idx_text = tok.substr(0, slash);
+  int64_t idx;
+  if (!parse_int(idx_text, idx) || (slash != std::string_view::npos && !corner_tail_ok(tok.substr(slash))))
+    lines.fail("face " + std::to_string(nf) + ": malformed corner " + quote(tok) +
+               " (expected v, v/vt, v//vn or v/vt/vn)");
+  int64_t vid = 0;
+  if (idx > 0) {
+    if (idx > kMaxCount)
+      lines.fail("face " + std::to_string(nf) + " references vertex " + std::to_string(idx) +
+                 " (1-based) but the file has " + std::to_string(nv_now) + " vertices so far");
+    vid = idx - 1;
+    if (idx > nv_now) st.forward.push_back({lines.line_number(), nf, idx});
+  } else if (idx < 0) {
+    vid = nv_now + idx;
+    if (vid < 0)
+      lines.fail("face " + std::to_string(nf) + " has relative index " + std::to_string(idx) + " but only " +
+                 std::to_string(nv_now) + " vertices precede it (negative out of range)");
+  } else {
+    lines.fail("face " + std::to_string(nf) + " has vertex index 0 (OBJ indices start at 1)");
+  }
+  if (attributes && slash != std::string_view::npos) {
+    const std::string_view rest = tok.substr(slash + 1);
+    const size_t slash2 = rest.find('/');
+    const std::string_view t_text = rest.substr(0, slash2);
+    if (!t_text.empty()) st.vt.name(vid, corner_index(lines, t_text, st.vt.table.size(), nf, "vt"));
+    if (slash2 != std::string_view::npos && slash2 + 1 < rest.size())
+      st.vn.name(vid, corner_index(lines, rest.substr(slash2 + 1), st.vn.table.size(), nf, "vn"));
+  }
+  return static_cast<int32_t>(vid);
+}
+
+void read_face(LineReader& lines, Fields& fields, bool attributes, ObjState& st) {
+  st.face.clear();
+  const int64_t nv_now = static_cast<int64_t>(st.m.x.size());
+  for (std::string_view tok = fields.next(); !tok.empty() && tok[0] != '#'; tok = fields.next())
+    st.face.push_back(read_corner(lines, tok, nv_now, attributes, st));
+  const std::string bad = face_problem(st.nf, st.face);
+  if (!bad.empty()) lines.fail(bad);
+  Mesh& m = st.m;
+  if (st.nf >= kMaxCount || static_cast<int64_t>(m.face_vertices.size() + st.face.size()) > kMaxCount)
+    lines.fail("more faces or face corners than a mesh can index (" + std::to_string(kMaxCount) + ")");
+  m.face_vertices.insert(m.face_vertices.end(), st.face.begin(), st.face.end());
+  m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
+  ++st.nf;
+}
+
+}  // namespace
+
+Mesh read_obj(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
+  (void)opt;  // OBJ has no header counts; read_mesh already bounded the file size by max_bytes
+  LineReader lines(data, name);
+  ObjState st;
   std::string_view line;
   while (lines.next(line)) {
     Fields fields(line);
     const std::string_view kw = fields.next();
-    if (attributes && (kw == "vt" || kw == "vn")) {
-      std::array<double, 3> c{0, 0, 0};
-      const int want = kw == "vt" ? 2 : 3;
-      for (int k = 0; k < want; ++k) {
-        const std::string_view tok = fields.next();
-        const char* last = tok.data() + tok.size();
-        auto [ptr, ec] = std::from_chars(tok.data(), last, c[static_cast<size_t>(k)]);
-        // nan is a value here: locus writes it for a vertex without UVs (outside a log map's patch).
-        if (tok.empty() || ec != std::errc() || ptr != last)
-          lines.fail(std::string(kw) + " " + std::to_string((kw == "vt" ? vt : vn).table.size() + 1) +
-                     ": expected " + std::to_string(want) + " numbers");
-      }
-      (kw == "vt" ? vt : vn).table.push_back(c);
-    } else if (attributes && kw == "#locus" && fields.next() == "vertex-properties") {
-      block.clear();
-      block_rows = 0;
-      block_line = lines.line_number();
-      for (std::string_view tok = fields.next(); !tok.empty(); tok = fields.next()) {
-        const size_t colon = tok.find(':');
-        if (colon == std::string_view::npos || colon == 0) lines.fail("malformed property " + quote(tok) + " (expected NAME:TYPE)");
-        block.push_back({std::string(tok.substr(0, colon)), property_type(tok.substr(colon + 1)), {}});
-      }
-    } else if (attributes && kw == "#vp" && !block.empty()) {
-      for (VertexProperty& p : block) {
-        const std::string_view tok = fields.next();
-        double x = 0;
-        const char* last = tok.data() + tok.size();
-        auto [ptr, ec] = std::from_chars(tok.data(), last, x);
-        if (tok.empty() || ec != std::errc() || ptr != last)
-          lines.fail("'#vp' row " + std::to_string(block_rows) + ": expected a number for " + p.name);
-        p.values.push_back(x);
-      }
-      ++block_rows;
-    } else if (kw.size() == 1 && kw[0] == 'v') {
-      const int64_t v = static_cast<int64_t>(m.x.size());
-      double c[3];
-      for (int k = 0; k < 3; ++k) {
-        const std::string_view tok = fields.next();
-        if (tok.empty() || tok[0] == '#')
-          lines.fail("vertex " + std::to_string(v) + " has " + std::to_string(k) + " coordinates (expected 3)");
-        const std::string bad = parse_coordinate(tok, v, c[k]);
-        if (!bad.empty()) lines.fail(bad);
-      }
-      // Anything after x y z (the optional w, or the r g b some exporters
-      // append) is not part of the geometry and is ignored.
-      const std::string bad = vertex_problem(v, c[0], c[1], c[2]);
-      if (!bad.empty()) lines.fail(bad);
-      if (v >= kMaxCount) lines.fail("more than " + std::to_string(kMaxCount) + " vertices");
-      m.add_vertex(c[0], c[1], c[2]);
-    } else if (kw.size() == 1 && kw[0] == 'f') {
-      face.clear();
-      const int64_t nv_now = static_cast<int64_t>(m.x.size());
-      for (std::string_view tok = fields.next(); !tok.empty() && tok[0] != '#'; tok = fields.next()) {
-        const size_t slash = tok.find('/');
-        const std::string_view idx_text = tok.substr(0, slash);
-        int64_t idx;
-        if (!parse_int(idx_text, idx) || (slash != std::string_view::npos && !corner_tail_ok(tok.substr(slash))))
-          lines.fail("face " + std::to_string(nf) + ": malformed corner " + quote(tok) +
-                     " (expected v, v/vt, v//vn or v/vt/vn)");
-        int64_t vid;
-        if (idx > 0) {
-          if (idx > kMaxCount)
-            lines.fail("face " + std::to_string(nf) + " references vertex " + std::to_string(idx) +
-                       " (1-based) but the file has " + std::to_string(nv_now) + " vertices so far");
-          vid = idx - 1;
-          if (idx > nv_now) forward.push_back({lines.line_number(), nf, idx});
-        } else if (idx < 0) {
-          vid = nv_now + idx;
-          if (vid < 0)
-            lines.fail("face " + std::to_string(nf) + " has relative index " + std::to_string(idx) +
-                       " but only " + std::to_string(nv_now) + " vertices precede it (negative out of range)");
-        } else {
-          lines.fail("face " + std::to_string(nf) + " has vertex index 0 (OBJ indices start at 1)");
-        }
-        face.push_back(static_cast<int32_t>(vid));
-        if (attributes && slash != std::string_view::npos) {
-          // v/vt, v//vn, v/vt/vn
-          const std::string_view rest = tok.substr(slash + 1);
-          const size_t slash2 = rest.find('/');
-          const std::string_view t_text = rest.substr(0, slash2);
-          if (!t_text.empty()) vt.name(vid, corner_index(lines, t_text, vt.table.size(), nf, "vt"));
-          if (slash2 != std::string_view::npos && slash2 + 1 < rest.size())
-            vn.name(vid, corner_index(lines, rest.substr(slash2 + 1), vn.table.size(), nf, "vn"));
-        }
-      }
-      const std::string bad = face_problem(nf, face);
-      if (!bad.empty()) lines.fail(bad);
-      if (nf >= kMaxCount || static_cast<int64_t>(m.face_vertices.size() + face.size()) > kMaxCount)
-        lines.fail("more faces or face corners than a mesh can index (" + std::to_string(kMaxCount) + ")");
-      m.face_vertices.insert(m.face_vertices.end(), face.begin(), face.end());
-      m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
-      ++nf;
-    }
+    if (attributes && (kw == "vt" || kw == "vn"))
+      read_corner_value(lines, kw, fields, st);
+    else if (attributes && kw == "#locus" && fields.next() == "vertex-properties")
+      read_block_header(lines, fields, st);
+    else if (attributes && kw == "#vp" && !st.block.empty())
+      read_block_row(lines, fields, st);
+    else if (kw.size() == 1 && kw[0] == 'v')
+      read_vertex(lines, fields, st.m);
+    else if (kw.size() == 1 && kw[0] == 'f')
+      read_face(lines, fields, attributes != nullptr, st);
     // Every other statement is ignored on purpose (see the top of the file).
   }
 
+  Mesh& m = st.m;
   const int64_t nv = static_cast<int64_t>(m.x.size());
-  for (const ForwardRef& r : forward)
+  for (const ForwardRef& r : st.forward)
     if (r.index > nv)
       fail_line(name, r.line,
                 "face " + std::to_string(r.face) + " references vertex " + std::to_string(r.index) +
                     " (1-based) but the file has " + std::to_string(nv) + " vertices (index out of range)");
   finish_mesh(m, name);
-  if (attributes) keep_attributes(m, name, vt, vn, block, block_rows, block_line, *attributes);
+  if (attributes) keep_attributes(m, name, st.vt, st.vn, st.block, st.block_rows, st.block_line, *attributes);
   return m;
 }
 

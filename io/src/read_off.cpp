@@ -13,6 +13,7 @@
 // errors name the line. 4OFF / nOFF (other dimensions) and binary OFF are
 // refused with a message saying so.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -100,20 +101,15 @@ void keep_extras(const VertexExtras& e, ExtraColumns& cols, int64_t nv, const st
     for (const char* n : {"u", "v"}) column(n, VertexProperty::Type::Double);
 }
 
-}  // namespace
-
-Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
-  LineReader lines(data, name);
+// The header: the optional keyword (its extras) and the vertex and face
+// counts, possibly spread over several lines; `lines` is left after it.
+std::array<int64_t, 2> read_header(LineReader& lines, const std::string& name, VertexExtras& extras) {
   std::string_view line;
   if (!lines.next_content(line)) fail(ErrorCode::BadInput, name + ": no OFF header (the file holds only comments or blanks)");
-
-  // Header keyword, then the counts, possibly spread over several lines.
   Fields fields(line);
   const std::string_view first = fields.next();
   std::vector<int64_t> counts;
-  VertexExtras extras;
   if (!header_keyword(first, lines, extras)) fields = Fields(line);  // no keyword: this line holds counts
-  ExtraColumns columns;
   for (;;) {
     for (std::string_view tok = fields.next(); !tok.empty() && counts.size() < 3; tok = fields.next()) {
       if (tok == "BINARY") lines.fail("binary OFF is not supported");
@@ -138,13 +134,15 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
       if (parse_int(pf.next(), ne) && pf.done()) lines = ahead;
     }
   }
-  const int64_t nv = counts[0];
-  const int64_t nf = counts[1];
+  return {counts[0], counts[1]};
+}
+
+// Refuses counts the rest of the file cannot hold before allocating anything.
+void check_counts(LineReader& lines, const std::string& name, int64_t nv, int64_t nf, const ReadOptions& opt) {
   if (nv > kMaxCount || nf > kMaxCount)
     lines.fail("counts " + std::to_string(nv) + " vertices / " + std::to_string(nf) +
                " faces exceed what a mesh can index (" + std::to_string(kMaxCount) + ")");
-  // Refuse counts the rest of the file cannot hold before allocating anything:
-  // a vertex line is at least "0 0 0\n" (6 bytes); a face line at least two
+  // A vertex line is at least "0 0 0\n" (6 bytes); a face line at least two
   // ("k\n": invalid, but it must reach the face check to be reported as what
   // it is); the last line may lack its newline.
   const uint64_t need = sat_add(sat_mul(uint64_t(nv), 6), sat_mul(uint64_t(nf), 2));
@@ -153,15 +151,11 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
                " faces, which need at least " + std::to_string(need) + " bytes, but only " +
                std::to_string(lines.remaining()) + " bytes follow (truncated file or corrupt counts)");
   check_budget(name, uint64_t(nv), uint64_t(nf), 3 * uint64_t(nf), opt);
+}
 
-  Mesh m;
-  m.x.reserve(nv); m.y.reserve(nv); m.z.reserve(nv);
-  // Reserve only what the bytes can hold as valid triangles ("3 0 1 2\n" is
-  // 8 bytes), so hostile face counts cannot inflate the allocation.
-  const int64_t nf_fit = std::min<int64_t>(nf, static_cast<int64_t>(lines.remaining() / 8) + 1);
-  m.face_offsets.reserve(nf_fit + 1);
-  m.face_vertices.reserve(3 * nf_fit);
-
+void read_vertices(LineReader& lines, const std::string& name, int64_t nv, bool extra_columns, Mesh& m,
+                   ExtraColumns& columns) {
+  std::string_view line;
   for (int64_t v = 0; v < nv; ++v) {
     if (!lines.next_content(line))
       fail_line(name, lines.line_number(),
@@ -178,40 +172,48 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
     const std::string bad = vertex_problem(v, c[0], c[1], c[2]);
     if (!bad.empty()) lines.fail(bad);
     m.add_vertex(c[0], c[1], c[2]);
-    if (attributes && (extras.normal || extras.colour || extras.st)) columns.add(f, v);
+    if (extra_columns) columns.add(f, v);
   }
+}
 
+// Face fi's vertex indices from its line into `face`.
+void parse_face(LineReader& lines, std::string_view line, int64_t fi, int64_t nv, std::vector<int32_t>& face) {
+  Fields f(line);
+  const std::string_view ktok = f.next();
+  int64_t k;
+  if (!parse_int(ktok, k))
+    lines.fail("face " + std::to_string(fi) + ": expected the vertex count, found " + quote(ktok));
+  if (k < 3)
+    lines.fail("face " + std::to_string(fi) + " has " + std::to_string(k) + " vertices (a face needs at least 3)");
+  // A line is at most kMaxLineBytes, so a count beyond half of that cannot be
+  // honest; checking first keeps the reserve below bounded.
+  if (k > int64_t(kMaxLineBytes / 2))
+    lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices, more than the line can hold");
+  face.clear();
+  for (int64_t j = 0; j < k; ++j) {
+    const std::string_view tok = f.next();
+    if (tok.empty())
+      lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices but lists only " +
+                 std::to_string(j) + " (truncated face)");
+    int64_t idx;
+    if (!parse_int(tok, idx))
+      lines.fail("face " + std::to_string(fi) + ": expected a vertex index, found " + quote(tok));
+    if (idx < 0 || idx >= nv)
+      lines.fail("face " + std::to_string(fi) + " references vertex " + std::to_string(idx) + " but the file has " +
+                 std::to_string(nv) + " vertices (index out of range)");
+    face.push_back(static_cast<int32_t>(idx));
+  }
+  // The rest of the line (a face colour) is ignored.
+}
+
+void read_faces(LineReader& lines, const std::string& name, int64_t nv, int64_t nf, Mesh& m) {
+  std::string_view line;
   std::vector<int32_t> face;
   for (int64_t fi = 0; fi < nf; ++fi) {
     if (!lines.next_content(line))
       fail_line(name, lines.line_number(),
                 "the file ends after " + std::to_string(fi) + " of " + std::to_string(nf) + " faces (truncated)");
-    Fields f(line);
-    const std::string_view ktok = f.next();
-    int64_t k;
-    if (!parse_int(ktok, k))
-      lines.fail("face " + std::to_string(fi) + ": expected the vertex count, found " + quote(ktok));
-    if (k < 3)
-      lines.fail("face " + std::to_string(fi) + " has " + std::to_string(k) + " vertices (a face needs at least 3)");
-    // A line is at most kMaxLineBytes, so a count beyond half of that cannot be
-    // honest; checking first keeps the reserve below bounded.
-    if (k > int64_t(kMaxLineBytes / 2))
-      lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices, more than the line can hold");
-    face.clear();
-    for (int64_t j = 0; j < k; ++j) {
-      const std::string_view tok = f.next();
-      if (tok.empty())
-        lines.fail("face " + std::to_string(fi) + " declares " + std::to_string(k) + " vertices but lists only " +
-                   std::to_string(j) + " (truncated face)");
-      int64_t idx;
-      if (!parse_int(tok, idx))
-        lines.fail("face " + std::to_string(fi) + ": expected a vertex index, found " + quote(tok));
-      if (idx < 0 || idx >= nv)
-        lines.fail("face " + std::to_string(fi) + " references vertex " + std::to_string(idx) + " but the file has " +
-                   std::to_string(nv) + " vertices (index out of range)");
-      face.push_back(static_cast<int32_t>(idx));
-    }
-    // The rest of the line (a face colour) is ignored.
+    parse_face(lines, line, fi, nv, face);
     const std::string bad = face_problem(fi, face);
     if (!bad.empty()) lines.fail(bad);
     if (static_cast<int64_t>(m.face_vertices.size() + face.size()) > kMaxCount)
@@ -219,6 +221,26 @@ Mesh read_off(std::string_view data, const std::string& name, const ReadOptions&
     m.face_vertices.insert(m.face_vertices.end(), face.begin(), face.end());
     m.face_offsets.push_back(static_cast<int32_t>(m.face_vertices.size()));
   }
+}
+
+}  // namespace
+
+Mesh read_off(std::string_view data, const std::string& name, const ReadOptions& opt, MeshAttributes* attributes) {
+  LineReader lines(data, name);
+  VertexExtras extras;
+  const auto [nv, nf] = read_header(lines, name, extras);
+  check_counts(lines, name, nv, nf, opt);
+
+  Mesh m;
+  m.x.reserve(nv); m.y.reserve(nv); m.z.reserve(nv);
+  // Reserve only what the bytes can hold as valid triangles ("3 0 1 2\n" is
+  // 8 bytes), so hostile face counts cannot inflate the allocation.
+  const int64_t nf_fit = std::min<int64_t>(nf, static_cast<int64_t>(lines.remaining() / 8) + 1);
+  m.face_offsets.reserve(nf_fit + 1);
+  m.face_vertices.reserve(3 * nf_fit);
+  ExtraColumns columns;
+  read_vertices(lines, name, nv, attributes && (extras.normal || extras.colour || extras.st), m, columns);
+  read_faces(lines, name, nv, nf, m);
   // Whatever follows the faces (edges, trailing comments) is not mesh data.
   finish_mesh(m, name);
   if (attributes) keep_extras(extras, columns, nv, name, *attributes);

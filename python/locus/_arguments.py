@@ -22,6 +22,7 @@ import operator
 import re
 
 from ._locus import UsageError
+from ._signatures import parse as _parse_signature, progress_callable as _progress_callable
 
 # The C++ type of an `int` parameter is int32 (ids, counts, threads) unless named here.
 _INT_RANGES = {
@@ -157,12 +158,18 @@ def _check_t_factor(qualname, kwargs):
                            "leave it out (or None) for the default")
 
 
-def checked(function, qualname):
-    """`function` with pybind11's argument-conversion TypeError raised as UsageError."""
+def checked(function, qualname, method=False, doc=None):
+    """`function` with pybind11's argument-conversion TypeError raised as UsageError.
+
+    The wrapper also carries the signature of the docstring's first line
+    (inspect.signature works on it) and takes a tqdm bar as progress=.
+    """
 
     @functools.wraps(function)
     def call(*args, **kwargs):
         _check_t_factor(qualname, kwargs)
+        if kwargs.get("progress") is not None:
+            kwargs["progress"] = _progress_callable(kwargs["progress"], _usage_error)
         try:
             return function(*args, **kwargs)
         except TypeError as e:
@@ -172,14 +179,22 @@ def checked(function, qualname):
             # The signatures list `self` first; a method's call has it in args too.
             raise _conversion_error(qualname, message, args, kwargs) from None
 
+    signature = _parse_signature(doc or function.__doc__, method)
+    if signature is not None:
+        call.__signature__ = signature
     return call
 
 
 def check_class(cls, name):
-    """Wraps the public methods and the constructor of a bound class in place."""
+    """Wraps the public methods, static methods and the constructor of a bound class in place."""
     for attr, value in list(vars(cls).items()):
         if attr != "__init__" and attr.startswith("_"):
             continue
-        if callable(value) and not isinstance(value, (staticmethod, classmethod, type, property)):
-            setattr(cls, attr, checked(value, f"{name}.{attr}" if attr != "__init__" else name))
+        if isinstance(value, staticmethod):
+            setattr(cls, attr, staticmethod(checked(value.__func__, f"{name}.{attr}")))
+        elif callable(value) and not isinstance(value, (classmethod, type, property)):
+            if attr == "__init__":
+                setattr(cls, attr, checked(value, name, method=True, doc=cls.__doc__))
+            else:
+                setattr(cls, attr, checked(value, f"{name}.{attr}", method=True))
     return cls

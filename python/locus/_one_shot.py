@@ -4,13 +4,15 @@ Each builds ``Session(V, F)``, runs one query and drops it, so every call
 factors its operator again; for repeated queries on one mesh keep a Session.
 F may be a polygon mesh wherever a Session takes one ((nf, k) array, list of
 faces, or (offsets, indices)): the Session triangulates it, keeping V.
+``operator`` ('auto' default, 'cotan', 'robust') is the Session's: the Laplacian the
+call runs on (the robust one takes non-manifold and degenerate meshes; see Session).
 Keyword arguments ``threads`` (default 0: all cores) and ``progress``
 (callable(fraction, phase); True cancels) are passed through.
 """
 from ._locus import Session, parameterize_disk as _parameterize_disk
 
 
-def geodesic_distance(V, F, sources, *, t_factor=None, **call):
+def geodesic_distance(V, F, sources, *, t_factor=None, operator="auto", **call):
     """Heat geodesic distance to every vertex, in the units of V: (nv,) float64.
 
     F: triangles (nf, 3), or a polygon mesh as an (nf, k) array, a list of faces
@@ -21,10 +23,10 @@ def geodesic_distance(V, F, sources, *, t_factor=None, **call):
     CLI's default, 4 on triangle meshes, 8 on polygon meshes).
     NaN (no value) in connected components without a source. See Session.geodesic_distance.
     """
-    return Session(V, F).geodesic_distance(sources, t_factor=t_factor, **call)
+    return Session(V, F, operator=operator).geodesic_distance(sources, t_factor=t_factor, **call)
 
 
-def geodesic(V, F, source, *, fraction=1.0, t=None, t_factor=None, save=None, load=None, **call):
+def geodesic(V, F, source, *, fraction=1.0, t=None, t_factor=None, save=None, load=None, operator="auto", **call):
     """`locus geodesic` with every option: distance from vertex `source` and the CLI's statistics.
 
     fraction: 1 (default) the whole mesh, else the geodesic disk of
@@ -34,11 +36,11 @@ def geodesic(V, F, source, *, fraction=1.0, t=None, t_factor=None, save=None, lo
     save / load: a factor cache file. Returns a namespace: .distance (NaN
     without a value), .valid and the statistics. See Session.geodesic.
     """
-    return Session(V, F).geodesic(source, fraction=fraction, t=t, t_factor=t_factor, save=save, load=load, **call)
+    return Session(V, F, operator=operator).geodesic(source, fraction=fraction, t=t, t_factor=t_factor, save=save, load=load, **call)
 
 
 def logmap(V, F, center, fraction=0.05, *, t=None, t_factor=None, method="heat", angle="auto",
-           lattice="default", recenter="default", clip_injective=False, save=None, load=None, **call):
+           lattice="default", recenter="default", clip_injective=False, save=None, load=None, operator="auto", **call):
     """`locus logmap` with every option: the log map of the geodesic disk of round(fraction * nv) vertices.
 
     F: triangles or a polygon mesh (as geodesic_distance; on polygons the
@@ -52,20 +54,20 @@ def logmap(V, F, center, fraction=0.05, *, t=None, t_factor=None, method="heat",
     .angle (radians), .u, .v (Cartesian coordinates) and the CLI's statistics.
     See Session.logmap.
     """
-    return Session(V, F).logmap(center, fraction, t=t, t_factor=t_factor, method=method, angle=angle,
+    return Session(V, F, operator=operator).logmap(center, fraction, t=t, t_factor=t_factor, method=method, angle=angle,
                                 lattice=lattice, recenter=recenter, clip_injective=clip_injective, save=save,
                                 load=load, **call)
 
 
-def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):
+def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, operator="auto", **call):
     """(M - tL)^{-1}[target, source] by exact subset solves: (len(sources), len(targets)) float64.
 
     t: absolute time (length^2); 0 (default) = t_factor * h^2.
     """
-    return Session(V, F).heat_values(sources, targets, t_factor=t_factor, t=t, **call)
+    return Session(V, F, operator=operator).heat_values(sources, targets, t_factor=t_factor, t=t, **call)
 
 
-def cvt(V, F, sites, iterations=10, seed=1, **call):
+def cvt(V, F, sites, iterations=10, seed=1, *, operator="auto", **call):
     """Isotropic heat CVT with remeshing: (sites, remesh_V, remesh_F, labels).
 
     F: triangles or polygons (triangulated, as `locus cvt`; labels index V).
@@ -74,46 +76,46 @@ def cvt(V, F, sites, iterations=10, seed=1, **call):
     positions (k, 3), the remeshed surface (n, 3) float64 and (m, 3) int32, and
     each input vertex's cell (nv,) int32. Session.cvt gives every statistic.
     """
-    r = Session(V, F).cvt(sites, iterations, seed, remesh=True, **call)
+    r = Session(V, F, operator=operator).cvt(sites, iterations, seed, remesh=True, **call)
     return r.sites, r.remesh_V, r.remesh_F, r.labels
 
 
-def voronoi(V, F, generators, *, t_factor=1.0, t=0.0, **call):
+def voronoi(V, F, generators, *, t_factor=1.0, t=0.0, operator="auto", **call):
     """Heat-diffusion Voronoi diagram of generators (ids or (faces, bary)); see Session.voronoi."""
-    return Session(V, F).voronoi(generators, t_factor=t_factor, t=t, **call)
+    return Session(V, F, operator=operator).voronoi(generators, t_factor=t_factor, t=t, **call)
 
 
-def natural_neighbor_coordinates(V, F, sites, point, *, t_factor=1.0, t=0.0, **call):
+def natural_neighbor_coordinates(V, F, sites, point, *, t_factor=1.0, t=0.0, operator="auto", **call):
     """Natural-neighbor coordinates of point with respect to sites; see Session.natural_neighbor_coordinates."""
-    return Session(V, F).natural_neighbor_coordinates(sites, point, t_factor=t_factor, t=t, **call)
+    return Session(V, F, operator=operator).natural_neighbor_coordinates(sites, point, t_factor=t_factor, t=t, **call)
 
 
-def skinning_weights(V, F, handles, *, t_factor=1.0, t=0.0, **call):
+def skinning_weights(V, F, handles, *, t_factor=1.0, t=0.0, operator="auto", **call):
     """Skinning weights, (nv, len(handles)) float64, rows summing to 1; see Session.skinning_weights."""
-    return Session(V, F).skinning_weights(handles, t_factor=t_factor, t=t, **call).weights
+    return Session(V, F, operator=operator).skinning_weights(handles, t_factor=t_factor, t=t, **call).weights
 
 
-def adf(V, F, vertices=None, *, t_factor=1.0, method="subset", **call):
+def adf(V, F, vertices=None, *, t_factor=1.0, method="subset", operator="auto", **call):
     """Auto-diffusion function (M - tL)^{-1}[v, v] at vertices (None: all), t = t_factor * h^2."""
-    return Session(V, F).auto_diffusion(vertices, t_factor=t_factor, method=method, **call)
+    return Session(V, F, operator=operator).auto_diffusion(vertices, t_factor=t_factor, method=method, **call)
 
 
-def hks(V, F, t_factors, vertices=None, *, method="subset", **call):
+def hks(V, F, t_factors, vertices=None, *, method="subset", operator="auto", **call):
     """Heat kernel signature: (len(vertices) or nv, len(t_factors)) float64, t_j = t_factors[j] * h^2."""
-    return Session(V, F).heat_kernel_signature(t_factors, vertices, method=method, **call)
+    return Session(V, F, operator=operator).heat_kernel_signature(t_factors, vertices, method=method, **call)
 
 
-def heat_exchange(V, F, sources, targets, *, t_factor=1.0, t=0.0, **call):
+def heat_exchange(V, F, sources, targets, *, t_factor=1.0, t=0.0, operator="auto", **call):
     """Pairwise heat exchange: heat at each target after one step from unit heat at the sources."""
-    return Session(V, F).heat_exchange(sources, targets, t_factor=t_factor, t=t, **call)
+    return Session(V, F, operator=operator).heat_exchange(sources, targets, t_factor=t_factor, t=t, **call)
 
 
-def deform(V, F, roi_seed, handle, offset, **kwargs):
+def deform(V, F, roi_seed, handle, offset, *, operator="auto", **kwargs):
     """Region-of-interest deformation; the deformed positions (nv, 3). See Session.deform for the options."""
-    return Session(V, F).deform(roi_seed, handle, offset, **kwargs).V
+    return Session(V, F, operator=operator).deform(roi_seed, handle, offset, **kwargs).V
 
 
-def param(V, F, center=None, fraction=0.1, *, boundary="neumann", method="perfect", **call):
+def param(V, F, center=None, fraction=0.1, *, boundary="neumann", method="perfect", operator="auto", **call):
     """Parameterization, as `locus param`.
 
     center None: the whole mesh, a disk, flip-free (method 'perfect', 'cotan'
@@ -123,4 +125,4 @@ def param(V, F, center=None, fraction=0.1, *, boundary="neumann", method="perfec
     """
     if center is None:
         return _parameterize_disk(V, F, method=method, **call)
-    return Session(V, F).parameterize_patch(center, fraction, boundary=boundary, **call)
+    return Session(V, F, operator=operator).parameterize_patch(center, fraction, boundary=boundary, **call)

@@ -129,7 +129,14 @@ void run(const CallOptions& opt, const std::function<void(const RunContext&)>& w
   // The caller holds the GIL again. Ctrl-C first (the interpreter's handler
   // has scheduled KeyboardInterrupt: run it now), then the callback's own
   // exception, then the engine's error (Cancelled when the callback asked).
-  if (st.interrupted && PyErr_CheckSignals() != 0) throw py::error_already_set();
+  // A host whose SIGINT handler is not Python's (Blender's, an embedding
+  // application's) schedules no KeyboardInterrupt: raise it here, so Ctrl-C
+  // gives KeyboardInterrupt in every host and Cancelled only ever means
+  // "the progress callback asked".
+  if (st.interrupted) {
+    if (PyErr_CheckSignals() == 0) PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
   if (st.callback_error) std::rethrow_exception(st.callback_error);
   if (engine_error) std::rethrow_exception(engine_error);
 }

@@ -30,7 +30,10 @@ struct CallOptions {
 //    raises this call's cancel flag and then calls the handler it replaced
 //    (the interpreter's, which schedules KeyboardInterrupt), so the work stops
 //    at the engine's next cancel check and the call raises KeyboardInterrupt.
-//    The interpreter's handler is restored when the call returns. Not
+//    The interpreter's handler is restored when the call returns. When the
+//    replaced handler is not the interpreter's (Blender and other embedding
+//    hosts install their own), the call raises KeyboardInterrupt itself:
+//    Ctrl-C means KeyboardInterrupt in every host. Not
 //    installed when SIGINT is ignored or default (the script chose that).
 //    Why not run the work on a helper thread while the caller polls
 //    PyErr_CheckSignals: it was measured (tools/bench_python.py, docs/python.md)

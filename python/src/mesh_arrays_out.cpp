@@ -29,6 +29,20 @@ py::object faces_object(const Mesh& m) {
     }
     return take(std::move(f), {py::ssize_t(nf), 3});
   }
+  // Every face of one size k: an (nf, k) array, as NumPy code indexes faces;
+  // mixed sizes: a list of int32 arrays (one per face).
+  const int32_t k = nf > 0 ? static_cast<int32_t>(m.face(0).size()) : 0;
+  bool uniform = nf > 0;
+  for (int32_t i = 1; i < nf && uniform; ++i) uniform = static_cast<int32_t>(m.face(i).size()) == k;
+  if (uniform) {
+    std::vector<int32_t> f;
+    f.reserve(static_cast<size_t>(nf) * static_cast<size_t>(k));
+    for (int32_t i = 0; i < nf; ++i) {
+      const ConstView<int32_t> face = m.face(i);
+      f.insert(f.end(), face.begin(), face.end());
+    }
+    return take(std::move(f), {py::ssize_t(nf), py::ssize_t(k)});
+  }
   py::list faces;
   for (int32_t i = 0; i < nf; ++i) {
     const ConstView<int32_t> face = m.face(i);

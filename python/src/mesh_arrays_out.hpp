@@ -1,6 +1,6 @@
 // A locus::Mesh as NumPy arrays (V (nv, 3) float64; F (nf, 3) int32 for
-// triangle meshes, else a list of int32 arrays), for read_mesh, subdivide and
-// Session.V / Session.F.
+// triangle meshes, (nf, k) int32 when every face has k corners (quads), else a
+// list of int32 arrays), for read_mesh, subdivide and Session.V / .F / .polygons.
 #pragma once
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

@@ -20,11 +20,13 @@ using namespace py::literals;
 namespace locus::python {
 namespace {
 
-py::tuple read(const std::string& path) {
+py::tuple read(const std::string& path, bool weld) {
   Mesh m;
   {
+    ReadOptions ro;
+    ro.weld = weld;
     py::gil_scoped_release release;
-    m = read_mesh(path);
+    m = read_mesh(path, ro);
   }
   return py::make_tuple(positions_array(m), faces_object(m));
 }
@@ -165,9 +167,12 @@ void bind_polygon_one_shots(py::module_& m) {
 }  // namespace
 
 void bind_mesh_functions(py::module_& m) {
-  m.def("read_mesh", &read, "path"_a,
-        "read_mesh(path) -> (V, F)\n\nReads .obj, .off or .ply: V (nv, 3) float64; F (nf, 3) int32 for triangle "
-        "meshes, else a list of int32 arrays (one per polygon). InputError names the file and line of a "
+  m.def("read_mesh", &read, "path"_a, py::kw_only(), "weld"_a = true,
+        "read_mesh(path, *, weld=True) -> (V, F)\n\nReads .obj, .off or .ply, and through assimp glTF (.gltf, .glb), "
+        "FBX, Collada, STL, 3MF and the other asset formats (the scene flattened with its node transforms, its "
+        "vertices welded by position unless weld=False): V (nv, 3) float64; F (nf, 3) int32 for triangle "
+        "meshes, (nf, k) int32 when every face has k corners (quads), else a list of int32 arrays (one per "
+        "polygon). InputError names the file and line of a "
         "malformed file.");
   m.def("write_mesh", &write, "path"_a, "V"_a, "F"_a, "properties"_a = py::dict(),
         "write_mesh(path, V, F, properties={})\n\nWrites .obj, .off or .ply (format from the extension; PLY binary) "

@@ -18,6 +18,10 @@ using SessionClass = pybind11::class_<Session>;
 void bind_session(pybind11::module_& m);
 void bind_session_geodesic(SessionClass& cls);
 void bind_session_commands(SessionClass& cls);  // geodesic, logmap: every CLI option
+void bind_session_diffusion_commands(SessionClass& cls);  // adf, hks, heat, nncoords: every CLI option
+void bind_session_param_command(SessionClass& cls);       // param: every CLI option
+void bind_session_laplacian_commands(SessionClass& cls);  // perfect-laplacian, selfsupport: every CLI option
+void bind_session_voronoi_command(SessionClass& cls);     // voronoi: every CLI option
 void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
 void bind_session_shape(SessionClass& cls);
 
@@ -29,6 +33,13 @@ inline constexpr const char* kCallArgs =
     "The GIL is released while the engine computes.";
 
 // The heat method's t_factor argument: None = 0, the engine's default (4; 8 on polygon meshes).
+// A default as Python writes it ('1h2', False, 1e-06), for the signature line a
+// docstring opens with (python/locus/_signatures.py reads it; pybind11's own is off).
+template <class T>
+std::string py_literal(const T& value) {
+  return pybind11::repr(pybind11::cast(value)).template cast<std::string>();
+}
+
 inline double heat_method_t_factor(const pybind11::handle& t_factor) {
   return t_factor.is_none() ? 0.0 : t_factor.cast<double>();
 }

@@ -33,22 +33,42 @@ bool triangle_array(const py::handle& F) {
 
 // The arrays are the mesh's content, so whatever is wrong with them is an
 // InputError, also what mesh_from_view calls a usage error (a vertex id out of range).
-std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F) {
+SessionOptions session_options(const std::string& mesh_operator) {
+  SessionOptions so;
+  try {
+    so.mesh_operator = parse_operator_choice(mesh_operator);
+  } catch (const Error& e) {
+    usage_error(e.what());
+  }
+  return so;
+}
+
+std::unique_ptr<Session> session_from_arrays(const py::handle& V, const py::handle& F, const std::string& op) {
   std::unique_ptr<Session> s;
+  const SessionOptions so = session_options(op);
   if (!triangle_array(F)) {
     Mesh m = polygon_mesh(V, F);
     py::gil_scoped_release release;
-    return std::make_unique<Session>(std::move(m));
+    return std::make_unique<Session>(std::move(m), so);
   }
   TriangleArrays t = triangle_arrays(V, F);
   try {
     py::gil_scoped_release release;
-    s = std::make_unique<Session>(t.view);
+    s = std::make_unique<Session>(t.view, so);
   } catch (const Error& e) {
     if (e.code() == ErrorCode::BadUsage) throw Error(ErrorCode::BadInput, e.what(), e.where());
     throw;
   }
   return s;
+}
+
+py::dict operator_dict(const Session& s) {
+  const OperatorReport r = s.operator_report();
+  return py::dict("used"_a = r.used(), "asked"_a = operator_choice_name(r.asked), "reason"_a = r.reason(),
+                  "non_manifold_edges"_a = r.non_manifold_edges, "non_manifold_vertices"_a = r.non_manifold_vertices,
+                  "zero_area_faces"_a = r.zero_area_faces, "needle_faces"_a = r.needle_faces,
+                  "inconsistent_orientation_edges"_a = r.inconsistent_orientation_edges,
+                  "unreferenced_vertices"_a = r.unreferenced_vertices);
 }
 
 py::dict stats(const Session& s) {
@@ -65,43 +85,18 @@ HeatQuery heat(double t_factor, double t) {
   return q;
 }
 
-}  // namespace
-
-void bind_session(py::module_& m) {
-  SessionClass cls(m, "Session",
-                   "Session(V, F)\n\n"
-                   "One mesh and everything derived from it, kept between calls: the first query of a "
-                   "kind factors its operator, later ones reuse the factor (stats() counts the factorizations).\n"
-                   "V: (nv, 3) float32 or float64 positions; F: (nf, 3) int32, int64, uint32 or uint16 vertex ids "
-                   "(0-based). Any layout; rows with adjacent x, y, z are read in place, others converted once. "
-                   "Polygon meshes (quads, mixed, n-gons): F as an (nf, k) array, a list of faces (each a sequence "
-                   "of ids) or (offsets, indices) in CSR form (face f = indices[offsets[f]:offsets[f + 1]]). "
-                   "The Session triangulates them once (ear clipping), keeping the vertices, so per-vertex results "
-                   "index V; geodesic_distance and logmap run on the polygons themselves as `locus geodesic` / "
-                   "`locus logmap` do (polygon heat method, full solves, default t_factor 8; the same numbers), "
-                   "parameterize_disk, perfect_laplacian and self_supporting on the polygons too, every other "
-                   "method on the triangulation (face ids of surface points and results are its triangles: .F; "
-                   ".triangle_polygon maps them to the faces given).\n"
-                   "The mesh is checked once: finite positions, ids in range, simple polygons, manifold, no zero-area "
-                   "faces, no unreferenced vertices (locus.InputError naming the first offender).\n"
-                   "Thread safety: every method may run concurrently from any number of Python threads (the GIL "
-                   "is released while computing); results are bit-identical to a query run alone. "
-                   "set_positions() may run concurrently with queries: queries already started finish on the old "
-                   "positions.");
-  cls.def(py::init(&session_from_arrays), "V"_a, "F"_a);
-  cls.def_static(
-      "from_file",
-      [](const std::string& path) {
-        py::gil_scoped_release release;
-        return std::make_unique<Session>(Session::from_file(path));
-      },
-      "path"_a, "Session.from_file(path)\n\nA Session on a mesh file (.obj, .off, .ply; triangles or polygons).");
+// The Session's read-only views of its mesh and of what it chose.
+void bind_session_state(SessionClass& cls) {
+  cls.def_property_readonly("operator", &operator_dict,
+                            "The Laplacian the Session runs on: dict(used='cotan'|'robust', asked, reason, and the "
+                            "defect counts that made 'auto' choose the robust one).");
   cls.def_property_readonly("num_vertices", &Session::num_vertices);
   cls.def_property_readonly("num_faces", &Session::num_faces, "Triangles (of the triangulation for a polygon mesh).");
   cls.def_property_readonly("has_polygons", &Session::has_polygons, "Whether F had a face of more than 3 corners.");
   cls.def_property_readonly("num_polygons", &Session::num_polygons, "Faces as given (num_faces for triangles).");
   cls.def_property_readonly("polygons", [](const Session& s) { return faces_object(s.polygons()); },
-                            "A copy of the faces as given: (nf, 3) int32 for triangles, else a list of int32 arrays.");
+                            "A copy of the faces as given: (nf, k) int32 when every face has k corners (3 for "
+                            "triangles), else a list of int32 arrays.");
   cls.def_property_readonly("triangle_polygon", [](const Session& s) { return take(s.triangle_polygon()); },
                             "Per triangle of F, the face (as given) it belongs to: (num_faces,) int32.");
   cls.def_property_readonly("num_edges", &Session::num_edges, "Unique edges of the triangles; of the faces as given for a polygon mesh (the edges of perfect_laplacian and self_supporting).");
@@ -111,6 +106,10 @@ void bind_session(py::module_& m) {
                             "A copy of the current positions, (nv, 3) float64.");
   cls.def_property_readonly("F", [](const Session& s) { return faces_object(s.mesh()); },
                             "A copy of the triangles, (nf, 3) int32 (a polygon mesh's triangulation).");
+}
+
+// Positions, counters and the explicit factorizations (before handing a Session to threads).
+void bind_session_preparation(SessionClass& cls) {
   cls.def(
       "set_positions",
       [](Session& s, const py::handle& V) {
@@ -153,6 +152,53 @@ void bind_session(py::module_& m) {
       py::kw_only(), "threads"_a = 0, "progress"_a = py::none(),
       (std::string("prepare_patch_parameterization(*, threads=0, progress=None)\n\nFactors -L + eps M now "
                    "(parameterize_patch).\n") + kCallArgs).c_str());
+}
+
+}  // namespace
+
+void bind_session(py::module_& m) {
+  SessionClass cls(m, "Session",
+                   "Session(V, F, *, operator='auto')\n\n"
+                   "One mesh and everything derived from it, kept between calls: the first query of a "
+                   "kind factors its operator, later ones reuse the factor (stats() counts the factorizations).\n"
+                   "V: (nv, 3) float32 or float64 positions; F: (nf, 3) int32, int64, uint32 or uint16 vertex ids "
+                   "(0-based). Any layout; rows with adjacent x, y, z are read in place, others converted once. "
+                   "Polygon meshes (quads, mixed, n-gons): F as an (nf, k) array, a list of faces (each a sequence "
+                   "of ids) or (offsets, indices) in CSR form (face f = indices[offsets[f]:offsets[f + 1]]). "
+                   "The Session triangulates them once (ear clipping), keeping the vertices, so per-vertex results "
+                   "index V; geodesic_distance and logmap run on the polygons themselves as `locus geodesic` / "
+                   "`locus logmap` do (polygon heat method, full solves, default t_factor 8; the same numbers), "
+                   "parameterize_disk, perfect_laplacian and self_supporting on the polygons too, every other "
+                   "method on the triangulation (face ids of surface points and results are its triangles: .F; "
+                   ".triangle_polygon maps them to the faces given).\n"
+                   "operator: 'auto' (default: the cotan Laplacian on a clean manifold mesh, the robust one -- "
+                   "intrinsic Delaunay triangulation of the tufted cover -- when the mesh has non-manifold edges or "
+                   "vertices, zero-area or needle faces, inconsistent orientation or unreferenced vertices), 'cotan' "
+                   "or 'robust', as the CLI's --operator; .operator says which and why. On the robust operator "
+                   "unreferenced vertices get NaN distances and logmap refuses.\n"
+                   "The mesh is checked once: finite positions, ids in range, simple polygons; with operator='cotan' "
+                   "also manifold, no zero-area faces, no unreferenced vertices (locus.InputError naming the first "
+                   "offender).\n"
+                   "Thread safety: every method may run concurrently from any number of Python threads (the GIL "
+                   "is released while computing); results are bit-identical to a query run alone. "
+                   "set_positions() may run concurrently with queries: queries already started finish on the old "
+                   "positions.");
+  cls.def(py::init(&session_from_arrays), "V"_a, "F"_a, py::kw_only(), "operator"_a = "auto");
+  cls.def_static(
+      "from_file",
+      [](const std::string& path, const std::string& op, bool weld) {
+        const SessionOptions so = session_options(op);
+        ReadOptions ro;
+        ro.weld = weld;
+        py::gil_scoped_release release;
+        return std::make_unique<Session>(Session::from_file(path, ro, so));
+      },
+      "path"_a, py::kw_only(), "operator"_a = "auto", "weld"_a = true,
+      "Session.from_file(path, *, operator='auto', weld=True)\n\nA Session on a mesh file (.obj, .off, .ply; "
+      "glTF, FBX, Collada, STL, 3MF and the other formats assimp reads, their vertices welded by position unless "
+      "weld=False; triangles or polygons).");
+  bind_session_state(cls);
+  bind_session_preparation(cls);
   cls.def("__repr__", [](const Session& s) {
     return "<locus.Session " + std::to_string(s.num_vertices()) + " vertices, " +
            (s.has_polygons() ? std::to_string(s.num_polygons()) + " polygons as " : std::string()) +
@@ -160,6 +206,10 @@ void bind_session(py::module_& m) {
   });
   bind_session_geodesic(cls);
   bind_session_commands(cls);
+  bind_session_diffusion_commands(cls);
+  bind_session_param_command(cls);
+  bind_session_laplacian_commands(cls);
+  bind_session_voronoi_command(cls);
   bind_session_diffusion(m, cls);
   bind_session_shape(cls);
 }

@@ -162,7 +162,8 @@ void bind_request_fields(py::module_& m) {
       },
       "command"_a,
       "request_fields(command) -> [(name, default)]\n\nThe fields of the engine's request of a command ('geodesic', "
-      "'logmap') with their defaults as text ('' = none): the CLI's options, '-' as '_'.");
+      "'logmap', 'adf', 'hks', 'heat', 'deform', 'nncoords', 'param', 'perfect-laplacian', 'selfsupport') with "
+      "their defaults as text ('' = none): the CLI's options, '-' as '_'.");
 }
 
 }  // namespace locus::python

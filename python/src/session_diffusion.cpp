@@ -25,8 +25,9 @@ HeatQuery heat(double t_factor, double t) {
 
 DiagonalMethod diagonal_method(const std::string& name) {
   if (name == "subset") return DiagonalMethod::Subset;
-  if (name == "selected_inversion") return DiagonalMethod::SelectedInversion;
-  usage_error("method must be 'subset' or 'selected_inversion', got '" + name + "'");
+  // 'selinv': the CLI's name (`locus adf --method selinv`); the long name stays accepted.
+  if (name == "selinv" || name == "selected_inversion") return DiagonalMethod::SelectedInversion;
+  usage_error("method must be 'subset' or 'selinv' (selected inversion), got '" + name + "'");
 }
 
 py::object voronoi(const Session& s, const py::handle& generators, double t_factor, double t, int threads,
@@ -184,8 +185,8 @@ void bind_session_diffusion(py::module_& m, SessionClass& cls) {
       "progress"_a = py::none(),
       ("auto_diffusion(vertices=None, *, t_factor=1.0, method='subset', threads=0, progress=None) -> ndarray\n\n"
        "Auto-diffusion function (M - tL)^{-1}[v, v] (thesis §4.6) at `vertices` (None: all, in order), t = t_factor "
-       "* h^2. method: 'subset' (one etree path per vertex) or 'selected_inversion' (all diagonal entries at "
-       "once, faster for all vertices).\n" + std::string(kCallArgs)).c_str());
+       "* h^2. method: 'subset' (one etree path per vertex) or 'selinv' (selected inversion, as the CLI's "
+       "--method; 'selected_inversion' also accepted): all diagonal entries at once, faster for all vertices).\n" + std::string(kCallArgs)).c_str());
   cls.def("heat_kernel_signature", &hks, "t_factors"_a, "vertices"_a = py::none(), py::kw_only(), "method"_a = "subset",
           "threads"_a = 0, "progress"_a = py::none(),
           ("heat_kernel_signature(t_factors, vertices=None, *, method='subset', threads=0, progress=None) -> ndarray\n\n"

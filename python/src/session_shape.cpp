@@ -47,27 +47,43 @@ py::object self_support_result(SelfSupportOutput&& r) {
 
 namespace {
 
-py::object deform(const Session& s, int32_t roi_seed, int32_t handle, const py::handle& offset, double roi_fraction,
-                  int32_t handle_ring, const std::string& energy, int threads, py::object progress) {
-  DeformRequest req;
+// Session.deform: the `deform` command (engine/include/locus/engine/deform_request.hpp) with every option
+// of the CLI, without the CLI's from-scratch baseline.
+py::object deform(const Session& s, int64_t roi_seed, int64_t handle, const py::handle& offset, double roi_fraction,
+                  int32_t handle_ring, const std::string& energy, double regularization, const py::handle& save,
+                  const py::handle& load, int threads, py::object progress) {
+  DeformCommandRequest req;
   req.roi_seed = roi_seed;
   req.roi_fraction = roi_fraction;
-  req.handle_vertex = handle;
+  req.handle = handle;
   req.handle_ring = handle_ring;
   std::vector<double> d;
   for (const py::handle x : py::module_::import("numpy").attr("asarray")(offset, "dtype"_a = "float64").attr("ravel")())
     d.push_back(x.cast<double>());
   if (d.size() != 3) usage_error("offset must be 3 numbers (dx, dy, dz), got " + std::to_string(d.size()));
   req.offset = {d[0], d[1], d[2]};
-  if (energy == "laplacian") req.energy = DeformEnergyKind::Laplacian;
-  else if (energy == "bilaplacian") req.energy = DeformEnergyKind::Bilaplacian;
-  else usage_error("energy must be 'laplacian' or 'bilaplacian', got '" + energy + "'");
-  DeformResult r;
+  req.energy = energy;
+  req.regularization = regularization;
+  req.save = save.is_none() ? std::string() : py::str(save).cast<std::string>();
+  req.load = load.is_none() ? std::string() : py::str(load).cast<std::string>();
+  DeformCommandReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.deform(req, ctx); });
   const auto nv = static_cast<py::ssize_t>(r.xyz.size() / 3);
-  return result(py::dict("V"_a = take(std::move(r.xyz), {nv, 3}), "roi_size"_a = r.roi_size,
-                         "free_size"_a = r.free_size, "columns_updated_fraction"_a = r.columns_updated_fraction,
-                         "refinement_steps"_a = r.refinement_steps, "residual"_a = r.residual));
+  py::dict out("V"_a = take(std::move(r.xyz), {nv, 3}), "roi_size"_a = r.roi_vertices, "free_size"_a = r.free_vertices,
+               "handle_vertices"_a = r.handle_vertices, "columns_updated_fraction"_a = r.columns_updated_fraction,
+               "refinement_steps"_a = r.refinement_steps, "residual"_a = r.residual,
+               "max_displacement"_a = r.max_displacement, "energy"_a = r.energy);
+  out["supernodes_recomputed"] = r.supernodes_recomputed;
+  out["supernodes"] = r.supernodes;
+  out["values_stored_update"] = r.values_stored_update;
+  out["update_s"] = r.update_s;
+  out["solve_s"] = r.solve_s;
+  out["global_factor_s"] = r.order_s + r.analyze_s + r.factor_s;
+  out["factor_cache"] = r.factor_cache.used()
+                            ? py::object(py::dict("loaded"_a = r.factor_cache.loaded, "saved"_a = r.factor_cache.saved,
+                                                  "load_s"_a = r.factor_cache.load_s, "save_s"_a = r.factor_cache.save_s))
+                            : py::object(py::none());
+  return result(out);
 }
 
 py::object patch_param(const Session& s, int32_t center, double fraction, const std::string& boundary, int threads,
@@ -91,16 +107,20 @@ py::object patch_param(const Session& s, int32_t center, double fraction, const 
 }  // namespace
 
 void bind_session_shape(SessionClass& cls) {
-  cls.def("deform", &deform, "roi_seed"_a, "handle"_a, "offset"_a, py::kw_only(), "roi_fraction"_a = 0.1,
-          "handle_ring"_a = 1, "energy"_a = "laplacian", "threads"_a = 0, "progress"_a = py::none(),
-          (std::string("deform(roi_seed, handle, offset, *, roi_fraction=0.1, handle_ring=1, energy='laplacian', "
-                       "threads=0, progress=None) -> namespace\n\n"
-                       "Region-of-interest deformation (thesis ch. 5) on a copy of the positions: the ROI is the "
-                       "breadth-first patch of round(roi_fraction * nv) vertices around roi_seed; the handle (vertex "
-                       "`handle` and its handle_ring-ring inside the ROI) moves by offset (dx, dy, dz, units of the "
-                       "positions); outside the ROI nothing moves. energy: 'laplacian' or 'bilaplacian'.\n"
+  const DeformCommandRequest dq;
+  cls.def("deform", &deform, "roi_seed"_a, "handle"_a, "offset"_a, py::kw_only(), "roi_fraction"_a = dq.roi_fraction,
+          "handle_ring"_a = dq.handle_ring, "energy"_a = dq.energy, "regularization"_a = dq.regularization,
+          "save"_a = py::none(), "load"_a = py::none(), "threads"_a = 0, "progress"_a = py::none(),
+          (std::string("deform(roi_seed, handle, offset, *, roi_fraction=" + py_literal(dq.roi_fraction) + ", handle_ring=" + py_literal(dq.handle_ring) + ", energy=" + py_literal(dq.energy) + ", regularization=" + py_literal(dq.regularization) + ", save=None, load=None" + ", threads=0, progress=None) -> namespace\n\n" + "`locus deform` with every option: region-of-interest deformation (thesis ch. 5) on a copy of "
+                       "the positions: the ROI is the breadth-first patch of round(roi_fraction * nv) vertices "
+                       "around roi_seed; the handle (vertex `handle` and its handle_ring-ring inside the ROI) moves "
+                       "by offset (dx, dy, dz, units of the positions); outside the ROI nothing moves. energy: "
+                       "'laplacian' or 'bilaplacian'. regularization: relative eps of the factored global operator "
+                       "(the Session keeps that factor at the default 1e-6). save / load: a factor cache file of "
+                       "the global factor.\n"
                        "Returns .V ((nv, 3) deformed positions), .roi_size, .free_size, "
-                       ".columns_updated_fraction, .refinement_steps, .residual.\n") + kCallArgs).c_str());
+                       ".columns_updated_fraction, .refinement_steps, .residual, .max_displacement and the "
+                       "update's statistics.\n") + kCallArgs).c_str());
   cls.def(
       "parameterize_disk",
       [](const Session& s, const std::string& method, int32_t max_iterations, double eps, int threads,
@@ -125,21 +145,6 @@ void bind_session_shape(SessionClass& cls) {
                        "or 'circle'. Returns .vertices (global ids, center first), .F ((m, 3) into .vertices), .uv "
                        "((n, 2) in the unit disk), .boundary_vertices, .flipped_faces, .degenerate_faces, "
                        ".holes_filled.\n") + kCallArgs).c_str());
-  cls.def(
-      "perfect_laplacian",
-      [](const Session& s, bool planar, int32_t max_iterations, double eps, bool newton, int threads,
-         py::object progress) {
-        PerfectLaplacianRequest req{planar, max_iterations, eps, newton};
-        PerfectLaplacianOutput r;
-        run({threads, progress}, [&](const RunContext& ctx) { r = s.perfect_laplacian(req, ctx); });
-        return perfect_laplacian_result(std::move(r));
-      },
-      py::kw_only(), "planar"_a = false, "max_iterations"_a = 1000, "eps"_a = 1e-6, "newton"_a = true, "threads"_a = 0,
-      "progress"_a = py::none(),
-      (std::string("perfect_laplacian(*, planar=False, max_iterations=1000, eps=1e-6, newton=True, threads=0, "
-                   "progress=None)\n\nAlgorithm 1 of thesis ch. 2: .edges ((ne, 2), v0 < v1), .weights (per edge, "
-                   "unit 2-norm), .V (the embedding), .converged, .iterations, .max_displacement_rel, "
-                   ".mean_displacement_rel. planar: use x, y only (one boundary loop needed).\n") + kCallArgs).c_str());
   cls.def(
       "self_supporting",
       [](const Session& s, double load_density, int32_t max_iterations, double eps, int threads, py::object progress) {

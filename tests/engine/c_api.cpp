@@ -88,13 +88,25 @@ TEST_CASE("c api: version, defaults, null and out-of-range arguments of session 
   bad = a;
   bad.xyz[0] = INFINITY;
   CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
+  // Defects the robust operator takes (the default, auto) and the cotan one refuses.
+  locus_session_options cotan{};
+  cotan.mesh_operator = LOCUS_OPERATOR_COTAN;
   bad = a;  // a repeated corner: zero-area triangle
   bad.tris[1] = bad.tris[0];
-  CHECK(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
+  CHECK(locus_session_create_ex(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &cotan, &s) == LOCUS_BAD_INPUT);
+  CHECK(s == nullptr);
+  REQUIRE(locus_session_create(bad.xyz.data(), bad.nv, bad.tris.data(), bad.nf, &s) == LOCUS_OK);
+  CHECK(locus_session_operator(s) == LOCUS_OPERATOR_ROBUST);
+  locus_session_destroy(s);
+  s = nullptr;
   bad = a;  // an extra vertex no face uses
   bad.xyz.insert(bad.xyz.end(), {3.0, 3.0, 3.0});
-  CHECK(locus_session_create(bad.xyz.data(), bad.nv + 1, bad.tris.data(), bad.nf, &s) == LOCUS_BAD_INPUT);
+  CHECK(locus_session_create_ex(bad.xyz.data(), bad.nv + 1, bad.tris.data(), bad.nf, &cotan, &s) == LOCUS_BAD_INPUT);
   CHECK(s == nullptr);
+  REQUIRE(locus_session_create(bad.xyz.data(), bad.nv + 1, bad.tris.data(), bad.nf, &s) == LOCUS_OK);
+  CHECK(locus_session_operator(s) == LOCUS_OPERATOR_ROBUST);
+  locus_session_destroy(s);
+  s = nullptr;
 
   CHECK(locus_session_create_from_file(nullptr, &s) == LOCUS_BAD_USAGE);
   CHECK(locus_session_create_from_file("", &s) == LOCUS_BAD_USAGE);

@@ -200,7 +200,13 @@ TEST_CASE("mesh view: bad views are refused with their status and a message") {
   v = view_of(bad);
   refused(v, LOCUS_BAD_INPUT, "vertex 40");
   bad = h;
-  bad.ids16[1] = bad.ids16[0];  // a zero-area triangle: the Session's own checks
+  bad.ids16[1] = bad.ids16[0];  // a zero-area triangle: the cotan operator's checks refuse it
   v = view_of(bad);
-  refused(v, LOCUS_BAD_INPUT, "");  // (its message is the topology check's, tested with it)
+  const locus_session_options cotan{LOCUS_OPERATOR_COTAN, 0};
+  CHECK(locus_session_create_from_view_ex(&v, &cotan, &s) == LOCUS_BAD_INPUT);  // (the topology check's message)
+  CHECK(s == nullptr);
+  REQUIRE(locus_session_create_from_view(&v, &s) == LOCUS_OK);  // auto: the robust operator takes it
+  CHECK(locus_session_operator(s) == LOCUS_OPERATOR_ROBUST);
+  locus_session_destroy(s);
+  s = nullptr;
 }

@@ -107,7 +107,7 @@ TEST_CASE("progress: every long Session call reports one monotone fraction that 
     pr.fraction = 0.2;
     s.parameterize_patch(pr, r.ctx());
     r.check("parameterize_patch", 1);
-    s.perfect_laplacian({}, r.ctx());
+    s.perfect_laplacian(PerfectLaplacianRequest{}, r.ctx());
     r.check("perfect_laplacian", 2);
   }
 }

@@ -6,6 +6,7 @@
 #include <locus/engine/geodesic_requests.hpp>
 #include <locus/engine/heat_time.hpp>
 #include <locus/engine/mesh_input.hpp>
+#include <locus/engine/operator_choice.hpp>
 #include <locus/error.hpp>
 #include <locus/locus.h>
 #include <locus/mesh.hpp>

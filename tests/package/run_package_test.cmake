@@ -3,7 +3,9 @@
 #   * tests/package/c (a C99 project that includes only locus/locus.h) and
 #     tests/package/cpp (C++17, locus/session.hpp), with find_package(locus),
 #     linked to the shared library and again to the static one;
-#   * the C program again, compiled by hand with the flags of `pkg-config locus`;
+#   * the C program again, compiled by hand with the flags of `pkg-config locus`
+#     (shared) and of `pkg-config --static locus` (liblocus.a);
+#   * tests/package/metis_clash (a host defining its own METIS_NodeND), against both;
 # and checks that bin/locus runs, that the shared builds load liblocus.so and
 # the static ones do not. The programs read LOCUS_MESH (armadillo, from
 # tools/fetch_meshes.sh) in the shared build (once is enough: the static build
@@ -85,6 +87,22 @@ foreach(kind shared static)
   endforeach()
 endforeach()
 
+# A host with its own METIS_NodeND and gk_malloc links against each library and
+# runs (locus keeps its own METIS: cmake/localize_static.cmake).
+foreach(kind shared static)
+  set(build ${work}/build-metis-clash-${kind})
+  run(${CMAKE_COMMAND} -S ${LOCUS_PACKAGE_SOURCE}/metis_clash -B ${build} -G ${LOCUS_GENERATOR}
+      -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+      -DLOCUS_TARGET=locus::locus_${kind} ${compilers})
+  run(${CMAKE_COMMAND} --build ${build} -j2)
+  if(kind STREQUAL "shared")
+    check_linkage(${build}/locus_metis_clash TRUE)
+  else()
+    check_linkage(${build}/locus_metis_clash FALSE)
+  endif()
+  run(${build}/locus_metis_clash)
+endforeach()
+
 # pkg-config: the C program built by hand with `pkg-config --cflags --libs locus` (the shared library).
 find_program(PKG_CONFIG pkg-config)
 file(GLOB_RECURSE pc_files ${prefix}/*/locus.pc)
@@ -111,6 +129,15 @@ if(PKG_CONFIG)
       ${LOCUS_PACKAGE_SOURCE}/c/locus_c_demo.c ${pc_flags} -lm -Wl,-rpath,${libdir} -o ${work}/locus_c_demo_pkgconfig)
   check_linkage(${work}/locus_c_demo_pkgconfig TRUE)
   run(${work}/locus_c_demo_pkgconfig)
+  # `pkg-config --static`: the same program against liblocus.a, with nothing but those flags.
+  execute_process(COMMAND ${PKG_CONFIG} --static --cflags --libs locus OUTPUT_VARIABLE pc_static
+    OUTPUT_STRIP_TRAILING_WHITESPACE)
+  string(REPLACE "-llocus" "-l:liblocus.a" pc_static "${pc_static}")
+  separate_arguments(pc_static UNIX_COMMAND "${pc_static}")
+  run(${cc} -std=c99 -Wall -Wextra -pedantic -Werror "-DLOCUS_PACKAGE_VERSION=\"${pc_version}\""
+      ${LOCUS_PACKAGE_SOURCE}/c/locus_c_demo.c ${pc_static} -o ${work}/locus_c_demo_pkgconfig_static)
+  check_linkage(${work}/locus_c_demo_pkgconfig_static FALSE)
+  run(${work}/locus_c_demo_pkgconfig_static)
 else()
   message(STATUS "pkg-config not found: the pkg-config build is not checked (apt-get install pkgconf)")
 endif()

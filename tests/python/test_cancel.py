@@ -72,3 +72,30 @@ def test_progress_callback_cancels_and_raises(sphere):
     assert s.stats()["numeric_factorizations"] == 0
     s.prepare_diffusion()
     assert s.stats()["numeric_factorizations"] == 1
+
+
+def test_sigint_under_a_host_handler_raises_keyboard_interrupt(big):
+    """A host whose SIGINT handler is not Python's (Blender, an embedding
+    application): Ctrl-C still raises KeyboardInterrupt, the host's handler is
+    still called, and Cancelled stays the progress callback's. The host
+    handler here is libc's abs(), a C function that does nothing harmful."""
+    import ctypes
+
+    libc = ctypes.CDLL(None)
+    libc.signal.restype = ctypes.c_void_p
+    libc.signal.argtypes = [ctypes.c_int, ctypes.c_void_p]
+    host = ctypes.cast(libc.abs, ctypes.c_void_p).value
+    old = signal.getsignal(signal.SIGINT)
+    libc.signal(signal.SIGINT, host)
+    try:
+        s = locus.Session(*big)
+        timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        with pytest.raises(KeyboardInterrupt) as raised:
+            s.prepare_heat()
+        timer.join()
+        assert not isinstance(raised.value, locus.Cancelled)
+        assert libc.signal(signal.SIGINT, host) == host  # the host's handler is back in place
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert s.stats()["heat_engines"] == 0

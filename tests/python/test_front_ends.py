@@ -61,3 +61,54 @@ def test_logmap_options_equal_cli(cli, armadillo_path, armadillo_session, tmp_pa
         assert r.flipped == report["flipped_triangles"]
         assert r.clipped_vertices == report["clipped_vertices"]
         assert r.injectivity_radius == report["injectivity_radius"]
+
+
+def test_adf_hks_heat_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    s = armadillo_session
+    run_cli(cli, tmp_path, "adf", armadillo_path, "--all", "--t", "2h2", "-o", tmp_path / "a.ply")
+    r = s.adf("2h2", all=True)
+    assert same(r.values, read_ply_vertices(tmp_path / "a.ply")["adf"])
+    report = run_cli(cli, tmp_path, "hks", armadillo_path, "--ts", "1h2,10h2", "--vertices", "3,7")
+    r = s.hks(["1h2", "10h2"], vertices=[3, 7])
+    assert r.values.shape == (2, 2)
+    assert same(r.values, np.array(report["hks"]))  # JSON numbers read back to the same doubles
+    assert r.t == report["t"] and r.etree_height == report["etree_height"]
+    report = run_cli(cli, tmp_path, "heat", armadillo_path, "--source", "0,1,2", "--target", "100,200")
+    r = s.heat([0, 1, 2], [100, 200])
+    assert same(r.values, np.array(report["values"])) and r.total == report["total"]
+    for bad in (dict(), dict(vertices=[1], all=True)):
+        try:
+            s.adf(**bad)
+        except locus.UsageError:
+            continue
+        raise AssertionError(f"{bad} was accepted")
+
+
+def test_deform_nncoords_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    s = armadillo_session
+    run_cli(cli, tmp_path, "deform", armadillo_path, "--roi-seed", 0, "--handle", 0, "--offset", "0.01,0.02,0",
+            "-o", tmp_path / "d.ply")
+    ref = read_ply_vertices(tmp_path / "d.ply")
+    r = s.deform(0, 0, (0.01, 0.02, 0))
+    assert same(r.V[:, 0], ref["x"]) and same(r.V[:, 1], ref["y"]) and same(r.V[:, 2], ref["z"])
+    report = run_cli(cli, tmp_path, "nncoords", armadillo_path, "--sites", "0,100,200,300,400,500", "--point",
+                     "10,0.2,0.3,0.5")
+    r = s.nncoords([0, 100, 200, 300, 400, 500], (10, 0.2, 0.3, 0.5))
+    assert same(r.weights, np.array(report["weights"])) and r.cell_area == report["cell_area"]
+
+
+def test_param_patch_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    for boundary in ("neumann", "circle"):
+        report = run_cli(cli, tmp_path, "param", armadillo_path, "--center", 0, "--boundary", boundary,
+                         "-o", tmp_path / "p.ply")
+        ref = read_ply_vertices(tmp_path / "p.ply")
+        r = armadillo_session.param(center=0, boundary=boundary)
+        assert same(r.uv[:, 0], ref["u"]) and same(r.uv[:, 1], ref["v"])
+        assert len(r.vertices) == report["patch_vertices"] and r.flipped_faces == report["flipped_faces"]
+
+
+def test_voronoi_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    report = run_cli(cli, tmp_path, "voronoi", armadillo_path, "--random", 20, "--seed", 3)
+    r = armadillo_session.voronoi_command(random=20, seed=3)
+    assert r.corners == report["corners"] and r.empty_cells == report["empty_cells"]
+    assert len(r.points) == report["diagram_points"] and r.t == report["t"]

@@ -108,3 +108,18 @@ def test_bad_polygons_raise_input_error(torus):
         locus.geodesic_distance(V, out_of_range, 0)
     with pytest.raises(ValueError, match="offsets"):
         locus.Session(V, (np.arange(1, F.size + 1, 4), F.ravel()))
+
+
+def test_uniform_polygons_come_back_as_arrays(torus, tmp_path):
+    """Quads read or returned are an (m, 4) int32 array; mixed faces a list."""
+    V, F = torus
+    path = tmp_path / "quads.off"
+    write_off(path, V, F)
+    V2, F2 = locus.read_mesh(str(path))
+    assert isinstance(F2, np.ndarray) and F2.shape == F.shape and F2.dtype == np.int32
+    assert np.array_equal(F2, F)
+    s = locus.Session(V, F)
+    assert isinstance(s.polygons, np.ndarray) and np.array_equal(s.polygons, F)
+    mixed = [list(f) for f in F[1:]] + [[F[0][0], F[0][1], F[0][2]], [F[0][0], F[0][2], F[0][3]]]
+    p = locus.Session(V, mixed).polygons
+    assert isinstance(p, list) and [list(f) for f in p] == mixed

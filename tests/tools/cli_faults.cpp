@@ -190,8 +190,10 @@ TEST_CASE("cli faults: zero-area faces, needles, unreferenced duplicates and two
   if (!have_locus()) return;
   Scratch s;
   const std::string flat = s.write("flat.off", grid(0.0));
+  // factor has no mesh-level operator; geodesic and adf refuse on the cotan operator
+  // (the default, auto, answers on the robust one: tests/tools/robust_operator_cli.cpp).
   for (const std::string& cmd : {std::string("factor"), std::string("geodesic"), std::string("adf")}) {
-    std::string extra = cmd == "geodesic" ? " --source 12" : cmd == "adf" ? " --vertices 12" : "";
+    std::string extra = cmd == "geodesic" ? " --source 12 --operator cotan" : cmd == "adf" ? " --vertices 12 --operator cotan" : "";
     const Run r = locus(s, cmd + " '" + flat + "'" + extra);
     INFO(cmd << ": " << r.err);
     CHECK(r.status == 3);
@@ -211,8 +213,8 @@ TEST_CASE("cli faults: zero-area faces, needles, unreferenced duplicates and two
   // An unreferenced copy of vertex 0 of the octahedron (vertex 6).
   const std::string dup = s.write("dup.off", "OFF\n7 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n1 0 0\n"
                                              "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n");
-  for (const std::string& cmd : {std::string("factor '") + dup + "'", "geodesic '" + dup + "' --source 0",
-                                 "voronoi '" + dup + "' --sites 0,1"}) {
+  for (const std::string& cmd : {std::string("factor '") + dup + "'", "geodesic '" + dup + "' --source 0 --operator cotan",
+                                 "voronoi '" + dup + "' --sites 0,1 --operator cotan"}) {
     const Run r = locus(s, cmd);
     INFO(cmd << ": " << r.err);
     CHECK(r.status == 3);

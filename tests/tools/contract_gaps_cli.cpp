@@ -104,7 +104,7 @@ TEST_CASE("contract: coordinates whose areas overflow or underflow are refused n
     CAPTURE(s);
     const std::string path = dir / "scaled.off";
     locus::write_mesh(path, scaled(unit, s));
-    for (const std::string& command : {"geodesic", "heat", "factor"}) {
+    for (const std::string command : {"geodesic", "heat", "factor"}) {
       CAPTURE(command);
       std::vector<std::string> args = {command, path};
       if (command == "geodesic") args.insert(args.end(), {"--source", "0"});
@@ -142,7 +142,7 @@ TEST_CASE("contract: an absurd heat time is refused naming the limit; no negativ
   Scratch dir("gaps-t");
   const std::string sphere = dir / "sphere.off";
   locus::write_mesh(sphere, locus::make_icosphere(3));
-  for (const std::string& t : {"1e300h2", "1e20h2", "1e300"}) {
+  for (const std::string t : {"1e300h2", "1e20h2", "1e300"}) {
     CAPTURE(t);
     const Run r = run_locus(dir, {"geodesic", sphere, "--source", "0", "--t", t, "-o", dir / "d.ply"});
     CHECK(r.status == 2);

@@ -16,7 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/deform_request.hpp"
+#include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/laplacian_requests.hpp"
+#include "locus/engine/nncoords_request.hpp"
+#include "locus/engine/param_request.hpp"
+#include "locus/engine/voronoi_request.hpp"
 #include "locus/locus.h"
 #include "tests/tools/cli_support.hpp"
 
@@ -26,17 +32,19 @@ using namespace locus::test_cli;
 
 // The commands migrated to the engine, and those still pending (their CLI
 // still calls pipelines directly); together every command `locus --help` lists.
-const std::vector<std::string> kMigrated = {"geodesic", "logmap"};
-const std::vector<std::string> kPending = {"adf",   "cvt",  "deform",     "factor",            "heat",
-                                           "hks",   "info", "nncoords",   "param",             "perfect-laplacian",
-                                           "run",   "selfsupport", "skinweights", "voronoi"};
+const std::vector<std::string> kMigrated = {"geodesic", "logmap",   "adf",   "hks",               "heat",
+                                            "deform",   "nncoords", "param", "perfect-laplacian", "selfsupport",
+                                            "voronoi"};
+const std::vector<std::string> kPending = {"cvt", "factor", "info", "run", "skinweights"};
 
 // Options of every command, the CommandTable's: threads and max_memory are
 // the C API's locus_run_options (RunContext), subdivide is MeshInputOptions
-// (the mesh a host passes is its own), seed is unused by these commands;
-// json, output, preview and view are the CLI's presentation of a result.
+// (the mesh a host passes is its own), seed is perfect-laplacian's noise seed (a
+// field of its request and C options) and unused by the others;
+// operator is the Session's construction option (SessionOptions, locus_session_create_ex), no_weld
+// the reader's (ReadOptions); json, output, preview, preview_t and view are the CLI's presentation of a result.
 const std::set<std::string> kCommon = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory",
-                                       "preview", "view"};
+                                       "preview", "preview_t", "view", "operator", "no_weld"};
 
 std::string field_name(std::string option) {
   std::replace(option.begin(), option.end(), '-', '_');
@@ -59,11 +67,13 @@ std::vector<std::string> cli_options(const std::string& command) {
   return out;
 }
 
-// The fields of `typedef struct NAME { ... } NAME;` in locus.h.
+// The fields of `typedef struct NAME { ... } NAME;` in locus.h (or locus_commands.h, which it includes).
 std::vector<std::string> c_struct_fields(const std::string& name) {
-  std::ifstream f(LOCUS_TEST_DATA_DIR "/../../engine/include/locus/locus.h");
-  std::stringstream ss;
-  ss << f.rdbuf();
+  std::stringstream ss;  // locus.h and the header of the commands it includes
+  for (const char* h : {"/locus.h", "/locus_commands.h"}) {
+    std::ifstream f(std::string(LOCUS_TEST_DATA_DIR "/../../engine/include/locus") + h);
+    ss << f.rdbuf();
+  }
   const std::string text = ss.str();
   const size_t at = text.find("typedef struct " + name + " {");
   REQUIRE(at != std::string::npos);
@@ -71,7 +81,7 @@ std::vector<std::string> c_struct_fields(const std::string& name) {
   std::string body = text.substr(at, end - at);
   body = std::regex_replace(body, std::regex(R"(/\*[\s\S]*?\*/)"), "");
   std::vector<std::string> out;
-  const std::regex decl(R"(([A-Za-z_][A-Za-z0-9_]*)\s*;)");
+  const std::regex decl(R"(([A-Za-z_][A-Za-z0-9_]*)\s*(?:\[[0-9]*\])?\s*;)");  // offset[3]; too
   for (auto it = std::sregex_iterator(body.begin(), body.end(), decl); it != std::sregex_iterator(); ++it)
     out.push_back((*it)[1]);
   return out;
@@ -115,7 +125,7 @@ TEST_CASE("option parity: each CLI option of a migrated command is an engine fie
     CAPTURE(command);
     const std::vector<std::string> cli = cli_options(command);
     const std::vector<std::string> engine = engine_fields(command);
-    const std::vector<std::string> c = c_struct_fields("locus_" + command + "_options");
+    const std::vector<std::string> c = c_struct_fields("locus_" + field_name(command) + "_options");
     REQUIRE(!engine.empty());
     for (const std::string& o : cli) {
       if (kCommon.count(o)) continue;
@@ -150,6 +160,68 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
   CHECK(l.angle == nullptr);
   CHECK(l.lattice == nullptr);
   CHECK(l.recenter == nullptr);
+  const locus_adf_options a = locus_adf_options_default();
+  const locus::AdfRequest aq;
+  CHECK((a.all != 0) == aq.all);
+  CHECK(a.t == nullptr);  // NULL: the request's "1h2"
+  CHECK(a.method == nullptr);
+  CHECK(a.n_vertices == 0);
+  const locus_hks_options k = locus_hks_options_default();
+  CHECK((k.all != 0) == locus::HksRequest{}.all);
+  CHECK(k.n_ts == 0);
+  const locus_heat_options h = locus_heat_options_default();
+  const locus::HeatRequest hq;
+  CHECK(h.repeat == hq.repeat);
+  CHECK(h.t == nullptr);
+  CHECK(h.method == nullptr);
+  for (const locus::RequestField& f : locus::request_fields("adf")) {
+    if (f.name == "t") CHECK(f.default_value == "1h2");
+    if (f.name == "method") CHECK(f.default_value == "subset");
+  }
+  const locus_deform_options d = locus_deform_options_default();
+  const locus::DeformCommandRequest dq;
+  CHECK(d.roi_seed == dq.roi_seed);
+  CHECK(d.roi_fraction == dq.roi_fraction);
+  CHECK(d.handle == dq.handle);
+  CHECK(d.handle_ring == dq.handle_ring);
+  CHECK(d.regularization == dq.regularization);
+  CHECK(d.energy == nullptr);  // NULL: the request's "laplacian"
+  const locus_nncoords_options n = locus_nncoords_options_default();
+  CHECK(n.t == nullptr);  // NULL: the request's "h2"
+  CHECK(n.n_sites == 0);
+  CHECK(n.point.face == locus::NncoordsRequest{}.point.face);
+  const locus_param_options p = locus_param_options_default();
+  const locus::ParamRequest pq;
+  CHECK(p.iters == pq.iters);
+  CHECK(p.eps == pq.eps);
+  CHECK(p.center == pq.center);
+  CHECK(p.fraction == pq.fraction);
+  CHECK(p.method == nullptr);
+  CHECK(p.boundary == nullptr);
+  const locus_perfect_laplacian_options pl = locus_perfect_laplacian_options_default();
+  const locus::PerfectLaplacianCommandRequest plq;
+  CHECK((pl.planar != 0) == plq.planar);
+  CHECK(pl.iters == plq.iters);
+  CHECK(pl.eps == plq.eps);
+  CHECK(pl.anderson == plq.anderson);
+  CHECK((pl.no_active_set != 0) == plq.no_active_set);
+  CHECK(pl.noise == plq.noise);
+  CHECK(pl.seed == plq.seed);
+  CHECK(pl.method == nullptr);
+  const locus_selfsupport_options ss = locus_selfsupport_options_default();
+  const locus::SelfSupportCommandRequest ssq;
+  CHECK(ss.load_density == ssq.load_density);
+  CHECK(ss.iters == ssq.iters);
+  CHECK(ss.eps == ssq.eps);
+  CHECK(ss.support == nullptr);
+  const locus_voronoi_options vo = locus_voronoi_options_default();
+  const locus::VoronoiCommandRequest vq;
+  CHECK(vo.random == vq.random);
+  CHECK(vo.seed == vq.seed);
+  CHECK(vo.t == nullptr);  // NULL: the request's "h2"
+  CHECK(vo.n_sites == 0);
+  for (const locus::RequestField& f : locus::request_fields("heat"))
+    if (f.name == "repeat") CHECK(f.default_value == "1");
   for (const locus::RequestField& f : locus::request_fields("logmap")) {
     if (f.name == "method") CHECK(f.default_value == lq.method);
     if (f.name == "fraction") CHECK(f.default_value == "0.05");

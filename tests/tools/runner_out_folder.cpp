@@ -49,7 +49,9 @@ TEST_CASE("runner: a run with other options into a folder of another run is refu
   CHECK(has(other.err, "cvt --sites 101 --iters 40"));
   CHECK(has(other.err, "Use another --out folder"));
   if (first_still_running) CHECK(has(other.err, "is being written by another run"));
-  const Run a = first_still_running ? wait_locus(cap, first) : Run{WIFEXITED(ws) ? WEXITSTATUS(ws) : -1};
+  Run a;
+  if (first_still_running) a = wait_locus(cap, first);
+  else a.status = WIFEXITED(ws) ? WEXITSTATUS(ws) : -1;
   CHECK(a.status == 0);
 
   // Every report and the summary are the first run's.

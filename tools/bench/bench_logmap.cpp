@@ -30,7 +30,7 @@
 #include "tools/bench/bench_commands.hpp"
 #include "tools/bench/map_errors.hpp"
 #include "tools/bench/stream_bandwidth.hpp"
-#include "tools/cli/logmap_choices.hpp"
+#include "tools/bench/logmap_choices.hpp"
 
 namespace locus::bench {
 namespace {

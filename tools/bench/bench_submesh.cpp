@@ -572,6 +572,7 @@ void register_submesh_bench(cli::CommandTable& table) {
                             });
   app->add_option("--fractions", bo->fractions, "Patch sizes as fractions of the vertices (default 0.1,0.25,0.5)");
   app->add_option("--patches", bo->patches, "Random BFS patches per fraction (default 5)")->check(CLI::Range(1, 10000));
+  cli::drop_mesh_operator_option(app);
   app->add_option("--operator", bo->op, "laplacian (-L_C + eps M, default) or bilaplacian (K M^-1 K)");
   app->add_option("--sets", bo->sets, "bfs (patches around random seeds, default) or scattered (random vertices)")
       ->check(CLI::IsMember({"bfs", "scattered"}));

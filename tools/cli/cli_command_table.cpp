@@ -69,7 +69,9 @@ CLI::App* CommandTable::add(const std::string& name, const std::string& descript
   cmd->body = std::move(body);
   CLI::App* app = app_.add_subcommand(name, description);
   CommonOptions& c = cmd->common;
-  app->add_option("mesh-file", c.mesh_path, "Input mesh (.off .obj .ply)")->required();
+  app->add_option("mesh-file", c.mesh_path,
+                  "Input mesh (.off .obj .ply; glTF .gltf .glb, FBX, Collada .dae, STL, 3MF and the other formats "
+                  "assimp reads)")->required();
   app->add_flag("--json", c.json, "Print one JSON object on stdout (logs go to stderr)");
   app->add_option("-o,--output", c.output,
                   "Result file; the format follows the extension: .ply (named vertex properties), .obj (properties "
@@ -81,9 +83,19 @@ CLI::App* CommandTable::add(const std::string& name, const std::string& descript
       ->check(CLI::Range(0, 16));
   app->add_option("--max-memory", c.max_memory,
                   "Memory limit of a subdivision or factorization: bytes or K/M/G/T (e.g. 4G); default 80% of physical memory");
+  app->add_option("--operator", c.mesh_operator,
+                  "Laplacian: auto (default: cotan on a clean manifold mesh, robust when it has defects), cotan, or "
+                  "robust (intrinsic Delaunay of the tufted cover: non-manifold and degenerate meshes)")
+      ->check(CLI::IsMember({"auto", "cotan", "robust"}));
+  app->add_flag("--no-weld", c.no_weld,
+                "Asset files (glTF, FBX, ...): keep the file's vertices instead of welding them by position");
   cmd->app = app;
   commands_.push_back(std::move(cmd));
   return app;
+}
+
+void drop_mesh_operator_option(CLI::App* app) {
+  if (CLI::Option* o = app->get_option_no_throw("--operator")) app->remove_option(o);
 }
 
 void CommandTable::add_listing(const std::string& name, const std::string& description) {

@@ -33,7 +33,13 @@ struct CommonOptions {
   uint64_t seed = 1;      // every random choice derives from it
   int subdivide = 0;      // 1:4 midpoint subdivisions after loading
   std::string max_memory; // --max-memory SIZE as given ("" = default: 80% of physical memory)
+  std::string mesh_operator = "auto";  // --operator auto|cotan|robust (operator_choice.hpp)
+  bool no_weld = false;   // --no-weld: keep an asset file's vertices (no welding by position)
 };
+
+// Commands whose own --operator names the matrix they factor (factor: heat or
+// laplacian) take the mesh-level --operator off first.
+void drop_mesh_operator_option(CLI::App* app);
 
 // A command's body runs after a successful parse and returns the exit status
 // (normally 0); failures are thrown as locus::Error and mapped by the table.

@@ -10,9 +10,49 @@
 namespace locus::cli {
 
 Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces) {
-  Input in = load_mesh_input(opt.mesh_path, {opt.subdivide, faces}, ctx);
+  MeshInputOptions mo;
+  mo.subdivide = opt.subdivide;
+  mo.faces = faces;
+  mo.weld = !opt.no_weld;
+  mo.mesh_operator = parse_operator_choice(opt.mesh_operator);
+  Input in = load_mesh_input(opt.mesh_path, mo, ctx);
   report_input(in.load_s, in.subdivide_s);
   return in;
+}
+
+SessionOptions session_options(const Input& in) {
+  SessionOptions so;
+  // The loader looked for the defects already: the Session need not look again.
+  so.mesh_operator = !in.op.checked ? in.mesh_operator : in.op.robust ? OperatorChoice::Robust : OperatorChoice::Cotan;
+  return so;
+}
+
+Json operator_json(const OperatorReport& op) {
+  Json j{{"used", op.used()}, {"asked", operator_choice_name(op.asked)}};
+  if (op.checked) {
+    j["reason"] = op.reason();
+    j["defects"] = {{"non_manifold_edges", op.non_manifold_edges},
+                    {"non_manifold_vertices", op.non_manifold_vertices},
+                    {"zero_area_faces", op.zero_area_faces},
+                    {"needle_faces", op.needle_faces},
+                    {"inconsistent_orientation_edges", op.inconsistent_orientation_edges},
+                    {"unreferenced_vertices", op.unreferenced_vertices}};
+  }
+  return j;
+}
+
+Json weld_json(const Input& in) {
+  const AssetReport& a = in.attributes.asset_report;
+  Json j{{"format", a.format},
+         {"welded", a.welded_vertices > 0 || a.file_vertices != in.mesh.num_vertices()},
+         {"file_vertices", a.file_vertices},
+         {"welded_vertices", a.welded_vertices},
+         {"vertices", in.mesh.num_vertices()},
+         {"collapsed_faces", a.collapsed_faces},
+         {"map", "results are per welded vertex; file vertex k (the scene's meshes flattened in node order) has "
+                 "the result of vertex file_to_vertex[k]; --no-weld keeps the file's vertices"}};
+  if (in.subdivide == 0) j["file_to_vertex"] = a.file_to_vertex;
+  return j;
 }
 
 Json input_json(const CommonOptions& opt, const Input& in) {
@@ -23,6 +63,9 @@ Json input_json(const CommonOptions& opt, const Input& in) {
   if (in.triangulated())
     j["triangulated"] = {{"polygons", in.polygons.num_faces()}, {"triangles", in.mesh.num_faces()},
                          {"seconds", in.triangulate_s}};
+  // Absent on a clean mesh with --operator auto (the cotan operator, as without the option).
+  if (in.op.robust || in.mesh_operator != OperatorChoice::Auto) j["operator"] = operator_json(in.op);
+  if (in.attributes.asset) j["weld"] = weld_json(in);
   return j;
 }
 

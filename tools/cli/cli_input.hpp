@@ -6,6 +6,7 @@
 #include <string>
 
 #include "locus/engine/mesh_input.hpp"
+#include "locus/session.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
@@ -37,8 +38,17 @@ SurfacePoint point_on_file_face(const Input& in, const SurfacePoint& p, const st
 void check_file_vertex(const std::string& option, int64_t v, const Input& in, const CommonOptions& opt);
 
 // {"file", "subdivide", "n_vertices", "n_faces"} of the loaded input, and for
-// a triangulated file "triangulated": {"polygons": faces in the file, "triangles"}.
+// a triangulated file "triangulated": {"polygons": faces in the file, "triangles"};
+// "operator" (operator_json) when the robust operator is used or --operator was
+// given; "weld" (weld_json) for an asset file read through assimp.
 Json input_json(const CommonOptions& opt, const Input& in);
+// {"used": cotan|robust, "asked", "reason", "defects": {counts per kind}}.
+Json operator_json(const OperatorReport& op);
+// How an asset file's vertices became the mesh's: counts, and file_to_vertex
+// (file vertex -> result vertex) so results can be mapped back to the file.
+Json weld_json(const Input& in);
+// The Session a command builds on the input runs on the operator the loader chose.
+SessionOptions session_options(const Input& in);
 
 // Up-front checks of -o for commands whose result a format cannot hold
 // (Error(BadUsage) naming the alternative, before the input is read):

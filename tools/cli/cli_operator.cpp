@@ -12,6 +12,7 @@
 namespace locus::cli {
 
 void add_operator_options(CLI::App* app, OperatorSpec& spec) {
+  drop_mesh_operator_option(app);  // this --operator names the matrix
   app->add_option("--operator", spec.kind, "Operator: heat (M - tL, default) or laplacian (-L + eps M)")
       ->check(CLI::IsMember({"heat", "laplacian"}));
   app->add_option("--t", spec.t_text, "Diffusion time of the heat operator: absolute (1e-3) or a multiple of h^2 (2h2); default h2")->check(non_empty());

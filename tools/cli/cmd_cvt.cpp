@@ -7,10 +7,11 @@
 // --labels writes the input with a per-vertex `label` property (the cell),
 // --sites-out the sites; --json reports the timings, the `remesh` object
 // (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <ostream>
 #include <string>
-#include <mutex>
-#include <memory>
 #include <vector>
 
 #include "locus/error.hpp"
@@ -46,6 +47,7 @@ struct CvtOptions {
   PreviewOptions preview;
   std::string labels_out, sites_out;
   int repair_rounds = RemeshOptions{}.max_repair_rounds;
+  int refinements = RemeshOptions{}.max_refinements;
   bool no_hausdorff = false;
   int optimize_rounds = RemeshOptions{}.optimize_rounds;
   double stop_energy = 0.0;
@@ -144,7 +146,9 @@ Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
   j["dual_min_angle_deg"] = rr.dual_min_angle_deg;
   j["flips"] = rr.optimize.flips;
   j["smoothing_moves"] = rr.optimize.moves;
+  j["boundary_moves"] = rr.optimize.boundary_moves;  // along the input's boundary curves
   j["repair_rounds"] = rr.repair_rounds;
+  j["refinements"] = rr.refinements;
   j["lloyd_iterations"] = rr.lloyd_iterations;
   j["defects_before_repair"] = defects_json(rr.first_defects);
   j["defects_left"] = defects_json(rr.defects);
@@ -229,6 +233,25 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
   return j;
 }
 
+// Progress on stderr: a line when the phase changes, else at most one a second
+// (the Lloyd loop reports every cell solve); nothing with --json.
+std::function<void(double, std::string_view)> throttled_progress(bool json) {
+  struct Throttle {
+    std::mutex m;
+    std::string phase;
+    Stopwatch since;
+  };
+  auto throttle = std::make_shared<Throttle>();
+  return [json, throttle](double f, std::string_view phase) {
+    if (json) return;
+    std::lock_guard<std::mutex> lock(throttle->m);
+    if (phase == throttle->phase && throttle->since.seconds() < 1.0) return;
+    throttle->phase = std::string(phase);
+    throttle->since.restart();
+    log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
+  };
+}
+
 int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
   if (o.solver != "local" && o.solver != "full")
     fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
@@ -256,31 +279,16 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
   RemeshOptions ro;
   ro.lloyd = lloyd_options(opt, o, ts, tc);
   ro.max_repair_rounds = o.repair_rounds;
+  ro.max_refinements = o.refinements;
   ro.optimize_rounds = o.optimize_rounds;
   RunContext run = ctx;
-  const bool json = opt.json;
-  // Progress on stderr: a line when the phase changes, else at most one a second
-  // (the Lloyd loop reports every cell solve).
-  struct Throttle {
-    std::mutex m;
-    std::string phase;
-    Stopwatch since;
-  };
-  auto throttle = std::make_shared<Throttle>();
-  run.progress = [json, throttle](double f, std::string_view phase) {
-    if (json) return;
-    std::lock_guard<std::mutex> lock(throttle->m);
-    if (phase == throttle->phase && throttle->since.seconds() < 1.0) return;
-    throttle->phase = std::string(phase);
-    throttle->since.restart();
-    log(std::string(phase) + " " + std::to_string(static_cast<int>(100 * f + 0.5)) + "%");
-  };
+  run.progress = throttled_progress(opt.json);
   // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
   Stopwatch phase;
   Factors cache;
   HeatDiffusion prepared;
   if (o.anisotropy == 0) {
-    prepared = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
+    prepared = heat_diffusion_cached(o.fc, in, ts, ctx, cache);
     ro.lloyd.prepared = &prepared;
   }
   const double factor_s = phase.seconds();
@@ -290,7 +298,7 @@ int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx
     fail(ErrorCode::Numerical, "cvt: the cells still break the closed-ball property after " +
                                    std::to_string(rr.repair_rounds) + " repair rounds (" +
                                    defects_json(rr.defects).dump() + "); no manifold remesh to write to " +
-                                   opt.output + " (try more --sites or --repair-rounds)");
+                                   opt.output + " (try more --sites, --repair-rounds or --refinements)");
   phase.restart();
   write_output_mesh(opt, rr.remesh);
   const double write_s = phase.seconds();
@@ -389,6 +397,10 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--repair-rounds", o->repair_rounds,
                   "Rounds of added sites that make the remesh a manifold (default 12)")
       ->check(CLI::Range(0, 1000));
+  app->add_option("--refinements", o->refinements,
+                  "Midpoint subdivisions of the input the repair may use where its vertices are too coarse for "
+                  "the cells (default 3; 0 = none)")
+      ->check(CLI::Range(0, 4));
   app->add_option("--optimize", o->optimize_rounds,
                   "Rounds of edge flips and tangential smoothing of the remesh on the input (default 4; 0 = the dual as is)")
       ->check(CLI::Range(0, 100));

@@ -38,6 +38,129 @@ struct FactorOptions {
   FactorCacheOptions cache;
 };
 
+// Right-hand sides: lane 0 of the 8-lane block is the 1-lane b, so the two
+// solves can be compared entry by entry.
+struct RightHandSides {
+  std::vector<double> b, b8;
+};
+
+RightHandSides right_hand_sides(int32_t n, uint64_t seed) {
+  RightHandSides r;
+  r.b = random_vector(static_cast<size_t>(n), seed);
+  r.b8.resize(static_cast<size_t>(n) * kLanes);
+  for (int lane = 0; lane < kLanes; ++lane) {
+    const std::vector<double> col = lane == 0 ? r.b : random_vector(static_cast<size_t>(n), seed + lane);
+    for (int32_t i = 0; i < n; ++i) r.b8[static_cast<size_t>(i) * kLanes + lane] = col[i];
+  }
+  return r;
+}
+
+// Per-phase times of every repeat, and the last repeat's solutions.
+struct Repeats {
+  std::vector<double> order_s, symbolic_s, numeric_s, solve_s, solve8_s, load_s, save_s;
+  std::shared_ptr<const SymbolicFactor> sym;
+  std::vector<double> x, x8;
+};
+
+Repeats run_repeats(const FactorOptions& fo, const Mesh& mesh, const FactorRequest& req, const RightHandSides& rhs,
+                    const RunContext& ctx) {
+  Repeats out;
+  std::vector<double> work;
+  for (int r = 0; r < fo.repeat; ++r) {
+    ctx.check_cancel();
+    // Factored (or loaded with --load) every repeat; --save writes the last one.
+    FactorCacheOptions cache = fo.cache;
+    if (r + 1 < fo.repeat) cache.save.clear();
+    const Factors Fs = factor_or_load(cache, mesh, std::span(&req, 1), ctx);
+    const NumericFactor& F = Fs.factors[0];
+    out.sym = Fs.symbolic;
+    out.order_s.push_back(Fs.order_s);
+    out.symbolic_s.push_back(Fs.analyze_s);
+    out.numeric_s.push_back(Fs.numeric_s);
+    out.load_s.push_back(Fs.load_s);
+    out.save_s.push_back(Fs.save_s);
+    ctx.check_cancel();
+
+    // Caller-owned workspace, sized outside the timers: the solves then do not allocate.
+    work.resize(std::max(solve_work_size(F, 1), solve_work_size(F, kLanes)));
+    out.x = rhs.b;
+    Stopwatch sw;
+    solve(F, out.x, work);
+    out.solve_s.push_back(sw.seconds());
+
+    out.x8 = rhs.b8;
+    sw.restart();
+    solve8(F, out.x8, work);
+    out.solve8_s.push_back(sw.seconds());
+
+    if (fo.repeat > 1)
+      log("factor: repeat " + std::to_string(r + 1) + "/" + std::to_string(fo.repeat) + ": numeric " +
+          format_number(out.numeric_s.back()) + " s");
+  }
+  return out;
+}
+
+// The residuals of the last repeat's solves, and the 8-lane path against the 1-lane one.
+struct Accuracy {
+  double residual = 0, residual8 = 0, lane0_vs_solve = 0;
+};
+
+Accuracy accuracy(const CscMatrix& A, const RightHandSides& rhs, const Repeats& rep) {
+  const int32_t n = A.ncols;
+  Accuracy a;
+  a.residual = relative_residual(A, rep.x.data(), rhs.b.data());
+  double xnorm = 0;
+  std::vector<double> lane(static_cast<size_t>(n)), lane_b(static_cast<size_t>(n));
+  for (int l = 0; l < kLanes; ++l) {
+    for (int32_t i = 0; i < n; ++i) {
+      lane[i] = rep.x8[static_cast<size_t>(i) * kLanes + l];
+      lane_b[i] = rhs.b8[static_cast<size_t>(i) * kLanes + l];
+    }
+    a.residual8 = worst(a.residual8, relative_residual(A, lane.data(), lane_b.data()));
+  }
+  for (int32_t i = 0; i < n; ++i) {
+    a.lane0_vs_solve = worst(a.lane0_vs_solve, std::abs(rep.x8[static_cast<size_t>(i) * kLanes] - rep.x[i]));
+    xnorm = std::max(xnorm, std::abs(rep.x[i]));
+  }
+  if (xnorm > 0) a.lane0_vs_solve /= xnorm;
+  return a;
+}
+
+Json factor_json(const CommonOptions& opt, const Input& in, const FactorOptions& fo, const BuiltOperator& op,
+                 const Repeats& rep, const Accuracy& acc, double operator_s) {
+  const SymbolicFactor& sym = *rep.sym;
+  Json j{{"command", "factor"}, {"input", input_json(opt, in)}};
+  j["operator"] = fo.op.kind;
+  j["t"] = op.t;
+  j["h"] = op.h;
+  j["seed"] = opt.seed;
+  j["threads"] = threads_used(opt);
+  j["repeats"] = fo.repeat;
+  j["n"] = op.A.ncols;
+  j["nnz_A"] = op.A.nnz();
+  j["nnz_L"] = sym.nnz_L;
+  j["nnz_L_exact"] = sym.nnz_exact;
+  j["supernodes"] = sym.ns;
+  j["etree_height"] = sym.etree_height;
+  j["super_etree_height"] = sym.super_etree_height;
+  j["flops"] = sym.flops();
+  j["order_s"] = median(rep.order_s);
+  j["symbolic_s"] = median(rep.symbolic_s);
+  j["numeric_s"] = median(rep.numeric_s);
+  j["solve_s"] = median(rep.solve_s);
+  j["solve8_s"] = median(rep.solve8_s);
+  j["factor_cache"] = {{"loaded", fo.cache.load.empty() ? Json(nullptr) : Json(fo.cache.load)},
+                       {"saved", fo.cache.save.empty() ? Json(nullptr) : Json(fo.cache.save)},
+                       {"load_s", median(rep.load_s)},
+                       {"save_s", rep.save_s.back()}};
+  j["residual"] = acc.residual;
+  j["residual8"] = acc.residual8;
+  // max_i |x8[i, lane 0] - x[i]| / max_i |x[i]|: the 8-lane path must agree with the 1-lane one.
+  j["solve8_lane0_vs_solve"] = acc.lane0_vs_solve;
+  j["timings"] = timings(in, {{"operator_s", operator_s}});
+  return j;
+}
+
 int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunContext& ctx) {
   validate_operator_spec(fo.op);  // bad --t is bad usage: say so before reading the file
   validate_factor_cache_options(fo.cache);
@@ -46,118 +169,32 @@ int run_factor(const CommonOptions& opt, const FactorOptions& fo, const RunConte
   Stopwatch sw;
   const BuiltOperator op = build_operator(in.mesh, fo.op);
   const double operator_s = sw.seconds();
-  const CscMatrix& A = op.A;
-  const int32_t n = A.ncols;
-
-  // Right-hand sides: lane 0 of the 8-lane block is the 1-lane b, so the two
-  // solves can be compared entry by entry.
-  const std::vector<double> b = random_vector(static_cast<size_t>(n), opt.seed);
-  std::vector<double> b8(static_cast<size_t>(n) * kLanes);
-  for (int lane = 0; lane < kLanes; ++lane) {
-    const std::vector<double> col = lane == 0 ? b : random_vector(static_cast<size_t>(n), opt.seed + lane);
-    for (int32_t i = 0; i < n; ++i) b8[static_cast<size_t>(i) * kLanes + lane] = col[i];
-  }
-  std::vector<double> x(b.size()), x8(b8.size()), work;
-
-  std::vector<double> order_s, symbolic_s, numeric_s, solve_s, solve8_s, load_s, save_s;
-  std::shared_ptr<const SymbolicFactor> sym;
-  const FactorRequest req{fo.op.kind, op.t, &A};
-  for (int r = 0; r < fo.repeat; ++r) {
-    ctx.check_cancel();
-    // Factored (or loaded with --load) every repeat; --save writes the last one.
-    FactorCacheOptions cache = fo.cache;
-    if (r + 1 < fo.repeat) cache.save.clear();
-    const Factors Fs = factor_or_load(cache, in.mesh, std::span(&req, 1), ctx);
-    const NumericFactor& F = Fs.factors[0];
-    sym = Fs.symbolic;
-    order_s.push_back(Fs.order_s);
-    symbolic_s.push_back(Fs.analyze_s);
-    numeric_s.push_back(Fs.numeric_s);
-    load_s.push_back(Fs.load_s);
-    save_s.push_back(Fs.save_s);
-    ctx.check_cancel();
-
-    // Caller-owned workspace, sized outside the timers: the solves then do not allocate.
-    work.resize(std::max(solve_work_size(F, 1), solve_work_size(F, kLanes)));
-    x = b;
-    sw.restart();
-    solve(F, x, work);
-    solve_s.push_back(sw.seconds());
-
-    x8 = b8;
-    sw.restart();
-    solve8(F, x8, work);
-    solve8_s.push_back(sw.seconds());
-
-    if (fo.repeat > 1)
-      log("factor: repeat " + std::to_string(r + 1) + "/" + std::to_string(fo.repeat) + ": numeric " +
-          format_number(numeric_s.back()) + " s");
-  }
-
-  const double residual = relative_residual(A, x.data(), b.data());
-  double residual8 = 0, lane0_vs_solve = 0, xnorm = 0;
-  std::vector<double> lane(static_cast<size_t>(n)), lane_b(static_cast<size_t>(n));
-  for (int l = 0; l < kLanes; ++l) {
-    for (int32_t i = 0; i < n; ++i) {
-      lane[i] = x8[static_cast<size_t>(i) * kLanes + l];
-      lane_b[i] = b8[static_cast<size_t>(i) * kLanes + l];
-    }
-    residual8 = worst(residual8, relative_residual(A, lane.data(), lane_b.data()));
-  }
-  for (int32_t i = 0; i < n; ++i) {
-    lane0_vs_solve = worst(lane0_vs_solve, std::abs(x8[static_cast<size_t>(i) * kLanes] - x[i]));
-    xnorm = std::max(xnorm, std::abs(x[i]));
-  }
-  if (xnorm > 0) lane0_vs_solve /= xnorm;
-  if (!(worst(residual, residual8) <= kMaxResidual)) {
+  const RightHandSides rhs = right_hand_sides(op.A.ncols, opt.seed);
+  const FactorRequest req{fo.op.kind, op.t, &op.A};
+  const Repeats rep = run_repeats(fo, in.mesh, req, rhs, ctx);
+  const Accuracy acc = accuracy(op.A, rhs, rep);
+  if (!(worst(acc.residual, acc.residual8) <= kMaxResidual)) {
     std::string what = fo.op.kind == "heat" ? "heat operator with t = " + format_number(op.t) : "regularized Laplacian";
-    fail(ErrorCode::Numerical, "the solve is inaccurate: relative residual " + format_number(residual) +
-                                   " (worst of 8 lanes " + format_number(residual8) + ") exceeds " +
+    fail(ErrorCode::Numerical, "the solve is inaccurate: relative residual " + format_number(acc.residual) +
+                                   " (worst of 8 lanes " + format_number(acc.residual8) + ") exceeds " +
                                    format_number(kMaxResidual) + "; the " + what +
                                    " is numerically singular or not finite");
   }
-
-  Json j{{"command", "factor"}, {"input", input_json(opt, in)}};
-  j["operator"] = fo.op.kind;
-  j["t"] = op.t;
-  j["h"] = op.h;
-  j["seed"] = opt.seed;
-  j["threads"] = threads_used(opt);
-  j["repeats"] = fo.repeat;
-  j["n"] = n;
-  j["nnz_A"] = A.nnz();
-  j["nnz_L"] = sym->nnz_L;
-  j["nnz_L_exact"] = sym->nnz_exact;
-  j["supernodes"] = sym->ns;
-  j["etree_height"] = sym->etree_height;
-  j["super_etree_height"] = sym->super_etree_height;
-  j["flops"] = sym->flops();
-  j["order_s"] = median(order_s);
-  j["symbolic_s"] = median(symbolic_s);
-  j["numeric_s"] = median(numeric_s);
-  j["solve_s"] = median(solve_s);
-  j["solve8_s"] = median(solve8_s);
-  j["factor_cache"] = {{"loaded", fo.cache.load.empty() ? Json(nullptr) : Json(fo.cache.load)},
-                       {"saved", fo.cache.save.empty() ? Json(nullptr) : Json(fo.cache.save)},
-                       {"load_s", median(load_s)},
-                       {"save_s", save_s.back()}};
-  j["residual"] = residual;
-  j["residual8"] = residual8;
-  // max_i |x8[i, lane 0] - x[i]| / max_i |x[i]|: the 8-lane path must agree with the 1-lane one.
-  j["solve8_lane0_vs_solve"] = lane0_vs_solve;
-  j["timings"] = timings(in, {{"operator_s", operator_s}});
+  const Json j = factor_json(opt, in, fo, op, rep, acc, operator_s);
   write_output_mesh(opt, output_faces(in), carried_attributes(in));
+  const SymbolicFactor& sym = *rep.sym;
   emit(opt, j, [&](std::ostream& os) {
     os << opt.mesh_path << ": " << fo.op.kind << " operator";
     if (fo.op.kind == "heat") os << " (t = " << op.t << ", h = " << op.h << ")";
-    os << "\n  n " << n << ", nnz(A) " << A.nnz() << ", nnz(L) " << sym->nnz_L << " (exact " << sym->nnz_exact
-       << "), supernodes " << sym->ns << "\n  etree height " << sym->etree_height << ", supernodal etree height "
-       << sym->super_etree_height << "\n  medians over " << fo.repeat << " run(s): order " << j["order_s"]
-       << " s, symbolic " << j["symbolic_s"] << " s, numeric " << j["numeric_s"] << " s, solve " << j["solve_s"]
-       << " s, solve8 " << j["solve8_s"] << " s\n"
-       << (fo.cache.load.empty() ? std::string() : "  loaded from " + fo.cache.load + " in " + format_number(median(load_s)) + " s\n")
-       << "  residual " << residual << ", 8-lane residual " << residual8
-       << "\n";
+    os << "\n  n " << op.A.ncols << ", nnz(A) " << op.A.nnz() << ", nnz(L) " << sym.nnz_L << " (exact "
+       << sym.nnz_exact << "), supernodes " << sym.ns << "\n  etree height " << sym.etree_height
+       << ", supernodal etree height " << sym.super_etree_height << "\n  medians over " << fo.repeat
+       << " run(s): order " << j["order_s"] << " s, symbolic " << j["symbolic_s"] << " s, numeric " << j["numeric_s"]
+       << " s, solve " << j["solve_s"] << " s, solve8 " << j["solve8_s"] << " s\n"
+       << (fo.cache.load.empty() ? std::string()
+                                 : "  loaded from " + fo.cache.load + " in " + format_number(median(rep.load_s)) +
+                                       " s\n")
+       << "  residual " << acc.residual << ", 8-lane residual " << acc.residual8 << "\n";
   });
   return 0;
 }

@@ -52,7 +52,7 @@ int run_geodesic(const CommonOptions& opt, const GeodesicCli& go, const RunConte
   check_preview_options(go.preview);
   const Input in = load_input(opt, ctx, keeps_polygons(go.request) ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   check_file_vertex("--source", go.request.source, in, opt);
-  const Session session{Mesh(in.mesh)};
+  const Session session{Mesh(in.mesh), session_options(in)};
   const GeodesicReport r = session.geodesic(go.request, ctx);
   for (const std::string& w : r.warnings) log("warning: " + w);
   if (!opt.output.empty()) {

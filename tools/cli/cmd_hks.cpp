@@ -1,8 +1,10 @@
 // `locus hks MESH --ts t1,t2,... (--vertices LIST | --all) [--method subset|selinv|full] [-o out.ply] --json`:
 // the heat kernel signature of thesis §4.6 — the auto-diffusion values
-// (M - t L_C)^{-1}_ii for several t (no mass scaling; see pipelines/include/locus/pipelines/heat/adf.hpp) —
-// with one ordering and one symbolic factor shared by every t. Also the body of
-// `locus adf` (cmd_adf.cpp), which is the same with one t.
+// (M - t L_C)^{-1}_ii for several t (no mass scaling) — with one ordering and
+// one symbolic factor shared by every t; a client of locus::Session::hks /
+// adf (engine/include/locus/engine/diffusion_requests.hpp), which own the
+// validation and the computation. Also the body of `locus adf` (cmd_adf.cpp),
+// which is the same with one t.
 //
 // Output file: only with --all (every vertex has a value, so the file has no
 // placeholders): the input mesh as PLY with vertex properties `adf` (adf) or
@@ -17,29 +19,27 @@
 // out.png, several t into out-t0.png, out-t1.png, ... (in the order of --ts,
 // as the properties hks_0, hks_1, ...), or only the K-th with --preview-t K.
 #include <algorithm>
-#include <cctype>
-#include <cmath>
 #include <limits>
 #include <ostream>
 #include <utility>
 
-#include "locus/kernels/mesh/mesh_operators.hpp"
-#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/io/file_extension.hpp"
 #include "locus/mesh_io.hpp"
-#include "locus/pipelines/heat/adf.hpp"
+#include "locus/session.hpp"
 #include "tools/cli/heat_signature.hpp"
-#include "tools/cli/written_files.hpp"
 #include "tools/cli/vertex_list.hpp"
+#include "tools/cli/written_files.hpp"
 
 namespace locus::cli {
 
 namespace {
 
+using Previews = std::vector<std::pair<size_t, std::string>>;
+
 // (index of t, file) of every preview image: one file for adf, a single t or
 // --preview-t; otherwise FILE-tK.png per t.
-std::vector<std::pair<size_t, std::string>> preview_files(const HeatSignatureCliOptions& so, size_t nt) {
-  std::vector<std::pair<size_t, std::string>> out;
+Previews preview_files(const HeatSignatureCli& so, size_t nt) {
+  Previews out;
   if (so.preview.path.empty()) return out;
   if (so.preview_t >= 0) {
     out.emplace_back(static_cast<size_t>(so.preview_t), so.preview.path);
@@ -51,177 +51,166 @@ std::vector<std::pair<size_t, std::string>> preview_files(const HeatSignatureCli
   return out;
 }
 
-}  // namespace
-
-void add_heat_signature_options(CLI::App* app, HeatSignatureCliOptions& so) {
-  app->add_option("--vertices", so.vertices, "Comma-separated vertex ids to evaluate (values go to the JSON)");
-  app->add_flag("--all", so.all, "Evaluate every vertex (needed for -o)");
-  app->add_option("--method", so.method,
-                  "subset (etree path per vertex, default), selinv (selected inversion, all vertices at once) or full "
-                  "(one full solve per vertex; slow reference)")
-      ->check(CLI::IsMember({"subset", "selinv", "full"}));
-  add_factor_cache_options(app, so.cache);
-  add_preview_option(app, so.preview);
-}
-
-int run_heat_signature(const std::string& command, const CommonOptions& opt, const HeatSignatureCliOptions& so,
-                       const RunContext& ctx) {
-  // Usage errors before reading the file.
-  const AdfMethod method = parse_adf_method(so.method);
-  std::vector<TimeSpec> specs;
-  for (const std::string& s : so.t_texts) specs.push_back(parse_time_spec(s));
-  if (specs.empty()) fail(ErrorCode::BadUsage, command + ": no diffusion time given");
-  if (so.all == !so.vertices.empty()) fail(ErrorCode::BadUsage, command + ": give exactly one of --vertices LIST or --all");
-  if (!opt.output.empty() && !so.all)
+// The request's fields from the texts of the command line, then the usage
+// errors: the request's own (the Session's checks) and the CLI's (-o, --preview).
+Previews check_usage(const CommonOptions& opt, HeatSignatureCli& so) {
+  const std::string& command = so.command;
+  const bool adf = command == "adf";
+  const std::vector<int64_t> ids = so.vertices.empty() ? std::vector<int64_t>{} : parse_vertex_ids(so.vertices, "--vertices");
+  if (adf) {
+    so.adf.vertices = ids;
+    check_request(so.adf);
+  } else {
+    so.hks.ts = split_list(so.ts, "--ts");
+    so.hks.vertices = ids;
+    check_request(so.hks);
+  }
+  const bool all = adf ? so.adf.all : so.hks.all;
+  const size_t nt = adf ? 1 : so.hks.ts.size();
+  if (!opt.output.empty() && !all)
     fail(ErrorCode::BadUsage, command + ": -o writes a value for every vertex; use it with --all (with --vertices the "
                                         "values are in the JSON)");
-  if (!opt.output.empty() && io::lower_extension(opt.output) == "off" && specs.size() > 1)
+  if (!opt.output.empty() && io::lower_extension(opt.output) == "off" && nt > 1)
     fail(ErrorCode::BadUsage, command + ": -o " + opt.output + ": OFF shows one value per vertex (as colours), not " +
-                                  std::to_string(specs.size()) + " diffusion times; use .ply or .obj");
-  validate_factor_cache_options(so.cache);
+                                  std::to_string(nt) + " diffusion times; use .ply or .obj");
   check_preview_options(so.preview);
-  if (!so.preview.path.empty() && !so.all)
+  if (!so.preview.path.empty() && !all)
     fail(ErrorCode::BadUsage, command + ": --preview shows a value at every vertex; use it with --all");
-  if (so.preview_t >= static_cast<int>(specs.size()))
+  if (so.preview_t >= static_cast<int>(nt))
     fail(ErrorCode::BadUsage, command + ": --preview-t " + std::to_string(so.preview_t) + ": there are " +
-                                  std::to_string(specs.size()) + " times in --ts (0.." + std::to_string(specs.size() - 1) + ")");
+                                  std::to_string(nt) + " times in --ts (0.." + std::to_string(nt - 1) + ")");
   if (so.preview_t >= 0 && so.preview.path.empty())
     fail(ErrorCode::BadUsage, command + ": --preview-t chooses the t of --preview FILE.png; give --preview too");
-  const std::vector<std::pair<size_t, std::string>> previews = preview_files(so, specs.size());
+  const Previews previews = preview_files(so, nt);
   for (const auto& [t, path] : previews) check_preview_path(path);
+  return previews;
+}
 
-  Input in = load_input(opt, ctx);
-  const Mesh& m = in.mesh;
-  const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
-  if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
-  check_requirements(m, MeshRequirements{});
-  const double h = mean_edge_length(m);
-  if (!(h > 0) || !std::isfinite(h)) fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(h));
-  std::vector<double> ts;
-  for (const TimeSpec& s : specs) ts.push_back(s.resolve(h));
-  const std::vector<int32_t> vertices = so.all ? std::vector<int32_t>{} : parse_vertex_list(so.vertices, m.num_vertices(), "--vertices");
-  ctx.check_cancel();
+std::string property_name(const std::string& command, size_t t) {
+  return command == "adf" ? std::string("adf") : "hks_" + std::to_string(t);
+}
 
-  // One heat operator per t on one pattern: factored (one ordering, one symbolic factor) or loaded.
-  HeatFactors H;
-  H.t = ts;
-  Stopwatch osw;
-  std::vector<CscMatrix> A;
-  for (double t : ts) {
-    if (!(std::isfinite(t) && t > 0))
-      fail(ErrorCode::BadUsage, command + ": diffusion time " + format_number(t) + " must be finite and > 0");
-    A.push_back(heat_operator(m, t));
-  }
-  H.operator_s = osw.seconds();
-  std::vector<FactorRequest> req;
-  for (size_t k = 0; k < ts.size(); ++k) req.push_back({"heat", ts[k], &A[k]});
-  Factors F = factor_or_load(so.cache, m, req, ctx);
-  H.symbolic = F.symbolic;
-  H.factors = std::move(F.factors);
-  H.order_s = F.order_s;
-  H.analyze_s = F.analyze_s;
-  H.numeric_s = F.numeric_s;
-  const double factor_s = H.order_s + H.analyze_s + H.numeric_s;
-  const size_t nt = ts.size();
-  const size_t count = so.all ? static_cast<size_t>(m.num_vertices()) : vertices.size();
-  std::vector<double> values(count * nt);
-  Stopwatch sw;
-  heat_kernel_signature(H, vertices, method, values, ctx);
-  const double query_s = sw.seconds();
-  for (size_t k = 0; k < values.size(); ++k)
-    if (!(std::isfinite(values[k]) && values[k] > 0)) {
-      const int32_t v = so.all ? static_cast<int32_t>(k / nt) : vertices[k / nt];
-      fail(ErrorCode::Numerical, command + ": the value at vertex " + std::to_string(v) + " for t = " +
-                                     format_number(ts[k % nt]) + " is " + format_number(values[k]) +
-                                     "; the heat operator is numerically singular");
-    }
+std::vector<double> values_at(const HeatSignatureReport& r, size_t t) {
+  const size_t nt = r.t.size(), count = r.count();
+  std::vector<double> v(count);
+  for (size_t k = 0; k < count; ++k) v[k] = r.values[k * nt + t];
+  return v;
+}
 
-  if (!opt.output.empty()) {
-    WriteOptions wo = carried_attributes(in);
-    for (size_t j = 0; j < nt; ++j) {
-      VertexProperty p;
-      p.name = command == "adf" ? std::string("adf") : "hks_" + std::to_string(j);
-      p.type = VertexProperty::Type::Double;
-      p.values.resize(count);
-      for (size_t k = 0; k < count; ++k) p.values[k] = values[k * nt + j];
-      add_result(wo, std::move(p));
-    }
-    write_mesh(opt.output, output_faces(in), wo);
-    log_written(opt.output);
-  }
+void write_values(const CommonOptions& opt, const Input& in, const std::string& command, const HeatSignatureReport& r) {
+  if (opt.output.empty()) return;
+  WriteOptions wo = carried_attributes(in);
+  for (size_t j = 0; j < r.t.size(); ++j)
+    add_result(wo, {property_name(command, j), VertexProperty::Type::Double, values_at(r, j)});
+  write_mesh(opt.output, output_faces(in), wo);
+  log_written(opt.output);
+}
 
-  Json j{{"command", command}, {"input", input_json(opt, in)}};
-  j["quantity"] = "(M - t L_C)^{-1}_ii: heat at vertex i after one backward-Euler step from a unit amount at i "
-                  "(eq. 6.3, b = e_i); multiply by M_ii for a unit density";
-  j["method"] = adf_method_name(method);
-  j["n"] = m.num_vertices();
-  j["h"] = h;
-  if (command == "adf") {
-    j["t"] = ts[0];
-    j["t_spec"] = so.t_texts[0];
-  } else {
-    j["t"] = ts;
-    j["t_spec"] = so.t_texts;
-  }
-  j["threads"] = threads_used(opt);
-  j["nnz_L"] = H.symbolic->nnz_L;
-  j["supernodes"] = H.symbolic->ns;
-  j["etree_height"] = H.symbolic->etree_height;
-  j["factor_s"] = factor_s;
-  j["query_s"] = query_s;
-  j["evaluated"] = count;
-  if (so.all) {
+Json values_json(const std::string& command, const HeatSignatureReport& r) {
+  const size_t nt = r.t.size(), count = r.count();
+  Json j;
+  if (r.all) {
     Json summary = Json::array();
     for (size_t t = 0; t < nt; ++t) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0;
-      for (size_t k = 0; k < count; ++k) {
-        const double v = values[k * nt + t];
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-        sum += v;
-      }
-      summary.push_back({{"t", ts[t]}, {"min", lo}, {"max", hi}, {"mean", sum / static_cast<double>(count)}});
+      for (double v : values_at(r, t)) lo = std::min(lo, v), hi = std::max(hi, v), sum += v;
+      summary.push_back({{"t", r.t[t]}, {"min", lo}, {"max", hi}, {"mean", sum / static_cast<double>(count)}});
     }
     j["summary"] = summary;
-    if (!opt.output.empty()) j["output"] = opt.output;
+    return j;
+  }
+  j["vertices"] = r.vertices;
+  if (command == "adf") {
+    j["adf"] = r.values;
+    return j;
+  }
+  Json rows = Json::array();
+  for (size_t k = 0; k < count; ++k)
+    rows.push_back(std::vector<double>(r.values.begin() + static_cast<std::ptrdiff_t>(k * nt),
+                                       r.values.begin() + static_cast<std::ptrdiff_t>((k + 1) * nt)));
+  j["hks"] = rows;
+  return j;
+}
+
+Json signature_json(const CommonOptions& opt, const Input& in, const std::string& command,
+                    const HeatSignatureReport& r) {
+  Json j{{"command", command}, {"input", input_json(opt, in)}};
+  j["quantity"] = "(M - t L_C)^{-1}_ii: heat at vertex i after one backward-Euler step from a unit amount at i "
+                  "(eq. 6.3, b = e_i); multiply by M_ii for a unit density";
+  j["method"] = r.method;
+  j["n"] = r.n;
+  j["h"] = r.h;
+  if (command == "adf") {
+    j["t"] = r.t[0];
+    j["t_spec"] = r.t_spec[0];
   } else {
-    j["vertices"] = vertices;
-    if (command == "adf") {
-      j["adf"] = values;
-    } else {
-      Json rows = Json::array();
-      for (size_t k = 0; k < count; ++k)
-        rows.push_back(std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(k * nt),
-                                           values.begin() + static_cast<std::ptrdiff_t>((k + 1) * nt)));
-      j["hks"] = rows;
-    }
+    j["t"] = r.t;
+    j["t_spec"] = r.t_spec;
   }
-  j["factor_cache"] = factor_cache_json(so.cache, F);
-  j["timings"] = timings(in, {{"operator_s", H.operator_s},
-                  {"order_s", H.order_s}, {"analyze_s", H.analyze_s}, {"numeric_s", H.numeric_s}});
-  if (!previews.empty()) {
-    Json files = Json::array();
-    for (const auto& [t, path] : previews) {
-      std::vector<double> shown(count);
-      for (size_t k = 0; k < count; ++k) shown[k] = values[k * nt + t];
-      const std::string name = command == "adf" ? std::string("adf") : "hks_" + std::to_string(t);
-      write_preview(m, shown, PreviewKind::Scalar, so.preview,
-                    {name + " = (M - tL)^-1_ii at t = " + format_number(ts[t]) + " (" + so.t_texts[t] + ")" +
-                         (nt > 1 ? ", t " + std::to_string(t + 1) + " of " + std::to_string(nt) : ""),
-                     {}, "", false, /*clip=*/0.01},
-                    path);
-      files.push_back(path);
-    }
-    j["preview"] = files.size() == 1 ? files[0] : files;
+  j["threads"] = threads_used(opt);
+  j["nnz_L"] = r.nnz_L;
+  j["supernodes"] = r.supernodes;
+  j["etree_height"] = r.etree_height;
+  j["factor_s"] = r.factor_s();
+  j["query_s"] = r.query_s;
+  j["evaluated"] = r.count();
+  j.update(values_json(command, r));
+  if (r.all && !opt.output.empty()) j["output"] = opt.output;
+  j["factor_cache"] = factor_cache_json(r.factor_cache);
+  j["timings"] = timings(in, {{"operator_s", r.operator_s},
+                              {"order_s", r.order_s},
+                              {"analyze_s", r.analyze_s},
+                              {"numeric_s", r.numeric_s}});
+  return j;
+}
+
+Json write_previews(const Input& in, const HeatSignatureCli& so, const Previews& previews,
+                    const HeatSignatureReport& r) {
+  Json files = Json::array();
+  const size_t nt = r.t.size();
+  for (const auto& [t, path] : previews) {
+    write_preview(in.mesh, values_at(r, t), PreviewKind::Scalar, so.preview,
+                  {property_name(so.command, t) + " = (M - tL)^-1_ii at t = " + format_number(r.t[t]) + " (" +
+                       r.t_spec[t] + ")" + (nt > 1 ? ", t " + std::to_string(t + 1) + " of " + std::to_string(nt) : ""),
+                   {}, "", false, /*clip=*/0.01},
+                  path);
+    files.push_back(path);
   }
+  return files.size() == 1 ? files[0] : files;
+}
+
+}  // namespace
+
+void add_heat_signature_options(CLI::App* app, HeatSignatureCli& so) {
+  const bool adf = so.command == "adf";
+  app->add_option("--vertices", so.vertices, "Comma-separated vertex ids to evaluate (values go to the JSON)");
+  app->add_flag("--all", adf ? so.adf.all : so.hks.all, "Evaluate every vertex (needed for -o)");
+  app->add_option("--method", adf ? so.adf.method : so.hks.method,
+                  "subset (etree path per vertex, default), selinv (selected inversion, all vertices at once) or full "
+                  "(one full solve per vertex; slow reference)")
+      ->check(CLI::IsMember({"subset", "selinv", "full"}));
+  add_factor_cache_options(app, adf ? so.adf.save : so.hks.save, adf ? so.adf.load : so.hks.load);
+  add_preview_option(app, so.preview);
+}
+
+int run_heat_signature(const CommonOptions& opt, HeatSignatureCli& so, const RunContext& ctx) {
+  const Previews previews = check_usage(opt, so);
+  const bool adf = so.command == "adf";
+  const Input in = load_input(opt, ctx);
+  check_file_vertices(adf ? so.adf.vertices : so.hks.vertices, in.mesh.num_vertices(), "--vertices");
+  const Session session{Mesh(in.mesh), session_options(in)};
+  const HeatSignatureReport r = adf ? session.adf(so.adf, ctx) : session.hks(so.hks, ctx);
+  write_values(opt, in, so.command, r);
+  Json j = signature_json(opt, in, so.command, r);
+  if (!previews.empty()) j["preview"] = write_previews(in, so, previews, r);
   emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": " << command << " by " << adf_method_name(method) << ", n " << m.num_vertices()
-       << ", etree height " << H.symbolic->etree_height << "\n  factor " << factor_s << " s (" << nt
-       << " t), values " << query_s << " s for " << count << " vertices\n";
-    if (!so.all)
-      for (size_t k = 0; k < count; ++k) {
-        os << "  vertex " << vertices[k] << ":";
-        for (size_t t = 0; t < nt; ++t) os << " " << values[k * nt + t];
+    os << opt.mesh_path << ": " << so.command << " by " << r.method << ", n " << r.n << ", etree height "
+       << r.etree_height << "\n  factor " << r.factor_s() << " s (" << r.t.size() << " t), values " << r.query_s
+       << " s for " << r.count() << " vertices\n";
+    if (!r.all)
+      for (size_t k = 0; k < r.count(); ++k) {
+        os << "  vertex " << r.vertices[k] << ":";
+        for (size_t t = 0; t < r.t.size(); ++t) os << " " << r.values[k * r.t.size() + t];
         os << "\n";
       }
   });
@@ -229,14 +218,14 @@ int run_heat_signature(const std::string& command, const CommonOptions& opt, con
 }
 
 void register_hks_command(CommandTable& table) {
-  auto so = std::make_shared<HeatSignatureCliOptions>();
-  auto ts = std::make_shared<std::string>();
+  auto so = std::make_shared<HeatSignatureCli>();
+  so->command = "hks";
   CLI::App* app = table.add("hks", "Heat kernel signature (thesis 4.6): (M - tL)^{-1}_ii for several t",
-                            [so, ts](const CommonOptions& opt, const RunContext& ctx) {
-                              so->t_texts = split_list(*ts, "--ts");
-                              return run_heat_signature("hks", opt, *so, ctx);
+                            [so](const CommonOptions& opt, const RunContext& ctx) {
+                              return run_heat_signature(opt, *so, ctx);
                             });
-  app->add_option("--ts", *ts, "Comma-separated diffusion times: absolute (1e-3) or multiples of h^2 (1h2,10h2,100h2)")
+  app->add_option("--ts", so->ts,
+                  "Comma-separated diffusion times: absolute (1e-3) or multiples of h^2 (1h2,10h2,100h2)")
       ->required();
   add_heat_signature_options(app, *so);
   app->add_option("--preview-t", so->preview_t,

@@ -63,7 +63,14 @@ void print_human(std::ostream& os, const CommonOptions& opt, const Input& in, co
   if (r.first_unreferenced_vertex >= 0) os << " (first: vertex " << r.first_unreferenced_vertex << ")";
   os << std::setprecision(6) << "\n  bbox [" << r.bbox_min[0] << ", " << r.bbox_min[1] << ", " << r.bbox_min[2]
      << "] - [" << r.bbox_max[0] << ", " << r.bbox_max[1] << ", " << r.bbox_max[2] << "]\n  mean edge length "
-     << r.mean_edge_length << "\n  load " << in.load_s << " s";
+     << r.mean_edge_length;
+  if (in.op.robust) os << "\n  operator robust (" << in.op.reason() << ")";
+  if (in.attributes.asset) {
+    const AssetReport& a = in.attributes.asset_report;
+    os << "\n  " << a.format << ": " << a.file_vertices << " file vertices, " << a.welded_vertices
+       << " welded by position (--no-weld keeps them)";
+  }
+  os << "\n  load " << in.load_s << " s";
   if (opt.subdivide > 0) os << ", subdivide " << in.subdivide_s << " s";
   os << ", analysis " << analysis_s << " s\n";
 }

@@ -119,7 +119,7 @@ int run_logmap(const CommonOptions& opt, const LogmapCli& lo, const RunContext& 
   check_preview_options(lo.preview);
   const Input in = load_input(opt, ctx, keeps_polygons(lo.request) ? PolygonFaces::Keep : PolygonFaces::Triangulate);
   check_file_vertex("--center", lo.request.center, in, opt);
-  const Session session{Mesh(in.mesh)};
+  const Session session{Mesh(in.mesh), session_options(in)};
   const LogmapReport r = session.logmap(lo.request, ctx);
   for (const std::string& w : r.warnings) log("warning: " + w);
   write_map(opt, in, r);

@@ -1,6 +1,5 @@
 // `locus param MESH --method perfect|cotan|uniform -o uv.obj --json`: flip-free
-// parameterization of a disk-like polygon mesh (thesis §2.6,
-// pipelines/flipfree_param): boundary on the unit circle by arc length, interior
+// parameterization of a disk-like polygon mesh (thesis §2.6): boundary on the unit circle by arc length, interior
 // from eq. 2.4 with perfect (Algorithm 1), cotan or uniform weights.
 //
 // -o FILE writes the input mesh with the parameterization as texture
@@ -8,88 +7,56 @@
 // degenerate_faces, first_flipped_face, min_corner_sin, negative_weights,
 // min_weight, and for perfect the iteration figures.
 //
-// Structure: options -> what to parameterize (a Domain) -> one solve per domain
-// kind -> common checks and output. The whole mesh (a disk) is the only domain
-// kind so far; a patch around a center vertex (--center V --fraction f) is a
-// second Domain kind: add its options in register_param_command, its branch in
-// parameterize(), and it reuses write/emit unchanged.
+// Both domains are computed by locus::Session::param (engine/include/locus/
+// engine/param_request.hpp), which owns the checks; the patch mode's output
+// is cmd_param_patch.cpp's.
 #include <ostream>
 
 #include "locus/mesh_io.hpp"
-#include "locus/pipelines/laplacian/flipfree_param.hpp"
+#include "locus/session.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/param_patch.hpp"
 
 namespace locus::cli {
 namespace {
 
-struct ParamCliOptions {
-  std::string method = "perfect";
-  int iters = 1000;
-  double eps = 1e-6;
-  int center = -1;        // --center V: patch mode (tools/cli/param_patch.hpp)
-  double fraction = 0.1;  // --fraction f of the vertices in the patch
-  std::string boundary = "neumann";  // --boundary: patch mode's boundary data (param_patch.hpp)
-  FactorCacheOptions cache;  // --save / --load: patch mode only (the disk methods refactor per iteration)
-};
-
-// What is parameterized.
-enum class Domain { WholeDisk };
-
-struct ParamRun {
-  Domain domain = Domain::WholeDisk;
-  FlipFreeParamResult result;
-};
-
-ParamRun parameterize(const Mesh& mesh, const ParamCliOptions& po, const RunContext& ctx) {
-  FlipFreeParamOptions o;
-  o.method = parse_param_method(po.method);
-  o.iteration.max_iterations = po.iters;
-  o.iteration.eps = po.eps;
-  ParamRun run;
-  run.domain = Domain::WholeDisk;
-  run.result = flipfree_param(mesh, o, ctx);
-  return run;
-}
-
-int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunContext& ctx) {
-  check_uv_output(opt, "param");
-  if (po.center >= 0) return run_param_patch(opt, po.center, po.fraction, po.boundary, po.cache, ctx);
-  if (po.boundary != "neumann")
-    fail(ErrorCode::BadUsage, "param: --boundary applies to the patch mode (--center V)");
-  if (!po.cache.save.empty() || !po.cache.load.empty())
-    fail(ErrorCode::BadUsage, "param: --save / --load apply to the patch mode (--center V); the disk methods "
-                              "factor a new matrix per iteration");
-  parse_param_method(po.method);  // bad usage before reading the file
-  Input in = load_input(opt, ctx, PolygonFaces::Keep);
-  const ParamRun run = parameterize(in.mesh, po, ctx);
-  const FlipFreeParamResult& r = run.result;
-  if (!opt.output.empty()) {
-    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
-    wo.uv = &r.uv;
-    write_mesh(opt.output, in.mesh, wo);
-  }
+Json disk_json(const CommonOptions& opt, const Input& in, const ParamRequest& q, const ParamReport& r) {
   Json j{{"command", "param"}, {"input", input_json(opt, in)}};
   j["domain"] = "disk";
-  j["method"] = po.method;
-  j["flipped_faces"] = r.faces.flipped_faces;
-  j["degenerate_faces"] = r.faces.degenerate_faces;
-  j["first_flipped_face"] = r.faces.first_flipped;
-  j["min_corner_sin"] = r.faces.min_corner_sin;
+  j["method"] = q.method;
+  j["flipped_faces"] = r.flipped_faces;
+  j["degenerate_faces"] = r.degenerate_faces;
+  j["first_flipped_face"] = r.first_flipped_face;
+  j["min_corner_sin"] = r.min_corner_sin;
   j["negative_weights"] = r.negative_weights;
   j["min_weight"] = r.min_weight;
-  if (po.method == "perfect") {
+  if (q.method == "perfect") {
     j["converged"] = r.converged;
     j["iterations"] = r.iterations;
     j["zero_weights"] = r.zero_weights;
     j["first_iter_s"] = r.first_iter_s;
     j["iter_s"] = r.iter_s;
   }
-  j["timings"] = timings(in, {{"param_s", r.total_s}});
-  emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": " << po.method << " parameterization\n  flipped faces " << r.faces.flipped_faces
-       << ", degenerate faces " << r.faces.degenerate_faces << ", negative weights " << r.negative_weights << "\n";
-    if (po.method == "perfect")
+  j["timings"] = timings(in, {{"param_s", r.param_s}});
+  return j;
+}
+
+int run_param(const CommonOptions& opt, const ParamRequest& q, const RunContext& ctx) {
+  check_uv_output(opt, "param");
+  if (q.center >= 0) return run_param_patch(opt, q, ctx);
+  check_request(q);  // bad usage before reading the file
+  const Input in = load_input(opt, ctx, PolygonFaces::Keep);
+  const Session session{Mesh(in.mesh), session_options(in)};
+  const ParamReport r = session.param(q, ctx);
+  if (!opt.output.empty()) {
+    WriteOptions wo = carried_attributes(in, false, /*result_uv=*/true);
+    wo.uv = &r.uv;
+    write_mesh(opt.output, in.mesh, wo);
+  }
+  emit(opt, disk_json(opt, in, q, r), [&](std::ostream& os) {
+    os << opt.mesh_path << ": " << q.method << " parameterization\n  flipped faces " << r.flipped_faces
+       << ", degenerate faces " << r.degenerate_faces << ", negative weights " << r.negative_weights << "\n";
+    if (q.method == "perfect")
       os << "  Algorithm 1: " << (r.converged ? "converged" : "NOT converged") << " after " << r.iterations
          << " iterations\n";
   });
@@ -99,7 +66,7 @@ int run_param(const CommonOptions& opt, const ParamCliOptions& po, const RunCont
 }  // namespace
 
 void register_param_command(CommandTable& table) {
-  auto po = std::make_shared<ParamCliOptions>();
+  auto po = std::make_shared<ParamRequest>();
   CLI::App* app = table.add("param", "Flip-free parameterization of a disk (thesis 2.6): perfect, cotan or uniform weights",
                             [po](const CommonOptions& opt, const RunContext& ctx) { return run_param(opt, *po, ctx); });
   app->add_option("--method", po->method, "perfect (Algorithm 1), cotan or uniform (default perfect)");
@@ -112,7 +79,7 @@ void register_param_command(CommandTable& table) {
                   "Patch mode: neumann (eq. 4.6 on the global factor, default) or circle (boundary fixed on a "
                   "circle, factor of the patch by the factor-once update; flip-free on disk patches with "
                   "positive weights)");
-  add_factor_cache_options(app, po->cache);
+  add_factor_cache_options(app, po->save, po->load);
 }
 
 }  // namespace locus::cli

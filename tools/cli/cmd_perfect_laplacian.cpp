@@ -1,6 +1,8 @@
 // `locus perfect-laplacian MESH [--planar] [--iters K] [--eps E] [--method newton|multiplicative]
 //  [--anderson M] [--no-active-set] [--noise A] -o out.obj --json`:
-// Algorithm 1 of thesis chapter 2 (pipelines/perfect_laplacian) on a polygon mesh.
+// Algorithm 1 of thesis chapter 2 on a polygon mesh; a client of
+// locus::Session::perfect_laplacian (engine/include/locus/engine/
+// laplacian_requests.hpp), which owns the checks and the computation.
 // --method newton (default) reaches its steady state by the interior-point Newton
 // method of pipelines/include/locus/pipelines/laplacian/perfect_laplacian_newton.hpp; multiplicative is the update
 // of eq. 2.8 with Anderson acceleration (--anderson) and the active set
@@ -26,113 +28,51 @@
 // excess of a zero-weight edge over the common ratio; <= 1e-4 when steady);
 // method, factorizations (line-search trials included), hessian_products (Newton:
 // CG steps, one solve each).
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <ostream>
 #include <string>
 
-#include "locus/kernels/mesh/mesh_topology.hpp"
-#include "locus/pipelines/laplacian/perfect_laplacian.hpp"
-#include "tools/cli/cli_common.hpp"
+#include "locus/engine/laplacian_requests.hpp"
 #include "locus/io/atomic_file_write.hpp"
-#include "locus/io/file_extension.hpp"
+#include "locus/session.hpp"
+#include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {
 namespace {
 
-struct PerfectLaplacianCliOptions {
-  bool planar = false;
-  int iters = 1000;
-  double eps = 1e-6;
-  std::string method = "newton";
-  int anderson = 6;
-  bool no_active_set = false;
-  double noise = 0;
-};
-
-// Seeded uniform offsets in [-a h, a h] per coordinate (splitmix64: the same on every platform).
-void add_noise(Mesh& m, double a, uint64_t seed) {
-  const Edges E = unique_edges(m);
-  double h = 0;
-  for (size_t e = 0; e < E.e0.size(); ++e) {
-    const int32_t p = E.e0[e], q = E.e1[e];
-    h += std::sqrt((m.x[q] - m.x[p]) * (m.x[q] - m.x[p]) + (m.y[q] - m.y[p]) * (m.y[q] - m.y[p]) +
-                   (m.z[q] - m.z[p]) * (m.z[q] - m.z[p]));
-  }
-  if (!E.e0.empty()) h /= static_cast<double>(E.e0.size());
-  uint64_t s = seed * 0x2545f4914f6cdd1dULL + 0x6a09e667f3bcc909ULL;
-  auto uniform = [&s]() {
-    uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  };
-  for (int32_t v = 0; v < m.num_vertices(); ++v) {
-    m.x[v] += a * h * (2 * uniform() - 1);
-    m.y[v] += a * h * (2 * uniform() - 1);
-    m.z[v] += a * h * (2 * uniform() - 1);
-  }
-}
-
-void write_weights(const std::string& path, const MeshPerfectLaplacianResult& R) {
+void write_weights(const std::string& path, const PerfectLaplacianCommandReport& r) {
   io::write_file_atomically(path, [&](std::ostream& os) {
     os << std::setprecision(17);
-    for (size_t e = 0; e < R.e0.size(); ++e) os << R.e0[e] << ' ' << R.e1[e] << ' ' << R.run.weights[e] << '\n';
+    for (size_t e = 0; e < r.weights.size(); ++e)
+      os << r.edges[2 * e] << ' ' << r.edges[2 * e + 1] << ' ' << r.weights[e] << '\n';
   });
 }
 
-int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const RunContext& ctx) {
-  Input in = load_input(opt, ctx, PolygonFaces::Keep);
-  if (po.noise > 0) add_noise(in.mesh, po.noise, opt.seed);
-  MeshPerfectLaplacianOptions mo;
-  mo.planar = po.planar;
-  mo.iteration.max_iterations = po.iters;
-  mo.iteration.eps = po.eps;
-  mo.iteration.anderson_depth = po.anderson;
-  mo.iteration.drop_decaying = !po.no_active_set;
-  mo.iteration.method =
-      po.method == "multiplicative" ? PerfectLaplacianMethod::multiplicative : PerfectLaplacianMethod::newton;
-  Stopwatch sw;
-  const MeshPerfectLaplacianResult R = perfect_laplacian(in.mesh, mo, ctx);
-  const double total_s = sw.seconds();
-
-  if (!opt.output.empty()) {
-    Mesh out = in.mesh;
-    const Coords& p = R.mode == "planar" ? R.run.pos : R.aligned;
-    out.x = p[0];
-    out.y = p[1];
-    out.z = p[2];
-    write_output_mesh(opt, out, carried_attributes(in, /*positions_changed=*/true));
-    write_weights(opt.output + ".weights.txt", R);
-  }
-  const auto& r = R.run;
+Json perfect_laplacian_json(const CommonOptions& opt, const Input& in, const PerfectLaplacianCommandRequest& q,
+                            const PerfectLaplacianCommandReport& r) {
   Json j{{"command", "perfect-laplacian"}, {"input", input_json(opt, in)}};
-  j["mode"] = R.mode;
-  j["boundary_loops"] = R.boundary_loops;
-  j["boundary_on_circle"] = R.boundary_on_circle;
-  j["pinned_vertices"] = R.pinned;
-  j["n_edges"] = R.e0.size();
+  j["mode"] = r.mode;
+  j["boundary_loops"] = r.boundary_loops;
+  j["boundary_on_circle"] = r.boundary_on_circle;
+  j["pinned_vertices"] = r.pinned_vertices;
+  j["n_edges"] = r.weights.size();
   j["converged"] = r.converged;
   j["iterations"] = r.iterations;
   j["last_change_rel"] = r.last_change_rel;
   j["min_weight"] = r.min_weight;
   j["min_positive_weight"] = r.min_positive_weight;
   j["zero_weights"] = r.zero_weights;
-  j["weights_at_floor"] = r.at_floor;
-  j["weights_revived"] = r.revived;
+  j["weights_at_floor"] = r.weights_at_floor;
+  j["weights_revived"] = r.weights_revived;
   j["kkt_rounds"] = r.kkt_rounds;
   j["kkt_violation"] = r.kkt_violation;
-  j["active_set"] = !po.no_active_set;
-  j["noise"] = po.noise;
-  j["max_displacement_rel"] = R.max_displacement_rel;
-  j["mean_displacement_rel"] = R.mean_displacement_rel;
-  j["align_scale"] = R.align_scale;
-  j["anderson_depth"] = po.anderson;
-  j["method"] = po.method;
+  j["active_set"] = !q.no_active_set;
+  j["noise"] = q.noise;
+  j["max_displacement_rel"] = r.max_displacement_rel;
+  j["mean_displacement_rel"] = r.mean_displacement_rel;
+  j["align_scale"] = r.align_scale;
+  j["anderson_depth"] = q.anderson;
+  j["method"] = q.method;
   j["factorizations"] = r.factorizations;
   j["hessian_products"] = r.hessian_products;
   j["order_s"] = r.order_s;
@@ -140,14 +80,30 @@ int run(const CommonOptions& opt, const PerfectLaplacianCliOptions& po, const Ru
   j["first_iter_s"] = r.first_iter_s;
   j["iter_s"] = r.iter_s;
   j["iter_ratio"] = r.first_iter_s > 0 ? r.iter_s / r.first_iter_s : 0.0;
-  j["timings"] = timings(in, {{"rhs_s", R.rhs_s}, {"total_s", total_s}});
+  j["timings"] = timings(in, {{"rhs_s", r.rhs_s}, {"total_s", r.total_s}});
   if (!opt.output.empty()) j["weights_file"] = opt.output + ".weights.txt";
-  emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": perfect Laplacian (" << R.mode << (R.boundary_on_circle ? ", boundary on a circle" : "")
+  return j;
+}
+
+int run(const CommonOptions& opt, PerfectLaplacianCommandRequest& q, const RunContext& ctx) {
+  q.seed = opt.seed;
+  check_request(q);
+  const Input in = load_input(opt, ctx, PolygonFaces::Keep);
+  const Session session{Mesh(in.mesh), session_options(in)};
+  const PerfectLaplacianCommandReport r = session.perfect_laplacian(q, ctx);
+  if (!opt.output.empty()) {
+    Mesh out = in.mesh;
+    for (int32_t v = 0; v < out.num_vertices(); ++v)
+      out.x[v] = r.xyz[3 * size_t(v)], out.y[v] = r.xyz[3 * size_t(v) + 1], out.z[v] = r.xyz[3 * size_t(v) + 2];
+    write_output_mesh(opt, out, carried_attributes(in, /*positions_changed=*/true));
+    write_weights(opt.output + ".weights.txt", r);
+  }
+  emit(opt, perfect_laplacian_json(opt, in, q, r), [&](std::ostream& os) {
+    os << opt.mesh_path << ": perfect Laplacian (" << r.mode << (r.boundary_on_circle ? ", boundary on a circle" : "")
        << ")\n  " << (r.converged ? "converged" : "NOT converged") << " after " << r.iterations << " iterations\n"
-       << "  min weight " << r.min_weight << ", " << r.zero_weights << " numerically zero of " << R.e0.size()
-       << "\n  displacement after similarity alignment: max " << R.max_displacement_rel << ", mean "
-       << R.mean_displacement_rel << " of the bbox diagonal\n  first iteration " << r.first_iter_s
+       << "  min weight " << r.min_weight << ", " << r.zero_weights << " numerically zero of " << r.weights.size()
+       << "\n  displacement after similarity alignment: max " << r.max_displacement_rel << ", mean "
+       << r.mean_displacement_rel << " of the bbox diagonal\n  first iteration " << r.first_iter_s
        << " s, later iterations (median) " << r.iter_s << " s\n";
   });
   return 0;  // not converging within --iters is a result (reported), not an error
@@ -169,7 +125,7 @@ void register_perfect_laplacian_commands(CommandTable& table) {
 }
 
 void register_perfect_laplacian_command(CommandTable& table) {
-  auto po = std::make_shared<PerfectLaplacianCliOptions>();
+  auto po = std::make_shared<PerfectLaplacianCommandRequest>();
   CLI::App* app = table.add(
       "perfect-laplacian",
       "Algorithm 1 (thesis ch. 2): a perfect Laplacian and the nearby mesh it belongs to; weights to OUT.weights.txt",

@@ -1,34 +1,29 @@
 // `locus voronoi MESH`: the heat-diffusion Voronoi diagram of a set of
-// generators (thesis §3.4, eqs. 3.15-3.21; pipelines/include/locus/pipelines/voronoi/heat_voronoi.hpp): one
-// factorization of M - t L_C, heat of 8 generators per solve, vertex labels by
-// the hottest generator, and the diagram's curves as OBJ polylines (`v` and `l`
-// lines) with -o. Generators are vertex ids (--sites) or seeded random surface
-// points (--random N --seed S).
-#include <algorithm>
+// generators (thesis §3.4, eqs. 3.15-3.21), computed by locus::voronoi_command
+// (engine/include/locus/engine/voronoi_request.hpp): one factorization of
+// M - t L_C, heat of 8 generators per solve, vertex labels by the hottest
+// generator, and the diagram's curves as OBJ polylines (`v` and `l` lines) with
+// -o. Generators are vertex ids (--sites) or seeded random surface points
+// (--random N --seed S).
 #include <climits>
-#include <fstream>
-#include <sstream>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "locus/engine/voronoi_request.hpp"
 #include "locus/error.hpp"
-#include "locus/kernels/heat/heat_diffusion.hpp"
-#include "locus/kernels/heat/surface_point.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
-#include "tools/cli/cli_common.hpp"
 #include "locus/io/atomic_file_write.hpp"
 #include "locus/io/file_extension.hpp"
-#include "tools/cli/heat_factor_cache.hpp"
+#include "locus/session.hpp"
+#include "tools/cli/cli_common.hpp"
 
 namespace locus::cli {
 namespace {
 
 struct VoronoiOptions {
+  VoronoiCommandRequest request;
   std::string sites_text;
-  int32_t random = 0;
-  std::string t_text;
-  FactorCacheOptions fc;
   PreviewOptions preview;
 };
 
@@ -55,7 +50,7 @@ std::vector<int32_t> parse_ids(const std::string& text) {
 
 // The diagram's bisector polylines: OBJ `l` lines, or PLY vertices plus an
 // `edge` element (vertex1, vertex2), which MeshLab and Blender's importer read.
-void write_polylines(const std::string& path, const VoronoiDiagram& D) {
+void write_polylines(const std::string& path, const VoronoiCommandReport& D) {
   std::ostringstream os;
   os.precision(17);
   const size_t np = D.points.size() / 3;
@@ -81,80 +76,67 @@ void write_polylines(const std::string& path, const VoronoiDiagram& D) {
   io::write_file_atomically(path, os.str());
 }
 
-int run_voronoi(const CommonOptions& opt, const VoronoiOptions& o, const RunContext& ctx) {
+Json voronoi_json(const CommonOptions& opt, const Input& in, const VoronoiCommandReport& r) {
+  Json j{{"command", "voronoi"}, {"input", input_json(opt, in)}};
+  j["n"] = r.n;
+  j["sites"] = r.site_xyz.size() / 3;
+  j["seed"] = opt.seed;
+  j["h"] = r.h;
+  j["t"] = r.t;
+  j["batches"] = r.batches;
+  j["diagram_points"] = r.points.size() / 3;
+  j["diagram_segments"] = r.segments;
+  j["polylines"] = r.polylines.size();
+  j["corners"] = r.corners;
+  j["empty_cells"] = r.empty_cells;
+  j["vertices_without_heat"] = r.vertices_without_heat;
+  j["values_solved_again"] = r.values_solved_again;
+  j["factor_cache"] = factor_cache_json(r.factor_cache);
+  j["timings"] = timings(in, {{"operator_s", r.operator_s},
+                              {"order_s", r.order_s},
+                              {"analyze_s", r.analyze_s},
+                              {"factor_s", r.factor_s},
+                              {"prepare_s", r.prepare_s},
+                              {"solve_s", r.solve_s},
+                              {"diagram_s", r.diagram_s}});
+  return j;
+}
+
+int run_voronoi(const CommonOptions& opt, VoronoiOptions& o, const RunContext& ctx) {
   if (!opt.output.empty() && io::lower_extension(opt.output) == "off")
     fail(ErrorCode::BadUsage, "-o " + opt.output + ": OFF cannot hold the diagram's polylines; use .obj or .ply");
-  if (o.sites_text.empty() == (o.random <= 0)) fail(ErrorCode::BadUsage, "give either --sites or --random N (N > 0)");
-  const TimeSpec ts = o.t_text.empty() ? TimeSpec{} : parse_time_spec(o.t_text);
-  validate_factor_cache_options(o.fc);
+  VoronoiCommandRequest& q = o.request;
+  q.seed = opt.seed;
+  if (!o.sites_text.empty()) {
+    const std::vector<int32_t> ids = parse_ids(o.sites_text);
+    q.sites.assign(ids.begin(), ids.end());
+  }
+  check_request(q);
   check_preview_options(o.preview);
-  const std::vector<int32_t> ids = o.sites_text.empty() ? std::vector<int32_t>{} : parse_ids(o.sites_text);
-  Input in = load_input(opt, ctx);
-  const Mesh& mesh = in.mesh;
-  std::vector<SurfacePoint> sites;
-  for (size_t k = 0; k < ids.size(); ++k) {
-    if (ids[k] >= mesh.num_vertices())
-      fail(ErrorCode::BadInput, "--sites entry " + std::to_string(k) + " is vertex " + std::to_string(ids[k]) +
-                                    ", but the mesh has " + std::to_string(mesh.num_vertices()) + " vertices");
-    sites.push_back(vertex_point(ids[k]));
-  }
-  ctx.check_cancel();
-  Stopwatch sw;
-  // Requirements are checked inside; t as a multiple of h^2 needs h first.
-  Factors cache;
-  const HeatDiffusion H = heat_diffusion_cached(o.fc, mesh, ts, ctx, cache);
-  const double prepare_s = sw.seconds();
-  if (o.random > 0) sites = random_surface_points(mesh, o.random, opt.seed);
-  if (static_cast<int64_t>(sites.size()) > mesh.num_vertices())
-    fail(ErrorCode::BadInput, "more generators than vertices");
-  ctx.check_cancel();
-  sw.restart();
-  const HeatVoronoi V = heat_voronoi(H, mesh, sites, {}, {}, ctx);
-  const double solve_s = sw.seconds();
-  sw.restart();
-  const VoronoiDiagram D = extract_voronoi_diagram(H, mesh, sites, V, ctx);
-  const double diagram_s = sw.seconds();
-  std::vector<int64_t> cell_size(sites.size(), 0);
-  for (int32_t l : V.label) ++cell_size[l];
-  const int64_t empty = std::count(cell_size.begin(), cell_size.end(), 0);
-  // Heat decays like exp(-r / sqrt(t)) and underflows to 0 far from every generator
-  // (small t, few generators); such vertices are labelled by the smallest generator id,
-  // which makes noisy cells: report them so the user can raise --t.
-  int64_t cold = 0;
-  for (int32_t v = 0; v < mesh.num_vertices(); ++v) cold += !(V.top_value[static_cast<size_t>(v) * kVoronoiTopK] > 0);
-
-  if (!opt.output.empty()) write_polylines(opt.output, D);
+  const Input in = load_input(opt, ctx);
+  for (size_t k = 0; k < q.sites.size(); ++k)
+    if (q.sites[k] >= in.mesh.num_vertices())
+      fail(ErrorCode::BadInput, "--sites entry " + std::to_string(k) + " is vertex " + std::to_string(q.sites[k]) +
+                                    ", but the mesh has " + std::to_string(in.mesh.num_vertices()) + " vertices");
+  const Session session{Mesh(in.mesh), session_options(in)};
+  const VoronoiCommandReport r = voronoi_command(session, q, ctx);
+  const size_t ns = r.site_xyz.size() / 3;
+  if (!opt.output.empty()) write_polylines(opt.output, r);
   if (!o.preview.path.empty()) {
-    PreviewContent pc{"heat voronoi cells of " + std::to_string(sites.size()) + " generators", {}, "generators"};
-    for (const SurfacePoint& p : sites) pc.markers.push_back(surface_point_position(mesh, p));
-    write_preview(mesh, std::vector<double>(V.label.begin(), V.label.end()), PreviewKind::Labels, o.preview, pc);
+    PreviewContent pc{"heat voronoi cells of " + std::to_string(ns) + " generators", {}, "generators"};
+    for (size_t k = 0; k < ns; ++k) pc.markers.push_back({r.site_xyz[3 * k], r.site_xyz[3 * k + 1], r.site_xyz[3 * k + 2]});
+    write_preview(in.mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, o.preview, pc);
   }
-  Json j{{"command", "voronoi"}, {"input", input_json(opt, in)}};
-  j["n"] = mesh.num_vertices();
-  j["sites"] = sites.size();
-  j["seed"] = opt.seed;
-  j["h"] = H.h;
-  j["t"] = H.t;
-  j["batches"] = V.batches;
-  j["diagram_points"] = D.points.size() / 3;
-  j["diagram_segments"] = D.segments.size() / 2;
-  j["polylines"] = D.polylines.size();
-  j["corners"] = D.corners;
-  j["empty_cells"] = empty;
-  j["vertices_without_heat"] = cold;
-  j["values_solved_again"] = D.resolved_missing;
-  j["factor_cache"] = factor_cache_json(o.fc, cache);
-  j["timings"] = timings(in, {{"operator_s", H.operator_s},
-                  {"order_s", H.order_s},     {"analyze_s", H.analyze_s},      {"factor_s", H.factor_s},
-                  {"prepare_s", prepare_s},   {"solve_s", solve_s},            {"diagram_s", diagram_s}});
-  emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": heat Voronoi diagram of " << sites.size() << " generators on " << mesh.num_vertices()
-       << " vertices (t = " << H.t << ")\n"
-       << "  factor " << prepare_s << " s, heat solves " << solve_s << " s (" << V.batches << " batches of 8), diagram "
-       << diagram_s << " s\n"
-       << "  " << D.polylines.size() << " polylines, " << D.corners << " corners, " << empty << " empty cells\n";
-    if (cold > 0)
-      os << "  " << cold << " vertices received no heat (underflow far from every generator): raise --t\n";
+  emit(opt, voronoi_json(opt, in, r), [&](std::ostream& os) {
+    os << opt.mesh_path << ": heat Voronoi diagram of " << ns << " generators on " << r.n << " vertices (t = " << r.t
+       << ")\n"
+       << "  factor " << r.prepare_s << " s, heat solves " << r.solve_s << " s (" << r.batches
+       << " batches of 8), diagram " << r.diagram_s << " s\n"
+       << "  " << r.polylines.size() << " polylines, " << r.corners << " corners, " << r.empty_cells
+       << " empty cells\n";
+    if (r.vertices_without_heat > 0)
+      os << "  " << r.vertices_without_heat
+         << " vertices received no heat (underflow far from every generator): raise --t\n";
   });
   return 0;
 }
@@ -166,10 +148,11 @@ void register_voronoi_command(CommandTable& table) {
   CLI::App* app = table.add("voronoi", "Heat-diffusion Voronoi diagram of vertex or random generators (OBJ polylines)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_voronoi(opt, *o, ctx); });
   app->add_option("--sites", o->sites_text, "Generators: comma-separated vertex ids");
-  app->add_option("--random", o->random, "Generators: N random surface points (seeded by --seed)")
+  app->add_option("--random", o->request.random, "Generators: N random surface points (seeded by --seed)")
       ->check(CLI::Range(1, 100000000));
-  app->add_option("--t", o->t_text, "Diffusion time: absolute (0.001) or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
-  add_factor_cache_options(app, o->fc);
+  app->add_option("--t", o->request.t, "Diffusion time: absolute (0.001) or a multiple of h^2 (h2, 4h2); default h2")
+      ->check(non_empty());
+  add_factor_cache_options(app, o->request.save, o->request.load);
   add_preview_option(app, o->preview);
 }
 

@@ -5,11 +5,13 @@
 #pragma once
 #include <climits>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "locus/error.hpp"
-#include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/kernels/heat/surface_point.hpp"
+#include "locus/mesh.hpp"
 
 namespace locus::cli {
 

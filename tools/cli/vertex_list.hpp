@@ -42,4 +42,29 @@ inline std::vector<int32_t> parse_vertex_list(const std::string& text, int32_t n
   return ids;
 }
 
+// The ids of a list before the mesh is read (the requests' vertex fields):
+// malformed or negative entries are usage errors, as in parse_vertex_list.
+inline std::vector<int64_t> parse_vertex_ids(const std::string& text, const std::string& option) {
+  std::vector<int64_t> ids;
+  for (const std::string& item : split_list(text, option)) {
+    int64_t v = -1;
+    const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (ec != std::errc() || ptr != item.data() + item.size())
+      fail(ErrorCode::BadUsage, option + ": '" + item + "' is not a vertex index");
+    if (v < 0)
+      fail(ErrorCode::BadUsage, option + ": vertex " + item + " is negative (ids are 0-based)");
+    ids.push_back(v);
+  }
+  return ids;
+}
+
+// The ids against the file's mesh of nv vertices: Error(BadInput) for one
+// beyond it (the refusal depends on the file), worded as parse_vertex_list.
+inline void check_file_vertices(const std::vector<int64_t>& ids, int32_t nv, const std::string& option) {
+  for (int64_t v : ids)
+    if (v >= nv)
+      fail(ErrorCode::BadInput, option + ": vertex " + std::to_string(v) + " is outside 0.." + std::to_string(nv - 1) +
+                                    " (the mesh has " + std::to_string(nv) + " vertices)");
+}
+
 }  // namespace locus::cli

@@ -10,15 +10,18 @@
 #include <system_error>
 #include <utility>
 
+#include "locus/mesh_io.hpp"
+
 namespace locus::runner {
 namespace {
 
 namespace fs = std::filesystem;
 
+// What read_mesh reads: OFF, OBJ, PLY and the asset formats assimp reads (glTF, FBX, ...).
 bool is_mesh_file(const fs::path& p) {
   std::string e = p.extension().string();
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e == ".off" || e == ".obj" || e == ".ply";
+  return e.size() > 1 && is_readable_mesh_extension(e.substr(1));
 }
 
 // The files under a folder: directly inside it, or (recursive) at any depth.

@@ -132,12 +132,41 @@ locus_status locus_set_allocator(locus_alloc_fn alloc, locus_free_fn free_fn, vo
 
 /* Reads a mesh file (.off, .obj, .ply by extension) into a new session.
  * Polygon faces: as locus_session_create_polygons.
- * The mesh must be a manifold triangle mesh with at least one face, finite
- * coordinates, no zero-area faces and no unreferenced vertices (boundaries are
- * fine); otherwise LOCUS_BAD_INPUT naming the file and the element.
+ * The mesh needs at least one face and finite coordinates; with the default
+ * operator (AUTO, below) any triangle soup is taken; with COTAN it must be a
+ * manifold triangle mesh without zero-area faces or unreferenced vertices
+ * (boundaries are fine); otherwise LOCUS_BAD_INPUT naming the file and the element.
  * path: NUL-terminated. out: receives the handle (set to NULL on failure).
  * Builds no operator (queries factor on first use). Thread-safe. */
 locus_status locus_session_create_from_file(const char* path, locus_session** out);
+
+/* The Laplacian a session runs on (locus/engine/operator_choice.hpp), one
+ * name and default in every front end (CLI --operator, Python operator=):
+ * AUTO (the default of every call without options): the cotan operator on a
+ * clean manifold mesh, results bit for bit those of COTAN; the robust operator
+ * (intrinsic Delaunay triangulation of the tufted cover, Sharp & Crane 2020)
+ * when the mesh has a non-manifold edge or vertex, a zero-area or needle face,
+ * inconsistent orientation or unreferenced vertices. COTAN refuses such meshes
+ * (LOCUS_BAD_INPUT naming the element). ROBUST: always the robust operator.
+ * On the robust operator geodesic distance, heat values and the diffusion
+ * calls answer (unreferenced vertices: NaN distances); locus_logmap refuses. */
+typedef enum locus_operator {
+  LOCUS_OPERATOR_AUTO = 0,
+  LOCUS_OPERATOR_COTAN = 1,
+  LOCUS_OPERATOR_ROBUST = 2
+} locus_operator;
+typedef struct locus_session_options {
+  int32_t mesh_operator; /* locus_operator; 0 = AUTO */
+  int32_t no_weld;       /* files read through assimp (glTF, FBX, ...): 1 keeps the file's vertices */
+} locus_session_options;
+
+/* The ..._ex forms take options (NULL = all defaults, as the plain forms). */
+locus_status locus_session_create_from_file_ex(const char* path, const locus_session_options* opt,
+                                               locus_session** out);
+
+/* The operator a session runs on: LOCUS_OPERATOR_COTAN or LOCUS_OPERATOR_ROBUST;
+ * -1 (with a message) when session is NULL. Thread-safe. */
+int32_t locus_session_operator(const locus_session* session);
 
 /* A new session from arrays (copied; the caller keeps ownership):
  * xyz: 3 * nv doubles, vertex i at xyz[3i .. 3i+2], finite;
@@ -147,6 +176,8 @@ locus_status locus_session_create_from_file(const char* path, locus_session** ou
  * Same mesh requirements as locus_session_create_from_file. Thread-safe. */
 locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
                                   locus_session** out);
+locus_status locus_session_create_ex(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
+                                     const locus_session_options* opt, locus_session** out);
 
 /* A triangle mesh in the caller's own buffers: positions as
  * float or double, ids as uint16, uint32 or int32, each at a byte stride, as
@@ -173,6 +204,8 @@ typedef struct locus_mesh_view {
  * triangle); otherwise the requirements of locus_session_create_from_file.
  * Thread-safe. */
 locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out);
+locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, const locus_session_options* opt,
+                                               locus_session** out);
 
 /* Polygon meshes (quads, mixed, n-gons). Faces in CSR form:
  * face f's corners are face_indices[face_offsets[f] .. face_offsets[f + 1]),
@@ -583,5 +616,8 @@ LOCUS_API_END
 #ifdef __cplusplus
 }
 #endif
+
+/* The CLI commands with every option (locus_<command>_options, _run). */
+#include "locus/locus_commands.h"
 
 #endif /* LOCUS_LOCUS_H */

@@ -49,7 +49,13 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/deform_request.hpp"
+#include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/laplacian_requests.hpp"
+#include "locus/engine/nncoords_request.hpp"
+#include "locus/engine/operator_choice.hpp"
+#include "locus/engine/param_request.hpp"
 #include "locus/engine/skinning_requests.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
@@ -289,6 +295,14 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
 // are its triangles: mesh() returns it, triangle_polygon() maps each triangle
 // to the caller's face, polygons() returns the faces as given.
 
+// How a Session builds its operators (engine/include/locus/engine/operator_choice.hpp).
+struct SessionOptions {
+  // auto (default): the cotan operator on a clean manifold mesh, bit for bit as
+  // without options; the robust one when the mesh has defects. cotan: the checks
+  // below refuse a mesh with defects. robust: always the robust operator.
+  OperatorChoice mesh_operator = OperatorChoice::Auto;
+};
+
 class Session {
  public:
   // Takes the mesh and checks it: finite coordinates, at least one face, every
@@ -296,18 +310,33 @@ class Session {
   // zero-area faces, no unreferenced vertices (Error(BadInput) naming the
   // first offender and mesh.source). O(nv + nf); builds no operator.
   explicit Session(Mesh mesh);
+  // With the operator choice: auto or robust take meshes with non-manifold
+  // edges or vertices, zero-area or needle faces, inconsistent orientation or
+  // unreferenced vertices (checked: finite coordinates, a face, indices in
+  // range, triangles or simple polygons). On the robust operator, geodesic
+  // distance (single source, sets, the geodesic request, localized included),
+  // heat values and the diffusion queries run on the intrinsic triangulation of
+  // the tufted cover; unreferenced vertices get NaN distances; logmap refuses
+  // (Error(BadInput)); a polygon mesh then runs on its triangulation.
+  Session(Mesh mesh, const SessionOptions& opt);
   // From the host's buffers (float/double positions, uint16/uint32/int32 ids,
   // byte strides): read once into the Session's mesh, the only copy made
   // (mesh_view.hpp). Same checks as Session(Mesh).
   explicit Session(const MeshView& view);
   // A polygon mesh from the host's buffers (mesh_view.hpp), as Session(Mesh).
   explicit Session(const PolygonMeshView& view);
+  explicit Session(const MeshView& view, const SessionOptions& opt);
+  explicit Session(const PolygonMeshView& view, const SessionOptions& opt);
   static Session from_file(const std::string& path, const ReadOptions& opt = {});
+  static Session from_file(const std::string& path, const ReadOptions& opt, const SessionOptions& so);
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
   ~Session();
+
+  // The operator the Session runs on and why (the defects found; auto and robust).
+  OperatorReport operator_report() const;
 
   int32_t num_vertices() const;
   int32_t num_faces() const;        // triangles of mesh() (of the triangulation for a polygon mesh)
@@ -347,6 +376,22 @@ class Session {
   // statistics the CLI reports. `locus geodesic` / `locus logmap` call these.
   GeodesicReport geodesic(const GeodesicRequest& req, const RunContext& ctx = {}) const;
   LogmapReport logmap(const LogmapRequest& req, const RunContext& ctx = {}) const;
+  // The `adf`, `hks` and `heat` commands (engine/include/locus/engine/
+  // diffusion_requests.hpp), with the command's own factors (the factor cache
+  // files of the request); `locus adf|hks|heat` call these.
+  HeatSignatureReport adf(const AdfRequest& req, const RunContext& ctx = {}) const;
+  HeatSignatureReport hks(const HksRequest& req, const RunContext& ctx = {}) const;
+  HeatReport heat(const HeatRequest& req, const RunContext& ctx = {}) const;
+  // The `nncoords` command (engine/include/locus/engine/nncoords_request.hpp).
+  NncoordsReport nncoords(const NncoordsRequest& req, const RunContext& ctx = {}) const;
+  // The `param` command (engine/include/locus/engine/param_request.hpp):
+  // the disk (faces as given) or a patch, with the CLI's statistics.
+  ParamReport param(const ParamRequest& req, const RunContext& ctx = {}) const;
+  // The `perfect-laplacian` and `selfsupport` commands (engine/include/locus/
+  // engine/laplacian_requests.hpp), on the faces as given.
+  PerfectLaplacianCommandReport perfect_laplacian(const PerfectLaplacianCommandRequest& req,
+                                                  const RunContext& ctx = {}) const;
+  SelfSupportCommandReport self_supporting(const SelfSupportCommandRequest& req, const RunContext& ctx = {}) const;
 
   // Heat values (M - tL)^{-1}_{j,i} for every source i and target j, by exact
   // subset solves (equal to the full solve's entries). Row-major
@@ -363,6 +408,12 @@ class Session {
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
+  // The `deform` command (engine/include/locus/engine/deform_request.hpp):
+  // every option of the CLI and its statistics. With compare_with_refactor
+  // (what `locus deform` reports) also the baseline: the free vertices'
+  // block factored from scratch and solved again.
+  DeformCommandReport deform(const DeformCommandRequest& req, const RunContext& ctx = {},
+                             bool compare_with_refactor = false) const;
 
   // ---- Diffusion, parameterization and chapter-2 pipelines. Each reuses the Session's caches: the
   // heat operator M - tL is factored once per t and serves Voronoi diagrams,

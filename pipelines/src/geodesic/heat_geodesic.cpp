@@ -15,6 +15,7 @@
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/kernels/mesh/robust_heat_operators.hpp"
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
@@ -109,7 +110,7 @@ CscMatrix HeatGeodesic::poisson_operator(const Mesh& m, const HeatGeodesicOption
   return regularized_laplacian(m, opt.poisson_rel / std::max<int32_t>(1, m.num_vertices()), inc);
 }
 
-void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
+void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given, const RobustOperators* robust) {
   const HeatGeodesicOptions& opt = opt_;
   if (!(opt.t_factor > 0) || !std::isfinite(opt.t_factor))
     fail(ErrorCode::BadUsage, "heat geodesic: t_factor must be a finite positive number (got " +
@@ -119,17 +120,19 @@ void HeatGeodesic::prepare(const Mesh& m, const MeshDerived* given) {
     fail(ErrorCode::BadUsage, "heat geodesic: poisson_rel must be a finite positive number");
   if (!(opt.mass_blend >= 0 && opt.mass_blend <= 1))
     fail(ErrorCode::BadUsage, "heat geodesic: mass_blend must be in [0, 1] (got " + std::to_string(opt.mass_blend) + ")");
+  // The robust operator's intrinsic triangles take any triangle soup; the
+  // cotan operator's extrinsic ones need a manifold without needles.
   const MeshRequirements req = heat_requirements();
-  if (!given || !requirements_checked(*given, req)) check_requirements(m, req);
+  if (!robust && (!given || !requirements_checked(*given, req))) check_requirements(m, req);
   if (given) check_derived_of(*given, m, "heat geodesic");
-  check_needles(m);
+  if (!robust) check_needles(m);
   if (m.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(m) + ": the mesh has no vertices");
   MeshDerived own;
   if (!given) own = derive_mesh(m);  // edges once: components, h (gradients' threshold and t)
   const MeshDerived& d = given ? *given : own;
   num_components_ = d.components;
   component_.assign(d.component.begin(), d.component.end());
-  grad_ = triangle_gradients(m, d.h);
+  grad_ = robust ? intrinsic_triangle_gradients(robust->triangulation) : triangle_gradients(m, d.h);
   // Corner records in vertex-face order (see build_region).
   vf_corners_.resize(4 * grad_.vf_faces.size());
   for (size_t q = 0; q < grad_.vf_faces.size(); ++q) {
@@ -198,6 +201,11 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
     ctx.report(kOrderBegin, "prepare heat method");
     S = order_and_analyze(A);
   }
+  factor_both(A, P, S, ctx);
+}
+
+void HeatGeodesic::factor_both(const CscMatrix& A, const CscMatrix& P, const std::shared_ptr<const SymbolicFactor>& S,
+                               const RunContext& ctx) {
   ctx.check_cancel();
   {
     auto bytes = [](const auto& v) { return static_cast<double>(v.size() * sizeof(v[0])); };
@@ -214,6 +222,24 @@ HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, const 
   tbb::parallel_invoke([&] { heat_ = factorize(S, A, ctx.sub(kFactorBegin, 1.0)); },
                        [&] { poisson_ = factorize(S, P, poisson_ctx); });
   vertex_super_ = locus::vertex_supernodes(*S);
+}
+
+HeatGeodesic::HeatGeodesic(const Mesh& m, const RobustOperators& R, const HeatGeodesicOptions& opt,
+                           const RunContext& ctx, const MeshDerived* derived)
+    : opt_(opt) {
+  if (R.L.ncols != m.num_vertices())
+    fail(ErrorCode::BadUsage, "heat geodesic: the robust operators belong to another mesh");
+  if (opt.mass_blend != 0.0)
+    fail(ErrorCode::BadUsage, "heat geodesic: mass_blend applies to the cotan operator only");
+  prepare(m, derived, &R);
+  ctx.check_cancel();
+  CscMatrix A = robust_heat_operator(R, t_);
+  normalize_heat_operator(A);
+  const CscMatrix P = robust_regularized_laplacian(R, opt.poisson_rel / std::max<int32_t>(1, m.num_vertices()));
+  ctx.report(kOrderBegin, "prepare heat method");
+  const Ordering ord = order_matrix(A, {}, ctx.sub(kOrderBegin, kAnalyzeBegin));
+  const std::shared_ptr<const SymbolicFactor> S = analyze(A, ord, {}, ctx.sub(kAnalyzeBegin, kFactorBegin));
+  factor_both(A, P, S, ctx);
 }
 
 HeatGeodesic::HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt, HeatGeodesicFactors factors) : opt_(opt) {

@@ -1,4 +1,5 @@
-// CVT remeshing: Lloyd, restricted dual, repair by added sites
+// CVT remeshing: Lloyd, restricted dual, repair by added sites and, where the
+// input's vertices are too coarse for the cells, by subdividing it
 // (pipelines/include/locus/pipelines/voronoi/cvt_remesh.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 
@@ -6,15 +7,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numeric>
 #include <string>
 #include <utility>
 
 #include "locus/error.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
+#include "locus/pipelines/voronoi/remesh_refinement.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
@@ -39,85 +43,182 @@ void add_sites(const Mesh& m, const MeshDerived& d, const HeatDiffusion& H, std:
   r.label.assign(r.voronoi.label.begin(), r.voronoi.label.end());
 }
 
-}  // namespace
+// The mesh the cells live on: the input, or its midpoint subdivision (same
+// surface, finer vertices), with its own operator when isotropic.
+struct Level {
+  const Mesh* m = nullptr;
+  const MeshDerived* d = nullptr;
+  LloydOptions lo;  // lo.prepared: this level's operator (null: cvt_lloyd factors)
+  DualTopology topo;
+};
 
-RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx) {
-  if (o.max_repair_rounds < 0 || o.relax_iterations < 0)
-    fail(ErrorCode::BadUsage, "cvt remesh: repair rounds and relaxation iterations must be >= 0");
-  RemeshResult r;
-  BatchStopwatch sw;
-  LloydOptions lo = o.lloyd;
-  // One factor for every round (isotropic cells; the lifted metric is factored per run).
-  HeatDiffusion own;
-  double lloyd_begin = 0.0;  // after the factorization's share of the progress, when it runs here
-  if (!lo.prepared && lo.anisotropy == 0) {
-    lloyd_begin = 0.3;
-    own = prepare_heat_diffusion(m, d, lo.t_factor, lo.t_abs, ctx.sub(0.0, lloyd_begin));
-    lo.prepared = &own;
-    r.factor_s = sw.lap();
-  }
-  // One monotone progress fraction: the Lloyd iterations, then each repair
-  // round's share, then the dual and its optimization.
-  constexpr double kLloydEnd = 0.7, kRepairEnd = 0.9;
-  // Repair rounds without relaxation only add sites: they grow the final
-  // diagram (heat_voronoi_add) instead of relabelling from scratch.
-  const bool incremental = o.relax_iterations == 0 && lo.prepared && lo.solver == LloydOptions::Solver::Local;
-  lo.keep_voronoi = incremental;
-  r.lloyd = cvt_lloyd(m, d, lo, ctx.sub(lloyd_begin, kLloydEnd));
-  r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
-  r.lloyd_s = sw.lap();
-  const DualTopology topo = dual_topology(m);
-  RestrictedDual dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
-  r.first_defects = dual.defects;
-  r.dual_s += sw.lap();
-  for (int round = 0; round < o.max_repair_rounds && dual.defects.total() > 0; ++round) {
+// Repair rounds on one level: while defects are left and rounds remain, one
+// site at each repair vertex (the new cells added to the last diagram, or Lloyd
+// relaxing all sites), then the defects again. Stops early when no defect has
+// a repair vertex left (every candidate holds a site: the cells are too coarse).
+RestrictedDual repair_rounds(const Level& L, const RemeshOptions& o, bool incremental, RestrictedDual dual,
+                             double p0, double p1, const RunContext& ctx, BatchStopwatch& sw, RemeshResult& r) {
+  const double share = (p1 - p0) / std::max(1, o.max_repair_rounds);
+  // Past max_repair_rounds (incremental rounds only, up to 4 times as many)
+  // while the defects still fall: three rounds ago there were more.
+  std::vector<int64_t> left{dual.defects.total()};
+  auto go_on = [&](int round) {
+    if (round < o.max_repair_rounds) return true;
+    const size_t k = left.size();
+    return incremental && round < 4 * o.max_repair_rounds && k > 3 && left[k - 1] < left[k - 4];
+  };
+  for (int round = 0; go_on(round) && dual.defects.total() > 0; ++round) {
     ctx.check_cancel();
+    if (dual.repair_vertices.empty()) break;
     std::vector<SurfacePoint> sites = r.lloyd.sites;
     for (int32_t v : dual.repair_vertices) sites.push_back(vertex_point(v));
     r.added_sites += static_cast<int32_t>(dual.repair_vertices.size());
+    const double q = std::min(round, o.max_repair_rounds - 1) * share;  // the extra rounds report no progress
+    const RunContext part = ctx.sub(p0 + q, p0 + q + (round < o.max_repair_rounds ? share : 0));
     if (incremental) {
-      const double share = (kRepairEnd - kLloydEnd) / std::max(1, o.max_repair_rounds);
-      add_sites(m, d, *lo.prepared, std::move(sites), ctx.sub(kLloydEnd + round * share, kLloydEnd + (round + 1) * share),
-                r.lloyd);
-      ++r.repair_rounds;
-      r.repair_s += sw.lap();
-      dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
-      r.dual_s += sw.lap();
-      continue;
+      add_sites(*L.m, *L.d, *L.lo.prepared, std::move(sites), part, r.lloyd);
+    } else {
+      LloydOptions ro = L.lo;
+      // The last rounds only relabel: relaxation could open new defects elsewhere.
+      ro.iterations = round + 2 < o.max_repair_rounds ? o.relax_iterations : 0;
+      // The sites are spread already: first neighborhoods of 2.5 expected cell
+      // radii (not 4) hold every cell and its neighbors (1.5 left vertices
+      // unreached on armadillo at 5,000 sites).
+      ro.init_radius = std::min(L.lo.init_radius, 2.5);
+      r.lloyd = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part);
+      r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     }
-    LloydOptions ro = lo;
-    // The last rounds only relabel: relaxation could open new defects elsewhere.
-    ro.iterations = round + 2 < o.max_repair_rounds ? o.relax_iterations : 0;
-    // The sites are spread already: first neighborhoods of 2.5 expected cell
-    // radii (not 4) hold every cell and its neighbors (1.5 left vertices
-    // unreached on armadillo at 5,000 sites).
-    ro.init_radius = std::min(lo.init_radius, 2.5);
-    const double share = (kRepairEnd - kLloydEnd) / std::max(1, o.max_repair_rounds);
-    r.lloyd = cvt_lloyd(m, d, std::move(sites), ro, ctx.sub(kLloydEnd + round * share, kLloydEnd + (round + 1) * share));
-    r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     ++r.repair_rounds;
     r.repair_s += sw.lap();
-    dual = restricted_dual(m, topo, r.lloyd.label, r.lloyd.sites);
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
     r.dual_s += sw.lap();
+    left.push_back(dual.defects.total());
+  }
+  return dual;
+}
+
+// The finer level below `coarse`: its subdivision, derived data and operator
+// (kept alive in the deques).
+struct Levels {
+  std::deque<Mesh> meshes;
+  std::deque<MeshDerived> derived;
+  std::deque<HeatDiffusion> ops;
+};
+// same_t: the coarse level's absolute diffusion time (the same cells, resolved
+// finer); else t in units of the finer h^2, as on an input that fine.
+Level finer(const Level& coarse, bool same_t, Levels& keep, const RunContext& ctx, RemeshResult& r) {
+  Level L;
+  L.m = &keep.meshes.emplace_back(subdivide_midpoint(*coarse.m, 1));
+  L.d = &keep.derived.emplace_back(derive_mesh(*L.m));
+  L.lo = coarse.lo;
+  L.lo.prepared = nullptr;
+  if (same_t && coarse.lo.prepared) L.lo.t_abs = coarse.lo.prepared->t;
+  if (coarse.lo.anisotropy == 0)
+    L.lo.prepared = &keep.ops.emplace_back(prepare_heat_diffusion(*L.m, *L.d, L.lo.t_factor, L.lo.t_abs, ctx));
+  L.topo = dual_topology(*L.m);
+  ++r.refinements;
+  return L;
+}
+
+// The sites moved, unchanged, onto the finer level and labelled there.
+Level refine_level(const Level& coarse, bool incremental, Levels& keep, const RunContext& ctx, RemeshResult& r) {
+  Level L = finer(coarse, true, keep, ctx, r);
+  LloydOptions ro = L.lo;
+  ro.iterations = 0;  // relabel only: the sites stay where the coarse level put them
+  ro.init_radius = std::min(L.lo.init_radius, 2.5);
+  ro.keep_voronoi = incremental;
+  r.lloyd = cvt_lloyd(*L.m, *L.d, refine_surface_points(*coarse.m, r.lloyd.sites), ro, ctx);
+  return L;
+}
+
+// The last level's labels and sites as labels and sites of the input: its
+// first n vertices are the input's (subdivision appends), the sites go up
+// through the levels.
+void back_to_input(const Mesh& m, const std::deque<Mesh>& meshes, LloydResult& l) {
+  if (meshes.empty()) return;
+  for (size_t k = meshes.size(); k-- > 0;)
+    l.sites = coarsen_surface_points(k == 0 ? m : meshes[k - 1], meshes[k], l.sites);
+  l.label.resize(static_cast<size_t>(m.num_vertices()));
+  l.voronoi = HeatVoronoi{};  // the diagram of a finer mesh
+}
+
+// The manifold dual, its raw angles and its optimization on the input.
+void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const RemeshOptions& o, BatchStopwatch& sw,
+              RemeshResult& r) {
+  r.remesh = dual_mesh(*L.m, dual, r.lloyd.sites, r.vertex_site);
+  r.dual_s += sw.lap();
+  const RemeshStats raw = remesh_stats(m, r.remesh, false);
+  r.dual_mean_min_angle_deg = raw.mean_min_angle_deg;
+  r.dual_min_angle_deg = raw.min_angle_deg;
+  if (o.optimize_rounds > 0) {
+    const TriangleGrid grid(m);
+    RemeshOptimizeOptions oo;
+    oo.rounds = o.optimize_rounds;
+    r.optimize = optimize_remesh(m, grid, r.remesh, oo);
+  }
+  r.optimize_s = sw.lap();
+}
+
+}  // namespace
+
+RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx) {
+  if (o.max_repair_rounds < 0 || o.relax_iterations < 0 || o.max_refinements < 0)
+    fail(ErrorCode::BadUsage, "cvt remesh: repair rounds, relaxation iterations and refinements must be >= 0");
+  RemeshResult r;
+  BatchStopwatch sw;
+  Level L{&m, &d, o.lloyd, {}};
+  // One factor for every round (isotropic cells; the lifted metric is factored per run).
+  HeatDiffusion own;
+  double lloyd_begin = 0.0;  // after the factorization's share of the progress, when it runs here
+  if (!L.lo.prepared && L.lo.anisotropy == 0) {
+    lloyd_begin = 0.3;
+    own = prepare_heat_diffusion(m, d, L.lo.t_factor, L.lo.t_abs, ctx.sub(0.0, lloyd_begin));
+    L.lo.prepared = &own;
+    r.factor_s = sw.lap();
+  }
+  // One monotone progress fraction: the Lloyd iterations, then each repair
+  // round's share, then the dual and its optimization (refined levels report
+  // no progress of their own).
+  constexpr double kLloydEnd = 0.7, kRepairEnd = 0.9;
+  // Repair rounds without relaxation only add sites: they grow the final
+  // diagram (heat_voronoi_add) instead of relabelling from scratch.
+  const bool incremental =
+      o.relax_iterations == 0 && L.lo.prepared && L.lo.solver == LloydOptions::Solver::Local;
+  L.lo.keep_voronoi = incremental;
+  L.topo = dual_topology(m);
+  // Cells of fewer than min_vertices_per_site input vertices: Lloyd runs on a
+  // subdivided input from the start (the requested density, fewer defects).
+  Levels keep;
+  for (int64_t nv = m.num_vertices(); r.refinements < o.max_refinements &&
+                                      nv < static_cast<int64_t>(o.min_vertices_per_site * L.lo.sites);
+       nv *= 4)
+    L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
+  r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
+  r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
+  r.lloyd_s = sw.lap();
+  RestrictedDual dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+  r.first_defects = dual.defects;
+  r.dual_s += sw.lap();
+  dual = repair_rounds(L, o, incremental, std::move(dual), kLloydEnd, kRepairEnd, ctx, sw, r);
+  // Defects the input's vertices cannot resolve (every candidate vertex holds a
+  // site, or the rounds ran out): the same sites on a subdivided input.
+  // Within a budget of max(64 sites, 4 n) vertices: beyond it a level costs
+  // more than its defects.
+  const int64_t budget = std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{m.num_vertices()});
+  while (r.refinements < o.max_refinements && dual.defects.total() > 0 && 4 * int64_t{L.m->num_vertices()} <= budget) {
+    ctx.check_cancel();
+    L = refine_level(L, incremental, keep, ctx.sub(kRepairEnd, kRepairEnd), r);
+    r.repair_s += sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += sw.lap();
+    dual = repair_rounds(L, o, incremental, std::move(dual), kRepairEnd, kRepairEnd, ctx, sw, r);
   }
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;
   r.complete = dual.defects.total() == 0;
-  if (r.complete) r.remesh = dual_mesh(m, dual, r.lloyd.sites, r.vertex_site);
-  r.dual_s += sw.lap();
-  if (r.complete) {
-    const RemeshStats raw = remesh_stats(m, r.remesh, false);
-    r.dual_mean_min_angle_deg = raw.mean_min_angle_deg;
-    r.dual_min_angle_deg = raw.min_angle_deg;
-    if (o.optimize_rounds > 0) {
-      const TriangleGrid grid(m);
-      RemeshOptimizeOptions oo;
-      oo.rounds = o.optimize_rounds;
-      r.optimize = optimize_remesh(m, grid, r.remesh, oo);
-    }
-    r.optimize_s = sw.lap();
-  }
+  if (r.complete) assemble(m, L, dual, o, sw, r);
+  back_to_input(m, keep.meshes, r.lloyd);
   ctx.report(1.0, "remesh");
   return r;
 }

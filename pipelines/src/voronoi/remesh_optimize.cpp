@@ -12,6 +12,7 @@
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/remesh_boundary.hpp"
 
 namespace locus {
 
@@ -369,6 +370,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     for (int32_t v : loop) fixed[v] = 1;
   std::vector<std::array<int32_t, 3>> F(remesh.num_faces());
   for (int32_t f = 0; f < remesh.num_faces(); ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
+  BoundaryCurves curves(input, remesh);  // the boundary vertices move along the input's boundary only
   std::vector<int32_t> valence(n, 0), target(n, 6);
   for (const auto& t : F)
     for (int32_t v : t) ++valence[v];
@@ -385,10 +387,14 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
         if (k == 0) break;
       }
     }
-    if (r < opt.rounds) smooth_pass(input, grid, remesh, F, fixed, opt.unpin_below_deg * M_PI / 180, st);
+    if (r < opt.rounds) {
+      smooth_pass(input, grid, remesh, F, fixed, opt.unpin_below_deg * M_PI / 180, st);
+      st.boundary_moves += curves.sweep(remesh, F, false);
+    }
   }
   for (int sweep = 0; sweep < opt.angle_sweeps; ++sweep) {
     angle_pass(input, grid, remesh, F, fixed, opt.angle_below_deg * M_PI / 180, opt.tip_reach, st);
+    st.boundary_moves += curves.sweep(remesh, F, true);
     for (int pass = 0; pass < 8; ++pass) {
       const int64_t k = flip_pass(remesh, F, valence, target, false);
       st.flips += k;

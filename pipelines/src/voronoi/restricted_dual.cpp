@@ -40,6 +40,10 @@ double dist2(const Mesh& m, int32_t v, const std::array<double, 3>& p) {
 struct Repairs {
   std::vector<uint8_t> taken;
   std::vector<int32_t>& out;
+  const Edges& edges;
+  bool near = false;         // add_near may look beyond the defect's own vertex
+  std::vector<int64_t> off;  // vertex adjacency (CSR), built at the first add_near that needs it
+  std::vector<int32_t> nbr;
   // The first untaken of the candidates (a defect may sit next to a site that
   // an earlier round put on a vertex).
   bool add(int32_t v) {
@@ -49,7 +53,39 @@ struct Repairs {
     return true;
   }
   void add(int32_t v, int32_t alt) {
-    if (!add(v)) add(alt);
+    if (!add(v) && !add(alt)) add_near(v);
+  }
+  // v, else the nearest untaken vertex within three rings of it (breadth
+  // first): where the cells span few vertices every vertex of a defect may
+  // hold a site already, and a site next to it still splits the region.
+  void add_near(int32_t v) {
+    if (add(v) || !near) return;
+    if (off.empty()) build();
+    std::vector<int32_t> ring{v}, seen{v};
+    for (int r = 0; r < 3; ++r) {
+      std::vector<int32_t> next;
+      for (int32_t a : ring)
+        for (int64_t p = off[a]; p < off[a + 1]; ++p) {
+          const int32_t b = nbr[p];
+          if (std::find(seen.begin(), seen.end(), b) != seen.end()) continue;
+          if (add(b)) return;
+          seen.push_back(b);
+          next.push_back(b);
+        }
+      ring = std::move(next);
+    }
+  }
+  void build() {
+    const size_t n = taken.size();
+    off.assign(n + 1, 0);
+    for (size_t k = 0; k < edges.e0.size(); ++k) ++off[edges.e0[k] + 1], ++off[edges.e1[k] + 1];
+    for (size_t v = 0; v < n; ++v) off[v + 1] += off[v];
+    nbr.resize(static_cast<size_t>(off[n]));
+    std::vector<int64_t> fill(off.begin(), off.end() - 1);
+    for (size_t k = 0; k < edges.e0.size(); ++k) {
+      nbr[fill[edges.e0[k]]++] = edges.e1[k];
+      nbr[fill[edges.e1[k]]++] = edges.e0[k];
+    }
   }
 };
 
@@ -84,7 +120,7 @@ void check_cells(const Mesh& m, const DualTopology& topo, std::span<const int32_
   for (int32_t s = 0; s < ns; ++s) {
     if (pieces[s] > 1) {
       ++d.defects.split_cells;
-      rep.add(smallest[s]);
+      rep.add_near(smallest[s]);
     } else if (pieces[s] == 1 && chi[s] != 1) {
       ++d.defects.non_disk_cells;
       any_non_disk = true;
@@ -104,7 +140,7 @@ void check_cells(const Mesh& m, const DualTopology& topo, std::span<const int32_
     }
   }
   for (int32_t s = 0; s < ns; ++s)
-    if (farthest[s] >= 0) rep.add(farthest[s]);
+    if (farthest[s] >= 0) rep.add_near(farthest[s]);
 }
 
 // Interfaces: per pair of labels, the chains of two-label edges linked through
@@ -174,7 +210,7 @@ void check_corners(const Mesh& m, std::span<const int32_t> label, RestrictedDual
       ++d.defects.repeated_corners;
       const bool first_extra = i < 2 || tri[i - 2][0] != tri[i][0] || tri[i - 2][1] != tri[i][1] ||
                                tri[i - 2][2] != tri[i][2];
-      if (first_extra) rep.add(m.f0[tri[i][3]]);
+      if (first_extra) rep.add_near(m.f0[tri[i][3]]);
     }
 }
 
@@ -207,7 +243,7 @@ void check_boundary(const Mesh& m, const DualTopology& topo, std::span<const int
       }
       if (++runs_of[s] > 1) {
         ++d.defects.split_boundary_runs;
-        rep.add(loop[(start + (i + j) / 2) % len]);
+        rep.add_near(loop[(start + (i + j) / 2) % len]);
       } else {
         const auto p = surface_point_position(m, sites[s]);
         for (size_t k = i; k < j; ++k) {  // sharp corners first (key < 0), then nearest
@@ -263,17 +299,23 @@ RestrictedDual restricted_dual(const Mesh& m, const DualTopology& topo, std::spa
       fail(ErrorCode::BadUsage, "restricted dual: vertex " + std::to_string(v) + " has label " +
                                     std::to_string(label[v]) + ", outside 0.." + std::to_string(ns - 1));
   RestrictedDual d;
-  Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices};
-  for (const SurfacePoint& p : sites) {  // a site at a vertex (or at a face's corner) takes it
-    if (p.face < 0 && p.vertex >= 0 && p.vertex < n) rep.taken[p.vertex] = 1;
-    if (p.face >= 0)
-      for (int k = 0; k < 3; ++k)
-        if (p.bary[k] >= 1 - 1e-9) rep.taken[m.face(p.face)[k]] = 1;
+  // The defects' own vertices first; only when none of them is free, their
+  // neighborhoods (Repairs::add_near).
+  for (bool near : {false, true}) {
+    d = RestrictedDual{};
+    Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices, topo.inc.edges, near, {}, {}};
+    for (const SurfacePoint& p : sites) {  // a site at a vertex (or at a face's corner) takes it
+      if (p.face < 0 && p.vertex >= 0 && p.vertex < n) rep.taken[p.vertex] = 1;
+      if (p.face >= 0)
+        for (int k = 0; k < 3; ++k)
+          if (p.bary[k] >= 1 - 1e-9) rep.taken[m.face(p.face)[k]] = 1;
+    }
+    check_cells(m, topo, label, sites, d, rep);
+    check_interfaces(m, topo, label, d, rep);
+    check_corners(m, label, d, rep);
+    check_boundary(m, topo, label, sites, d, rep);
+    if (d.defects.total() == 0 || !d.repair_vertices.empty()) break;
   }
-  check_cells(m, topo, label, sites, d, rep);
-  check_interfaces(m, topo, label, d, rep);
-  check_corners(m, label, d, rep);
-  check_boundary(m, topo, label, sites, d, rep);
   if (d.defects.total() > 0) return d;
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const int32_t a = label[m.f0[f]], b = label[m.f1[f]], c = label[m.f2[f]];

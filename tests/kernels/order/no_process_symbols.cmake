@@ -1,4 +1,5 @@
-# ctest metis_no_process_symbols: liblocus.a neither defines nor calls rand(),
+# ctest metis_no_process_symbols: the library objects (liblocus_objects.a, the
+# archive of the objects liblocus.a is made of) neither define nor call rand(),
 # srand(), signal() or raise().
 #   cmake -DNM=... -DLIB=.../liblocus.a -P no_process_symbols.cmake
 # Defining rand/srand would take the C library's generator over for the whole

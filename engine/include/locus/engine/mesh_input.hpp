@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/operator_choice.hpp"
 #include "locus/export.h"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
@@ -32,6 +33,12 @@ enum class PolygonFaces { Triangulate, Keep };
 struct MeshInputOptions {
   int subdivide = 0;  // 1:4 midpoint subdivisions after loading, 0..16
   PolygonFaces faces = PolygonFaces::Triangulate;
+  // Asset formats (read through assimp): weld the scene's vertices by position
+  // (ReadOptions::weld); false keeps the file's vertices. OBJ, OFF, PLY: unused.
+  bool weld = true;
+  // The operator the command runs on (operator_choice.hpp); a Session made from
+  // the input takes it (session_options), and the loader passes it on.
+  OperatorChoice mesh_operator = OperatorChoice::Auto;
 };
 
 struct MeshInput {
@@ -43,6 +50,10 @@ struct MeshInput {
   Mesh polygons;
   std::vector<int32_t> face_of;
   int subdivide = 0;
+  OperatorChoice mesh_operator = OperatorChoice::Auto;  // as asked (MeshInputOptions)
+  // The operator for the mesh worked on and why (choose_operator, after the
+  // subdivision); not checked (op.checked false) for cotan or kept polygons.
+  OperatorReport op;
   double load_s = 0;         // reading and parsing the file
   double triangulate_s = 0;  // polygons into triangles (0 when not needed)
   double subdivide_s = 0;    // the subdivision (0 when not asked)

@@ -78,6 +78,7 @@
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/mesh/robust_laplacian.hpp"
 #include "locus/kernels/solve/solve_plan.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
@@ -172,6 +173,14 @@ class HeatGeodesic {
   // h are used instead of deriving them again, its checks instead of repeating them.
   explicit HeatGeodesic(const Mesh& m, const HeatGeodesicOptions& opt = {}, const RunContext& ctx = {},
                         const MeshDerived* derived = nullptr);
+  // The heat method on the robust Laplacian R of m (kernels/.../robust_heat_operators.hpp):
+  // M - tL and -L + eps M of the intrinsic Delaunay triangulation of m's tufted
+  // cover, and the gradient and divergence on its intrinsic triangles. Takes any
+  // triangle soup: non-manifold edges and vertices, zero-area and needle faces,
+  // inconsistent orientation; a vertex in no triangle is a component of its own
+  // (+infinity from every other source). mass_blend must be 0.
+  HeatGeodesic(const Mesh& m, const RobustOperators& R, const HeatGeodesicOptions& opt, const RunContext& ctx = {},
+               const MeshDerived* derived = nullptr);
   // The same with given factors instead of factoring (Error(BadUsage) when their
   // size or pattern is not this mesh's; that they hold these t / eps values is the
   // caller's to check, as the factor cache does with its labels).
@@ -229,7 +238,10 @@ class HeatGeodesic {
   void potential_from_heat_full(std::span<const double> h, HeatGeodesicWorkspace& ws) const;
 
  private:
-  void prepare(const Mesh& m, const MeshDerived* derived = nullptr);  // checks and per-mesh data shared by both constructors
+  // Checks and per-mesh data shared by the constructors (the robust one: no manifold checks, intrinsic gradients).
+  void prepare(const Mesh& m, const MeshDerived* derived = nullptr, const RobustOperators* robust = nullptr);
+  void factor_both(const CscMatrix& A, const CscMatrix& P, const std::shared_ptr<const SymbolicFactor>& S,
+                   const RunContext& ctx);
   void note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
                       HeatGeodesicWorkspace& ws) const;
   double rim_cut(const PatchRegion& r, std::span<const double> h, HeatGeodesicWorkspace& ws) const;

@@ -12,8 +12,16 @@
 // relax_iterations = 0 (the default; isotropic, localized solver) a round only
 // adds sites: their heat is solved on Dijkstra balls of 2.5 expected cell radii
 // and merged into the last diagram's top-K lists (heat_voronoi_add), instead
-// of relabelling every site (docs/cvt.md). The manifold dual is then optimized on the
-// input (remesh_optimize.hpp).
+// of relabelling every site (docs/cvt.md).
+//
+// Refinement: cells are sets of input vertices, so where a cell spans only a
+// few of them a defect can have no vertex left for a new site (each candidate
+// holds one already), or the rounds run out. The sites then move, unchanged,
+// onto a 1:4 midpoint subdivision of the mesh (the same surface; its own
+// operator, t in units of its own h^2), are labelled there and repaired again
+// (remesh_refinement.hpp); at most `max_refinements` times. The result's
+// labels and sites are given on the input all the same. The manifold dual is
+// then optimized on the input (remesh_optimize.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -31,6 +39,12 @@ struct RemeshOptions {
   LloydOptions lloyd;
   int max_repair_rounds = 12;
   int relax_iterations = 0;
+  // Midpoint subdivisions of the input the repair may fall back to (see above).
+  int max_refinements = 3;
+  // Lloyd itself runs on a subdivided input while the input has fewer than
+  // this many vertices per site (within max_refinements): a cell of a few
+  // vertices vanishes or breaks the closed-ball property.
+  double min_vertices_per_site = 12;
   // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
   int optimize_rounds = RemeshOptimizeOptions{}.rounds;
 };
@@ -41,7 +55,8 @@ struct RemeshResult {
   std::vector<int32_t> vertex_site;  // per remesh vertex: its site
   bool complete = false;          // no defects left: remesh is the manifold dual
   int32_t added_sites = 0;
-  int32_t repair_rounds = 0;
+  int32_t repair_rounds = 0;       // all levels
+  int32_t refinements = 0;         // subdivisions the repair needed (0: the input's own vertices)
   int32_t lloyd_iterations = 0;   // all rounds
   DualDefects first_defects;      // of the partition after the first Lloyd run
   DualDefects defects;            // left after the last round (all zero when complete)

@@ -29,8 +29,10 @@
 //       (so the Hausdorff distance stays; docs/cvt.md);
 // raise the mean smallest angle by ~5 degrees and the smallest by ~20 on
 // armadillo (docs/cvt.md). Neither step changes the topology: flips keep every edge in two triangles and never duplicate an
-// edge; moves change no connectivity. Boundary vertices stay where the dual put
-// them (on the input's boundary).
+// edge; moves change no connectivity. Boundary vertices move only along the
+// input's boundary curves (remesh_boundary.hpp): after each smoothing pass
+// towards the arclength midpoint of their boundary neighbors, after each
+// angle pass to the position along the curve with the largest smallest angle.
 //
 // Deterministic: flips visit edges in a fixed order; moves are computed from
 // the previous positions (Jacobi) and applied together.
@@ -62,6 +64,7 @@ struct RemeshOptimizeStats {
   int64_t flips = 0;
   int64_t moves = 0;     // vertex moves kept, all rounds
   int64_t angle_moves = 0;  // moves of the targeted angle repair
+  int64_t boundary_moves = 0;  // moves of boundary vertices along the input's boundary
   int64_t refused = 0;   // moves refused (a triangle would turn over, or the projection crossed a thin part)
 };
 

@@ -1,4 +1,4 @@
-// The log map's estimator choices as the CLI and the bench spell them
+// The log map's estimator choices as the benchmarks spell them
 // (--angle, --lattice, --recenter); "default" keeps the library's choice.
 #pragma once
 #include <optional>

@@ -1,0 +1,190 @@
+// The C API of the adf, hks, heat and nncoords commands (locus.h, "The adf,
+// hks and heat commands", locus_nncoords_options): the C options translated to the engine's requests
+// (engine/include/locus/engine/diffusion_requests.hpp), run by the Session,
+// the report copied out. Every check beyond C's own (NULL arrays, counts) is
+// the Session's.
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "c_api_support.hpp"
+
+using namespace locus::c_api_detail;
+
+namespace {
+
+std::string text(const char* s, const std::string& fallback) { return s && s[0] ? std::string(s) : fallback; }
+
+// A C id array (NULL with 0 allowed: an empty list) as the request's ids.
+std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what) {
+  if (n < 0 || n > kMaxHeatValues)
+    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 0..2^28 (got " +
+                                  std::to_string(n) + ")");
+  if (n > 0) require(v != nullptr, (std::string(what) + " is NULL").c_str());
+  return n > 0 ? std::vector<int64_t>(v, v + n) : std::vector<int64_t>{};
+}
+
+void no_run_time(const CallContext& cc) {
+  if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+}
+
+locus::AdfRequest request_of(const locus_adf_options& o) {
+  locus::AdfRequest q;
+  q.t = text(o.t, q.t);
+  q.vertices = ids(o.vertices, o.n_vertices, "vertices");
+  q.all = o.all != 0;
+  q.method = text(o.method, q.method);
+  q.save = text(o.save, "");
+  q.load = text(o.load, "");
+  return q;
+}
+
+locus::HksRequest request_of(const locus_hks_options& o) {
+  locus::HksRequest q;
+  if (o.n_ts < 0 || o.n_ts > 4096) fail(ErrorCode::BadUsage, "n_ts must be in 0..4096 (got " + std::to_string(o.n_ts) + ")");
+  if (o.n_ts > 0) require(o.ts != nullptr, "ts is NULL");
+  for (int64_t k = 0; k < o.n_ts; ++k) {
+    require(o.ts[k] != nullptr, ("ts[" + std::to_string(k) + "] is NULL").c_str());
+    q.ts.emplace_back(o.ts[k]);
+  }
+  q.vertices = ids(o.vertices, o.n_vertices, "vertices");
+  q.all = o.all != 0;
+  q.method = text(o.method, q.method);
+  q.save = text(o.save, "");
+  q.load = text(o.load, "");
+  return q;
+}
+
+void copy_signature(const locus::HeatSignatureReport& r, double* out, double* out_t, locus_signature_report* rep) {
+  std::copy(r.values.begin(), r.values.end(), out);
+  if (out_t) std::copy(r.t.begin(), r.t.end(), out_t);
+  if (!rep) return;
+  std::memset(rep, 0, sizeof *rep);
+  rep->evaluated = static_cast<int64_t>(r.count());
+  rep->h = r.h;
+  rep->nnz_L = r.nnz_L;
+  rep->supernodes = r.supernodes, rep->etree_height = r.etree_height;
+  rep->operator_s = r.operator_s, rep->order_s = r.order_s, rep->analyze_s = r.analyze_s;
+  rep->numeric_s = r.numeric_s, rep->query_s = r.query_s;
+}
+
+}  // namespace
+
+extern "C" {
+
+locus_adf_options locus_adf_options_default(void) {
+  locus_adf_options o;
+  std::memset(&o, 0, sizeof o);
+  o.all = locus::AdfRequest{}.all ? 1 : 0;
+  return o;  // t, method NULL: the request's defaults
+}
+
+locus_hks_options locus_hks_options_default(void) {
+  locus_hks_options o;
+  std::memset(&o, 0, sizeof o);
+  o.all = locus::HksRequest{}.all ? 1 : 0;
+  return o;
+}
+
+locus_heat_options locus_heat_options_default(void) {
+  locus_heat_options o;
+  std::memset(&o, 0, sizeof o);
+  o.repeat = locus::HeatRequest{}.repeat;
+  return o;
+}
+
+locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out, double* out_t,
+                           locus_signature_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_adf_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out != nullptr, "out is NULL");
+    CallContext cc(opts);
+    no_run_time(cc);
+    copy_signature(s.adf(request_of(*options), cc.ctx), out, out_t, out_report);
+  });
+}
+
+locus_status locus_hks_run(locus_session* session, const locus_hks_options* options, double* out, double* out_t,
+                           locus_signature_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_hks_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out != nullptr, "out is NULL");
+    CallContext cc(opts);
+    no_run_time(cc);
+    copy_signature(s.hks(request_of(*options), cc.ctx), out, out_t, out_report);
+  });
+}
+
+locus_status locus_heat_run(locus_session* session, const locus_heat_options* options, double* out_targets,
+                            locus_heat_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_heat_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out_targets != nullptr, "out_targets is NULL");
+    CallContext cc(opts);
+    no_run_time(cc);
+    locus::HeatRequest q;
+    q.source = ids(options->source, options->n_source, "source");
+    q.target = ids(options->target, options->n_target, "target");
+    q.t = text(options->t, q.t);
+    q.method = text(options->method, q.method);
+    q.repeat = options->repeat;
+    q.save = text(options->save, "");
+    q.load = text(options->load, "");
+    const locus::HeatReport r = s.heat(q, cc.ctx);
+    std::copy(r.values.begin(), r.values.end(), out_targets);
+    if (!out_report) return;
+    locus_heat_report& o = *out_report;
+    std::memset(&o, 0, sizeof o);
+    o.t = r.t, o.h = r.h, o.total = r.total;
+    o.nnz_L = r.nnz_L;
+    o.etree_height = r.etree_height;
+    o.forward_columns = r.forward_columns, o.backward_columns = r.backward_columns;
+    o.operator_s = r.operator_s, o.order_s = r.order_s, o.analyze_s = r.analyze_s, o.numeric_s = r.numeric_s;
+    o.query_s = r.query_s, o.plan_s = r.plan_s, o.solve_s = r.solve_s;
+  });
+}
+
+}  // extern "C"
+
+extern "C" {
+
+locus_nncoords_options locus_nncoords_options_default(void) {
+  const locus::NncoordsRequest d;
+  locus_nncoords_options o;
+  std::memset(&o, 0, sizeof o);
+  o.point.face = d.point.face;
+  o.point.vertex = -1;
+  for (int k = 0; k < 3; ++k) o.point.bary[k] = d.point.bary[k];
+  return o;  // t NULL: the request's "h2"
+}
+
+locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_options* options, double* out_weights,
+                                locus_nncoords_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_nncoords_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out_weights != nullptr, "out_weights is NULL");
+    CallContext cc(opts);
+    no_run_time(cc);
+    locus::NncoordsRequest q;
+    q.sites = ids(options->sites, options->n_sites, "sites");
+    q.point.face = options->point.face;
+    for (int k = 0; k < 3; ++k) q.point.bary[k] = options->point.bary[k];
+    q.t = text(options->t, q.t);
+    const locus::NncoordsReport r = s.nncoords(q, cc.ctx);
+    std::copy(r.weights.begin(), r.weights.end(), out_weights);
+    if (!out_report) return;
+    locus_nncoords_report& o = *out_report;
+    std::memset(&o, 0, sizeof o);
+    o.cell_area = r.cell_area, o.clamped = r.clamped, o.t = r.t;
+    o.at_site = r.at_site ? 1 : 0, o.degenerate = r.degenerate ? 1 : 0;
+    o.fallback_faces = r.fallback_faces;
+    o.prepare_s = r.prepare_s, o.query_s = r.query_s;
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,59 @@
+// The C API of the voronoi command (locus.h, locus_voronoi_options): the C
+// options translated to the engine's request (engine/include/locus/engine/
+// voronoi_request.hpp), run by the Session, the labels and report copied out.
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "c_api_support.hpp"
+#include "locus/engine/voronoi_request.hpp"
+
+using namespace locus::c_api_detail;
+
+extern "C" {
+
+locus_voronoi_options locus_voronoi_options_default(void) {
+  const locus::VoronoiCommandRequest d;
+  locus_voronoi_options o;
+  std::memset(&o, 0, sizeof o);
+  o.random = d.random;
+  o.seed = d.seed;
+  return o;  // t NULL: the request's "h2"
+}
+
+locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options, int32_t* out_labels,
+                               locus_voronoi_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_voronoi_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out_labels != nullptr, "out_labels is NULL");
+    CallContext cc(opts);
+    if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+    locus::VoronoiCommandRequest q;
+    if (options->n_sites < 0 || options->n_sites > kMaxVertices)
+      fail(ErrorCode::BadUsage, "n_sites must be in 0.." + std::to_string(kMaxVertices) + " (got " +
+                                    std::to_string(options->n_sites) + ")");
+    if (options->n_sites > 0) {
+      require(options->sites != nullptr, "sites is NULL");
+      q.sites.assign(options->sites, options->sites + options->n_sites);
+    }
+    q.random = options->random;
+    if (options->t && options->t[0]) q.t = options->t;
+    if (options->save) q.save = options->save;
+    if (options->load) q.load = options->load;
+    q.seed = options->seed;
+    const locus::VoronoiCommandReport r = locus::voronoi_command(s, q, cc.ctx);
+    std::copy(r.label.begin(), r.label.end(), out_labels);
+    if (!out_report) return;
+    locus_voronoi_report& o = *out_report;
+    std::memset(&o, 0, sizeof o);
+    o.generators = static_cast<int64_t>(r.site_xyz.size() / 3);
+    o.points = static_cast<int64_t>(r.points.size() / 3);
+    o.segments = r.segments, o.polylines = static_cast<int64_t>(r.polylines.size()), o.corners = r.corners;
+    o.empty_cells = r.empty_cells, o.vertices_without_heat = r.vertices_without_heat;
+    o.h = r.h, o.t = r.t;
+  });
+}
+
+}  // extern "C"
