@@ -12,6 +12,7 @@
 // comparison with Blender, else farthest points (Dijkstra from vertex 0).
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -35,6 +36,7 @@ struct SkinningBenchOptions {
   std::string samples = "1024";
   int32_t repeats = 3;
   int32_t exact_max_vertices = 30000;
+  std::string exact_cache;  // file of the exact weights: read when it matches, else written
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -115,6 +117,27 @@ Json properties(const Mesh& m, const SkinningWeights& W, std::span<const int32_t
           {"max_handle_row_error", handle_err}};
 }
 
+// How far the exact weights jump between neighbours: the largest |w(u) - w(v)|
+// over edges and the share of edges where some weight jumps by more than 0.05.
+// A propagation from samples follows the weights only as far as they are smooth.
+Json roughness(const Adjacency& adj, const SkinningWeights& E) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = E.handles;
+  double jmax = 0;
+  int64_t edges = 0, rough = 0;
+  for (int32_t v = 0; v < n; ++v)
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
+      const int32_t u = adj.neighbors[p];
+      if (u < v) continue;
+      double j = 0;
+      for (int32_t i = 0; i < k; ++i)
+        j = std::max(j, std::abs(E.weight[static_cast<size_t>(u) * k + i] - E.weight[static_cast<size_t>(v) * k + i]));
+      jmax = std::max(jmax, j);
+      ++edges;
+      rough += j > 0.05;
+    }
+  return {{"max_edge_jump", jmax}, {"edges_jump_over_0_05_percent", edges ? 100.0 * rough / edges : 0.0}};
+}
+
 // Differences against the exact weights, and the locality check (header).
 void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, const SkinningWeights& E, Json& j) {
   const int32_t n = m.num_vertices(), k = W.handles;
@@ -140,6 +163,34 @@ void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, cons
   j["nonzero_outside_band_percent"] = zero_exact ? 100.0 * outside / zero_exact : 0.0;
 }
 
+// The exact weights cached in a raw file (n, k, handle ids, n * k doubles), so
+// repeated benchmark runs of the fast methods skip the slow exact reference.
+bool read_exact(const std::string& path, int32_t n, std::span<const int32_t> ids, SkinningWeights& E) {
+  if (path.empty()) return false;
+  std::ifstream f(path, std::ios::binary);
+  int32_t hn = 0, hk = 0;
+  if (!f.read(reinterpret_cast<char*>(&hn), 4) || !f.read(reinterpret_cast<char*>(&hk), 4)) return false;
+  if (hn != n || hk != static_cast<int32_t>(ids.size())) return false;
+  std::vector<int32_t> hid(hk);
+  if (!f.read(reinterpret_cast<char*>(hid.data()), 4 * static_cast<std::streamsize>(hk))) return false;
+  if (!std::equal(hid.begin(), hid.end(), ids.begin())) return false;
+  E.handles = hk;
+  E.method = "exact";
+  E.weight.resize(static_cast<size_t>(n) * hk);
+  return static_cast<bool>(f.read(reinterpret_cast<char*>(E.weight.data()),
+                                  static_cast<std::streamsize>(E.weight.size() * sizeof(double))));
+}
+
+void write_exact(const std::string& path, int32_t n, std::span<const int32_t> ids, const SkinningWeights& E) {
+  if (path.empty()) return;
+  std::ofstream f(path, std::ios::binary);
+  const int32_t k = static_cast<int32_t>(ids.size());
+  f.write(reinterpret_cast<const char*>(&n), 4);
+  f.write(reinterpret_cast<const char*>(&k), 4);
+  f.write(reinterpret_cast<const char*>(ids.data()), 4 * static_cast<std::streamsize>(k));
+  f.write(reinterpret_cast<const char*>(E.weight.data()), static_cast<std::streamsize>(E.weight.size() * sizeof(double)));
+}
+
 int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, const RunContext& ctx) {
   if (o.repeats < 1) fail(ErrorCode::BadUsage, "skinning: --repeats must be at least 1");
   const cli::Input in = cli::load_input(opt, ctx);
@@ -156,13 +207,17 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
          {"factor_s", factor_s}, {"threads", ctx.threads}};
   const bool run_exact = m.num_vertices() <= o.exact_max_vertices;
   SkinningWeights exact;
-  if (run_exact) {
+  if (run_exact && read_exact(o.exact_cache, m.num_vertices(), ids, exact)) {
+    j["exact"] = {{"cached", o.exact_cache}, {"properties", properties(m, exact, ids)}, {"roughness", roughness(adj, exact)}};
+  } else if (run_exact) {
     SkinningOptions so;
     so.method = SkinningMethod::Exact;
     sw.restart();
     exact = skinning_weights(H, m, handles, so, ctx);
     const double s = sw.seconds();
-    j["exact"] = {{"wall_s", s}, {"with_factor_s", s + factor_s}, {"repeats", 1}, {"properties", properties(m, exact, ids)}};
+    j["exact"] = {{"wall_s", s}, {"with_factor_s", s + factor_s}, {"repeats", 1}, {"properties", properties(m, exact, ids)},
+                  {"roughness", roughness(adj, exact)}};
+    write_exact(o.exact_cache, m.num_vertices(), ids, exact);
   }
   Json sampled = Json::array();
   for (const std::string& text : cli::split_commas(o.samples)) {
@@ -200,6 +255,8 @@ void register_skinning_bench(cli::CommandTable& table) {
   app->add_option("--repeats", o->repeats, "Timed runs of each sampled setting (median; default 3)");
   app->add_option("--exact-max-vertices", o->exact_max_vertices,
                   "Run the exact method only up to this many vertices (default 30000)");
+  app->add_option("--exact-cache", o->exact_cache,
+                  "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }
 
 }  // namespace locus::bench

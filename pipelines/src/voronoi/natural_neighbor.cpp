@@ -247,21 +247,26 @@ int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<cons
                     NaturalScratch& s, std::vector<double>& stolen, double& aq) {
   const HeatVoronoi& V = F.voronoi;
   const int32_t ns = static_cast<int32_t>(F.sites.size());
+  // Each face around a taken vertex counts its taken corners (face_mark); the
+  // border faces are those counted fewer than 3 times, in first-touch order.
   s.faces.clear();
   for (int32_t v : s.taken) {
     for (int64_t p = F.share_offsets[v]; p < F.share_offsets[v + 1]; ++p) stolen[F.share_site[p]] += F.share_area[p];
     aq += F.vertex_area[v];
     for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
       const int32_t f = F.vf_faces[p];
-      if (s.face_mark[f]) continue;
-      if (s.vertex_mark[m.f0[f]] && s.vertex_mark[m.f1[f]] && s.vertex_mark[m.f2[f]]) continue;
-      s.face_mark[f] = 1;
-      s.faces.push_back(f);
+      if (s.face_mark[f]++ == 0) s.faces.push_back(f);
     }
   }
+  size_t border = 0;
+  for (int32_t f : s.faces) {
+    const bool inside = s.face_mark[f] == 3;
+    s.face_mark[f] = 0;
+    if (!inside) s.faces[border++] = f;
+  }
+  s.faces.resize(border);
   int64_t fallback = 0;
   for (int32_t f : s.faces) {
-    s.face_mark[f] = 0;
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     const bool t[3] = {s.vertex_mark[v[0]] != 0, s.vertex_mark[v[1]] != 0, s.vertex_mark[v[2]] != 0};
     const int taken = t[0] + t[1] + t[2];

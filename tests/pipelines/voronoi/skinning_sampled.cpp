@@ -62,7 +62,7 @@ TEST_CASE("cover samples: handle vertices first, every vertex within the radius 
 }
 
 TEST_CASE("propagate samples: sample rows kept, a constant row reproduced, convex rows") {
-  const Mesh m = make_icosphere(3);
+  const Mesh m = make_icosphere(4);
   const Adjacency adj = vertex_adjacency(m);
   const std::vector<int32_t> s = cover_samples(adj, {}, 2);
   const int32_t k = 3, n = m.num_vertices();
@@ -72,7 +72,7 @@ TEST_CASE("propagate samples: sample rows kept, a constant row reproduced, conve
     rows[i * k + 1] = m.x[s[i]] * m.x[s[i]];
     rows[i * k + 2] = std::max(0.0, 1 - rows[i * k] - rows[i * k + 1]);
   }
-  const Propagation P = propagate_samples(m, adj, s, rows, k, out, {});
+  const Propagation P = propagate_samples(m, adj, s, rows, {}, k, out, {});
   CHECK(P.radius > 0);
   for (size_t i = 0; i < s.size(); ++i)
     for (int32_t j = 0; j < k; ++j) CHECK(out[static_cast<size_t>(s[i]) * k + j] == rows[i * k + j]);
@@ -86,7 +86,7 @@ TEST_CASE("propagate samples: sample rows kept, a constant row reproduced, conve
     CHECK(std::abs(sum - 1) <= 1e-12);
     err = std::max(err, std::abs(out[static_cast<size_t>(v) * k] - m.z[v] * m.z[v]));
   }
-  CHECK(err < 0.05);  // a smooth function, sampled every 2 rings of a level-3 sphere
+  CHECK(err < 0.05);  // a smooth function, sampled every 2 rings of a level-4 sphere
 }
 
 TEST_CASE("sampled skinning weights: properties, locality against exact, difference bounds") {
@@ -97,7 +97,7 @@ TEST_CASE("sampled skinning weights: properties, locality against exact, differe
   const int32_t k = static_cast<int32_t>(handles.size());
   SkinningOptions exact_o, fast_o;
   exact_o.method = SkinningMethod::Exact;
-  fast_o.samples = 300;  // ~ one sample per 8 vertices: genuinely sampled
+  fast_o.samples = 600;  // a cover of radius 1 ring: genuinely sampled
   const SkinningWeights E = skinning_weights(H, m, handles, exact_o, {});
   RunContext one, two;
   one.threads = 1;
@@ -120,6 +120,8 @@ TEST_CASE("sampled skinning weights: properties, locality against exact, differe
   }
   for (int32_t j = 0; j < k; ++j)
     for (int32_t i = 0; i < k; ++i) CHECK(W.weight[static_cast<size_t>(handles[j][0]) * k + i] == (i == j ? 1.0 : 0.0));
+  // The exact weights of this regular mesh are smooth (neighbours differ by < 0.07):
+  // the propagation follows them to the issue's bounds.
   CHECK(dmax <= 0.05);
   CHECK(dsum / (static_cast<double>(n) * k) <= 0.005);
   // Locality: where the exact weight is 0 in the whole Euclidean ball of the

@@ -5,16 +5,20 @@
 //                      `rings` edges from all samples so far becomes one. Every
 //                      vertex is then within `rings` edges of a sample;
 //                      deterministic.
-//   propagate_samples  w(v) = sum_s phi_s(v) w_s / sum_s phi_s(v) over the samples s
-//                      within geodesic (Dijkstra, edge lengths) radius rho of v, with
-//                      Franke and Little's weights phi = ((rho - d) / (rho d))^2:
-//                      interpolating (a sample keeps its row), C1 in d, zero beyond
-//                      rho. A convex combination: non-negative, rows summing to 1
-//                      (renormalized), zeros kept where all samples around are zero.
-//                      rho = 2 x the largest distance from a vertex to its nearest
-//                      sample, so every vertex sees several samples.
+//   propagate_samples  every other vertex v gets the moving-least-squares
+//                      combination (linear basis, Franke and Little's weights
+//                      ((rho - d) / (rho d))^2, zero beyond rho) of the rows of the
+//                      samples within geodesic (Dijkstra, edge lengths) radius rho
+//                      = 2 x the cover radius (the largest distance from a vertex to
+//                      its nearest sample): linear precision, so smooth weights are
+//                      reproduced to second order. Then the natural
+//                      neighbourhoods are kept: a weight is set to 0 where it is
+//                      negative, or small (< 0.03) while a sample within 1.5 x the
+//                      cover radius has it exactly 0; a weight whose samples are
+//                      all 0 is 0. Rows are renormalized to sum 1, so they stay
+//                      non-negative partitions of unity; samples keep their rows.
 // Thread safety: re-entrant; parallel in the caller's arena, deterministic
-// (per-sample balls summed in sample order).
+// (stencils gathered in sample order).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -34,8 +38,11 @@ struct Propagation {
   int64_t ball_entries = 0;
 };
 
-// rows: samples.size() * k exact rows; out: n * k (overwritten).
+// rows: samples.size() * k exact rows; indicator: empty, or one flag per sample
+// whose row is an indicator for want of a cell (its zeros are not kept); out:
+// n * k (overwritten).
 Propagation propagate_samples(const Mesh& m, const Adjacency& adj, std::span<const int32_t> samples,
-                              std::span<const double> rows, int32_t k, std::span<double> out, const RunContext& ctx);
+                              std::span<const double> rows, std::span<const uint8_t> indicator, int32_t k,
+                              std::span<double> out, const RunContext& ctx);
 
 }  // namespace locus

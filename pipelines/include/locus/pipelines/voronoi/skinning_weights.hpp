@@ -14,16 +14,19 @@
 //            grows with n^2 / handles (a vertex's cell covers a fixed share of its
 //            handle's cell), as the thesis notes (§3.7.2: "comparably slow").
 //   Sampled  the thesis' way out (§3.7.2: compute on a coarse set, propagate):
-//            the exact coordinates at a well-spread subset of the vertices (every
-//            vertex within `rings` edges of one, handle vertices included), then
-//            propagated to the other vertices by a compactly supported,
-//            interpolating Shepard average over the samples within a geodesic
-//            radius (skinning_sampled.hpp). A convex combination of rows that sum to
-//            1 is non-negative and sums to 1 (renormalized to rounding), samples
-//            keep their exact rows, handle vertices their indicator, and a weight
-//            is exactly 0 wherever every sample within the radius has it 0, so the
-//            support is the natural neighbourhood widened by at most the radius.
-//            Cost: (n / rings^2) exact rows plus O(n) propagation.
+//            the exact coordinates at a greedy cover of the vertex graph (every
+//            vertex within `rings` edges of a sample, handle vertices first), then
+//            propagated to the other vertices by moving least squares over the
+//            samples within a geodesic radius (skinning_sampled.hpp). The rows stay
+//            non-negative, sum to 1 (renormalized to rounding), handle vertices
+//            keep their indicator, and a weight is exactly 0 where the samples
+//            around have it 0 (the support is never widened past the samples'
+//            zeros; it may shrink by up to the cover radius where the weight is
+//            below 0.03). Cost: about n / (2 rings^2) exact rows (each a full heat
+//            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
+//            The exact rows themselves vary from vertex to vertex by more than a
+//            smooth interpolant follows (the vertex-level discretization of the
+//            cells): see docs for the measured differences.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -41,8 +44,9 @@ enum class SkinningMethod : uint8_t { Sampled, Exact };
 
 struct SkinningOptions {
   SkinningMethod method = SkinningMethod::Sampled;
-  // Sampled: target number of sample vertices (the cover radius in edges follows
-  // from n / samples); 0 = the default 1024. More samples: closer to Exact, slower.
+  // Sampled: target number of sample vertices (the cover radius in edges is the
+  // nearest integer to sqrt(n / (2 samples))); 0 = the default 1024. More
+  // samples: closer to Exact, slower.
   int32_t samples = 0;
 };
 
