@@ -1,4 +1,4 @@
-// Sampled skinning weights: greedy sample cover and Shepard propagation
+// Sampled skinning weights: greedy sample cover and moving-least-squares propagation
 // (pipelines/include/locus/pipelines/voronoi/skinning_sampled.hpp; thesis §3.7.2).
 #include "locus/pipelines/voronoi/skinning_sampled.hpp"
 

@@ -9,7 +9,7 @@
 //                      combination (linear basis, Franke and Little's weights
 //                      ((rho - d) / (rho d))^2, zero beyond rho) of the rows of the
 //                      samples within geodesic (Dijkstra, edge lengths) radius rho
-//                      = 2 x the cover radius (the largest distance from a vertex to
+//                      = 2.5 x the cover radius (the largest distance from a vertex to
 //                      its nearest sample): linear precision, so smooth weights are
 //                      reproduced to second order. Then the natural
 //                      neighbourhoods are kept: a weight is set to 0 where it is

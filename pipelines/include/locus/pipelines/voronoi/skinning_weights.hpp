@@ -26,7 +26,7 @@
 //            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
 //            The exact rows themselves vary from vertex to vertex by more than a
 //            smooth interpolant follows (the vertex-level discretization of the
-//            cells): see docs for the measured differences.
+//            cells): docs/skinning.md has the measured differences.
 #pragma once
 #include <cstdint>
 #include <span>
