@@ -97,11 +97,20 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
 
 namespace {
 
-// Default cover radius: about `samples` greedy-cover samples (a cover of radius r
-// edges leaves roughly one sample per 2 r^2 vertices on a regular triangulation).
-int32_t cover_rings(int32_t n, int32_t samples) {
-  const double r = std::sqrt(static_cast<double>(n) / (2.0 * std::max(1, samples)));
-  return std::max(1, static_cast<int32_t>(std::lround(r)));
+// The greedy cover with the smallest radius (in rings) that has at most
+// `target` samples: the first guess from the density of a regular triangulation
+// (a cover of radius r edges leaves about one sample per 2 r^2 vertices), then
+// wider until the count fits (a cover costs one pass over the vertex balls).
+std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t> first, int32_t n, int32_t target,
+                                   int32_t& rings) {
+  const double r = std::sqrt(static_cast<double>(n) / (2.0 * std::max(1, target)));
+  rings = std::max(1, static_cast<int32_t>(std::floor(r)));
+  std::vector<int32_t> samples = cover_samples(adj, first, rings);
+  while (static_cast<int32_t>(samples.size()) > std::max(target, static_cast<int32_t>(first.size())) && rings < n) {
+    ++rings;
+    samples = cover_samples(adj, first, rings);
+  }
+  return samples;
 }
 
 }  // namespace
@@ -157,8 +166,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   }
   W.method = "sampled";
   const Adjacency adj = vertex_adjacency(m);
-  W.sample_rings = cover_rings(n, options.samples > 0 ? options.samples : 1024);
-  const std::vector<int32_t> samples = cover_samples(adj, handle_vertices, W.sample_rings);
+  const std::vector<int32_t> samples =
+      fitting_cover(adj, handle_vertices, n, options.samples > 0 ? options.samples : 1024, W.sample_rings);
   W.samples = static_cast<int32_t>(samples.size());
   std::vector<double> rows;
   std::vector<uint8_t> indicator;

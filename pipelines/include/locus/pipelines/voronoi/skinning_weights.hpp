@@ -22,7 +22,7 @@
 //            keep their indicator, and a weight is exactly 0 where the samples
 //            around have it 0 (the support is never widened past the samples'
 //            zeros; it may shrink by up to the cover radius where the weight is
-//            below 0.03). Cost: about n / (2 rings^2) exact rows (each a full heat
+//            below 0.03). Cost: at most `samples` exact rows (each a full heat
 //            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
 //            The exact rows themselves vary from vertex to vertex by more than a
 //            smooth interpolant follows (the vertex-level discretization of the
@@ -44,9 +44,9 @@ enum class SkinningMethod : uint8_t { Sampled, Exact };
 
 struct SkinningOptions {
   SkinningMethod method = SkinningMethod::Sampled;
-  // Sampled: target number of sample vertices (the cover radius in edges is the
-  // nearest integer to sqrt(n / (2 samples))); 0 = the default 1024. More
-  // samples: closer to Exact, slower.
+  // Sampled: the most sample vertices (the greedy cover with the smallest radius
+  // in edges that has at most this many; handle vertices are always samples);
+  // 0 = the default 1024. More samples: closer to Exact, slower.
   int32_t samples = 0;
 };
 
