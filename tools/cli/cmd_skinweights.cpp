@@ -128,7 +128,7 @@ void register_skinweights_command(CommandTable& table) {
   app->add_option("--bone", o->bones, "A bone handle: x0,y0,z0,x1,y1,z1[,...] (its nearest vertices); repeatable")
       ->allow_extra_args(false);
   app->add_flag("--exact", o->exact, "Natural-neighbor coordinates at every vertex (slow: one heat solve per vertex)");
-  app->add_option("--samples", o->samples, "Sampled method: about this many exact sample vertices (default 1024)");
+  app->add_option("--samples", o->samples, "Sampled method: at most this many exact sample vertices (default 1024)");
   app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default h2")->check(non_empty());
 }
 

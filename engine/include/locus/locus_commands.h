@@ -214,7 +214,7 @@ typedef struct locus_skinning_options {
   const int64_t* bone_offsets;   /* n_bones + 1 entries (point counts) */
   int64_t n_bones;
   int32_t exact;                 /* nonzero: natural-neighbor coordinates at every vertex (slow) */
-  int32_t samples;               /* sampled method: about this many exact rows; 0 = 1024 */
+  int32_t samples;               /* sampled method: at most this many exact rows; 0 = 1024 */
   const char* t;                 /* NULL: h2 */
 } locus_skinning_options;
 locus_skinning_options locus_skinning_options_default(void);

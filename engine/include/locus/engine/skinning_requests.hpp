@@ -26,7 +26,7 @@ struct SkinningRequest {
   std::vector<std::vector<int64_t>> handles;  // vertex sets, 0-based ids
   std::vector<std::vector<double>> bones;     // polylines, 3 coordinates per point, >= 2 points
   bool exact = false;                         // natural-neighbor coordinates at every vertex (slow)
-  int32_t samples = 0;                        // sampled method: about this many exact rows; 0 = 1024
+  int32_t samples = 0;                        // sampled method: at most this many exact rows; 0 = 1024
   std::string t;                              // diffusion time; "" = h2
 };
 
