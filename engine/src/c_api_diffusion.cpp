@@ -1,6 +1,7 @@
 // The C API's diffusion calls (locus.h): CVT and remeshing, heat values,
 // operator preparation, random points, Voronoi diagrams, natural-neighbor
-// coordinates, skinning weights, ADF/HKS and heat exchange.
+// coordinates, skinning weights (the one-call form; the skinweights command is
+// c_api_skinning_command.cpp), ADF/HKS and heat exchange.
 #include "c_api_support.hpp"
 
 #include <algorithm>

@@ -20,6 +20,7 @@ void register_stress_bench(cli::CommandTable& table);  // stress: concurrent Ses
 void register_cancel_bench(cli::CommandTable& table);  // cancel: C API cancel latency of the first geodesic query
 void register_remesh_bench(cli::CommandTable& table);  // remesh: CVT remeshing vs geogram's published figures
 void register_robust_bench(cli::CommandTable& table);  // robust: first answer on the robust vs the cotan operator
+void register_skinning_bench(cli::CommandTable& table);  // skinning: sampled vs exact skinning weights
 
 // The ordering a bench names: auto (the library's default), metis
 // (METIS_NodeND, the former default), amd, nd (nested

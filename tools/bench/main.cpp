@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     locus::bench::register_cancel_bench(table);
     locus::bench::register_remesh_bench(table);
     locus::bench::register_robust_bench(table);
+    locus::bench::register_skinning_bench(table);
     return table.run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "locus-bench: internal error: " << e.what() << "\n";

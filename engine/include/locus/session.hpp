@@ -57,6 +57,7 @@
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/operator_choice.hpp"
 #include "locus/engine/param_request.hpp"
+#include "locus/engine/skinning_requests.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/mesh_view.hpp"
@@ -461,6 +462,9 @@ class LOCUS_API Session {
   // Skinning weights of handles at every vertex (natural-neighbor coordinates of the vertices).
   SkinningWeightsResult skinning_weights(ConstView<MeshPoint> handles, const HeatQuery& q = {},
                                          const RunContext& ctx = {}) const;
+  // Skinning weights with every option (engine/include/locus/engine/skinning_requests.hpp):
+  // handles as vertex sets or bones, the sampled method (default) or exact.
+  SkinningReport skinning(const SkinningRequest& req, const RunContext& ctx = {}) const;
 
   // Auto-diffusion function (M - tL)^{-1}_vv at `vertices` (empty: all vertices, in order).
   std::vector<double> auto_diffusion(ConstView<int32_t> vertices, const HeatQuery& q = {},

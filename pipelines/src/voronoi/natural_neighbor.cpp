@@ -6,11 +6,66 @@
 #include <cmath>
 #include <string>
 
+#include "locus/kernels/heat/heat_batch.hpp"
+#include "locus/kernels/mesh/lifted_metric.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
 
 namespace locus {
+
+namespace {
+
+void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns);
+
+// (heat desc, site asc), the total order of heat_voronoi.hpp's top-K lists.
+void insert_top(int32_t* ts, double* tv, int32_t s, double v) {
+  auto hotter = [](double a, int32_t sa, double b, int32_t sb) { return sb < 0 || a > b || (a == b && sa < sb); };
+  if (!hotter(v, s, tv[kVoronoiTopK - 1], ts[kVoronoiTopK - 1])) return;
+  int i = kVoronoiTopK - 1;
+  for (; i > 0 && hotter(v, s, tv[i - 1], ts[i - 1]); --i) {
+    ts[i] = ts[i - 1];
+    tv[i] = tv[i - 1];
+  }
+  ts[i] = s;
+  tv[i] = v;
+}
+
+// Heat Voronoi of vertex-set sites (a unit source at every vertex of a set): full
+// solves, 8 sets at a time; the top-K lists and labels of heat_voronoi.hpp.
+HeatVoronoi set_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> sets,
+                        const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(sets.size());
+  HeatVoronoi V;
+  V.top_site.assign(static_cast<size_t>(n) * kVoronoiTopK, -1);
+  V.top_value.assign(static_cast<size_t>(n) * kVoronoiTopK, 0.0);
+  HeatBatch hb;
+  std::vector<double> ones;
+  for (int32_t first = 0; first < ns; first += kLanes) {
+    ctx.check_cancel();
+    const int lanes = std::min<int32_t>(kLanes, ns - first);
+    hb.clear_sources();
+    hb.kept.clear();
+    for (int l = 0; l < lanes; ++l) {
+      ones.assign(sets[first + l].size(), 1.0);
+      hb.add_source(sets[first + l], ones);
+    }
+    solve_heat_batch(H, hb);
+    ++V.batches;
+    V.solved_entries += n;
+    for (int32_t v = 0; v < n; ++v)
+      for (int l = 0; l < lanes; ++l)
+        insert_top(V.top_site.data() + static_cast<size_t>(v) * kVoronoiTopK,
+                   V.top_value.data() + static_cast<size_t>(v) * kVoronoiTopK, first + l,
+                   hb.values[static_cast<size_t>(v) * kLanes + l]);
+  }
+  V.label.resize(n);
+  for (int32_t v = 0; v < n; ++v) V.label[v] = V.top_site[static_cast<size_t>(v) * kVoronoiTopK];
+  return V;
+}
+
+}  // namespace
 
 NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mesh& m,
                                                  std::span<const SurfacePoint> sites, const RunContext& ctx) {
@@ -24,17 +79,36 @@ NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mes
     F.site_position.push_back(surface_point_position(m, sites[i]));
   }
   F.voronoi = heat_voronoi(H, m, sites, {}, {}, ctx);
-  F.face_area = face_areas(m);
-  const int32_t n = m.num_vertices(), nf = m.num_faces();
-  F.vf_offsets.assign(static_cast<size_t>(n) + 1, 0);
-  for (int32_t f = 0; f < nf; ++f)
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++F.vf_offsets[v + 1];
-  for (int32_t v = 0; v < n; ++v) F.vf_offsets[v + 1] += F.vf_offsets[v];
-  F.vf_faces.resize(F.vf_offsets[n]);
-  std::vector<int64_t> fill(F.vf_offsets.begin(), F.vf_offsets.end() - 1);
-  for (int32_t f = 0; f < nf; ++f)
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) F.vf_faces[fill[v]++] = f;
-  F.cell_area = std::vector<double>(partition_cells(m, F.face_area, F.voronoi, static_cast<int32_t>(sites.size())).area);
+  finish_field(F, m, static_cast<int32_t>(sites.size()));
+  return F;
+}
+
+NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mesh& m,
+                                                 std::span<const std::vector<int32_t>> sets, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  if (H.n != n) fail(ErrorCode::BadUsage, "natural neighbors: the operator belongs to another mesh");
+  if (sets.empty()) fail(ErrorCode::BadUsage, "natural neighbors: no sites");
+  std::vector<int32_t> owner(n, -1);
+  for (size_t i = 0; i < sets.size(); ++i) {
+    if (sets[i].empty()) fail(ErrorCode::BadUsage, "natural neighbors: site " + std::to_string(i) + " has no vertex");
+    for (int32_t v : sets[i]) {
+      if (v < 0 || v >= n)
+        fail(ErrorCode::BadUsage, "natural neighbors: site " + std::to_string(i) + " names vertex " +
+                                      std::to_string(v) + " but the mesh has " + std::to_string(n) + " vertices");
+      if (owner[v] >= 0 && owner[v] != static_cast<int32_t>(i))
+        fail(ErrorCode::BadUsage, "natural neighbors: vertex " + std::to_string(v) + " is in sites " +
+                                      std::to_string(owner[v]) + " and " + std::to_string(i));
+      owner[v] = static_cast<int32_t>(i);
+    }
+  }
+  NaturalNeighborField F;
+  F.heat = &H;
+  for (const auto& set : sets) {
+    F.sites.push_back(vertex_point(set.front()));
+    F.site_position.push_back(surface_point_position(m, F.sites.back()));
+  }
+  F.voronoi = set_voronoi(H, m, sets, ctx);
+  finish_field(F, m, static_cast<int32_t>(sets.size()));
   return F;
 }
 
@@ -75,6 +149,63 @@ double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
   return 0.0;
 }
 
+void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns) {
+  F.face_area = face_areas(m);
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  F.vf_offsets.assign(static_cast<size_t>(n) + 1, 0);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++F.vf_offsets[v + 1];
+  for (int32_t v = 0; v < n; ++v) F.vf_offsets[v + 1] += F.vf_offsets[v];
+  F.vf_faces.resize(F.vf_offsets[n]);
+  std::vector<int64_t> fill(F.vf_offsets.begin(), F.vf_offsets.end() - 1);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) F.vf_faces[fill[v]++] = f;
+  F.cell_area = std::vector<double>(partition_cells(m, F.face_area, F.voronoi, ns).area);
+  // The split of every face before insertion, in the order a query adds it.
+  F.part_site.assign(3 * static_cast<size_t>(nf), -1);
+  F.part_area.assign(3 * static_cast<size_t>(nf), 0.0);
+  F.part_fallback.assign(nf, 0);
+  const HeatVoronoi& V = F.voronoi;
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+    int used = 0;
+    F.part_fallback[f] = !split_face(
+        F.face_area[f], l, [&](int k, int32_t s, bool& ok) { return top_heat(V, v[k], s, ok); },
+        [&](int32_t s, double a) {
+          F.part_site[3 * static_cast<size_t>(f) + used] = s;
+          F.part_area[3 * static_cast<size_t>(f) + used] = a;
+          ++used;
+        });
+  }
+  F.share_offsets.assign(static_cast<size_t>(n) + 1, 0);
+  F.share_site.clear();
+  F.share_area.clear();
+  F.vertex_area.assign(n, 0.0);
+  std::vector<double> acc(ns, 0.0);
+  std::vector<int32_t> seen;
+  for (int32_t v = 0; v < n; ++v) {
+    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
+      const int32_t f = F.vf_faces[p];
+      F.vertex_area[v] += F.face_area[f] / 3;
+      for (int q = 0; q < 3; ++q) {
+        const int32_t site = F.part_site[3 * static_cast<size_t>(f) + q];
+        if (site < 0) continue;
+        if (acc[site] == 0.0) seen.push_back(site);
+        acc[site] += F.part_area[3 * static_cast<size_t>(f) + q] / 3;
+      }
+    }
+    std::sort(seen.begin(), seen.end());
+    for (int32_t site : seen) {
+      F.share_site.push_back(site);
+      F.share_area.push_back(acc[site]);
+      acc[site] = 0.0;
+    }
+    seen.clear();
+    F.share_offsets[v + 1] = static_cast<int64_t>(F.share_site.size());
+  }
+}
+
 // The site whose cell contains q: among the labels of q's support vertices, the one
 // whose heat interpolated at q is largest (smallest id on ties).
 int32_t containing_cell(const HeatVoronoi& V, const Mesh& m, const SurfacePoint& q) {
@@ -100,6 +231,72 @@ int32_t containing_cell(const HeatVoronoi& V, const Mesh& m, const SurfacePoint&
 
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
                                                  const SurfacePoint& q, std::span<const double> heat_q) {
+  NaturalScratch scratch;
+  return natural_neighbor_coordinates(F, m, q, heat_q, scratch);
+}
+
+namespace {
+
+// Areas q's cell steals from each site (stolen, ns) and its own area aq. Every
+// face with a taken corner changes hands: its old parts are added to `stolen` and
+// its new split (all of it to q when all corners are taken) is taken back. The
+// taken vertices' shares add a third of each incident face per taken corner; the
+// border faces (taken and untaken corners) get the rest of their old parts and
+// their re-split. Sums run in the order of the ascending taken vertices.
+int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<const double> heat_q,
+                    NaturalScratch& s, std::vector<double>& stolen, double& aq) {
+  const HeatVoronoi& V = F.voronoi;
+  const int32_t ns = static_cast<int32_t>(F.sites.size());
+  // Each face around a taken vertex counts its taken corners (face_mark); the
+  // border faces are those counted fewer than 3 times, in first-touch order.
+  s.faces.clear();
+  for (int32_t v : s.taken) {
+    for (int64_t p = F.share_offsets[v]; p < F.share_offsets[v + 1]; ++p) stolen[F.share_site[p]] += F.share_area[p];
+    aq += F.vertex_area[v];
+    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
+      const int32_t f = F.vf_faces[p];
+      if (s.face_mark[f]++ == 0) s.faces.push_back(f);
+    }
+  }
+  size_t border = 0;
+  for (int32_t f : s.faces) {
+    const bool inside = s.face_mark[f] == 3;
+    s.face_mark[f] = 0;
+    if (!inside) s.faces[border++] = f;
+  }
+  s.faces.resize(border);
+  int64_t fallback = 0;
+  for (int32_t f : s.faces) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const bool t[3] = {s.vertex_mark[v[0]] != 0, s.vertex_mark[v[1]] != 0, s.vertex_mark[v[2]] != 0};
+    const int taken = t[0] + t[1] + t[2];
+    const double rest = (3 - taken) / 3.0;
+    for (int p = 0; p < 3; ++p) {
+      const int32_t site = F.part_site[3 * static_cast<size_t>(f) + p];
+      if (site >= 0) stolen[site] += rest * F.part_area[3 * static_cast<size_t>(f) + p];
+    }
+    aq -= taken * F.face_area[f] / 3;  // the taken corners' thirds: replaced by the new split
+    const int32_t lnew[3] = {t[0] ? ns : V.label[v[0]], t[1] ? ns : V.label[v[1]], t[2] ? ns : V.label[v[2]]};
+    const bool ok = split_face(
+        F.face_area[f], lnew,
+        [&](int k, int32_t site, bool& okk) { return site == ns ? heat_q[v[k]] : top_heat(V, v[k], site, okk); },
+        [&](int32_t site, double a) {
+          if (site == ns) {
+            aq += a;
+          } else {
+            stolen[site] -= a;
+          }
+        });
+    fallback += !ok || F.part_fallback[f];
+  }
+  return fallback;
+}
+
+}  // namespace
+
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q, std::span<const double> heat_q,
+                                                 NaturalScratch& scratch) {
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(F.sites.size());
   if (!F.heat || F.heat->n != n || F.voronoi.label.size() != static_cast<size_t>(n))
@@ -122,60 +319,39 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
     }
   }
   const HeatVoronoi& V = F.voronoi;
+  NaturalScratch& s = scratch;
+  s.vertex_mark.resize(n, 0);
+  s.face_mark.resize(m.num_faces(), 0);
   // Vertices q takes over: its heat beats the current maximum (ties stay with the sites).
-  std::vector<int32_t> taken;
+  s.taken.clear();
   for (int32_t v = 0; v < n; ++v) {
     if (!std::isfinite(heat_q[v])) fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
-    if (heat_q[v] > V.top_value[static_cast<size_t>(v) * kVoronoiTopK]) taken.push_back(v);
+    if (heat_q[v] > V.top_value[static_cast<size_t>(v) * kVoronoiTopK]) s.taken.push_back(v);
   }
-  auto site_heat = [&](int32_t v, int32_t s, bool& ok) { return top_heat(V, v, s, ok); };
-  if (taken.empty()) {  // q's cell holds no vertex: the cell containing q
+  if (s.taken.empty()) {  // q's cell holds no vertex: the cell containing q
     r.weight[containing_cell(V, m, q)] = 1.0;
     r.degenerate = true;
     return r;
   }
-  std::vector<int32_t> faces;
-  for (int32_t v : taken) faces.insert(faces.end(), F.vf_faces.begin() + F.vf_offsets[v], F.vf_faces.begin() + F.vf_offsets[v + 1]);
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  auto is_taken = [&](int32_t v) { return std::binary_search(taken.begin(), taken.end(), v); };
+  for (int32_t v : s.taken) s.vertex_mark[v] = 1;
   std::vector<double> stolen(ns, 0.0);
   double aq = 0;
-  for (int32_t f : faces) {
-    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
-    const double A = F.face_area[f];
-    const int32_t lold[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
-    int32_t lnew[3];
-    for (int k = 0; k < 3; ++k) lnew[k] = is_taken(v[k]) ? ns : lold[k];
-    bool ok_old = true, ok_new = true;
-    ok_old = split_face(
-        A, lold, [&](int k, int32_t s, bool& ok) { return site_heat(v[k], s, ok); },
-        [&](int32_t s, double a) { stolen[s] += a; });
-    ok_new = split_face(
-        A, lnew,
-        [&](int k, int32_t s, bool& ok) { return s == ns ? heat_q[v[k]] : site_heat(v[k], s, ok); },
-        [&](int32_t s, double a) {
-          if (s == ns) {
-            aq += a;
-          } else {
-            stolen[s] -= a;
-          }
-        });
-    r.fallback_faces += !ok_old || !ok_new;
-  }
+  r.fallback_faces = steal_areas(F, m, heat_q, s, stolen, aq);
+  for (int32_t v : s.taken) s.vertex_mark[v] = 0;
   r.cell_area = aq;
   if (!(aq > 0)) fail(ErrorCode::Numerical, "natural neighbors: the query's cell has no area");
   double sum = 0, neg = 0;
-  for (int32_t s = 0; s < ns; ++s) {
-    if (stolen[s] < 0) {
-      neg -= stolen[s];
-      stolen[s] = 0;
-    }
-    sum += stolen[s];
+  // Areas summed in a different order than they were split leave rounding
+  // residues (|x| ~ 1e-16 aq) where nothing was stolen: those are zero.
+  const double tiny = 1e-12 * aq;
+  for (int32_t i = 0; i < ns; ++i) {
+    if (stolen[i] < 0) neg -= stolen[i];
+    if (stolen[i] <= tiny) stolen[i] = 0;
+    sum += stolen[i];
   }
   r.clamped = neg / aq;
   if (!(sum > 0)) fail(ErrorCode::Numerical, "natural neighbors: no area was stolen");
-  for (int32_t s = 0; s < ns; ++s) r.weight[s] = stolen[s] / sum;
+  for (int32_t i = 0; i < ns; ++i) r.weight[i] = stolen[i] / sum;
   return r;
 }
 

@@ -5,14 +5,16 @@
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
+#include "locus/error.hpp"
 #include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
-#include "locus/error.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
+#include "locus/pipelines/voronoi/skinning_sampled.hpp"
 
 namespace locus {
 
@@ -27,7 +29,51 @@ struct SkinMsg {
 struct SkinScratch {
   HeatBatch batch;
   std::vector<double> lane;
+  NaturalScratch nn;
 };
+
+// Exact rows of the vertices `query` (8 per solve, in parallel) into rows
+// (query.size() * k, row i for query[i]); degenerate[i] (when not empty) set
+// where query[i]'s cell held no vertex (its row is an indicator); statistics into W.
+void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mesh& m, std::span<const int32_t> query,
+                std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t k = static_cast<int32_t>(F.sites.size());
+  const int32_t count = static_cast<int32_t>(query.size());
+  const int32_t nb = (count + kLanes - 1) / kLanes;
+  tbb::enumerable_thread_specific<SkinScratch> scratch;
+  auto solve_batch = [&](int32_t b) {
+    SkinScratch& s = scratch.local();
+    auto msg = std::make_shared<SkinMsg>();
+    msg->first = b * kLanes;
+    msg->lanes = std::min(kLanes, count - msg->first);
+    s.batch.clear_sources();
+    s.batch.kept.clear();
+    for (int l = 0; l < msg->lanes; ++l) {
+      const int32_t v = query[msg->first + l];
+      const double one = 1.0;
+      s.batch.add_source({&v, 1}, {&one, 1});
+    }
+    solve_heat_batch(H, s.batch);
+    s.lane.resize(n);
+    for (int l = 0; l < msg->lanes; ++l) {
+      for (int32_t v = 0; v < n; ++v) s.lane[v] = s.batch.values[static_cast<size_t>(v) * kLanes + l];
+      msg->c[l] = natural_neighbor_coordinates(F, m, vertex_point(query[msg->first + l]), s.lane, s.nn);
+    }
+    return msg;
+  };
+  auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
+    for (int l = 0; l < msg->lanes; ++l) {
+      const NaturalCoordinates& c = msg->c[l];
+      std::copy(c.weight.begin(), c.weight.end(), rows.begin() + static_cast<size_t>(msg->first + l) * k);
+      if (!degenerate.empty()) degenerate[msg->first + l] = c.degenerate;
+      W.degenerate += c.degenerate;  // integer sums and a max: independent of arrival order
+      W.fallback_faces += c.fallback_faces;
+      W.max_clamped = std::max(W.max_clamped, c.clamped);
+    }
+  };
+  run_batch_graph<SkinMsg>(ctx, nb, solve_batch, store, "skinning weights");
+}
 
 }  // namespace
 
@@ -38,42 +84,98 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   SkinningWeights W;
   W.prepare_s = sw.lap();
   const int32_t n = m.num_vertices();
+  W.handles = static_cast<int32_t>(handles.size());
+  W.method = "exact";
+  W.samples = n;
+  W.weight.assign(static_cast<size_t>(n) * W.handles, 0.0);
+  std::vector<int32_t> all(n);
+  for (int32_t v = 0; v < n; ++v) all[v] = v;
+  exact_rows(F, H, m, all, W.weight, {}, W, ctx);
+  W.weights_s = sw.lap();
+  return W;
+}
+
+namespace {
+
+// The greedy cover with the smallest radius (in rings) that has at most
+// `target` samples: the first guess from the density of a regular triangulation
+// (a cover of radius r edges leaves about one sample per 2 r^2 vertices), then
+// wider until the count fits (a cover costs one pass over the vertex balls).
+std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t> first, int32_t n, int32_t target,
+                                   int32_t& rings) {
+  const double r = std::sqrt(static_cast<double>(n) / (2.0 * std::max(1, target)));
+  rings = std::max(1, static_cast<int32_t>(std::floor(r)));
+  std::vector<int32_t> samples = cover_samples(adj, first, rings);
+  while (static_cast<int32_t>(samples.size()) > std::max(target, static_cast<int32_t>(first.size())) && rings < n) {
+    ++rings;
+    samples = cover_samples(adj, first, rings);
+  }
+  return samples;
+}
+
+}  // namespace
+
+SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
+                                 const SkinningOptions& options, const RunContext& ctx) {
+  if (options.samples < 0) fail(ErrorCode::BadUsage, "skinning weights: samples must be >= 0");
+  BatchStopwatch sw;
+  const NaturalNeighborField F = prepare_natural_neighbors(H, m, handles, ctx);
+  SkinningWeights W;
+  W.prepare_s = sw.lap();
+  const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(handles.size());
   W.handles = k;
   W.weight.assign(static_cast<size_t>(n) * k, 0.0);
-  const int32_t nb = (n + kLanes - 1) / kLanes;
-  tbb::enumerable_thread_specific<SkinScratch> scratch;
-  auto solve_batch = [&](int32_t b) {
-    SkinScratch& s = scratch.local();
-    auto msg = std::make_shared<SkinMsg>();
-    msg->first = b * kLanes;
-    msg->lanes = std::min(kLanes, n - msg->first);
-    s.batch.clear_sources();
-    s.batch.kept.clear();
-    for (int l = 0; l < msg->lanes; ++l) {
-      const int32_t v = msg->first + l;
-      const double one = 1.0;
-      s.batch.add_source({&v, 1}, {&one, 1});
+  std::vector<int32_t> owner(n, -1), handle_vertices;
+  for (int32_t j = 0; j < k; ++j)
+    for (int32_t v : handles[j]) {
+      owner[v] = j;
+      handle_vertices.push_back(v);
     }
-    solve_heat_batch(H, s.batch);
-    s.lane.resize(n);
-    for (int l = 0; l < msg->lanes; ++l) {
-      for (int32_t v = 0; v < n; ++v) s.lane[v] = s.batch.values[static_cast<size_t>(v) * kLanes + l];
-      msg->c[l] = natural_neighbor_coordinates(F, m, vertex_point(msg->first + l), s.lane);
-    }
-    return msg;
-  };
-  auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
-    for (int l = 0; l < msg->lanes; ++l) {
-      const NaturalCoordinates& c = msg->c[l];
-      std::copy(c.weight.begin(), c.weight.end(), W.weight.begin() + static_cast<size_t>(msg->first + l) * k);
-      W.degenerate += c.degenerate;  // integer sums and a max: independent of arrival order
-      W.fallback_faces += c.fallback_faces;
-      W.max_clamped = std::max(W.max_clamped, c.clamped);
+  // Rows of handle vertices are their indicator; the others are solved.
+  // indicator[i]: verts[i]'s row is an indicator for want of a cell (a handle
+  // vertex, or a degenerate query), not because its cell touches one handle only.
+  auto solve_rows = [&](std::span<const int32_t> verts, std::vector<double>& rows, std::vector<uint8_t>& indicator) {
+    std::vector<int32_t> query;
+    for (int32_t v : verts)
+      if (owner[v] < 0) query.push_back(v);
+    std::vector<double> qrows(query.size() * static_cast<size_t>(k));
+    std::vector<uint8_t> qdeg(query.size(), 0);
+    exact_rows(F, H, m, query, qrows, qdeg, W, ctx);
+    rows.assign(verts.size() * static_cast<size_t>(k), 0.0);
+    indicator.assign(verts.size(), 1);
+    size_t qi = 0;
+    for (size_t i = 0; i < verts.size(); ++i) {
+      if (owner[verts[i]] >= 0) {
+        rows[i * k + owner[verts[i]]] = 1.0;
+      } else {
+        indicator[i] = qdeg[qi];
+        std::copy_n(qrows.begin() + qi++ * k, k, rows.begin() + i * k);
+      }
     }
   };
-  run_batch_graph<SkinMsg>(ctx, nb, solve_batch, store, "skinning weights");
+  if (options.method == SkinningMethod::Exact) {
+    W.method = "exact";
+    std::vector<int32_t> all(n);
+    for (int32_t v = 0; v < n; ++v) all[v] = v;
+    std::vector<uint8_t> indicator;
+    solve_rows(all, W.weight, indicator);
+    W.samples = n;
+    W.weights_s = sw.lap();
+    return W;
+  }
+  W.method = "sampled";
+  const Adjacency adj = vertex_adjacency(m);
+  const std::vector<int32_t> samples =
+      fitting_cover(adj, handle_vertices, n, options.samples > 0 ? options.samples : 1024, W.sample_rings);
+  W.samples = static_cast<int32_t>(samples.size());
+  std::vector<double> rows;
+  std::vector<uint8_t> indicator;
+  solve_rows(samples, rows, indicator);
   W.weights_s = sw.lap();
+  const Propagation P = propagate_samples(m, adj, samples, rows, indicator, k, W.weight, ctx);
+  W.radius = P.radius;
+  W.propagate_s = sw.lap();
   return W;
 }
 

@@ -97,5 +97,5 @@ TEST_CASE("natural neighbor coordinates on a sphere: properties; bad input") {
   }
   CHECK_THROWS_AS(natural_neighbor_coordinates(F, m, SurfacePoint{m.num_faces(), -1, {1, 0, 0}}), Error);
   CHECK_THROWS_AS(natural_neighbor_coordinates(F, m, qs[0], std::vector<double>(3, 0.0)), Error);
-  CHECK_THROWS_AS(prepare_natural_neighbors(H, m, {}, {}), Error);
+  CHECK_THROWS_AS(prepare_natural_neighbors(H, m, std::span<const SurfacePoint>{}, {}), Error);
 }

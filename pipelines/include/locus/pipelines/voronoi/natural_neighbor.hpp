@@ -18,6 +18,11 @@
 // resolves), the result is the indicator of the site whose cell contains q and
 // `degenerate` is set.
 //
+// Sites may also be vertex sets (skinning handles made of several vertices, a
+// bone): a set's heat is the solve with a unit source at each of its vertices
+// (multi-source heat Voronoi, thesis §3.2), its cell the vertices where that heat
+// is the largest. Queries at a vertex of a set return its indicator (degenerate).
+//
 // Thread safety: a prepared NaturalNeighborField is immutable; queries are re-entrant.
 #pragma once
 #include <cstdint>
@@ -40,11 +45,35 @@ struct NaturalNeighborField {
   std::vector<int64_t> vf_offsets;      // faces around each vertex (CSR)
   std::vector<int32_t> vf_faces;
   std::vector<double> cell_area;        // a_i
+  // Per face, its split among the sites before any insertion (up to 3 parts;
+  // part_site -1 = unused): a query re-splits only faces on its cell's border.
+  std::vector<int32_t> part_site;       // 3 per face
+  std::vector<double> part_area;        // 3 per face
+  std::vector<uint8_t> part_fallback;   // per face: split by vertex labels (a heat value was missing)
+  // Per vertex, a third of its incident faces' parts summed per site (CSR) and a
+  // third of their area: a query adds these over the vertices it takes and
+  // re-splits only the faces on its cell's border, so its cost is one pass over
+  // its cell's vertices.
+  std::vector<int64_t> share_offsets;   // n + 1
+  std::vector<int32_t> share_site;
+  std::vector<double> share_area;
+  std::vector<double> vertex_area;
 };
 
 // H: the prepared heat operator of m (isotropic); sites: at least one, valid.
 NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mesh& m,
                                                  std::span<const SurfacePoint> sites, const RunContext& ctx);
+
+// The same with vertex-set sites: sets[i] is site i's vertices (non-empty,
+// disjoint, valid ids); sites[i] becomes the set's first vertex.
+NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mesh& m,
+                                                 std::span<const std::vector<int32_t>> sets, const RunContext& ctx);
+
+// Reusable per-thread scratch of the queries (marks sized to the mesh, zero between uses).
+struct NaturalScratch {
+  std::vector<uint8_t> vertex_mark, face_mark;
+  std::vector<int32_t> taken, faces;
+};
 
 struct NaturalCoordinates {
   std::vector<double> weight;  // one per site
@@ -58,6 +87,10 @@ struct NaturalCoordinates {
 // heat_q[v]: q's heat (M - tL)^{-1} b(q) at every vertex (size n).
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
                                                  const SurfacePoint& q, std::span<const double> heat_q);
+// The same with caller-owned scratch (batched queries: no allocation once warm).
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q, std::span<const double> heat_q,
+                                                 NaturalScratch& scratch);
 // One-shot: solves q's heat itself.
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
                                                  const SurfacePoint& q);

@@ -1,16 +1,36 @@
 // Skinning weights from natural-neighbor coordinates (thesis §3.7.2, "Blend
-// skinning"): the weight of handle j at vertex v is b_j(v), the area-stealing
-// coordinate of v with respect to the handle set (pipelines/include/locus/pipelines/voronoi/natural_neighbor.hpp).
-// Weights are non-negative, sum to 1 per vertex, equal the indicator at a handle,
-// and are exactly 0 for handles whose cells the vertex's cell does not touch.
+// skinning", Fig. 3.12): the weight of handle j at vertex v is b_j(v), the
+// area-stealing coordinate of v with respect to the handles' heat-Voronoi cells
+// (pipelines/include/locus/pipelines/voronoi/natural_neighbor.hpp). A handle is a
+// vertex set (one vertex, a list, or the vertices of a bone:
+// skinning_handles.hpp) whose heat has a unit source at each of its vertices.
+// Weights are non-negative, sum to 1 per vertex, are the indicator on a handle's
+// vertices, and are exactly 0 for handles whose cells the vertex's cell does not touch.
 //
-// Cost: one full heat solve per vertex (the diagram of a few handles is coarse, so
-// localization does not apply, thesis §3.7.2), done 8 vertices per solve, batches
-// in parallel (oneTBB flow graph, one slot per vertex: deterministic for any thread
-// count), plus a re-split of the triangles each vertex's cell covers.
+// Two methods:
+//   Exact    one full heat solve per vertex (8 vertices per solve, batches in
+//            parallel, one slot per vertex: deterministic for any thread count),
+//            plus a re-split of the triangles each vertex's cell covers. The cost
+//            grows with n^2 / handles (a vertex's cell covers a fixed share of its
+//            handle's cell), as the thesis notes (§3.7.2: "comparably slow").
+//   Sampled  the thesis' way out (§3.7.2: compute on a coarse set, propagate):
+//            the exact coordinates at a greedy cover of the vertex graph (every
+//            vertex within `rings` edges of a sample, handle vertices first), then
+//            propagated to the other vertices by moving least squares over the
+//            samples within a geodesic radius (skinning_sampled.hpp). The rows stay
+//            non-negative, sum to 1 (renormalized to rounding), handle vertices
+//            keep their indicator, and a weight is exactly 0 where the samples
+//            around have it 0 (the support is never widened past the samples'
+//            zeros; it may shrink by up to the cover radius where the weight is
+//            below 0.03). Cost: at most `samples` exact rows (each a full heat
+//            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
+//            The exact rows themselves vary from vertex to vertex by more than a
+//            smooth interpolant follows (the vertex-level discretization of the
+//            cells): docs/skinning.md has the measured differences.
 #pragma once
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "locus/mesh.hpp"
@@ -20,17 +40,36 @@
 
 namespace locus {
 
+enum class SkinningMethod : uint8_t { Sampled, Exact };
+
+struct SkinningOptions {
+  SkinningMethod method = SkinningMethod::Sampled;
+  // Sampled: the most sample vertices (the greedy cover with the smallest radius
+  // in edges that has at most this many; handle vertices are always samples);
+  // 0 = the default 1024. More samples: closer to Exact, slower.
+  int32_t samples = 0;
+};
+
 struct SkinningWeights {
   int32_t handles = 0;
   std::vector<double> weight;  // n * handles, row-major (vertex v's weights at v * handles)
   int64_t degenerate = 0;      // vertices whose cell held no vertex (indicator of the containing cell)
   int64_t fallback_faces = 0;  // summed over vertices
   double max_clamped = 0;      // largest relative negative area difference clamped to 0
-  double prepare_s = 0, weights_s = 0;
+  std::string method;          // "exact" or "sampled"
+  int32_t samples = 0;         // vertices whose row is exact (all for Exact)
+  int32_t sample_rings = 0;    // Sampled: every vertex is within this many edges of a sample
+  double radius = 0;           // Sampled: the propagation radius (length units)
+  double prepare_s = 0, weights_s = 0, propagate_s = 0;
 };
 
-// H: prepared heat operator of m; handles: at least one, valid surface points.
+// H: prepared heat operator of m; handles: at least one, valid surface points
+// (each its own site). Exact per-vertex computation.
 SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> handles,
                                  const RunContext& ctx);
+
+// handles: vertex sets (non-empty, disjoint, valid ids), one per handle.
+SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
+                                 const SkinningOptions& options, const RunContext& ctx);
 
 }  // namespace locus

@@ -1,0 +1,79 @@
+// The C API of the skinweights command (locus_commands.h,
+// locus_skinning_options): the C options translated to the engine's request
+// (engine/include/locus/engine/skinning_requests.hpp), run by the Session, the
+// weights and report copied out. Handles as vertex sets (offsets into one id
+// array) and bones (offsets into one point array); every check beyond C's own
+// (NULL arrays, ascending offsets) is the Session's.
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "c_api_support.hpp"
+#include "locus/engine/skinning_requests.hpp"
+
+using namespace locus::c_api_detail;
+
+extern "C" {
+
+locus_skinning_options locus_skinning_options_default(void) {
+  locus_skinning_options o;
+  std::memset(&o, 0, sizeof o);
+  return o;
+}
+
+namespace {
+
+locus::SkinningRequest skinning_request_of(const locus_skinning_options& o) {
+  locus::SkinningRequest q;
+  require(o.n_handles >= 0 && o.n_bones >= 0, "n_handles and n_bones must be >= 0");
+  require(o.n_handles == 0 || o.handle_vertices != nullptr, "handle_vertices is NULL");
+  for (int64_t i = 0; i < o.n_handles; ++i) {
+    const int64_t a = o.handle_offsets ? o.handle_offsets[i] : i, b = o.handle_offsets ? o.handle_offsets[i + 1] : i + 1;
+    require(a >= 0 && b >= a, "handle_offsets are not ascending");
+    require(b - a <= kMaxVertices, "a handle has too many vertices");
+    q.handles.emplace_back(o.handle_vertices + a, o.handle_vertices + b);
+  }
+  require(o.n_bones == 0 || (o.bone_points != nullptr && o.bone_offsets != nullptr), "bone_points or bone_offsets is NULL");
+  for (int64_t i = 0; i < o.n_bones; ++i) {
+    const int64_t a = o.bone_offsets[i], b = o.bone_offsets[i + 1];
+    require(a >= 0 && b >= a && b - a <= kMaxVertices, "bone_offsets are not ascending");
+    q.bones.emplace_back(o.bone_points + 3 * a, o.bone_points + 3 * b);
+  }
+  q.exact = o.exact != 0;
+  q.samples = o.samples;
+  q.t = o.t ? std::string(o.t) : std::string();
+  return q;
+}
+
+}  // namespace
+
+locus_status locus_skinning_run(locus_session* session, const locus_skinning_options* options, double* out,
+                                locus_skinning_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_skinning_run", [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    require(out != nullptr, "out is NULL");
+    CallContext cc(opts);
+    const locus::SkinningReport r = s.skinning(skinning_request_of(*options), cc.ctx);
+    std::copy(r.weight.begin(), r.weight.end(), out);
+    if (out_report) {
+      locus_skinning_report o;
+      std::memset(&o, 0, sizeof o);
+      o.handles = r.handles;
+      o.exact = r.method == "exact" ? 1 : 0;
+      o.samples = r.samples;
+      o.sample_rings = r.sample_rings;
+      o.radius = r.radius;
+      o.t = r.t;
+      o.degenerate_vertices = r.degenerate_vertices;
+      o.factor_s = r.factor_s;
+      o.prepare_s = r.prepare_s;
+      o.weights_s = r.weights_s;
+      o.propagate_s = r.propagate_s;
+      *out_report = o;
+    }
+  });
+}
+
+}  // extern "C"
