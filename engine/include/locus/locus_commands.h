@@ -222,7 +222,7 @@ typedef struct locus_skinning_options {
   int32_t samples;               /* sampled method: at most this many exact rows; 0 = 1024 */
   const char* t;                 /* NULL: h2 */
 } locus_skinning_options;
-locus_skinning_options locus_skinning_options_default(void);
+LOCUS_API locus_skinning_options locus_skinning_options_default(void);
 
 typedef struct locus_skinning_report {
   int64_t handles;
@@ -235,8 +235,9 @@ typedef struct locus_skinning_report {
   double factor_s, prepare_s, weights_s, propagate_s;
 } locus_skinning_report;
 
-locus_status locus_skinning_run(locus_session* session, const locus_skinning_options* options, double* out,
-                                locus_skinning_report* out_report, const locus_run_options* opts);
+LOCUS_API locus_status locus_skinning_run(locus_session* session, const locus_skinning_options* options,
+                                          double* out, locus_skinning_report* out_report,
+                                          const locus_run_options* opts);
 
 /* The voronoi command, every option of `locus voronoi` (engine/include/locus/
  * engine/voronoi_request.hpp), as the geodesic command's options above:

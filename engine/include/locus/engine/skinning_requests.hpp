@@ -22,7 +22,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct SkinningRequest {
+struct LOCUS_API SkinningRequest {
   std::vector<std::vector<int64_t>> handles;  // vertex sets, 0-based ids
   std::vector<std::vector<double>> bones;     // polylines, 3 coordinates per point, >= 2 points
   bool exact = false;                         // natural-neighbor coordinates at every vertex (slow)
@@ -30,7 +30,7 @@ struct SkinningRequest {
   std::string t;                              // diffusion time; "" = h2
 };
 
-struct SkinningReport {
+struct LOCUS_API SkinningReport {
   int32_t handles = 0;
   std::vector<double> weight;  // nv * handles, row-major: vertex v's weights at [v * handles, (v + 1) * handles)
   std::vector<std::vector<int32_t>> handle_vertices;  // per handle, its vertices (ascending)
