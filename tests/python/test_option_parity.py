@@ -20,8 +20,8 @@ MIGRATED = {"geodesic": locus.geodesic, "logmap": locus.logmap, "adf": locus.Ses
             "heat": locus.Session.heat, "deform": locus.Session.deform,
             "nncoords": locus.Session.nncoords, "param": locus.Session.param,
             "perfect-laplacian": locus.Session.perfect_laplacian, "selfsupport": locus.Session.selfsupport,
-            "voronoi": locus.Session.voronoi_command}
-PENDING = ["cvt", "factor", "info", "run", "skinweights"]
+            "voronoi": locus.Session.voronoi_command, "cvt": locus.Session.cvt_command}
+PENDING = ["factor", "info", "run", "skinweights"]
 # The CommandTable's options: threads is every Python call's keyword, subdivide
 # is locus.subdivide, seed is perfect-laplacian's noise seed and unused by the others, operator is the
 # Session's (Session(V, F, operator=), checked below), no_weld is read_mesh(weld=), the rest present a result.
@@ -29,7 +29,7 @@ COMMON = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory"
           "operator", "no_weld"}
 POSITIONAL = {"geodesic": ["source"], "logmap": ["center"], "adf": [], "hks": ["ts"], "heat": ["source", "target"],
               "deform": ["roi_seed", "handle", "offset"], "nncoords": ["sites", "point"], "param": [], "perfect-laplacian": [],
-              "selfsupport": [], "voronoi": []}
+              "selfsupport": [], "voronoi": [], "cvt": []}
 
 
 def parameters(fn):
