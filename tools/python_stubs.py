@@ -77,7 +77,9 @@ PROPERTIES = {"num_vertices": "int", "num_faces": "int", "num_polygons": "int", 
 
 
 # Where a name means something else in one function.
-BY_FUNCTION = {("cvt", "sites"): "int", ("Session.cvt", "sites"): "int"}
+BY_FUNCTION = {("cvt", "sites"): "int", ("Session.cvt", "sites"): "int", ("Session.cvt_command", "sites"): "int",
+               ("Session.cvt_command", "centroid_t"): "str", ("Session.cvt_command", "t_centroid"): "str",
+               ("Session.cvt_command", "labels"): "str", ("Session.cvt_command", "sites_out"): "str"}
 
 
 def annotation(function_name, p):

@@ -49,10 +49,6 @@ locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uin
 
 }  // extern "C"
 
-struct locus_remesh {
-  locus::CvtResult r;
-};
-
 extern "C" {
 
 locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,

@@ -28,6 +28,11 @@ struct locus_session {
   locus::Session session;
 };
 
+// A remesh with its sites (locus_cvt_remesh, locus_cvt_run).
+struct locus_remesh {
+  locus::CvtResult r;
+};
+
 namespace locus::c_api_detail {
 
 using locus::ErrorCode;

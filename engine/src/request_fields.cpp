@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
@@ -17,6 +18,32 @@ namespace locus {
 namespace {
 
 const char* flag(bool b) { return b ? "true" : "false"; }
+
+// cvt has the most options: its table apart.
+std::vector<RequestField> cvt_fields() {
+  const CvtRequest d;
+  return {{"sites", std::to_string(d.sites)},
+          {"iters", std::to_string(d.iters)},
+          {"stop_energy", format_number(d.stop_energy)},
+          {"anisotropy", format_number(d.anisotropy)},
+          {"solver", d.solver},
+          {"t", d.t},
+          {"save", d.save},
+          {"load", d.load},
+          {"no_refine", flag(d.no_refine)},
+          {"centroid_t", d.centroid_t},
+          {"t_centroid", d.t_centroid},
+          {"fit_rings", std::to_string(d.fit_rings)},
+          {"fit_sigma", format_number(d.fit_sigma)},
+          {"no_split", flag(d.no_split)},
+          {"labels", d.labels},
+          {"sites_out", d.sites_out},
+          {"repair_rounds", std::to_string(d.repair_rounds)},
+          {"refinements", std::to_string(d.refinements)},
+          {"optimize", std::to_string(d.optimize)},
+          {"no_hausdorff", flag(d.no_hausdorff)},
+          {"track_quality", flag(d.track_quality)}};
+}
 
 }  // namespace
 
@@ -82,6 +109,7 @@ std::vector<RequestField> request_fields(const std::string& command) {
     const VoronoiCommandRequest d;
     return {{"sites", ""}, {"random", std::to_string(d.random)}, {"t", d.t}, {"save", d.save}, {"load", d.load}};
   }
+  if (command == "cvt") return cvt_fields();
   return {};
 }
 

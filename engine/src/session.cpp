@@ -36,8 +36,6 @@
 #include "locus/kernels/symbolic/symbolic_factor.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
-#include "locus/pipelines/voronoi/cvt_remesh.hpp"
-#include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/pipelines/geodesic/heat_geodesic.hpp"
 #include "locus/pipelines/geodesic/logmap.hpp"
@@ -172,10 +170,6 @@ std::shared_ptr<const NumericFactor> heat_factor(State& s, double t_factor, cons
   const std::shared_ptr<const HeatDiffusion> H = diffusion(s, HeatQuery{t_factor, 0.0}, ctx);
   return std::shared_ptr<const NumericFactor>(H, &H->factor);
 }
-
-// What factoring the cells' operator costs, in Lloyd iterations (measured,
-// docs/shipping.md): its weight in cvt's progress.
-constexpr double kCvtFactorIterations = 2.2;
 
 // The cells' operator of cvt_lloyd (its default t = kLloydTFactor h^2), built once per positions: later
 // cvt calls skip ordering and factoring.
@@ -419,32 +413,19 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   const std::shared_ptr<const HeatDiffusion> H = cvt_heat(*s, progress.build());
   o.prepared = H.get();  // kLloydTFactor = cvt_lloyd's default: the same operator, bit for bit
   const RunContext& rest = progress.query();
-  CvtResult r;
-  LloydResult lr;
   if (remesh) {
-    RemeshOptions ro;
-    ro.lloyd = o;
-    RemeshResult rr = cvt_remesh(s->mesh, *s->derived, ro, rest);
-    lr = std::move(rr.lloyd);
-    r.remeshed = rr.complete;
-    r.added_sites = rr.added_sites;
-    if (rr.complete) {
-      const RemeshStats st = remesh_stats(s->mesh, rr.remesh, true);
-      for (int32_t v = 0; v < rr.remesh.num_vertices(); ++v)
-        r.remesh_xyz.insert(r.remesh_xyz.end(), {rr.remesh.x[v], rr.remesh.y[v], rr.remesh.z[v]});
-      r.remesh_triangles.assign(rr.remesh.face_vertices.begin(), rr.remesh.face_vertices.end());
-      r.remesh_site = rr.vertex_site;
-      r.remesh_genus = st.genus;
-      r.remesh_components = st.components;
-      r.remesh_boundary_loops = st.boundary_loops;
-      r.mean_min_angle_deg = st.mean_min_angle_deg;
-      r.min_angle_deg = st.min_angle_deg;
-      r.pct_below_30_deg = st.pct_below_30_deg;
-      r.hausdorff_rel = st.hausdorff_rel;
-    }
-  } else {
-    lr = cvt_lloyd(s->mesh, *s->derived, o, rest);  // the mesh was checked once, by the Session
+    // The command's call sequence (session_cvt_command.cpp) on the kept operator.
+    CvtRequest q;
+    q.sites = sites;
+    q.iters = iterations;
+    q.seed = seed;
+    CvtResult r = cvt_result_of(
+        run_cvt(s->mesh, *s->derived, q, HeatTime{kLloydTFactor, true}, HeatTime{0.0, true}, H.get(), rest));
+    progress.finish("remesh");
+    return r;
   }
+  LloydResult lr = cvt_lloyd(s->mesh, *s->derived, o, rest);  // the mesh was checked once, by the Session
+  CvtResult r;
   r.label = std::move(lr.label);
   r.empty_cells = lr.empty_cells;
   r.unreached = lr.unreached;
@@ -455,7 +436,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
     r.site_vertex.push_back(p.face < 0 ? p.vertex : -1);
     r.site_bary.insert(r.site_bary.end(), p.bary.begin(), p.bary.end());
   }
-  progress.finish(remesh ? "remesh" : "lloyd");
+  progress.finish("lloyd");
   return r;
 }
 

@@ -291,6 +291,20 @@ std::string underflow_warning(int64_t vertices, double t_no_underflow, double h,
 
 }  // namespace session_detail
 
+// What factoring the cells' operator costs, in Lloyd iterations (measured,
+// docs/shipping.md): its weight in cvt's progress.
+inline constexpr double kCvtFactorIterations = 2.2;
+
+// The cvt command's call sequence after its checks (session_cvt_command.cpp):
+// Lloyd and the remesh on `prepared` (the cells' M - tL; null: cvt_lloyd
+// factors its own), and the statistics. Session::cvt(const CvtRequest&) and
+// the cached tier (Session::cvt with remesh) both run it.
+CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
+                  const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx);
+
+// The cached tier's result (CvtResult: the remesh as arrays) from the command's report.
+CvtResult cvt_result_of(CvtReport&& c);
+
 struct Session::Impl {
   mutable std::mutex mu;  // guards `state` (the pointer, not what it points to)
   std::shared_ptr<session_detail::State> state;

@@ -11,15 +11,12 @@
 #include <span>
 #include <string>
 
-#include "locus/engine/factor_store.hpp"
+#include "command_heat_operator.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/voronoi_request.hpp"
 #include "locus/error.hpp"
-#include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
-#include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
-#include "locus/kernels/mesh/robust_heat_operators.hpp"
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "locus/session.hpp"
 
@@ -28,41 +25,6 @@ namespace {
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// M - tL of the mesh, factored or loaded: the cotan operator's, or with
-// `robust` the robust operator's Laplacian and mass (operator_choice.hpp), the
-// mesh then checked only for triangles and finite coordinates.
-HeatDiffusion heat_operator_of(const Mesh& mesh, bool robust, const HeatTime& time, const FactorCacheFiles& files,
-                               const RunContext& ctx, FactorCacheReport& cache) {
-  MeshRequirements req;
-  req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
-  if (robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
-  check_requirements(mesh, req);
-  if (mesh.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(mesh) + ": the mesh has no vertices");
-  auto t0 = std::chrono::steady_clock::now();
-  HeatDiffusion H;
-  H.n = mesh.num_vertices();
-  H.h = mean_edge_length(mesh);
-  H.t = time.resolve(H.h);
-  CscMatrix A;
-  if (robust) {
-    const RobustOperators R = robust_laplacian(mesh);
-    A = robust_heat_operator(R, H.t);
-    H.mass = R.mass;
-  } else {
-    A = heat_operator(mesh, H.t);
-    H.mass = lumped_mass(mesh);
-  }
-  H.operator_s = seconds(t0);
-  const FactorRequest request{"heat", H.t, &A};
-  Factors F = factor_or_load(files, mesh, std::span<const FactorRequest>(&request, 1), ctx);
-  H.factor = std::move(F.factors[0]);
-  H.order_s = F.order_s;
-  H.analyze_s = F.analyze_s;
-  H.factor_s = F.numeric_s;
-  cache = FactorCacheReport{files.load, files.save, F.load_s, F.save_s};
-  return H;
 }
 
 }  // namespace
@@ -91,7 +53,7 @@ VoronoiCommandReport voronoi_command(const Session& session, const VoronoiComman
   VoronoiCommandReport r;
   auto t0 = std::chrono::steady_clock::now();
   const HeatDiffusion H =
-      heat_operator_of(mesh, session.operator_report().robust, parse_heat_time(req.t, "--t"), {req.save, req.load},
+      command_heat_operator(mesh, session.operator_report().robust, parse_heat_time(req.t, "--t"), {req.save, req.load},
                        ctx, r.factor_cache);
   r.prepare_s = seconds(t0);
   if (req.random > 0) sites = random_surface_points(mesh, req.random, req.seed);

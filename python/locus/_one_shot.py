@@ -67,16 +67,20 @@ def heat_values(V, F, sources, targets, *, t_factor=1.0, t=0.0, operator="auto",
     return Session(V, F, operator=operator).heat_values(sources, targets, t_factor=t_factor, t=t, **call)
 
 
-def cvt(V, F, sites, iterations=10, seed=1, *, operator="auto", **call):
-    """Isotropic heat CVT with remeshing: (sites, remesh_V, remesh_F, labels).
+def cvt(V, F, sites, iterations=10, seed=1, *, operator="auto", **options):
+    """Heat CVT with remeshing: (sites, remesh_V, remesh_F, labels).
 
     F: triangles or polygons (triangulated, as `locus cvt`; labels index V).
     sites: number of sites (seeded random start, `seed`, default 1); iterations:
-    Lloyd steps (default 10); t = 4 h^2, as `locus cvt`. Returns the final site
-    positions (k, 3), the remeshed surface (n, 3) float64 and (m, 3) int32, and
-    each input vertex's cell (nv,) int32. Session.cvt gives every statistic.
+    Lloyd steps (default 10; `locus cvt --iters`); t = 4 h^2, as `locus cvt`.
+    options: every other option of `locus cvt` under its name (t, solver,
+    anisotropy, fit_sigma, optimize, ...; see Session.cvt_command), and threads,
+    progress. Returns the final site positions (k, 3), the remeshed surface
+    (n, 3) float64 and (m, 3) int32 (empty when the cells still break the
+    closed-ball property), and each input vertex's cell (nv,) int32.
+    Session.cvt_command gives every statistic.
     """
-    r = Session(V, F, operator=operator).cvt(sites, iterations, seed, remesh=True, **call)
+    r = Session(V, F, operator=operator).cvt_command(sites, iterations, seed=seed, **options)
     return r.sites, r.remesh_V, r.remesh_F, r.labels
 
 

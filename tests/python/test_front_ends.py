@@ -126,3 +126,18 @@ def test_info_equals_cli(cli, armadillo_path, armadillo_session, tmp_path):
         if k == "bbox":
             got = {side: list(v) for side, v in got.items()}
         assert got == want, k
+
+
+def test_cvt_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    """The remesh (vertices, faces), the labels and the sites of `locus cvt`, bit for bit."""
+    for args, kw in (([], {}), (["--t", "2h2", "--fit-rings", "1", "--optimize", "2"],
+                                dict(t="2h2", fit_rings=1, optimize=2))):
+        report = run_cli(cli, tmp_path, "cvt", armadillo_path, "--sites", 150, "--iters", 3, "--seed", 5, *args,
+                         "-o", tmp_path / "r.ply", "--labels", tmp_path / "l.ply", "--sites-out", tmp_path / "s.ply")
+        V, F = locus.read_mesh(str(tmp_path / "r.ply"))
+        r = armadillo_session.cvt_command(150, 3, seed=5, **kw)
+        assert r.complete and same(r.remesh_V, V) and np.array_equal(r.remesh_F, F)
+        assert np.array_equal(r.labels, read_ply_vertices(tmp_path / "l.ply")["label"])
+        sites = read_ply_vertices(tmp_path / "s.ply")
+        assert same(r.sites, np.stack([sites["x"], sites["y"], sites["z"]], axis=1))
+        assert r.remesh["vertices"] == report["remesh"]["vertices"] and r.energy == report["energy"]

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
@@ -34,8 +35,8 @@ using namespace locus::test_cli;
 // still calls pipelines directly); together every command `locus --help` lists.
 const std::vector<std::string> kMigrated = {"geodesic", "logmap",   "adf",   "hks",               "heat",
                                             "deform",   "nncoords", "param", "perfect-laplacian", "selfsupport",
-                                            "voronoi"};
-const std::vector<std::string> kPending = {"cvt", "factor", "skinweights"};
+                                            "voronoi",  "cvt"};
+const std::vector<std::string> kPending = {"factor", "skinweights"};
 // Commands without options of their own: info (Session::info, locus_info_run,
 // Python Session.info(): the report of the mesh), and run, which drives the
 // other commands over a folder in child processes (tools/runner): its options
@@ -241,6 +242,33 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
   CHECK(vo.seed == vq.seed);
   CHECK(vo.t == nullptr);  // NULL: the request's "h2"
   CHECK(vo.n_sites == 0);
+  const locus_cvt_options cv = locus_cvt_options_default();
+  const locus::CvtRequest cq;
+  CHECK(cv.sites == cq.sites);
+  CHECK(cv.iters == cq.iters);
+  CHECK(cv.stop_energy == cq.stop_energy);
+  CHECK(cv.anisotropy == cq.anisotropy);
+  CHECK((cv.no_refine != 0) == cq.no_refine);
+  CHECK(cv.fit_rings == cq.fit_rings);
+  CHECK(cv.fit_sigma == cq.fit_sigma);
+  CHECK((cv.no_split != 0) == cq.no_split);
+  CHECK(cv.repair_rounds == cq.repair_rounds);
+  CHECK(cv.refinements == cq.refinements);
+  CHECK(cv.optimize == cq.optimize);
+  CHECK((cv.no_hausdorff != 0) == cq.no_hausdorff);
+  CHECK((cv.track_quality != 0) == cq.track_quality);
+  CHECK(cv.seed == cq.seed);
+  CHECK(cv.solver == nullptr);  // NULL: the request's "local"
+  CHECK(cv.t == nullptr);       // NULL: the request's "4h2"
+  CHECK(cv.centroid_t == nullptr);
+  CHECK(cv.t_centroid == nullptr);
+  CHECK(cv.labels == nullptr);
+  CHECK(cv.sites_out == nullptr);
+  for (const locus::RequestField& f : locus::request_fields("cvt")) {
+    if (f.name == "t") CHECK(f.default_value == "4h2");
+    if (f.name == "solver") CHECK(f.default_value == "local");
+    if (f.name == "fit_sigma") CHECK(f.default_value == "1");
+  }
   for (const locus::RequestField& f : locus::request_fields("heat"))
     if (f.name == "repeat") CHECK(f.default_value == "1");
   for (const locus::RequestField& f : locus::request_fields("logmap")) {

@@ -1,12 +1,13 @@
 // `locus cvt MESH`: centroidal Voronoi tessellation by Lloyd's method with heat
-// cells and centroids (thesis §3.7.1; pipelines/include/locus/pipelines/voronoi/cvt_lloyd.hpp), localized
-// (approximate selective solves, default) or with full solves (--solver full, for
-// comparison), isotropic or anisotropic (--anisotropy lambda). -o writes the
-// remesh: the restricted-Delaunay dual of the final cells, repaired into a
-// manifold with the input's topology (pipelines/.../voronoi/cvt_remesh.hpp);
-// --labels writes the input with a per-vertex `label` property (the cell),
-// --sites-out the sites; --json reports the timings, the `remesh` object
-// (remesh_quality.hpp) and the quality of the cells (cvt_quality.hpp).
+// cells and centroids (thesis §3.7.1), localized (approximate selective
+// solves, default) or with full solves (--solver full, for comparison),
+// isotropic or anisotropic (--anisotropy lambda), computed by
+// locus::Session::cvt (engine/include/locus/engine/cvt_request.hpp), which
+// owns the checks. -o writes the remesh: the restricted-Delaunay dual of the
+// final cells, repaired into a manifold with the input's topology; --labels
+// writes the input with a per-vertex `label` property (the cell), --sites-out
+// the sites; --json reports the timings, the `remesh` object and the quality
+// of the cells.
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -14,111 +15,22 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
-#include "locus/kernels/heat/heat_diffusion.hpp"
-#include "locus/kernels/heat/surface_point.hpp"
 #include "locus/mesh_io.hpp"
-#include "locus/pipelines/voronoi/cvt_lloyd.hpp"
-#include "locus/pipelines/voronoi/cvt_quality.hpp"
-#include "locus/pipelines/voronoi/cvt_remesh.hpp"
-#include "locus/pipelines/voronoi/remesh_quality.hpp"
-#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/session.hpp"
 #include "tools/cli/cli_common.hpp"
 #include "tools/cli/written_files.hpp"
-#include "tools/cli/heat_factor_cache.hpp"
 
 namespace locus::cli {
 namespace {
 
 struct CvtOptions {
-  int32_t sites = 100;
-  int32_t iterations = 10;
-  double anisotropy = 0.0;
-  std::string solver = "local";
-  std::string t_text;
-  bool no_refine = false;
-  bool track = false;
-  bool no_split = false;
-  std::string centroid_t;   // --centroid-t T (the --t grammar)
-  std::string t_centroid;   // --t-centroid C: deprecated, C h^2
-  double fit_sigma = LloydOptions{}.fit_sigma;
-  int fit_rings = LloydOptions{}.fit_rings;
-  FactorCacheOptions fc;
+  CvtRequest request;
   PreviewOptions preview;
-  std::string labels_out, sites_out;
-  int repair_rounds = RemeshOptions{}.max_repair_rounds;
-  int refinements = RemeshOptions{}.max_refinements;
-  bool no_hausdorff = false;
-  int optimize_rounds = RemeshOptions{}.optimize_rounds;
-  double stop_energy = 0.0;
 };
 
-// The centroids' own diffusion time (value 0: the cells' time). --t-centroid C,
-// the spelling before the --t grammar, stays as an alias for a release.
-TimeSpec centroid_time_spec(const CvtOptions& o) {
-  if (!o.t_centroid.empty()) {
-    if (!o.centroid_t.empty())
-      fail(ErrorCode::BadUsage,
-           "--centroid-t and --t-centroid name one time; give --centroid-t only (--t-centroid C is --centroid-t Ch2)");
-    const double c = parse_h2_multiple(o.t_centroid, "--t-centroid", true);
-    log("--t-centroid is deprecated and will be removed; use " +
-        (c > 0 ? "--centroid-t " + o.t_centroid + "h2" : std::string("no option (0 is the cells' t)")));
-    return TimeSpec{c, true};
-  }
-  return o.centroid_t.empty() ? TimeSpec{0.0, true} : parse_time_spec(o.centroid_t);
-}
-
-LloydOptions lloyd_options(const CommonOptions& opt, const CvtOptions& o, const TimeSpec& ts, const TimeSpec& tc) {
-  LloydOptions lo;
-  lo.sites = o.sites;
-  lo.iterations = o.iterations;
-  lo.stop_energy = o.stop_energy;
-  lo.seed = opt.seed;
-  lo.solver = o.solver == "full" ? LloydOptions::Solver::Full : LloydOptions::Solver::Local;
-  lo.anisotropy = o.anisotropy;
-  lo.refine = !o.no_refine;
-  lo.track_quality = o.track;
-  lo.split_faces = !o.no_split;
-  (tc.times_h2 ? lo.t_centroid_factor : lo.t_centroid_abs) = tc.value;
-  lo.fit_rings = o.fit_rings;
-  lo.fit_sigma = o.fit_sigma;
-  if (ts.times_h2) {
-    lo.t_factor = ts.value;
-  } else {
-    lo.t_abs = ts.value;
-  }
-  return lo;
-}
-
-// The final sites as a point set (no faces): PLY keeps each site's face and
-// barycentric weights (-1 and the vertex for sites on a vertex). `face` is a
-// triangle of the mesh the command worked on; for a triangulated polygon file
-// `polygon` names the file's face that triangle belongs to (-1 on a vertex).
-void write_sites(const std::string& path, const Mesh& mesh, const LloydResult& r, const std::vector<int32_t>& face_of) {
-  if (path.empty()) return;
-  Mesh pts;
-  WriteOptions wo;
-  VertexProperty face{"face", VertexProperty::Type::Int, {}}, vert{"vertex", VertexProperty::Type::Int, {}};
-  VertexProperty b[3] = {{"b0", VertexProperty::Type::Double, {}}, {"b1", VertexProperty::Type::Double, {}},
-                         {"b2", VertexProperty::Type::Double, {}}};
-  for (const SurfacePoint& p : r.sites) {
-    const auto x = surface_point_position(mesh, p);
-    pts.add_vertex(x[0], x[1], x[2]);
-    face.values.push_back(p.face);
-    vert.values.push_back(p.face < 0 ? p.vertex : -1);
-    for (int k = 0; k < 3; ++k) b[k].values.push_back(p.bary[k]);
-  }
-  wo.vertex_properties = {face, vert, b[0], b[1], b[2]};
-  if (!face_of.empty()) {
-    VertexProperty polygon{"polygon", VertexProperty::Type::Int, {}};
-    for (const SurfacePoint& p : r.sites) polygon.values.push_back(p.face < 0 ? -1 : face_of[p.face]);
-    wo.vertex_properties.push_back(std::move(polygon));
-  }
-  write_mesh(path, pts, wo);
-  log_written(path);
-}
-
-Json defects_json(const DualDefects& d) {
+Json defects_json(const CvtDefects& d) {
   return {{"split_cells", d.split_cells},
           {"non_disk_cells", d.non_disk_cells},
           {"split_interfaces", d.split_interfaces},
@@ -130,10 +42,11 @@ Json defects_json(const DualDefects& d) {
 }
 
 // The `remesh` object (keys in the README's order) and the repair's counts.
-Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
+Json remesh_json(const CvtReport& r) {
+  const CvtMeshStats& st = r.remesh_stats;
   Json j{{"vertices", st.vertices},
          {"faces", st.faces},
-         {"manifold", st.manifold && rr.complete},
+         {"manifold", st.manifold && r.complete},
          {"genus", st.genus},
          {"components", st.components},
          {"boundary_loops", st.boundary_loops},
@@ -141,45 +54,50 @@ Json remesh_json(const RemeshStats& st, const RemeshResult& rr) {
          {"min_angle_deg", st.min_angle_deg},
          {"pct_below_30_deg", st.pct_below_30_deg},
          {"hausdorff_rel", st.hausdorff_rel},
-         {"added_sites", rr.added_sites}};
-  j["dual_mean_min_angle_deg"] = rr.dual_mean_min_angle_deg;  // before the optimization
-  j["dual_min_angle_deg"] = rr.dual_min_angle_deg;
-  j["flips"] = rr.optimize.flips;
-  j["smoothing_moves"] = rr.optimize.moves;
-  j["boundary_moves"] = rr.optimize.boundary_moves;  // along the input's boundary curves
-  j["repair_rounds"] = rr.repair_rounds;
-  j["refinements"] = rr.refinements;
-  j["lloyd_iterations"] = rr.lloyd_iterations;
-  j["defects_before_repair"] = defects_json(rr.first_defects);
-  j["defects_left"] = defects_json(rr.defects);
+         {"added_sites", r.added_sites}};
+  j["dual_mean_min_angle_deg"] = r.dual_mean_min_angle_deg;  // before the optimization
+  j["dual_min_angle_deg"] = r.dual_min_angle_deg;
+  j["flips"] = r.flips;
+  j["smoothing_moves"] = r.smoothing_moves;
+  j["boundary_moves"] = r.boundary_moves;  // along the input's boundary curves
+  j["repair_rounds"] = r.repair_rounds;
+  j["refinements"] = r.refinements;
+  j["lloyd_iterations"] = r.lloyd_iterations;
+  j["defects_before_repair"] = defects_json(r.defects_before_repair);
+  j["defects_left"] = defects_json(r.defects_left);
+  const CvtMeshStats& in = r.input_stats;
+  j["input"] = {{"genus", in.genus}, {"components", in.components}, {"boundary_loops", in.boundary_loops}};
   return j;
+}
+
+std::array<double, 3> site_position(const CvtReport& r, size_t s) {
+  return {r.site_xyz[3 * s], r.site_xyz[3 * s + 1], r.site_xyz[3 * s + 2]};
 }
 
 // --preview: the remesh with its edges drawn dark (its vertices are the
 // sites), or, without a manifold remesh, the input coloured by cell with the
 // sites marked.
-void write_cvt_preview(const Mesh& mesh, const RemeshResult& rr, const PreviewOptions& preview) {
+void write_cvt_preview(const Mesh& mesh, const CvtReport& r, const PreviewOptions& preview) {
   if (preview.path.empty()) return;
-  const LloydResult& r = rr.lloyd;
-  if (rr.complete) {
-    const std::vector<double> one(rr.remesh.num_vertices(), 0.0);
-    write_preview(rr.remesh, one, PreviewKind::Labels, preview,
-                  {"cvt remesh: " + std::to_string(rr.remesh.num_vertices()) + " vertices (the sites), " +
-                       std::to_string(rr.remesh.num_faces()) + " triangles",
+  if (r.complete) {
+    const std::vector<double> one(r.remesh.num_vertices(), 0.0);
+    write_preview(r.remesh, one, PreviewKind::Labels, preview,
+                  {"cvt remesh: " + std::to_string(r.remesh.num_vertices()) + " vertices (the sites), " +
+                       std::to_string(r.remesh.num_faces()) + " triangles",
                    {}, "", true});
     return;
   }
-  PreviewContent pc{"cvt cells of " + std::to_string(r.sites.size()) + " sites (no remesh)", {}, "sites"};
-  for (const SurfacePoint& p : r.sites) pc.markers.push_back(surface_point_position(mesh, p));
+  const size_t ns = r.site_face.size();
+  PreviewContent pc{"cvt cells of " + std::to_string(ns) + " sites (no remesh)", {}, "sites"};
+  for (size_t s = 0; s < ns; ++s) pc.markers.push_back(site_position(r, s));
   write_preview(mesh, std::vector<double>(r.label.begin(), r.label.end()), PreviewKind::Labels, preview, pc);
 }
 
-Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh, const LloydResult& r,
-                const CvtQuality& q) {
+Json lloyd_json(const CommonOptions& opt, const CvtRequest& o, const CvtReport& r) {
   Json j;
-  j["n"] = mesh.num_vertices();
+  j["n"] = r.n;
   j["sites"] = o.sites;
-  j["iterations"] = o.iterations;
+  j["iterations"] = o.iters;
   j["stop_energy"] = o.stop_energy;
   j["seed"] = opt.seed;
   j["solver"] = o.solver;
@@ -189,21 +107,21 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
   j["t"] = r.t;
   j["t_centroid"] = r.t_centroid;
   j["init_s"] = r.init_s;
-  j["factor_s"] = r.factor_s;  // includes the prepared operator's phases (0 when loaded)
+  j["factor_s"] = r.lloyd_factor_s;  // includes the prepared operator's phases (0 when loaded)
   j["factor_mb"] = static_cast<double>(r.factor_bytes) / 1e6;
   j["iter_s"] = r.iter_s.empty() ? 0.0 : median(r.iter_s);
   j["final_labels_s"] = r.final_labels_s;
-  j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighborhood_s},
+  j["phase_s"] = {{"labels", r.labels_s}, {"partition", r.partition_s}, {"neighbourhoods", r.neighbourhoods_s},
                   {"centroids", r.centroids_s}};
   j["mean_kept_fraction"] = r.mean_kept_fraction;
-  j["dual_triangles"] = q.dual_triangles;
-  j["min_angle_deg"] = q.min_angle_deg;
-  j["mean_angle_deg"] = q.mean_angle_deg;
+  j["dual_triangles"] = r.dual_triangles;
+  j["min_angle_deg"] = r.cells_min_angle_deg;
+  j["mean_angle_deg"] = r.cells_mean_angle_deg;
   {  // where the smallest angle is: its dual triangle's sites (ids, positions, cell areas)
     Json worst = Json::array();
-    for (int32_t s : q.min_angle_sites)
+    for (int32_t s : r.min_angle_sites)
       if (s >= 0) {
-        const auto p = surface_point_position(mesh, r.sites[s]);
+        const auto p = site_position(r, static_cast<size_t>(s));
         // Sites added by the remesh's repair rounds have no split-cell area (the
         // incremental repair relabels vertices only): null.
         const Json area = static_cast<size_t>(s) < r.cell_area.size() ? Json(r.cell_area[s]) : Json(nullptr);
@@ -211,22 +129,20 @@ Json lloyd_json(const CommonOptions& opt, const CvtOptions& o, const Mesh& mesh,
       }
     j["min_angle_sites"] = worst;
   }
-  j["angle_histogram_5deg"] = std::vector<int64_t>(q.angle_histogram.begin(), q.angle_histogram.end());
-  double cv = 0, var = 0;
-  cell_area_spread(r.cell_area, cv, var);
-  j["area_cv"] = cv;  // cells with triangles split along the bisectors
-  j["area_variance"] = var;
-  j["area_cv_vertex"] = q.area_cv;  // cells as unions of vertex stars (lumped mass)
-  j["area_variance_vertex"] = q.area_variance;
+  j["angle_histogram_5deg"] = std::vector<int64_t>(r.angle_histogram.begin(), r.angle_histogram.end());
+  j["area_cv"] = r.area_cv;  // cells with triangles split along the bisectors
+  j["area_variance"] = r.area_variance;
+  j["area_cv_vertex"] = r.area_cv_vertex;  // cells as unions of vertex stars (lumped mass)
+  j["area_variance_vertex"] = r.area_variance_vertex;
   j["fallback_faces"] = r.fallback_faces;
-  j["empty_cells"] = q.empty_cells;
+  j["empty_cells"] = r.empty_cells;
   j["unreached_vertices"] = r.unreached;
   j["iter_s_all"] = r.iter_s;
   j["energy"] = r.energy;
   j["moved_h"] = r.moved;
   j["centroid_bias_h"] = r.centroid_bias;
   j["centroid_bias_median_h"] = r.centroid_bias_median;
-  if (o.track) {
+  if (o.track_quality) {
     j["mean_angle_all"] = r.mean_angle;
     j["min_angle_all"] = r.min_angle;
   }
@@ -252,103 +168,76 @@ std::function<void(double, std::string_view)> throttled_progress(bool json) {
   };
 }
 
-int run_cvt(const CommonOptions& opt, const CvtOptions& o, const RunContext& ctx) {
-  if (o.solver != "local" && o.solver != "full")
-    fail(ErrorCode::BadUsage, "--solver must be 'local' or 'full', got '" + o.solver + "'");
-  // Default 4h^2, not the thesis's h^2: better cells and centroids on irregular meshes
-  // (measurements in docs/cvt.md).
-  const TimeSpec ts = o.t_text.empty() ? TimeSpec{kLloydTFactor, true} : parse_time_spec(o.t_text);
-  const TimeSpec tc = centroid_time_spec(o);
-  validate_factor_cache_options(o.fc);
+Json cvt_json(const CommonOptions& opt, const CvtRequest& q, const Input& in, const CvtReport& r, double load_s,
+              double write_s, double total_s) {
+  Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
+  j.update(lloyd_json(opt, q, r));
+  j["factor_cache"] = factor_cache_json(r.factor_cache);
+  j["remesh"] = remesh_json(r);
+  const double factor_s = r.prepare_s + r.remesh_factor_s;
+  j["timings"] = {{"load_s", load_s},       {"subdivide_s", in.subdivide_s}, {"factor_s", factor_s},
+                  {"lloyd_s", r.lloyd_s},   {"repair_s", r.repair_s},        {"dual_s", r.dual_s},
+                  {"optimize_s", r.optimize_s}, {"write_s", write_s},        {"total_s", total_s},
+                  {"stats_s", r.stats_s}};
+  // The same numbers under the names of earlier releases (deprecated; `timings` is the contract).
+  j["timings_s"] = {{"load", load_s},         {"factor", factor_s}, {"lloyd", r.lloyd_s},
+                    {"repair", r.repair_s},   {"dual", r.dual_s},   {"optimize", r.optimize_s},
+                    {"write", write_s},       {"total", total_s},   {"stats", r.stats_s}};
+  return j;
+}
+
+void print_cvt(std::ostream& os, const CommonOptions& opt, const CvtOptions& o, const CvtReport& r, double total_s) {
+  const CvtRequest& q = o.request;
+  const CvtMeshStats& st = r.remesh_stats;
+  os << opt.mesh_path << ": CVT of " << q.sites << " sites on " << r.n << " vertices, " << r.lloyd_iterations
+     << " Lloyd iterations (" << q.solver << " solves" << (q.anisotropy > 0 ? ", anisotropic" : "") << ")\n";
+  if (r.complete) {
+    os << "  remesh: " << st.vertices << " vertices, " << st.faces << " triangles (" << r.added_sites
+       << " sites added), genus " << st.genus << ", " << st.components << " component(s), " << st.boundary_loops
+       << " boundary loop(s)" << (st.manifold ? ", manifold" : ", NOT manifold") << "\n"
+       << "  smallest angle per triangle: mean " << st.mean_min_angle_deg << " deg, min " << st.min_angle_deg
+       << " deg, " << st.pct_below_30_deg << "% below 30; Hausdorff " << st.hausdorff_rel
+       << " of the bounding-box diagonal\n";
+  } else {
+    os << "  no manifold remesh: defects left " << defects_json(r.defects_left).dump() << "\n";
+  }
+  os << "  total " << total_s << " s (load to written file)\n";
+  if (!opt.output.empty()) os << "  remesh written to " << opt.output << "\n";
+  if (!o.preview.path.empty()) os << "  preview written to " << o.preview.path << "\n";
+}
+
+int run_cvt(const CommonOptions& opt, CvtOptions& o, const RunContext& ctx) {
+  CvtRequest& q = o.request;
+  q.seed = opt.seed;
+  check_request(q);  // bad usage before reading the file
   check_preview_options(o.preview);
-  if (o.anisotropy > 0 && (!o.fc.save.empty() || !o.fc.load.empty()))
-    fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");
   const Stopwatch total;
-  Input in = load_input(opt, ctx);
-  const Mesh& mesh = in.mesh;
+  const Input in = load_input(opt, ctx);
   const double load_s = total.seconds();
-  // Refusals that depend on the file are bad input (exit 3), like the file's own defects.
-  if (o.sites > mesh.num_vertices())
-    fail(ErrorCode::BadInput, opt.mesh_path + ": --sites " + std::to_string(o.sites) + " exceeds the " +
-                                  std::to_string(mesh.num_vertices()) + " vertices of the mesh");
-  const MeshDerived derived = derive_mesh(mesh);
-  if (o.sites < derived.components)
-    fail(ErrorCode::BadInput, opt.mesh_path + ": --sites " + std::to_string(o.sites) + " for " +
-                                  std::to_string(derived.components) +
-                                  " connected components; every component needs at least one site");
-  RemeshOptions ro;
-  ro.lloyd = lloyd_options(opt, o, ts, tc);
-  ro.max_repair_rounds = o.repair_rounds;
-  ro.max_refinements = o.refinements;
-  ro.optimize_rounds = o.optimize_rounds;
+  const Session session{Mesh(in.mesh), session_options(in)};
+  // The files on the input's vertices are written below, with the file's faces and attributes.
+  CvtRequest engine = q;
+  engine.labels.clear();
+  engine.sites_out.clear();
   RunContext run = ctx;
   run.progress = throttled_progress(opt.json);
-  // The cells' operator through the factor cache (isotropic); cvt_lloyd factors the lifted one itself.
-  Stopwatch phase;
-  Factors cache;
-  HeatDiffusion prepared;
-  if (o.anisotropy == 0) {
-    prepared = heat_diffusion_cached(o.fc, in, ts, ctx, cache);
-    ro.lloyd.prepared = &prepared;
-  }
-  const double factor_s = phase.seconds();
-  const RemeshResult rr = cvt_remesh(mesh, derived, ro, run);
-  const LloydResult& r = rr.lloyd;
-  if (!opt.output.empty() && !rr.complete)
+  const CvtReport r = session.cvt(engine, run);
+  if (!opt.output.empty() && !r.complete)
     fail(ErrorCode::Numerical, "cvt: the cells still break the closed-ball property after " +
-                                   std::to_string(rr.repair_rounds) + " repair rounds (" +
-                                   defects_json(rr.defects).dump() + "); no manifold remesh to write to " +
+                                   std::to_string(r.repair_rounds) + " repair rounds (" +
+                                   defects_json(r.defects_left).dump() + "); no manifold remesh to write to " +
                                    opt.output + " (try more --sites, --repair-rounds or --refinements)");
-  phase.restart();
-  write_output_mesh(opt, rr.remesh);
+  Stopwatch phase;
+  write_output_mesh(opt, r.remesh);
   const double write_s = phase.seconds();
   const double total_s = total.seconds();
-  phase.restart();
-  const RemeshStats st = rr.complete ? remesh_stats(mesh, rr.remesh, !o.no_hausdorff) : RemeshStats{};
-  const RemeshStats in_st = mesh_topology_stats(mesh);
-  const double stats_s = phase.seconds();
-  if (!o.labels_out.empty()) {
-    WriteOptions wo = carried_attributes(in);
-    add_result(wo, {"label", VertexProperty::Type::Int, std::vector<double>(r.label.begin(), r.label.end())});
-    write_mesh(o.labels_out, output_faces(in), wo);
-    log_written(o.labels_out);
-  }
-  write_sites(o.sites_out, mesh, r, in.face_of);
-  write_cvt_preview(mesh, rr, o.preview);
-  const CvtQuality q = cvt_quality(mesh, r.label, r.sites);
-  Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
-  j.update(lloyd_json(opt, o, mesh, r, q));
-  j["factor_cache"] = factor_cache_json(o.fc, cache);
-  j["remesh"] = remesh_json(st, rr);
-  j["remesh"]["input"] = {{"genus", in_st.genus}, {"components", in_st.components},
-                          {"boundary_loops", in_st.boundary_loops}};
-  j["timings"] = {{"load_s", load_s},     {"subdivide_s", in.subdivide_s}, {"factor_s", factor_s + rr.factor_s},
-                  {"lloyd_s", rr.lloyd_s}, {"repair_s", rr.repair_s},      {"dual_s", rr.dual_s},
-                  {"optimize_s", rr.optimize_s}, {"write_s", write_s},   {"total_s", total_s},
-                  {"stats_s", stats_s}};
-  // The same numbers under the names of earlier releases (deprecated; `timings` is the contract).
-  j["timings_s"] = {{"load", load_s},          {"factor", factor_s + rr.factor_s}, {"lloyd", rr.lloyd_s},
-                    {"repair", rr.repair_s},   {"dual", rr.dual_s},                {"optimize", rr.optimize_s},
-                    {"write", write_s},
-                    {"total", total_s},        {"stats", stats_s}};
-  emit(opt, j, [&](std::ostream& os) {
-    os << opt.mesh_path << ": CVT of " << o.sites << " sites on " << mesh.num_vertices() << " vertices, "
-       << rr.lloyd_iterations << " Lloyd iterations (" << o.solver << " solves"
-       << (o.anisotropy > 0 ? ", anisotropic" : "") << ")\n";
-    if (rr.complete) {
-      os << "  remesh: " << st.vertices << " vertices, " << st.faces << " triangles ("
-         << rr.added_sites << " sites added), genus " << st.genus << ", " << st.components << " component(s), "
-         << st.boundary_loops << " boundary loop(s)" << (st.manifold ? ", manifold" : ", NOT manifold") << "\n"
-         << "  smallest angle per triangle: mean " << st.mean_min_angle_deg << " deg, min " << st.min_angle_deg
-         << " deg, " << st.pct_below_30_deg << "% below 30; Hausdorff " << st.hausdorff_rel
-         << " of the bounding-box diagonal\n";
-    } else {
-      os << "  no manifold remesh: defects left " << defects_json(rr.defects).dump() << "\n";
-    }
-    os << "  total " << total_s << " s (load to written file)\n";
-    if (!opt.output.empty()) os << "  remesh written to " << opt.output << "\n";
-    if (!o.preview.path.empty()) os << "  preview written to " << o.preview.path << "\n";
-  });
+  WriteOptions carried = carried_attributes(in);
+  write_cvt_files(q, r, output_faces(in), std::move(carried), in.face_of);
+  if (!q.labels.empty()) log_written(q.labels);
+  if (!q.sites_out.empty()) log_written(q.sites_out);
+  write_cvt_preview(in.mesh, r, o.preview);
+  emit(opt, cvt_json(opt, q, in, r, load_s, write_s, total_s),
+       [&](std::ostream& os) { print_cvt(os, opt, o, r, total_s); });
   return 0;
 }
 
@@ -363,49 +252,50 @@ void register_cvt_command(CommandTable& table) {
   register_nncoords_command(table);
   register_skinweights_command(table);
   auto o = std::make_shared<CvtOptions>();
+  CvtRequest& q = o->request;
   CLI::App* app = table.add("cvt", "Centroidal Voronoi tessellation (Lloyd with heat cells and centroids)",
                             [o](const CommonOptions& opt, const RunContext& ctx) { return run_cvt(opt, *o, ctx); });
-  app->add_option("--sites", o->sites, "Number of sites (random initial positions, --seed)")
+  app->add_option("--sites", q.sites, "Number of sites (random initial positions, --seed)")
       ->check(CLI::Range(1, 100000000));
-  app->add_option("--iters", o->iterations, "Lloyd iterations (default 10)")->check(CLI::Range(0, 1000000));
-  app->add_option("--stop-energy", o->stop_energy,
+  app->add_option("--iters", q.iters, "Lloyd iterations (default 10)")->check(CLI::Range(0, 1000000));
+  app->add_option("--stop-energy", q.stop_energy,
                   "Stop Lloyd once an iteration lowers the CVT energy by less than this fraction (default 0: all --iters)")
       ->check(CLI::Range(0.0, 1.0));
-  app->add_option("--anisotropy", o->anisotropy, "lambda of the R^6 lift (p, lambda n); 0 = isotropic (thesis: 0.05)")
+  app->add_option("--anisotropy", q.anisotropy, "lambda of the R^6 lift (p, lambda n); 0 = isotropic (thesis: 0.05)")
       ->check(CLI::Range(0.0, 1e6));
-  app->add_option("--solver", o->solver, "local (approximate selective solves, default) or full");
-  app->add_option("--t", o->t_text, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default 4h2 (thesis: h2)")->check(non_empty());
-  add_factor_cache_options(app, o->fc);
+  app->add_option("--solver", q.solver, "local (approximate selective solves, default) or full");
+  app->add_option("--t", q.t, "Diffusion time: absolute or a multiple of h^2 (h2, 4h2); default 4h2 (thesis: h2)")->check(non_empty());
+  add_factor_cache_options(app, q.save, q.load);
   add_preview_option(app, o->preview);
-  app->add_flag("--no-refine", o->no_refine, "Centroids at the hottest vertex (no quadratic fit)");
-  app->add_option("--centroid-t", o->centroid_t,
+  app->add_flag("--no-refine", q.no_refine, "Centroids at the hottest vertex (no quadratic fit)");
+  app->add_option("--centroid-t", q.centroid_t,
                   "Centroid diffusion time, as --t: absolute or a multiple of h^2 (2h2); default: the cells' t")
       ->check(non_empty());
-  app->add_option("--t-centroid", o->t_centroid, "Deprecated spelling of --centroid-t: --t-centroid C is --centroid-t Ch2")
+  app->add_option("--t-centroid", q.t_centroid, "Deprecated spelling of --centroid-t: --t-centroid C is --centroid-t Ch2")
       ->check(non_empty());
-  app->add_option("--fit-rings", o->fit_rings, "Vertex rings of the centroid's quadratic fit (default 2; the thesis fits 1)")
+  app->add_option("--fit-rings", q.fit_rings, "Vertex rings of the centroid's quadratic fit (default 2; the thesis fits 1)")
       ->check(CLI::Range(1, 4));
-  app->add_option("--fit-sigma", o->fit_sigma,
+  app->add_option("--fit-sigma", q.fit_sigma,
                   "Weighted refit of the centroid's maximizer, Gaussian width in one-ring distances (default 1; 0 = none)")
       ->check(CLI::Range(0.0, 100.0));
-  app->add_flag("--no-split", o->no_split, "Cell sources from vertex labels only (no split triangles)");
+  app->add_flag("--no-split", q.no_split, "Cell sources from vertex labels only (no split triangles)");
   // Checked at parse time like -o: a bad target is exit 2 before any work.
-  app->add_option("--labels", o->labels_out, "Write the input mesh with a per-vertex `label` property (the cell) (PLY)")
+  app->add_option("--labels", q.labels, "Write the input mesh with a per-vertex `label` property (the cell) (PLY)")
       ->check(output_file({"ply", "obj", "off"}));
-  app->add_option("--sites-out", o->sites_out, "Write the final sites as points (PLY keeps face and barycentrics)")
+  app->add_option("--sites-out", q.sites_out, "Write the final sites as points (PLY keeps face and barycentrics)")
       ->check(output_file({"ply", "obj", "off"}));
-  app->add_option("--repair-rounds", o->repair_rounds,
+  app->add_option("--repair-rounds", q.repair_rounds,
                   "Rounds of added sites that make the remesh a manifold (default 12)")
       ->check(CLI::Range(0, 1000));
-  app->add_option("--refinements", o->refinements,
+  app->add_option("--refinements", q.refinements,
                   "Midpoint subdivisions of the input the repair may use where its vertices are too coarse for "
                   "the cells (default 3; 0 = none)")
       ->check(CLI::Range(0, 4));
-  app->add_option("--optimize", o->optimize_rounds,
-                  "Rounds of edge flips and tangential smoothing of the remesh on the input (default 4; 0 = the dual as is)")
+  app->add_option("--optimize", q.optimize,
+                  "Rounds of edge flips and tangential smoothing of the remesh on the input (default 6; 0 = the dual as is)")
       ->check(CLI::Range(0, 100));
-  app->add_flag("--no-hausdorff", o->no_hausdorff, "Skip the Hausdorff distance of the remesh (JSON -1)");
-  app->add_flag("--track-quality", o->track, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
+  app->add_flag("--no-hausdorff", q.no_hausdorff, "Skip the Hausdorff distance of the remesh (JSON -1)");
+  app->add_flag("--track-quality", q.track_quality, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }
 
 }  // namespace locus::cli

@@ -280,6 +280,65 @@ typedef struct locus_info_report {
 } locus_info_report;
 LOCUS_API locus_status locus_info_run(const locus_session* session, locus_info_report* out);
 
+/* The cvt command, every option of `locus cvt` (engine/include/locus/engine/
+ * cvt_request.hpp), as the geodesic command's options above:
+ * locus_cvt_options_default() gives the CLI's defaults; NULL or "" strings
+ * the default (centroid_t and t_centroid: not given). The cells' operator
+ * M - tL is factored by the call (or loaded from `load`, written to `save`;
+ * isotropic only); labels and sites_out name files the call writes (the
+ * session's mesh with a per-vertex `label` property; the sites as points
+ * with face, vertex and barycentric properties), checked before any work.
+ * out_labels: vertex-count int32, each vertex's site (NULL: not wanted);
+ * out_report may be NULL; out_remesh (may be NULL) receives a handle to free
+ * with locus_remesh_destroy: the remesh (no vertices when report.complete is
+ * 0: the cells still break the closed-ball property after the repair rounds)
+ * and the final sites (locus_remesh_get_sites). opts->t_factor must be 0.
+ * The labels, remesh and sites are `locus cvt`'s, bit for bit. */
+typedef struct locus_cvt_options {
+  int32_t sites;             /* 1..vertex count, at least one per component; default 100 */
+  int32_t iters;             /* 0..1000000, default 10 */
+  double stop_energy;        /* [0, 1], default 0: all iters */
+  double anisotropy;         /* lambda of the R^6 lift, 0..1e6; default 0: isotropic */
+  const char* solver;        /* "local" (default) or "full" */
+  const char* t;             /* NULL: "4h2" */
+  const char* save;          /* NULL: none */
+  const char* load;          /* NULL: none */
+  int32_t no_refine;         /* nonzero: centroids at the hottest vertex */
+  const char* centroid_t;    /* NULL: the cells' t */
+  const char* t_centroid;    /* deprecated: "C" is centroid_t "Ch2"; NULL: not given */
+  int32_t fit_rings;         /* 1..4, default 2 */
+  double fit_sigma;          /* 0..100, default 1 */
+  int32_t no_split;          /* nonzero: cell sources from vertex labels only */
+  const char* labels;        /* NULL: none */
+  const char* sites_out;     /* NULL: none */
+  int32_t repair_rounds;     /* 0..1000, default 12 */
+  int32_t refinements;       /* 0..4, default 3 */
+  int32_t optimize;          /* 0..100, default 6 */
+  int32_t no_hausdorff;      /* nonzero: remesh.hausdorff_rel -1 */
+  int32_t track_quality;     /* unused by the C report (the CLI's per-iteration JSON) */
+  uint64_t seed;             /* of the initial sites, default 1 */
+} locus_cvt_options;
+locus_cvt_options locus_cvt_options_default(void);
+typedef struct locus_cvt_report {
+  int64_t sites;             /* final sites, the repair's added ones included */
+  int32_t complete;          /* 1 when the remesh is the manifold dual */
+  int32_t added_sites, repair_rounds, refinements, lloyd_iterations;
+  locus_remesh_stats remesh; /* zero (genus -1) without a complete remesh */
+  double h, t, t_centroid;
+  int64_t dual_triangles;
+  double min_angle_deg, mean_angle_deg;  /* smallest angles of the cells' dual triangles */
+  double area_cv, area_variance, area_cv_vertex, area_variance_vertex;
+  int64_t empty_cells, unreached_vertices, fallback_faces;
+  int64_t flips, smoothing_moves, boundary_moves;
+  int64_t defects_left;      /* summed over the kinds (0 when complete) */
+} locus_cvt_report;
+locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
+                           locus_cvt_report* out_report, locus_remesh** out_remesh, const locus_run_options* opts);
+/* The final sites of a remesh handle (locus_cvt_run or locus_cvt_remesh):
+ * out_xyz receives 3 * locus_remesh_num_sites() doubles. */
+int64_t locus_remesh_num_sites(const locus_remesh* remesh);
+locus_status locus_remesh_get_sites(const locus_remesh* remesh, double* out_xyz);
+
 LOCUS_API_END
 #ifdef __cplusplus
 }

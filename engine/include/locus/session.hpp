@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/geodesic_requests.hpp"
@@ -414,8 +415,14 @@ class LOCUS_API Session {
   // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv,
   // at least one per connected component), `iterations` >= 0 localized Lloyd
   // steps, t = 4h^2. With `remesh`, also the remeshed surface (CvtResult).
+  // The cached tier: the cells' operator is built once per positions and kept.
   CvtResult cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx = {},
                 bool remesh = false) const;
+  // The `cvt` command (engine/include/locus/engine/cvt_request.hpp): every
+  // option of the CLI, the command's own factor of the cells' operator (the
+  // factor cache files of the request), the remesh and the statistics the
+  // CLI reports; writes the request's labels and sites_out files.
+  CvtReport cvt(const CvtRequest& req, const RunContext& ctx = {}) const;
 
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;

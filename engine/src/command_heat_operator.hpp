@@ -1,0 +1,23 @@
+// The heat operator M - tL of a command that factors its own (voronoi, cvt):
+// built on the mesh, then factored or loaded through the factor cache
+// (engine/include/locus/engine/factor_store.hpp) under the label "heat" with
+// the resolved t, so a file of `locus factor --operator heat`, `voronoi` or
+// `cvt` with the same t and mesh loads in any of them. Internal to the engine.
+#pragma once
+#include "locus/engine/factor_store.hpp"
+#include "locus/engine/geodesic_requests.hpp"
+#include "locus/engine/heat_time.hpp"
+#include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+// M - tL of `mesh` (t resolved on its mean edge length), factored or loaded:
+// the cotan operator's, or with `robust` the robust operator's Laplacian and
+// mass (operator_choice.hpp), the mesh then checked only for triangles and
+// finite coordinates. `cache` reports the files used.
+HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
+                                   const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache);
+
+}  // namespace locus
