@@ -81,14 +81,10 @@ foreach(floor core kernels io pipelines engine)
 endforeach()
 # The CLI is a client of the engine (Session, the requests of engine/include/
 # locus/engine/), like the C API and Python: no file of tools/cli includes a
-# pipelines header. Not yet migrated: skinweights.
-set(cli_pipeline_exceptions "cmd_skinweights.cpp")
+# pipelines header.
 file(GLOB cli_files "${LOCUS_SOURCE_DIR}/tools/cli/*.cpp" "${LOCUS_SOURCE_DIR}/tools/cli/*.hpp")
 foreach(f IN LISTS cli_files)
   get_filename_component(base "${f}" NAME)
-  if(base IN_LIST cli_pipeline_exceptions)
-    continue()
-  endif()
   file(STRINGS "${f}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<]locus/pipelines/")
   foreach(line IN LISTS lines)
     message("tools/cli/${base}: ${line}: the CLI reaches the pipelines through the engine (locus/session.hpp)")

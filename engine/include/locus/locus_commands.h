@@ -318,7 +318,7 @@ typedef struct locus_cvt_options {
   int32_t track_quality;     /* unused by the C report (the CLI's per-iteration JSON) */
   uint64_t seed;             /* of the initial sites, default 1 */
 } locus_cvt_options;
-locus_cvt_options locus_cvt_options_default(void);
+LOCUS_API locus_cvt_options locus_cvt_options_default(void);
 typedef struct locus_cvt_report {
   int64_t sites;             /* final sites, the repair's added ones included */
   int32_t complete;          /* 1 when the remesh is the manifold dual */
@@ -332,12 +332,13 @@ typedef struct locus_cvt_report {
   int64_t flips, smoothing_moves, boundary_moves;
   int64_t defects_left;      /* summed over the kinds (0 when complete) */
 } locus_cvt_report;
-locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
-                           locus_cvt_report* out_report, locus_remesh** out_remesh, const locus_run_options* opts);
+LOCUS_API locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
+                                     locus_cvt_report* out_report, locus_remesh** out_remesh,
+                                     const locus_run_options* opts);
 /* The final sites of a remesh handle (locus_cvt_run or locus_cvt_remesh):
  * out_xyz receives 3 * locus_remesh_num_sites() doubles. */
-int64_t locus_remesh_num_sites(const locus_remesh* remesh);
-locus_status locus_remesh_get_sites(const locus_remesh* remesh, double* out_xyz);
+LOCUS_API int64_t locus_remesh_num_sites(const locus_remesh* remesh);
+LOCUS_API locus_status locus_remesh_get_sites(const locus_remesh* remesh, double* out_xyz);
 
 LOCUS_API_END
 #ifdef __cplusplus

@@ -24,7 +24,7 @@
 LOCUS_API_BEGIN
 namespace locus {
 
-struct CvtRequest {
+struct LOCUS_API CvtRequest {
   int32_t sites = 100;          // seeded random initial sites: 1..vertex count, one per component at least
   int32_t iters = 10;           // Lloyd iterations, 0..1000000
   double stop_energy = 0.0;     // [0, 1]: stop once an iteration lowers the energy by less than this fraction
@@ -49,13 +49,13 @@ struct CvtRequest {
 };
 
 // What blocks the closed-ball property of the cells (the remesh's repair).
-struct CvtDefects {
+struct LOCUS_API CvtDefects {
   int64_t split_cells = 0, non_disk_cells = 0, split_interfaces = 0, loop_interfaces = 0,
           boundary_interfaces = 0, repeated_corners = 0, split_boundary_runs = 0, short_boundary_loops = 0;
 };
 
 // Topology and triangle quality of a mesh (the remesh, or the input's topology).
-struct CvtMeshStats {
+struct LOCUS_API CvtMeshStats {
   int32_t vertices = 0, faces = 0;
   bool manifold = false;
   int64_t genus = -1;                 // summed over components; -1 when not manifold
@@ -64,7 +64,7 @@ struct CvtMeshStats {
   double hausdorff_rel = -1;          // to the input, of its bounding-box diagonal; -1 when not computed
 };
 
-struct CvtReport {
+struct LOCUS_API CvtReport {
   // The cells: per vertex its site; the sites (the repair's added ones too).
   std::vector<int32_t> label;
   std::vector<double> site_xyz;       // 3 per site
@@ -109,7 +109,7 @@ struct CvtReport {
 };
 
 // Argument checks that need no mesh, the output targets included: Error(BadUsage).
-void check_request(const CvtRequest& req);
+LOCUS_API void check_request(const CvtRequest& req);
 
 // Writes the files the request names ("" = none): `labels`, the mesh `faces`
 // (on the vertices the command worked on) with the per-vertex property
@@ -119,8 +119,8 @@ void check_request(const CvtRequest& req);
 // triangle its polygon in a triangulated polygon file; empty otherwise),
 // polygon. Session::cvt writes them with its own faces; the CLI with the
 // file's faces and vertex attributes.
-void write_cvt_files(const CvtRequest& req, const CvtReport& r, const Mesh& faces, WriteOptions carried,
-                     const std::vector<int32_t>& triangle_polygon);
+LOCUS_API void write_cvt_files(const CvtRequest& req, const CvtReport& r, const Mesh& faces, WriteOptions carried,
+                               const std::vector<int32_t>& triangle_polygon);
 
 }  // namespace locus
 LOCUS_API_END
