@@ -1,4 +1,6 @@
-"""Skinning handles from an armature's bones: one mesh vertex per deforming bone.
+"""Skinning handles from an armature's bones for a locus module without
+Session.skinweights_command (which takes the bones themselves: each bone's
+handle is the set of vertices nearest its segment): one mesh vertex per bone.
 
 locus.Session.skinning_weights interpolates between handle points on the
 surface (natural-neighbour coordinates, thesis §3.7.2): weight 1 at a bone's

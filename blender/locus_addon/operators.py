@@ -258,8 +258,12 @@ class LOCUS_OT_skinning_weights(LocusOperator, bpy.types.Operator):
             self.use_modifiers
 
         def compute(progress):
-            handles = bone_handles.nearest_vertices(arrays.V, heads, tails)
             s = _session(task, use_modifiers, arrays)
+            if hasattr(s, "skinweights_command"):  # bones as handles (the vertices nearest each), sampled method
+                bones = [np.stack([h, t]) for h, t in zip(heads, tails)]
+                r = s.skinweights_command(bone=bones, t="%.17gh2" % t_factor, progress=progress)
+                return None, r.weights
+            handles = bone_handles.nearest_vertices(arrays.V, heads, tails)  # an older locus module
             return handles, s.skinning_weights(handles, t_factor=t_factor, progress=progress).weights
 
         def apply(context, obj, result):

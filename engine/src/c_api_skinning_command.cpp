@@ -1,5 +1,5 @@
 // The C API of the skinweights command (locus_commands.h,
-// locus_skinning_options): the C options translated to the engine's request
+// locus_skinweights_options): the C options translated to the engine's request
 // (engine/include/locus/engine/skinning_requests.hpp), run by the Session, the
 // weights and report copied out. Handles as vertex sets (offsets into one id
 // array) and bones (offsets into one point array); every check beyond C's own
@@ -16,29 +16,29 @@ using namespace locus::c_api_detail;
 
 extern "C" {
 
-locus_skinning_options locus_skinning_options_default(void) {
-  locus_skinning_options o;
+locus_skinweights_options locus_skinweights_options_default(void) {
+  locus_skinweights_options o;
   std::memset(&o, 0, sizeof o);
   return o;
 }
 
 namespace {
 
-locus::SkinningRequest skinning_request_of(const locus_skinning_options& o) {
+locus::SkinningRequest skinning_request_of(const locus_skinweights_options& o) {
   locus::SkinningRequest q;
   require(o.n_handles >= 0 && o.n_bones >= 0, "n_handles and n_bones must be >= 0");
-  require(o.n_handles == 0 || o.handle_vertices != nullptr, "handle_vertices is NULL");
+  require(o.n_handles == 0 || o.handles != nullptr, "handles is NULL");
   for (int64_t i = 0; i < o.n_handles; ++i) {
     const int64_t a = o.handle_offsets ? o.handle_offsets[i] : i, b = o.handle_offsets ? o.handle_offsets[i + 1] : i + 1;
     require(a >= 0 && b >= a, "handle_offsets are not ascending");
     require(b - a <= kMaxVertices, "a handle has too many vertices");
-    q.handles.emplace_back(o.handle_vertices + a, o.handle_vertices + b);
+    q.handles.emplace_back(o.handles + a, o.handles + b);
   }
-  require(o.n_bones == 0 || (o.bone_points != nullptr && o.bone_offsets != nullptr), "bone_points or bone_offsets is NULL");
+  require(o.n_bones == 0 || (o.bone != nullptr && o.bone_offsets != nullptr), "bone or bone_offsets is NULL");
   for (int64_t i = 0; i < o.n_bones; ++i) {
     const int64_t a = o.bone_offsets[i], b = o.bone_offsets[i + 1];
     require(a >= 0 && b >= a && b - a <= kMaxVertices, "bone_offsets are not ascending");
-    q.bones.emplace_back(o.bone_points + 3 * a, o.bone_points + 3 * b);
+    q.bone.emplace_back(o.bone + 3 * a, o.bone + 3 * b);
   }
   q.exact = o.exact != 0;
   q.samples = o.samples;
@@ -48,9 +48,9 @@ locus::SkinningRequest skinning_request_of(const locus_skinning_options& o) {
 
 }  // namespace
 
-locus_status locus_skinning_run(locus_session* session, const locus_skinning_options* options, double* out,
-                                locus_skinning_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_skinning_run", [&] {
+locus_status locus_skinweights_run(locus_session* session, const locus_skinweights_options* options, double* out,
+                                locus_skinweights_report* out_report, const locus_run_options* opts) {
+  return guarded("locus_skinweights_run", [&] {
     locus::Session& s = session_of(session);
     require(options != nullptr, "options is NULL");
     require(out != nullptr, "out is NULL");
@@ -58,7 +58,7 @@ locus_status locus_skinning_run(locus_session* session, const locus_skinning_opt
     const locus::SkinningReport r = s.skinning(skinning_request_of(*options), cc.ctx);
     std::copy(r.weight.begin(), r.weight.end(), out);
     if (out_report) {
-      locus_skinning_report o;
+      locus_skinweights_report o;
       std::memset(&o, 0, sizeof o);
       o.handles = r.handles;
       o.exact = r.method == "exact" ? 1 : 0;

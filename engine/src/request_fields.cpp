@@ -12,6 +12,7 @@
 #include "locus/engine/laplacian_requests.hpp"
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/param_request.hpp"
+#include "locus/engine/skinning_requests.hpp"
 #include "locus/engine/voronoi_request.hpp"
 
 namespace locus {
@@ -104,6 +105,10 @@ std::vector<RequestField> request_fields(const std::string& command) {
     const SelfSupportCommandRequest d;
     return {{"support", d.support}, {"load_density", format_number(d.load_density)},
             {"iters", std::to_string(d.iters)}, {"eps", format_number(d.eps)}};
+  }
+  if (command == "skinweights") {
+    const SkinningRequest d;
+    return {{"handles", ""}, {"bone", ""}, {"exact", flag(d.exact)}, {"samples", std::to_string(d.samples)}, {"t", d.t}};
   }
   if (command == "voronoi") {
     const VoronoiCommandRequest d;

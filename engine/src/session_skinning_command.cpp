@@ -36,8 +36,8 @@ std::vector<SkinningHandle> request_handles(const SkinningRequest& req, int32_t 
     }
     hs.push_back(std::move(h));
   }
-  for (size_t i = 0; i < req.bones.size(); ++i) {
-    const std::vector<double>& b = req.bones[i];
+  for (size_t i = 0; i < req.bone.size(); ++i) {
+    const std::vector<double>& b = req.bone[i];
     if (b.size() < 6 || b.size() % 3 != 0)
       fail(ErrorCode::BadUsage, "skinning: bone " + std::to_string(i) +
                                     " needs x,y,z of at least 2 points (got " + std::to_string(b.size()) + " numbers)");

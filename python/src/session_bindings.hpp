@@ -23,6 +23,7 @@ void bind_session_param_command(SessionClass& cls);       // param: every CLI op
 void bind_session_laplacian_commands(SessionClass& cls);  // perfect-laplacian, selfsupport: every CLI option
 void bind_session_voronoi_command(SessionClass& cls);     // voronoi: every CLI option
 void bind_session_cvt_command(SessionClass& cls);         // cvt: every CLI option
+void bind_session_skinweights_command(SessionClass& cls);  // skinweights: every CLI option
 void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
 void bind_session_shape(SessionClass& cls);
 

@@ -57,18 +57,6 @@ def stretch(linear):
     return (q * np.sqrt(w)) @ q.T
 
 
-def nearest_distinct(V, segments):
-    """Per bone segment, the nearest vertex not taken by an earlier bone (brute force)."""
-    taken, out = set(), []
-    for head, tail in segments:
-        d = tail - head
-        s = np.clip((V - head) @ d / (d @ d), 0, 1)
-        dist = np.linalg.norm(V - head - s[:, None] * d, axis=1)
-        out.append(next(int(v) for v in np.argsort(dist, kind="stable") if int(v) not in taken))
-        taken.add(out[-1])
-    return out
-
-
 class Checker:
     def __init__(self, locus, runs):
         self.locus, self.runs, self.failures, self.checked = locus, runs, [], 0
@@ -80,7 +68,7 @@ class Checker:
         """compare() computes the reference and asserts; a locus.Error there must be the operator's report."""
         rec = self.record(mesh, op)
         if rec is None:
-            print(f"  {mesh:11s} {op:16s} not run (LOCUS_BLENDER_SKIN_ARMADILLO=1 runs it)")
+            print(f"  {mesh:11s} {op:16s} not run")
             return
         try:
             compare()
@@ -157,9 +145,8 @@ def check_mesh(c, name, d):
         assert np.array_equal(d["remesh_F"], rF), "remesh triangles"
 
     def skin():
-        segments = d["bone_segments"] @ S
-        handles = nearest_distinct(raw, segments)
-        w = locus.skinning_weights(raw, F, handles, t_factor=1.0)
+        segments = d["bone_segments"] @ S  # each bone a handle: the vertices nearest its segment
+        w = locus.Session(raw, F).skinweights_command(bone=list(segments), t="1h2").weights
         close(d["skin"], np.where(w > 1e-3, w, 0.0), "vertex groups per bone", atol=2e-6)
         assert bool(d["armature_modifier"]), "no Armature modifier added"
 

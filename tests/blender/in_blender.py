@@ -181,7 +181,7 @@ def exercise(name, obj, sources, center, radius, bones, points, skin=True):
         rV, r_offsets, r_indices = mesh_arrays(bpy.data.objects[made[0]].data)
         data["remesh_V"], data["remesh_F"] = rV, r_indices.reshape(-1, 3)
         data["remesh_matrix"] = np.array(bpy.data.objects[made[0]].matrix_world)
-    if not skin:  # natural-neighbour weights at every vertex: minutes at 26k vertices (docs/blender.md)
+    if not skin:
         np.savez(OUT / f"{name}.npz", **data)
         return
     arm = armature_for(obj, V, bones)
@@ -335,8 +335,7 @@ def main():
     assert ADDON in sys.modules and hasattr(bpy.types, "LOCUS_PT_panel") and "remesh" in dir(bpy.ops.locus)
     info = host_checks()
     exercise("cube", cube(), sources=[0, 5], center=10, radius=1.5, bones=2, points=300)
-    exercise("armadillo", armadillo(), sources=[0], center=100, radius=30.0, bones=4, points=1000,
-             skin=os.environ.get("LOCUS_BLENDER_SKIN_ARMADILLO") == "1")
+    exercise("armadillo", armadillo(), sources=[0], center=100, radius=30.0, bones=4, points=1000)
     exercise("nonmanifold", non_manifold(), sources=[0], center=20, radius=0.5, bones=2, points=60)
     saved = OUT / "saved.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(saved))

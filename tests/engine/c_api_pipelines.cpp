@@ -139,6 +139,26 @@ TEST_CASE("C API natural neighbors (prepared and one-shot) and skinning weights:
   CHECK(sw == c.cpp.skinning_weights(std::vector<MeshPoint>{MeshPoint::at_vertex(0), MeshPoint::at_vertex(100)}).weight);
   CHECK(locus_skinning_weights(c.c, handles, 0, sw.data(), nullptr) == LOCUS_BAD_USAGE);
   CHECK(locus_nncoords(c.c, handles, 2, &bad, w, nullptr) == LOCUS_BAD_USAGE);
+
+  // The skinweights command: a vertex-set handle {0, 1} and a vertex handle
+  // 100, sampled; the Session's weights bit for bit, rows summing to 1.
+  locus_skinweights_options so = locus_skinweights_options_default();
+  const int64_t ids[3] = {0, 1, 100}, offsets[3] = {0, 2, 3};
+  so.handles = ids;
+  so.handle_offsets = offsets;
+  so.n_handles = 2;
+  locus_skinweights_report sr;
+  REQUIRE(locus_skinweights_run(c.c, &so, sw.data(), &sr, nullptr) == LOCUS_OK);
+  SkinningRequest sq;
+  sq.handles = {{0, 1}, {100}};
+  const SkinningReport want = c.cpp.skinning(sq);
+  CHECK(sw == want.weight);
+  CHECK(sr.handles == 2);
+  CHECK(sr.samples == want.samples);
+  for (int32_t v = 0; v < c.nv(); ++v) CHECK(sw[2 * v] + sw[2 * v + 1] == doctest::Approx(1.0).epsilon(1e-12));
+  so.samples = -1;
+  CHECK(locus_skinweights_run(c.c, &so, sw.data(), &sr, nullptr) == LOCUS_BAD_USAGE);
+  CHECK(locus_skinweights_run(c.c, nullptr, sw.data(), &sr, nullptr) == LOCUS_BAD_USAGE);
 }
 
 TEST_CASE("C API ADF, HKS and heat exchange: the Session's numbers") {

@@ -141,3 +141,17 @@ def test_cvt_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
         sites = read_ply_vertices(tmp_path / "s.ply")
         assert same(r.sites, np.stack([sites["x"], sites["y"], sites["z"]], axis=1))
         assert r.remesh["vertices"] == report["remesh"]["vertices"] and r.energy == report["energy"]
+
+
+def test_skinweights_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    """`locus skinweights` (a vertex-set handle among vertex handles, the sampled method): Python's weights bit for bit."""
+    report = run_cli(cli, tmp_path, "skinweights", armadillo_path, "--handles", "4530+4531,7448,3233", "-o",
+                     tmp_path / "w.ply")
+    ref = read_ply_vertices(tmp_path / "w.ply")
+    r = armadillo_session.skinweights_command([[4530, 4531], 7448, 3233])
+    assert r.weights.shape == (armadillo_session.num_vertices, 3)
+    for j in range(3):
+        assert same(r.weights[:, j], ref["w%d" % j])
+    assert r.method == report["method"] == "sampled" and r.samples == report["samples"]
+    assert [list(h) for h in r.handle_vertices] == report["handle_vertices"]
+    assert np.allclose(r.weights.sum(axis=1), 1.0, rtol=0, atol=1e-12) and r.weights.min() >= 0

@@ -20,8 +20,9 @@ MIGRATED = {"geodesic": locus.geodesic, "logmap": locus.logmap, "adf": locus.Ses
             "heat": locus.Session.heat, "deform": locus.Session.deform,
             "nncoords": locus.Session.nncoords, "param": locus.Session.param,
             "perfect-laplacian": locus.Session.perfect_laplacian, "selfsupport": locus.Session.selfsupport,
-            "voronoi": locus.Session.voronoi_command, "cvt": locus.Session.cvt_command}
-PENDING = ["factor", "skinweights"]
+            "voronoi": locus.Session.voronoi_command, "cvt": locus.Session.cvt_command,
+            "skinweights": locus.Session.skinweights_command}
+PENDING = ["factor"]
 # info has no options of its own (Session.info() takes none); run drives the
 # other commands in child processes, a batch front end with no Python twin.
 WITHOUT_OWN_OPTIONS = {"info": locus.Session.info}
@@ -33,7 +34,7 @@ COMMON = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory"
           "operator", "no_weld"}
 POSITIONAL = {"geodesic": ["source"], "logmap": ["center"], "adf": [], "hks": ["ts"], "heat": ["source", "target"],
               "deform": ["roi_seed", "handle", "offset"], "nncoords": ["sites", "point"], "param": [], "perfect-laplacian": [],
-              "selfsupport": [], "voronoi": [], "cvt": []}
+              "selfsupport": [], "voronoi": [], "cvt": [], "skinweights": []}
 
 
 def parameters(fn):

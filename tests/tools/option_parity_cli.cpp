@@ -23,6 +23,7 @@
 #include "locus/engine/laplacian_requests.hpp"
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/engine/param_request.hpp"
+#include "locus/engine/skinning_requests.hpp"
 #include "locus/engine/voronoi_request.hpp"
 #include "locus/locus.h"
 #include "tests/tools/cli_support.hpp"
@@ -35,8 +36,8 @@ using namespace locus::test_cli;
 // still calls pipelines directly); together every command `locus --help` lists.
 const std::vector<std::string> kMigrated = {"geodesic", "logmap",   "adf",   "hks",               "heat",
                                             "deform",   "nncoords", "param", "perfect-laplacian", "selfsupport",
-                                            "voronoi",  "cvt"};
-const std::vector<std::string> kPending = {"factor", "skinweights"};
+                                            "voronoi",  "cvt",      "skinweights"};
+const std::vector<std::string> kPending = {"factor"};
 // Commands without options of their own: info (Session::info, locus_info_run,
 // Python Session.info(): the report of the mesh), and run, which drives the
 // other commands over a folder in child processes (tools/runner): its options
@@ -264,6 +265,13 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
   CHECK(cv.t_centroid == nullptr);
   CHECK(cv.labels == nullptr);
   CHECK(cv.sites_out == nullptr);
+  const locus_skinweights_options sw = locus_skinweights_options_default();
+  const locus::SkinningRequest sq;
+  CHECK((sw.exact != 0) == sq.exact);
+  CHECK(sw.samples == sq.samples);
+  CHECK(sw.t == nullptr);  // NULL: the request's "" (h^2)
+  CHECK(sw.n_handles == 0);
+  CHECK(sw.n_bones == 0);
   for (const locus::RequestField& f : locus::request_fields("cvt")) {
     if (f.name == "t") CHECK(f.default_value == "4h2");
     if (f.name == "solver") CHECK(f.default_value == "local");

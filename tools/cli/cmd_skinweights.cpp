@@ -68,7 +68,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
     fail(ErrorCode::BadUsage, "--handles is required (comma-separated vertex ids) unless --bone is given");
   if (o.samples < 0) fail(ErrorCode::BadUsage, "--samples must be >= 0");
   SkinningRequest req;
-  for (const std::string& b : o.bones) req.bones.push_back(parse_bone(b));
+  for (const std::string& b : o.bones) req.bone.push_back(parse_bone(b));
   if (!o.t_text.empty()) parse_time_spec(o.t_text);  // bad usage before the mesh is read
   req.t = o.t_text;
   req.exact = o.exact;
@@ -76,7 +76,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   Input in = load_input(opt, ctx);
   const Mesh& mesh = in.mesh;
   if (!o.handles_text.empty()) req.handles = parse_handles(o.handles_text, mesh);
-  const Session session{Mesh(mesh)};
+  const Session session{Mesh(mesh), session_options(in)};  // --operator (auto: robust on a defective mesh)
   RunContext run = ctx;
   const bool json = opt.json;
   run.progress = [json](double f, std::string_view phase) {
@@ -98,7 +98,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   Json handles = Json::array();
   for (const auto& h : req.handles) handles.push_back(h.size() == 1 ? Json(h[0]) : Json(h));
   j["handles"] = handles;
-  j["bones"] = req.bones;
+  j["bones"] = req.bone;
   j["handle_vertices"] = W.handle_vertices;
   j["t"] = W.t;
   j["method"] = W.method;

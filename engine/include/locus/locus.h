@@ -514,7 +514,7 @@ LOCUS_API locus_status locus_skinning_weights(locus_session* session, const locu
                                               int64_t n_handles,
                                               double* out, const locus_run_options* opts);
 
-/* Every option of `locus skinweights` (vertex sets, bones, the methods): locus_skinning_run in locus_commands.h. */
+/* Every option of `locus skinweights` (vertex sets, bones, the methods): locus_skinweights_run in locus_commands.h. */
 
 /* ---- Auto-diffusion function and heat kernel signature (thesis §4.6) ----
  * (M - tL)^{-1}_vv at the given vertices (vertices NULL and n_vertices 0: every

@@ -206,25 +206,25 @@ LOCUS_API locus_status locus_nncoords_run(locus_session* session, const locus_nn
 /* The skinweights command, every option of `locus skinweights`
  * (engine/include/locus/engine/skinning_requests.hpp): handles as vertex sets and bones, the sampled method
  * (default) or the exact per-vertex one. Handle i's vertices are
- * handle_vertices[handle_offsets[i] .. handle_offsets[i+1]) (handle_offsets NULL:
+ * handles[handle_offsets[i] .. handle_offsets[i+1]) (handle_offsets NULL:
  * one vertex per handle); bone b is the polyline of points
- * bone_points[3 * bone_offsets[b] .. 3 * bone_offsets[b+1]) (x, y, z each, >= 2
+ * bone[3 * bone_offsets[b] .. 3 * bone_offsets[b+1]) (x, y, z each, >= 2
  * points) and comes after the handles. out: vertex-count * (n_handles + n_bones)
  * doubles, row-major. out_report may be NULL. Same numbers as the CLI. */
-typedef struct locus_skinning_options {
-  const int64_t* handle_vertices;
+typedef struct locus_skinweights_options {
+  const int64_t* handles;
   const int64_t* handle_offsets; /* n_handles + 1 entries, or NULL */
   int64_t n_handles;
-  const double* bone_points;
+  const double* bone;
   const int64_t* bone_offsets;   /* n_bones + 1 entries (point counts) */
   int64_t n_bones;
   int32_t exact;                 /* nonzero: natural-neighbor coordinates at every vertex (slow) */
   int32_t samples;               /* sampled method: at most this many exact rows; 0 = 1024 */
   const char* t;                 /* NULL: h2 */
-} locus_skinning_options;
-LOCUS_API locus_skinning_options locus_skinning_options_default(void);
+} locus_skinweights_options;
+LOCUS_API locus_skinweights_options locus_skinweights_options_default(void);
 
-typedef struct locus_skinning_report {
+typedef struct locus_skinweights_report {
   int64_t handles;
   int32_t exact;        /* 1 when the exact method ran */
   int32_t samples;      /* vertices whose row is exact */
@@ -233,10 +233,10 @@ typedef struct locus_skinning_report {
   double t;
   int64_t degenerate_vertices;
   double factor_s, prepare_s, weights_s, propagate_s;
-} locus_skinning_report;
+} locus_skinweights_report;
 
-LOCUS_API locus_status locus_skinning_run(locus_session* session, const locus_skinning_options* options,
-                                          double* out, locus_skinning_report* out_report,
+LOCUS_API locus_status locus_skinweights_run(locus_session* session, const locus_skinweights_options* options,
+                                          double* out, locus_skinweights_report* out_report,
                                           const locus_run_options* opts);
 
 /* The voronoi command, every option of `locus voronoi` (engine/include/locus/

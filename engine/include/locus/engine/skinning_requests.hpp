@@ -1,14 +1,14 @@
 // The request and report of skinning weights (thesis §3.7.2, Fig. 3.12;
 // pipelines/include/locus/pipelines/voronoi/skinning_weights.hpp) as every front
 // end runs them: the CLI (`locus skinweights`), locus::Session::skinning, the C
-// API (locus_skinning_options in locus.h) and Python (Session.skinning). Each
+// API (locus_skinweights_options in locus_commands.h) and Python (Session.skinning). Each
 // field is one option, named as the CLI's long option with '-' replaced by '_',
 // with the CLI's default; validation, defaults and the call sequence live once,
 // in engine/src/session_skinning_command.cpp.
 //
 // Handles: `handles` are vertex sets (one vertex each on the CLI's
 // `--handles 4530,7448`; several joined by '+', `--handles 10+11+12,40`), then
-// every `bones` entry is one more handle, a polyline x0,y0,z0,x1,y1,z1,... whose
+// every `bone` entry is one more handle, a polyline x0,y0,z0,x1,y1,z1,... whose
 // handle is the vertices nearest to it (pipelines/.../skinning_handles.hpp).
 // Columns of the weights follow that order: handles first, then bones.
 // Diffusion time `t`: "" = h2 (h the mean edge length), "Ch2", or absolute.
@@ -24,7 +24,7 @@ namespace locus {
 
 struct LOCUS_API SkinningRequest {
   std::vector<std::vector<int64_t>> handles;  // vertex sets, 0-based ids
-  std::vector<std::vector<double>> bones;     // polylines, 3 coordinates per point, >= 2 points
+  std::vector<std::vector<double>> bone;      // bones: polylines, 3 coordinates per point, >= 2 points
   bool exact = false;                         // natural-neighbor coordinates at every vertex (slow)
   int32_t samples = 0;                        // sampled method: at most this many exact rows; 0 = 1024
   std::string t;                              // diffusion time; "" = h2
