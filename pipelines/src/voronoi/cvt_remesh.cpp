@@ -19,6 +19,7 @@
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
+#include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
@@ -131,6 +132,39 @@ Level refine_level(const Level& coarse, bool incremental, Levels& keep, const Ru
   return L;
 }
 
+// The last resort when heat labels keep breaking the closed-ball property
+// (needle and fan triangles, as CAD tessellations have, make the heat's
+// argmax jump across cells on every level): graph-geodesic labels of the same
+// sites (one multi-source Dijkstra, site_neighborhoods.hpp). Every such cell is
+// connected (each vertex takes its predecessor's label), and a site on a
+// vertex keeps that vertex; so each round's added sites shrink the cells
+// around the defects and, at worst, every vertex becomes a cell whose dual is
+// the (manifold) level mesh itself: the rounds end with a manifold dual.
+RestrictedDual geodesic_repair(const Level& L, RestrictedDual dual, const RunContext& ctx, BatchStopwatch& sw,
+                               RemeshResult& r) {
+  auto relabel = [&] {
+    const HostVector<int32_t> g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
+    r.lloyd.label.assign(g.begin(), g.end());
+    r.lloyd.voronoi = HeatVoronoi{};  // the heat lists no longer match the labels
+    r.repair_s += sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += sw.lap();
+  };
+  relabel();
+  ++r.geodesic_rounds;
+  for (int32_t round = 0; dual.defects.total() > 0 && !dual.repair_vertices.empty() &&
+                          round < L.m->num_vertices();
+       ++round) {
+    ctx.check_cancel();
+    for (int32_t v : dual.repair_vertices) r.lloyd.sites.push_back(vertex_point(v));
+    r.added_sites += static_cast<int32_t>(dual.repair_vertices.size());
+    ++r.repair_rounds;
+    ++r.geodesic_rounds;
+    relabel();
+  }
+  return dual;
+}
+
 // The last level's labels and sites as labels and sites of the input: its
 // first n vertices are the input's (subdivision appends), the sites go up
 // through the levels.
@@ -213,6 +247,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     r.dual_s += sw.lap();
     dual = repair_rounds(L, o, incremental, std::move(dual), kRepairEnd, kRepairEnd, ctx, sw, r);
   }
+  if (dual.defects.total() > 0) dual = geodesic_repair(L, std::move(dual), ctx, sw, r);
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;

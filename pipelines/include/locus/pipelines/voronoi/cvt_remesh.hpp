@@ -57,6 +57,9 @@ struct RemeshResult {
   int32_t added_sites = 0;
   int32_t repair_rounds = 0;       // all levels
   int32_t refinements = 0;         // subdivisions the repair needed (0: the input's own vertices)
+  // Rounds on graph-geodesic labels, after heat labels kept failing (0: none
+  // needed); see cvt_remesh.cpp geodesic_repair.
+  int32_t geodesic_rounds = 0;
   int32_t lloyd_iterations = 0;   // all rounds
   DualDefects first_defects;      // of the partition after the first Lloyd run
   DualDefects defects;            // left after the last round (all zero when complete)
