@@ -9,6 +9,7 @@
 #include <cmath>
 #include <deque>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -193,6 +194,174 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
   r.optimize_s = sw.lap();
 }
 
+// The repair of one partition on level L: heat rounds, then finer levels
+// (within a budget of max(64 sites, 4 n) vertices: beyond it a level costs
+// more than its defects); where heat labels still break the closed-ball
+// property, graph-geodesic rounds from the sites and level it started with
+// (the heat rounds' sites crowd where heat labels misbehave).
+struct RepairStage {
+  const Mesh& m;
+  const RemeshOptions& o;
+  bool incremental;
+  Levels& keep;
+  const RunContext& ctx;
+  BatchStopwatch& sw;
+  RemeshResult& r;
+};
+
+RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, double p0, double p1) {
+  RemeshResult& r = st.r;
+  const std::vector<SurfacePoint> start_sites = r.lloyd.sites;
+  const Level start_level = L;
+  const int32_t start_refinements = r.refinements, start_added = r.added_sites;
+  dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p0, p1, st.ctx, st.sw, r);
+  // Defects the input's vertices cannot resolve (every candidate vertex holds
+  // a site, or the rounds ran out): the same sites on a subdivided input.
+  const int64_t budget =
+      std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{st.m.num_vertices()});
+  while (r.refinements < st.o.max_refinements && dual.defects.total() > 0 &&
+         4 * int64_t{L.m->num_vertices()} <= budget) {
+    st.ctx.check_cancel();
+    L = refine_level(L, st.incremental, st.keep, st.ctx.sub(p1, p1), r);
+    r.repair_s += st.sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += st.sw.lap();
+    dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p1, p1, st.ctx, st.sw, r);
+  }
+  if (dual.defects.total() == 0) return dual;
+  while (r.refinements > start_refinements) {
+    st.keep.meshes.pop_back();
+    st.keep.derived.pop_back();
+    if (st.keep.ops.size() > st.keep.meshes.size()) st.keep.ops.pop_back();
+    --r.refinements;
+  }
+  L = start_level;
+  r.lloyd.sites = start_sites;
+  r.added_sites = start_added;
+  return geodesic_repair(L, std::move(dual), st.ctx, st.sw, r);
+}
+
+// The sites of a density pass. excess > 0: drop `excess` sites, the smallest
+// cells first, none on the boundary, none added by a repair or next to one
+// (the topology needed them there), no two neighbors; excess < 0: split the
+// -excess largest cells (a site at the cell's vertex farthest from its
+// site). Sites of empty cells go either way. `added` follows the sites.
+void adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const int32_t> label, int32_t excess,
+                  std::vector<SurfacePoint>& sites, std::vector<uint8_t>& added) {
+  const int32_t ns = static_cast<int32_t>(sites.size()), n = L.m->num_vertices();
+  std::vector<double> area(ns, 0.0);
+  for (int32_t v = 0; v < n; ++v) area[label[v]] += L.d->mass[v];
+  std::vector<std::vector<int32_t>> nb(ns);
+  for (const auto& t : dual.triangles)
+    for (int k = 0; k < 3; ++k) nb[t[k]].push_back(t[(k + 1) % 3]);
+  std::vector<uint8_t> blocked(ns, 0), pick(ns, 0);
+  for (int32_t s = 0; s < ns; ++s) {
+    if (dual.cell_size[s] == 0) blocked[s] = 1;
+    if (excess > 0 && (added[s] || dual.boundary_vertex[s] >= 0)) {
+      blocked[s] = 1;
+      for (int32_t t : nb[s]) blocked[t] = 1;
+    }
+  }
+  std::vector<int32_t> order(ns);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int32_t a, int32_t b) { return excess > 0 ? area[a] < area[b] : area[a] > area[b]; });
+  int32_t left = std::abs(excess);
+  for (int32_t s : order) {
+    if (left == 0) break;
+    if (blocked[s]) continue;
+    pick[s] = 1;
+    --left;
+    for (int32_t t : nb[s]) blocked[t] = 1;
+  }
+  std::vector<int32_t> far(ns, -1);
+  std::vector<double> far_d(ns, -1.0);
+  if (excess < 0)
+    for (int32_t v = 0; v < n; ++v) {
+      const int32_t s = label[v];
+      if (!pick[s]) continue;
+      const auto p = surface_point_position(*L.m, sites[s]);
+      const double dx = L.m->x[v] - p[0], dy = L.m->y[v] - p[1], dz = L.m->z[v] - p[2];
+      if (dx * dx + dy * dy + dz * dz > far_d[s]) far_d[s] = dx * dx + dy * dy + dz * dz, far[s] = v;
+    }
+  std::vector<SurfacePoint> out;
+  std::vector<uint8_t> out_added;
+  for (int32_t s = 0; s < ns; ++s) {
+    if (dual.cell_size[s] == 0 || (excess > 0 && pick[s])) continue;
+    out.push_back(sites[s]);
+    out_added.push_back(added[s]);
+  }
+  for (int32_t s = 0; s < ns; ++s)
+    if (far[s] >= 0) {
+      out.push_back(vertex_point(far[s]));
+      out_added.push_back(0);
+    }
+  sites = std::move(out);
+  added = std::move(out_added);
+}
+
+// The requested density: the dual has one vertex per non-empty cell, so
+// repair sites and empty cells move the count off the request. While it is
+// more than 1% off (at most density_passes times), sites are dropped or split
+// (adjust_sites), Lloyd relaxes them a few iterations and the partition is
+// repaired again; the repair's sites stay where they were needed. The count
+// before the repair follows the error of the last pass (the repair adds about
+// as many sites each time), and the pass closest to the request is kept.
+struct DensityState {
+  LloydResult lloyd;
+  RestrictedDual dual;
+  Level L;
+  int32_t refinements = 0, added_sites = 0, error = 0;
+};
+
+int32_t cells_of(const RestrictedDual& dual) {
+  return static_cast<int32_t>(std::count_if(dual.cell_size.begin(), dual.cell_size.end(), [](int32_t c) { return c > 0; }));
+}
+
+RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual, double p) {
+  RemeshResult& r = st.r;
+  const int32_t want = st.o.lloyd.sites;
+  std::vector<uint8_t> added(r.lloyd.sites.size(), 0);
+  for (size_t s = static_cast<size_t>(want); s < added.size(); ++s) added[s] = 1;
+  int32_t pre = want;  // sites before the last repair
+  std::optional<DensityState> best;
+  for (int pass = 0; pass < st.o.density_passes && dual.defects.total() == 0; ++pass) {
+    const int32_t got = cells_of(dual), error = got - want;
+    if (std::abs(error) * 100 <= want) break;
+    if (!best || std::abs(error) < std::abs(best->error))
+      best = DensityState{r.lloyd, dual, L, r.refinements, r.added_sites, error};
+    pre = std::max(1, pre - error);
+    std::vector<SurfacePoint> sites = r.lloyd.sites;
+    adjust_sites(L, dual, r.lloyd.label, got - pre, sites, added);
+    st.ctx.check_cancel();
+    LloydOptions ro = L.lo;
+    ro.iterations = st.o.density_iterations;
+    ro.init_radius = std::min(L.lo.init_radius, 2.5);
+    ro.keep_voronoi = st.incremental;
+    r.lloyd = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p));
+    r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
+    ++r.density_passes;
+    r.repair_s += st.sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += st.sw.lap();
+    dual = repair(st, L, std::move(dual), p, p);
+    added.resize(r.lloyd.sites.size(), 1);
+  }
+  if (best && (dual.defects.total() > 0 || std::abs(cells_of(dual) - want) > std::abs(best->error))) {
+    while (r.refinements > best->refinements) {
+      st.keep.meshes.pop_back();
+      st.keep.derived.pop_back();
+      if (st.keep.ops.size() > st.keep.meshes.size()) st.keep.ops.pop_back();
+      --r.refinements;
+    }
+    r.lloyd = std::move(best->lloyd);
+    r.added_sites = best->added_sites;
+    L = best->L;
+    return std::move(best->dual);
+  }
+  return dual;
+}
+
 }  // namespace
 
 RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx) {
@@ -233,26 +402,16 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   RestrictedDual dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
   r.first_defects = dual.defects;
   r.dual_s += sw.lap();
-  dual = repair_rounds(L, o, incremental, std::move(dual), kLloydEnd, kRepairEnd, ctx, sw, r);
-  // Defects the input's vertices cannot resolve (every candidate vertex holds a
-  // site, or the rounds ran out): the same sites on a subdivided input.
-  // Within a budget of max(64 sites, 4 n) vertices: beyond it a level costs
-  // more than its defects.
-  const int64_t budget = std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{m.num_vertices()});
-  while (r.refinements < o.max_refinements && dual.defects.total() > 0 && 4 * int64_t{L.m->num_vertices()} <= budget) {
-    ctx.check_cancel();
-    L = refine_level(L, incremental, keep, ctx.sub(kRepairEnd, kRepairEnd), r);
-    r.repair_s += sw.lap();
-    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
-    r.dual_s += sw.lap();
-    dual = repair_rounds(L, o, incremental, std::move(dual), kRepairEnd, kRepairEnd, ctx, sw, r);
-  }
-  if (dual.defects.total() > 0) dual = geodesic_repair(L, std::move(dual), ctx, sw, r);
+  const RepairStage st{m, o, incremental, keep, ctx, sw, r};
+  dual = repair(st, L, std::move(dual), kLloydEnd, kRepairEnd);
+  dual = meet_density(st, L, std::move(dual), kRepairEnd);
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;
   r.complete = dual.defects.total() == 0;
+  r.requested = o.lloyd.sites;
   if (r.complete) assemble(m, L, dual, o, sw, r);
+  r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);
   ctx.report(1.0, "remesh");
   return r;

@@ -45,6 +45,12 @@ struct RemeshOptions {
   // this many vertices per site (within max_refinements): a cell of a few
   // vertices vanishes or breaks the closed-ball property.
   double min_vertices_per_site = 12;
+  // Passes that bring the remesh's vertex count within 1% of lloyd.sites
+  // (repair sites and empty cells move it off): sites dropped or split, then
+  // density_iterations Lloyd iterations and the repair again (cvt_remesh.cpp
+  // meet_density). 0 = the count as it comes.
+  int density_passes = 4;
+  int density_iterations = 2;
   // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
   int optimize_rounds = RemeshOptimizeOptions{}.rounds;
 };
@@ -54,7 +60,10 @@ struct RemeshResult {
   Mesh remesh;                    // the dual; no faces when defects remain
   std::vector<int32_t> vertex_site;  // per remesh vertex: its site
   bool complete = false;          // no defects left: remesh is the manifold dual
-  int32_t added_sites = 0;
+  int32_t added_sites = 0;           // by the repair rounds, all passes
+  int32_t requested = 0;             // lloyd.sites
+  int32_t delivered = 0;             // remesh vertices (0 without a manifold remesh)
+  int32_t density_passes = 0;        // see RemeshOptions::density_passes
   int32_t repair_rounds = 0;       // all levels
   int32_t refinements = 0;         // subdivisions the repair needed (0: the input's own vertices)
   // Rounds on graph-geodesic labels, after heat labels kept failing (0: none
