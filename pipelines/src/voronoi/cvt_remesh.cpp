@@ -228,7 +228,7 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
     r.dual_s += st.sw.lap();
     dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p1, p1, st.ctx, st.sw, r);
   }
-  if (dual.defects.total() == 0) return dual;
+  if (dual.defects.total() == 0 || st.o.max_repair_rounds == 0) return dual;
   while (r.refinements > start_refinements) {
     st.keep.meshes.pop_back();
     st.keep.derived.pop_back();
@@ -243,11 +243,12 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
 
 // The sites of a density pass. excess > 0: drop `excess` sites, the smallest
 // cells first, none on the boundary, none added by a repair or next to one
-// (the topology needed them there), no two neighbors; excess < 0: split the
+// (the topology needed them there; freeing the neighbors too made the repair
+// add more than went on elephant-with-holes), no two neighbors; excess < 0: split the
 // -excess largest cells (a site at the cell's vertex farthest from its
 // site). Sites of empty cells go either way. `added` follows the sites.
-void adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const int32_t> label, int32_t excess,
-                  std::vector<SurfacePoint>& sites, std::vector<uint8_t>& added) {
+int32_t adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const int32_t> label, int32_t excess,
+                     std::vector<SurfacePoint>& sites, std::vector<uint8_t>& added) {
   const int32_t ns = static_cast<int32_t>(sites.size()), n = L.m->num_vertices();
   std::vector<double> area(ns, 0.0);
   for (int32_t v = 0; v < n; ++v) area[label[v]] += L.d->mass[v];
@@ -296,8 +297,10 @@ void adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const in
       out.push_back(vertex_point(far[s]));
       out_added.push_back(0);
     }
+  const int32_t removed = ns - static_cast<int32_t>(out.size());  // net of the split cells' new sites
   sites = std::move(out);
   added = std::move(out_added);
+  return removed;
 }
 
 // The requested density: the dual has one vertex per non-empty cell, so
@@ -311,7 +314,7 @@ struct DensityState {
   LloydResult lloyd;
   RestrictedDual dual;
   Level L;
-  int32_t refinements = 0, added_sites = 0, error = 0;
+  int32_t refinements = 0, added_sites = 0, removed_sites = 0, error = 0;
 };
 
 int32_t cells_of(const RestrictedDual& dual) {
@@ -327,18 +330,34 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
   std::optional<DensityState> best;
   for (int pass = 0; pass < st.o.density_passes && dual.defects.total() == 0; ++pass) {
     const int32_t got = cells_of(dual), error = got - want;
-    if (std::abs(error) * 100 <= want) break;
-    if (!best || std::abs(error) < std::abs(best->error))
-      best = DensityState{r.lloyd, dual, L, r.refinements, r.added_sites, error};
-    pre = std::max(1, pre - error);
+    if (std::abs(error) <= std::max(1, want / 100)) break;
+    if (best && std::abs(error) >= std::abs(best->error)) break;  // the last pass did not help
+    best = DensityState{r.lloyd, dual, L, r.refinements, r.added_sites, r.removed_sites, error};
+    // A few percent off: the sites stay (relaxing them would open new defects
+    // for the repair to fill, the count overshooting again), only the excess
+    // goes or the deficit is split; the optimization evens out the vertices.
+    const bool relax = std::abs(error) * 20 > want;
+    pre = relax ? std::max(1, pre - error) : want;
+    const int32_t drop = got - pre;
     std::vector<SurfacePoint> sites = r.lloyd.sites;
-    adjust_sites(L, dual, r.lloyd.label, got - pre, sites, added);
+    const int32_t removed = adjust_sites(L, dual, r.lloyd.label, drop, sites, added);
     st.ctx.check_cancel();
     LloydOptions ro = L.lo;
-    ro.iterations = st.o.density_iterations;
-    ro.init_radius = std::min(L.lo.init_radius, 2.5);
     ro.keep_voronoi = st.incremental;
-    r.lloyd = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p));
+    if (relax && drop > 0 && static_cast<int32_t>(sites.size()) > pre + drop / 2) {
+      // Most cells may not go (the repair's sites, their neighbors and the
+      // boundary cells hold them: many holes or small components): Lloyd
+      // afresh with `pre` sites, whose repair adds what the topology needs.
+      ro.sites = pre;
+      r.removed_sites += static_cast<int32_t>(r.lloyd.sites.size()) - pre;
+      added.assign(static_cast<size_t>(pre), 0);
+      r.lloyd = cvt_lloyd(*L.m, *L.d, ro, st.ctx.sub(p, p));
+    } else {
+      r.removed_sites += removed;
+      ro.iterations = relax ? st.o.density_iterations : 0;
+      ro.init_radius = std::min(L.lo.init_radius, 2.5);
+      r.lloyd = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p));
+    }
     r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     ++r.density_passes;
     r.repair_s += st.sw.lap();
@@ -356,6 +375,7 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
     }
     r.lloyd = std::move(best->lloyd);
     r.added_sites = best->added_sites;
+    r.removed_sites = best->removed_sites;
     L = best->L;
     return std::move(best->dual);
   }
@@ -410,6 +430,8 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.defects = dual.defects;
   r.complete = dual.defects.total() == 0;
   r.requested = o.lloyd.sites;
+  r.repair_sites = r.added_sites;
+  r.added_sites = static_cast<int32_t>(r.lloyd.sites.size()) - r.requested;  // net: sites = requested + added
   if (r.complete) assemble(m, L, dual, o, sw, r);
   r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);
@@ -418,3 +440,4 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
 }
 
 }  // namespace locus
+

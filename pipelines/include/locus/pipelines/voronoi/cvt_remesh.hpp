@@ -60,7 +60,13 @@ struct RemeshResult {
   Mesh remesh;                    // the dual; no faces when defects remain
   std::vector<int32_t> vertex_site;  // per remesh vertex: its site
   bool complete = false;          // no defects left: remesh is the manifold dual
-  int32_t added_sites = 0;           // by the repair rounds, all passes
+  // Sites beyond the request, net: lloyd.sites holds requested + added_sites
+  // (negative when the density passes dropped more than the repair added).
+  int32_t added_sites = 0;
+  int32_t repair_sites = 0;          // added by the repair rounds, all passes
+  // Dropped by the density passes (empty cells included) less the sites they
+  // put into split cells: lloyd.sites holds requested + repair_sites - removed_sites.
+  int32_t removed_sites = 0;
   int32_t requested = 0;             // lloyd.sites
   int32_t delivered = 0;             // remesh vertices (0 without a manifold remesh)
   int32_t density_passes = 0;        // see RemeshOptions::density_passes
