@@ -303,6 +303,17 @@ int32_t adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const
   return removed;
 }
 
+// A density pass's Lloyd run gives the sites, their labels and cells; the
+// first run's per-iteration record (energy, moves, timings: what the JSON
+// reports of Lloyd) stays. Returns the run's iterations.
+int32_t adopt_cells(LloydResult&& from, LloydResult& into) {
+  into.sites = std::move(from.sites);
+  into.label = std::move(from.label);
+  into.voronoi = std::move(from.voronoi);
+  into.cell_area = std::move(from.cell_area);
+  return static_cast<int32_t>(from.iter_s.size());
+}
+
 // The requested density: the dual has one vertex per non-empty cell, so
 // repair sites and empty cells move the count off the request. While it is
 // more than 1% off (at most density_passes times), sites are dropped or split
@@ -351,14 +362,13 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
       ro.sites = pre;
       r.removed_sites += static_cast<int32_t>(r.lloyd.sites.size()) - pre;
       added.assign(static_cast<size_t>(pre), 0);
-      r.lloyd = cvt_lloyd(*L.m, *L.d, ro, st.ctx.sub(p, p));
+      r.lloyd_iterations += adopt_cells(cvt_lloyd(*L.m, *L.d, ro, st.ctx.sub(p, p)), r.lloyd);
     } else {
       r.removed_sites += removed;
       ro.iterations = relax ? st.o.density_iterations : 0;
       ro.init_radius = std::min(L.lo.init_radius, 2.5);
-      r.lloyd = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p));
+      r.lloyd_iterations += adopt_cells(cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p)), r.lloyd);
     }
-    r.lloyd_iterations += static_cast<int32_t>(r.lloyd.iter_s.size());
     ++r.density_passes;
     r.repair_s += st.sw.lap();
     dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
