@@ -144,7 +144,19 @@ Level refine_level(const Level& coarse, bool incremental, Levels& keep, const Ru
 RestrictedDual geodesic_repair(const Level& L, RestrictedDual dual, const RunContext& ctx, BatchStopwatch& sw,
                                RemeshResult& r) {
   auto relabel = [&] {
-    const HostVector<int32_t> g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
+    HostVector<int32_t> g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
+    // A component no site reaches (heat labels hide it: their fallback fills
+    // unreached vertices) gets a site at its first vertex.
+    std::vector<uint8_t> seeded(static_cast<size_t>(L.d->components), 0);
+    bool unreached = false;
+    for (int32_t v = 0; v < L.m->num_vertices(); ++v)
+      if (g[v] < 0 && L.d->component[v] >= 0 && !seeded[L.d->component[v]]) {
+        seeded[L.d->component[v]] = 1;
+        r.lloyd.sites.push_back(vertex_point(v));
+        ++r.added_sites;
+        unreached = true;
+      }
+    if (unreached) g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
     r.lloyd.label.assign(g.begin(), g.end());
     r.lloyd.voronoi = HeatVoronoi{};  // the heat lists no longer match the labels
     r.repair_s += sw.lap();
@@ -214,12 +226,17 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
   const std::vector<SurfacePoint> start_sites = r.lloyd.sites;
   const Level start_level = L;
   const int32_t start_refinements = r.refinements, start_added = r.added_sites;
+  const int64_t start_defects = dual.defects.total();
   dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p0, p1, st.ctx, st.sw, r);
+  // Rounds that left more defects than they found: heat labels misbehave on
+  // this input (needles); finer levels keep its triangles' shapes, so the
+  // geodesic rounds come next (cheese: minutes of subdivided levels saved).
+  const bool heat_fails = dual.defects.total() > start_defects;
   // Defects the input's vertices cannot resolve (every candidate vertex holds
   // a site, or the rounds ran out): the same sites on a subdivided input.
   const int64_t budget =
       std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{st.m.num_vertices()});
-  while (r.refinements < st.o.max_refinements && dual.defects.total() > 0 &&
+  while (!heat_fails && r.refinements < st.o.max_refinements && dual.defects.total() > 0 &&
          4 * int64_t{L.m->num_vertices()} <= budget) {
     st.ctx.check_cancel();
     L = refine_level(L, st.incremental, st.keep, st.ctx.sub(p1, p1), r);
@@ -242,7 +259,7 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
 }
 
 // The sites of a density pass. excess > 0: drop `excess` sites, the smallest
-// cells first, none on the boundary, none added by a repair or next to one
+// cells first, none on the boundary or in a component of four cells or fewer, none added by a repair or next to one
 // (the topology needed them there; freeing the neighbors too made the repair
 // add more than went on elephant-with-holes), no two neighbors; excess < 0: split the
 // -excess largest cells (a site at the cell's vertex farthest from its
@@ -251,13 +268,18 @@ int32_t adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const
                      std::vector<SurfacePoint>& sites, std::vector<uint8_t>& added) {
   const int32_t ns = static_cast<int32_t>(sites.size()), n = L.m->num_vertices();
   std::vector<double> area(ns, 0.0);
-  for (int32_t v = 0; v < n; ++v) area[label[v]] += L.d->mass[v];
+  std::vector<int32_t> comp(ns, -1), comp_cells(static_cast<size_t>(L.d->components), 0);
+  for (int32_t v = 0; v < n; ++v) {
+    area[label[v]] += L.d->mass[v];
+    if (comp[label[v]] < 0 && L.d->component[v] >= 0) ++comp_cells[comp[label[v]] = L.d->component[v]];
+  }
   std::vector<std::vector<int32_t>> nb(ns);
   for (const auto& t : dual.triangles)
     for (int k = 0; k < 3; ++k) nb[t[k]].push_back(t[(k + 1) % 3]);
   std::vector<uint8_t> blocked(ns, 0), pick(ns, 0);
   for (int32_t s = 0; s < ns; ++s) {
-    if (dual.cell_size[s] == 0) blocked[s] = 1;
+    // A component keeps four cells at least (the fewest a closed one's dual has).
+    if (dual.cell_size[s] == 0 || (excess > 0 && comp[s] >= 0 && comp_cells[comp[s]] <= 4)) blocked[s] = 1;
     if (excess > 0 && (added[s] || dual.boundary_vertex[s] >= 0)) {
       blocked[s] = 1;
       for (int32_t t : nb[s]) blocked[t] = 1;
@@ -348,8 +370,10 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
     // for the repair to fill, the count overshooting again), only the excess
     // goes or the deficit is split; the optimization evens out the vertices.
     const bool relax = std::abs(error) * 20 > want;
-    pre = relax ? std::max(1, pre - error) : want;
+    // Every component keeps three sites at least (the fewest a dual of it has).
+    pre = relax ? std::max(3 * L.d->components, pre - error) : want;
     const int32_t drop = got - pre;
+    if ((error > 0) != (drop > 0)) break;  // no site left to drop
     std::vector<SurfacePoint> sites = r.lloyd.sites;
     const int32_t removed = adjust_sites(L, dual, r.lloyd.label, drop, sites, added);
     st.ctx.check_cancel();
