@@ -20,8 +20,20 @@
 // onto a 1:4 midpoint subdivision of the mesh (the same surface; its own
 // operator, t in units of its own h^2), are labelled there and repaired again
 // (remesh_refinement.hpp); at most `max_refinements` times. The result's
-// labels and sites are given on the input all the same. The manifold dual is
-// then optimized on the input (remesh_optimize.hpp).
+// labels and sites are given on the input all the same.
+//
+// Last resort: where heat labels keep breaking the closed-ball property (the
+// heat rounds leave more defects than they found, or the levels run out:
+// needle fans of CAD tessellations), the repair starts again from Lloyd's
+// sites with graph-geodesic labels (one multi-source Dijkstra): connected
+// cells, and at worst every vertex a cell, whose dual is the level mesh, so
+// the rounds end with a manifold dual (max_repair_rounds = 0: no repair).
+//
+// Density: the dual has a vertex per non-empty cell; density passes drop or
+// split sites, relax and repair again until the count is within 1% of the
+// request (or the passes stop helping; the topology may need more).
+//
+// The manifold dual is then optimized on the input (remesh_optimize.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
