@@ -338,7 +338,7 @@ int32_t adopt_cells(LloydResult&& from, LloydResult& into) {
 
 // The requested density: the dual has one vertex per non-empty cell, so
 // repair sites and empty cells move the count off the request. While it is
-// more than 1% off (at most density_passes times), sites are dropped or split
+// more than 1.5% off (at most density_passes times), sites are dropped or split
 // (adjust_sites), Lloyd relaxes them a few iterations and the partition is
 // repaired again; the repair's sites stay where they were needed. The count
 // before the repair follows the error of the last pass (the repair adds about
@@ -363,7 +363,7 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
   std::optional<DensityState> best;
   for (int pass = 0; pass < st.o.density_passes && dual.defects.total() == 0; ++pass) {
     const int32_t got = cells_of(dual), error = got - want;
-    if (std::abs(error) <= std::max(1, want / 100)) break;
+    if (std::abs(error) <= std::max(1, 3 * want / 200)) break;  // within 1.5%
     if (best && std::abs(error) >= std::abs(best->error)) break;  // the last pass did not help
     best = DensityState{r.lloyd, dual, L, r.refinements, r.added_sites, r.removed_sites, error};
     // A few percent off: the sites stay (relaxing them would open new defects

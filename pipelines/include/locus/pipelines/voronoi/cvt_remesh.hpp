@@ -30,7 +30,7 @@
 // the rounds end with a manifold dual (max_repair_rounds = 0: no repair).
 //
 // Density: the dual has a vertex per non-empty cell; density passes drop or
-// split sites, relax and repair again until the count is within 1% of the
+// split sites, relax and repair again until the count is within 1.5% of the
 // request (or the passes stop helping; the topology may need more).
 //
 // The manifold dual is then optimized on the input (remesh_optimize.hpp).
@@ -57,7 +57,7 @@ struct RemeshOptions {
   // this many vertices per site (within max_refinements): a cell of a few
   // vertices vanishes or breaks the closed-ball property.
   double min_vertices_per_site = 12;
-  // Passes that bring the remesh's vertex count within 1% of lloyd.sites
+  // Passes that bring the remesh's vertex count within 1.5% of lloyd.sites
   // (repair sites and empty cells move it off): sites dropped or split, then
   // density_iterations Lloyd iterations and the repair again (cvt_remesh.cpp
   // meet_density). 0 = the count as it comes.
