@@ -9,6 +9,7 @@
 #include <cmath>
 #include <deque>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -19,6 +20,7 @@
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
+#include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
@@ -131,6 +133,51 @@ Level refine_level(const Level& coarse, bool incremental, Levels& keep, const Ru
   return L;
 }
 
+// The last resort when heat labels keep breaking the closed-ball property
+// (needle and fan triangles, as CAD tessellations have, make the heat's
+// argmax jump across cells on every level): graph-geodesic labels of the same
+// sites (one multi-source Dijkstra, site_neighborhoods.hpp). Every such cell is
+// connected (each vertex takes its predecessor's label), and a site on a
+// vertex keeps that vertex; so each round's added sites shrink the cells
+// around the defects and, at worst, every vertex becomes a cell whose dual is
+// the (manifold) level mesh itself: the rounds end with a manifold dual.
+RestrictedDual geodesic_repair(const Level& L, RestrictedDual dual, const RunContext& ctx, BatchStopwatch& sw,
+                               RemeshResult& r) {
+  auto relabel = [&] {
+    HostVector<int32_t> g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
+    // A component no site reaches (heat labels hide it: their fallback fills
+    // unreached vertices) gets a site at its first vertex.
+    std::vector<uint8_t> seeded(static_cast<size_t>(L.d->components), 0);
+    bool unreached = false;
+    for (int32_t v = 0; v < L.m->num_vertices(); ++v)
+      if (g[v] < 0 && L.d->component[v] >= 0 && !seeded[L.d->component[v]]) {
+        seeded[L.d->component[v]] = 1;
+        r.lloyd.sites.push_back(vertex_point(v));
+        ++r.added_sites;
+        unreached = true;
+      }
+    if (unreached) g = geodesic_site_cells(*L.m, L.d->adjacency, r.lloyd.sites);
+    r.lloyd.label.assign(g.begin(), g.end());
+    r.lloyd.voronoi = HeatVoronoi{};  // the heat lists no longer match the labels
+    r.repair_s += sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += sw.lap();
+  };
+  relabel();
+  ++r.geodesic_rounds;
+  for (int32_t round = 0; dual.defects.total() > 0 && !dual.repair_vertices.empty() &&
+                          round < L.m->num_vertices();
+       ++round) {
+    ctx.check_cancel();
+    for (int32_t v : dual.repair_vertices) r.lloyd.sites.push_back(vertex_point(v));
+    r.added_sites += static_cast<int32_t>(dual.repair_vertices.size());
+    ++r.repair_rounds;
+    ++r.geodesic_rounds;
+    relabel();
+  }
+  return dual;
+}
+
 // The last level's labels and sites as labels and sites of the input: its
 // first n vertices are the input's (subdivision appends), the sites go up
 // through the levels.
@@ -157,6 +204,216 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
   }
   r.optimize_s = sw.lap();
+}
+
+// The repair of one partition on level L: heat rounds, then finer levels
+// (within a budget of max(64 sites, 4 n) vertices: beyond it a level costs
+// more than its defects); where heat labels still break the closed-ball
+// property, graph-geodesic rounds from the sites and level it started with
+// (the heat rounds' sites crowd where heat labels misbehave).
+struct RepairStage {
+  const Mesh& m;
+  const RemeshOptions& o;
+  bool incremental;
+  Levels& keep;
+  const RunContext& ctx;
+  BatchStopwatch& sw;
+  RemeshResult& r;
+};
+
+RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, double p0, double p1) {
+  RemeshResult& r = st.r;
+  const std::vector<SurfacePoint> start_sites = r.lloyd.sites;
+  const Level start_level = L;
+  const int32_t start_refinements = r.refinements, start_added = r.added_sites;
+  const int64_t start_defects = dual.defects.total();
+  dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p0, p1, st.ctx, st.sw, r);
+  // Rounds that left more defects than they found: heat labels misbehave on
+  // this input (needles); finer levels keep its triangles' shapes, so the
+  // geodesic rounds come next (cheese: minutes of subdivided levels saved).
+  const bool heat_fails = dual.defects.total() > start_defects;
+  // Defects the input's vertices cannot resolve (every candidate vertex holds
+  // a site, or the rounds ran out): the same sites on a subdivided input.
+  const int64_t budget =
+      std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{st.m.num_vertices()});
+  while (!heat_fails && r.refinements < st.o.max_refinements && dual.defects.total() > 0 &&
+         4 * int64_t{L.m->num_vertices()} <= budget) {
+    st.ctx.check_cancel();
+    L = refine_level(L, st.incremental, st.keep, st.ctx.sub(p1, p1), r);
+    r.repair_s += st.sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += st.sw.lap();
+    dual = repair_rounds(L, st.o, st.incremental, std::move(dual), p1, p1, st.ctx, st.sw, r);
+  }
+  if (dual.defects.total() == 0 || st.o.max_repair_rounds == 0) return dual;
+  while (r.refinements > start_refinements) {
+    st.keep.meshes.pop_back();
+    st.keep.derived.pop_back();
+    if (st.keep.ops.size() > st.keep.meshes.size()) st.keep.ops.pop_back();
+    --r.refinements;
+  }
+  L = start_level;
+  r.lloyd.sites = start_sites;
+  r.added_sites = start_added;
+  return geodesic_repair(L, std::move(dual), st.ctx, st.sw, r);
+}
+
+// The sites of a density pass. excess > 0: drop `excess` sites, the smallest
+// cells first, none on the boundary or in a component of four cells or fewer, none added by a repair or next to one
+// (the topology needed them there; freeing the neighbors too made the repair
+// add more than went on elephant-with-holes), no two neighbors; excess < 0: split the
+// -excess largest cells (a site at the cell's vertex farthest from its
+// site). Sites of empty cells go either way. `added` follows the sites.
+int32_t adjust_sites(const Level& L, const RestrictedDual& dual, std::span<const int32_t> label, int32_t excess,
+                     std::vector<SurfacePoint>& sites, std::vector<uint8_t>& added) {
+  const int32_t ns = static_cast<int32_t>(sites.size()), n = L.m->num_vertices();
+  std::vector<double> area(ns, 0.0);
+  std::vector<int32_t> comp(ns, -1), comp_cells(static_cast<size_t>(L.d->components), 0);
+  for (int32_t v = 0; v < n; ++v) {
+    area[label[v]] += L.d->mass[v];
+    if (comp[label[v]] < 0 && L.d->component[v] >= 0) ++comp_cells[comp[label[v]] = L.d->component[v]];
+  }
+  std::vector<std::vector<int32_t>> nb(ns);
+  for (const auto& t : dual.triangles)
+    for (int k = 0; k < 3; ++k) nb[t[k]].push_back(t[(k + 1) % 3]);
+  std::vector<uint8_t> blocked(ns, 0), pick(ns, 0);
+  for (int32_t s = 0; s < ns; ++s) {
+    // A component keeps four cells at least (the fewest a closed one's dual has).
+    if (dual.cell_size[s] == 0 || (excess > 0 && comp[s] >= 0 && comp_cells[comp[s]] <= 4)) blocked[s] = 1;
+    if (excess > 0 && (added[s] || dual.boundary_vertex[s] >= 0)) {
+      blocked[s] = 1;
+      for (int32_t t : nb[s]) blocked[t] = 1;
+    }
+  }
+  std::vector<int32_t> order(ns);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int32_t a, int32_t b) { return excess > 0 ? area[a] < area[b] : area[a] > area[b]; });
+  int32_t left = std::abs(excess);
+  for (int32_t s : order) {
+    if (left == 0) break;
+    if (blocked[s]) continue;
+    pick[s] = 1;
+    --left;
+    for (int32_t t : nb[s]) blocked[t] = 1;
+  }
+  std::vector<int32_t> far(ns, -1);
+  std::vector<double> far_d(ns, -1.0);
+  if (excess < 0)
+    for (int32_t v = 0; v < n; ++v) {
+      const int32_t s = label[v];
+      if (!pick[s]) continue;
+      const auto p = surface_point_position(*L.m, sites[s]);
+      const double dx = L.m->x[v] - p[0], dy = L.m->y[v] - p[1], dz = L.m->z[v] - p[2];
+      if (dx * dx + dy * dy + dz * dz > far_d[s]) far_d[s] = dx * dx + dy * dy + dz * dz, far[s] = v;
+    }
+  std::vector<SurfacePoint> out;
+  std::vector<uint8_t> out_added;
+  for (int32_t s = 0; s < ns; ++s) {
+    if (dual.cell_size[s] == 0 || (excess > 0 && pick[s])) continue;
+    out.push_back(sites[s]);
+    out_added.push_back(added[s]);
+  }
+  for (int32_t s = 0; s < ns; ++s)
+    if (far[s] >= 0) {
+      out.push_back(vertex_point(far[s]));
+      out_added.push_back(0);
+    }
+  const int32_t removed = ns - static_cast<int32_t>(out.size());  // net of the split cells' new sites
+  sites = std::move(out);
+  added = std::move(out_added);
+  return removed;
+}
+
+// A density pass's Lloyd run gives the sites, their labels and cells; the
+// first run's per-iteration record (energy, moves, timings: what the JSON
+// reports of Lloyd) stays. Returns the run's iterations.
+int32_t adopt_cells(LloydResult&& from, LloydResult& into) {
+  into.sites = std::move(from.sites);
+  into.label = std::move(from.label);
+  into.voronoi = std::move(from.voronoi);
+  into.cell_area = std::move(from.cell_area);
+  return static_cast<int32_t>(from.iter_s.size());
+}
+
+// The requested density: the dual has one vertex per non-empty cell, so
+// repair sites and empty cells move the count off the request. While it is
+// more than 1.5% off (at most density_passes times), sites are dropped or split
+// (adjust_sites), Lloyd relaxes them a few iterations and the partition is
+// repaired again; the repair's sites stay where they were needed. The count
+// before the repair follows the error of the last pass (the repair adds about
+// as many sites each time), and the pass closest to the request is kept.
+struct DensityState {
+  LloydResult lloyd;
+  RestrictedDual dual;
+  Level L;
+  int32_t refinements = 0, added_sites = 0, removed_sites = 0, error = 0;
+};
+
+int32_t cells_of(const RestrictedDual& dual) {
+  return static_cast<int32_t>(std::count_if(dual.cell_size.begin(), dual.cell_size.end(), [](int32_t c) { return c > 0; }));
+}
+
+RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual, double p) {
+  RemeshResult& r = st.r;
+  const int32_t want = st.o.lloyd.sites;
+  std::vector<uint8_t> added(r.lloyd.sites.size(), 0);
+  for (size_t s = static_cast<size_t>(want); s < added.size(); ++s) added[s] = 1;
+  int32_t pre = want;  // sites before the last repair
+  std::optional<DensityState> best;
+  for (int pass = 0; pass < st.o.density_passes && dual.defects.total() == 0; ++pass) {
+    const int32_t got = cells_of(dual), error = got - want;
+    if (std::abs(error) <= std::max(1, 3 * want / 200)) break;  // within 1.5%
+    if (best && std::abs(error) >= std::abs(best->error)) break;  // the last pass did not help
+    best = DensityState{r.lloyd, dual, L, r.refinements, r.added_sites, r.removed_sites, error};
+    // A few percent off: the sites stay (relaxing them would open new defects
+    // for the repair to fill, the count overshooting again), only the excess
+    // goes or the deficit is split; the optimization evens out the vertices.
+    const bool relax = std::abs(error) * 20 > want;
+    // Every component keeps three sites at least (the fewest a dual of it has).
+    pre = relax ? std::max(3 * L.d->components, pre - error) : want;
+    const int32_t drop = got - pre;
+    if ((error > 0) != (drop > 0)) break;  // no site left to drop
+    std::vector<SurfacePoint> sites = r.lloyd.sites;
+    const int32_t removed = adjust_sites(L, dual, r.lloyd.label, drop, sites, added);
+    st.ctx.check_cancel();
+    LloydOptions ro = L.lo;
+    ro.keep_voronoi = st.incremental;
+    if (relax && drop > 0 && static_cast<int32_t>(sites.size()) > pre + drop / 2) {
+      // Most cells may not go (the repair's sites, their neighbors and the
+      // boundary cells hold them: many holes or small components): Lloyd
+      // afresh with `pre` sites, whose repair adds what the topology needs.
+      ro.sites = pre;
+      r.removed_sites += static_cast<int32_t>(r.lloyd.sites.size()) - pre;
+      added.assign(static_cast<size_t>(pre), 0);
+      r.lloyd_iterations += adopt_cells(cvt_lloyd(*L.m, *L.d, ro, st.ctx.sub(p, p)), r.lloyd);
+    } else {
+      r.removed_sites += removed;
+      ro.iterations = relax ? st.o.density_iterations : 0;
+      ro.init_radius = std::min(L.lo.init_radius, 2.5);
+      r.lloyd_iterations += adopt_cells(cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p)), r.lloyd);
+    }
+    ++r.density_passes;
+    r.repair_s += st.sw.lap();
+    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+    r.dual_s += st.sw.lap();
+    dual = repair(st, L, std::move(dual), p, p);
+    added.resize(r.lloyd.sites.size(), 1);
+  }
+  if (best && (dual.defects.total() > 0 || std::abs(cells_of(dual) - want) > std::abs(best->error))) {
+    while (r.refinements > best->refinements) {
+      st.keep.meshes.pop_back();
+      st.keep.derived.pop_back();
+      if (st.keep.ops.size() > st.keep.meshes.size()) st.keep.ops.pop_back();
+      --r.refinements;
+    }
+    r.lloyd = std::move(best->lloyd);
+    r.added_sites = best->added_sites;
+    r.removed_sites = best->removed_sites;
+    L = best->L;
+    return std::move(best->dual);
+  }
+  return dual;
 }
 
 }  // namespace
@@ -199,28 +456,22 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   RestrictedDual dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
   r.first_defects = dual.defects;
   r.dual_s += sw.lap();
-  dual = repair_rounds(L, o, incremental, std::move(dual), kLloydEnd, kRepairEnd, ctx, sw, r);
-  // Defects the input's vertices cannot resolve (every candidate vertex holds a
-  // site, or the rounds ran out): the same sites on a subdivided input.
-  // Within a budget of max(64 sites, 4 n) vertices: beyond it a level costs
-  // more than its defects.
-  const int64_t budget = std::max<int64_t>(64 * static_cast<int64_t>(r.lloyd.sites.size()), 4 * int64_t{m.num_vertices()});
-  while (r.refinements < o.max_refinements && dual.defects.total() > 0 && 4 * int64_t{L.m->num_vertices()} <= budget) {
-    ctx.check_cancel();
-    L = refine_level(L, incremental, keep, ctx.sub(kRepairEnd, kRepairEnd), r);
-    r.repair_s += sw.lap();
-    dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
-    r.dual_s += sw.lap();
-    dual = repair_rounds(L, o, incremental, std::move(dual), kRepairEnd, kRepairEnd, ctx, sw, r);
-  }
+  const RepairStage st{m, o, incremental, keep, ctx, sw, r};
+  dual = repair(st, L, std::move(dual), kLloydEnd, kRepairEnd);
+  dual = meet_density(st, L, std::move(dual), kRepairEnd);
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;
   r.complete = dual.defects.total() == 0;
+  r.requested = o.lloyd.sites;
+  r.repair_sites = r.added_sites;
+  r.added_sites = static_cast<int32_t>(r.lloyd.sites.size()) - r.requested;  // net: sites = requested + added
   if (r.complete) assemble(m, L, dual, o, sw, r);
+  r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);
   ctx.report(1.0, "remesh");
   return r;
 }
 
 }  // namespace locus
+

@@ -256,9 +256,11 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
 }
 
 // The smallest angle of v's triangles with v at p; -1 when a triangle would
-// turn more than 60 degrees from its current normal (or over).
+// turn more than 60 degrees from its current normal (or over). A degenerate
+// triangle (no normal beyond rounding noise) may open up on the side of the
+// vertex normal nv: otherwise a vertex of a collinear triple could never move.
 double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
-                      const V3& p) {
+                      const V3& nv, const V3& p) {
   double worst = M_PI;
   for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
     const auto& t = F[vf.f[q]];
@@ -268,7 +270,10 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
       b[k] = t[k] == v ? p : a[k];
     }
     const V3 n0 = tri_normal(a[0], a[1], a[2]), n1 = tri_normal(b[0], b[1], b[2]);
-    if (dot(n0, n1) <= 0.5 * norm(n0) * norm(n1)) return -1;
+    const double scale = std::max({dot(sub(a[1], a[0]), sub(a[1], a[0])), dot(sub(a[2], a[0]), sub(a[2], a[0])),
+                                   dot(sub(a[2], a[1]), sub(a[2], a[1]))});
+    const bool flat = !(norm(n0) > 1e-3 * scale);  // a sliver below ~0.06 degrees: its normal is noise
+    if (flat ? !(dot(n1, nv) > 0) : dot(n0, n1) <= 0.5 * norm(n0) * norm(n1)) return -1;
     worst = std::min(worst, min_angle(b[0], b[1], b[2]));
   }
   return worst;
@@ -322,7 +327,7 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
     for (double& x : e1) x /= l1;
     const V3 e2 = cross(nv, e1);
     V3 best = pos(m, v);
-    const double start = ring_min_angle(m, F, vf, v, best);
+    const double start = ring_min_angle(m, F, vf, v, nv, best);
     double cur = start;
     for (double step = 0.25 * len; step > len / 40; step *= 0.5) {
       for (int climb = 0; climb < 6; ++climb) {
@@ -338,7 +343,7 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
           const auto fv = input.face(cp.face);
           const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
           if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
-          const double q = ring_min_angle(m, F, vf, v, cp.point);
+          const double q = ring_min_angle(m, F, vf, v, nv, cp.point);
           if (q > cur + 1e-9) {
             cur = q;
             best = cp.point;

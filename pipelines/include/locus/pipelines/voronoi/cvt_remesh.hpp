@@ -20,8 +20,20 @@
 // onto a 1:4 midpoint subdivision of the mesh (the same surface; its own
 // operator, t in units of its own h^2), are labelled there and repaired again
 // (remesh_refinement.hpp); at most `max_refinements` times. The result's
-// labels and sites are given on the input all the same. The manifold dual is
-// then optimized on the input (remesh_optimize.hpp).
+// labels and sites are given on the input all the same.
+//
+// Last resort: where heat labels keep breaking the closed-ball property (the
+// heat rounds leave more defects than they found, or the levels run out:
+// needle fans of CAD tessellations), the repair starts again from Lloyd's
+// sites with graph-geodesic labels (one multi-source Dijkstra): connected
+// cells, and at worst every vertex a cell, whose dual is the level mesh, so
+// the rounds end with a manifold dual (max_repair_rounds = 0: no repair).
+//
+// Density: the dual has a vertex per non-empty cell; density passes drop or
+// split sites, relax and repair again until the count is within 1.5% of the
+// request (or the passes stop helping; the topology may need more).
+//
+// The manifold dual is then optimized on the input (remesh_optimize.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -45,6 +57,12 @@ struct RemeshOptions {
   // this many vertices per site (within max_refinements): a cell of a few
   // vertices vanishes or breaks the closed-ball property.
   double min_vertices_per_site = 12;
+  // Passes that bring the remesh's vertex count within 1.5% of lloyd.sites
+  // (repair sites and empty cells move it off): sites dropped or split, then
+  // density_iterations Lloyd iterations and the repair again (cvt_remesh.cpp
+  // meet_density). 0 = the count as it comes.
+  int density_passes = 4;
+  int density_iterations = 2;
   // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
   int optimize_rounds = RemeshOptimizeOptions{}.rounds;
 };
@@ -54,9 +72,21 @@ struct RemeshResult {
   Mesh remesh;                    // the dual; no faces when defects remain
   std::vector<int32_t> vertex_site;  // per remesh vertex: its site
   bool complete = false;          // no defects left: remesh is the manifold dual
+  // Sites beyond the request, net: lloyd.sites holds requested + added_sites
+  // (negative when the density passes dropped more than the repair added).
   int32_t added_sites = 0;
+  int32_t repair_sites = 0;          // added by the repair rounds, all passes
+  // Dropped by the density passes (empty cells included) less the sites they
+  // put into split cells: lloyd.sites holds requested + repair_sites - removed_sites.
+  int32_t removed_sites = 0;
+  int32_t requested = 0;             // lloyd.sites
+  int32_t delivered = 0;             // remesh vertices (0 without a manifold remesh)
+  int32_t density_passes = 0;        // see RemeshOptions::density_passes
   int32_t repair_rounds = 0;       // all levels
   int32_t refinements = 0;         // subdivisions the repair needed (0: the input's own vertices)
+  // Rounds on graph-geodesic labels, after heat labels kept failing (0: none
+  // needed); see cvt_remesh.cpp geodesic_repair.
+  int32_t geodesic_rounds = 0;
   int32_t lloyd_iterations = 0;   // all rounds
   DualDefects first_defects;      // of the partition after the first Lloyd run
   DualDefects defects;            // left after the last round (all zero when complete)

@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""The remesh table: `locus cvt MESH --sites N -o out.obj --json` on sample meshes.
+
+One row per mesh: exit status, wall time, whether the remesh kept the input's
+genus, components and boundary loops (from the JSON's `remesh` and
+`remesh.input`, both computed by remesh_quality.hpp), smallest angle, mean
+smallest angle, delivered vs requested vertices, added sites, Hausdorff
+distance. Targets (docs/cvt.md): exit 0 with the topology kept on every
+manifold mesh; smallest angle >= 25 and mean >= 50 degrees on meshes with at
+least 3000 vertices; delivered vertices within 2% of the requested on meshes
+with at least as many vertices as sites. A row breaking a target is marked.
+
+  python3 tools/remesh_table.py --locus build/locus --min-vertices 3000
+  python3 tools/remesh_table.py --meshes three_peaks cow camel --json-out t.json
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+
+def off_vertex_count(path):
+    """Vertices of an OFF file (its header), or -1."""
+    with open(path, encoding="utf-8", errors="replace") as f:
+        toks = []
+        for line in f:
+            toks += line.split("#")[0].split()
+            if len(toks) >= 4:
+                break
+    if not toks or not toks[0].endswith("OFF"):
+        return -1
+    try:
+        return int(toks[1])
+    except (IndexError, ValueError):
+        return -1
+
+
+def run_one(locus, path, sites, timeout, extra):
+    """One remesh: (exit status, wall seconds, JSON or None, last stderr line)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = [locus, "cvt", path, "--sites", str(sites), "-o", os.path.join(tmp, "out.obj"), "--json"] + extra
+        t0 = time.monotonic()
+        try:
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None, time.monotonic() - t0, None, "timeout"
+        wall = time.monotonic() - t0
+        try:
+            j = json.loads(p.stdout) if p.stdout.strip() else None
+        except json.JSONDecodeError:
+            j = None
+        err = p.stderr.strip().splitlines()
+        return p.returncode, wall, j, (err[-1] if err else "")
+
+
+def row_of(name, nv, sites, code, wall, j, err, angle_min_vertices):
+    r = {"mesh": name, "input_vertices": nv, "exit": code, "wall_s": round(wall, 2)}
+    rem = (j or {}).get("remesh")
+    if code != 0 or not rem:
+        r["error"] = err[:160]
+        return r
+    inp = rem.get("input", {})
+    r["kept"] = bool(rem["manifold"]) and all(rem[k] == inp.get(k) for k in ("genus", "components", "boundary_loops"))
+    r["topology"] = "g%s c%s b%s" % (rem["genus"], rem["components"], rem["boundary_loops"])
+    r["min_angle"] = round(rem["min_angle_deg"], 1)
+    r["mean_min_angle"] = round(rem["mean_min_angle_deg"], 1)
+    r["delivered"] = rem["vertices"]
+    r["requested"] = sites
+    r["added_sites"] = rem.get("added_sites", 0)
+    r["hausdorff_pct"] = round(100 * rem["hausdorff_rel"], 2) if rem.get("hausdorff_rel", -1) >= 0 else None
+    fails = []
+    if not r["kept"]:
+        fails.append("topology")
+    if nv >= angle_min_vertices and (r["min_angle"] < 25 or r["mean_min_angle"] < 50):
+        fails.append("angles")
+    if nv >= sites and abs(r["delivered"] - sites) > 0.02 * sites:
+        fails.append("density")
+    r["fails"] = fails
+    return r
+
+
+def markdown(rows):
+    head = "| mesh | n | exit | wall s | topology kept | min ° | mean min ° | delivered | added | Hausdorff % | fails |"
+    out = [head, "|" + "---|" * 11]
+    for r in rows:
+        if "error" in r:
+            out.append("| %s | %d | %s | %.2f | - | - | - | - | - | - | %s |" %
+                       (r["mesh"], r["input_vertices"], r["exit"], r["wall_s"], r["error"].replace("|", "/")))
+            continue
+        out.append("| %s | %d | %d | %.2f | %s (%s) | %.1f | %.1f | %d | %d | %s | %s |" % (
+            r["mesh"], r["input_vertices"], r["exit"], r["wall_s"], "yes" if r["kept"] else "NO", r["topology"],
+            r["min_angle"], r["mean_min_angle"], r["delivered"], r["added_sites"],
+            "-" if r["hausdorff_pct"] is None else "%.2f" % r["hausdorff_pct"], ", ".join(r["fails"]) or "-"))
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--locus", default="build/locus")
+    ap.add_argument("--dir", default="cache/meshes")
+    ap.add_argument("--sites", type=int, default=1000)
+    ap.add_argument("--min-vertices", type=int, default=0, help="only meshes with at least this many vertices")
+    ap.add_argument("--angle-min-vertices", type=int, default=3000, help="angle targets from this many vertices")
+    ap.add_argument("--meshes", nargs="*", help="mesh names (without .off); default: every OFF in --dir")
+    ap.add_argument("--skip", nargs="*", default=[], help="mesh names to leave out")
+    ap.add_argument("--timeout", type=float, default=900)
+    ap.add_argument("--json-out", help="also write the rows as JSON")
+    ap.add_argument("extra", nargs="*", help="after --: more `locus cvt` options")
+    a = ap.parse_args()
+    names = a.meshes or sorted(re.sub(r"\.off$", "", f) for f in os.listdir(a.dir) if f.endswith(".off"))
+    rows = []
+    for name in names:
+        if name in a.skip:
+            continue
+        path = os.path.join(a.dir, name + ".off")
+        nv = off_vertex_count(path)
+        if nv < a.min_vertices or nv < 1:
+            continue
+        code, wall, j, err = run_one(a.locus, path, min(a.sites, nv), a.timeout, a.extra)
+        r = row_of(name, nv, min(a.sites, nv), code, wall, j, err, a.angle_min_vertices)
+        rows.append(r)
+        print(json.dumps(r), file=sys.stderr, flush=True)
+    print(markdown(rows))
+    bad = [r["mesh"] for r in rows if "error" in r or r["fails"]]
+    print("\n%d meshes, %d off target%s" % (len(rows), len(bad), (": " + ", ".join(bad)) if bad else ""))
+    if a.json_out:
+        with open(a.json_out, "w", encoding="utf-8") as f:
+            json.dump(rows, f, indent=1)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
