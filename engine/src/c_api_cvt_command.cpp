@@ -64,6 +64,8 @@ void fill_report(const locus::CvtReport& r, locus_cvt_report& o) {
   o.area_cv_vertex = r.area_cv_vertex, o.area_variance_vertex = r.area_variance_vertex;
   o.empty_cells = r.empty_cells, o.unreached_vertices = r.unreached, o.fallback_faces = r.fallback_faces;
   o.flips = r.flips, o.smoothing_moves = r.smoothing_moves, o.boundary_moves = r.boundary_moves;
+  o.requested = r.requested, o.delivered = r.delivered, o.repair_sites = r.repair_sites;
+  o.removed_sites = r.removed_sites, o.density_passes = r.density_passes, o.geodesic_rounds = r.geodesic_rounds;
   const locus::CvtDefects& d = r.defects_left;
   o.defects_left = d.split_cells + d.non_disk_cells + d.split_interfaces + d.loop_interfaces +
                    d.boundary_interfaces + d.repeated_corners + d.split_boundary_runs + d.short_boundary_loops;

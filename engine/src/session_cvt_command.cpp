@@ -174,6 +174,8 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   r.remesh_site = std::move(rr.vertex_site);
   r.added_sites = rr.added_sites, r.repair_rounds = rr.repair_rounds, r.refinements = rr.refinements;
   r.lloyd_iterations = rr.lloyd_iterations;
+  r.requested = rr.requested, r.delivered = rr.delivered, r.repair_sites = rr.repair_sites;
+  r.removed_sites = rr.removed_sites, r.density_passes = rr.density_passes, r.geodesic_rounds = rr.geodesic_rounds;
   r.dual_mean_min_angle_deg = rr.dual_mean_min_angle_deg, r.dual_min_angle_deg = rr.dual_min_angle_deg;
   r.flips = rr.optimize.flips, r.smoothing_moves = rr.optimize.moves, r.boundary_moves = rr.optimize.boundary_moves;
   r.defects_before_repair = defects_of(rr.first_defects);

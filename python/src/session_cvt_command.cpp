@@ -44,6 +44,12 @@ py::dict remesh_dict(const CvtReport& r) {
   d["repair_rounds"] = r.repair_rounds;
   d["refinements"] = r.refinements;
   d["lloyd_iterations"] = r.lloyd_iterations;
+  d["requested"] = r.requested;
+  d["delivered"] = r.delivered;
+  d["repair_sites"] = r.repair_sites;
+  d["removed_sites"] = r.removed_sites;
+  d["density_passes"] = r.density_passes;
+  d["geodesic_rounds"] = r.geodesic_rounds;
   d["defects_before_repair"] = defects_dict(r.defects_before_repair);
   d["defects_left"] = defects_dict(r.defects_left);
   d["input"] = py::dict("genus"_a = r.input_stats.genus, "components"_a = r.input_stats.components,

@@ -63,6 +63,12 @@ Json remesh_json(const CvtReport& r) {
   j["repair_rounds"] = r.repair_rounds;
   j["refinements"] = r.refinements;
   j["lloyd_iterations"] = r.lloyd_iterations;
+  j["requested"] = r.requested;  // sites asked for, against the remesh vertices delivered
+  j["delivered"] = r.delivered;
+  j["repair_sites"] = r.repair_sites;
+  j["removed_sites"] = r.removed_sites;
+  j["density_passes"] = r.density_passes;
+  j["geodesic_rounds"] = r.geodesic_rounds;
   j["defects_before_repair"] = defects_json(r.defects_before_repair);
   j["defects_left"] = defects_json(r.defects_left);
   const CvtMeshStats& in = r.input_stats;

@@ -331,6 +331,9 @@ typedef struct locus_cvt_report {
   int64_t empty_cells, unreached_vertices, fallback_faces;
   int64_t flips, smoothing_moves, boundary_moves;
   int64_t defects_left;      /* summed over the kinds (0 when complete) */
+  /* requested sites against delivered remesh vertices; sites the repair added
+   * and the density passes removed; passes and shortest-path repair rounds run */
+  int32_t requested, delivered, repair_sites, removed_sites, density_passes, geodesic_rounds;
 } locus_cvt_report;
 LOCUS_API locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
                                      locus_cvt_report* out_report, locus_remesh** out_remesh,

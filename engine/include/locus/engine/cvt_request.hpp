@@ -78,6 +78,11 @@ struct LOCUS_API CvtReport {
   CvtMeshStats remesh_stats;          // all zero (genus -1) without a complete remesh
   CvtMeshStats input_stats;           // the input's topology (genus, components, boundary loops)
   int32_t added_sites = 0, repair_rounds = 0, refinements = 0, lloyd_iterations = 0;
+  // The requested density (sites) against the delivered remesh vertices: the
+  // repair's added sites, the density passes' removed ones, and how many
+  // passes and shortest-path repair rounds (the repair's last resort) ran.
+  int32_t requested = 0, delivered = 0, repair_sites = 0, removed_sites = 0, density_passes = 0,
+          geodesic_rounds = 0;
   double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;  // before the optimization
   int64_t flips = 0, smoothing_moves = 0, boundary_moves = 0;
   CvtDefects defects_before_repair, defects_left;
