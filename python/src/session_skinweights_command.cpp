@@ -29,7 +29,7 @@ std::vector<std::vector<int64_t>> handle_sets(const py::handle& handles) {
   if (py::isinstance<py::int_>(handles)) return {{handles.cast<int64_t>()}};
   for (const py::handle h : handles) {
     if (py::isinstance<py::int_>(h) || (py::hasattr(h, "__index__") && !py::hasattr(h, "__len__"))) {
-      out.push_back({py::int_(h).cast<int64_t>()});
+      out.push_back({py::reinterpret_borrow<py::object>(h).attr("__index__")().cast<int64_t>()});
       continue;
     }
     const std::vector<int32_t> ids = vertex_ids(h, "handles");

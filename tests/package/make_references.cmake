@@ -43,7 +43,7 @@ if(mesh_arg AND EXISTS ${cli})
   cli_reference(param_circle param ${A} --center 0 --fraction 0.1 --boundary circle -o param_circle.obj)
   cli_reference(patch param ${A} --center 0 --fraction 0.05 --boundary circle -o patch.obj)
   cli_reference(param_disk param patch.obj --method perfect -o param_disk.obj)
-  cli_reference(skinweights skinweights patch.obj --handles 0,300,900 -o skinweights.ply)
+  cli_reference(skinweights skinweights patch.obj --handles 0,300,900 --exact -o skinweights.ply)
   cli_reference(perfect_laplacian perfect-laplacian patch.obj --iters 20 -o perfect_laplacian.obj)
   cli_reference(selfsupport selfsupport patch.obj --iters 20 -o selfsupport.obj)
   # A polygon disk for the one-shot forms (no Session needed): a 13 x 13-vertex
