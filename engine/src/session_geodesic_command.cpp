@@ -164,9 +164,15 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
                           "); answered on the robust operator";
     r.warnings.clear();
     t0 = std::chrono::steady_clock::now();
-    const auto e = robust_geodesic_engine(s, HeatQuery{r.t_factor}, ctx);
-    r.precompute_s = seconds_since(t0);
-    query_distances(s, *e, req, r, ctx);
+    try {
+      const auto e = robust_geodesic_engine(s, HeatQuery{r.t_factor}, ctx);
+      r.precompute_s = seconds_since(t0);
+      query_distances(s, *e, req, r, ctx);
+    } catch (const Error& again) {
+      if (again.code() != ErrorCode::Numerical) throw;
+      fail(ErrorCode::Numerical, std::string(again.what()) + " (robust operator; the cotan operator had failed first: " +
+                                     err.what() + ")", again.where());
+    }
     r.warnings.push_back(r.operator_fallback);
   }
   progress.finish("geodesic distance");
