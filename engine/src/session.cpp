@@ -117,6 +117,14 @@ std::shared_ptr<const HeatGeodesic> robust_geodesic_engine(State& s, const HeatQ
   });
 }
 
+std::vector<char> referenced_vertices(const State& s) {
+  if (!s.robust) return {};
+  std::vector<char> used(static_cast<size_t>(s.mesh.num_vertices()), 0);
+  for (int32_t v : s.mesh.face_vertices) used[v] = 1;
+  if (std::find(used.begin(), used.end(), 0) == used.end()) return {};
+  return used;
+}
+
 bool geodesic_engine_cached(State& s, const HeatQuery& q) {
   const uint64_t key = bits_of(heat_method_t_factor(q));
   return s.robust ? s.robust_engines.contains(key) : s.engines.contains(key);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -96,7 +97,12 @@ HeatReport Session::heat(const HeatRequest& req, const RunContext& ctx) const {
     plan_s.push_back(st.plan_s);
     solve_s.push_back(st.solve_s);
   }
+  const std::vector<char> used = referenced_vertices(*s);
   for (size_t k = 0; k < r.values.size(); ++k) {
+    if (!used.empty() && !used[r.targets[k]]) {
+      r.values[k] = std::numeric_limits<double>::quiet_NaN();  // no face: no value
+      continue;
+    }
     if (!std::isfinite(r.values[k]))
       fail(ErrorCode::Numerical,
            "heat: the value at target " + std::to_string(r.targets[k]) + " is " + format_number(r.values[k]));

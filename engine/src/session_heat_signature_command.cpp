@@ -11,6 +11,7 @@
 // Session::heat_kernel_signature is the cached tier.
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -136,13 +137,19 @@ HeatSignatureReport signature(State& s, const SignatureArgs& a, const RunContext
   t0 = std::chrono::steady_clock::now();
   heat_kernel_signature(H, r.vertices, parse_adf_method(a.method), r.values, ctx);
   r.query_s = seconds(t0);
-  for (size_t k = 0; k < r.values.size(); ++k)
+  const std::vector<char> used = referenced_vertices(s);
+  for (size_t k = 0; k < r.values.size(); ++k) {
+    const int32_t v = a.all ? static_cast<int32_t>(k / nt) : r.vertices[k / nt];
+    if (!used.empty() && !used[v]) {
+      r.values[k] = std::numeric_limits<double>::quiet_NaN();  // no face: no value
+      continue;
+    }
     if (!(std::isfinite(r.values[k]) && r.values[k] > 0)) {
-      const int32_t v = a.all ? static_cast<int32_t>(k / nt) : r.vertices[k / nt];
       fail(ErrorCode::Numerical, who + ": the value at vertex " + std::to_string(v) + " for t = " +
                                      format_number(r.t[k % nt]) + " is " + format_number(r.values[k]) +
                                      "; the heat operator is numerically singular");
     }
+  }
   return r;
 }
 

@@ -238,6 +238,10 @@ bool geodesic_engine_cached(State& s, const HeatQuery& q);
 // The heat method on the robust operator's intrinsic triangles, whatever the
 // session's operator (auto's fallback when the cotan heat method fails).
 std::shared_ptr<const HeatGeodesic> robust_geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx);
+// Per vertex of s.mesh, whether a face uses it; empty when every vertex is
+// (always on the cotan operator, which refuses unreferenced vertices). Values
+// at an unreferenced vertex are NaN (no value), as in every output format.
+std::vector<char> referenced_vertices(const State& s);
 // BadUsage naming `what` unless v is a vertex of s.mesh.
 void check_vertex(const State& s, int64_t v, const char* what);
 void check_t_factor(double t_factor);

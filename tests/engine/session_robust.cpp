@@ -186,3 +186,38 @@ TEST_CASE("Session operator auto: where the cotan heat method fails on a clean m
     CHECK(r.distance[v] <= 1.1 * path[v]);
   }
 }
+
+TEST_CASE("Session operator auto: an unreferenced vertex has no value (NaN) in adf, hks and heat") {
+  // The oracle: the same queries on the mesh without the lone vertex (the
+  // robust operator of the rest is the same surface, the same h and t).
+  const Mesh clean = make_icosphere(2);
+  Mesh m = clean;
+  m.add_vertex(3, 3, 3);
+  const int32_t lone = clean.num_vertices();
+  const Session a{Mesh(m)};
+  REQUIRE(a.operator_report().robust);
+  const Session c = session_with(clean, OperatorChoice::Robust);
+  AdfRequest q;
+  q.all = true;
+  const HeatSignatureReport ra = a.adf(q), rc = c.adf(q);
+  REQUIRE(ra.values.size() == static_cast<size_t>(lone + 1));
+  CHECK(std::isnan(ra.values[lone]));
+  for (int32_t v = 0; v < lone; ++v) CHECK(ra.values[v] == doctest::Approx(rc.values[v]).epsilon(1e-9));
+  HksRequest k;
+  k.ts = {"1h2", "4h2"};
+  k.vertices = {7, lone};
+  const HeatSignatureReport rk = a.hks(k);
+  REQUIRE(rk.values.size() == 4);
+  CHECK(rk.values[0] > 0);
+  CHECK(rk.values[1] > 0);
+  CHECK(std::isnan(rk.values[2]));
+  CHECK(std::isnan(rk.values[3]));
+  HeatRequest h;
+  h.source = {0};
+  h.target = {5, lone};
+  const HeatReport rh = a.heat(h);
+  h.target = {5};
+  CHECK(rh.values[0] == doctest::Approx(c.heat(h).values[0]).epsilon(1e-9));
+  CHECK(std::isnan(rh.values[1]));
+  CHECK(rh.total == rh.values[0]);
+}

@@ -113,8 +113,10 @@ Json values_json(const std::string& command, const HeatSignatureReport& r) {
     Json summary = Json::array();
     for (size_t t = 0; t < nt; ++t) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0;
-      for (double v : values_at(r, t)) lo = std::min(lo, v), hi = std::max(hi, v), sum += v;
-      summary.push_back({{"t", r.t[t]}, {"min", lo}, {"max", hi}, {"mean", sum / static_cast<double>(count)}});
+      size_t valued = 0;  // NaN: an unreferenced vertex (no value)
+      for (double v : values_at(r, t))
+        if (!std::isnan(v)) lo = std::min(lo, v), hi = std::max(hi, v), sum += v, ++valued;
+      summary.push_back({{"t", r.t[t]}, {"min", lo}, {"max", hi}, {"mean", sum / static_cast<double>(valued)}});
     }
     j["summary"] = summary;
     return j;
