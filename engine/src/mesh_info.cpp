@@ -36,6 +36,6 @@ MeshInfo mesh_info(const Mesh& mesh) {
   return i;
 }
 
-MeshInfo Session::info() const { return mesh_info(has_polygons() ? polygons() : mesh()); }
+MeshInfo Session::info() const { return mesh_info(polygons()); }  // the faces as given (mesh() for triangles)
 
 }  // namespace locus
