@@ -5,6 +5,7 @@
 // queries of the later pipelines are in session_<pipeline>.cpp.
 #include "locus/session.hpp"
 #include "session_state.hpp"
+#include "cvt_sheets.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -401,6 +402,16 @@ std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<i
 
 CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx, bool remesh) const {
   const std::shared_ptr<State> s = impl_->current();
+  if (cvt_needs_sheets(impl_->op) && sites >= 1 && iterations >= 0) {  // the command's path, which cuts the mesh
+    CvtRequest q;
+    q.sites = sites;
+    q.iters = iterations;
+    q.seed = seed;
+    if (!remesh) q.repair_rounds = 0, q.optimize = 0;
+    CvtResult r = cvt_result_of(cvt(q, ctx));
+    if (!remesh) r.remeshed = false, r.remesh_xyz.clear(), r.remesh_triangles.clear(), r.remesh_site.clear();
+    return r;
+  }
   if (sites < 1 || sites > impl_->nv)
     fail(ErrorCode::BadUsage, "cvt: the number of sites must be in 1.." + std::to_string(impl_->nv) +
                                   " (the vertex count), got " + std::to_string(sites));

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "command_heat_operator.hpp"
+#include "cvt_sheets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
 #include "locus/io/atomic_file_write.hpp"
@@ -239,6 +240,13 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   const HeatTime ts = parse_heat_time(req.t, "--t");
   const HeatTime tc = centroid_time(req, &ctx);  // the deprecation note before any refusal of the mesh
   const std::shared_ptr<State> s = impl_->current();
+  if (cvt_needs_sheets(impl_->op)) {
+    CvtReport r = cvt_on_sheets(s->mesh, s->robust, req, ts, tc, ctx);
+    if (!req.labels.empty() || !req.sites_out.empty())
+      write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},
+                      s->polygons ? triangle_polygon() : std::vector<int32_t>{});
+    return r;
+  }
   // Refusals that depend on the mesh are bad input, like the mesh's own defects.
   if (req.sites > impl_->nv)
     fail(ErrorCode::BadInput, mesh_name(s->mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " +

@@ -54,6 +54,12 @@ py::dict remesh_dict(const CvtReport& r) {
   d["defects_left"] = defects_dict(r.defects_left);
   d["input"] = py::dict("genus"_a = r.input_stats.genus, "components"_a = r.input_stats.components,
                         "boundary_loops"_a = r.input_stats.boundary_loops);
+  if (r.sheets.cut) {  // remeshed as the manifold sheets of a mesh that is not a manifold
+    const CvtSheets& c = r.sheets;
+    d["sheets"] = py::dict("split_vertices"_a = c.split_vertices, "cut_edges"_a = c.cut_edges,
+                           "flipped_faces"_a = c.flipped_faces, "dropped_faces"_a = c.dropped_faces,
+                           "split_faces"_a = c.split_faces, "unreferenced_vertices"_a = c.unreferenced_vertices);
+  }
   return d;
 }
 

@@ -73,6 +73,12 @@ Json remesh_json(const CvtReport& r) {
   j["defects_left"] = defects_json(r.defects_left);
   const CvtMeshStats& in = r.input_stats;
   j["input"] = {{"genus", in.genus}, {"components", in.components}, {"boundary_loops", in.boundary_loops}};
+  if (r.sheets.cut) {  // a mesh that is not a manifold: remeshed as its manifold sheets (the input's topology is theirs)
+    const CvtSheets& c = r.sheets;
+    j["sheets"] = {{"split_vertices", c.split_vertices}, {"cut_edges", c.cut_edges},
+                   {"flipped_faces", c.flipped_faces},   {"dropped_faces", c.dropped_faces},
+                   {"split_faces", c.split_faces},       {"unreferenced_vertices", c.unreferenced_vertices}};
+  }
   return j;
 }
 

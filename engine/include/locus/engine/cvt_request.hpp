@@ -64,6 +64,17 @@ struct LOCUS_API CvtMeshStats {
   double hausdorff_rel = -1;          // to the input, of its bounding-box diagonal; -1 when not computed
 };
 
+// How a mesh that is not a manifold (non-manifold edges or vertices,
+// zero-area or repeated faces, inconsistent orientation, unreferenced
+// vertices) was cut into the manifold sheets the cells and the remesh run on
+// (kernels/.../manifold_sheets.hpp, docs/robust_operator.md); all zero when
+// the mesh is used as it is.
+struct LOCUS_API CvtSheets {
+  bool cut = false;
+  int64_t split_vertices = 0, cut_edges = 0, flipped_faces = 0, dropped_faces = 0, split_faces = 0,
+          unreferenced_vertices = 0;
+};
+
 struct LOCUS_API CvtReport {
   // The cells: per vertex its site; the sites (the repair's added ones too).
   std::vector<int32_t> label;
@@ -111,6 +122,7 @@ struct LOCUS_API CvtReport {
   double labels_s = 0, partition_s = 0, neighbourhoods_s = 0, centroids_s = 0;
   double remesh_factor_s = 0, lloyd_s = 0, repair_s = 0, dual_s = 0, optimize_s = 0, stats_s = 0;
   FactorCacheReport factor_cache;
+  CvtSheets sheets;                   // the input's labels and sites are mapped back from the sheets
 };
 
 // Argument checks that need no mesh, the output targets included: Error(BadUsage).

@@ -1,0 +1,21 @@
+// `cvt` on the manifold sheets of a mesh that is not a manifold
+// (session_cvt_sheets.cpp). Internal to the engine.
+#pragma once
+#include "locus/engine/cvt_request.hpp"
+#include "locus/engine/heat_time.hpp"
+#include "locus/engine/operator_choice.hpp"
+#include "locus/mesh.hpp"
+#include "locus/run_context.hpp"
+
+namespace locus {
+
+// True when the Session's operator report names a defect the cells or the
+// remesh cannot take (needles they can).
+bool cvt_needs_sheets(const OperatorReport& op);
+
+// The cvt command's call sequence on the sheets of `input` (triangles), the
+// cells' operator robust or cotan, the labels and sites mapped back to `input`.
+CvtReport cvt_on_sheets(const Mesh& input, bool robust, const CvtRequest& req, const HeatTime& ts,
+                        const HeatTime& tc, const RunContext& ctx);
+
+}  // namespace locus

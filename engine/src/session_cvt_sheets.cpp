@@ -1,0 +1,82 @@
+// `cvt` on a mesh that is not a manifold (thesis §3.7 needs one: a cell is a
+// disk of the surface and the remesh is the cells' dual): the command's call
+// sequence (session_cvt_command.cpp) runs on the mesh's manifold sheets
+// (kernels/.../manifold_sheets.hpp), with the cells' operator of the Session's
+// choice (the robust operator on a defective mesh), and its labels and sites
+// are mapped back to the input: a vertex split into several sheet vertices
+// takes the label of its first copy, an unreferenced vertex gets -1, and a
+// site's face and barycentrics are those of the input face it lies in. The
+// remesh is the remesh of the sheets; the report's `sheets` says how the mesh
+// was cut.
+#include <chrono>
+#include <string>
+
+#include "command_heat_operator.hpp"
+#include "cvt_sheets.hpp"
+#include "locus/engine/cvt_request.hpp"
+#include "locus/error.hpp"
+#include "locus/kernels/mesh/manifold_sheets.hpp"
+#include "session_state.hpp"
+
+namespace locus {
+
+bool cvt_needs_sheets(const OperatorReport& op) {
+  return op.robust && (op.non_manifold_edges || op.non_manifold_vertices || op.zero_area_faces ||
+                       op.inconsistent_orientation_edges || op.unreferenced_vertices);
+}
+
+namespace {
+
+void map_back(const Mesh& input, const ManifoldSheets& sh, CvtReport& r) {
+  const std::vector<int32_t> sheet_label = std::move(r.label);
+  r.label.assign(static_cast<size_t>(input.num_vertices()), -1);
+  for (size_t v = sh.vertex_of.size(); v-- > 0;) r.label[sh.vertex_of[v]] = sheet_label[v];  // first copy last
+  for (size_t k = 0; k < r.site_face.size(); ++k) {
+    const int32_t f = r.site_face[k];
+    if (f < 0) {
+      r.site_vertex[k] = sh.vertex_of[r.site_vertex[k]];
+      continue;
+    }
+    double b[3] = {0, 0, 0};
+    for (int c = 0; c < 3; ++c)
+      for (int j = 0; j < 3; ++j) b[j] += r.site_bary[3 * k + c] * sh.corner_bary[f][3 * c + j];
+    r.site_face[k] = sh.face_of[f];
+    for (int j = 0; j < 3; ++j) r.site_bary[3 * k + j] = b[j];
+  }
+  r.n = input.num_vertices();
+  r.sheets = {true,           sh.split_vertices, sh.cut_edges,  sh.flipped_faces,
+              sh.dropped_faces, sh.split_faces,  sh.unreferenced_vertices};
+}
+
+}  // namespace
+
+CvtReport cvt_on_sheets(const Mesh& input, bool robust, const CvtRequest& req, const HeatTime& ts,
+                        const HeatTime& tc, const RunContext& ctx) {
+  const ManifoldSheets sh = manifold_sheets(input);
+  const Mesh& m = sh.mesh;
+  // Checked as the cotan operator would (manifold, no zero-area face): what the cells and the dual need.
+  const std::shared_ptr<const MeshDerived> derived = session_detail::check_and_derive(m, OperatorChoice::Cotan);
+  if (req.sites > m.num_vertices())
+    fail(ErrorCode::BadInput, mesh_name(input) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
+                                  std::to_string(m.num_vertices()) + " vertices of the mesh's manifold sheets");
+  if (req.sites < derived->components)
+    fail(ErrorCode::BadInput, mesh_name(input) + ": --sites " + std::to_string(req.sites) + " for the " +
+                                  std::to_string(derived->components) +
+                                  " connected components of the mesh's manifold sheets; every component needs a site");
+  const bool isotropic = req.anisotropy == 0;
+  const session_detail::CallProgress progress(ctx, isotropic,
+                                              kCvtFactorIterations / (kCvtFactorIterations + req.iters + 1.0));
+  FactorCacheReport cache;
+  HeatDiffusion prepared;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (isotropic) prepared = command_heat_operator(m, robust, ts, {req.save, req.load}, progress.build(), cache);
+  const double prepare_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CvtReport r = run_cvt(m, *derived, req, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  r.prepare_s = prepare_s;
+  r.factor_cache = cache;
+  map_back(input, sh, r);
+  progress.finish("remesh");
+  return r;
+}
+
+}  // namespace locus
