@@ -23,6 +23,7 @@
 #include "locus/pipelines/deform/deform.hpp"
 #include "locus/session.hpp"
 #include "session_state.hpp"
+#include "sheets_session.hpp"
 
 namespace locus {
 namespace session_detail {
@@ -96,6 +97,40 @@ void copy_result(const Mesh& mesh, const Mesh& out, DeformCommandReport& r) {
   }
 }
 
+// A mesh that is not a manifold: the deformation of its manifold sheets
+// (sheets_session.hpp); a vertex split into copies moves to their mean, an
+// unreferenced vertex stays where it is.
+DeformCommandReport sheets_deform(State& s, const DeformCommandRequest& req, const RunContext& ctx, bool compare) {
+  const std::shared_ptr<const SheetsSession> sh = sheets_session(s, ctx);
+  const std::string name = mesh_name(s.mesh);
+  DeformCommandRequest q = req;
+  q.roi_seed = sheet_vertex(*sh, req.roi_seed, "roi_seed", name);
+  q.handle = sheet_vertex(*sh, req.handle, "handle", name);
+  DeformCommandReport r = sh->session->deform(q, ctx, compare);
+  const int32_t n = s.mesh.num_vertices();
+  std::vector<double> xyz(3 * static_cast<size_t>(n), 0.0), copies(static_cast<size_t>(n), 0.0);
+  for (size_t c = 0; c < sh->sheets.vertex_of.size(); ++c) {
+    const int32_t v = sh->sheets.vertex_of[c];
+    for (int d = 0; d < 3; ++d) xyz[3 * v + d] += r.xyz[3 * c + d];
+    copies[v] += 1;
+  }
+  double moved = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    const double p[3] = {s.mesh.x[v], s.mesh.y[v], s.mesh.z[v]};
+    double d2 = 0;
+    for (int d = 0; d < 3; ++d) {
+      xyz[3 * v + d] = copies[v] > 0 ? xyz[3 * v + d] / copies[v] : p[d];
+      d2 += (xyz[3 * v + d] - p[d]) * (xyz[3 * v + d] - p[d]);
+    }
+    moved = std::max(moved, std::sqrt(d2));
+  }
+  r.xyz = std::move(xyz);
+  r.n = n;
+  r.max_displacement = moved;
+  r.warnings.push_back(sh->describe("deform", name));
+  return r;
+}
+
 }  // namespace
 }  // namespace session_detail
 
@@ -122,6 +157,7 @@ DeformCommandReport Session::deform(const DeformCommandRequest& req, const RunCo
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, req.roi_seed, "roi_seed");
   check_vertex(*s, req.handle, "handle");
+  if (impl_->op.robust && impl_->op.any_defect()) return sheets_deform(*s, req, ctx, compare_with_refactor);
   const DeformEnergy energy = parse_deform_energy(req.energy);
   DeformCommandReport r;
   r.energy = deform_energy_name(energy);

@@ -24,6 +24,7 @@
 #include "locus/pipelines/geodesic/polygon_logmap.hpp"
 #include "locus/session.hpp"
 #include "session_state.hpp"
+#include "sheets_session.hpp"
 
 namespace locus {
 namespace session_detail {
@@ -156,6 +157,35 @@ void injectivity(const Mesh& mesh, bool clip, LogmapReport& r) {
   r.flipped = count_flipped_triangles(tg, r.patch, r.u, r.v, scratch);
 }
 
+// A mesh that is not a manifold: the map of the center's sheet (sheets_session.hpp),
+// the patch of the same vertex count, mapped back to the input's vertices (a
+// vertex split into copies keeps the copy nearest the center).
+LogmapReport sheets_map(State& s, const LogmapRequest& req, const RunContext& ctx) {
+  const std::shared_ptr<const SheetsSession> sh = sheets_session(s, ctx);
+  const std::string name = mesh_name(s.mesh);
+  LogmapRequest q = req;
+  q.center = sheet_vertex(*sh, req.center, "center", name);
+  const int32_t n = s.mesh.num_vertices(), ns = sh->sheets.mesh.num_vertices();
+  const int32_t count = std::max<int32_t>(1, static_cast<int32_t>(std::lround(req.fraction * n)));
+  q.fraction = std::min(1.0, static_cast<double>(count) / ns);
+  LogmapReport r = sh->session->logmap(q, ctx);
+  std::vector<char> seen(static_cast<size_t>(n), 0);
+  size_t w = 0;
+  for (size_t p = 0; p < r.patch.size(); ++p) {  // the patch is in order of distance
+    const int32_t v = sh->sheets.vertex_of[r.patch[p]];
+    if (seen[v]) continue;
+    seen[v] = 1;
+    r.patch[w] = v, r.distance[w] = r.distance[p], r.angle[w] = r.angle[p], r.u[w] = r.u[p], r.v[w] = r.v[p];
+    ++w;
+  }
+  r.patch.resize(w);
+  resize_map(r, w);
+  r.center = static_cast<int32_t>(req.center);
+  r.fraction = req.fraction;
+  r.warnings.push_back(sh->describe("the log map", name));
+  return r;
+}
+
 }  // namespace
 }  // namespace session_detail
 
@@ -180,6 +210,7 @@ LogmapReport Session::logmap(const LogmapRequest& req, const RunContext& ctx) co
   check_request(req);
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, req.center, "center");
+  if (impl_->op.robust && impl_->op.any_defect()) return sheets_map(*s, req, ctx);
   const HeatTime time = heat_method_time(req.t, req.t_factor);
   const int32_t n = impl_->nv;
   const int32_t center = static_cast<int32_t>(req.center);

@@ -51,6 +51,8 @@
 
 namespace locus {
 
+struct SheetsSession;  // sheets_session.hpp
+
 // choose_operator (operator_choice.hpp) on the edge incidence and one-pass
 // report the Session's check already made (engine/src/operator_choice.cpp).
 OperatorReport choose_operator_from(const Mesh& m, const EdgeIncidence& inc, const MeshReport& report,
@@ -221,6 +223,7 @@ struct State {
   bool robust = false;
   OnceMap<int, RobustOperators> robust_ops;          // single entry
   OnceMap<uint64_t, HeatGeodesic> robust_engines;    // t_factor bits: the heat method on the intrinsic triangles
+  OnceMap<int, SheetsSession> sheets;                // single entry: a defective mesh's manifold sheets (log map, deform)
 };
 
 // Checks the mesh (once per positions) and derives its data; d.checked records the check.

@@ -83,6 +83,11 @@ py::object deform(const Session& s, int64_t roi_seed, int64_t handle, const py::
                             ? py::object(py::dict("loaded"_a = r.factor_cache.loaded, "saved"_a = r.factor_cache.saved,
                                                   "load_s"_a = r.factor_cache.load_s, "save_s"_a = r.factor_cache.save_s))
                             : py::object(py::none());
+  if (!r.warnings.empty()) {
+    py::list w;
+    for (const std::string& text : r.warnings) w.append(text);
+    out["warnings"] = w;
+  }
   return result(out);
 }
 

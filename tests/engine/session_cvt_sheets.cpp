@@ -9,6 +9,8 @@
 #include <set>
 
 #include "locus/engine/cvt_request.hpp"
+#include "locus/engine/deform_request.hpp"
+#include "locus/engine/geodesic_requests.hpp"
 #include "locus/kernels/mesh/mesh_defects_plant.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
@@ -83,4 +85,45 @@ TEST_CASE("cvt on a mesh with a flipped patch: the remesh is the clean sphere's 
   const CvtResult c = s.cvt(80, 4, 0, {}, true);
   CHECK(c.label.size() == static_cast<size_t>(m.num_vertices()));
   CHECK(c.remeshed);
+}
+
+TEST_CASE("log map and deform on a mesh that is not a manifold: the center's sheet, mapped back") {
+  // Bowties: the sheets equal the mesh except the split vertices, so away from
+  // them the sheets' log map is the clean cotan log map of the same faces.
+  const Mesh m = plant_mesh_defect(make_icosphere(4), PlantedDefect::Bowtie, 2);
+  const Session s{Mesh(m)};
+  REQUIRE(s.operator_report().robust);
+  LogmapRequest q;
+  q.center = 7;
+  q.fraction = 0.05;
+  const LogmapReport r = s.logmap(q);
+  REQUIRE_FALSE(r.warnings.empty());
+  CHECK(r.warnings.back().find("manifold sheets") != std::string::npos);
+  REQUIRE(!r.patch.empty());
+  CHECK(r.patch[0] == 7);
+  CHECK(r.distance[0] == 0.0);
+  std::set<int32_t> unique(r.patch.begin(), r.patch.end());
+  CHECK(unique.size() == r.patch.size());
+  // On the unit sphere the heat distance is near the great-circle distance.
+  for (size_t p = 0; p < r.patch.size(); ++p) {
+    const int32_t v = r.patch[p];
+    const double c = m.x[v] * m.x[7] + m.y[v] * m.y[7] + m.z[v] * m.z[7];
+    CHECK(std::abs(r.distance[p] - std::acos(std::max(-1.0, std::min(1.0, c)))) < 0.02);
+    CHECK(std::abs(std::hypot(r.u[p], r.v[p]) - r.distance[p]) < 1e-9);
+  }
+  // Deform: the handle moves by the offset, far vertices stay, every vertex is finite.
+  DeformCommandRequest d;
+  d.roi_seed = 7;
+  d.handle = 7;
+  d.offset = {0, 0, 0.05};
+  const DeformCommandReport dr = s.deform(d);
+  REQUIRE(dr.xyz.size() == 3 * static_cast<size_t>(m.num_vertices()));
+  CHECK(std::abs(dr.xyz[3 * 7 + 2] - (m.z[7] + 0.05)) < 1e-9);
+  CHECK_FALSE(dr.warnings.empty());
+  int32_t far = -1;
+  for (int32_t v = 0; v < m.num_vertices() && far < 0; ++v)
+    if (m.x[v] * m.x[7] + m.y[v] * m.y[7] + m.z[v] * m.z[7] < -0.9) far = v;
+  REQUIRE(far >= 0);
+  CHECK(dr.xyz[3 * far] == m.x[far]);
+  for (double x : dr.xyz) CHECK(std::isfinite(x));
 }

@@ -82,6 +82,7 @@ Json deform_json(const CommonOptions& opt, const Input& in, const DeformCommandR
   j["max_displacement"] = r.max_displacement;
   j["update_vs_refactor_max_diff"] = r.update_vs_refactor_max_diff;
   j["factor_cache"] = factor_cache_json(r.factor_cache);
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
   j["timings"] = timings(in, {{"operator_s", r.operator_s},
                               {"order_s", r.order_s},
                               {"analyze_s", r.analyze_s},
@@ -108,6 +109,7 @@ int run_deform(const CommonOptions& opt, DeformCli& o, const RunContext& ctx) {
   const Session session{Mesh(in.mesh), session_options(in)};
   const DeformCommandReport r = session.deform(q, ctx, /*compare_with_refactor=*/true);
   const Json j = deform_json(opt, in, q, r);
+  for (const std::string& w : r.warnings) log("warning: " + w);
   Mesh out = in.mesh;
   for (int32_t v = 0; v < nv; ++v)
     out.x[v] = r.xyz[3 * static_cast<size_t>(v)], out.y[v] = r.xyz[3 * static_cast<size_t>(v) + 1],

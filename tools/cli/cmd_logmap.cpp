@@ -93,11 +93,9 @@ Json logmap_json(const CommonOptions& opt, const LogmapRequest& q, const Input& 
     j["recentred"] = r.recentered;
     j["angle_fallbacks"] = r.angle_fallbacks;
     j["heat_underflow_vertices"] = r.heat_underflow_vertices;  // also a warning
-    if (r.heat_underflow_vertices > 0) {
-      j["t_avoiding_underflow"] = r.t_avoiding_underflow;
-      j["warnings"] = r.warnings;
-    }
+    if (r.heat_underflow_vertices > 0) j["t_avoiding_underflow"] = r.t_avoiding_underflow;
   }
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
   j["patch_size"] = r.patch.size();
   j["max_distance"] = r.max_distance;
   j["flipped_triangles"] = r.flipped;

@@ -57,6 +57,7 @@ struct LOCUS_API DeformCommandReport {
   double update_s = 0, update_structure_s = 0, update_mark_s = 0, update_copy_s = 0, update_factor_s = 0;
   double system_s = 0, solve_s = 0, refactor_s = 0, refactor_solve_s = 0;
   FactorCacheReport factor_cache;
+  std::vector<std::string> warnings;  // e.g. a mesh that is not a manifold, deformed as its manifold sheets
 };
 
 // Argument checks that need no mesh: Error(BadUsage).
