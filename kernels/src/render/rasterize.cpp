@@ -13,6 +13,8 @@
 #include <string>
 
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/manifold_sheets.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/render/colour_map.hpp"
 #include "locus/kernels/render/preview_annotations.hpp"
 #include "locus/kernels/render/preview_camera.hpp"
@@ -338,7 +340,27 @@ size_t draw_markers(const std::vector<Vec3d>& markers, const Projection& pr, con
 
 }  // namespace
 
+// A mesh whose faces disagree in orientation (or that is not a manifold) is
+// drawn as its manifold sheets, oriented per sheet: its area-weighted vertex
+// normals would otherwise cancel where the faces disagree. Values follow the
+// sheets' vertices.
+static bool draw_as_sheets(const Mesh& m) {
+  if (!m.is_triangle_mesh() || m.num_faces() == 0) return false;
+  const MeshReport r = analyze_mesh(m);
+  return r.non_manifold_edges > 0 || r.non_manifold_vertices > 0;
+}
+
 RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const RasterOptions& opt) {
+  if (draw_as_sheets(m)) {
+    const ManifoldSheets sh = manifold_sheets(m);
+    const size_t per = m.num_vertices() > 0 ? values.size() / static_cast<size_t>(m.num_vertices()) : 0;
+    std::vector<double> sv;
+    sv.reserve(per * sh.vertex_of.size());
+    if (per * static_cast<size_t>(m.num_vertices()) == values.size())
+      for (const int32_t v : sh.vertex_of)
+        for (size_t k = 0; k < per; ++k) sv.push_back(values[per * static_cast<size_t>(v) + k]);
+    if (sv.size() == per * sh.vertex_of.size() && sh.mesh.num_faces() > 0) return rasterize_mesh(sh.mesh, sv, opt);
+  }
   if (opt.width < 1 || opt.height < 1 || opt.width > 16384 || opt.height > 16384)
     fail(ErrorCode::BadUsage, "rasterize: image size " + std::to_string(opt.width) + " x " +
                                   std::to_string(opt.height) + " is outside 1..16384");
