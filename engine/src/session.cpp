@@ -401,27 +401,20 @@ std::vector<double> Session::heat_values(ConstView<int32_t> sources, ConstView<i
 }
 
 CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx, bool remesh) const {
+  // The command's checks (session_cvt_command.cpp), on the command's request.
+  CvtRequest q;
+  q.sites = sites;
+  q.iters = iterations;
+  q.seed = seed;
+  check_request(q);
   const std::shared_ptr<State> s = impl_->current();
-  if (cvt_needs_sheets(impl_->op) && sites >= 1 && iterations >= 0) {  // the command's path, which cuts the mesh
-    CvtRequest q;
-    q.sites = sites;
-    q.iters = iterations;
-    q.seed = seed;
+  if (cvt_needs_sheets(impl_->op)) {  // the command's path, which cuts the mesh
     if (!remesh) q.repair_rounds = 0, q.optimize = 0;
     CvtResult r = cvt_result_of(cvt(q, ctx));
     if (!remesh) r.remeshed = false, r.remesh_xyz.clear(), r.remesh_triangles.clear(), r.remesh_site.clear();
     return r;
   }
-  if (sites < 1 || sites > impl_->nv)
-    fail(ErrorCode::BadUsage, "cvt: the number of sites must be in 1.." + std::to_string(impl_->nv) +
-                                  " (the vertex count), got " + std::to_string(sites));
-  if (iterations < 0)
-    fail(ErrorCode::BadUsage, "cvt: the number of iterations must be >= 0, got " + std::to_string(iterations));
-  // Every component gets a site (cvt_lloyd moves random sites into missed ones).
-  if (sites < impl_->components)
-    fail(ErrorCode::BadUsage, "cvt: " + std::to_string(sites) + " sites for the " +
-                                  std::to_string(impl_->components) + " connected components of " +
-                                  mesh_name(s->mesh) + "; every component needs a site");
+  check_sites(q, s->mesh, impl_->components);
   LloydOptions o;
   o.sites = sites;
   o.iterations = iterations;
@@ -434,10 +427,6 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
   const RunContext& rest = progress.query();
   if (remesh) {
     // The command's call sequence (session_cvt_command.cpp) on the kept operator.
-    CvtRequest q;
-    q.sites = sites;
-    q.iters = iterations;
-    q.seed = seed;
     CvtResult r = cvt_result_of(
         run_cvt(s->mesh, *s->derived, q, HeatTime{kLloydTFactor, true}, HeatTime{0.0, true}, H.get(), rest));
     progress.finish("remesh");

@@ -235,6 +235,17 @@ void check_request(const CvtRequest& req) {
   check_mesh_target("--sites-out", req.sites_out);
 }
 
+// Refusals that depend on the mesh are bad input, like the mesh's own defects.
+void check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components) {
+  if (req.sites > mesh.num_vertices())
+    fail(ErrorCode::BadInput, mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
+                                  std::to_string(mesh.num_vertices()) + " vertices of the mesh");
+  if (req.sites < components)
+    fail(ErrorCode::BadInput, mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " for " +
+                                  std::to_string(components) +
+                                  " connected components; every component needs at least one site");
+}
+
 CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   check_request(req);
   const HeatTime ts = parse_heat_time(req.t, "--t");
@@ -247,14 +258,7 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
                       s->polygons ? triangle_polygon() : std::vector<int32_t>{});
     return r;
   }
-  // Refusals that depend on the mesh are bad input, like the mesh's own defects.
-  if (req.sites > impl_->nv)
-    fail(ErrorCode::BadInput, mesh_name(s->mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
-                                  std::to_string(impl_->nv) + " vertices of the mesh");
-  if (req.sites < impl_->components)
-    fail(ErrorCode::BadInput, mesh_name(s->mesh) + ": --sites " + std::to_string(req.sites) + " for " +
-                                  std::to_string(impl_->components) +
-                                  " connected components; every component needs at least one site");
+  check_sites(req, s->mesh, impl_->components);
   // The cells' operator is factored here (isotropic): weighted in the progress
   // like kCvtFactorIterations Lloyd iterations (docs/shipping.md).
   const bool isotropic = req.anisotropy == 0;

@@ -191,7 +191,7 @@ TEST_CASE("c api: queries equal the C++ Session; bad query arguments; NaN outsid
   CHECK(locus_cvt_ex(g.s, 10, 2, 3, labels.data(), sites.data(), nullptr) == LOCUS_OK);
   CHECK(sites == ref.cvt(10, 2, 3).site_xyz);
   CHECK(locus_cvt(g.s, 0, 2, 3, labels.data()) == LOCUS_BAD_USAGE);
-  CHECK(locus_cvt(g.s, static_cast<int32_t>(a.nv) + 1, 2, 3, labels.data()) == LOCUS_BAD_USAGE);
+  CHECK(locus_cvt(g.s, static_cast<int32_t>(a.nv) + 1, 2, 3, labels.data()) == LOCUS_BAD_INPUT);
   CHECK(locus_cvt(g.s, 10, -1, 3, labels.data()) == LOCUS_BAD_USAGE);
   CHECK(locus_cvt(g.s, 10, 2000000000, 3, labels.data()) == LOCUS_BAD_USAGE);
   CHECK(locus_cvt(g.s, 10, 2, 3, nullptr) == LOCUS_BAD_USAGE);

@@ -370,8 +370,8 @@ LOCUS_API locus_status locus_logmap_run(locus_session* session, const locus_logm
 
 /* Centroidal Voronoi tessellation by localized heat Lloyd iterations (thesis
  * §3.7; cells and centroids by M - 4h^2 L): `sites` seeded random initial
- * sites (1 <= sites <= vertex count, at least one per connected component:
- * LOCUS_BAD_USAGE otherwise), 0 <= iters <= 10000 iterations. out_labels_nv: vertex-count
+ * sites (>= 1, else LOCUS_BAD_USAGE; at most the vertex count and one per
+ * connected component, else LOCUS_BAD_INPUT), 0 <= iters <= 10000 iterations. out_labels_nv: vertex-count
  * int32 labels in [0, sites). The same seed gives the same labels for any
  * thread count. */
 LOCUS_API locus_status locus_cvt(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
