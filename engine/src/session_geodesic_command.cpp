@@ -130,6 +130,11 @@ void query_distances(State& s, const HeatGeodesic& geo, const GeodesicRequest& r
     r.warnings.push_back(underflow_warning(ws.underflow, ws.t_no_underflow, r.h,
                                            " vertices (no direction there: their distances are interpolated); "));
   }
+  if (ws.dips > 0)
+    r.warnings.push_back("the distance dipped below zero at " + std::to_string(ws.dips) +
+                         (ws.dips == 1 ? " vertex" : " vertices") + ", by at most " +
+                         format_number(ws.deepest_dip) + " (" + format_number(ws.deepest_dip / r.h) +
+                         " h): set to 0 (the heat method's discretization error)");
 }
 
 // may_fall_back: the operator is `auto` on a clean mesh (cotan). Where the

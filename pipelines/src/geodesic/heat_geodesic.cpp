@@ -460,7 +460,8 @@ void HeatGeodesic::distance_from_heat(const PatchRegion& r, std::span<const doub
   // (PoissonRhs::Truncated, a measured alternative, bends d inside P by design: not checked.)
   if (flux)
     check_distances(distance.first(static_cast<size_t>(np)),
-                    std::span<const int32_t>(r.verts.data(), static_cast<size_t>(np)), opt_.t_factor);
+                    std::span<const int32_t>(r.verts.data(), static_cast<size_t>(np)), opt_.t_factor,
+                    dip_tolerance(), ws.dips, ws.deepest_dip);
   note_underflow(h.first(static_cast<size_t>(np)), h[source_local], distance, ws);
 }
 
@@ -472,7 +473,7 @@ void HeatGeodesic::distance_from_heat_full(std::span<const double> h, int32_t so
   const int32_t c = component_[source];
   for (int32_t i = 0; i < n; ++i)
     distance[i] = component_[i] == c ? ws.b[i] - d0 : std::numeric_limits<double>::infinity();
-  check_distances(distance, {}, opt_.t_factor);
+  check_distances(distance, {}, opt_.t_factor, dip_tolerance(), ws.dips, ws.deepest_dip);
   note_underflow(h, h[source], distance, ws);
 }
 

@@ -112,23 +112,43 @@ void check_memory(int32_t nv, double held_bytes, const SymbolicFactor& S, const 
 // The Poisson step's shift puts 0 at the source, and the discrete solution may
 // dip below it near the source by a rounding-sized amount; a value further below
 // (kNegativeSlack of the largest distance) or not a number means the heat carried
-// no usable direction: refused, naming the vertex, never returned as a distance.
+// no usable direction: refused, naming the vertex, never returned as a distance;
+// unless the caller allows shallow dips (the robust operator's last resort):
+// a few vertices a small fraction of an edge below zero are a discretization
+// error of the Poisson step, set to 0 and reported.
 constexpr double kNegativeSlack = 1e-9;
 
-void check_distances(std::span<const double> distance, std::span<const int32_t> ids, double t_factor) {
+void check_distances(std::span<double> distance, std::span<const int32_t> ids, double t_factor,
+                     double dip_tolerance, int64_t& dips, double& deepest_dip) {
+  dips = 0;
+  deepest_dip = 0;
   double dmax = 0;
   for (double d : distance)
     if (d < std::numeric_limits<double>::infinity()) dmax = std::max(dmax, d);
+  int64_t below = 0, first = -1;
+  bool shallow = true;
   for (size_t k = 0; k < distance.size(); ++k) {
     const double d = distance[k];
     if (d >= -kNegativeSlack * dmax) continue;
-    const int32_t v = ids.empty() ? static_cast<int32_t>(k) : ids[k];
-    fail(ErrorCode::Numerical, "heat geodesic: the distance at vertex " + std::to_string(v) + " is " +
-                                   (std::isnan(d) ? std::string("not a number") : "negative (" + short_number(d) + ")") +
-                                   " at t = " + short_number(t_factor) +
-                                   " h^2: the heat carries no direction there; a shorter time (the default 4 h^2) avoids it",
-         ErrorLocation{v, -1});
+    ++below;
+    if (first < 0) first = static_cast<int64_t>(k);
+    shallow = shallow && d >= -dip_tolerance;  // false for NaN too
   }
+  if (below == 0) return;
+  const int64_t allowed = std::max<int64_t>(1, static_cast<int64_t>(distance.size()) / 100);
+  if (dip_tolerance > 0 && shallow && below <= allowed) {
+    for (double& d : distance)
+      if (d < -kNegativeSlack * dmax) deepest_dip = std::max(deepest_dip, -d), d = 0.0;
+    dips = below;
+    return;
+  }
+  const double d = distance[first];
+  const int32_t v = ids.empty() ? static_cast<int32_t>(first) : ids[first];
+  fail(ErrorCode::Numerical, "heat geodesic: the distance at vertex " + std::to_string(v) + " is " +
+                                 (std::isnan(d) ? std::string("not a number") : "negative (" + short_number(d) + ")") +
+                                 " at t = " + short_number(t_factor) +
+                                 " h^2: the heat carries no direction there; a shorter time (the default 4 h^2) avoids it",
+       ErrorLocation{v, -1});
 }
 
 }  // namespace locus::heat_geodesic_limits

@@ -35,7 +35,10 @@ void normalize_heat_operator(CscMatrix& A);
 // plus two factorizations of S exceed memory_limit_bytes(ctx).
 void check_memory(int32_t nv, double held_bytes, const SymbolicFactor& S, const RunContext& ctx);
 // Error(Numerical) naming the vertex (ids[k], or k when ids is empty) of a
-// distance below zero beyond rounding, or not a number.
-void check_distances(std::span<const double> distance, std::span<const int32_t> ids, double t_factor);
+// distance below zero beyond rounding, or not a number. With dip_tolerance > 0
+// (an absolute distance), dips no deeper than it on at most 1% of the vertices
+// (at least one) are set to 0 instead and counted in `dips` / `deepest_dip`.
+void check_distances(std::span<double> distance, std::span<const int32_t> ids, double t_factor,
+                     double dip_tolerance, int64_t& dips, double& deepest_dip);
 
 }  // namespace locus::heat_geodesic_limits

@@ -114,6 +114,10 @@ struct HeatGeodesicOptions {
   // 1.29e-2 against 1.23e-2), so off. The CLI's factor cache labels the heat
   // factor by t only: a cache made with another mass_blend would be accepted.
   double mass_blend = 0.0;
+  // Distances below zero by at most dip_tolerance_h * h (h: mean edge length)
+  // on at most 1% of the output vertices are set to 0 and counted
+  // (HeatGeodesicWorkspace::dips) instead of refused; 0 refuses every dip.
+  double dip_tolerance_h = 0.0;
   // Localized queries with PoissonRhs::BoundaryFlux: truncate X at a level set
   // of the heat (rho = -log h <= the ring's smallest rho) instead of at the
   // patch's own boundary, and continue the distance beyond it to the rest of
@@ -153,6 +157,10 @@ struct HeatGeodesicWorkspace {
   // exp(-d / sqrt t)); 0 when none underflowed.
   int64_t underflow = 0;
   double t_no_underflow = 0;
+  // Set by every query with HeatGeodesicOptions::dip_tolerance_h > 0: vertices
+  // whose distance dipped below zero within the tolerance, set to 0, and the deepest dip.
+  int64_t dips = 0;
+  double deepest_dip = 0;
 };
 
 // The two factors of a HeatGeodesic, made elsewhere (e.g. loaded from a factor
@@ -242,6 +250,7 @@ class HeatGeodesic {
   void prepare(const Mesh& m, const MeshDerived* derived = nullptr, const RobustOperators* robust = nullptr);
   void factor_both(const CscMatrix& A, const CscMatrix& P, const std::shared_ptr<const SymbolicFactor>& S,
                    const RunContext& ctx);
+  double dip_tolerance() const { return opt_.dip_tolerance_h * h_; }
   void note_underflow(std::span<const double> h, double h_source, std::span<const double> distance,
                       HeatGeodesicWorkspace& ws) const;
   double rim_cut(const PatchRegion& r, std::span<const double> h, HeatGeodesicWorkspace& ws) const;
