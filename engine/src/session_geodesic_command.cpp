@@ -205,8 +205,23 @@ GeodesicReport Session::geodesic(const GeodesicRequest& req, const RunContext& c
   check_vertex(*s, req.source, "source");
   const HeatTime time = heat_method_time(req.t, req.t_factor);
   const bool may_fall_back = impl_->robust_fallback && !s->robust;
-  GeodesicReport r = s->polygons && !s->robust && keeps_polygons(req) ? polygon_geodesic_report(*s, req, time, ctx)
-                                                       : triangle_geodesic_report(*s, req, time, may_fall_back, ctx);
+  GeodesicReport r;
+  if (s->polygons && !s->robust && keeps_polygons(req)) {
+    try {
+      r = polygon_geodesic_report(*s, req, time, ctx);
+    } catch (const Error& err) {
+      // With auto, a polygon whose operators cannot be built (a virtual
+      // triangle of no area) is answered on the mesh's triangulation instead.
+      if (!impl_->robust_fallback || (err.code() != ErrorCode::BadInput && err.code() != ErrorCode::Numerical)) throw;
+      r = triangle_geodesic_report(*s, req, time, may_fall_back, ctx);
+      const std::string why = std::string("the polygon operators failed (") + err.what() +
+                              "); answered on the triangulation";
+      r.warnings.insert(r.warnings.begin(), why);
+      r.operator_fallback = why + (r.operator_fallback.empty() ? "" : "; " + r.operator_fallback);
+    }
+  } else {
+    r = triangle_geodesic_report(*s, req, time, may_fall_back, ctx);
+  }
   r.source = static_cast<int32_t>(req.source);
   r.fraction = req.fraction;
   r.t_spec = req.t.empty() ? format_number(r.t_factor) + "h2" : req.t;

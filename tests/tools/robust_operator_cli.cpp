@@ -179,3 +179,24 @@ TEST_CASE("geodesic on cheese.off: the robust operator's shallow dips below zero
   const Run cotan = run_locus(dir, {"geodesic", mesh, "--source", "0", "--operator", "cotan"});
   CHECK(cotan.status == 4);  // the cotan operator asked for keeps the strict check
 }
+
+TEST_CASE("geodesic on a polygon mesh whose polygon operators cannot be built: auto answers on the triangulation") {
+  // corner_poly.off: a hexagon whose virtual vertex lies on one of its edges.
+  const std::string mesh = LOCUS_MESH_CACHE_DIR "/corner_poly.off";
+  if (!have_locus() || !std::filesystem::exists(mesh)) return;
+  Scratch dir("polygon-fallback");
+  const Run r = run_locus(dir, {"geodesic", mesh, "--source", "0", "--json"});
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = r.json();
+  CHECK(j["operator_fallback"].get<std::string>().find("polygon operators failed") != std::string::npos);
+  CHECK(r.err.find("warning: the polygon operators failed") != std::string::npos);
+  // The same through a Session with auto (Session defaults): the distance from vertex 0 at
+  // (0, 2, 1) to vertex 2 at (2, 0, 1) across the flat top (z = 1) is the straight line,
+  // 2 sqrt 2, within the heat method's error on so coarse a mesh.
+  locus::GeodesicRequest req;
+  req.source = 0;
+  const locus::GeodesicReport g = locus::Session::from_file(mesh, {}, {}).geodesic(req);
+  CHECK(g.distance[0] == 0.0);
+  CHECK(std::abs(g.distance[2] - 2 * std::sqrt(2.0)) < 0.25 * 2 * std::sqrt(2.0));
+  CHECK(j["max_distance"].get<double>() == g.max_distance);
+}
