@@ -37,6 +37,13 @@ locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, 
     CallContext cc(opts);
     check_cvt_call(iters, cc);
     const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
+    // The caller's arrays hold `sites` sites: a mesh that needed another count
+    // (one site per connected component, or its manifold sheets' repair) is refused.
+    const size_t used = r.site_xyz.size() / 3;
+    if (used != static_cast<size_t>(sites))
+      fail(ErrorCode::BadInput, "the mesh needs " + std::to_string(used) + " sites, not " + std::to_string(sites) +
+                                    " (one per connected component at least): call again with sites = " +
+                                    std::to_string(used));
     std::copy(r.label.begin(), r.label.end(), out_labels_nv);
     if (out_sites_xyz) std::copy(r.site_xyz.begin(), r.site_xyz.end(), out_sites_xyz);
   });

@@ -418,9 +418,9 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
     if (!remesh) r.remeshed = false, r.remesh_xyz.clear(), r.remesh_triangles.clear(), r.remesh_site.clear();
     return r;
   }
-  check_sites(q, s->mesh, impl_->components);
+  q.sites = check_sites(q, s->mesh, impl_->components, ctx);
   LloydOptions o;
-  o.sites = sites;
+  o.sites = q.sites;
   o.iterations = iterations;
   o.seed = seed;
   // One monotone progress fraction: the cells' operator (when not cached yet)

@@ -235,15 +235,17 @@ void check_request(const CvtRequest& req) {
   check_mesh_target("--sites-out", req.sites_out);
 }
 
-// Refusals that depend on the mesh are bad input, like the mesh's own defects.
-void check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components) {
+// A refusal that depends on the mesh is bad input, like the mesh's own
+// defects; too few sites for the components (every part needs one) are
+// raised to their count and the note says so.
+int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components, const RunContext& ctx) {
   if (req.sites > mesh.num_vertices())
     fail(ErrorCode::BadInput, mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
                                   std::to_string(mesh.num_vertices()) + " vertices of the mesh");
-  if (req.sites < components)
-    fail(ErrorCode::BadInput, mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " for " +
-                                  std::to_string(components) +
-                                  " connected components; every component needs at least one site");
+  if (req.sites >= components) return req.sites;
+  ctx.note(mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " raised to " + std::to_string(components) +
+           ": the mesh has " + std::to_string(components) + " connected components and every one needs a site");
+  return components;
 }
 
 CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
@@ -258,7 +260,8 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
                       s->polygons ? triangle_polygon() : std::vector<int32_t>{});
     return r;
   }
-  check_sites(req, s->mesh, impl_->components);
+  CvtRequest raised = req;
+  raised.sites = check_sites(req, s->mesh, impl_->components, ctx);
   // The cells' operator is factored here (isotropic): weighted in the progress
   // like kCvtFactorIterations Lloyd iterations (docs/shipping.md).
   const bool isotropic = req.anisotropy == 0;
@@ -269,9 +272,10 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   if (isotropic)
     prepared = command_heat_operator(s->mesh, s->robust, ts, {req.save, req.load}, progress.build(), cache);
   const double prepare_s = seconds(t0);
-  CvtReport r = run_cvt(s->mesh, *s->derived, req, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  CvtReport r = run_cvt(s->mesh, *s->derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
+  r.requested = req.sites;  // as asked: `delivered` shows what the components needed
   progress.finish("remesh");
   if (!req.labels.empty() || !req.sites_out.empty())
     write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},

@@ -56,13 +56,8 @@ CvtReport cvt_on_sheets(const Mesh& input, bool robust, const CvtRequest& req, c
   const Mesh& m = sh.mesh;
   // Checked as the cotan operator would (manifold, no zero-area face): what the cells and the dual need.
   const std::shared_ptr<const MeshDerived> derived = session_detail::check_and_derive(m, OperatorChoice::Cotan);
-  if (req.sites > m.num_vertices())
-    fail(ErrorCode::BadInput, mesh_name(input) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
-                                  std::to_string(m.num_vertices()) + " vertices of the mesh's manifold sheets");
-  if (req.sites < derived->components)
-    fail(ErrorCode::BadInput, mesh_name(input) + ": --sites " + std::to_string(req.sites) + " for the " +
-                                  std::to_string(derived->components) +
-                                  " connected components of the mesh's manifold sheets; every component needs a site");
+  CvtRequest raised = req;
+  raised.sites = check_sites(req, m, derived->components, ctx);
   const bool isotropic = req.anisotropy == 0;
   const session_detail::CallProgress progress(ctx, isotropic,
                                               kCvtFactorIterations / (kCvtFactorIterations + req.iters + 1.0));
@@ -71,7 +66,8 @@ CvtReport cvt_on_sheets(const Mesh& input, bool robust, const CvtRequest& req, c
   const auto t0 = std::chrono::steady_clock::now();
   if (isotropic) prepared = command_heat_operator(m, robust, ts, {req.save, req.load}, progress.build(), cache);
   const double prepare_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  CvtReport r = run_cvt(m, *derived, req, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  CvtReport r = run_cvt(m, *derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  r.requested = req.sites;
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
   map_back(input, sh, r);

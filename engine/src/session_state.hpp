@@ -309,9 +309,9 @@ inline constexpr double kCvtFactorIterations = 2.2;
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx);
 
-// The cvt request's refusals that depend on the mesh (BadInput): more sites
-// than vertices, fewer than components.
-void check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components);
+// The cvt request's sites on this mesh: BadInput for more than its vertices;
+// fewer than its components are raised to their count (and ctx notes it).
+int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components, const RunContext& ctx);
 
 // The cached tier's result (CvtResult: the remesh as arrays) from the command's report.
 CvtResult cvt_result_of(CvtReport&& c);

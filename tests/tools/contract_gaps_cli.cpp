@@ -82,9 +82,11 @@ TEST_CASE("contract: refusals that depend on the file's contents exit 3, usage e
   const Run sites = run_locus(dir, {"cvt", tri, "--sites", "4"});
   CHECK(sites.status == 3);
   CHECK(has(sites.err, "--sites 4 exceeds the 3 vertices"));
-  const Run comps = run_locus(dir, {"cvt", two, "--sites", "1"});
-  CHECK(comps.status == 3);
-  CHECK(has(comps.err, "2 connected components"));
+  // Too few sites for the components are raised to their count, and said.
+  const Run comps = run_locus(dir, {"cvt", two, "--sites", "1", "--json"});
+  CHECK(comps.status == 0);
+  CHECK(has(comps.err, "--sites 1 raised to 2"));
+  CHECK(comps.json()["remesh"]["requested"].get<int>() == 1);
   const Run sub = run_locus(dir, {"info", sphere, "--subdivide", "9"});
   CHECK(sub.status == 3);
   CHECK(has(sub.err, "1342177280 faces"));
