@@ -259,9 +259,11 @@ void smooth_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std
 // turn more than 60 degrees from its current normal (or over). A degenerate
 // triangle (no normal beyond rounding noise) may open up on the side of the
 // vertex normal nv: otherwise a vertex of a collinear triple could never move.
+// With `sum`, also the sum of the triangles' smallest angles.
 double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
-                      const V3& nv, const V3& p) {
+                      const V3& nv, const V3& p, double* sum = nullptr) {
   double worst = M_PI;
+  if (sum) *sum = 0;
   for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
     const auto& t = F[vf.f[q]];
     std::array<V3, 3> a, b;
@@ -274,7 +276,9 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
                                    dot(sub(a[2], a[1]), sub(a[2], a[1]))});
     const bool flat = !(norm(n0) > 1e-3 * scale);  // a sliver below ~0.06 degrees: its normal is noise
     if (flat ? !(dot(n1, nv) > 0) : dot(n0, n1) <= 0.5 * norm(n0) * norm(n1)) return -1;
-    worst = std::min(worst, min_angle(b[0], b[1], b[2]));
+    const double mt = min_angle(b[0], b[1], b[2]);
+    worst = std::min(worst, mt);
+    if (sum) *sum += mt;
   }
   return worst;
 }
@@ -287,14 +291,22 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // Moving the tip's neighbors opens the angle at the tip without moving the
 // tip, so the Hausdorff distance stays; sequential, in vertex order
 // (deterministic), and only a handful of vertices are visited.
-void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
-                const std::vector<uint8_t>& fixed, double below, double tip_reach, RemeshOptimizeStats& st) {
+// With `by_sum`, every free vertex climbs instead, lexicographically: first
+// the smallest angle of its triangles up to `below`, then the sum of their
+// smallest angles (the remesh's mean smallest angle, term by term), so no
+// triangle of the ring drops below min(its ring's smallest angle, below).
+// Returns the number of moves.
+int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
+                   const std::vector<uint8_t>& fixed, double below, double tip_reach, bool by_sum,
+                   RemeshOptimizeStats& st) {
   const VertexFaces vf(m.num_vertices(), F);
   std::vector<int32_t> bad;
   for (const auto& t : F)
-    if (min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])) < below) bad.insert(bad.end(), t.begin(), t.end());
+    if (by_sum || min_angle(pos(m, t[0]), pos(m, t[1]), pos(m, t[2])) < below)
+      bad.insert(bad.end(), t.begin(), t.end());
   std::sort(bad.begin(), bad.end());
   bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+  int64_t moves = 0;
   for (int32_t v : bad) {
     if (fixed[v] || vf.off[v] == vf.off[v + 1]) continue;
     V3 nv{0, 0, 0};
@@ -327,8 +339,17 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
     for (double& x : e1) x /= l1;
     const V3 e2 = cross(nv, e1);
     V3 best = pos(m, v);
-    const double start = ring_min_angle(m, F, vf, v, nv, best);
+    double cur_sum = 0;
+    const double start = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
     double cur = start;
+    auto better = [&](double q, double q_sum) {
+      if (q < 0) return false;
+      if (!by_sum) return q > cur + 1e-9;
+      const double a = std::min(q, below), b = std::min(cur, below);
+      if (a != b) return a > b + 1e-9;
+      return q_sum > cur_sum + 1e-9;
+    };
+    bool improved = false;
     for (double step = 0.25 * len; step > len / 40; step *= 0.5) {
       for (int climb = 0; climb < 6; ++climb) {
         bool found = false;
@@ -343,9 +364,12 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
           const auto fv = input.face(cp.face);
           const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
           if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
-          const double q = ring_min_angle(m, F, vf, v, nv, cp.point);
-          if (q > cur + 1e-9) {
+          double q_sum = 0;
+          const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
+          if (better(q, q_sum)) {
             cur = q;
+            cur_sum = q_sum;
+            improved = true;
             best = cp.point;
             found = true;
           }
@@ -353,13 +377,15 @@ void angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std:
         if (!found) break;
       }
     }
-    if (cur > start) {
+    if (improved) {
       m.x[v] = best[0];
       m.y[v] = best[1];
       m.z[v] = best[2];
       ++st.angle_moves;
+      ++moves;
     }
   }
+  return moves;
 }
 
 }  // namespace
@@ -397,13 +423,27 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
       st.boundary_moves += curves.sweep(remesh, F, false);
     }
   }
-  for (int sweep = 0; sweep < opt.angle_sweeps; ++sweep) {
-    angle_pass(input, grid, remesh, F, fixed, opt.angle_below_deg * M_PI / 180, opt.tip_reach, st);
-    st.boundary_moves += curves.sweep(remesh, F, true);
+  // The angle repair until a sweep changes nothing, the climbs of the sum,
+  // then the repair again (the sum's climbs may leave a ring at `below`).
+  const double below = opt.angle_below_deg * M_PI / 180;
+  auto angle_sweep = [&](bool by_sum) {
+    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, st);
+    const int64_t b = curves.sweep(remesh, F, true);
+    st.boundary_moves += b;
+    changed += b;
     for (int pass = 0; pass < 8; ++pass) {
       const int64_t k = flip_pass(remesh, F, valence, target, false);
       st.flips += k;
+      changed += k;
       if (k == 0) break;
+    }
+    return changed;
+  };
+  for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false) > 0; ++sweep) {
+  }
+  if (opt.sum_sweeps > 0) {
+    for (int sweep = 0; sweep < opt.sum_sweeps; ++sweep) angle_sweep(true);
+    for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false) > 0; ++sweep) {
     }
   }
   for (int32_t f = 0; f < remesh.num_faces(); ++f) {
