@@ -294,11 +294,14 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // With `by_sum`, every free vertex climbs instead, lexicographically: first
 // the smallest angle of its triangles up to `below`, then the sum of their
 // smallest angles (the remesh's mean smallest angle, term by term), so no
-// triangle of the ring drops below min(its ring's smallest angle, below).
-// Returns the number of moves.
+// triangle of the ring drops below min(its ring's smallest angle, below);
+// these climbs start at 1/8 of an edge (they refine a good mesh), and tips and
+// ridges stay within tip_reach of `home` (where the smoothing left them: the
+// sum would otherwise pull them a little further every sweep and cut the
+// tips, docs/cvt.md). Returns the number of moves.
 int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
                    const std::vector<uint8_t>& fixed, double below, double tip_reach, bool by_sum,
-                   RemeshOptimizeStats& st) {
+                   const std::vector<V3>& home, RemeshOptimizeStats& st) {
   const VertexFaces vf(m.num_vertices(), F);
   std::vector<int32_t> bad;
   for (const auto& t : F)
@@ -330,7 +333,7 @@ int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const s
       tip = dot(nn, nv) < 0.5 * norm(nn);
     }
     if (tip && !(tip_reach > 0)) continue;
-    const V3 origin = pos(m, v);
+    const V3 origin = by_sum ? home[v] : pos(m, v);
     const double reach2 = tip ? tip_reach * tip_reach * len * len : HUGE_VAL;
     // Tangent basis.
     const V3 axis = std::abs(nv[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
@@ -350,7 +353,7 @@ int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const s
       return q_sum > cur_sum + 1e-9;
     };
     bool improved = false;
-    for (double step = 0.25 * len; step > len / 40; step *= 0.5) {
+    for (double step = (by_sum ? 0.125 : 0.25) * len; step > len / 40; step *= 0.5) {
       for (int climb = 0; climb < 6; ++climb) {
         bool found = false;
         for (int dir = 0; dir < 8; ++dir) {
@@ -426,8 +429,10 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   // The angle repair until a sweep changes nothing, the climbs of the sum,
   // then the repair again (the sum's climbs may leave a ring at `below`).
   const double below = opt.angle_below_deg * M_PI / 180;
+  std::vector<V3> home(n);
+  for (int32_t v = 0; v < n; ++v) home[v] = pos(remesh, v);
   auto angle_sweep = [&](bool by_sum) {
-    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, st);
+    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, home, st);
     const int64_t b = curves.sweep(remesh, F, true);
     st.boundary_moves += b;
     changed += b;

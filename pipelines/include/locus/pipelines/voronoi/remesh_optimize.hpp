@@ -31,7 +31,8 @@
 //   (4) sweeps in which every free vertex climbs the same way to the largest
 //       sum of its triangles' smallest angles (what the mean smallest angle
 //       adds up), never taking a triangle of its ring below min(the ring's
-//       smallest angle, 30 degrees); then the repair (3) again;
+//       smallest angle, 30 degrees; tips and ridges within a tenth of an edge
+//       of where the smoothing left them); then the repair (3) again;
 // raise the mean smallest angle by ~7 degrees and the smallest by ~20 on
 // armadillo (docs/cvt.md). Neither step changes the topology: flips keep every edge in two triangles and never duplicate an
 // edge; moves change no connectivity. Boundary vertices move only along the
