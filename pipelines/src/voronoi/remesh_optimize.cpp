@@ -299,6 +299,104 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // ridges stay within tip_reach of `home` (where the smoothing left them: the
 // sum would otherwise pull them a little further every sweep and cut the
 // tips, docs/cvt.md). Returns the number of moves.
+// One vertex's climb (see angle_pass); true with `out` when it found a better place.
+bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
+                  const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v, double below,
+                  double tip_reach, bool by_sum, const std::vector<V3>& home, V3& out) {
+  V3 nv{0, 0, 0};
+  double len = 0;
+  int cnt = 0;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+    const auto& t = F[vf.f[q]];
+    const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+    for (int k = 0; k < 3; ++k) nv[k] += nn[k];
+    for (int32_t w : t)
+      if (w != v) len += norm(sub(pos(m, w), pos(m, v))), ++cnt;
+  }
+  const double ln = norm(nv);
+  if (!(ln > 0) || cnt == 0) return false;
+  for (int k = 0; k < 3; ++k) nv[k] /= ln;
+  len /= cnt;
+  bool tip = false;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
+    const auto& t = F[vf.f[q]];
+    const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+    tip = dot(nn, nv) < 0.5 * norm(nn);
+  }
+  if (tip && !(tip_reach > 0)) return false;
+  const V3 origin = by_sum ? home[v] : pos(m, v);
+  const double reach2 = tip ? tip_reach * tip_reach * len * len : HUGE_VAL;
+  // Tangent basis.
+  const V3 axis = std::abs(nv[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
+  V3 e1 = cross(nv, axis);
+  const double l1 = norm(e1);
+  for (double& x : e1) x /= l1;
+  const V3 e2 = cross(nv, e1);
+  V3 best = pos(m, v);
+  double cur_sum = 0;
+  double cur = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
+  auto better = [&](double q, double q_sum) {
+    if (q < 0) return false;
+    if (!by_sum) return q > cur + 1e-9;
+    const double a = std::min(q, below), b = std::min(cur, below);
+    if (a != b) return a > b + 1e-9;
+    return q_sum > cur_sum + 1e-9;
+  };
+  bool improved = false;
+  for (double step = (by_sum ? 0.125 : 0.25) * len; step > len / 40; step *= 0.5) {
+    for (int climb = 0; climb < 6; ++climb) {
+      bool found = false;
+      for (int dir = 0; dir < 8; ++dir) {
+        const double th = dir * M_PI / 4, c = std::cos(th) * step, s = std::sin(th) * step;
+        const V3 goal = {best[0] + c * e1[0] + s * e2[0], best[1] + c * e1[1] + s * e2[1],
+                         best[2] + c * e1[2] + s * e2[2]};
+        const ClosestPoint cp = grid.closest(goal);
+        if (cp.face < 0) continue;
+        const V3 moved = sub(cp.point, origin);
+        if (dot(moved, moved) > reach2) continue;
+        const auto fv = input.face(cp.face);
+        const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+        if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
+        double q_sum = 0;
+        const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
+        if (better(q, q_sum)) {
+          cur = q;
+          cur_sum = q_sum;
+          improved = found = true;
+          best = cp.point;
+        }
+      }
+      if (!found) break;
+    }
+  }
+  out = best;
+  return improved;
+}
+
+// Greedy colors of the vertices in index order (no two vertices of a triangle
+// share one): the vertices of one color can climb at once, each reading only
+// its ring, so the sum's sweeps run in parallel with a result independent of
+// the threads.
+std::vector<std::vector<int32_t>> color_classes(int32_t n, const std::vector<std::array<int32_t, 3>>& F,
+                                                const VertexFaces& vf, const std::vector<int32_t>& verts) {
+  std::vector<int32_t> color(n, -1);
+  std::vector<std::vector<int32_t>> classes;
+  std::vector<uint8_t> used;
+  for (int32_t v : verts) {
+    used.assign(classes.size() + 1, 0);
+    for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q)
+      for (int32_t w : F[vf.f[q]])
+        if (w != v && color[w] >= 0) used[color[w]] = 1;
+    int32_t c = 0;
+    while (used[c]) ++c;
+    color[v] = c;
+    if (c == static_cast<int32_t>(classes.size())) classes.emplace_back();
+    classes[c].push_back(v);
+  }
+  return classes;
+}
+
+// One sweep of climbs: the repair's vertices or, by_sum, every free vertex.
 int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
                    const std::vector<uint8_t>& fixed, double below, double tip_reach, bool by_sum,
                    const std::vector<V3>& home, RemeshOptimizeStats& st) {
@@ -310,84 +408,35 @@ int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const s
   std::sort(bad.begin(), bad.end());
   bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
   int64_t moves = 0;
-  for (int32_t v : bad) {
-    if (fixed[v] || vf.off[v] == vf.off[v + 1]) continue;
-    V3 nv{0, 0, 0};
-    double len = 0;
-    int cnt = 0;
-    for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
-      const auto& t = F[vf.f[q]];
-      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
-      for (int k = 0; k < 3; ++k) nv[k] += nn[k];
-      for (int32_t w : t)
-        if (w != v) len += norm(sub(pos(m, w), pos(m, v))), ++cnt;
-    }
-    const double ln = norm(nv);
-    if (!(ln > 0) || cnt == 0) continue;
-    for (int k = 0; k < 3; ++k) nv[k] /= ln;
-    len /= cnt;
-    bool tip = false;
-    for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
-      const auto& t = F[vf.f[q]];
-      const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
-      tip = dot(nn, nv) < 0.5 * norm(nn);
-    }
-    if (tip && !(tip_reach > 0)) continue;
-    const V3 origin = by_sum ? home[v] : pos(m, v);
-    const double reach2 = tip ? tip_reach * tip_reach * len * len : HUGE_VAL;
-    // Tangent basis.
-    const V3 axis = std::abs(nv[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
-    V3 e1 = cross(nv, axis);
-    const double l1 = norm(e1);
-    for (double& x : e1) x /= l1;
-    const V3 e2 = cross(nv, e1);
-    V3 best = pos(m, v);
-    double cur_sum = 0;
-    const double start = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
-    double cur = start;
-    auto better = [&](double q, double q_sum) {
-      if (q < 0) return false;
-      if (!by_sum) return q > cur + 1e-9;
-      const double a = std::min(q, below), b = std::min(cur, below);
-      if (a != b) return a > b + 1e-9;
-      return q_sum > cur_sum + 1e-9;
-    };
-    bool improved = false;
-    for (double step = (by_sum ? 0.125 : 0.25) * len; step > len / 40; step *= 0.5) {
-      for (int climb = 0; climb < 6; ++climb) {
-        bool found = false;
-        for (int dir = 0; dir < 8; ++dir) {
-          const double th = dir * M_PI / 4, c = std::cos(th) * step, s = std::sin(th) * step;
-          const V3 goal = {best[0] + c * e1[0] + s * e2[0], best[1] + c * e1[1] + s * e2[1],
-                           best[2] + c * e1[2] + s * e2[2]};
-          const ClosestPoint cp = grid.closest(goal);
-          if (cp.face < 0) continue;
-          const V3 moved = sub(cp.point, origin);
-          if (dot(moved, moved) > reach2) continue;
-          const auto fv = input.face(cp.face);
-          const V3 ni = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
-          if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
-          double q_sum = 0;
-          const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
-          if (better(q, q_sum)) {
-            cur = q;
-            cur_sum = q_sum;
-            improved = true;
-            best = cp.point;
-            found = true;
-          }
-        }
-        if (!found) break;
-      }
-    }
-    if (improved) {
-      m.x[v] = best[0];
-      m.y[v] = best[1];
-      m.z[v] = best[2];
-      ++st.angle_moves;
+  if (!by_sum) {  // a few vertices: sequential, in vertex order
+    for (int32_t v : bad) {
+      V3 p;
+      if (fixed[v] || vf.off[v] == vf.off[v + 1] || !climb_vertex(input, grid, m, F, vf, v, below, tip_reach, false, home, p))
+        continue;
+      m.x[v] = p[0];
+      m.y[v] = p[1];
+      m.z[v] = p[2];
       ++moves;
     }
+  } else {
+    bad.erase(std::remove_if(bad.begin(), bad.end(), [&](int32_t v) { return fixed[v] || vf.off[v] == vf.off[v + 1]; }),
+              bad.end());
+    for (const std::vector<int32_t>& cls : color_classes(m.num_vertices(), F, vf, bad)) {
+      std::vector<V3> to(cls.size());
+      std::vector<uint8_t> moved(cls.size(), 0);
+      tbb::parallel_for(size_t{0}, cls.size(), [&](size_t i) {
+        moved[i] = climb_vertex(input, grid, m, F, vf, cls[i], below, tip_reach, true, home, to[i]);
+      });
+      for (size_t i = 0; i < cls.size(); ++i)
+        if (moved[i]) {
+          m.x[cls[i]] = to[i][0];
+          m.y[cls[i]] = to[i][1];
+          m.z[cls[i]] = to[i][2];
+          ++moves;
+        }
+    }
   }
+  st.angle_moves += moves;
   return moves;
 }
 
