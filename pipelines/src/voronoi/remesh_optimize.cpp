@@ -298,11 +298,23 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // these climbs start at 1/8 of an edge (they refine a good mesh), and tips and
 // ridges stay within tip_reach of `home` (where the smoothing left them: the
 // sum would otherwise pull them a little further every sweep and cut the
-// tips, docs/cvt.md). Returns the number of moves.
+// tips, docs/cvt.md), and no edge of the ring grows longer than edge_growth
+// times the ring's longest edge when the climb starts (0: no bound; longer
+// edges cut the surface's curvature: docs/cvt.md). Returns the number of moves.
+// The longest edge from v, at p, to its ring.
+double ring_max_edge(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
+                     const V3& p) {
+  double l = 0;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q)
+    for (int32_t w : F[vf.f[q]])
+      if (w != v) l = std::max(l, norm(sub(pos(m, w), p)));
+  return l;
+}
+
 // One vertex's climb (see angle_pass); true with `out` when it found a better place.
 bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
                   const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v, double below,
-                  double tip_reach, bool by_sum, const std::vector<V3>& home, V3& out) {
+                  double tip_reach, bool by_sum, double edge_growth, const std::vector<V3>& home, V3& out) {
   V3 nv{0, 0, 0};
   double len = 0;
   int cnt = 0;
@@ -335,6 +347,7 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
   V3 best = pos(m, v);
   double cur_sum = 0;
   double cur = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
+  const double max_edge = by_sum && edge_growth > 0 ? edge_growth * ring_max_edge(m, F, vf, v, best) : HUGE_VAL;
   auto better = [&](double q, double q_sum) {
     if (q < 0) return false;
     if (!by_sum) return q > cur + 1e-9;
@@ -359,7 +372,7 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
         if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
         double q_sum = 0;
         const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
-        if (better(q, q_sum)) {
+        if (better(q, q_sum) && !(max_edge < HUGE_VAL && ring_max_edge(m, F, vf, v, cp.point) > max_edge)) {
           cur = q;
           cur_sum = q_sum;
           improved = found = true;
@@ -399,7 +412,7 @@ std::vector<std::vector<int32_t>> color_classes(int32_t n, const std::vector<std
 // One sweep of climbs: the repair's vertices or, by_sum, every free vertex.
 int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
                    const std::vector<uint8_t>& fixed, double below, double tip_reach, bool by_sum,
-                   const std::vector<V3>& home, RemeshOptimizeStats& st) {
+                   double edge_growth, const std::vector<V3>& home, RemeshOptimizeStats& st) {
   const VertexFaces vf(m.num_vertices(), F);
   std::vector<int32_t> bad;
   for (const auto& t : F)
@@ -411,7 +424,7 @@ int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const s
   if (!by_sum) {  // a few vertices: sequential, in vertex order
     for (int32_t v : bad) {
       V3 p;
-      if (fixed[v] || vf.off[v] == vf.off[v + 1] || !climb_vertex(input, grid, m, F, vf, v, below, tip_reach, false, home, p))
+      if (fixed[v] || vf.off[v] == vf.off[v + 1] || !climb_vertex(input, grid, m, F, vf, v, below, tip_reach, false, 0, home, p))
         continue;
       m.x[v] = p[0];
       m.y[v] = p[1];
@@ -425,7 +438,7 @@ int64_t angle_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, const s
       std::vector<V3> to(cls.size());
       std::vector<uint8_t> moved(cls.size(), 0);
       tbb::parallel_for(size_t{0}, cls.size(), [&](size_t i) {
-        moved[i] = climb_vertex(input, grid, m, F, vf, cls[i], below, tip_reach, true, home, to[i]);
+        moved[i] = climb_vertex(input, grid, m, F, vf, cls[i], below, tip_reach, true, edge_growth, home, to[i]);
       });
       for (size_t i = 0; i < cls.size(); ++i)
         if (moved[i]) {
@@ -481,7 +494,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   std::vector<V3> home(n);
   for (int32_t v = 0; v < n; ++v) home[v] = pos(remesh, v);
   auto angle_sweep = [&](bool by_sum) {
-    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, home, st);
+    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, opt.sum_edge_growth, home, st);
     const int64_t b = curves.sweep(remesh, F, true);
     st.boundary_moves += b;
     changed += b;
