@@ -298,9 +298,15 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // these climbs start at 1/8 of an edge (they refine a good mesh), and tips and
 // ridges stay within tip_reach of `home` (where the smoothing left them: the
 // sum would otherwise pull them a little further every sweep and cut the
-// tips, docs/cvt.md), and no edge of the ring grows longer than edge_growth
-// times the ring's longest edge when the climb starts (0: no bound; longer
-// edges cut the surface's curvature: docs/cvt.md). Returns the number of moves.
+// tips, docs/cvt.md), and, unless the ring is flat, no edge of the ring grows
+// longer than edge_growth times the ring's longest edge when the climb starts
+// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md). Returns the number of moves.
+// A ring whose triangles are all within 20 degrees of the vertex normal is
+// flat enough that a longer edge adds little chord error: the sum's climbs may
+// lengthen its edges (CAD faces: blade's mean smallest angle 49.4 -> 50.4
+// degrees, armadillo's Hausdorff distance unchanged; docs/cvt.md).
+constexpr double kFlatCos = 0.93969262078590838;  // cos 20 degrees
+
 // The longest edge from v, at p, to its ring.
 double ring_max_edge(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F, const VertexFaces& vf, int32_t v,
                      const V3& p) {
@@ -329,11 +335,12 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
   if (!(ln > 0) || cnt == 0) return false;
   for (int k = 0; k < 3; ++k) nv[k] /= ln;
   len /= cnt;
-  bool tip = false;
+  bool tip = false, flat = true;
   for (int64_t q = vf.off[v]; q < vf.off[v + 1] && !tip; ++q) {
     const auto& t = F[vf.f[q]];
     const V3 nn = tri_normal(pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
     tip = dot(nn, nv) < 0.5 * norm(nn);
+    flat = flat && dot(nn, nv) >= kFlatCos * norm(nn);
   }
   if (tip && !(tip_reach > 0)) return false;
   const V3 origin = by_sum ? home[v] : pos(m, v);
@@ -347,7 +354,7 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
   V3 best = pos(m, v);
   double cur_sum = 0;
   double cur = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
-  const double max_edge = by_sum && edge_growth > 0 ? edge_growth * ring_max_edge(m, F, vf, v, best) : HUGE_VAL;
+  const double max_edge = by_sum && edge_growth > 0 && !flat ? edge_growth * ring_max_edge(m, F, vf, v, best) : HUGE_VAL;
   auto better = [&](double q, double q_sum) {
     if (q < 0) return false;
     if (!by_sum) return q > cur + 1e-9;

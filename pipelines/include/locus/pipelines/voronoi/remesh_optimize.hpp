@@ -32,8 +32,8 @@
 //       sum of its triangles' smallest angles (what the mean smallest angle
 //       adds up), never taking a triangle of its ring below min(the ring's
 //       smallest angle, 30 degrees; tips and ridges within a tenth of an edge
-//       of where the smoothing left them; no edge from the vertex longer
-//       than its longest was); then the repair (3) again;
+//       of where the smoothing left them; off flat parts no edge from the
+//       vertex longer than its longest was); then the repair (3) again;
 // raise the mean smallest angle by ~7 degrees and the smallest by ~20 on
 // armadillo (docs/cvt.md). Neither step changes the topology: flips keep every edge in two triangles and never duplicate an
 // edge; moves change no connectivity. Boundary vertices move only along the
@@ -72,7 +72,8 @@ struct RemeshOptimizeOptions {
   // docs/cvt.md: +2 to +3 degrees of mean smallest angle at 1,000 sites).
   int sum_sweeps = 3;
   // A climb of the sum keeps the longest edge from the vertex at most this
-  // times its value when the climb starts (0: no bound). 1 keeps the
+  // times its value when the climb starts, unless the vertex's triangles are
+  // all within 20 degrees of its normal (0: no bound). 1 keeps the
   // Hausdorff distance of the smoothing; 0 raises the mean smallest angle
   // ~0.7 degrees more and the median Hausdorff distance of the sample meshes
   // at 1,000 sites from 1.4% to 1.6% of the diagonal (docs/cvt.md).
