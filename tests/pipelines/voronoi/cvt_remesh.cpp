@@ -473,6 +473,7 @@ TEST_CASE("remesh optimization: the angle repair moves a free vertex of thin tri
   RemeshOptimizeOptions off;
   off.rounds = 0;
   off.angle_sweeps = 0;
+  off.sum_sweeps = 0;
   Mesh a = hexagon();
   optimize_remesh(input, grid, a, off);
   CHECK(smallest(a) < 30);  // the Delaunay flips alone leave a thin triangle
@@ -484,6 +485,58 @@ TEST_CASE("remesh optimization: the angle repair moves a free vertex of thin tri
   CHECK(st.angle_moves >= 1);
   CHECK(smallest(b) > 55);
   CHECK(std::hypot(b.x[0] - 0.5, b.y[0] - 0.5) < 0.03);
+  CHECK(b.z[0] == 0);
+  for (int32_t v = 1; v < 7; ++v) {
+    CHECK(b.x[v] == a.x[v]);
+    CHECK(b.y[v] == a.y[v]);
+  }
+}
+
+// The sum's climbs (sum_sweeps): a hexagon fan whose center sits a little off
+// has no triangle below 30 degrees, so the repair leaves it; the sum of the
+// six smallest angles is largest (6 x 60 degrees, equilateral triangles) only
+// at the hexagon's center, which the climbs must approach.
+TEST_CASE("remesh optimization: the sum sweeps move a vertex towards the largest sum of smallest angles") {
+  const Mesh input = make_grid(10);  // the unit square, z = 0
+  auto hexagon = [] {
+    Mesh r;
+    r.add_vertex(0.5, 0.42, 0);  // the center, a fifth of the radius off
+    for (int k = 0; k < 6; ++k)
+      r.add_vertex(0.5 + 0.4 * std::cos(k * M_PI / 3), 0.5 + 0.4 * std::sin(k * M_PI / 3), 0);
+    for (int k = 0; k < 6; ++k) r.add_triangle(0, 1 + k, 1 + (k + 1) % 6);
+    return r;
+  };
+  auto mean_smallest = [](const Mesh& r) {  // degrees, from the side lengths (law of cosines)
+    double sum = 0;
+    for (int32_t f = 0; f < r.num_faces(); ++f) {
+      const int32_t t[3] = {r.f0[f], r.f1[f], r.f2[f]};
+      double worst = 180;
+      for (int k = 0; k < 3; ++k) {
+        auto len = [&](int32_t i, int32_t j) { return std::hypot(r.x[i] - r.x[j], r.y[i] - r.y[j]); };
+        const double a = len(t[(k + 1) % 3], t[(k + 2) % 3]), b = len(t[k], t[(k + 1) % 3]), c = len(t[k], t[(k + 2) % 3]);
+        worst = std::min(worst, std::acos(std::clamp((b * b + c * c - a * a) / (2 * b * c), -1.0, 1.0)) * 180 / M_PI);
+      }
+      sum += worst;
+    }
+    return sum / r.num_faces();
+  };
+  const TriangleGrid grid(input);
+  RemeshOptimizeOptions repair;
+  repair.rounds = 0;
+  repair.sum_sweeps = 0;
+  Mesh a = hexagon();
+  const double before = mean_smallest(a);
+  CHECK(before < 55);
+  const RemeshOptimizeStats sa = optimize_remesh(input, grid, a, repair);
+  CHECK(sa.angle_moves == 0);  // every angle is above 30 degrees: nothing to repair
+  CHECK(a.y[0] == 0.42);
+  RemeshOptimizeOptions sum = repair;
+  sum.sum_sweeps = 3;
+  Mesh b = hexagon();
+  const RemeshOptimizeStats sb = optimize_remesh(input, grid, b, sum);
+  CHECK(sb.angle_moves >= 1);
+  CHECK(std::hypot(b.x[0] - 0.5, b.y[0] - 0.5) < 0.02);
+  CHECK(mean_smallest(b) > 58);
   CHECK(b.z[0] == 0);
   for (int32_t v = 1; v < 7; ++v) {
     CHECK(b.x[v] == a.x[v]);
