@@ -15,26 +15,24 @@ using namespace locus::c_api_detail;
 
 namespace {
 
-std::string text_or(const char* s, const std::string& fallback) { return s && s[0] ? std::string(s) : fallback; }
-
 locus::CvtRequest request_of(const locus_cvt_options& o) {
   locus::CvtRequest q;
   q.sites = o.sites;
   q.iters = o.iters;
   q.stop_energy = o.stop_energy;
   q.anisotropy = o.anisotropy;
-  q.solver = text_or(o.solver, q.solver);
-  q.t = text_or(o.t, q.t);
-  q.save = text_or(o.save, "");
-  q.load = text_or(o.load, "");
+  q.solver = text(o.solver, q.solver);
+  q.t = text(o.t, q.t);
+  q.save = text(o.save, "");
+  q.load = text(o.load, "");
   q.no_refine = o.no_refine != 0;
-  q.centroid_t = text_or(o.centroid_t, "");
-  q.t_centroid = text_or(o.t_centroid, "");
+  q.centroid_t = text(o.centroid_t, "");
+  q.t_centroid = text(o.t_centroid, "");
   q.fit_rings = o.fit_rings;
   q.fit_sigma = o.fit_sigma;
   q.no_split = o.no_split != 0;
-  q.labels = text_or(o.labels, "");
-  q.sites_out = text_or(o.sites_out, "");
+  q.labels = text(o.labels, "");
+  q.sites_out = text(o.sites_out, "");
   q.repair_rounds = o.repair_rounds;
   q.refinements = o.refinements;
   q.optimize = o.optimize;
@@ -102,7 +100,7 @@ locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* opti
     locus::Session& s = session_of(session);
     require(options != nullptr, "options is NULL");
     CallContext cc(opts);
-    if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+    no_run_time(cc);
     locus::CvtReport r = s.cvt(request_of(*options), cc.ctx);
     if (out_labels) std::copy(r.label.begin(), r.label.end(), out_labels);
     if (out_report) fill_report(r, *out_report);

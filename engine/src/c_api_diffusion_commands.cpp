@@ -14,29 +14,20 @@ using namespace locus::c_api_detail;
 
 namespace {
 
-std::string text(const char* s, const std::string& fallback) { return s && s[0] ? std::string(s) : fallback; }
-
-// A C id array (NULL with 0 allowed: an empty list) as the request's ids.
-std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what) {
-  if (n < 0 || n > kMaxHeatValues)
-    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 0..2^28 (got " +
-                                  std::to_string(n) + ")");
-  if (n > 0) require(v != nullptr, (std::string(what) + " is NULL").c_str());
-  return n > 0 ? std::vector<int64_t>(v, v + n) : std::vector<int64_t>{};
-}
-
-void no_run_time(const CallContext& cc) {
-  if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
-}
-
-locus::AdfRequest request_of(const locus_adf_options& o) {
-  locus::AdfRequest q;
-  q.t = text(o.t, q.t);
+// The options adf and hks share: the vertices (or all), the method, the factor cache files.
+template <class Request, class Options>
+void set_signature_options(Request& q, const Options& o) {
   q.vertices = ids(o.vertices, o.n_vertices, "vertices");
   q.all = o.all != 0;
   q.method = text(o.method, q.method);
   q.save = text(o.save, "");
   q.load = text(o.load, "");
+}
+
+locus::AdfRequest request_of(const locus_adf_options& o) {
+  locus::AdfRequest q;
+  q.t = text(o.t, q.t);
+  set_signature_options(q, o);
   return q;
 }
 
@@ -48,11 +39,7 @@ locus::HksRequest request_of(const locus_hks_options& o) {
     require(o.ts[k] != nullptr, ("ts[" + std::to_string(k) + "] is NULL").c_str());
     q.ts.emplace_back(o.ts[k]);
   }
-  q.vertices = ids(o.vertices, o.n_vertices, "vertices");
-  q.all = o.all != 0;
-  q.method = text(o.method, q.method);
-  q.save = text(o.save, "");
-  q.load = text(o.load, "");
+  set_signature_options(q, o);
   return q;
 }
 

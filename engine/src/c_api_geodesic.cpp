@@ -14,8 +14,6 @@ using namespace locus::c_api_detail;
 
 namespace {
 
-std::string text(const char* s, const char* fallback = "") { return s && s[0] ? std::string(s) : std::string(fallback); }
-
 // The time of a C request: its own t / t_factor, or the run options' t_factor
 // (the older calls' spelling) when it gives none; not both.
 void set_time(std::string& t, std::optional<double>& t_factor, const char* t_text, double factor,

@@ -179,6 +179,20 @@ void copy_edges(const std::vector<int32_t>& edges, const std::vector<double>& va
   if (out_xyz) std::copy(xyz.begin(), xyz.end(), out_xyz);
 }
 
+std::string text(const char* s, const std::string& fallback) { return s && s[0] ? std::string(s) : fallback; }
+
+std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what) {
+  if (n < 0 || n > kMaxHeatValues)
+    fail(ErrorCode::BadUsage, std::string("the number of ") + what + " must be in 0..2^28 (got " +
+                                  std::to_string(n) + ")");
+  if (n > 0) require(v != nullptr, (std::string(what) + " is NULL").c_str());
+  return n > 0 ? std::vector<int64_t>(v, v + n) : std::vector<int64_t>{};
+}
+
+void no_run_time(const CallContext& cc) {
+  if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+}
+
 }  // namespace locus::c_api_detail
 
 using namespace locus::c_api_detail;

@@ -93,6 +93,12 @@ struct CallContext {
 };
 
 locus::Session& session_of(locus_session* s);
+// A C string option: `fallback` for NULL or "" (the request's default).
+std::string text(const char* s, const std::string& fallback = "");
+// A C id array (NULL with 0 allowed: an empty list) as a request's ids, at most kMaxHeatValues.
+std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what);
+// Error(BadUsage) unless opts->t_factor is 0: a command's options give its time (t).
+void no_run_time(const CallContext& cc);
 // The C API's "no value" is NaN (locus.h, as the CLI writes it).
 void no_value_as_nan(double* out, int64_t n);
 int32_t vertex_id(const locus::Session& s, int64_t v, const char* what);

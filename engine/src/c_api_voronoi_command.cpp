@@ -29,7 +29,7 @@ locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_optio
     require(options != nullptr, "options is NULL");
     require(out_labels != nullptr, "out_labels is NULL");
     CallContext cc(opts);
-    if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+    no_run_time(cc);
     locus::VoronoiCommandRequest q;
     if (options->n_sites < 0 || options->n_sites > kMaxVertices)
       fail(ErrorCode::BadUsage, "n_sites must be in 0.." + std::to_string(kMaxVertices) + " (got " +
@@ -43,7 +43,7 @@ locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_optio
     if (options->save) q.save = options->save;
     if (options->load) q.load = options->load;
     q.seed = options->seed;
-    const locus::VoronoiCommandReport r = locus::voronoi_command(s, q, cc.ctx);
+    const locus::VoronoiCommandReport r = s.voronoi(q, cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels);
     if (!out_report) return;
     locus_voronoi_report& o = *out_report;

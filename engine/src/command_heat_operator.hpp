@@ -1,7 +1,7 @@
 // The heat operator M - tL of a command that factors its own (voronoi, cvt):
 // built on the mesh, then factored or loaded through the factor cache
 // (engine/include/locus/engine/factor_store.hpp) under the label "heat" with
-// the resolved t, so a file of `locus factor --operator heat`, `voronoi` or
+// the resolved t, so a file of `locus factor --matrix heat`, `voronoi` or
 // `cvt` with the same t and mesh loads in any of them. Internal to the engine.
 #pragma once
 #include "locus/engine/factor_store.hpp"

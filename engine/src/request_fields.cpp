@@ -7,6 +7,7 @@
 #include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
+#include "locus/engine/factor_request.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/laplacian_requests.hpp"
@@ -113,6 +114,11 @@ std::vector<RequestField> request_fields(const std::string& command) {
   if (command == "voronoi") {
     const VoronoiCommandRequest d;
     return {{"sites", ""}, {"random", std::to_string(d.random)}, {"t", d.t}, {"save", d.save}, {"load", d.load}};
+  }
+  if (command == "factor") {
+    const FactorCommandRequest d;
+    return {{"matrix", d.matrix}, {"t", d.t}, {"repeat", std::to_string(d.repeat)}, {"save", d.save},
+            {"load", d.load}};
   }
   if (command == "cvt") return cvt_fields();
   return {};

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "command_clock.hpp"
 #include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
 #include "locus/engine/cvt_request.hpp"
@@ -31,9 +32,7 @@ namespace {
 
 using namespace session_detail;
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 void check_count(const char* option, int64_t v, int64_t lo, int64_t hi) {
   if (v < lo || v > hi)

@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "command_clock.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -31,9 +32,7 @@ namespace {
 
 constexpr double kDefaultRegularization = 1e-6;  // the Session's cached operators' (prepare_deform_operator)
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 // The global operator: the Session's cached one, or the request's own through the factor cache.
 std::shared_ptr<const DeformOperator> global_operator(State& s, const DeformCommandRequest& req, DeformEnergy energy,

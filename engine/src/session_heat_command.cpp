@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "command_clock.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -31,15 +32,9 @@ std::vector<int32_t> vertex_ids(const State& s, const std::vector<int64_t>& ids,
 
 namespace {
 
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
+using command_clock::median_of;
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 }  // namespace
 }  // namespace session_detail

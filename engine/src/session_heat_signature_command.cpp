@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "command_clock.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -89,9 +90,7 @@ void check_signature_args(const SignatureArgs& a) {
   check_factor_cache_files(a.files);
 }
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 HeatSignatureReport signature(State& s, const SignatureArgs& a, const RunContext& ctx) {
   check_signature_args(a);

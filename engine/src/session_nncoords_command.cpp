@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "command_clock.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/error.hpp"
@@ -20,9 +21,7 @@ namespace locus {
 namespace session_detail {
 namespace {
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 }  // namespace
 }  // namespace session_detail

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 
+#include "command_clock.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/param_request.hpp"
@@ -26,9 +27,7 @@ namespace locus {
 namespace session_detail {
 namespace {
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using command_clock::seconds;
 
 void check_uv(const std::vector<double>& uv) {
   for (double v : uv)

@@ -1,7 +1,7 @@
 // `voronoi` as every front end runs it (engine/include/locus/engine/
 // voronoi_request.hpp): one factorization of M - tL (the Session's operator,
 // cotan or robust; the command's own factor, through the factor cache: label
-// "heat" with the resolved t, so a file of `locus factor --operator heat`,
+// "heat" with the resolved t, so a file of `locus factor --matrix heat`,
 // `cvt` or `voronoi` with the same t loads in any of them), the heat of 8 generators per solve, vertex labels by the
 // hottest generator (thesis §3.4, pipelines/.../voronoi/heat_voronoi.hpp)
 // and the diagram's curves.
@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 
+#include "command_clock.hpp"
 #include "command_heat_operator.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/voronoi_request.hpp"
@@ -21,13 +22,7 @@
 #include "locus/session.hpp"
 
 namespace locus {
-namespace {
-
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
+using command_clock::seconds;
 
 void check_request(const VoronoiCommandRequest& req) {
   if (req.sites.empty() == (req.random <= 0)) fail(ErrorCode::BadUsage, "give either --sites or --random N (N > 0)");
@@ -39,9 +34,9 @@ void check_request(const VoronoiCommandRequest& req) {
   check_factor_cache_files({req.save, req.load});
 }
 
-VoronoiCommandReport voronoi_command(const Session& session, const VoronoiCommandRequest& req, const RunContext& ctx) {
+VoronoiCommandReport Session::voronoi(const VoronoiCommandRequest& req, const RunContext& ctx) const {
   check_request(req);
-  const Mesh mesh = session.mesh();
+  const Mesh mesh = this->mesh();
   std::vector<SurfacePoint> sites;
   for (int64_t v : req.sites) {
     if (v >= mesh.num_vertices())
@@ -53,7 +48,7 @@ VoronoiCommandReport voronoi_command(const Session& session, const VoronoiComman
   VoronoiCommandReport r;
   auto t0 = std::chrono::steady_clock::now();
   const HeatDiffusion H =
-      command_heat_operator(mesh, session.operator_report().robust, parse_heat_time(req.t, "--t"), {req.save, req.load},
+      command_heat_operator(mesh, operator_report().robust, parse_heat_time(req.t, "--t"), {req.save, req.load},
                        ctx, r.factor_cache);
   r.prepare_s = seconds(t0);
   if (req.random > 0) sites = random_surface_points(mesh, req.random, req.seed);

@@ -22,6 +22,7 @@ void bind_session_diffusion_commands(SessionClass& cls);  // adf, hks, heat, nnc
 void bind_session_param_command(SessionClass& cls);       // param: every CLI option
 void bind_session_laplacian_commands(SessionClass& cls);  // perfect-laplacian, selfsupport: every CLI option
 void bind_session_voronoi_command(SessionClass& cls);     // voronoi: every CLI option
+void bind_session_factor_command(SessionClass& cls);      // factor: every CLI option
 void bind_session_cvt_command(SessionClass& cls);         // cvt: every CLI option
 void bind_session_skinweights_command(SessionClass& cls);  // skinweights: every CLI option
 void bind_session_diffusion(pybind11::module_& m, SessionClass& cls);
@@ -40,6 +41,11 @@ inline constexpr const char* kCallArgs =
 template <class T>
 std::string py_literal(const T& value) {
   return pybind11::repr(pybind11::cast(value)).template cast<std::string>();
+}
+
+// A text argument that may be None (a file name or a time not given): "" for None, else str(x).
+inline std::string optional_text(const pybind11::handle& x) {
+  return x.is_none() ? std::string() : pybind11::str(x).cast<std::string>();
 }
 
 inline double heat_method_t_factor(const pybind11::handle& t_factor) {

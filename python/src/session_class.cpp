@@ -233,6 +233,7 @@ void bind_session(py::module_& m) {
   bind_session_param_command(cls);
   bind_session_laplacian_commands(cls);
   bind_session_voronoi_command(cls);
+  bind_session_factor_command(cls);
   bind_session_cvt_command(cls);
   bind_session_skinweights_command(cls);
   bind_session_diffusion(m, cls);

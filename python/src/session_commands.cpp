@@ -34,8 +34,6 @@ std::optional<double> optional_number(const py::handle& x) {
   return x.cast<double>();
 }
 
-std::string optional_text(const py::handle& x) { return x.is_none() ? std::string() : py::str(x).cast<std::string>(); }
-
 py::object cache_dict(const FactorCacheReport& c) {
   if (!c.used()) return py::none();
   return py::dict("loaded"_a = c.loaded.empty() ? py::object(py::none()) : py::object(py::str(c.loaded)),

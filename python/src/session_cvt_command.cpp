@@ -19,8 +19,6 @@ using namespace py::literals;
 namespace locus::python {
 namespace {
 
-std::string text(const py::handle& x) { return x.is_none() ? std::string() : py::str(x).cast<std::string>(); }
-
 py::dict defects_dict(const CvtDefects& d) {
   return py::dict("split_cells"_a = d.split_cells, "non_disk_cells"_a = d.non_disk_cells,
                   "split_interfaces"_a = d.split_interfaces, "loop_interfaces"_a = d.loop_interfaces,
@@ -116,10 +114,10 @@ py::object cvt_command(const Session& s, int32_t sites, int32_t iters, double st
                        bool track_quality, uint64_t seed, int threads, py::object progress) {
   CvtRequest q;
   q.sites = sites, q.iters = iters, q.stop_energy = stop_energy, q.anisotropy = anisotropy;
-  q.solver = solver, q.t = t, q.save = text(save), q.load = text(load), q.no_refine = no_refine;
-  q.centroid_t = text(centroid_t), q.t_centroid = text(t_centroid);
+  q.solver = solver, q.t = t, q.save = optional_text(save), q.load = optional_text(load), q.no_refine = no_refine;
+  q.centroid_t = optional_text(centroid_t), q.t_centroid = optional_text(t_centroid);
   q.fit_rings = fit_rings, q.fit_sigma = fit_sigma, q.no_split = no_split;
-  q.labels = text(labels), q.sites_out = text(sites_out);
+  q.labels = optional_text(labels), q.sites_out = optional_text(sites_out);
   q.repair_rounds = repair_rounds, q.refinements = refinements, q.optimize = optimize;
   q.no_hausdorff = no_hausdorff, q.track_quality = track_quality, q.seed = seed;
   CvtReport r;

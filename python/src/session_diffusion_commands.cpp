@@ -20,8 +20,6 @@ using namespace py::literals;
 namespace locus::python {
 namespace {
 
-std::string optional_text(const py::handle& x) { return x.is_none() ? std::string() : py::str(x).cast<std::string>(); }
-
 std::vector<int64_t> ids_of(const py::handle& ids, const char* name) {
   if (ids.is_none()) return {};
   const std::vector<int32_t> v = vertex_ids(ids, name);
@@ -50,15 +48,22 @@ py::object signature_result(HeatSignatureReport&& r, bool adf) {
                          "factor_cache"_a = cache_dict(r.factor_cache)));
 }
 
-py::object adf(const Session& s, const std::string& t, const py::handle& vertices, bool all, const std::string& method,
-               const py::handle& save, const py::handle& load, int threads, py::object progress) {
-  AdfRequest q;
-  q.t = t;
+// The arguments adf and hks share: the vertices (or all), the method, the factor cache files.
+template <class Request>
+void set_signature_options(Request& q, const py::handle& vertices, bool all, const std::string& method,
+                           const py::handle& save, const py::handle& load) {
   q.vertices = ids_of(vertices, "vertices");
   q.all = all;
   q.method = method;
   q.save = optional_text(save);
   q.load = optional_text(load);
+}
+
+py::object adf(const Session& s, const std::string& t, const py::handle& vertices, bool all, const std::string& method,
+               const py::handle& save, const py::handle& load, int threads, py::object progress) {
+  AdfRequest q;
+  q.t = t;
+  set_signature_options(q, vertices, all, method, save, load);
   HeatSignatureReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.adf(q, ctx); });
   return signature_result(std::move(r), true);
@@ -69,11 +74,7 @@ py::object hks(const Session& s, const std::vector<std::string>& ts, const py::h
                py::object progress) {
   HksRequest q;
   q.ts = ts;
-  q.vertices = ids_of(vertices, "vertices");
-  q.all = all;
-  q.method = method;
-  q.save = optional_text(save);
-  q.load = optional_text(load);
+  set_signature_options(q, vertices, all, method, save, load);
   HeatSignatureReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.hks(q, ctx); });
   return signature_result(std::move(r), false);

@@ -27,8 +27,8 @@ py::object param(const Session& s, const std::string& method, int32_t iters, dou
   q.center = center;
   q.fraction = fraction;
   q.boundary = boundary;
-  q.save = save.is_none() ? std::string() : py::str(save).cast<std::string>();
-  q.load = load.is_none() ? std::string() : py::str(load).cast<std::string>();
+  q.save = optional_text(save);
+  q.load = optional_text(load);
   ParamReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.param(q, ctx); });
   const auto n = static_cast<py::ssize_t>(r.uv.size() / 2);

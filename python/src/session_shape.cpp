@@ -64,8 +64,8 @@ py::object deform(const Session& s, int64_t roi_seed, int64_t handle, const py::
   req.offset = {d[0], d[1], d[2]};
   req.energy = energy;
   req.regularization = regularization;
-  req.save = save.is_none() ? std::string() : py::str(save).cast<std::string>();
-  req.load = load.is_none() ? std::string() : py::str(load).cast<std::string>();
+  req.save = optional_text(save);
+  req.load = optional_text(load);
   DeformCommandReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.deform(req, ctx); });
   const auto nv = static_cast<py::ssize_t>(r.xyz.size() / 3);

@@ -28,11 +28,11 @@ py::object run_voronoi_command(const Session& s, const py::handle& sites, int32_
   }
   q.random = random;
   q.t = t;
-  q.save = save.is_none() ? std::string() : py::str(save).cast<std::string>();
-  q.load = load.is_none() ? std::string() : py::str(load).cast<std::string>();
+  q.save = optional_text(save);
+  q.load = optional_text(load);
   q.seed = seed;
   VoronoiCommandReport r;
-  run({threads, progress}, [&](const RunContext& ctx) { r = locus::voronoi_command(s, q, ctx); });
+  run({threads, progress}, [&](const RunContext& ctx) { r = s.voronoi(q, ctx); });
   const auto ns = static_cast<py::ssize_t>(r.site_xyz.size() / 3);
   const auto np = static_cast<py::ssize_t>(r.points.size() / 3);
   return result(py::dict("labels"_a = take(std::move(r.label)), "sites"_a = take(std::move(r.site_xyz), {ns, 3}),

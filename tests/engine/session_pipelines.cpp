@@ -194,7 +194,7 @@ TEST_CASE("session Voronoi, natural neighbors and skinning weights: the pipeline
   CHECK(W.weight[3 * 300 + 1] == 1.0);
   CHECK(s.stats().numeric_factorizations == 1);  // one factor of M - h^2 L served all three
 
-  CHECK(code_of([&] { s.voronoi({}); }) == ErrorCode::BadUsage);
+  CHECK(code_of([&] { s.voronoi(std::vector<MeshPoint>{}); }) == ErrorCode::BadUsage);
   CHECK(code_of([&] { s.skinning_weights(std::vector<MeshPoint>{MeshPoint::in_face(0, 2, -1, 0)}); }) ==
         ErrorCode::BadUsage);
 }

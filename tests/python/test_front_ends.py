@@ -155,3 +155,17 @@ def test_skinweights_equal_cli(cli, armadillo_path, armadillo_session, tmp_path)
     assert r.method == report["method"] == "sampled" and r.samples == report["samples"]
     assert [list(h) for h in r.handle_vertices] == report["handle_vertices"]
     assert np.allclose(r.weights.sum(axis=1), 1.0, rtol=0, atol=1e-12) and r.weights.min() >= 0
+
+
+def test_factor_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
+    """`locus factor` (the heat matrix at 2h2, the regularized Laplacian): the factor's sizes and the residuals of
+    its solves, bit for bit (the JSON's doubles round-trip)."""
+    for args, kw in ((["--t", "2h2", "--seed", 3], dict(t="2h2", seed=3)), (["--matrix", "laplacian"],
+                                                                            dict(matrix="laplacian"))):
+        report = run_cli(cli, tmp_path, "factor", armadillo_path, *args)
+        r = armadillo_session.factor_command(**kw)
+        for k in ("n", "nnz_A", "nnz_L", "nnz_L_exact", "supernodes", "etree_height", "super_etree_height", "flops",
+                  "t", "h", "residual", "residual8", "solve8_lane0_vs_solve"):
+            assert getattr(r, k) == report[k], k
+        assert r.matrix == report["operator"] and r.x.shape == (armadillo_session.num_vertices,)
+        assert r.residual < 1e-9

@@ -21,20 +21,21 @@ MIGRATED = {"geodesic": locus.geodesic, "logmap": locus.logmap, "adf": locus.Ses
             "nncoords": locus.Session.nncoords, "param": locus.Session.param,
             "perfect-laplacian": locus.Session.perfect_laplacian, "selfsupport": locus.Session.selfsupport,
             "voronoi": locus.Session.voronoi_command, "cvt": locus.Session.cvt_command,
-            "skinweights": locus.Session.skinweights_command}
-PENDING = ["factor"]
+            "skinweights": locus.Session.skinweights_command, "factor": locus.Session.factor_command}
+PENDING = []
 # info has no options of its own (Session.info() takes none); run drives the
 # other commands in child processes, a batch front end with no Python twin.
 WITHOUT_OWN_OPTIONS = {"info": locus.Session.info}
 FRONT_END_ONLY = ["run"]
 # The CommandTable's options: threads is every Python call's keyword, subdivide
 # is locus.subdivide, seed is perfect-laplacian's noise seed and unused by the others, operator is the
-# Session's (Session(V, F, operator=), checked below), no_weld is read_mesh(weld=), the rest present a result.
+# Session's (Session(V, F, operator=), checked below; factor's --operator is the older spelling of its --matrix),
+# no_weld is read_mesh(weld=), the rest present a result.
 COMMON = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory", "preview", "preview_t", "view",
           "operator", "no_weld"}
 POSITIONAL = {"geodesic": ["source"], "logmap": ["center"], "adf": [], "hks": ["ts"], "heat": ["source", "target"],
               "deform": ["roi_seed", "handle", "offset"], "nncoords": ["sites", "point"], "param": [], "perfect-laplacian": [],
-              "selfsupport": [], "voronoi": [], "cvt": [], "skinweights": []}
+              "selfsupport": [], "voronoi": [], "cvt": [], "skinweights": [], "factor": []}
 
 
 def parameters(fn):

@@ -170,7 +170,7 @@ static std::vector<double> obj_points(const std::string& path) {
   return out;
 }
 
-TEST_CASE("voronoi: the CLI, locus::voronoi_command and the C API agree bit for bit (random and vertex sites)") {
+TEST_CASE("voronoi: the CLI, locus::Session::voronoi and the C API agree bit for bit (random and vertex sites)") {
   if (!have_locus() || !std::filesystem::exists(kArmadillo)) return;
   Scratch dir("front-ends-voronoi");
   const locus::Session s = locus::Session::from_file(kArmadillo);
@@ -183,7 +183,7 @@ TEST_CASE("voronoi: the CLI, locus::voronoi_command and the C API agree bit for 
   locus::VoronoiCommandRequest q;
   q.random = 30;
   q.seed = 7;
-  const locus::VoronoiCommandReport session = locus::voronoi_command(s, q);
+  const locus::VoronoiCommandReport session = s.voronoi(q);
   CHECK(same_bits(obj_points(out), session.points));
   CHECK(j["corners"].get<int64_t>() == session.corners);
   CHECK(j["empty_cells"].get<int64_t>() == session.empty_cells);
@@ -202,7 +202,7 @@ TEST_CASE("voronoi: the CLI, locus::voronoi_command and the C API agree bit for 
   REQUIRE(locus_voronoi_run(c, &o, labels.data(), nullptr, nullptr) == LOCUS_OK);
   locus::VoronoiCommandRequest v;
   v.sites = {0, 500, 1000};
-  CHECK(labels == locus::voronoi_command(s, v).label);
+  CHECK(labels == s.voronoi(v).label);
   CHECK(labels[500] == 1);  // a generator's own vertex is its cell's
   o.random = 5;  // both kinds of generators: refused
   CHECK(locus_voronoi_run(c, &o, labels.data(), nullptr, nullptr) == LOCUS_BAD_USAGE);

@@ -19,6 +19,7 @@
 #include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
+#include "locus/engine/factor_request.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/laplacian_requests.hpp"
 #include "locus/engine/nncoords_request.hpp"
@@ -36,8 +37,8 @@ using namespace locus::test_cli;
 // still calls pipelines directly); together every command `locus --help` lists.
 const std::vector<std::string> kMigrated = {"geodesic", "logmap",   "adf",   "hks",               "heat",
                                             "deform",   "nncoords", "param", "perfect-laplacian", "selfsupport",
-                                            "voronoi",  "cvt",      "skinweights"};
-const std::vector<std::string> kPending = {"factor"};
+                                            "voronoi",  "cvt",      "skinweights", "factor"};
+const std::vector<std::string> kPending = {};
 // Commands without options of their own: info (Session::info, locus_info_run,
 // Python Session.info(): the report of the mesh), and run, which drives the
 // other commands over a folder in child processes (tools/runner): its options
@@ -49,7 +50,8 @@ const std::vector<std::string> kFrontEndOnly = {"run"};
 // the C API's locus_run_options (RunContext), subdivide is MeshInputOptions
 // (the mesh a host passes is its own), seed is perfect-laplacian's noise seed (a
 // field of its request and C options) and unused by the others;
-// operator is the Session's construction option (SessionOptions, locus_session_create_ex), no_weld
+// operator is the Session's construction option (SessionOptions, locus_session_create_ex; factor's
+// --operator is the older spelling of its --matrix, whose field is matrix), no_weld
 // the reader's (ReadOptions); json, output, preview, preview_t and view are the CLI's presentation of a result.
 const std::set<std::string> kCommon = {"help", "json", "output", "threads", "seed", "subdivide", "max_memory",
                                        "preview", "preview_t", "view", "operator", "no_weld"};
@@ -272,6 +274,18 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
   CHECK(sw.t == nullptr);  // NULL: the request's "" (h^2)
   CHECK(sw.n_handles == 0);
   CHECK(sw.n_bones == 0);
+  const locus_factor_options fa = locus_factor_options_default();
+  const locus::FactorCommandRequest fq;
+  CHECK(fa.repeat == fq.repeat);
+  CHECK(fa.seed == fq.seed);
+  CHECK(fa.matrix == nullptr);  // NULL: the request's "heat"
+  CHECK(fa.t == nullptr);       // NULL: the request's "" (h^2)
+  CHECK(fa.save == nullptr);
+  CHECK(fa.load == nullptr);
+  for (const locus::RequestField& f : locus::request_fields("factor")) {
+    if (f.name == "matrix") CHECK(f.default_value == "heat");
+    if (f.name == "repeat") CHECK(f.default_value == "1");
+  }
   for (const locus::RequestField& f : locus::request_fields("cvt")) {
     if (f.name == "t") CHECK(f.default_value == "4h2");
     if (f.name == "solver") CHECK(f.default_value == "local");

@@ -5,18 +5,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "locus/sparse_matrix.hpp"
+#include "locus/kernels/solve/solve_accuracy.hpp"
 
 namespace locus::cli {
 
 // Median of a non-empty sample (mean of the two middle values for even sizes).
 double median(std::vector<double> v);
 
-// n deterministic pseudo-random values in [-1, 1) from `seed` (splitmix64), the
-// same on every platform, unlike std::uniform_real_distribution.
-std::vector<double> random_vector(size_t n, uint64_t seed);
-
-// ||A x - b|| / ||b|| for a lower-stored symmetric A.
-double relative_residual(const CscMatrix& A, const double* x, const double* b);
+// Seeded random vectors and residuals of a solve (locus/kernels/solve/solve_accuracy.hpp).
+using locus::random_vector;
+using locus::relative_residual;
 
 }  // namespace locus::cli

@@ -1,47 +1,33 @@
-// --operator and --t of the commands that factor one operator (cli_operator.hpp).
+// --matrix (alias --operator) and --t of the commands that factor one matrix (cli_operator.hpp).
 #include "tools/cli/cli_operator.hpp"
 
-#include <cmath>
-
-#include "locus/error.hpp"
-#include "locus/kernels/mesh/mesh_operators.hpp"
-#include "locus/kernels/mesh/mesh_topology.hpp"
-#include "tools/cli/cli_heat_time.hpp"
 #include "tools/cli/cli_report.hpp"
 
 namespace locus::cli {
+namespace {
 
-void add_operator_options(CLI::App* app, OperatorSpec& spec) {
-  drop_mesh_operator_option(app);  // this --operator names the matrix
-  app->add_option("--operator", spec.kind, "Operator: heat (M - tL, default) or laplacian (-L + eps M)")
-      ->check(CLI::IsMember({"heat", "laplacian"}));
-  app->add_option("--t", spec.t_text, "Diffusion time of the heat operator: absolute (1e-3) or a multiple of h^2 (2h2); default h2")->check(non_empty());
+FactorCommandRequest request_of(const OperatorSpec& spec) {
+  FactorCommandRequest q;
+  q.matrix = spec.kind;
+  q.t = spec.t_text;
+  return q;
 }
 
-void validate_operator_spec(const OperatorSpec& spec) {
-  if (spec.kind == "laplacian" && !spec.t_text.empty())
-    fail(ErrorCode::BadUsage, "--t applies to --operator heat only");
-  if (!spec.t_text.empty()) parse_time_spec(spec.t_text);
+}  // namespace
+
+void add_matrix_options(CLI::App* app, std::string& matrix, std::string& t) {
+  drop_mesh_operator_option(app);  // --operator names the matrix here
+  CLI::Option* m = app->add_option("--matrix", matrix, "Matrix: heat (M - tL, default) or laplacian (-L + eps M)")
+                       ->check(CLI::IsMember({"heat", "laplacian"}));
+  app->add_option("--operator", matrix, "Older spelling of --matrix (heat|laplacian); the matrices are the cotan ones")
+      ->check(CLI::IsMember({"heat", "laplacian"}))
+      ->excludes(m);
+  app->add_option("--t", t, "Diffusion time of the heat matrix: absolute (1e-3) or a multiple of h^2 (2h2); default h2")
+      ->check(non_empty());
 }
 
-BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) {
-  validate_operator_spec(spec);
-  const std::string where = m.source.empty() ? std::string("the mesh") : m.source;
-  if (m.num_faces() == 0) fail(ErrorCode::BadInput, where + " has no faces");
-  // One edge incidence for the checks, h and the assembly (each would build its own).
-  const EdgeIncidence inc = edge_incidence(m);
-  check_requirements(m, MeshRequirements{}, analyze_mesh(m, inc));
-  BuiltOperator op;
-  op.h = mean_edge_length(m, inc.edges);
-  if (!(op.h > 0) || !std::isfinite(op.h))
-    fail(ErrorCode::BadInput, where + ": mean edge length is " + format_number(op.h) + ", cannot scale the operator");
-  if (spec.kind == "laplacian") {
-    op.A = regularized_laplacian(m, kLaplacianRegularization, &inc);
-  } else {
-    op.t = spec.t_text.empty() ? op.h * op.h : parse_time_spec(spec.t_text).resolve(op.h);
-    op.A = heat_operator(m, op.t, &inc);
-  }
-  return op;
-}
+void validate_operator_spec(const OperatorSpec& spec) { check_request(request_of(spec)); }
+
+BuiltOperator build_operator(const Mesh& m, const OperatorSpec& spec) { return factor_matrix(m, request_of(spec)); }
 
 }  // namespace locus::cli

@@ -1,5 +1,5 @@
 // `locus voronoi MESH`: the heat-diffusion Voronoi diagram of a set of
-// generators (thesis §3.4, eqs. 3.15-3.21), computed by locus::voronoi_command
+// generators (thesis §3.4, eqs. 3.15-3.21), computed by locus::Session::voronoi
 // (engine/include/locus/engine/voronoi_request.hpp): one factorization of
 // M - t L_C, heat of 8 generators per solve, vertex labels by the hottest
 // generator, and the diagram's curves as OBJ polylines (`v` and `l` lines) with
@@ -119,7 +119,7 @@ int run_voronoi(const CommonOptions& opt, VoronoiOptions& o, const RunContext& c
       fail(ErrorCode::BadInput, "--sites entry " + std::to_string(k) + " is vertex " + std::to_string(q.sites[k]) +
                                     ", but the mesh has " + std::to_string(in.mesh.num_vertices()) + " vertices");
   const Session session{Mesh(in.mesh), session_options(in)};
-  const VoronoiCommandReport r = voronoi_command(session, q, ctx);
+  const VoronoiCommandReport r = session.voronoi(q, ctx);
   const size_t ns = r.site_xyz.size() / 3;
   if (!opt.output.empty()) write_polylines(opt.output, r);
   if (!o.preview.path.empty()) {

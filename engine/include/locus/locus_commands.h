@@ -262,6 +262,37 @@ LOCUS_API locus_status locus_voronoi_run(locus_session* session, const locus_vor
                                          int32_t* out_labels,
                                          locus_voronoi_report* out_report, const locus_run_options* opts);
 
+/* The factor command, every option of `locus factor` (engine/include/locus/
+ * engine/factor_request.hpp), as the geodesic command's options above: the
+ * cotan heat operator M - tL or regularized Laplacian -L + eps M of the
+ * session's mesh ordered, analyzed, factored (or loaded from `load`, written
+ * to `save`) and solved for a seeded random right-hand side, `repeat` times;
+ * the report gives the factor's sizes, the medians of the phases' seconds
+ * and the residuals (LOCUS_NUMERICAL when the solve is inaccurate).
+ * out_x: vertex-count doubles, the last repeat's 1-lane solution (NULL: not
+ * wanted); out_report may be NULL. opts->t_factor must be 0. The numbers are
+ * `locus factor`'s, bit for bit. */
+typedef struct locus_factor_options {
+  const char* matrix;        /* NULL: "heat" (M - tL); or "laplacian" (-L + eps M) */
+  const char* t;             /* heat only; NULL: "h2" (a multiple of h^2, or absolute) */
+  int32_t repeat;            /* 1..1000 runs, default 1; the report gives medians */
+  const char* save;          /* NULL: none */
+  const char* load;          /* NULL: none */
+  uint64_t seed;             /* of the right-hand side, default 1 */
+} locus_factor_options;
+LOCUS_API locus_factor_options locus_factor_options_default(void);
+typedef struct locus_factor_report {
+  int32_t n, repeats;
+  int64_t nnz_A, nnz_L, nnz_L_exact;
+  int32_t supernodes, etree_height, super_etree_height;
+  int64_t flops;
+  double t, h;               /* t: 0 for the Laplacian */
+  double residual, residual8, lane0_vs_solve;
+  double operator_s, order_s, symbolic_s, numeric_s, solve_s, solve8_s, load_s, save_s;
+} locus_factor_report;
+LOCUS_API locus_status locus_factor_run(locus_session* session, const locus_factor_options* options, double* out_x,
+                                        locus_factor_report* out_report, const locus_run_options* opts);
+
 /* The info command, `locus info` (engine/include/locus/engine/mesh_info.hpp):
  * sizes, topology and defects of the session's mesh as given (its polygons for
  * a polygon mesh), with its current positions. Faces by degree: triangles,

@@ -52,6 +52,7 @@
 #include "locus/engine/cvt_request.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/diffusion_requests.hpp"
+#include "locus/engine/factor_request.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/laplacian_requests.hpp"
 #include "locus/engine/mesh_info.hpp"
@@ -59,6 +60,7 @@
 #include "locus/engine/operator_choice.hpp"
 #include "locus/engine/param_request.hpp"
 #include "locus/engine/skinning_requests.hpp"
+#include "locus/engine/voronoi_request.hpp"
 #include "locus/mesh.hpp"
 #include "locus/mesh_io.hpp"
 #include "locus/mesh_view.hpp"
@@ -424,6 +426,15 @@ class LOCUS_API Session {
   // CLI reports; writes the request's labels and sites_out files.
   CvtReport cvt(const CvtRequest& req, const RunContext& ctx = {}) const;
 
+  // The `factor` command (engine/include/locus/engine/factor_request.hpp): the
+  // request's matrix (heat or regularized Laplacian, cotan) ordered, analyzed,
+  // factored (or loaded) and solved `repeat` times, with the timings and
+  // residuals the CLI reports. Its own factor, not the Session's caches. The
+  // matrices are the cotan ones whatever the Session's operator choice (the
+  // command measures the numeric core on the mesh's own operator; a mesh with
+  // defects is refused with Error(BadInput) naming the first).
+  FactorCommandReport factor(const FactorCommandRequest& req, const RunContext& ctx = {}) const;
+
   // ROI deformation on a copy of the positions (the Session is not changed).
   DeformResult deform(const DeformRequest& req, const RunContext& ctx = {}) const;
   // The `deform` command (engine/include/locus/engine/deform_request.hpp):
@@ -459,6 +470,10 @@ class LOCUS_API Session {
   // Heat Voronoi diagram of 1..nv generators (default t = h^2).
   VoronoiResult voronoi(ConstView<MeshPoint> generators, const HeatQuery& q = {},
                         const RunContext& ctx = {}) const;
+  // The `voronoi` command (engine/include/locus/engine/voronoi_request.hpp):
+  // every option of the CLI, the command's own factor of M - tL (the factor
+  // cache files of the request) and the statistics the CLI reports.
+  VoronoiCommandReport voronoi(const VoronoiCommandRequest& req, const RunContext& ctx = {}) const;
 
   // Natural-neighbor coordinates: prepared field (many queries) and one-shot.
   NaturalNeighbors prepare_natural_neighbors(ConstView<MeshPoint> sites, const HeatQuery& q = {},

@@ -1,10 +1,13 @@
 // The request and report of the `voronoi` command: the heat-diffusion
 // Voronoi diagram of a set of generators (thesis §3.4, eqs. 3.15-3.21), as
-// every front end runs it: the CLI (`locus voronoi`), locus::voronoi_command
-// on a Session, the C API (locus_voronoi_options in locus.h) and Python
-// (Session.voronoi_command). Each field is one option,
-// named as the CLI's long option, with the CLI's default; the checks and the
-// call sequence live once, in engine/src/session_voronoi_command.cpp.
+// every front end runs it: the CLI (`locus voronoi`),
+// locus::Session::voronoi(const VoronoiCommandRequest&), the C API
+// (locus_voronoi_options in locus_commands.h) and Python
+// (Session.voronoi_command). Each field is one option, named as the CLI's
+// long option, with the CLI's default; the checks and the call sequence live
+// once, in engine/src/session_voronoi_command.cpp. The command factors its
+// own M - tL (the request's cache files; the statistics are the
+// factorization's); Session::voronoi(generators, ...) is the cached tier.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -12,7 +15,6 @@
 
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/export.h"
-#include "locus/run_context.hpp"
 
 LOCUS_API_BEGIN
 namespace locus {
@@ -45,13 +47,6 @@ struct LOCUS_API VoronoiCommandReport {
 
 // Argument checks that need no mesh: Error(BadUsage).
 LOCUS_API void check_request(const VoronoiCommandRequest& req);
-
-class Session;
-// The command on the Session's mesh. It factors its own M - tL (the
-// request's cache files; the statistics are the factorization's), so it reads
-// nothing but the mesh of the Session; Session::voronoi is the cached tier.
-LOCUS_API VoronoiCommandReport voronoi_command(const Session& session, const VoronoiCommandRequest& req,
-                                               const RunContext& ctx = {});
 
 }  // namespace locus
 LOCUS_API_END
