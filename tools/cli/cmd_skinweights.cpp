@@ -105,6 +105,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   j["samples"] = W.samples;
   j["sample_rings"] = W.sample_rings;
   j["radius"] = W.radius;
+  j["coarse_vertices"] = W.coarse_vertices;
   j["degenerate_vertices"] = W.degenerate_vertices;
   j["fallback_faces"] = W.fallback_faces;
   j["max_clamped"] = W.max_clamped;
