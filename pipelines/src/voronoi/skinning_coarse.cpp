@@ -21,7 +21,7 @@
 namespace locus {
 
 bool skinning_uses_coarse_level(int32_t n, const SkinningOptions& options) {
-  return options.method == SkinningMethod::Sampled && n > 2 * kSkinCoarseVertices;
+  return options.method == SkinningMethod::Sampled && n > 4 * kSkinCoarseVertices;
 }
 
 namespace {

@@ -32,11 +32,12 @@
 
 namespace locus {
 
-// The coarse level's vertex budget; meshes with more than twice as many
-// vertices take the coarse road (skinning_uses_coarse_level).
+// The coarse level's vertex budget; meshes with more than four times as many
+// vertices take the coarse road (skinning_uses_coarse_level; smaller ones the
+// fine sampled method, closer to the exact weights and fast enough there).
 constexpr int32_t kSkinCoarseVertices = 12000;
 
-// Sampled weights of a mesh with more than 2 x kSkinCoarseVertices vertices.
+// Sampled weights of a mesh with more than 4 x kSkinCoarseVertices vertices.
 bool skinning_uses_coarse_level(int32_t n, const SkinningOptions& options);
 
 // m: a clean manifold triangle mesh; handles: disjoint non-empty vertex sets;
