@@ -27,6 +27,8 @@
 //            The exact rows themselves vary from vertex to vertex by more than a
 //            smooth interpolant follows (the vertex-level discretization of the
 //            cells): docs/skinning.md has the measured differences.
+// Large meshes: the front ends take the coarse road of skinning_coarse.hpp
+// (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
 #include <cstdint>
 #include <span>
