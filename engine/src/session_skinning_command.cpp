@@ -73,15 +73,24 @@ SkinningReport Session::skinning(const SkinningRequest& req, const RunContext& c
   o.samples = req.samples;
   SkinningReport r;
   SkinningWeights W;
-  if (!s->robust && skinning_uses_coarse_level(m.num_vertices(), o)) {
+  bool coarse = !s->robust && skinning_uses_coarse_level(m.num_vertices(), o);
+  if (coarse) {
     // A large clean mesh: weights on a coarse level with its own operator, the
     // fine mesh's is neither needed nor built (pipelines/.../skinning_coarse.hpp).
-    const CallProgress progress(ctx, false);
-    W = skinning_weights_coarse(m, sets, o, q.t > 0 ? 0.0 : diffusion_t_factor(q), q.t, progress.query());
-    r.factor_s = W.factor_s;
-    r.t = W.t;
-    progress.finish("skinning weights");
-  } else {
+    // Where no manifold coarse level comes out (or its operator fails), the
+    // fine sampled method runs instead.
+    try {
+      const CallProgress progress(ctx, false);
+      W = skinning_weights_coarse(m, sets, o, q.t > 0 ? 0.0 : diffusion_t_factor(q), q.t, progress.query());
+      r.factor_s = W.factor_s;
+      r.t = W.t;
+      progress.finish("skinning weights");
+    } catch (const Error& e) {
+      if (e.code() == ErrorCode::Cancelled) throw;
+      coarse = false;
+    }
+  }
+  if (!coarse) {
     const CallProgress progress(ctx, !diffusion_cached(*s, q));
     const auto t0 = std::chrono::steady_clock::now();
     const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
