@@ -10,6 +10,7 @@
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/skinning_requests.hpp"
 #include "locus/error.hpp"
+#include "locus/pipelines/voronoi/skinning_coarse.hpp"
 #include "locus/pipelines/voronoi/skinning_handles.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 #include "locus/session.hpp"
@@ -67,16 +68,38 @@ SkinningReport Session::skinning(const SkinningRequest& req, const RunContext& c
   } else {
     q.t = time.value;
   }
-  const CallProgress progress(ctx, !diffusion_cached(*s, q));
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
-  SkinningReport r;
-  r.factor_s = since(t0);
-  ctx.check_cancel();
   SkinningOptions o;
   o.method = req.exact ? SkinningMethod::Exact : SkinningMethod::Sampled;
   o.samples = req.samples;
-  const SkinningWeights W = locus::skinning_weights(*H, m, sets, o, progress.query());
+  SkinningReport r;
+  SkinningWeights W;
+  bool coarse = !s->robust && skinning_uses_coarse_level(m.num_vertices(), o);
+  if (coarse) {
+    // A large clean mesh: weights on a coarse level with its own operator, the
+    // fine mesh's is neither needed nor built (pipelines/.../skinning_coarse.hpp).
+    // Where no manifold coarse level comes out (or its operator fails), the
+    // fine sampled method runs instead.
+    try {
+      const CallProgress progress(ctx, false);
+      W = skinning_weights_coarse(m, sets, o, q.t > 0 ? 0.0 : diffusion_t_factor(q), q.t, progress.query());
+      r.factor_s = W.factor_s;
+      r.t = W.t;
+      progress.finish("skinning weights");
+    } catch (const Error& e) {
+      if (e.code() == ErrorCode::Cancelled) throw;
+      coarse = false;
+    }
+  }
+  if (!coarse) {
+    const CallProgress progress(ctx, !diffusion_cached(*s, q));
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::shared_ptr<const HeatDiffusion> H = diffusion(*s, q, progress.build());
+    r.factor_s = since(t0);
+    ctx.check_cancel();
+    W = locus::skinning_weights(*H, m, sets, o, progress.query());
+    r.t = H->t;
+    progress.finish("skinning weights");
+  }
   r.handles = W.handles;
   r.weight = W.weight;
   r.handle_vertices = sets;
@@ -87,11 +110,10 @@ SkinningReport Session::skinning(const SkinningRequest& req, const RunContext& c
   r.degenerate_vertices = W.degenerate;
   r.fallback_faces = W.fallback_faces;
   r.max_clamped = W.max_clamped;
-  r.t = H->t;
+  r.coarse_vertices = W.coarse_vertices;
   r.prepare_s = W.prepare_s;
   r.weights_s = W.weights_s;
   r.propagate_s = W.propagate_s;
-  progress.finish("skinning weights");
   return r;
 }
 

@@ -65,7 +65,7 @@ py::object run_skinweights_command(const Session& s, const py::handle& handles, 
   const py::ssize_t nv = s.num_vertices(), k = r.handles;
   return result(py::dict("weights"_a = take(std::move(r.weight), {nv, k}), "handle_vertices"_a = sets,
                          "method"_a = r.method, "samples"_a = r.samples, "sample_rings"_a = r.sample_rings,
-                         "radius"_a = r.radius, "degenerate_vertices"_a = r.degenerate_vertices,
+                         "radius"_a = r.radius, "coarse_vertices"_a = r.coarse_vertices, "degenerate_vertices"_a = r.degenerate_vertices,
                          "fallback_faces"_a = r.fallback_faces, "max_clamped"_a = r.max_clamped, "t"_a = r.t,
                          "factor_s"_a = r.factor_s, "prepare_s"_a = r.prepare_s, "weights_s"_a = r.weights_s,
                          "propagate_s"_a = r.propagate_s));
@@ -84,9 +84,10 @@ void bind_session_skinweights_command(SessionClass& cls) {
            "`locus skinweights` with every option: natural-neighbor skinning weights (thesis §3.7.2). handles: "
            "vertex ids, or lists of vertex ids (a vertex set is one handle); bone: polylines ((k, 3) points, "
            "k >= 2; a bone is the vertices nearest to it), after the handles. exact: natural-neighbor coordinates "
-           "at every vertex (slow); else the sampled method with at most `samples` exact rows (0: 1024). t: '' "
+           "at every vertex (slow); else the sampled method with at most `samples` exact rows (0: 1024), on a "
+           "coarse level of the mesh when it has more than 48,000 vertices (.method 'coarse'). t: '' "
            "(h^2), a multiple of h^2 ('4h2') or absolute. Returns .weights (float64 (nv, handles), rows sum to 1), "
-           ".handle_vertices, .method, .samples, .sample_rings, .radius and the CLI's statistics.\n" +
+           ".handle_vertices, .method, .samples, .sample_rings, .radius, .coarse_vertices and the CLI's statistics.\n" +
            kCallArgs)
               .c_str());
 }

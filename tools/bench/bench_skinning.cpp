@@ -1,7 +1,9 @@
 // `locus-bench skinning MESH --handles K`: skinning weights (thesis §3.7.2,
 // pipelines/include/locus/pipelines/voronoi/skinning_weights.hpp) by the sampled
 // method (one run per --samples value) and, where the mesh is small enough, the
-// exact per-vertex method, on one prepared heat operator. Per method: wall time
+// exact per-vertex method, on one prepared heat operator; and the coarse road
+// (skinning_coarse.hpp; with its own coarse operator, timed with it;
+// --coarse-only runs just that one). Per method: wall time
 // (median of --repeats; exact runs once), the max and mean |w - w_exact| over
 // all weights, and the properties: min weight, max |sum - 1|, % exact zeros,
 // the largest deviation of a handle vertex's row from its indicator, and the
@@ -21,6 +23,7 @@
 #include "locus/error.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/skinning_coarse.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 #include "tools/bench/bench_commands.hpp"
 #include "tools/cli/site_args.hpp"
@@ -37,6 +40,7 @@ struct SkinningBenchOptions {
   int32_t repeats = 3;
   int32_t exact_max_vertices = 30000;
   std::string exact_cache;  // file of the exact weights: read when it matches, else written
+  bool coarse_only = false;
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -200,12 +204,13 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
   std::vector<std::vector<int32_t>> handles;
   for (int32_t v : ids) handles.push_back({v});
   cli::Stopwatch sw;
-  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, ctx);  // as `locus skinweights`
+  const bool fine = !o.coarse_only;
+  const HeatDiffusion H = fine ? prepare_heat_diffusion(m, 1.0, 0.0, ctx) : HeatDiffusion{};  // as `locus skinweights`
   const double factor_s = sw.seconds();
   const Adjacency adj = vertex_adjacency(m);
   Json j{{"command", "skinning"}, {"input", cli::input_json(opt, in)}, {"n", m.num_vertices()}, {"handles", ids},
          {"factor_s", factor_s}, {"threads", ctx.threads}};
-  const bool run_exact = m.num_vertices() <= o.exact_max_vertices;
+  const bool run_exact = fine && m.num_vertices() <= o.exact_max_vertices;
   SkinningWeights exact;
   if (run_exact && read_exact(o.exact_cache, m.num_vertices(), ids, exact)) {
     j["exact"] = {{"cached", o.exact_cache}, {"properties", properties(m, exact, ids)}, {"roughness", roughness(adj, exact)}};
@@ -219,8 +224,27 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
                   {"roughness", roughness(adj, exact)}};
     write_exact(o.exact_cache, m.num_vertices(), ids, exact);
   }
-  Json sampled = Json::array();
+  Json sampled = Json::array(), coarse = Json::array();
   for (const std::string& text : cli::split_commas(o.samples)) {
+    // The coarse road (skinning_coarse.hpp: `locus skinweights` on large meshes):
+    // its own coarse operator, timed with it; the fine mesh's factor is not used.
+    SkinningOptions co;
+    co.samples = std::stoi(text);
+    std::vector<double> cwall;
+    SkinningWeights C;
+    for (int32_t r = 0; r < o.repeats; ++r) {
+      sw.restart();
+      C = skinning_weights_coarse(m, handles, co, 1.0, 0.0, ctx);
+      cwall.push_back(sw.seconds());
+    }
+    Json crow{{"samples_target", co.samples}, {"samples", C.samples}, {"coarse_vertices", C.coarse_vertices},
+              {"wall_s", cli::median(cwall)}, {"wall_s_all", cwall},
+              {"phase_s", {{"level", C.prepare_s}, {"factor", C.factor_s}, {"coarse_weights", C.weights_s},
+                           {"propagate", C.propagate_s}}},
+              {"properties", properties(m, C, ids)}};
+    if (run_exact) compare(m, adj, C, exact, crow);
+    coarse.push_back(crow);
+    if (!fine) continue;
     SkinningOptions so;
     so.samples = std::stoi(text);
     std::vector<double> wall;
@@ -239,6 +263,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     sampled.push_back(row);
   }
   j["sampled"] = sampled;
+  j["coarse"] = coarse;
   cli::emit(opt, j, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   return 0;
 }
@@ -255,6 +280,8 @@ void register_skinning_bench(cli::CommandTable& table) {
   app->add_option("--repeats", o->repeats, "Timed runs of each sampled setting (median; default 3)");
   app->add_option("--exact-max-vertices", o->exact_max_vertices,
                   "Run the exact method only up to this many vertices (default 30000)");
+  app->add_flag("--coarse-only", o->coarse_only,
+               "Only the coarse road (no fine factorization, sampled or exact run: meshes too large for them)");
   app->add_option("--exact-cache", o->exact_cache,
                   "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }

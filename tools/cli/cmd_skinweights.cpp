@@ -4,10 +4,12 @@
 // locus::Session::skinning (engine/include/locus/engine/skinning_requests.hpp).
 // A handle is a vertex, vertices joined by '+', or a bone (each --bone is one
 // more handle, after --handles). Default: the sampled method (exact rows at a
-// vertex cover, propagated); --exact solves every vertex (slow on large meshes).
+// vertex cover, propagated; on a clean mesh of more than 48,000 vertices on a
+// coarse level of the mesh, method "coarse", pipelines/.../skinning_coarse.hpp);
+// --exact solves every vertex (slow on large meshes).
 // -o writes the mesh with vertex properties w0..w{k-1} (PLY) in handle order.
 // JSON: `handles`, `handle_vertices`, `method`, `samples`, `sample_rings`,
-// `radius`, `degenerate_vertices`, `max_clamped`, `fallback_faces`, timings.
+// `radius`, `coarse_vertices`, `degenerate_vertices`, `max_clamped`, `fallback_faces`, timings.
 #include <cmath>
 #include <ostream>
 #include <string>
@@ -105,6 +107,7 @@ int run_skinweights(const CommonOptions& opt, const SkinOptions& o, const RunCon
   j["samples"] = W.samples;
   j["sample_rings"] = W.sample_rings;
   j["radius"] = W.radius;
+  j["coarse_vertices"] = W.coarse_vertices;
   j["degenerate_vertices"] = W.degenerate_vertices;
   j["fallback_faces"] = W.fallback_faces;
   j["max_clamped"] = W.max_clamped;

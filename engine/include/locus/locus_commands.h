@@ -205,7 +205,7 @@ LOCUS_API locus_status locus_nncoords_run(locus_session* session, const locus_nn
 
 /* The skinweights command, every option of `locus skinweights`
  * (engine/include/locus/engine/skinning_requests.hpp): handles as vertex sets and bones, the sampled method
- * (default) or the exact per-vertex one. Handle i's vertices are
+ * (default; on a coarse level of a mesh with more than 48,000 vertices) or the exact per-vertex one. Handle i's vertices are
  * handles[handle_offsets[i] .. handle_offsets[i+1]) (handle_offsets NULL:
  * one vertex per handle); bone b is the polyline of points
  * bone[3 * bone_offsets[b] .. 3 * bone_offsets[b+1]) (x, y, z each, >= 2

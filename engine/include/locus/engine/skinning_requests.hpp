@@ -34,10 +34,11 @@ struct LOCUS_API SkinningReport {
   int32_t handles = 0;
   std::vector<double> weight;  // nv * handles, row-major: vertex v's weights at [v * handles, (v + 1) * handles)
   std::vector<std::vector<int32_t>> handle_vertices;  // per handle, its vertices (ascending)
-  std::string method;          // "sampled" or "exact"
+  std::string method;          // "sampled", "coarse" (sampled on a coarse level of a large mesh) or "exact"
   int32_t samples = 0;         // vertices whose row is exact
   int32_t sample_rings = 0;    // sampled: every vertex is within this many edges of a sample
   double radius = 0;           // sampled: propagation radius (length units)
+  int32_t coarse_vertices = 0; // coarse: vertices of the coarse level (0 otherwise)
   int64_t degenerate_vertices = 0;
   int64_t fallback_faces = 0;
   double max_clamped = 0;

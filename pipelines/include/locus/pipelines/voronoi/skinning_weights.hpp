@@ -27,6 +27,8 @@
 //            The exact rows themselves vary from vertex to vertex by more than a
 //            smooth interpolant follows (the vertex-level discretization of the
 //            cells): docs/skinning.md has the measured differences.
+// Large meshes: the front ends take the coarse road of skinning_coarse.hpp
+// (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -60,6 +62,9 @@ struct SkinningWeights {
   int32_t samples = 0;         // vertices whose row is exact (all for Exact)
   int32_t sample_rings = 0;    // Sampled: every vertex is within this many edges of a sample
   double radius = 0;           // Sampled: the propagation radius (length units)
+  int32_t coarse_vertices = 0; // coarse road (skinning_coarse.hpp): vertices of the coarse level, else 0
+  double t = 0;                // coarse road: the coarse operator's diffusion time, else 0
+  double factor_s = 0;         // coarse road: the coarse operator's factorization
   double prepare_s = 0, weights_s = 0, propagate_s = 0;
 };
 
