@@ -63,7 +63,11 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
       b[3 * s + 2] = (nx * e[s][1] - ny * e[s][0]) * inv * sc;
     }
   }
-  // Vertex -> face CSR by counting sort: faces come out ascending per vertex.
+  index_vertex_faces(g);
+  return g;
+}
+
+void index_vertex_faces(TriangleGradients& g) {
   g.vf_offsets.assign(static_cast<size_t>(g.nv) + 1, 0);
   for (int32_t v : g.tri) ++g.vf_offsets[v + 1];
   for (int32_t i = 0; i < g.nv; ++i) g.vf_offsets[i + 1] += g.vf_offsets[i];
@@ -71,7 +75,6 @@ TriangleGradients triangle_gradients(const Mesh& m, double h) {
   HostVector<int64_t> pos(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
   for (int32_t k = 0; k < g.nf; ++k)
     for (int s = 0; s < 3; ++s) g.vf_faces[pos[g.tri[3 * k + s]]++] = k;
-  return g;
 }
 
 }  // namespace locus

@@ -68,14 +68,7 @@ TriangleGradients intrinsic_triangle_gradients(const IntrinsicTriangulation& T, 
     }
     g.area[k] = area_scale * area;
   }
-  // Vertex -> face CSR by counting sort (a face of a repeated vertex appears twice in its list).
-  g.vf_offsets.assign(static_cast<size_t>(g.nv) + 1, 0);
-  for (int32_t v : g.tri) ++g.vf_offsets[v + 1];
-  for (int32_t i = 0; i < g.nv; ++i) g.vf_offsets[i + 1] += g.vf_offsets[i];
-  g.vf_faces.resize(g.tri.size());
-  HostVector<int64_t> pos(g.vf_offsets.begin(), g.vf_offsets.end() - 1);
-  for (int32_t k = 0; k < g.nf; ++k)
-    for (int s = 0; s < 3; ++s) g.vf_faces[pos[g.tri[3 * k + s]]++] = k;
+  index_vertex_faces(g);
   return g;
 }
 

@@ -6,19 +6,13 @@
 #include <cmath>
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "remesh_vec3.hpp"
 
 namespace locus {
 
 namespace {
 
-using V3 = std::array<double, 3>;
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const V3& a) { return std::sqrt(dot(a, a)); }
-V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
+using namespace remesh_vec3;
 double angle(const V3& o, const V3& u, const V3& w) {
   const V3 a = sub(u, o), b = sub(w, o);
   return std::atan2(norm(cross(a, b)), dot(a, b));

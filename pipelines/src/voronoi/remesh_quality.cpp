@@ -14,16 +14,14 @@
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
+#include "remesh_vec3.hpp"
 
 namespace locus {
 
 namespace {
 
-using V3 = std::array<double, 3>;
+using namespace remesh_vec3;
 
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
 
 double max_over(int64_t count, const std::function<double(int64_t)>& f) {
   return tbb::parallel_reduce(

@@ -47,8 +47,8 @@ std::vector<int32_t> cover_samples(const Adjacency& adj, std::span<const int32_t
     if (v < 0 || v >= n) fail(ErrorCode::BadUsage, "cover samples: vertex " + std::to_string(v) + " out of range");
     add(v);
   }
-  for (int32_t v = 0; v < n; ++v)
-    if (!covered[v]) add(v);
+  for (int32_t v = 0; v < n; ++v)  // a vertex without neighbours is in no face: no cell, no sample
+    if (!covered[v] && adj.offsets[v + 1] > adj.offsets[v]) add(v);
   return samples;
 }
 
@@ -229,6 +229,11 @@ Propagation propagate_samples(const Mesh& m, const Adjacency& adj, std::span<con
     std::copy_n(rows.begin() + static_cast<size_t>(i) * k, k, out.begin() + static_cast<size_t>(samples[i]) * k);
     is_sample[samples[i]] = 1;
   }
+  // A vertex in no face (no neighbours) has no weights: NaN, the outside convention.
+  auto in_no_face = [&](int32_t v) { return adj.offsets[v + 1] == adj.offsets[v]; };
+  for (int32_t v = 0; v < n; ++v)
+    if (!is_sample[v] && in_no_face(v))
+      std::fill_n(out.begin() + static_cast<size_t>(v) * k, k, std::numeric_limits<double>::quiet_NaN());
   if (!(dmax > 0)) return P;
   const double rho = P.radius;
   // Per-sample balls (parallel), gathered per vertex in sample order: deterministic.
@@ -258,12 +263,12 @@ Propagation propagate_samples(const Mesh& m, const Adjacency& adj, std::span<con
   }
   P.ball_entries = off[n];
   for (int32_t v = 0; v < n; ++v)
-    if (!is_sample[v] && off[v + 1] == off[v])
+    if (!is_sample[v] && off[v + 1] == off[v] && !in_no_face(v))
       fail(ErrorCode::Numerical, "propagate samples: vertex " + std::to_string(v) + " sees no sample");
   tbb::enumerable_thread_specific<std::vector<double>> coef;
   run_with_threads(threads, [&] {
     tbb::parallel_for(0, n, [&](int32_t v) {
-      if (is_sample[v]) return;
+      if (is_sample[v] || in_no_face(v)) return;
       const std::span<const StencilEntry> sv(st.data() + off[v], static_cast<size_t>(off[v + 1] - off[v]));
       std::vector<double>& c = coef.local();
       mls_coefficients(m, v, samples, sv, rho, c);

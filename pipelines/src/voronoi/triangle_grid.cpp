@@ -5,14 +5,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "remesh_vec3.hpp"
+
 namespace locus {
 
 namespace {
-using V3 = std::array<double, 3>;
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+using namespace remesh_vec3;
 V3 axpy(const V3& a, double s, const V3& d) { return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]}; }
-V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
 }  // namespace
 
 V3 closest_point_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c) {

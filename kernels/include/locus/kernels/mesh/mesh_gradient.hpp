@@ -36,6 +36,10 @@ struct TriangleGradients {
   }
 };
 
+// Fills g.vf_offsets / g.vf_faces from g.tri (a counting sort: faces ascending
+// per vertex; a face of a repeated vertex appears twice in its list).
+void index_vertex_faces(TriangleGradients& g);
+
 // Needs a triangle mesh without zero-area faces (throws Error(BadInput) naming
 // the first offending face); positions must be finite. O(nv + nf).
 TriangleGradients triangle_gradients(const Mesh& m);

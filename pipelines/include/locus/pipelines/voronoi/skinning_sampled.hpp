@@ -2,7 +2,8 @@
 // thesis §3.7.2: weights on a coarse set, propagated to the vertices):
 //   cover_samples      a greedy cover of the vertex graph: handle vertices first,
 //                      then, in ascending id order, every vertex farther than
-//                      `rings` edges from all samples so far becomes one. Every
+//                      `rings` edges from all samples so far becomes one (a vertex
+//                      in no face has no neighbours and never does). Every
 //                      vertex is then within `rings` edges of a sample;
 //                      deterministic.
 //   propagate_samples  every other vertex v gets the moving-least-squares
