@@ -75,11 +75,25 @@ TriangleGrid::TriangleGrid(const Mesh& m) : m_(m) {
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int k = lo[2]; k <= hi[2]; ++k) g((static_cast<uint64_t>(i) * dim_[1] + j) * dim_[2] + k);
   };
+  // Sized for twice the cells expected; long thin triangles (a cylinder's
+  // sides, each as tall as the mesh) pass many more, so a pass that fills
+  // half the table starts again with twice the slots: probing always ends.
   size_t slots = 16;
   while (slots < 2 * static_cast<size_t>(std::max(nf, 1))) slots *= 2;
-  keys_.assign(slots, kEmpty);
-  std::vector<int64_t> count(slots, 0);
-  for (int32_t f = 0; f < nf; ++f) each_cell(f, [&](uint64_t c) { ++count[slot_of(c, true)]; });
+  std::vector<int64_t> count;
+  for (bool fits = false; !fits; slots *= 2) {
+    keys_.assign(slots, kEmpty);
+    count.assign(slots, 0);
+    size_t used = 0;
+    fits = true;
+    for (int32_t f = 0; f < nf && fits; ++f)
+      each_cell(f, [&](uint64_t c) {
+        if (!fits) return;
+        const size_t q = slot_of(c, true);
+        if (count[q]++ == 0 && 2 * ++used > slots) fits = false;
+      });
+    if (fits) break;
+  }
   offsets_.assign(slots + 1, 0);
   for (size_t q = 0; q < slots; ++q) offsets_[q + 1] = offsets_[q] + count[q];
   faces_.resize(static_cast<size_t>(offsets_[slots]));
