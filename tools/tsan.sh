@@ -15,7 +15,8 @@
 # Test subset (fits ~20 minutes on 2 shared cores, build included): the
 # ordering, symbolic analysis, factorization, solve, selected-inversion and
 # factor-update kernels, and the
-# pipelines that run threads or parallel loops: CVT (flow graph), heat
+# pipelines that run threads or parallel loops: CVT (flow graph), the remesh
+# optimization's colour-class sweeps, heat
 # geodesic and log map (concurrent queries), heat Voronoi, ADF, and the
 # Session's concurrent queries. OpenBLAS stays single-threaded
 # (OPENBLAS_NUM_THREADS=1): locus never runs threaded BLAS (STYLE.md habit 4),
@@ -70,7 +71,7 @@ fi
 say "building locus-tests (TSan)"
 # Only the test files the groups below run are compiled (keep the two lists in step).
 tests="/tests/(kernels/(order/|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
-tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|heat_voronoi)|geodesic/(heat_geodesic|logmap)\\.cpp"
+tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi)|geodesic/(heat_geodesic|logmap)\\.cpp"
 tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
 cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread \
   -DTBB_DIR="$prefix/lib/cmake/TBB" -DLOCUS_BUILD_TOOLS=OFF -DLOCUS_WITH_CHOLMOD_BENCH=ON \
@@ -109,6 +110,7 @@ run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'
 run "factor update" --source-file='*tests/kernels/*/factor_update*'
 run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
 run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
+run "remesh optimization (parallel colour-class sweeps)" --test-case='cvt remesh: sphere*,remesh optimization:*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
 run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*,*session pipelines from several threads*'
