@@ -4,10 +4,18 @@
 #include "locus/engine/cvt_request.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/operator_choice.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
 
 namespace locus {
+
+// The cvt command on a checked triangle mesh (`derived` its data,
+// `components` its connected components): the sites raised to one per
+// component, the cells' M - tL (robust or cotan) factored or loaded, run_cvt,
+// the report with the request's own site count and the factor's timings.
+CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
+                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx);
 
 // True when the Session's operator report names a defect the cells or the
 // remesh cannot take (needles they can).

@@ -247,20 +247,10 @@ int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components,
   return components;
 }
 
-CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
-  check_request(req);
-  const HeatTime ts = parse_heat_time(req.t, "--t");
-  const HeatTime tc = centroid_time(req, &ctx);  // the deprecation note before any refusal of the mesh
-  const std::shared_ptr<State> s = impl_->current();
-  if (cvt_needs_sheets(impl_->op)) {
-    CvtReport r = cvt_on_sheets(s->mesh, s->robust, req, ts, tc, ctx);
-    if (!req.labels.empty() || !req.sites_out.empty())
-      write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},
-                      s->polygons ? triangle_polygon() : std::vector<int32_t>{});
-    return r;
-  }
+CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
+                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx) {
   CvtRequest raised = req;
-  raised.sites = check_sites(req, s->mesh, impl_->components, ctx);
+  raised.sites = check_sites(req, mesh, components, ctx);
   // The cells' operator is factored here (isotropic): weighted in the progress
   // like kCvtFactorIterations Lloyd iterations (docs/shipping.md).
   const bool isotropic = req.anisotropy == 0;
@@ -268,14 +258,24 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   FactorCacheReport cache;
   HeatDiffusion prepared;
   const auto t0 = std::chrono::steady_clock::now();
-  if (isotropic)
-    prepared = command_heat_operator(s->mesh, s->robust, ts, {req.save, req.load}, progress.build(), cache);
+  if (isotropic) prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache);
   const double prepare_s = seconds(t0);
-  CvtReport r = run_cvt(s->mesh, *s->derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
   r.requested = req.sites;  // as asked: `delivered` shows what the components needed
   progress.finish("remesh");
+  return r;
+}
+
+CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
+  check_request(req);
+  const HeatTime ts = parse_heat_time(req.t, "--t");
+  const HeatTime tc = centroid_time(req, &ctx);  // the deprecation note before any refusal of the mesh
+  const std::shared_ptr<State> s = impl_->current();
+  CvtReport r = cvt_needs_sheets(impl_->op)
+                    ? cvt_on_sheets(s->mesh, s->robust, req, ts, tc, ctx)
+                    : cvt_command_on(s->mesh, *s->derived, impl_->components, s->robust, req, ts, tc, ctx);
   if (!req.labels.empty() || !req.sites_out.empty())
     write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},
                     s->polygons ? triangle_polygon() : std::vector<int32_t>{});

@@ -8,10 +8,8 @@
 // site's face and barycentrics are those of the input face it lies in. The
 // remesh is the remesh of the sheets; the report's `sheets` says how the mesh
 // was cut.
-#include <chrono>
 #include <string>
 
-#include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
@@ -56,22 +54,8 @@ CvtReport cvt_on_sheets(const Mesh& input, bool robust, const CvtRequest& req, c
   const Mesh& m = sh.mesh;
   // Checked as the cotan operator would (manifold, no zero-area face): what the cells and the dual need.
   const std::shared_ptr<const MeshDerived> derived = session_detail::check_and_derive(m, OperatorChoice::Cotan);
-  CvtRequest raised = req;
-  raised.sites = check_sites(req, m, derived->components, ctx);
-  const bool isotropic = req.anisotropy == 0;
-  const session_detail::CallProgress progress(ctx, isotropic,
-                                              kCvtFactorIterations / (kCvtFactorIterations + req.iters + 1.0));
-  FactorCacheReport cache;
-  HeatDiffusion prepared;
-  const auto t0 = std::chrono::steady_clock::now();
-  if (isotropic) prepared = command_heat_operator(m, robust, ts, {req.save, req.load}, progress.build(), cache);
-  const double prepare_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  CvtReport r = run_cvt(m, *derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
-  r.requested = req.sites;
-  r.prepare_s = prepare_s;
-  r.factor_cache = cache;
+  CvtReport r = cvt_command_on(m, *derived, derived->components, robust, req, ts, tc, ctx);
   map_back(input, sh, r);
-  progress.finish("remesh");
   return r;
 }
 

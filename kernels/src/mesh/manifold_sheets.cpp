@@ -269,9 +269,8 @@ std::vector<int32_t> corner_vertices(const Faces& F, const std::vector<int32_t>&
 
 // Faces that share a sheet edge they are not glued along (a cut that ends inside a fan):
 // all but the first on each such edge.
-std::vector<int32_t> conflicting_faces(const std::vector<int32_t>& cv, const std::vector<char>& flip,
-                                       const std::vector<int32_t>& partner) {
-  const int32_t nf = static_cast<int32_t>(flip.size());
+std::vector<int32_t> conflicting_faces(const std::vector<int32_t>& cv, const std::vector<int32_t>& partner) {
+  const int32_t nf = static_cast<int32_t>(cv.size() / 3);
   std::vector<std::pair<uint64_t, int32_t>> half;
   for (int32_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) half.emplace_back(edge_key(cv[3 * f + k], cv[3 * f + (k + 1) % 3]), 3 * f + k);
@@ -308,7 +307,7 @@ ManifoldSheets manifold_sheets(const Mesh& m) {
     flip = orient(F, partner, cut, flipped);
     std::vector<int32_t> vertex_of;
     cv = corner_vertices(F, partner, vertex_of);
-    const std::vector<int32_t> bad = conflicting_faces(cv, flip, partner);
+    const std::vector<int32_t> bad = conflicting_faces(cv, partner);
     if (bad.empty()) {
       out.cut_edges = cut, out.flipped_faces = flipped;
       out.vertex_of.assign(vertex_of.begin(), vertex_of.end());

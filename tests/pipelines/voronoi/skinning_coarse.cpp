@@ -15,20 +15,10 @@
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
 using namespace locus;
-
-namespace {
-
-int32_t extreme_vertex(const Mesh& m, const double d[3]) {
-  int32_t best = 0;
-  for (int32_t v = 0; v < m.num_vertices(); ++v)
-    if (m.x[v] * d[0] + m.y[v] * d[1] + m.z[v] * d[2] > m.x[best] * d[0] + m.y[best] * d[1] + m.z[best] * d[2])
-      best = v;
-  return best;
-}
-
-}  // namespace
+using locus::test::extreme_vertex;
 
 TEST_CASE("coarse skinning weights: properties, close to the exact weights, local") {
   const Mesh m = make_icosphere(4);

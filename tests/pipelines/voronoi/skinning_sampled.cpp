@@ -16,18 +16,12 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
+#include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
 using namespace locus;
+using locus::test::extreme_vertex;
 
 namespace {
-
-int32_t extreme_vertex(const Mesh& m, const double d[3]) {
-  int32_t best = 0;
-  for (int32_t v = 0; v < m.num_vertices(); ++v)
-    if (m.x[v] * d[0] + m.y[v] * d[1] + m.z[v] * d[2] > m.x[best] * d[0] + m.y[best] * d[1] + m.z[best] * d[2])
-      best = v;
-  return best;
-}
 
 std::vector<std::vector<int32_t>> five_handles(const Mesh& m) {
   const double dirs[][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
