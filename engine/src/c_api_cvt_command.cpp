@@ -7,63 +7,39 @@
 #include <memory>
 #include <string>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "session_state.hpp"
 
 using namespace locus::c_api_detail;
 
+// The cvt command's numeric options (its strings are NULL in the C defaults).
+#define LOCUS_CVT_NUMBERS                                                                                        \
+  sites, iters, stop_energy, anisotropy, no_refine, fit_rings, fit_sigma, no_split, repair_rounds, refinements, \
+      optimize, no_hausdorff, track_quality, seed
+
 namespace {
 
 locus::CvtRequest request_of(const locus_cvt_options& o) {
   locus::CvtRequest q;
-  q.sites = o.sites;
-  q.iters = o.iters;
-  q.stop_energy = o.stop_energy;
-  q.anisotropy = o.anisotropy;
-  q.solver = text(o.solver, q.solver);
-  q.t = text(o.t, q.t);
-  q.save = text(o.save, "");
-  q.load = text(o.load, "");
-  q.no_refine = o.no_refine != 0;
-  q.centroid_t = text(o.centroid_t, "");
-  q.t_centroid = text(o.t_centroid, "");
-  q.fit_rings = o.fit_rings;
-  q.fit_sigma = o.fit_sigma;
-  q.no_split = o.no_split != 0;
-  q.labels = text(o.labels, "");
-  q.sites_out = text(o.sites_out, "");
-  q.repair_rounds = o.repair_rounds;
-  q.refinements = o.refinements;
-  q.optimize = o.optimize;
-  q.no_hausdorff = o.no_hausdorff != 0;
-  q.track_quality = o.track_quality != 0;
-  q.seed = o.seed;
+  LOCUS_COPY_FIELDS(q, o, LOCUS_CVT_NUMBERS, solver, t, save, load, centroid_t, t_centroid, labels, sites_out);
   return q;
 }
 
 void fill_report(const locus::CvtReport& r, locus_cvt_report& o) {
   std::memset(&o, 0, sizeof o);
   o.sites = static_cast<int64_t>(r.site_face.size());
-  o.complete = r.complete ? 1 : 0;
-  o.added_sites = r.added_sites, o.repair_rounds = r.repair_rounds, o.refinements = r.refinements;
-  o.lloyd_iterations = r.lloyd_iterations;
-  const locus::CvtMeshStats& st = r.remesh_stats;
-  o.remesh.vertices = st.vertices, o.remesh.faces = st.faces;
-  o.remesh.manifold = st.manifold && r.complete ? 1 : 0;
-  o.remesh.genus = st.genus, o.remesh.components = st.components, o.remesh.boundary_loops = st.boundary_loops;
-  o.remesh.mean_min_angle_deg = st.mean_min_angle_deg, o.remesh.min_angle_deg = st.min_angle_deg;
-  o.remesh.pct_below_30_deg = st.pct_below_30_deg, o.remesh.hausdorff_rel = st.hausdorff_rel;
+  LOCUS_COPY_FIELDS(o, r, complete, added_sites, repair_rounds, refinements, lloyd_iterations, h, t, t_centroid,
+                    dual_triangles, area_cv, area_variance, area_cv_vertex, area_variance_vertex, empty_cells,
+                    fallback_faces, flips, smoothing_moves, boundary_moves, requested, delivered, repair_sites,
+                    removed_sites, density_passes, geodesic_rounds);
+  LOCUS_COPY_FIELDS(o.remesh, r.remesh_stats, vertices, faces, genus, components, boundary_loops, mean_min_angle_deg,
+                    min_angle_deg, pct_below_30_deg, hausdorff_rel);
+  o.remesh.manifold = r.remesh_stats.manifold && r.complete ? 1 : 0;
   o.remesh.added_sites = r.added_sites;
-  o.h = r.h, o.t = r.t, o.t_centroid = r.t_centroid;
-  o.dual_triangles = r.dual_triangles;
   o.min_angle_deg = r.cells_min_angle_deg, o.mean_angle_deg = r.cells_mean_angle_deg;
-  o.area_cv = r.area_cv, o.area_variance = r.area_variance;
-  o.area_cv_vertex = r.area_cv_vertex, o.area_variance_vertex = r.area_variance_vertex;
-  o.empty_cells = r.empty_cells, o.unreached_vertices = r.unreached, o.fallback_faces = r.fallback_faces;
-  o.flips = r.flips, o.smoothing_moves = r.smoothing_moves, o.boundary_moves = r.boundary_moves;
-  o.requested = r.requested, o.delivered = r.delivered, o.repair_sites = r.repair_sites;
-  o.removed_sites = r.removed_sites, o.density_passes = r.density_passes, o.geodesic_rounds = r.geodesic_rounds;
+  o.unreached_vertices = r.unreached;
   const locus::CvtDefects& d = r.defects_left;
   o.defects_left = d.split_cells + d.non_disk_cells + d.split_interfaces + d.loop_interfaces +
                    d.boundary_interfaces + d.repeated_corners + d.split_boundary_runs + d.short_boundary_loops;
@@ -74,24 +50,8 @@ void fill_report(const locus::CvtReport& r, locus_cvt_report& o) {
 extern "C" {
 
 locus_cvt_options locus_cvt_options_default(void) {
-  const locus::CvtRequest d;
-  locus_cvt_options o;
-  std::memset(&o, 0, sizeof o);  // strings NULL: the request's defaults
-  o.sites = d.sites;
-  o.iters = d.iters;
-  o.stop_energy = d.stop_energy;
-  o.anisotropy = d.anisotropy;
-  o.no_refine = d.no_refine;
-  o.fit_rings = d.fit_rings;
-  o.fit_sigma = d.fit_sigma;
-  o.no_split = d.no_split;
-  o.repair_rounds = d.repair_rounds;
-  o.refinements = d.refinements;
-  o.optimize = d.optimize;
-  o.no_hausdorff = d.no_hausdorff;
-  o.track_quality = d.track_quality;
-  o.seed = d.seed;
-  return o;
+  // strings NULL: the request's defaults
+  return LOCUS_C_DEFAULTS(locus_cvt_options, locus::CvtRequest, LOCUS_CVT_NUMBERS);
 }
 
 locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,

@@ -8,9 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 
 using namespace locus::c_api_detail;
+
+// The timings of the operator and its factorization, as the reports name them.
+#define LOCUS_FACTOR_TIMES operator_s, order_s, analyze_s, numeric_s
 
 namespace {
 
@@ -18,15 +22,12 @@ namespace {
 template <class Request, class Options>
 void set_signature_options(Request& q, const Options& o) {
   q.vertices = ids(o.vertices, o.n_vertices, "vertices");
-  q.all = o.all != 0;
-  q.method = text(o.method, q.method);
-  q.save = text(o.save, "");
-  q.load = text(o.load, "");
+  LOCUS_COPY_FIELDS(q, o, all, method, save, load);
 }
 
 locus::AdfRequest request_of(const locus_adf_options& o) {
   locus::AdfRequest q;
-  q.t = text(o.t, q.t);
+  LOCUS_COPY_FIELDS(q, o, t);
   set_signature_options(q, o);
   return q;
 }
@@ -49,11 +50,7 @@ void copy_signature(const locus::HeatSignatureReport& r, double* out, double* ou
   if (!rep) return;
   std::memset(rep, 0, sizeof *rep);
   rep->evaluated = static_cast<int64_t>(r.count());
-  rep->h = r.h;
-  rep->nnz_L = r.nnz_L;
-  rep->supernodes = r.supernodes, rep->etree_height = r.etree_height;
-  rep->operator_s = r.operator_s, rep->order_s = r.order_s, rep->analyze_s = r.analyze_s;
-  rep->numeric_s = r.numeric_s, rep->query_s = r.query_s;
+  LOCUS_COPY_FIELDS(*rep, r, h, nnz_L, supernodes, etree_height, LOCUS_FACTOR_TIMES, query_s);
 }
 
 }  // namespace
@@ -61,24 +58,16 @@ void copy_signature(const locus::HeatSignatureReport& r, double* out, double* ou
 extern "C" {
 
 locus_adf_options locus_adf_options_default(void) {
-  locus_adf_options o;
-  std::memset(&o, 0, sizeof o);
-  o.all = locus::AdfRequest{}.all ? 1 : 0;
-  return o;  // t, method NULL: the request's defaults
+  // t, method NULL: the request's defaults
+  return LOCUS_C_DEFAULTS(locus_adf_options, locus::AdfRequest, all);
 }
 
 locus_hks_options locus_hks_options_default(void) {
-  locus_hks_options o;
-  std::memset(&o, 0, sizeof o);
-  o.all = locus::HksRequest{}.all ? 1 : 0;
-  return o;
+  return LOCUS_C_DEFAULTS(locus_hks_options, locus::HksRequest, all);
 }
 
 locus_heat_options locus_heat_options_default(void) {
-  locus_heat_options o;
-  std::memset(&o, 0, sizeof o);
-  o.repeat = locus::HeatRequest{}.repeat;
-  return o;
+  return LOCUS_C_DEFAULTS(locus_heat_options, locus::HeatRequest, repeat);
 }
 
 locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out, double* out_t,
@@ -116,22 +105,14 @@ locus_status locus_heat_run(locus_session* session, const locus_heat_options* op
     locus::HeatRequest q;
     q.source = ids(options->source, options->n_source, "source");
     q.target = ids(options->target, options->n_target, "target");
-    q.t = text(options->t, q.t);
-    q.method = text(options->method, q.method);
-    q.repeat = options->repeat;
-    q.save = text(options->save, "");
-    q.load = text(options->load, "");
+    LOCUS_COPY_FIELDS(q, *options, t, method, repeat, save, load);
     const locus::HeatReport r = s.heat(q, cc.ctx);
     std::copy(r.values.begin(), r.values.end(), out_targets);
     if (!out_report) return;
     locus_heat_report& o = *out_report;
     std::memset(&o, 0, sizeof o);
-    o.t = r.t, o.h = r.h, o.total = r.total;
-    o.nnz_L = r.nnz_L;
-    o.etree_height = r.etree_height;
-    o.forward_columns = r.forward_columns, o.backward_columns = r.backward_columns;
-    o.operator_s = r.operator_s, o.order_s = r.order_s, o.analyze_s = r.analyze_s, o.numeric_s = r.numeric_s;
-    o.query_s = r.query_s, o.plan_s = r.plan_s, o.solve_s = r.solve_s;
+    LOCUS_COPY_FIELDS(o, r, t, h, total, nnz_L, etree_height, forward_columns, backward_columns,
+                      LOCUS_FACTOR_TIMES, query_s, plan_s, solve_s);
   });
 }
 
@@ -161,16 +142,13 @@ locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_opt
     q.sites = ids(options->sites, options->n_sites, "sites");
     q.point.face = options->point.face;
     for (int k = 0; k < 3; ++k) q.point.bary[k] = options->point.bary[k];
-    q.t = text(options->t, q.t);
+    LOCUS_COPY_FIELDS(q, *options, t);
     const locus::NncoordsReport r = s.nncoords(q, cc.ctx);
     std::copy(r.weights.begin(), r.weights.end(), out_weights);
     if (!out_report) return;
     locus_nncoords_report& o = *out_report;
     std::memset(&o, 0, sizeof o);
-    o.cell_area = r.cell_area, o.clamped = r.clamped, o.t = r.t;
-    o.at_site = r.at_site ? 1 : 0, o.degenerate = r.degenerate ? 1 : 0;
-    o.fallback_faces = r.fallback_faces;
-    o.prepare_s = r.prepare_s, o.query_s = r.query_s;
+    LOCUS_COPY_FIELDS(o, r, cell_area, clamped, t, at_site, degenerate, fallback_faces, prepare_s, query_s);
   });
 }
 

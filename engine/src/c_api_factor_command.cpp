@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 #include "locus/engine/factor_request.hpp"
 
@@ -14,12 +15,8 @@ using namespace locus::c_api_detail;
 extern "C" {
 
 locus_factor_options locus_factor_options_default(void) {
-  const locus::FactorCommandRequest d;
-  locus_factor_options o;
-  std::memset(&o, 0, sizeof o);
-  o.repeat = d.repeat;
-  o.seed = d.seed;
-  return o;  // matrix NULL: the request's "heat"; t NULL: h^2
+  // matrix NULL: the request's "heat"; t NULL: h^2
+  return LOCUS_C_DEFAULTS(locus_factor_options, locus::FactorCommandRequest, repeat, seed);
 }
 
 locus_status locus_factor_run(locus_session* session, const locus_factor_options* options, double* out_x,
@@ -30,25 +27,15 @@ locus_status locus_factor_run(locus_session* session, const locus_factor_options
     CallContext cc(opts);
     no_run_time(cc);
     locus::FactorCommandRequest q;
-    if (options->matrix && options->matrix[0]) q.matrix = options->matrix;
-    if (options->t) q.t = options->t;
-    q.repeat = options->repeat;
-    if (options->save) q.save = options->save;
-    if (options->load) q.load = options->load;
-    q.seed = options->seed;
+    LOCUS_COPY_FIELDS(q, *options, repeat, seed, matrix, t, save, load);
     const locus::FactorCommandReport r = s.factor(q, cc.ctx);
     if (out_x) std::copy(r.x.begin(), r.x.end(), out_x);
     if (!out_report) return;
     locus_factor_report& o = *out_report;
     std::memset(&o, 0, sizeof o);
-    o.n = r.n, o.repeats = r.repeats;
-    o.nnz_A = r.nnz_A, o.nnz_L = r.nnz_L, o.nnz_L_exact = r.nnz_L_exact;
-    o.supernodes = r.supernodes, o.etree_height = r.etree_height, o.super_etree_height = r.super_etree_height;
-    o.flops = r.flops;
-    o.t = r.t, o.h = r.h;
-    o.residual = r.residual, o.residual8 = r.residual8, o.lane0_vs_solve = r.lane0_vs_solve;
-    o.operator_s = r.operator_s, o.order_s = r.order_s, o.symbolic_s = r.symbolic_s, o.numeric_s = r.numeric_s;
-    o.solve_s = r.solve_s, o.solve8_s = r.solve8_s;
+    LOCUS_COPY_FIELDS(o, r, n, repeats, nnz_A, nnz_L, nnz_L_exact, supernodes, etree_height, super_etree_height,
+                      flops, t, h, residual, residual8, lane0_vs_solve, operator_s, order_s, symbolic_s, numeric_s,
+                      solve_s, solve8_s);
     o.load_s = r.factor_cache.load_s, o.save_s = r.factor_cache.save_s;
   });
 }

@@ -1,5 +1,6 @@
 // The C API's heat-method calls (locus.h): geodesic distance from one vertex
 // or a set of points, log maps, the valid mask.
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 
 #include <algorithm>
@@ -11,6 +12,11 @@
 #include <vector>
 
 using namespace locus::c_api_detail;
+
+// What the geodesic and logmap reports share: the time, the farthest distance,
+// the underflow diagnosis and the timings.
+#define LOCUS_HEAT_REPORT_FIELDS \
+  t_factor, t, h, max_distance, heat_underflow_vertices, t_avoiding_underflow, precompute_s, patch_s, query_s
 
 namespace {
 
@@ -29,39 +35,22 @@ void set_time(std::string& t, std::optional<double>& t_factor, const char* t_tex
 
 locus::GeodesicRequest request_of(const locus_geodesic_options& o, const CallContext& cc) {
   locus::GeodesicRequest q;
-  q.source = o.source;
-  q.fraction = o.fraction;
+  LOCUS_COPY_FIELDS(q, o, source, fraction, save, load);
   set_time(q.t, q.t_factor, o.t, o.t_factor, cc);
-  q.save = text(o.save);
-  q.load = text(o.load);
   return q;
 }
 
 locus::LogmapRequest request_of(const locus_logmap_options& o, const CallContext& cc) {
   locus::LogmapRequest q;
-  q.center = o.center;
-  q.fraction = o.fraction;
+  LOCUS_COPY_FIELDS(q, o, center, fraction, method, angle, lattice, recenter, clip_injective, save, load);
   set_time(q.t, q.t_factor, o.t, o.t_factor, cc);
-  q.method = text(o.method, q.method.c_str());
-  q.angle = text(o.angle, q.angle.c_str());
-  q.lattice = text(o.lattice, q.lattice.c_str());
-  q.recenter = text(o.recenter, q.recenter.c_str());
-  q.clip_injective = o.clip_injective != 0;
-  q.save = text(o.save);
-  q.load = text(o.load);
   return q;
 }
 
 locus_geodesic_report report_of(const locus::GeodesicReport& r) {
   locus_geodesic_report o;
   std::memset(&o, 0, sizeof o);
-  o.patch_size = r.patch_size;
-  o.t_factor = r.t_factor, o.t = r.t, o.h = r.h;
-  o.max_distance = r.max_distance;
-  o.unreachable = r.unreachable;
-  o.heat_underflow_vertices = r.heat_underflow_vertices;
-  o.t_avoiding_underflow = r.t_avoiding_underflow;
-  o.precompute_s = r.precompute_s, o.patch_s = r.patch_s, o.query_s = r.query_s;
+  LOCUS_COPY_FIELDS(o, r, patch_size, unreachable, LOCUS_HEAT_REPORT_FIELDS);
   return o;
 }
 
@@ -69,16 +58,8 @@ locus_logmap_report report_of(const locus::LogmapReport& r) {
   locus_logmap_report o;
   std::memset(&o, 0, sizeof o);
   o.patch_size = static_cast<int64_t>(r.patch.size());
-  o.t_factor = r.t_factor, o.t = r.t, o.h = r.h;
-  o.max_distance = r.max_distance;
-  o.flipped = r.flipped;
-  o.injectivity_radius = r.injectivity_radius;
-  o.clipped_vertices = r.clipped_vertices;
-  o.sources = r.sources, o.batches = r.batches, o.passes = r.passes, o.angle_fallbacks = r.angle_fallbacks;
-  o.two_ring = r.two_ring ? 1 : 0, o.recentered = r.recentered ? 1 : 0;
-  o.heat_underflow_vertices = r.heat_underflow_vertices;
-  o.t_avoiding_underflow = r.t_avoiding_underflow;
-  o.precompute_s = r.precompute_s, o.patch_s = r.patch_s, o.query_s = r.query_s;
+  LOCUS_COPY_FIELDS(o, r, flipped, injectivity_radius, clipped_vertices, sources, batches, passes, angle_fallbacks,
+                    two_ring, recentered, LOCUS_HEAT_REPORT_FIELDS);
   return o;
 }
 
@@ -87,22 +68,12 @@ locus_logmap_report report_of(const locus::LogmapReport& r) {
 extern "C" {
 
 locus_geodesic_options locus_geodesic_options_default(void) {
-  const locus::GeodesicRequest d;
-  locus_geodesic_options o;
-  std::memset(&o, 0, sizeof o);
-  o.source = d.source;
-  o.fraction = d.fraction;
-  return o;
+  return LOCUS_C_DEFAULTS(locus_geodesic_options, locus::GeodesicRequest, source, fraction);
 }
 
 locus_logmap_options locus_logmap_options_default(void) {
-  const locus::LogmapRequest d;
-  locus_logmap_options o;
-  std::memset(&o, 0, sizeof o);
-  o.center = d.center;
-  o.fraction = d.fraction;
-  o.clip_injective = d.clip_injective ? 1 : 0;
-  return o;  // method, angle, lattice, recenter NULL: the request's defaults
+  // method, angle, lattice, recenter NULL: the request's defaults
+  return LOCUS_C_DEFAULTS(locus_logmap_options, locus::LogmapRequest, center, fraction, clip_injective);
 }
 
 locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,

@@ -8,22 +8,22 @@
 #include <limits>
 #include <string>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 
 using namespace locus::c_api_detail;
 
+// The numeric options of each command (its strings are NULL in the C defaults).
+#define LOCUS_DEFORM_NUMBERS roi_seed, roi_fraction, handle, handle_ring, regularization
+#define LOCUS_PARAM_NUMBERS iters, eps, center, fraction
+#define LOCUS_PERFECT_LAPLACIAN_NUMBERS planar, iters, eps, anderson, no_active_set, noise, seed
+#define LOCUS_SELFSUPPORT_NUMBERS load_density, iters, eps
+
 extern "C" {
 
 locus_deform_options locus_deform_options_default(void) {
-  const locus::DeformCommandRequest d;
-  locus_deform_options o;
-  std::memset(&o, 0, sizeof o);
-  o.roi_seed = d.roi_seed;
-  o.roi_fraction = d.roi_fraction;
-  o.handle = d.handle;
-  o.handle_ring = d.handle_ring;
-  o.regularization = d.regularization;
-  return o;  // energy NULL: the request's default
+  // energy NULL: the request's default
+  return LOCUS_C_DEFAULTS(locus_deform_options, locus::DeformCommandRequest, LOCUS_DEFORM_NUMBERS);
 }
 
 locus_status locus_deform_run(locus_session* session, const locus_deform_options* options, double* out_xyz,
@@ -35,26 +35,16 @@ locus_status locus_deform_run(locus_session* session, const locus_deform_options
     CallContext cc(opts);
     if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: deform has no diffusion time");
     locus::DeformCommandRequest q;
-    q.roi_seed = options->roi_seed;
-    q.roi_fraction = options->roi_fraction;
-    q.handle = options->handle;
-    q.handle_ring = options->handle_ring;
+    LOCUS_COPY_FIELDS(q, *options, LOCUS_DEFORM_NUMBERS, energy, save, load);
     q.offset = {options->offset[0], options->offset[1], options->offset[2]};
-    if (options->energy && options->energy[0]) q.energy = options->energy;
-    q.regularization = options->regularization;
-    if (options->save) q.save = options->save;
-    if (options->load) q.load = options->load;
     const locus::DeformCommandReport r = s.deform(q, cc.ctx);
     std::copy(r.xyz.begin(), r.xyz.end(), out_xyz);
     if (!out_report) return;
     locus_deform_report& o = *out_report;
     std::memset(&o, 0, sizeof o);
-    o.roi_vertices = r.roi_vertices, o.handle_vertices = r.handle_vertices, o.free_vertices = r.free_vertices;
-    o.columns_updated_fraction = r.columns_updated_fraction;
-    o.refinement_steps = r.refinement_steps;
-    o.residual = r.residual, o.max_displacement = r.max_displacement;
+    LOCUS_COPY_FIELDS(o, r, roi_vertices, handle_vertices, free_vertices, columns_updated_fraction,
+                      refinement_steps, residual, max_displacement, update_s, solve_s);
     o.global_factor_s = r.order_s + r.analyze_s + r.factor_s;
-    o.update_s = r.update_s, o.solve_s = r.solve_s;
   });
 }
 
@@ -64,14 +54,8 @@ locus_status locus_deform_run(locus_session* session, const locus_deform_options
 extern "C" {
 
 locus_param_options locus_param_options_default(void) {
-  const locus::ParamRequest d;
-  locus_param_options o;
-  std::memset(&o, 0, sizeof o);
-  o.iters = d.iters;
-  o.eps = d.eps;
-  o.center = d.center;
-  o.fraction = d.fraction;
-  return o;  // method, boundary NULL: the request's defaults
+  // method, boundary NULL: the request's defaults
+  return LOCUS_C_DEFAULTS(locus_param_options, locus::ParamRequest, LOCUS_PARAM_NUMBERS);
 }
 
 locus_status locus_param_run(locus_session* session, const locus_param_options* options, double* out_uv,
@@ -83,14 +67,7 @@ locus_status locus_param_run(locus_session* session, const locus_param_options* 
     CallContext cc(opts);
     if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: param has no diffusion time");
     locus::ParamRequest q;
-    if (options->method && options->method[0]) q.method = options->method;
-    q.iters = options->iters;
-    q.eps = options->eps;
-    q.center = options->center;
-    q.fraction = options->fraction;
-    if (options->boundary && options->boundary[0]) q.boundary = options->boundary;
-    if (options->save) q.save = options->save;
-    if (options->load) q.load = options->load;
+    LOCUS_COPY_FIELDS(q, *options, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
     const locus::ParamReport r = s.param(q, cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     if (q.center < 0) {
@@ -106,10 +83,8 @@ locus_status locus_param_run(locus_session* session, const locus_param_options* 
     locus_param_report& o = *out_report;
     std::memset(&o, 0, sizeof o);
     o.patch_size = q.center < 0 ? static_cast<int64_t>(n) : static_cast<int64_t>(r.patch_vertices.size());
-    o.flipped_faces = r.flipped_faces, o.degenerate_faces = r.degenerate_faces;
-    o.negative_weights = r.negative_weights;
-    o.boundary_vertices = r.boundary_vertices;
-    o.converged = r.converged ? 1 : 0, o.iterations = r.iterations;
+    LOCUS_COPY_FIELDS(o, r, flipped_faces, degenerate_faces, negative_weights, boundary_vertices, converged,
+                      iterations);
     o.query_s = q.center < 0 ? r.param_s : r.query_s;
   });
 }
@@ -121,17 +96,9 @@ locus_status locus_param_run(locus_session* session, const locus_param_options* 
 extern "C" {
 
 locus_perfect_laplacian_options locus_perfect_laplacian_options_default(void) {
-  const locus::PerfectLaplacianCommandRequest d;
-  locus_perfect_laplacian_options o;
-  std::memset(&o, 0, sizeof o);
-  o.planar = d.planar ? 1 : 0;
-  o.iters = d.iters;
-  o.eps = d.eps;
-  o.anderson = d.anderson;
-  o.no_active_set = d.no_active_set ? 1 : 0;
-  o.noise = d.noise;
-  o.seed = d.seed;
-  return o;  // method NULL: the request's default
+  // method NULL: the request's default
+  return LOCUS_C_DEFAULTS(locus_perfect_laplacian_options, locus::PerfectLaplacianCommandRequest,
+                          LOCUS_PERFECT_LAPLACIAN_NUMBERS);
 }
 
 locus_status locus_perfect_laplacian_run(locus_session* session, const locus_perfect_laplacian_options* options,
@@ -142,14 +109,7 @@ locus_status locus_perfect_laplacian_run(locus_session* session, const locus_per
     require(options != nullptr, "options is NULL");
     CallContext cc(opts);
     locus::PerfectLaplacianCommandRequest q;
-    q.planar = options->planar != 0;
-    q.iters = options->iters;
-    q.eps = options->eps;
-    if (options->method && options->method[0]) q.method = options->method;
-    q.anderson = options->anderson;
-    q.no_active_set = options->no_active_set != 0;
-    q.noise = options->noise;
-    q.seed = options->seed;
+    LOCUS_COPY_FIELDS(q, *options, LOCUS_PERFECT_LAPLACIAN_NUMBERS, method);
     const locus::PerfectLaplacianCommandReport r = s.perfect_laplacian(q, cc.ctx);
     copy_edges(r.edges, r.weights, r.xyz, out_edges, out_weights, out_xyz);
     if (out_converged) *out_converged = r.converged ? 1 : 0;
@@ -157,13 +117,8 @@ locus_status locus_perfect_laplacian_run(locus_session* session, const locus_per
 }
 
 locus_selfsupport_options locus_selfsupport_options_default(void) {
-  const locus::SelfSupportCommandRequest d;
-  locus_selfsupport_options o;
-  std::memset(&o, 0, sizeof o);
-  o.load_density = d.load_density;
-  o.iters = d.iters;
-  o.eps = d.eps;
-  return o;  // support NULL: the request's default
+  // support NULL: the request's default
+  return LOCUS_C_DEFAULTS(locus_selfsupport_options, locus::SelfSupportCommandRequest, LOCUS_SELFSUPPORT_NUMBERS);
 }
 
 locus_status locus_selfsupport_run(locus_session* session, const locus_selfsupport_options* options,
@@ -174,10 +129,7 @@ locus_status locus_selfsupport_run(locus_session* session, const locus_selfsuppo
     require(options != nullptr, "options is NULL");
     CallContext cc(opts);
     locus::SelfSupportCommandRequest q;
-    if (options->support && options->support[0]) q.support = options->support;
-    q.load_density = options->load_density;
-    q.iters = options->iters;
-    q.eps = options->eps;
+    LOCUS_COPY_FIELDS(q, *options, LOCUS_SELFSUPPORT_NUMBERS, support);
     const locus::SelfSupportCommandReport r = s.self_supporting(q, cc.ctx);
     copy_edges(r.edges, r.forces, r.xyz, out_edges, out_forces, out_xyz);
     if (out_converged) *out_converged = r.converged ? 1 : 0;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 #include "locus/engine/skinning_requests.hpp"
 
@@ -40,9 +41,7 @@ locus::SkinningRequest skinning_request_of(const locus_skinweights_options& o) {
     require(a >= 0 && b >= a && b - a <= kMaxVertices, "bone_offsets are not ascending");
     q.bone.emplace_back(o.bone + 3 * a, o.bone + 3 * b);
   }
-  q.exact = o.exact != 0;
-  q.samples = o.samples;
-  q.t = o.t ? std::string(o.t) : std::string();
+  LOCUS_COPY_FIELDS(q, o, exact, samples, t);
   return q;
 }
 
@@ -60,17 +59,9 @@ locus_status locus_skinweights_run(locus_session* session, const locus_skinweigh
     if (out_report) {
       locus_skinweights_report o;
       std::memset(&o, 0, sizeof o);
-      o.handles = r.handles;
       o.exact = r.method == "exact" ? 1 : 0;
-      o.samples = r.samples;
-      o.sample_rings = r.sample_rings;
-      o.radius = r.radius;
-      o.t = r.t;
-      o.degenerate_vertices = r.degenerate_vertices;
-      o.factor_s = r.factor_s;
-      o.prepare_s = r.prepare_s;
-      o.weights_s = r.weights_s;
-      o.propagate_s = r.propagate_s;
+      LOCUS_COPY_FIELDS(o, r, handles, samples, sample_rings, radius, t, degenerate_vertices, factor_s, prepare_s,
+                        weights_s, propagate_s);
       *out_report = o;
     }
   });

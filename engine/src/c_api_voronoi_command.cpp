@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "field_copy.hpp"
 #include "c_api_support.hpp"
 #include "locus/engine/voronoi_request.hpp"
 
@@ -14,12 +15,8 @@ using namespace locus::c_api_detail;
 extern "C" {
 
 locus_voronoi_options locus_voronoi_options_default(void) {
-  const locus::VoronoiCommandRequest d;
-  locus_voronoi_options o;
-  std::memset(&o, 0, sizeof o);
-  o.random = d.random;
-  o.seed = d.seed;
-  return o;  // t NULL: the request's "h2"
+  // t NULL: the request's "h2"
+  return LOCUS_C_DEFAULTS(locus_voronoi_options, locus::VoronoiCommandRequest, random, seed);
 }
 
 locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options, int32_t* out_labels,
@@ -38,11 +35,7 @@ locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_optio
       require(options->sites != nullptr, "sites is NULL");
       q.sites.assign(options->sites, options->sites + options->n_sites);
     }
-    q.random = options->random;
-    if (options->t && options->t[0]) q.t = options->t;
-    if (options->save) q.save = options->save;
-    if (options->load) q.load = options->load;
-    q.seed = options->seed;
+    LOCUS_COPY_FIELDS(q, *options, random, seed, t, save, load);
     const locus::VoronoiCommandReport r = s.voronoi(q, cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels);
     if (!out_report) return;
@@ -50,9 +43,8 @@ locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_optio
     std::memset(&o, 0, sizeof o);
     o.generators = static_cast<int64_t>(r.site_xyz.size() / 3);
     o.points = static_cast<int64_t>(r.points.size() / 3);
-    o.segments = r.segments, o.polylines = static_cast<int64_t>(r.polylines.size()), o.corners = r.corners;
-    o.empty_cells = r.empty_cells, o.vertices_without_heat = r.vertices_without_heat;
-    o.h = r.h, o.t = r.t;
+    o.polylines = static_cast<int64_t>(r.polylines.size());
+    LOCUS_COPY_FIELDS(o, r, segments, corners, empty_cells, vertices_without_heat, h, t);
   });
 }
 

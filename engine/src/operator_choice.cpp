@@ -1,6 +1,6 @@
 // The mesh-level operator choice (engine/include/locus/engine/operator_choice.hpp).
 #include "locus/engine/operator_choice.hpp"
-
+#include "field_copy.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_defects.hpp"
 
@@ -53,18 +53,10 @@ OperatorReport report_of(const MeshDefects& d, OperatorChoice choice) {
   OperatorReport r;
   r.asked = choice;
   r.checked = true;
-  r.non_manifold_edges = d.non_manifold_edges;
-  r.non_manifold_vertices = d.non_manifold_vertices;
-  r.zero_area_faces = d.zero_area_faces;
-  r.needle_faces = d.needle_faces;
-  r.inconsistent_orientation_edges = d.inconsistent_orientation_edges;
-  r.unreferenced_vertices = d.unreferenced_vertices;
-  r.first_non_manifold_edge_v0 = d.first_non_manifold_edge_v0;
-  r.first_non_manifold_edge_v1 = d.first_non_manifold_edge_v1;
-  r.first_non_manifold_vertex = d.first_non_manifold_vertex;
-  r.first_zero_area_face = d.first_zero_area_face;
-  r.first_needle_face = d.first_needle_face;
-  r.first_unreferenced_vertex = d.first_unreferenced_vertex;
+  LOCUS_COPY_FIELDS(r, d, non_manifold_edges, non_manifold_vertices, zero_area_faces, needle_faces,
+                    inconsistent_orientation_edges, unreferenced_vertices, first_non_manifold_edge_v0,
+                    first_non_manifold_edge_v1, first_non_manifold_vertex, first_zero_area_face, first_needle_face,
+                    first_unreferenced_vertex);
   r.robust = choice == OperatorChoice::Robust || d.any();
   return r;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "field_copy.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/skinning_requests.hpp"
 #include "locus/error.hpp"
@@ -100,20 +101,12 @@ SkinningReport Session::skinning(const SkinningRequest& req, const RunContext& c
     r.t = H->t;
     progress.finish("skinning weights");
   }
-  r.handles = W.handles;
   r.weight = W.weight;
   r.handle_vertices = sets;
   r.method = W.method;
-  r.samples = W.samples;
-  r.sample_rings = W.sample_rings;
-  r.radius = W.radius;
   r.degenerate_vertices = W.degenerate;
-  r.fallback_faces = W.fallback_faces;
-  r.max_clamped = W.max_clamped;
-  r.coarse_vertices = W.coarse_vertices;
-  r.prepare_s = W.prepare_s;
-  r.weights_s = W.weights_s;
-  r.propagate_s = W.propagate_s;
+  LOCUS_COPY_FIELDS(r, W, handles, samples, sample_rings, radius, fallback_faces, max_clamped, coarse_vertices,
+                    prepare_s, weights_s, propagate_s);
   return r;
 }
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <string>
 
+#include "field_copy.hpp"
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
@@ -117,11 +118,9 @@ SkinningWeightsResult Session::skinning_weights(ConstView<MeshPoint> handles, co
   ctx.check_cancel();
   const SkinningWeights W = locus::skinning_weights(*H, s->mesh, pts, progress.query());
   SkinningWeightsResult r;
-  r.handles = W.handles;
   r.weight = W.weight;
   r.degenerate_vertices = W.degenerate;
-  r.fallback_faces = W.fallback_faces;
-  r.max_clamped = W.max_clamped;
+  LOCUS_COPY_FIELDS(r, W, handles, fallback_faces, max_clamped);
   progress.finish("skinning weights");
   return r;
 }

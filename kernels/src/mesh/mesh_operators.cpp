@@ -184,25 +184,29 @@ CscMatrix regularized_laplacian(const Mesh& m, double rel, const EdgeIncidence* 
   return std::move(A);
 }
 
+std::array<double, 3> face_vector_area(const Mesh& m, int32_t f) {
+  const auto fv = m.face(f);
+  const int32_t o = fv[0];
+  double ax = 0, ay = 0, az = 0;
+  for (size_t c = 1; c + 1 < fv.size(); ++c) {
+    const int32_t p = fv[c], q = fv[c + 1];
+    const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
+    const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
+    ax += uy * wz - uz * wy;
+    ay += uz * wx - ux * wz;
+    az += ux * wy - uy * wx;
+  }
+  return {ax, ay, az};
+}
+
 HostVector<double> area_weighted_normals(const Mesh& m) {
   validate_mesh_arrays(m);
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
   HostVector<double> n(3 * static_cast<size_t>(nv), 0.0);
   const int32_t* fv = m.face_vertices.data();
   for (int32_t f = 0; f < nf; ++f) {
-    // Vector area (twice the area times the unit normal; for polygons the sum over a fan,
-    // which is the exact vector area of a planar polygon).
+    const auto [ax, ay, az] = face_vector_area(m, f);
     const int32_t b = m.face_offsets[f], e = m.face_offsets[f + 1];
-    const int32_t o = fv[b];
-    double ax = 0, ay = 0, az = 0;
-    for (int32_t c = b + 1; c + 1 < e; ++c) {
-      const int32_t p = fv[c], q = fv[c + 1];
-      const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
-      const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
-      ax += uy * wz - uz * wy;
-      ay += uz * wx - ux * wz;
-      az += ux * wy - uy * wx;
-    }
     for (int32_t c = b; c < e; ++c) {
       const size_t v = static_cast<size_t>(fv[c]);
       n[3 * v] += ax;

@@ -7,6 +7,7 @@
 
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/polygon_laplacian.hpp"
 
 namespace locus {
@@ -36,16 +37,7 @@ std::vector<double> dead_load(const Mesh& m, double load_density, const std::vec
   std::vector<double> load(static_cast<size_t>(m.num_vertices()), 0.0);
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const auto fv = m.face(f);
-    const int32_t o = fv[0];
-    double ax = 0, ay = 0, az = 0;
-    for (size_t c = 1; c + 1 < fv.size(); ++c) {
-      const int32_t p = fv[c], q = fv[c + 1];
-      const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
-      const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
-      ax += uy * wz - uz * wy;
-      ay += uz * wx - ux * wz;
-      az += ux * wy - uy * wx;
-    }
+    const auto [ax, ay, az] = face_vector_area(m, f);
     const double area = 0.5 * std::sqrt(ax * ax + ay * ay + az * az);
     for (int32_t v : fv) load[v] += load_density * area / static_cast<double>(fv.size());
   }

@@ -9,6 +9,7 @@
 // All matrices are stored as the lower triangle (CscMatrix) with the SAME pattern
 // (diagonal + every unique edge), so they can be combined value-wise.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "locus/mesh.hpp"
@@ -43,6 +44,10 @@ CscMatrix heat_operator(const Mesh& m, double t, const EdgeIncidence* inc = null
 constexpr double kLaplacianRegularization = 1e-6;
 CscMatrix regularized_laplacian(const Mesh& m, double rel = kLaplacianRegularization, const EdgeIncidence* inc = nullptr);
 
+// The vector area of face f: twice its area times its unit normal; for a
+// polygon the sum over the fan from its first corner, the exact vector area
+// of a planar polygon.
+std::array<double, 3> face_vector_area(const Mesh& m, int32_t f);
 // Per-vertex normals, unit length, 3*nv interleaved (x,y,z): the normalized sum of the
 // vector areas of the incident faces (polygon faces allowed here); 0 at unreferenced
 // vertices.
