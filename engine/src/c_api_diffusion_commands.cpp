@@ -72,11 +72,8 @@ locus_heat_options locus_heat_options_default(void) {
 
 locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out, double* out_t,
                            locus_signature_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_adf_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_adf_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
-    CallContext cc(opts);
     no_run_time(cc);
     copy_signature(s.adf(request_of(*options), cc.ctx), out, out_t, out_report);
   });
@@ -84,11 +81,8 @@ locus_status locus_adf_run(locus_session* session, const locus_adf_options* opti
 
 locus_status locus_hks_run(locus_session* session, const locus_hks_options* options, double* out, double* out_t,
                            locus_signature_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_hks_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_hks_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
-    CallContext cc(opts);
     no_run_time(cc);
     copy_signature(s.hks(request_of(*options), cc.ctx), out, out_t, out_report);
   });
@@ -96,11 +90,8 @@ locus_status locus_hks_run(locus_session* session, const locus_hks_options* opti
 
 locus_status locus_heat_run(locus_session* session, const locus_heat_options* options, double* out_targets,
                             locus_heat_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_heat_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_heat_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_targets != nullptr, "out_targets is NULL");
-    CallContext cc(opts);
     no_run_time(cc);
     locus::HeatRequest q;
     q.source = ids(options->source, options->n_source, "source");
@@ -132,11 +123,8 @@ locus_nncoords_options locus_nncoords_options_default(void) {
 
 locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_options* options, double* out_weights,
                                 locus_nncoords_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_nncoords_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_nncoords_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_weights != nullptr, "out_weights is NULL");
-    CallContext cc(opts);
     no_run_time(cc);
     locus::NncoordsRequest q;
     q.sites = ids(options->sites, options->n_sites, "sites");

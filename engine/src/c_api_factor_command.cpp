@@ -21,10 +21,7 @@ locus_factor_options locus_factor_options_default(void) {
 
 locus_status locus_factor_run(locus_session* session, const locus_factor_options* options, double* out_x,
                               locus_factor_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_factor_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
-    CallContext cc(opts);
+  return command_run("locus_factor_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     no_run_time(cc);
     locus::FactorCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, repeat, seed, matrix, t, save, load);

@@ -78,11 +78,8 @@ locus_logmap_options locus_logmap_options_default(void) {
 
 locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
                                 locus_geodesic_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_geodesic_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_geodesic_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_nv != nullptr, "out_nv is NULL");
-    CallContext cc(opts);
     const locus::GeodesicReport r = s.geodesic(request_of(*options, cc), cc.ctx);
     std::copy(r.distance.begin(), r.distance.end(), out_nv);
     if (out_report) *out_report = report_of(r);
@@ -110,11 +107,8 @@ locus_status locus_geodesic_distance(locus_session* session, int64_t source, dou
 locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
                               double* out_distance, double* out_angle, locus_logmap_report* out_report,
                               const locus_run_options* opts) {
-  return guarded("locus_logmap_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_logmap_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_uv != nullptr, "out_uv is NULL");
-    CallContext cc(opts);
     const locus::LogmapReport r = s.logmap(request_of(*options, cc), cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     const double nan = std::numeric_limits<double>::quiet_NaN();

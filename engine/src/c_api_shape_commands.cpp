@@ -28,11 +28,8 @@ locus_deform_options locus_deform_options_default(void) {
 
 locus_status locus_deform_run(locus_session* session, const locus_deform_options* options, double* out_xyz,
                               locus_deform_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_deform_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_deform_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_xyz != nullptr, "out_xyz is NULL");
-    CallContext cc(opts);
     if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: deform has no diffusion time");
     locus::DeformCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_DEFORM_NUMBERS, energy, save, load);
@@ -60,11 +57,8 @@ locus_param_options locus_param_options_default(void) {
 
 locus_status locus_param_run(locus_session* session, const locus_param_options* options, double* out_uv,
                              locus_param_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_param_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_param_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_uv != nullptr, "out_uv is NULL");
-    CallContext cc(opts);
     if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: param has no diffusion time");
     locus::ParamRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
@@ -104,10 +98,7 @@ locus_perfect_laplacian_options locus_perfect_laplacian_options_default(void) {
 locus_status locus_perfect_laplacian_run(locus_session* session, const locus_perfect_laplacian_options* options,
                                          int32_t* out_edges, double* out_weights, double* out_xyz,
                                          int32_t* out_converged, const locus_run_options* opts) {
-  return guarded("locus_perfect_laplacian_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
-    CallContext cc(opts);
+  return command_run("locus_perfect_laplacian_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     locus::PerfectLaplacianCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_PERFECT_LAPLACIAN_NUMBERS, method);
     const locus::PerfectLaplacianCommandReport r = s.perfect_laplacian(q, cc.ctx);
@@ -124,10 +115,7 @@ locus_selfsupport_options locus_selfsupport_options_default(void) {
 locus_status locus_selfsupport_run(locus_session* session, const locus_selfsupport_options* options,
                                    int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
                                    const locus_run_options* opts) {
-  return guarded("locus_selfsupport_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
-    CallContext cc(opts);
+  return command_run("locus_selfsupport_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     locus::SelfSupportCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_SELFSUPPORT_NUMBERS, support);
     const locus::SelfSupportCommandReport r = s.self_supporting(q, cc.ctx);

@@ -93,6 +93,19 @@ struct CallContext {
 };
 
 locus::Session& session_of(locus_session* s);
+
+// The frame of every locus_<command>_run: the guard, the session, the options
+// (not NULL), the call's context; body(session, context) does the rest.
+template <class Options, class Body>
+locus_status command_run(const char* function, locus_session* session, const Options* options,
+                         const locus_run_options* opts, Body&& body) noexcept {
+  return guarded(function, [&] {
+    locus::Session& s = session_of(session);
+    require(options != nullptr, "options is NULL");
+    CallContext cc(opts);
+    body(s, cc);
+  });
+}
 // A C string option: `fallback` for NULL or "" (the request's default).
 std::string text(const char* s, const std::string& fallback = "");
 // A C id array (NULL with 0 allowed: an empty list) as a request's ids, at most kMaxHeatValues.

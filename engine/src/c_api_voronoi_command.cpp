@@ -21,11 +21,8 @@ locus_voronoi_options locus_voronoi_options_default(void) {
 
 locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options, int32_t* out_labels,
                                locus_voronoi_report* out_report, const locus_run_options* opts) {
-  return guarded("locus_voronoi_run", [&] {
-    locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
+  return command_run("locus_voronoi_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_labels != nullptr, "out_labels is NULL");
-    CallContext cc(opts);
     no_run_time(cc);
     locus::VoronoiCommandRequest q;
     if (options->n_sites < 0 || options->n_sites > kMaxVertices)

@@ -12,7 +12,7 @@
 // h the mean edge length) or an absolute time ("0.001"). Each command factors
 // M - t L_C for its times (one ordering and one symbolic factor for every t),
 // or loads the factors from `load`, and with `save` writes them: the files
-// `locus factor --operator heat`, `voronoi` and `cvt` read and write too.
+// `locus factor --matrix heat`, `voronoi` and `cvt` read and write too.
 #pragma once
 #include <cstdint>
 #include <string>
