@@ -142,6 +142,26 @@ int32_t locus_session_operator(const locus_session* session) {
   return session->session.operator_report().robust ? LOCUS_OPERATOR_ROBUST : LOCUS_OPERATOR_COTAN;
 }
 
+}  // extern "C"
+
+namespace {
+
+// What the triangle and the polygon view share: the positions and the index type.
+template <class View, class CView>
+View view_of(const CView& c) {
+  View v;
+  v.positions = c.positions;
+  v.position_type = static_cast<locus::ScalarType>(c.position_type);
+  v.position_stride = c.position_stride;
+  v.vertex_count = c.vertex_count;
+  v.index_type = static_cast<locus::IndexType>(c.index_type);
+  return v;
+}
+
+}  // namespace
+
+extern "C" {
+
 locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_session** out) {
   return locus_session_create_from_view_ex(view, nullptr, out);
 }
@@ -152,13 +172,8 @@ locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, cons
   return guarded("locus_session_create_from_view", [&] {
     require(out != nullptr, "out is NULL");
     require(view != nullptr, "view is NULL");
-    locus::MeshView v;
-    v.positions = view->positions;
-    v.position_type = static_cast<locus::ScalarType>(view->position_type);
-    v.position_stride = view->position_stride;
-    v.vertex_count = view->vertex_count;
+    locus::MeshView v = view_of<locus::MeshView>(*view);
     v.indices = view->indices;
-    v.index_type = static_cast<locus::IndexType>(view->index_type);
     v.index_stride = view->index_stride;
     v.triangle_count = view->triangle_count;
     *out = new locus_session(locus::Session(v, session_options_of(opt)));
@@ -170,14 +185,9 @@ locus_status locus_session_create_from_polygon_view(const locus_polygon_view* vi
   return guarded("locus_session_create_from_polygon_view", [&] {
     require(out != nullptr, "out is NULL");
     require(view != nullptr, "view is NULL");
-    locus::PolygonMeshView v;
-    v.positions = view->positions;
-    v.position_type = static_cast<locus::ScalarType>(view->position_type);
-    v.position_stride = view->position_stride;
-    v.vertex_count = view->vertex_count;
+    locus::PolygonMeshView v = view_of<locus::PolygonMeshView>(*view);
     v.face_offsets = view->face_offsets;
     v.face_indices = view->face_indices;
-    v.index_type = static_cast<locus::IndexType>(view->index_type);
     v.face_count = view->face_count;
     *out = new locus_session(locus::Session(v));
   });
