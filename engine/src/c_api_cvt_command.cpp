@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "session_state.hpp"
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 
 using namespace locus::c_api_detail;
 

@@ -1,7 +1,7 @@
 // The C API's heat-method calls (locus.h): geodesic distance from one vertex
 // or a set of points, log maps, the valid mask.
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 // session's mesh, copied out field by field.
 #include <cstring>
 
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/mesh_info.hpp"
 #include "mesh_info_fields.hpp"
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/skinning_requests.hpp"
 
 using namespace locus::c_api_detail;

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "field_copy.hpp"
 #include "c_api_support.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/voronoi_request.hpp"
 
 using namespace locus::c_api_detail;
