@@ -18,6 +18,7 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
+#include "locus/pipelines/voronoi/remesh_collapse.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
 #include "locus/pipelines/voronoi/site_neighborhoods.hpp"
@@ -199,6 +200,10 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
   r.dual_min_angle_deg = raw.min_angle_deg;
   if (o.optimize_rounds > 0) {
     const TriangleGrid grid(m);
+    // More than 1.5% above the request (repair sites where the topology
+    // needed them): the shortest interior edges collapse to it.
+    const int32_t want = o.lloyd.sites;
+    if (r.remesh.num_vertices() * 200 > want * 203) collapse_to_count(m, grid, r.remesh, want, r.vertex_site);
     RemeshOptimizeOptions oo;
     oo.rounds = o.optimize_rounds;
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);

@@ -294,7 +294,8 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // sum would otherwise pull them a little further every sweep and cut the
 // tips, docs/cvt.md), and, unless the ring is flat, no edge of the ring grows
 // longer than edge_growth times the ring's longest edge when the climb starts
-// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md). Returns the number of moves.
+// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md)
+// unless the ring's chord error does not grow. Returns the number of moves.
 // A ring whose triangles are all within 20 degrees of the vertex normal is
 // flat enough that a longer edge adds little chord error: the sum's climbs may
 // lengthen its edges (CAD faces: blade's mean smallest angle 49.4 -> 50.4
@@ -539,7 +540,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false, below, opt.tip_reach) > 0; ++sweep) {
     }
   }
-  if (hard_below > 0)
+  if (opt.angle_sweeps > 0 && hard_below > 0)
     for (int sweep = 0; sweep < opt.hard_sweeps && angle_sweep(false, hard_below, opt.hard_tip_reach) > 0; ++sweep) {
     }
   for (int32_t f = 0; f < remesh.num_faces(); ++f) {
