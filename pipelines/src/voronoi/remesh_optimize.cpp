@@ -372,7 +372,12 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
   double cur_sum = 0;
   double cur = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
   const double max_edge = by_sum && edge_growth > 0 && !flat ? edge_growth * ring_max_edge(m, F, vf, v, best) : HUGE_VAL;
-  const double max_chord = max_edge < HUGE_VAL ? ring_chord_error(grid, m, F, vf, v, best) : 0;
+  double max_chord = -1;  // the starting ring's chord error, computed when first needed
+  const V3 start = best;
+  auto chord_ok = [&](const V3& p) {
+    if (max_chord < 0) max_chord = ring_chord_error(grid, m, F, vf, v, start);
+    return ring_chord_error(grid, m, F, vf, v, p) <= max_chord;
+  };
   auto better = [&](double q, double q_sum) {
     if (q < 0) return false;
     if (!by_sum) return q > cur + 1e-9;
@@ -398,7 +403,7 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
         double q_sum = 0;
         const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
         if (better(q, q_sum) && !(max_edge < HUGE_VAL && ring_max_edge(m, F, vf, v, cp.point) > max_edge &&
-                                  ring_chord_error(grid, m, F, vf, v, cp.point) > max_chord)) {
+                                  !chord_ok(cp.point))) {
           cur = q;
           cur_sum = q_sum;
           improved = found = true;
