@@ -18,8 +18,10 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
+#include "locus/pipelines/voronoi/remesh_collapse.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
+#include "locus/pipelines/voronoi/remesh_split.hpp"
 #include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
@@ -189,6 +191,33 @@ void back_to_input(const Mesh& m, const std::deque<Mesh>& meshes, LloydResult& l
   l.voronoi = HeatVoronoi{};  // the diagram of a finer mesh
 }
 
+// Triangles below 25 degrees left by the optimization (a fan towards a
+// boundary loop far shorter than the edges): their longest edges split, up to
+// 1.5% above the request, and two optimization rounds; kept when the smallest
+// angle grew (remesh_split.hpp; ChineseDragon-10kv 20.9 -> 27.6 degrees).
+void split_and_reoptimize(const Mesh& m, const TriangleGrid& grid, int32_t want, RemeshOptimizeOptions oo,
+                          RemeshResult& r) {
+  constexpr double kBelow = 25;
+  const double before = remesh_stats(m, r.remesh, false).min_angle_deg;
+  const int32_t budget = want + 3 * want / 200 - r.remesh.num_vertices();
+  if (!(before < kBelow) || budget <= 0) return;
+  Mesh keep = r.remesh;
+  std::vector<int32_t> keep_site = r.vertex_site;
+  if (split_thin(grid, r.remesh, kBelow, budget, r.vertex_site) == 0) return;
+  oo.rounds = 2;
+  const RemeshOptimizeStats st = optimize_remesh(m, grid, r.remesh, oo);
+  if (remesh_stats(m, r.remesh, false).min_angle_deg > before) {
+    r.optimize.flips += st.flips;
+    r.optimize.moves += st.moves;
+    r.optimize.angle_moves += st.angle_moves;
+    r.optimize.boundary_moves += st.boundary_moves;
+    r.optimize.refused += st.refused;
+    return;
+  }
+  r.remesh = std::move(keep);
+  r.vertex_site = std::move(keep_site);
+}
+
 // The manifold dual, its raw angles and its optimization on the input.
 void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const RemeshOptions& o, BatchStopwatch& sw,
               RemeshResult& r) {
@@ -199,9 +228,14 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
   r.dual_min_angle_deg = raw.min_angle_deg;
   if (o.optimize_rounds > 0) {
     const TriangleGrid grid(m);
+    // More than 1.5% above the request (repair sites where the topology
+    // needed them): the shortest interior edges collapse to it.
+    const int32_t want = o.lloyd.sites;
+    if (r.remesh.num_vertices() * 200 > want * 203) collapse_to_count(m, grid, r.remesh, want, r.vertex_site);
     RemeshOptimizeOptions oo;
     oo.rounds = o.optimize_rounds;
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
+    split_and_reoptimize(m, grid, want, oo, r);
   }
   r.optimize_s = sw.lap();
 }

@@ -294,7 +294,8 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
 // sum would otherwise pull them a little further every sweep and cut the
 // tips, docs/cvt.md), and, unless the ring is flat, no edge of the ring grows
 // longer than edge_growth times the ring's longest edge when the climb starts
-// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md). Returns the number of moves.
+// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md)
+// unless the ring's chord error does not grow. Returns the number of moves.
 // A ring whose triangles are all within 20 degrees of the vertex normal is
 // flat enough that a longer edge adds little chord error: the sum's climbs may
 // lengthen its edges (CAD faces: blade's mean smallest angle 49.4 -> 50.4
@@ -309,6 +310,28 @@ double ring_max_edge(const Mesh& m, const std::vector<std::array<int32_t, 3>>& F
     for (int32_t w : F[vf.f[q]])
       if (w != v) l = std::max(l, norm(sub(pos(m, w), p)));
   return l;
+}
+
+// The chord error of v's ring with v at p: the largest distance from the
+// midpoint of an edge from v, or from a triangle's centroid, to the input.
+double ring_chord_error(const TriangleGrid& grid, const Mesh& m, const std::vector<std::array<int32_t, 3>>& F,
+                        const VertexFaces& vf, int32_t v, const V3& p) {
+  double e = 0;
+  for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q) {
+    const auto& t = F[vf.f[q]];
+    V3 c = {0, 0, 0};
+    for (int32_t w : t) {
+      const V3 pw = w == v ? p : pos(m, w);
+      for (int k = 0; k < 3; ++k) c[k] += pw[k] / 3;
+      if (w == v) continue;
+      const V3 mid = {0.5 * (p[0] + pw[0]), 0.5 * (p[1] + pw[1]), 0.5 * (p[2] + pw[2])};
+      const ClosestPoint cp = grid.closest(mid);
+      if (cp.face >= 0) e = std::max(e, norm(sub(cp.point, mid)));
+    }
+    const ClosestPoint cp = grid.closest(c);
+    if (cp.face >= 0) e = std::max(e, norm(sub(cp.point, c)));
+  }
+  return e;
 }
 
 // One vertex's climb (see angle_pass); true with `out` when it found a better place.
@@ -349,6 +372,12 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
   double cur_sum = 0;
   double cur = ring_min_angle(m, F, vf, v, nv, best, &cur_sum);
   const double max_edge = by_sum && edge_growth > 0 && !flat ? edge_growth * ring_max_edge(m, F, vf, v, best) : HUGE_VAL;
+  double max_chord = -1;  // the starting ring's chord error, computed when first needed
+  const V3 start = best;
+  auto chord_ok = [&](const V3& p) {
+    if (max_chord < 0) max_chord = ring_chord_error(grid, m, F, vf, v, start);
+    return ring_chord_error(grid, m, F, vf, v, p) <= max_chord;
+  };
   auto better = [&](double q, double q_sum) {
     if (q < 0) return false;
     if (!by_sum) return q > cur + 1e-9;
@@ -373,7 +402,8 @@ bool climb_vertex(const Mesh& input, const TriangleGrid& grid, const Mesh& m,
         if (dot(ni, nv) <= 0.5 * norm(ni)) continue;
         double q_sum = 0;
         const double q = ring_min_angle(m, F, vf, v, nv, cp.point, &q_sum);
-        if (better(q, q_sum) && !(max_edge < HUGE_VAL && ring_max_edge(m, F, vf, v, cp.point) > max_edge)) {
+        if (better(q, q_sum) && !(max_edge < HUGE_VAL && ring_max_edge(m, F, vf, v, cp.point) > max_edge &&
+                                  !chord_ok(cp.point))) {
           cur = q;
           cur_sum = q_sum;
           improved = found = true;
@@ -492,10 +522,11 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   // The angle repair until a sweep changes nothing, the climbs of the sum,
   // then the repair again (the sum's climbs may leave a ring at `below`).
   const double below = opt.angle_below_deg * M_PI / 180;
+  const double hard_below = opt.hard_below_deg * M_PI / 180;
   std::vector<V3> home(n);
   for (int32_t v = 0; v < n; ++v) home[v] = pos(remesh, v);
-  auto angle_sweep = [&](bool by_sum) {
-    int64_t changed = angle_pass(input, grid, remesh, F, fixed, below, opt.tip_reach, by_sum, opt.sum_edge_growth, home, st);
+  auto angle_sweep = [&](bool by_sum, double pass_below, double reach) {
+    int64_t changed = angle_pass(input, grid, remesh, F, fixed, pass_below, reach, by_sum, opt.sum_edge_growth, home, st);
     const int64_t b = curves.sweep(remesh, F, true);
     st.boundary_moves += b;
     changed += b;
@@ -507,13 +538,16 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     }
     return changed;
   };
-  for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false) > 0; ++sweep) {
+  for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false, below, opt.tip_reach) > 0; ++sweep) {
   }
   if (opt.sum_sweeps > 0) {
-    for (int sweep = 0; sweep < opt.sum_sweeps; ++sweep) angle_sweep(true);
-    for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false) > 0; ++sweep) {
+    for (int sweep = 0; sweep < opt.sum_sweeps; ++sweep) angle_sweep(true, below, opt.tip_reach);
+    for (int sweep = 0; sweep < opt.angle_sweeps && angle_sweep(false, below, opt.tip_reach) > 0; ++sweep) {
     }
   }
+  if (opt.angle_sweeps > 0 && hard_below > 0)
+    for (int sweep = 0; sweep < opt.hard_sweeps && angle_sweep(false, hard_below, opt.hard_tip_reach) > 0; ++sweep) {
+    }
   for (int32_t f = 0; f < remesh.num_faces(); ++f) {
     remesh.f0[f] = F[f][0];
     remesh.f1[f] = F[f][1];

@@ -31,9 +31,14 @@
 //
 // Density: the dual has a vertex per non-empty cell; density passes drop or
 // split sites, relax and repair again until the count is within 1.5% of the
-// request (or the passes stop helping; the topology may need more).
+// request (or the passes stop helping; the topology may need more). A dual
+// still more than 1.5% above the request loses its shortest edges to
+// topology-keeping collapses (remesh_collapse.hpp).
 //
-// The manifold dual is then optimized on the input (remesh_optimize.hpp).
+// The manifold dual is then optimized on the input (remesh_optimize.hpp);
+// where triangles below 25 degrees remain, their longest edges split (up to
+// 1.5% above the request, remesh_split.hpp) and two optimization rounds
+// follow, kept when the smallest angle grew.
 #pragma once
 #include <cstdint>
 #include <vector>
