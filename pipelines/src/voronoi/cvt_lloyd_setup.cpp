@@ -71,6 +71,7 @@ const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, st
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (opt.graph_iterations < -1) fail(ErrorCode::BadUsage, "cvt: graph_iterations must be >= 0 (or -1: automatic)");
   if (!(opt.stop_energy >= 0) || !std::isfinite(opt.stop_energy))
     fail(ErrorCode::BadUsage, "cvt: stop_energy must be a finite number >= 0");
   if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
