@@ -196,6 +196,7 @@ void LloydLoop::labels_of_sites() {
   cscratch_.clear();
   BatchStopwatch psw;
   if (order_.empty()) order_ = spatial_order(m_, sites_);
+  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
   if (local_ && !batch_kept_.empty()) {
     V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, labels_ctx_);
   } else {  // first labels: per-site Dijkstra balls (localized) or full solves
@@ -490,6 +491,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   geometry_ticker.add(1.0);
   const Edges& edges = derived.incidence.edges;
   const VertexStars stars = vertex_stars(m, ops.area_op);
+  ops.area_op = HostVector<double>();  // in the stars now
   geometry_ticker.add(1.0);
   ctx.check_cancel();
   const HostVector<double>& mass_r3 = derived.mass;
