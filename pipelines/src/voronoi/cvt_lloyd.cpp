@@ -9,6 +9,7 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -484,31 +485,48 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.t_centroid = Hc.t;
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
-  // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).
-  ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
-  std::optional<CancelScope> scope(std::in_place, geometry_ticker);
-  CentroidGeometry geo = prepare_centroid_geometry(m, derived.adjacency);
-  geometry_ticker.add(1.0);
-  const Edges& edges = derived.incidence.edges;
-  const VertexStars stars = vertex_stars(m, ops.area_op);
-  ops.area_op = HostVector<double>();  // in the stars now
-  geometry_ticker.add(1.0);
-  ctx.check_cancel();
   const HostVector<double>& mass_r3 = derived.mass;
   const double h_r3 = derived.h;
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
   const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
-
-  // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
-  std::vector<std::vector<int32_t>> nb;
-  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
   // The first iterations in the graph metric (LloydOptions::graph_iterations): they
-  // end with the sites' graph-geodesic cells, the first labels' start.
+  // end with the sites' graph-geodesic cells, the first labels' start. They read
+  // only the adjacency and the masses, so they run beside the fits' geometry and
+  // the stars (serial Dijkstras: the second core is free).
   r.graph_iterations = opt.graph_iterations >= 0
                            ? std::min(opt.graph_iterations, opt.iterations)
                            : (m.num_vertices() >= kGraphLloydVertices ? std::max(0, opt.iterations - kLargeHeatIterations) : 0);
-  if (r.graph_iterations > 0) first = geodesic_lloyd(m, geo.adj, mass_r3, sites, r.graph_iterations);
+  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
+  CentroidGeometry geo;
+  VertexStars stars;
+  // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).
+  ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
+  std::optional<CancelScope> scope(std::in_place, geometry_ticker);
+  in_arena([&] {
+    tbb::task_group graph;
+    if (r.graph_iterations > 0)
+      graph.run([&] { first = geodesic_lloyd(m, derived.adjacency, mass_r3, sites, r.graph_iterations, ctx); });
+    try {
+      geo = prepare_centroid_geometry(m, derived.adjacency);
+      geometry_ticker.add(1.0);
+      stars = vertex_stars(m, ops.area_op);
+      geometry_ticker.add(1.0);
+    } catch (...) {
+      try {
+        graph.wait();
+      } catch (...) {
+      }
+      throw;
+    }
+    graph.wait();
+  });
+  ops.area_op = HostVector<double>();  // in the stars now
+  ctx.check_cancel();
+  const Edges& edges = derived.incidence.edges;
+
+  // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
+  std::vector<std::vector<int32_t>> nb;
   if (local && opt.init_cells) {
     if (first.empty()) first = geodesic_site_cells(m, geo.adj, sites);
     if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls

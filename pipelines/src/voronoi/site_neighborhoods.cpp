@@ -73,7 +73,7 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
 }
 
 HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::span<const double> mass,
-                                   std::vector<SurfacePoint>& sites, int iterations) {
+                                   std::vector<SurfacePoint>& sites, int iterations, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
   const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
@@ -96,6 +96,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
   std::vector<double> best(ns);
   std::vector<int32_t> arg(ns);
   for (int it = 0; it < iterations; ++it) {
+    ctx.check_cancel();
     cells();
     std::fill(sum.begin(), sum.end(), 0.0);
     for (int32_t v = 0; v < n; ++v) {  // vertex order: deterministic sums
