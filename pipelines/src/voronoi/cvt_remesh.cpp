@@ -468,6 +468,10 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.requested = o.lloyd.sites;
   r.repair_sites = r.added_sites;
   r.added_sites = static_cast<int32_t>(r.lloyd.sites.size()) - r.requested;  // net: sites = requested + added
+  // The repair is done: its top-K lists and the level's edge topology are not
+  // needed by the assembly and the optimization (~65 MB at 416k vertices).
+  r.lloyd.voronoi = HeatVoronoi{};
+  L.topo = DualTopology{};
   if (r.complete) assemble(m, L, dual, o, sw, r);
   r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);
