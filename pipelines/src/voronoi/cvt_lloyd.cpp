@@ -9,7 +9,6 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -490,13 +489,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
   const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
-  // The first iterations in the graph metric (LloydOptions::graph_iterations): they
-  // end with the sites' graph-geodesic cells, the first labels' start. They read
-  // only the adjacency and the masses, so they run beside the fits' geometry and
-  // the stars (serial Dijkstras: the second core is free).
-  r.graph_iterations = opt.graph_iterations >= 0
-                           ? std::min(opt.graph_iterations, opt.iterations)
-                           : (m.num_vertices() >= kGraphLloydVertices ? std::max(0, opt.iterations - kLargeHeatIterations) : 0);
+  r.graph_iterations = graph_iterations_of(opt, m.num_vertices());
   HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
   CentroidGeometry geo;
   VertexStars stars;
@@ -504,22 +497,8 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
   std::optional<CancelScope> scope(std::in_place, geometry_ticker);
   in_arena([&] {
-    tbb::task_group graph;
-    if (r.graph_iterations > 0)
-      graph.run([&] { first = geodesic_lloyd(m, derived.adjacency, mass_r3, sites, r.graph_iterations, ctx); });
-    try {
-      geo = prepare_centroid_geometry(m, derived.adjacency);
-      geometry_ticker.add(1.0);
-      stars = vertex_stars(m, ops.area_op);
-      geometry_ticker.add(1.0);
-    } catch (...) {
-      try {
-        graph.wait();
-      } catch (...) {
-      }
-      throw;
-    }
-    graph.wait();
+    geometry_beside_graph_start(m, derived, ops.area_op, r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
+                                first);
   });
   ops.area_op = HostVector<double>();  // in the stars now
   ctx.check_cancel();
