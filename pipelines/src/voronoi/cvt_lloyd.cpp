@@ -191,8 +191,12 @@ void LloydLoop::first_cells(std::span<const int32_t> label) {
 }
 
 void LloydLoop::labels_of_sites() {
+  // The centroid step's per-thread solve workspaces (8 n doubles each) are not
+  // needed while the labels' own are: freed, not held across the whole loop.
+  cscratch_.clear();
   BatchStopwatch psw;
   if (order_.empty()) order_ = spatial_order(m_, sites_);
+  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
   if (local_ && !batch_kept_.empty()) {
     V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, labels_ctx_);
   } else {  // first labels: per-site Dijkstra balls (localized) or full solves
@@ -435,7 +439,10 @@ void LloydLoop::finish() {
   r_.final_labels_s = fsw.lap();
   r_.label.assign(V_.label.begin(), V_.label.end());
   in_arena([&] {
-    const HostVector<double> area = partition_cells(m_, in_.area_r3, V_, ns_).area;
+    // Isotropic: the stars hold the R^3 areas, and the areas alone need no
+    // mesh-wide list of loads (~100 MB at 416k vertices).
+    const HostVector<double> area = opt_.anisotropy == 0 ? cell_areas(in_.stars, V_, cells_.offsets, cells_.verts)
+                                                         : partition_cells(m_, in_.area_r3, V_, ns_).area;
     r_.cell_area.assign(area.begin(), area.end());
   });
   if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
@@ -477,28 +484,33 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.t_centroid = Hc.t;
   r.factor_bytes = static_cast<int64_t>((H.factor.values.size() + ops.Hc_own.factor.values.size()) * sizeof(double));
   ctx.check_cancel();
-  // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).
-  ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
-  std::optional<CancelScope> scope(std::in_place, geometry_ticker);
-  const CentroidGeometry geo = prepare_centroid_geometry(m, derived.adjacency);
-  geometry_ticker.add(1.0);
-  const Edges& edges = derived.incidence.edges;
-  const VertexStars stars = vertex_stars(m, ops.area_op);
-  geometry_ticker.add(1.0);
-  ctx.check_cancel();
   const HostVector<double>& mass_r3 = derived.mass;
   const double h_r3 = derived.h;
   const int threads = ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency();
   // Reused per (thread, concurrency): an arena per call leaks inside oneTBB.
   const auto in_arena = [arena_threads = std::max(1, threads)](auto&& f) { run_with_threads(arena_threads, f); };
+  r.graph_iterations = graph_iterations_of(opt, m.num_vertices());
+  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
+  CentroidGeometry geo;
+  VertexStars stars;
+  // ~0.4 s at 416k vertices: the loops are cancel points (cancel_point.hpp).
+  ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
+  std::optional<CancelScope> scope(std::in_place, geometry_ticker);
+  in_arena([&] {
+    geometry_beside_graph_start(m, derived, ops.area_op, r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
+                                first);
+  });
+  ops.area_op = HostVector<double>();  // in the stars now
+  ctx.check_cancel();
+  const Edges& edges = derived.incidence.edges;
 
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
-  HostVector<int32_t> first;  // init_cells: the sites' Dijkstra cells
   if (local && opt.init_cells) {
-    first = geodesic_site_cells(m, geo.adj, sites);
+    if (first.empty()) first = geodesic_site_cells(m, geo.adj, sites);
     if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls
   }
+  if (!(local && opt.init_cells)) first.clear();
   if (local && first.empty()) {
     const HostVector<double>& mass3 = derived.mass;
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
@@ -511,17 +523,20 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   r.init_s = sw.lap();
 
   const RunContext loop_ctx = ctx.sub(init_share, 1.0);
-  const LloydInputs in{m, opt, loop_ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
+  LloydOptions heat_opt = opt;  // the heat iterations: what the graph iterations left
+  heat_opt.iterations = opt.iterations - r.graph_iterations;
+  const LloydInputs in{m, heat_opt, loop_ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
   LloydLoop loop(in, sites, std::move(nb), r);
   if (!first.empty()) {
     loop.first_cells(first);
     r.init_s += sw.lap();
   }
-  for (int32_t it = 0; it < opt.iterations; ++it) {
+  for (int32_t it = 0; it < heat_opt.iterations; ++it) {
     loop.iterate(it);
     const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
     if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
   }
+  geo = {};  // the centroid fits' geometry: not needed by the final labels (memory)
   loop.finish();
   return r;
 }

@@ -3,6 +3,8 @@
 #include "cvt_lloyd_setup.hpp"
 #include "locus/core/host_allocator.hpp"
 
+#include <oneapi/tbb/task_group.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -11,6 +13,7 @@
 #include "locus/kernels/mesh/lifted_metric.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 
 namespace locus {
 
@@ -71,6 +74,7 @@ const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, st
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (ns < 1) fail(ErrorCode::BadUsage, "cvt: at least one site");
   if (opt.iterations < 0) fail(ErrorCode::BadUsage, "cvt: negative iteration count");
+  if (opt.graph_iterations < -1) fail(ErrorCode::BadUsage, "cvt: graph_iterations must be >= 0 (or -1: automatic)");
   if (!(opt.stop_energy >= 0) || !std::isfinite(opt.stop_energy))
     fail(ErrorCode::BadUsage, "cvt: stop_energy must be a finite number >= 0");
   if (!(opt.anisotropy >= 0) || !std::isfinite(opt.anisotropy))
@@ -144,6 +148,33 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
     Hc_own.factor_s = sw.lap();
   }
   ops.Hc = t_centroid > 0 ? &Hc_own : ops.H;
+}
+
+int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices) {
+  if (opt.graph_iterations >= 0) return std::min(opt.graph_iterations, opt.iterations);
+  return vertices >= kGraphLloydVertices ? std::max(0, opt.iterations - kLargeHeatIterations) : 0;
+}
+
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+                                 int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
+                                 std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
+                                 HostVector<int32_t>& first) {
+  tbb::task_group graph;
+  if (graph_iterations > 0)
+    graph.run([&] { first = geodesic_lloyd(m, d.adjacency, d.mass, sites, graph_iterations, ctx); });
+  try {
+    geo = prepare_centroid_geometry(m, d.adjacency);
+    ticker.add(1.0);
+    stars = vertex_stars(m, area_op);
+    ticker.add(1.0);
+  } catch (...) {
+    try {  // the task reads what unwinding frees: wait for it first
+      graph.wait();
+    } catch (...) {
+    }
+    throw;
+  }
+  graph.wait();
 }
 
 }  // namespace locus

@@ -10,9 +10,12 @@
 #include "locus/kernels/heat/heat_diffusion.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/parallel/progress_ticker.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/heat_centroid.hpp"
+#include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
 #include "locus/run_context.hpp"
 
 namespace locus {
@@ -44,5 +47,20 @@ struct LloydOperators {
 // factorization's phases are timed on `sw`.
 void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops);
+
+// The graph-metric iterations of a run (LloydOptions::graph_iterations): the
+// given count up to `iterations`, or automatically all but kLargeHeatIterations
+// of them on meshes of at least kGraphLloydVertices vertices, else none.
+int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices);
+
+// The centroid fits' geometry and the stars (face areas area_op), and beside
+// them (a oneTBB task in the caller's arena: they read only the adjacency and
+// the masses) the graph-metric iterations on `sites` (geodesic_lloyd), whose
+// last cells go to `first` (left empty when graph_iterations is 0). The
+// geometry's loops tick `ticker`.
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+                                 int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
+                                 std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
+                                 HostVector<int32_t>& first);
 
 }  // namespace locus

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace locus {
 
@@ -68,6 +69,62 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
   HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
   GrowWorkspace ws;
   label_nearest_seeds(adj, adjacency_edge_lengths(m, adj), seeds, seed_site, ws, label);
+  return label;
+}
+
+HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::span<const double> mass,
+                                   std::vector<SurfacePoint>& sites, int iterations, const RunContext& ctx) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(sites.size());
+  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
+  GrowWorkspace ws;
+  HostVector<int32_t> label(static_cast<size_t>(n));
+  std::vector<GrowSeed> seeds;
+  std::vector<int32_t> seed_site;
+  auto cells = [&] {
+    seeds.clear();
+    seed_site.clear();
+    for (int32_t s = 0; s < ns; ++s) {
+      GrowSeed g[3];
+      const int cnt = site_seeds(m, sites[s], g);
+      seeds.insert(seeds.end(), g, g + cnt);
+      seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
+    }
+    label_nearest_seeds(adj, edge_length, seeds, seed_site, ws, label);
+  };
+  std::vector<double> sum(4 * static_cast<size_t>(ns));
+  std::vector<double> best(ns);
+  std::vector<int32_t> arg(ns);
+  for (int it = 0; it < iterations; ++it) {
+    ctx.check_cancel();
+    cells();
+    std::fill(sum.begin(), sum.end(), 0.0);
+    for (int32_t v = 0; v < n; ++v) {  // vertex order: deterministic sums
+      const int32_t s = label[v];
+      if (s < 0) continue;
+      double* a = sum.data() + 4 * static_cast<size_t>(s);
+      a[0] += mass[v] * m.x[v];
+      a[1] += mass[v] * m.y[v];
+      a[2] += mass[v] * m.z[v];
+      a[3] += mass[v];
+    }
+    std::fill(best.begin(), best.end(), std::numeric_limits<double>::infinity());
+    std::fill(arg.begin(), arg.end(), -1);
+    for (int32_t v = 0; v < n; ++v) {  // the cell's vertex nearest its mean (smallest id on ties)
+      const int32_t s = label[v];
+      if (s < 0 || !(sum[4 * static_cast<size_t>(s) + 3] > 0)) continue;
+      const double* a = sum.data() + 4 * static_cast<size_t>(s);
+      const double dx = m.x[v] - a[0] / a[3], dy = m.y[v] - a[1] / a[3], dz = m.z[v] - a[2] / a[3];
+      const double d = dx * dx + dy * dy + dz * dz;
+      if (d < best[s]) {
+        best[s] = d;
+        arg[s] = v;
+      }
+    }
+    for (int32_t s = 0; s < ns; ++s)
+      if (arg[s] >= 0) sites[s] = vertex_point(arg[s]);
+  }
+  cells();
   return label;
 }
 

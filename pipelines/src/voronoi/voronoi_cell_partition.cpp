@@ -3,6 +3,7 @@
 #include "locus/pipelines/voronoi/voronoi_cell_partition.hpp"
 #include "locus/core/host_allocator.hpp"
 
+#include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
@@ -124,14 +125,14 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
   return st;
 }
 
-double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
-                            std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback) {
-  double area = 0;
-  auto add = [&](int32_t v, double w) {
-    if (acc[v] == 0.0) touched.push_back(v);
-    acc[v] += w;
-    area += w;
-  };
+namespace {
+
+// Every triangle incident to a vertex of `cell` (labelled c), once, from its first
+// corner labelled c: add(v, w) for each load w of cell c at corner v, in the
+// order partition_cells produces them for that triangle.
+template <class Add>
+void visit_cell_loads(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                      int64_t& fallback, Add&& add) {
   const size_t nc = cell.size();
   for (size_t i = 0; i < nc; ++i) {
     // The cell's vertices are scattered in memory: fetch ahead (offsets 8 vertices
@@ -180,6 +181,45 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
           if (cen[k] > 0) add(v[k], A * frac * cen[k]);
     }
   }
+}
+
+}  // namespace
+
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback) {
+  double area = 0;
+  visit_cell_loads(stars, V, c, cell, fallback, [&](int32_t v, double w) {
+    if (acc[v] == 0.0) touched.push_back(v);
+    acc[v] += w;
+    area += w;
+  });
+  return area;
+}
+
+HostVector<double> cell_areas(const VertexStars& stars, const HeatVoronoi& V, std::span<const int64_t> cell_offsets,
+                              std::span<const int32_t> cell_vertices) {
+  if (cell_offsets.empty()) fail(ErrorCode::BadUsage, "cell areas: no cells");
+  const int32_t cells = static_cast<int32_t>(cell_offsets.size() - 1);
+  HostVector<double> area(cells, 0.0);
+  struct Load {
+    int32_t vertex;
+    double w;
+  };
+  tbb::enumerable_thread_specific<std::vector<Load>> scratch;
+  tbb::parallel_for(0, cells, [&](int32_t c) {
+    std::vector<Load>& loads = scratch.local();
+    loads.clear();
+    int64_t fallback = 0;
+    const std::span<const int32_t> cell(cell_vertices.data() + cell_offsets[c],
+                                        static_cast<size_t>(cell_offsets[c + 1] - cell_offsets[c]));
+    visit_cell_loads(stars, V, c, cell, fallback, [&](int32_t v, double w) { loads.push_back({v, w}); });
+    // partition_cells' order of the sum: by (vertex, load).
+    std::sort(loads.begin(), loads.end(),
+              [](const Load& a, const Load& b) { return a.vertex != b.vertex ? a.vertex < b.vertex : a.w < b.w; });
+    double a = 0;
+    for (const Load& l : loads) a += l.w;
+    area[c] = a;
+  });
   return area;
 }
 

@@ -341,3 +341,51 @@ TEST_CASE("cvt: first labels from Dijkstra cells or balls match the full solve a
     CHECK(differ <= m.num_vertices() / 100);
   }
 }
+
+TEST_CASE("cvt: graph-metric first iterations (graph_iterations): counted in iterations, deterministic, better than none") {
+  const Mesh m = make_icosphere(4);
+  LloydOptions o;
+  o.sites = 40;
+  o.seed = 5;
+  o.iterations = 6;
+  SUBCASE("automatic: none below kGraphLloydVertices") {
+    const LloydResult r = cvt_lloyd(m, o, {});
+    CHECK(r.graph_iterations == 0);
+    CHECK(r.iter_s.size() == 6);
+  }
+  SUBCASE("four graph iterations, then two heat iterations; 1 and 2 threads bit-identical") {
+    o.graph_iterations = 4;
+    RunContext one, two;
+    one.threads = 1;
+    two.threads = 2;
+    const LloydResult a = cvt_lloyd(m, o, one);
+    const LloydResult b = cvt_lloyd(m, o, two);
+    CHECK(a.graph_iterations == 4);
+    CHECK(a.iter_s.size() == 2);
+    REQUIRE(a.sites.size() == b.sites.size());
+    for (size_t s = 0; s < a.sites.size(); ++s) {
+      CHECK(a.sites[s].face == b.sites[s].face);
+      for (int k = 0; k < 3; ++k) CHECK(a.sites[s].bary[k] == b.sites[s].bary[k]);  // bitwise equal
+    }
+    CHECK(a.label == b.label);
+    // Against two heat iterations from the random sites: the graph start is further.
+    LloydOptions h = o;
+    h.graph_iterations = 0;
+    h.iterations = 2;
+    const LloydResult c = cvt_lloyd(m, h, one);
+    INFO("energy graph start " << a.energy.back() << ", random start " << c.energy.back());
+    CHECK(a.energy.back() < c.energy.back());
+    CHECK(cvt_quality(m, a.label, a.sites).mean_angle_deg > cvt_quality(m, c.label, c.sites).mean_angle_deg);
+  }
+  SUBCASE("more graph iterations than iterations: all of them in the graph metric") {
+    o.graph_iterations = 9;
+    const LloydResult r = cvt_lloyd(m, o, {});
+    CHECK(r.graph_iterations == 6);
+    CHECK(r.iter_s.empty());
+    CHECK(r.label.size() == static_cast<size_t>(m.num_vertices()));
+  }
+  SUBCASE("below -1: bad usage") {
+    o.graph_iterations = -2;
+    CHECK_THROWS_AS(cvt_lloyd(m, o, {}), Error);
+  }
+}

@@ -66,9 +66,21 @@ namespace locus {
 // Default diffusion time of the CVT's cells and centroids in units of h^2 (see above).
 inline constexpr double kLloydTFactor = 4.0;
 
+// The automatic schedule of graph_iterations (LloydOptions): from this many
+// vertices on, the first Lloyd iterations run in the graph metric and only the
+// last kLargeHeatIterations with heat cells.
+inline constexpr int32_t kGraphLloydVertices = 200000;
+inline constexpr int32_t kLargeHeatIterations = 3;
+
 struct LloydOptions {
   int32_t sites = 100;       // number of generators (random initial sites)
   int32_t iterations = 10;   // at most (see stop_energy)
+  // How many of `iterations` run first in the graph metric (geodesic_lloyd in
+  // site_neighborhoods.hpp: one multi-source Dijkstra each, a fraction of a
+  // heat iteration's cost on large meshes), the rest with heat cells and
+  // centroids. -1 = automatic: on meshes of at least kGraphLloydVertices
+  // vertices all but kLargeHeatIterations of them, else none (docs/cvt.md).
+  int32_t graph_iterations = -1;
   // Stopping rule: after an iteration whose CVT energy (LloydResult::energy) fell
   // by less than stop_energy times its value (or rose: the discrete centroids'
   // jitter), stop. 0 = always `iterations`. Lloyd's energy falls ~0.3% per
@@ -116,7 +128,8 @@ struct LloydResult {
   double t_centroid = 0;          // the centroids' diffusion time (t unless set apart)
   double factor_s = 0;            // operator + ordering + symbolic + numeric
   int64_t factor_bytes = 0;       // numeric factor values (both factors with a centroid time of their own)
-  double init_s = 0;              // initial sites and first neighborhoods
+  double init_s = 0;              // initial sites, graph-metric iterations and first neighborhoods
+  int32_t graph_iterations = 0;   // Lloyd iterations run in the graph metric (before iter_s's)
   std::vector<double> iter_s;     // per iteration (labels + centroids)
   double final_labels_s = 0;
   // Phase totals over the iterations: heat Voronoi labels, cells and split triangles,

@@ -37,4 +37,14 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
 // sites).
 HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites);
 
+// Lloyd's method in the graph metric, a cheap start for the heat iterations on
+// fine meshes: `iterations` times, the sites' graph-geodesic cells
+// (geodesic_site_cells), then every site moves to the vertex of its cell
+// nearest (in R^3) to the cell's mass-weighted mean of vertex positions
+// (mass: one per vertex). Cells without vertices keep their site. Serial,
+// deterministic; ctx is checked for cancellation before each iteration.
+// Returns the graph-geodesic cells of the final sites (-1 where no site reaches).
+HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::span<const double> mass,
+                                   std::vector<SurfacePoint>& sites, int iterations, const RunContext& ctx = {});
+
 }  // namespace locus

@@ -74,6 +74,14 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area);
 double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
                             std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback);
 
+// The cells' areas alone (partition_cells' `area`, bit for bit when the stars hold
+// the same face areas) without the mesh-wide list of loads: cell by cell in
+// parallel from the stars, each cell's loads summed in partition_cells' order.
+// cell_offsets (cells + 1) and cell_vertices: the vertices of each cell (CSR, as
+// CellGraph's offsets and verts). Deterministic for any thread count.
+HostVector<double> cell_areas(const VertexStars& stars, const HeatVoronoi& V, std::span<const int64_t> cell_offsets,
+                              std::span<const int32_t> cell_vertices);
+
 // One triangle: nl (1..3) distinct labels lab[a] with heat u[a][k] at corner k.
 // fraction[a]: the share of the triangle's area of label a's part (the shares sum
 // to 1); centroid[a]: barycentric coordinates of that part's centroid.
