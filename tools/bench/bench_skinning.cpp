@@ -41,6 +41,7 @@ struct SkinningBenchOptions {
   int32_t exact_max_vertices = 30000;
   std::string exact_cache;  // file of the exact weights: read when it matches, else written
   bool coarse_only = false;
+  double t_factor = 1.0;  // diffusion time t = t_factor * h^2 (skinweights' --t)
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -127,6 +128,7 @@ Json properties(const Mesh& m, const SkinningWeights& W, std::span<const int32_t
 Json roughness(const Adjacency& adj, const SkinningWeights& E) {
   const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = E.handles;
   double jmax = 0;
+  int32_t at[2] = {-1, -1};
   int64_t edges = 0, rough = 0;
   for (int32_t v = 0; v < n; ++v)
     for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
@@ -135,11 +137,16 @@ Json roughness(const Adjacency& adj, const SkinningWeights& E) {
       double j = 0;
       for (int32_t i = 0; i < k; ++i)
         j = std::max(j, std::abs(E.weight[static_cast<size_t>(u) * k + i] - E.weight[static_cast<size_t>(v) * k + i]));
-      jmax = std::max(jmax, j);
+      if (j > jmax) {
+        jmax = j;
+        at[0] = v;
+        at[1] = u;
+      }
       ++edges;
       rough += j > 0.05;
     }
-  return {{"max_edge_jump", jmax}, {"edges_jump_over_0_05_percent", edges ? 100.0 * rough / edges : 0.0}};
+  return {{"max_edge_jump", jmax}, {"max_edge_jump_at", {at[0], at[1]}},
+          {"edges_jump_over_0_05_percent", edges ? 100.0 * rough / edges : 0.0}};
 }
 
 // Differences against the exact weights, and the locality check (header).
@@ -205,7 +212,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
   for (int32_t v : ids) handles.push_back({v});
   cli::Stopwatch sw;
   const bool fine = !o.coarse_only;
-  const HeatDiffusion H = fine ? prepare_heat_diffusion(m, 1.0, 0.0, ctx) : HeatDiffusion{};  // as `locus skinweights`
+  const HeatDiffusion H = fine ? prepare_heat_diffusion(m, o.t_factor, 0.0, ctx) : HeatDiffusion{};  // as `locus skinweights`
   const double factor_s = sw.seconds();
   const Adjacency adj = vertex_adjacency(m);
   Json j{{"command", "skinning"}, {"input", cli::input_json(opt, in)}, {"n", m.num_vertices()}, {"handles", ids},
@@ -221,7 +228,8 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     exact = skinning_weights(H, m, handles, so, ctx);
     const double s = sw.seconds();
     j["exact"] = {{"wall_s", s}, {"with_factor_s", s + factor_s}, {"repeats", 1}, {"properties", properties(m, exact, ids)},
-                  {"roughness", roughness(adj, exact)}};
+                  {"roughness", roughness(adj, exact)}, {"degenerate_rows", exact.degenerate},
+                  {"max_clamped", exact.max_clamped}};
     write_exact(o.exact_cache, m.num_vertices(), ids, exact);
   }
   Json sampled = Json::array(), coarse = Json::array();
@@ -234,7 +242,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     SkinningWeights C;
     for (int32_t r = 0; r < o.repeats; ++r) {
       sw.restart();
-      C = skinning_weights_coarse(m, handles, co, 1.0, 0.0, ctx);
+      C = skinning_weights_coarse(m, handles, co, o.t_factor, 0.0, ctx);
       cwall.push_back(sw.seconds());
     }
     Json crow{{"samples_target", co.samples}, {"samples", C.samples}, {"coarse_vertices", C.coarse_vertices},
@@ -282,6 +290,7 @@ void register_skinning_bench(cli::CommandTable& table) {
                   "Run the exact method only up to this many vertices (default 30000)");
   app->add_flag("--coarse-only", o->coarse_only,
                "Only the coarse road (no fine factorization, sampled or exact run: meshes too large for them)");
+  app->add_option("--t-factor", o->t_factor, "Diffusion time in units of h^2 (default 1, as skinweights' default --t h2)");
   app->add_option("--exact-cache", o->exact_cache,
                   "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }
