@@ -153,12 +153,16 @@ Json roughness(const Adjacency& adj, const SkinningWeights& E) {
 void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, const SkinningWeights& E, Json& j) {
   const int32_t n = m.num_vertices(), k = W.handles;
   double dmax = 0, dsum = 0;
+  int32_t at = -1;
   int64_t outside = 0, zero_exact = 0;
   for (int32_t v = 0; v < n; ++v)
     for (int32_t i = 0; i < k; ++i) {
       const size_t a = static_cast<size_t>(v) * k + i;
       const double d = std::abs(W.weight[a] - E.weight[a]);
-      dmax = std::max(dmax, d);
+      if (d > dmax) {
+        dmax = d;
+        at = v;
+      }
       dsum += d;
       if (E.weight[a] != 0.0) continue;
       bool band = false;
@@ -169,6 +173,7 @@ void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, cons
       outside += W.weight[a] > 0;
     }
   j["max_diff"] = dmax;
+  j["max_diff_vertex"] = at;
   j["mean_diff"] = dsum / (static_cast<double>(n) * k);
   j["nonzero_outside_band"] = outside;
   j["nonzero_outside_band_percent"] = zero_exact ? 100.0 * outside / zero_exact : 0.0;
@@ -263,7 +268,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
       wall.push_back(sw.seconds());
     }
     const double med = cli::median(wall);
-    Json row{{"samples_target", so.samples}, {"samples", W.samples},   {"sample_rings", W.sample_rings},
+    Json row{{"samples_target", so.samples}, {"samples", W.samples},   {"refined", W.refined}, {"sample_rings", W.sample_rings},
              {"wall_s", med},                {"with_factor_s", med + factor_s}, {"wall_s_all", wall},
              {"phase_s", {{"prepare", W.prepare_s}, {"exact_rows", W.weights_s}, {"propagate", W.propagate_s}}},
              {"properties", properties(m, W, ids)}};

@@ -115,6 +115,43 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
 
 }  // namespace
 
+// Exact rows where the propagation cannot follow the exact weights: first the
+// vertices `rough` (their samples miss the stencil's fit), then, round by round,
+// the not yet exact neighbours of every vertex whose exact row differs from its
+// propagated one by more than `miss` (the jump reaches past it), until the exact
+// rows at the front agree with the propagation.
+template <class SolveRows>
+void refine_rows(const Adjacency& adj, std::span<const int32_t> samples, std::vector<int32_t> front,
+                 std::span<const int32_t> owner, double miss, SolveRows&& solve_rows, SkinningWeights& W) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = W.handles;
+  std::vector<uint8_t> exact(n, 0);
+  for (int32_t v : samples) exact[v] = 1;
+  for (int32_t v : front) exact[v] = 1;
+  std::vector<double> rows;
+  std::vector<uint8_t> indicator;
+  std::vector<int32_t> next;
+  while (!front.empty()) {
+    solve_rows(front, rows, indicator);
+    W.refined += static_cast<int32_t>(front.size());
+    next.clear();
+    for (size_t i = 0; i < front.size(); ++i) {
+      double* w = W.weight.data() + static_cast<size_t>(front[i]) * k;
+      double d = 0;
+      for (int32_t j = 0; j < k; ++j) d = std::max(d, std::abs(w[j] - rows[i * k + j]));
+      std::copy_n(rows.begin() + i * k, k, w);
+      if (d <= miss) continue;
+      for (int64_t p = adj.offsets[front[i]]; p < adj.offsets[front[i] + 1]; ++p) {
+        const int32_t u = adj.neighbors[p];
+        if (exact[u] || owner[u] >= 0) continue;
+        exact[u] = 1;
+        next.push_back(u);
+      }
+    }
+    std::sort(next.begin(), next.end());
+    front.swap(next);
+  }
+}
+
 SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
                                  const SkinningOptions& options, const RunContext& ctx) {
   if (options.samples < 0) fail(ErrorCode::BadUsage, "skinning weights: samples must be >= 0");
@@ -173,9 +210,14 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   std::vector<uint8_t> indicator;
   solve_rows(samples, rows, indicator);
   W.weights_s = sw.lap();
-  const Propagation P = propagate_samples(m, adj, samples, rows, indicator, k, W.weight, ctx);
+  const Propagation P = propagate_samples(m, adj, samples, rows, indicator, k, W.weight, ctx, options.refine_miss);
   W.radius = P.radius;
   W.propagate_s = sw.lap();
+  if (!P.rough.empty()) {
+    refine_rows(adj, samples, P.rough, owner, options.refine_miss, solve_rows, W);
+    W.samples += W.refined;
+    W.weights_s += sw.lap();
+  }
   return W;
 }
 

@@ -22,11 +22,15 @@
 //            keep their indicator, and a weight is exactly 0 where the samples
 //            around have it 0 (the support is never widened past the samples'
 //            zeros; it may shrink by up to the cover radius where the weight is
-//            below 0.03). Cost: at most `samples` exact rows (each a full heat
-//            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
-//            The exact rows themselves vary from vertex to vertex by more than a
-//            smooth interpolant follows (the vertex-level discretization of the
-//            cells): docs/skinning.md has the measured differences.
+//            below 0.03). The exact rows themselves jump between neighbouring
+//            vertices where edges are long against the diffusion length sqrt(t)
+//            (docs/skinning.md), more than a smooth interpolant follows: where
+//            the samples around a vertex miss their linear fit by more than
+//            `refine_miss`, the vertex gets its exact row, and so do, round by
+//            round, the neighbours of every such vertex whose exact row differs
+//            from its propagated one by more than that. Cost: at most `samples`
+//            cover rows plus the refined ones (each a full heat solve, 8 per
+//            batch, and a pass over its cell) plus O(n) propagation.
 // Large meshes: the front ends take the coarse road of skinning_coarse.hpp
 // (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
@@ -50,6 +54,9 @@ struct SkinningOptions {
   // in edges that has at most this many; handle vertices are always samples);
   // 0 = the default 1024. More samples: closer to Exact, slower.
   int32_t samples = 0;
+  // Sampled: vertices where the samples around miss their linear fit by more than
+  // this (the exact weights jump between them) get their exact row too; 0 = off.
+  double refine_miss = 0.05;
 };
 
 struct SkinningWeights {
@@ -59,7 +66,8 @@ struct SkinningWeights {
   int64_t fallback_faces = 0;  // summed over vertices
   double max_clamped = 0;      // largest relative negative area difference clamped to 0
   std::string method;          // "exact" or "sampled"
-  int32_t samples = 0;         // vertices whose row is exact (all for Exact)
+  int32_t samples = 0;         // vertices whose row is exact (all for Exact; Sampled: cover + refined)
+  int32_t refined = 0;         // Sampled: of those, the vertices refined where the fit missed
   int32_t sample_rings = 0;    // Sampled: every vertex is within this many edges of a sample
   double radius = 0;           // Sampled: the propagation radius (length units)
   int32_t coarse_vertices = 0; // coarse road (skinning_coarse.hpp): vertices of the coarse level, else 0
