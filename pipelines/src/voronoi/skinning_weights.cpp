@@ -113,8 +113,6 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
   return samples;
 }
 
-}  // namespace
-
 // Exact rows where the propagation cannot follow the exact weights: first the
 // vertices `rough` (their samples miss the stencil's fit), then, round by round,
 // the not yet exact neighbours of every vertex whose exact row differs from its
@@ -151,6 +149,8 @@ void refine_rows(const Adjacency& adj, std::span<const int32_t> samples, std::ve
     front.swap(next);
   }
 }
+
+}  // namespace
 
 SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
                                  const SkinningOptions& options, const RunContext& ctx) {
