@@ -13,6 +13,8 @@
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "locus/pipelines/voronoi/skinning_sampled.hpp"
 
@@ -27,39 +29,46 @@ struct SkinMsg {
 };
 
 struct SkinScratch {
-  HeatBatch batch;
-  std::vector<double> lane;
+  SolvePlan plan;
+  PlanWorkspace plan_ws;
+  SolveWorkspace ws;
+  std::vector<double> rhs;
+  HostVector<double> values;  // n x 8, vertex-major
   NaturalScratch nn;
 };
 
 // Exact rows of the vertices `query` (8 per solve, in parallel) into rows
 // (query.size() * k, row i for query[i]); degenerate[i] (when not empty) set
 // where query[i]'s cell held no vertex (its row is an indicator); statistics into W.
+// The solve is the exact planned one with the 8 point sources as support and every
+// vertex wanted: the forward substitution runs over the sources' etree paths only
+// (the rest of L^{-1} b is zero), the backward one over every supernode, with the
+// full solve's per-supernode arithmetic, so the heat is the full solve's.
 void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mesh& m, std::span<const int32_t> query,
                 std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
   const int32_t nb = (count + kLanes - 1) / kLanes;
+  const SymbolicFactor& S = *H.factor.symbolic;
+  const HostVector<int32_t> vertex_super = vertex_supernodes(S);
+  std::vector<int32_t> every(n);
+  for (int32_t v = 0; v < n; ++v) every[v] = v;
   tbb::enumerable_thread_specific<SkinScratch> scratch;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
     msg->first = b * kLanes;
     msg->lanes = std::min(kLanes, count - msg->first);
-    s.batch.clear_sources();
-    s.batch.kept.clear();
-    for (int l = 0; l < msg->lanes; ++l) {
-      const int32_t v = query[msg->first + l];
-      const double one = 1.0;
-      s.batch.add_source({&v, 1}, {&one, 1});
-    }
-    solve_heat_batch(H, s.batch);
-    s.lane.resize(n);
-    for (int l = 0; l < msg->lanes; ++l) {
-      for (int32_t v = 0; v < n; ++v) s.lane[v] = s.batch.values[static_cast<size_t>(v) * kLanes + l];
-      msg->c[l] = natural_neighbor_coordinates(F, m, vertex_point(query[msg->first + l]), s.lane, s.nn);
-    }
+    const std::span<const int32_t> sources = query.subspan(msg->first, msg->lanes);
+    s.rhs.assign(static_cast<size_t>(msg->lanes) * kLanes, 0.0);
+    for (int l = 0; l < msg->lanes; ++l) s.rhs[static_cast<size_t>(l) * kLanes + l] = 1.0;
+    plan_subset_solve(S, vertex_super, sources, every, s.plan, s.plan_ws);
+    s.values.resize(static_cast<size_t>(n) * kLanes);
+    solve_planned8(H.factor, s.plan, s.rhs, s.values, s.ws);
+    SurfacePoint q[kLanes];
+    for (int l = 0; l < msg->lanes; ++l) q[l] = vertex_point(query[msg->first + l]);
+    natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(msg->lanes)}, s.values, s.nn, msg->c);
     return msg;
   };
   auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
