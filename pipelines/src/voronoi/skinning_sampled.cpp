@@ -61,6 +61,11 @@ namespace {
 constexpr double kRadiusFactor = 2.5;
 constexpr double kZeroFactor = 1.5;
 constexpr double kZeroBelow = 0.03;
+// An interpolated weight below this times the row's largest is 0: the exact weights next to a handle hold
+// scattered tiny values (1e-6..1e-4 on armadillo) of far handles whose cells the
+// vertex's cell barely touches; interpolating them spreads a tail onto vertices
+// whose whole one-ring has the weight exactly 0 (outside the natural neighbourhood).
+constexpr double kDropBelow = 1e-3;
 // The samples whose miss of the stencil's linear fit marks a vertex as rough:
 // those within this many cover radii, the ones that dominate its MLS value
 // (locus-bench skinning: 1.0 refines ~3x as many vertices on armadillo, 1.5 ~9x,
@@ -262,7 +267,8 @@ double fit_miss(const Mesh& m, int32_t v, std::span<const int32_t> samples, std:
 // One vertex's row: the MLS combination of its stencil's rows, a weight set to 0
 // where a stencil sample within zero_radius has it 0 (the natural neighbourhood
 // is never widened past the samples' zeros) or where the combination is
-// negative, then renormalized to sum 1.
+// below kDropBelow times the row's largest (negative included), then
+// renormalized to sum 1.
 void combine_row(std::span<const StencilEntry> st, std::span<const double> c, std::span<const double> rows,
                  std::span<const uint8_t> indicator, int32_t k, double zero_radius, double* o) {
   std::fill(o, o + k, 0.0);
@@ -276,9 +282,11 @@ void combine_row(std::span<const StencilEntry> st, std::span<const double> c, st
     for (int32_t j = 0; j < k; ++j)
       if (w[j] == 0.0 && o[j] < kZeroBelow) o[j] = 0.0;
   }
+  double top = 0;
+  for (int32_t j = 0; j < k; ++j) top = std::max(top, o[j]);
   double sum = 0;
   for (int32_t j = 0; j < k; ++j) {
-    if (!(o[j] > 0)) o[j] = 0.0;
+    if (!(o[j] > 0 && o[j] >= kDropBelow * top)) o[j] = 0.0;
     sum += o[j];
   }
   if (!(sum > 0)) {  // every weight cancelled: the nearest sample's row
