@@ -8,11 +8,14 @@
 // vertices, and are exactly 0 for handles whose cells the vertex's cell does not touch.
 //
 // Two methods:
-//   Exact    one full heat solve per vertex (8 vertices per solve, batches in
-//            parallel, one slot per vertex: deterministic for any thread count),
-//            plus a re-split of the triangles each vertex's cell covers. The cost
-//            grows with n^2 / handles (a vertex's cell covers a fixed share of its
-//            handle's cell), as the thesis notes (§3.7.2: "comparably slow").
+//   Exact    one heat solve per vertex (8 vertices per solve, batches in
+//            parallel, one slot per vertex: deterministic for any thread count;
+//            the forward substitution runs over the 8 sources' etree paths only,
+//            the values are the full solve's), plus one pass over the vertices
+//            per batch for the 8 cells and a re-split of each cell's border
+//            triangles. The cost grows with n^2 / handles (a vertex's cell covers
+//            a fixed share of its handle's cell: a third of armadillo's vertices
+//            with 4 handles), as the thesis notes (§3.7.2: "comparably slow").
 //   Sampled  the thesis' way out (§3.7.2: compute on a coarse set, propagate):
 //            the exact coordinates at a greedy cover of the vertex graph (every
 //            vertex within `rings` edges of a sample, handle vertices first), then
@@ -29,8 +32,8 @@
 //            `refine_miss`, the vertex gets its exact row, and so do, round by
 //            round, the neighbours of every such vertex whose exact row differs
 //            from its propagated one by more than that. Cost: at most `samples`
-//            cover rows plus the refined ones (each a full heat solve, 8 per
-//            batch, and a pass over its cell) plus O(n) propagation.
+//            cover rows plus the refined ones (exact rows as above) plus O(n)
+//            propagation; a propagated weight below 1e-3 of its row's largest is 0.
 // Large meshes: the front ends take the coarse road of skinning_coarse.hpp
 // (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
