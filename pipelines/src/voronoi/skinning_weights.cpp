@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "locus/error.hpp"
-#include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
