@@ -41,6 +41,7 @@ struct SkinningBenchOptions {
   int32_t exact_max_vertices = 30000;
   std::string exact_cache;  // file of the exact weights: read when it matches, else written
   bool coarse_only = false;
+  double t_factor = 1.0;  // diffusion time t = t_factor * h^2 (skinweights' --t)
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -127,6 +128,7 @@ Json properties(const Mesh& m, const SkinningWeights& W, std::span<const int32_t
 Json roughness(const Adjacency& adj, const SkinningWeights& E) {
   const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = E.handles;
   double jmax = 0;
+  int32_t at[2] = {-1, -1};
   int64_t edges = 0, rough = 0;
   for (int32_t v = 0; v < n; ++v)
     for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
@@ -135,23 +137,32 @@ Json roughness(const Adjacency& adj, const SkinningWeights& E) {
       double j = 0;
       for (int32_t i = 0; i < k; ++i)
         j = std::max(j, std::abs(E.weight[static_cast<size_t>(u) * k + i] - E.weight[static_cast<size_t>(v) * k + i]));
-      jmax = std::max(jmax, j);
+      if (j > jmax) {
+        jmax = j;
+        at[0] = v;
+        at[1] = u;
+      }
       ++edges;
       rough += j > 0.05;
     }
-  return {{"max_edge_jump", jmax}, {"edges_jump_over_0_05_percent", edges ? 100.0 * rough / edges : 0.0}};
+  return {{"max_edge_jump", jmax}, {"max_edge_jump_at", {at[0], at[1]}},
+          {"edges_jump_over_0_05_percent", edges ? 100.0 * rough / edges : 0.0}};
 }
 
 // Differences against the exact weights, and the locality check (header).
 void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, const SkinningWeights& E, Json& j) {
   const int32_t n = m.num_vertices(), k = W.handles;
   double dmax = 0, dsum = 0;
+  int32_t at = -1;
   int64_t outside = 0, zero_exact = 0;
   for (int32_t v = 0; v < n; ++v)
     for (int32_t i = 0; i < k; ++i) {
       const size_t a = static_cast<size_t>(v) * k + i;
       const double d = std::abs(W.weight[a] - E.weight[a]);
-      dmax = std::max(dmax, d);
+      if (d > dmax) {
+        dmax = d;
+        at = v;
+      }
       dsum += d;
       if (E.weight[a] != 0.0) continue;
       bool band = false;
@@ -162,6 +173,7 @@ void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, cons
       outside += W.weight[a] > 0;
     }
   j["max_diff"] = dmax;
+  j["max_diff_vertex"] = at;
   j["mean_diff"] = dsum / (static_cast<double>(n) * k);
   j["nonzero_outside_band"] = outside;
   j["nonzero_outside_band_percent"] = zero_exact ? 100.0 * outside / zero_exact : 0.0;
@@ -205,7 +217,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
   for (int32_t v : ids) handles.push_back({v});
   cli::Stopwatch sw;
   const bool fine = !o.coarse_only;
-  const HeatDiffusion H = fine ? prepare_heat_diffusion(m, 1.0, 0.0, ctx) : HeatDiffusion{};  // as `locus skinweights`
+  const HeatDiffusion H = fine ? prepare_heat_diffusion(m, o.t_factor, 0.0, ctx) : HeatDiffusion{};  // as `locus skinweights`
   const double factor_s = sw.seconds();
   const Adjacency adj = vertex_adjacency(m);
   Json j{{"command", "skinning"}, {"input", cli::input_json(opt, in)}, {"n", m.num_vertices()}, {"handles", ids},
@@ -221,7 +233,8 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     exact = skinning_weights(H, m, handles, so, ctx);
     const double s = sw.seconds();
     j["exact"] = {{"wall_s", s}, {"with_factor_s", s + factor_s}, {"repeats", 1}, {"properties", properties(m, exact, ids)},
-                  {"roughness", roughness(adj, exact)}};
+                  {"roughness", roughness(adj, exact)}, {"degenerate_rows", exact.degenerate},
+                  {"max_clamped", exact.max_clamped}};
     write_exact(o.exact_cache, m.num_vertices(), ids, exact);
   }
   Json sampled = Json::array(), coarse = Json::array();
@@ -234,7 +247,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     SkinningWeights C;
     for (int32_t r = 0; r < o.repeats; ++r) {
       sw.restart();
-      C = skinning_weights_coarse(m, handles, co, 1.0, 0.0, ctx);
+      C = skinning_weights_coarse(m, handles, co, o.t_factor, 0.0, ctx);
       cwall.push_back(sw.seconds());
     }
     Json crow{{"samples_target", co.samples}, {"samples", C.samples}, {"coarse_vertices", C.coarse_vertices},
@@ -255,7 +268,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
       wall.push_back(sw.seconds());
     }
     const double med = cli::median(wall);
-    Json row{{"samples_target", so.samples}, {"samples", W.samples},   {"sample_rings", W.sample_rings},
+    Json row{{"samples_target", so.samples}, {"samples", W.samples},   {"refined", W.refined}, {"sample_rings", W.sample_rings},
              {"wall_s", med},                {"with_factor_s", med + factor_s}, {"wall_s_all", wall},
              {"phase_s", {{"prepare", W.prepare_s}, {"exact_rows", W.weights_s}, {"propagate", W.propagate_s}}},
              {"properties", properties(m, W, ids)}};
@@ -282,6 +295,7 @@ void register_skinning_bench(cli::CommandTable& table) {
                   "Run the exact method only up to this many vertices (default 30000)");
   app->add_flag("--coarse-only", o->coarse_only,
                "Only the coarse road (no fine factorization, sampled or exact run: meshes too large for them)");
+  app->add_option("--t-factor", o->t_factor, "Diffusion time in units of h^2 (default 1, as skinweights' default --t h2)");
   app->add_option("--exact-cache", o->exact_cache,
                   "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }

@@ -178,6 +178,9 @@ void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns) {
           ++used;
         });
   }
+  F.max_heat.resize(n);
+  for (int32_t v = 0; v < n; ++v) F.max_heat[v] = V.top_value[static_cast<size_t>(v) * kVoronoiTopK];
+  F.adjacency = vertex_adjacency(m);
   F.share_offsets.assign(static_cast<size_t>(n) + 1, 0);
   F.share_site.clear();
   F.share_area.clear();
@@ -229,46 +232,94 @@ int32_t containing_cell(const HeatVoronoi& V, const Mesh& m, const SurfacePoint&
 
 }  // namespace
 
-NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
-                                                 const SurfacePoint& q, std::span<const double> heat_q) {
-  NaturalScratch scratch;
-  return natural_neighbor_coordinates(F, m, q, heat_q, scratch);
-}
-
 namespace {
 
-// Areas q's cell steals from each site (stolen, ns) and its own area aq. Every
-// face with a taken corner changes hands: its old parts are added to `stolen` and
-// its new split (all of it to q when all corners are taken) is taken back. The
-// taken vertices' shares add a third of each incident face per taken corner; the
-// border faces (taken and untaken corners) get the rest of their old parts and
-// their re-split. Sums run in the order of the ascending taken vertices.
-int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<const double> heat_q,
-                    NaturalScratch& s, std::vector<double>& stolen, double& aq) {
-  const HeatVoronoi& V = F.voronoi;
+// Queries of one batch: lane l's heat at vertex v is heat[v * stride + l].
+struct LaneHeat {
+  const double* heat;
+  int stride;
+  double operator()(int32_t v, int l) const { return heat[static_cast<size_t>(v) * stride + l]; }
+};
+
+// The vertices each lane takes (its heat beats the current maximum; ties stay with
+// the sites) as bit l of s.vertex_mark (every vertex written), and in the same pass
+// over the vertices the taken vertices' areas and shares into aq[l] and
+// stolen[l * ns ..]: a third of each incident face per taken corner. Every lane
+// sums in the order of its ascending taken vertices; a vertex's shares are read
+// once for all the lanes that take it. The vertices some lane takes go to s.taken;
+// returns the lanes whose heat is not finite somewhere.
+uint8_t take_vertices(const NaturalNeighborField& F, const LaneHeat& heat, uint8_t active, NaturalScratch& s,
+                      std::vector<double>& stolen, double* aq, int64_t* count) {
+  const int32_t n = static_cast<int32_t>(F.max_heat.size());
   const int32_t ns = static_cast<int32_t>(F.sites.size());
-  // Each face around a taken vertex counts its taken corners (face_mark); the
-  // border faces are those counted fewer than 3 times, in first-touch order.
-  s.faces.clear();
-  for (int32_t v : s.taken) {
-    for (int64_t p = F.share_offsets[v]; p < F.share_offsets[v + 1]; ++p) stolen[F.share_site[p]] += F.share_area[p];
-    aq += F.vertex_area[v];
-    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
-      const int32_t f = F.vf_faces[p];
-      if (s.face_mark[f]++ == 0) s.faces.push_back(f);
+  s.taken.clear();
+  uint8_t bad = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    uint8_t mask = 0;
+    for (int l = 0; l < kLanes; ++l) {
+      if (!(active >> l & 1)) continue;
+      const double h = heat(v, l);
+      if (!std::isfinite(h)) bad |= static_cast<uint8_t>(1u << l);
+      if (h > F.max_heat[v]) mask |= static_cast<uint8_t>(1u << l);
+    }
+    s.vertex_mark[v] = mask;
+    if (!mask) continue;
+    s.taken.push_back(v);
+    for (int l = 0; l < kLanes; ++l) {
+      if (!(mask >> l & 1)) continue;
+      ++count[l];
+      double* st = stolen.data() + static_cast<size_t>(l) * ns;
+      for (int64_t p = F.share_offsets[v]; p < F.share_offsets[v + 1]; ++p) st[F.share_site[p]] += F.share_area[p];
+      aq[l] += F.vertex_area[v];
     }
   }
-  size_t border = 0;
-  for (int32_t f : s.faces) {
-    const bool inside = s.face_mark[f] == 3;
-    s.face_mark[f] = 0;
-    if (!inside) s.faces[border++] = f;
+  return bad;
+}
+
+// The border faces of every lane (taken and untaken corners) into s.lane_faces[l],
+// each in the order of its smallest taken corner (its first touch in the ascending
+// taken vertices). Only a taken vertex with an untaken neighbour has border faces:
+// the cell's inside costs one neighbour check per vertex for all lanes at once.
+void border_faces(const NaturalNeighborField& F, const Mesh& m, NaturalScratch& s) {
+  const auto& adj = F.adjacency;
+  for (auto& faces : s.lane_faces) faces.clear();
+  for (int32_t v : s.taken) {
+    const uint8_t mask = s.vertex_mark[v];
+    uint8_t all = mask;
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1] && all; ++p) all &= s.vertex_mark[adj.neighbors[p]];
+    const uint8_t edge = mask & static_cast<uint8_t>(~all);
+    if (!edge) continue;
+    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
+      const int32_t f = F.vf_faces[p];
+      const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
+      uint8_t border = 0, later = edge;  // lanes where f has an untaken corner / v is f's smallest taken corner
+      for (int32_t u : c) {
+        border |= static_cast<uint8_t>(~s.vertex_mark[u]);
+        if (u < v) later &= static_cast<uint8_t>(~s.vertex_mark[u]);
+      }
+      const uint8_t add = edge & border & later & static_cast<uint8_t>(~s.face_mark[f]);
+      if (!add) continue;
+      s.face_mark[f] |= add;  // a face with a repeated corner is visited twice from it
+      for (int l = 0; l < kLanes; ++l)
+        if (add >> l & 1) s.lane_faces[l].push_back(f);
+    }
   }
-  s.faces.resize(border);
+  for (auto& faces : s.lane_faces)
+    for (int32_t f : faces) s.face_mark[f] = 0;
+}
+
+// Lane l's border faces: the rest of their old parts (the untaken corners' thirds)
+// is stolen too, the taken corners' thirds leave aq, and their re-split with q
+// as an extra site is taken back. Returns the faces split by vertex labels.
+int64_t resplit_border(const NaturalNeighborField& F, const Mesh& m, const LaneHeat& heat, int l,
+                       const NaturalScratch& s, double* stolen, double& aq) {
+  const HeatVoronoi& V = F.voronoi;
+  const int32_t ns = static_cast<int32_t>(F.sites.size());
   int64_t fallback = 0;
-  for (int32_t f : s.faces) {
+  for (int32_t f : s.lane_faces[l]) {
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
-    const bool t[3] = {s.vertex_mark[v[0]] != 0, s.vertex_mark[v[1]] != 0, s.vertex_mark[v[2]] != 0};
+    const bool t[3] = {(s.vertex_mark[v[0]] >> l & 1) != 0, (s.vertex_mark[v[1]] >> l & 1) != 0,
+                       (s.vertex_mark[v[2]] >> l & 1) != 0};
     const int taken = t[0] + t[1] + t[2];
     const double rest = (3 - taken) / 3.0;
     for (int p = 0; p < 3; ++p) {
@@ -279,7 +330,7 @@ int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<cons
     const int32_t lnew[3] = {t[0] ? ns : V.label[v[0]], t[1] ? ns : V.label[v[1]], t[2] ? ns : V.label[v[2]]};
     const bool ok = split_face(
         F.face_area[f], lnew,
-        [&](int k, int32_t site, bool& okk) { return site == ns ? heat_q[v[k]] : top_heat(V, v[k], site, okk); },
+        [&](int k, int32_t site, bool& okk) { return site == ns ? heat(v[k], l) : top_heat(V, v[k], site, okk); },
         [&](int32_t site, double a) {
           if (site == ns) {
             aq += a;
@@ -292,52 +343,8 @@ int64_t steal_areas(const NaturalNeighborField& F, const Mesh& m, std::span<cons
   return fallback;
 }
 
-}  // namespace
-
-NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
-                                                 const SurfacePoint& q, std::span<const double> heat_q,
-                                                 NaturalScratch& scratch) {
-  const int32_t n = m.num_vertices();
-  const int32_t ns = static_cast<int32_t>(F.sites.size());
-  if (!F.heat || F.heat->n != n || F.voronoi.label.size() != static_cast<size_t>(n))
-    fail(ErrorCode::BadUsage, "natural neighbors: the field was prepared for another mesh");
-  if (heat_q.size() != static_cast<size_t>(n))
-    fail(ErrorCode::BadUsage, "natural neighbors: the query's heat needs one value per vertex");
-  check_surface_point(m, q, "query point", 0);
-  NaturalCoordinates r;
-  r.weight.assign(ns, 0.0);
-  const auto pq = surface_point_position(m, q);
-  const double tol = 1e-9 * F.heat->h;
-  for (int32_t s = 0; s < ns; ++s) {
-    const auto& p = F.site_position[s];
-    const double d = std::sqrt((p[0] - pq[0]) * (p[0] - pq[0]) + (p[1] - pq[1]) * (p[1] - pq[1]) +
-                               (p[2] - pq[2]) * (p[2] - pq[2]));
-    if (d <= tol) {
-      r.weight[s] = 1.0;
-      r.at_site = true;
-      return r;
-    }
-  }
-  const HeatVoronoi& V = F.voronoi;
-  NaturalScratch& s = scratch;
-  s.vertex_mark.resize(n, 0);
-  s.face_mark.resize(m.num_faces(), 0);
-  // Vertices q takes over: its heat beats the current maximum (ties stay with the sites).
-  s.taken.clear();
-  for (int32_t v = 0; v < n; ++v) {
-    if (!std::isfinite(heat_q[v])) fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
-    if (heat_q[v] > V.top_value[static_cast<size_t>(v) * kVoronoiTopK]) s.taken.push_back(v);
-  }
-  if (s.taken.empty()) {  // q's cell holds no vertex: the cell containing q
-    r.weight[containing_cell(V, m, q)] = 1.0;
-    r.degenerate = true;
-    return r;
-  }
-  for (int32_t v : s.taken) s.vertex_mark[v] = 1;
-  std::vector<double> stolen(ns, 0.0);
-  double aq = 0;
-  r.fallback_faces = steal_areas(F, m, heat_q, s, stolen, aq);
-  for (int32_t v : s.taken) s.vertex_mark[v] = 0;
+// The coordinates from q's cell area aq and the areas it steals.
+void finish_coordinates(double* stolen, int32_t ns, double aq, NaturalCoordinates& r) {
   r.cell_area = aq;
   if (!(aq > 0)) fail(ErrorCode::Numerical, "natural neighbors: the query's cell has no area");
   double sum = 0, neg = 0;
@@ -352,7 +359,91 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
   r.clamped = neg / aq;
   if (!(sum > 0)) fail(ErrorCode::Numerical, "natural neighbors: no area was stolen");
   for (int32_t i = 0; i < ns; ++i) r.weight[i] = stolen[i] / sum;
+}
+
+// Up to 8 queries on one pass over the vertices (the single query is lane 0).
+void coordinates_lanes(const NaturalNeighborField& F, const Mesh& m, std::span<const SurfacePoint> q,
+                       const LaneHeat& heat, NaturalScratch& s, NaturalCoordinates* out) {
+  const int32_t n = m.num_vertices();
+  const int32_t ns = static_cast<int32_t>(F.sites.size());
+  const int lanes = static_cast<int>(q.size());
+  const double tol = 1e-9 * F.heat->h;
+  uint8_t active = 0;
+  for (int l = 0; l < lanes; ++l) {
+    check_surface_point(m, q[l], "query point", l);
+    NaturalCoordinates& r = out[l];
+    r = NaturalCoordinates{};
+    r.weight.assign(ns, 0.0);
+    const auto pq = surface_point_position(m, q[l]);
+    for (int32_t i = 0; i < ns && !r.at_site; ++i) {
+      const auto& p = F.site_position[i];
+      const double d = std::sqrt((p[0] - pq[0]) * (p[0] - pq[0]) + (p[1] - pq[1]) * (p[1] - pq[1]) +
+                                 (p[2] - pq[2]) * (p[2] - pq[2]));
+      if (d <= tol) {
+        r.weight[i] = 1.0;
+        r.at_site = true;
+      }
+    }
+    if (r.at_site) continue;
+    active |= static_cast<uint8_t>(1u << l);
+  }
+  if (!active) return;
+  s.vertex_mark.resize(n, 0);
+  s.face_mark.resize(m.num_faces(), 0);
+  std::vector<double> stolen(static_cast<size_t>(kLanes) * ns, 0.0);
+  double aq[kLanes] = {};
+  int64_t count[kLanes] = {};
+  if (take_vertices(F, heat, active, s, stolen, aq, count))
+    fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
+  border_faces(F, m, s);
+  for (int l = 0; l < lanes; ++l) {
+    if (!(active >> l & 1)) continue;
+    NaturalCoordinates& r = out[l];
+    if (count[l] == 0) {  // q's cell holds no vertex: the cell containing q
+      r.weight[containing_cell(F.voronoi, m, q[l])] = 1.0;
+      r.degenerate = true;
+      continue;
+    }
+    double* st = stolen.data() + static_cast<size_t>(l) * ns;
+    r.fallback_faces = resplit_border(F, m, heat, l, s, st, aq[l]);
+    finish_coordinates(st, ns, aq[l], r);
+  }
+}
+
+void check_field(const NaturalNeighborField& F, int32_t n) {
+  if (!F.heat || F.heat->n != n || F.voronoi.label.size() != static_cast<size_t>(n) ||
+      F.max_heat.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "natural neighbors: the field was prepared for another mesh");
+}
+
+}  // namespace
+
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q, std::span<const double> heat_q,
+                                                 NaturalScratch& scratch) {
+  check_field(F, m.num_vertices());
+  if (heat_q.size() != static_cast<size_t>(m.num_vertices()))
+    fail(ErrorCode::BadUsage, "natural neighbors: the query's heat needs one value per vertex");
+  NaturalCoordinates r;
+  coordinates_lanes(F, m, {&q, 1}, LaneHeat{heat_q.data(), 1}, scratch, &r);
   return r;
+}
+
+NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
+                                                 const SurfacePoint& q, std::span<const double> heat_q) {
+  NaturalScratch scratch;
+  return natural_neighbor_coordinates(F, m, q, heat_q, scratch);
+}
+
+void natural_neighbor_coordinates8(const NaturalNeighborField& F, const Mesh& m, std::span<const SurfacePoint> q,
+                                   std::span<const double> heat8, NaturalScratch& scratch,
+                                   std::span<NaturalCoordinates> out) {
+  check_field(F, m.num_vertices());
+  if (q.size() > static_cast<size_t>(kLanes) || out.size() < q.size())
+    fail(ErrorCode::BadUsage, "natural neighbors: up to 8 queries per batch, one result each");
+  if (heat8.size() != static_cast<size_t>(m.num_vertices()) * kLanes)
+    fail(ErrorCode::BadUsage, "natural neighbors: the batch's heat needs 8 values per vertex");
+  coordinates_lanes(F, m, q, LaneHeat{heat8.data(), kLanes}, scratch, out.data());
 }
 
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,

@@ -235,6 +235,7 @@ SkinningWeights skinning_weights_coarse(const Mesh& m, std::span<const std::vect
   SkinningWeights W;
   W.factor_s = sw.lap();
   SkinningOptions co = options;
+  co.refine_miss = 0;  // the coarse level's error is its discretization's: no refinement (docs/skinning.md)
   co.method = SkinningMethod::Sampled;
   const SkinningWeights C = skinning_weights(Hc, L.mesh, coarse_handles, co, ctx);
   W.handles = k;

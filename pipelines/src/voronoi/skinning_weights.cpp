@@ -9,10 +9,11 @@
 #include <memory>
 
 #include "locus/error.hpp"
-#include "locus/kernels/heat/heat_batch.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
+#include "locus/kernels/solve/solve_plan.hpp"
+#include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "locus/pipelines/voronoi/skinning_sampled.hpp"
 
@@ -27,39 +28,46 @@ struct SkinMsg {
 };
 
 struct SkinScratch {
-  HeatBatch batch;
-  std::vector<double> lane;
+  SolvePlan plan;
+  PlanWorkspace plan_ws;
+  SolveWorkspace ws;
+  std::vector<double> rhs;
+  HostVector<double> values;  // n x 8, vertex-major
   NaturalScratch nn;
 };
 
 // Exact rows of the vertices `query` (8 per solve, in parallel) into rows
 // (query.size() * k, row i for query[i]); degenerate[i] (when not empty) set
 // where query[i]'s cell held no vertex (its row is an indicator); statistics into W.
+// The solve is the exact planned one with the 8 point sources as support and every
+// vertex wanted: the forward substitution runs over the sources' etree paths only
+// (the rest of L^{-1} b is zero), the backward one over every supernode, with the
+// full solve's per-supernode arithmetic, so the heat is the full solve's.
 void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mesh& m, std::span<const int32_t> query,
                 std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
   const int32_t nb = (count + kLanes - 1) / kLanes;
+  const SymbolicFactor& S = *H.factor.symbolic;
+  const HostVector<int32_t> vertex_super = vertex_supernodes(S);
+  std::vector<int32_t> every(n);
+  for (int32_t v = 0; v < n; ++v) every[v] = v;
   tbb::enumerable_thread_specific<SkinScratch> scratch;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
     msg->first = b * kLanes;
     msg->lanes = std::min(kLanes, count - msg->first);
-    s.batch.clear_sources();
-    s.batch.kept.clear();
-    for (int l = 0; l < msg->lanes; ++l) {
-      const int32_t v = query[msg->first + l];
-      const double one = 1.0;
-      s.batch.add_source({&v, 1}, {&one, 1});
-    }
-    solve_heat_batch(H, s.batch);
-    s.lane.resize(n);
-    for (int l = 0; l < msg->lanes; ++l) {
-      for (int32_t v = 0; v < n; ++v) s.lane[v] = s.batch.values[static_cast<size_t>(v) * kLanes + l];
-      msg->c[l] = natural_neighbor_coordinates(F, m, vertex_point(query[msg->first + l]), s.lane, s.nn);
-    }
+    const std::span<const int32_t> sources = query.subspan(msg->first, msg->lanes);
+    s.rhs.assign(static_cast<size_t>(msg->lanes) * kLanes, 0.0);
+    for (int l = 0; l < msg->lanes; ++l) s.rhs[static_cast<size_t>(l) * kLanes + l] = 1.0;
+    plan_subset_solve(S, vertex_super, sources, every, s.plan, s.plan_ws);
+    s.values.resize(static_cast<size_t>(n) * kLanes);
+    solve_planned8(H.factor, s.plan, s.rhs, s.values, s.ws);
+    SurfacePoint q[kLanes];
+    for (int l = 0; l < msg->lanes; ++l) q[l] = vertex_point(query[msg->first + l]);
+    natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(msg->lanes)}, s.values, s.nn, msg->c);
     return msg;
   };
   auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
@@ -111,6 +119,43 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
     samples = cover_samples(adj, first, rings);
   }
   return samples;
+}
+
+// Exact rows where the propagation cannot follow the exact weights: first the
+// vertices `rough` (their samples miss the stencil's fit), then, round by round,
+// the not yet exact neighbours of every vertex whose exact row differs from its
+// propagated one by more than `miss` (the jump reaches past it), until the exact
+// rows at the front agree with the propagation.
+template <class SolveRows>
+void refine_rows(const Adjacency& adj, std::span<const int32_t> samples, std::vector<int32_t> front,
+                 std::span<const int32_t> owner, double miss, SolveRows&& solve_rows, SkinningWeights& W) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = W.handles;
+  std::vector<uint8_t> exact(n, 0);
+  for (int32_t v : samples) exact[v] = 1;
+  for (int32_t v : front) exact[v] = 1;
+  std::vector<double> rows;
+  std::vector<uint8_t> indicator;
+  std::vector<int32_t> next;
+  while (!front.empty()) {
+    solve_rows(front, rows, indicator);
+    W.refined += static_cast<int32_t>(front.size());
+    next.clear();
+    for (size_t i = 0; i < front.size(); ++i) {
+      double* w = W.weight.data() + static_cast<size_t>(front[i]) * k;
+      double d = 0;
+      for (int32_t j = 0; j < k; ++j) d = std::max(d, std::abs(w[j] - rows[i * k + j]));
+      std::copy_n(rows.begin() + i * k, k, w);
+      if (d <= miss) continue;
+      for (int64_t p = adj.offsets[front[i]]; p < adj.offsets[front[i] + 1]; ++p) {
+        const int32_t u = adj.neighbors[p];
+        if (exact[u] || owner[u] >= 0) continue;
+        exact[u] = 1;
+        next.push_back(u);
+      }
+    }
+    std::sort(next.begin(), next.end());
+    front.swap(next);
+  }
 }
 
 }  // namespace
@@ -173,9 +218,14 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   std::vector<uint8_t> indicator;
   solve_rows(samples, rows, indicator);
   W.weights_s = sw.lap();
-  const Propagation P = propagate_samples(m, adj, samples, rows, indicator, k, W.weight, ctx);
+  const Propagation P = propagate_samples(m, adj, samples, rows, indicator, k, W.weight, ctx, options.refine_miss);
   W.radius = P.radius;
   W.propagate_s = sw.lap();
+  if (!P.rough.empty()) {
+    refine_rows(adj, samples, P.rough, owner, options.refine_miss, solve_rows, W);
+    W.samples += W.refined;
+    W.weights_s += sw.lap();
+  }
   return W;
 }
 

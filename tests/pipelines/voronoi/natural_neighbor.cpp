@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
 
 using namespace locus;
@@ -98,4 +99,39 @@ TEST_CASE("natural neighbor coordinates on a sphere: properties; bad input") {
   CHECK_THROWS_AS(natural_neighbor_coordinates(F, m, SurfacePoint{m.num_faces(), -1, {1, 0, 0}}), Error);
   CHECK_THROWS_AS(natural_neighbor_coordinates(F, m, qs[0], std::vector<double>(3, 0.0)), Error);
   CHECK_THROWS_AS(prepare_natural_neighbors(H, m, std::span<const SurfacePoint>{}, {}), Error);
+}
+
+TEST_CASE("natural neighbor coordinates8: 8 queries on one pass give each query's own coordinates, bit for bit") {
+  // Oracle: the one-query path on the same heat, lane by lane (a vertex of the
+  // batch's mask, border or share read for the wrong lane changes some weight).
+  const Mesh m = make_icosphere(3);
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
+  const std::vector<SurfacePoint> sites = random_surface_points(m, 6, 5);
+  const NaturalNeighborField F = prepare_natural_neighbors(H, m, sites, {});
+  std::vector<SurfacePoint> qs = random_surface_points(m, 7, 31);
+  qs.insert(qs.begin() + 3, sites[2]);  // a lane at a site: its indicator, the others unaffected
+  const int32_t n = m.num_vertices();
+  std::vector<double> heat8(static_cast<size_t>(n) * kLanes, 0.0);
+  for (int l = 0; l < kLanes; ++l) {
+    int32_t sv[3];
+    double sw[3];
+    const int c = surface_point_support(m, qs[l], sv, sw);
+    for (int k = 0; k < c; ++k) heat8[static_cast<size_t>(sv[k]) * kLanes + l] += sw[k];
+  }
+  solve8(H.factor, heat8);
+  NaturalScratch scratch;
+  std::vector<NaturalCoordinates> batch(kLanes);
+  natural_neighbor_coordinates8(F, m, qs, heat8, scratch, batch);
+  std::vector<double> lane(n);
+  for (int l = 0; l < kLanes; ++l) {
+    for (int32_t v = 0; v < n; ++v) lane[v] = heat8[static_cast<size_t>(v) * kLanes + l];
+    const NaturalCoordinates one = natural_neighbor_coordinates(F, m, qs[l], lane);
+    CHECK(batch[l].at_site == one.at_site);
+    CHECK(batch[l].cell_area == one.cell_area);
+    CHECK(batch[l].fallback_faces == one.fallback_faces);
+    for (size_t i = 0; i < sites.size(); ++i) CHECK(batch[l].weight[i] == one.weight[i]);
+  }
+  CHECK(batch[3].at_site);
+  CHECK(batch[3].weight[2] == 1.0);
+  CHECK_THROWS_AS(natural_neighbor_coordinates8(F, m, qs, std::vector<double>(n, 0.0), scratch, batch), Error);
 }

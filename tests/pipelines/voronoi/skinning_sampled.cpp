@@ -83,6 +83,42 @@ TEST_CASE("propagate samples: sample rows kept, a constant row reproduced, conve
   CHECK(err < 0.05);  // a smooth function, sampled every 2 rings of a level-4 sphere
 }
 
+TEST_CASE("propagate samples: a weight under 1e-3 of its row's largest is 0 off the samples, above it kept") {
+  // Every sample has handle 2 at `tiny`: the interpolated value is `tiny` too (a
+  // constant is reproduced), so it must come out 0 below the cut, as is above it.
+  const Mesh m = make_icosphere(3);
+  const Adjacency adj = vertex_adjacency(m);
+  const std::vector<int32_t> s = cover_samples(adj, {}, 2);
+  const int32_t k = 3, n = m.num_vertices();
+  std::vector<uint8_t> is_sample(n, 0);
+  for (int32_t v : s) is_sample[v] = 1;
+  for (double tiny : {5e-5, 2e-3}) {
+    std::vector<double> rows(s.size() * k), out(static_cast<size_t>(n) * k);
+    for (size_t i = 0; i < s.size(); ++i) {
+      const double z2 = m.z[s[i]] * m.z[s[i]];
+      rows[i * k] = 0.6 + 0.4 * z2 - tiny;
+      rows[i * k + 1] = 0.4 * (1 - z2);
+      rows[i * k + 2] = tiny;
+    }
+    propagate_samples(m, adj, s, rows, {}, k, out, {});
+    int32_t zero = 0, off_samples = 0;
+    for (int32_t v = 0; v < n; ++v) {
+      const double* w = out.data() + static_cast<size_t>(v) * k;
+      CHECK(std::abs(w[0] + w[1] + w[2] - 1) <= 1e-12);
+      if (is_sample[v]) {
+        CHECK(w[2] == tiny);  // exact rows are not cut
+        continue;
+      }
+      ++off_samples;
+      zero += w[2] == 0.0;
+      const double top = std::max({w[0], w[1], w[2]});
+      for (int32_t j = 0; j < k; ++j) CHECK((w[j] == 0.0 || w[j] >= 1e-3 * top));
+    }
+    CHECK(off_samples > 0);
+    CHECK(zero == (tiny < 1e-3 ? off_samples : 0));
+  }
+}
+
 TEST_CASE("sampled skinning weights: properties, locality against exact, difference bounds") {
   const Mesh m = make_icosphere(4);
   const int32_t n = m.num_vertices();
@@ -133,4 +169,49 @@ TEST_CASE("sampled skinning weights: properties, locality against exact, differe
       CHECK(W.weight[static_cast<size_t>(v) * k + j] == 0.0);
     }
   CHECK(checked > 0);
+}
+
+// Refinement: where the samples around a vertex miss their linear fit, the vertex
+// gets its exact row. Oracle: the exact method's rows (bitwise: the same solves
+// and cell passes). The weights of this regular mesh are smooth (no vertex is
+// refined at the default 0.05): a tolerance of 0.005 on a coarse cover (150
+// samples) makes the kinks at the handles and the cells' borders count.
+TEST_CASE("sampled skinning weights: refined vertices carry their exact rows, closer to exact than without") {
+  const Mesh m = make_icosphere(4);
+  const int32_t n = m.num_vertices();
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
+  const auto handles = five_handles(m);
+  const int32_t k = static_cast<int32_t>(handles.size());
+  SkinningOptions exact_o, on, off;
+  exact_o.method = SkinningMethod::Exact;
+  on.samples = off.samples = 150;
+  off.refine_miss = 0;
+  on.refine_miss = 0.005;
+  const SkinningWeights E = skinning_weights(H, m, handles, exact_o, {});
+  const SkinningWeights A = skinning_weights(H, m, handles, off, {});
+  const SkinningWeights B = skinning_weights(H, m, handles, on, {});
+  CHECK(A.refined == 0);
+  CHECK(B.refined > 0);
+  CHECK(B.samples == A.samples + B.refined);
+  auto row_equal = [&](const SkinningWeights& W, int32_t v) {
+    return std::equal(W.weight.begin() + static_cast<size_t>(v) * k, W.weight.begin() + static_cast<size_t>(v + 1) * k,
+                      E.weight.begin() + static_cast<size_t>(v) * k);
+  };
+  int32_t exact_a = 0, exact_b = 0;
+  double max_a = 0, max_b = 0, sum_a = 0, sum_b = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    exact_a += row_equal(A, v);
+    exact_b += row_equal(B, v);
+    for (int32_t j = 0; j < k; ++j) {
+      const size_t a = static_cast<size_t>(v) * k + j;
+      max_a = std::max(max_a, std::abs(A.weight[a] - E.weight[a]));
+      max_b = std::max(max_b, std::abs(B.weight[a] - E.weight[a]));
+      sum_a += std::abs(A.weight[a] - E.weight[a]);
+      sum_b += std::abs(B.weight[a] - E.weight[a]);
+      CHECK(B.weight[a] >= 0);
+    }
+  }
+  CHECK(exact_b >= exact_a + B.refined);  // every refined row is the exact one
+  CHECK(max_b <= max_a);
+  CHECK(sum_b < sum_a);
 }

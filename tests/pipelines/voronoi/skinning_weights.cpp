@@ -61,3 +61,55 @@ TEST_CASE("skinning weights: per-vertex coordinates, indicator at handles, deter
   }
   CHECK_THROWS_AS(skinning_weights(H, m, std::vector<SurfacePoint>{vertex_point(n)}, {}), Error);
 }
+
+// Smoothness of the exact weights on a regular mesh (icosphere level 4, five
+// handles at the extreme vertices): the largest jump of a weight across one edge,
+// and the coordinates of a point moving along an edge (no jump inside a triangle).
+// Oracle: the bound of a Lipschitz function: on a unit sphere of edge length h a
+// weight that falls from 1 to 0 over a handle's cell (radius ~0.8) changes by about
+// h / 0.8 = 0.08 per edge; a point moving by a tenth of an edge, by a tenth of that.
+TEST_CASE("skinning weights: exact weights smooth on a regular mesh (edge jumps, a point moving along an edge)") {
+  const Mesh m = make_icosphere(4);
+  const int32_t n = m.num_vertices();
+  const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
+  const double dirs[][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  std::vector<SurfacePoint> handles;
+  for (const auto& d : dirs) {
+    int32_t best = 0;
+    for (int32_t v = 0; v < n; ++v)
+      if (m.x[v] * d[0] + m.y[v] * d[1] + m.z[v] * d[2] > m.x[best] * d[0] + m.y[best] * d[1] + m.z[best] * d[2]) best = v;
+    handles.push_back(vertex_point(best));
+  }
+  const int32_t k = static_cast<int32_t>(handles.size());
+  const SkinningWeights W = skinning_weights(H, m, handles, {});
+  CHECK(W.degenerate == 0);
+  double jump = 0, h = 0;
+  int64_t edges = 0;
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    for (int a = 0; a < 3; ++a) {
+      const int32_t p = v[a], q = v[(a + 1) % 3];
+      h += std::hypot(m.x[p] - m.x[q], m.y[p] - m.y[q], m.z[p] - m.z[q]);
+      ++edges;
+      for (int32_t j = 0; j < k; ++j)
+        jump = std::max(jump, std::abs(W.weight[static_cast<size_t>(p) * k + j] - W.weight[static_cast<size_t>(q) * k + j]));
+    }
+  }
+  h /= static_cast<double>(edges);
+  CHECK(jump > 0);          // the weights do vary
+  CHECK(jump <= h / 0.8);   // ~0.08 at h ~ 0.063
+  // A point moving along the edges of a few faces: steps of h/10, changes <= h/8.
+  const NaturalNeighborField F = prepare_natural_neighbors(H, m, handles, {});
+  for (int32_t f : {0, 1000, 2500, 4000}) {
+    std::vector<double> prev;
+    for (int s = 0; s <= 10; ++s) {
+      SurfacePoint q;
+      q.face = f;
+      q.bary = {1 - s / 10.0, s / 10.0, 0};
+      const NaturalCoordinates c = natural_neighbor_coordinates(F, m, q);
+      if (!prev.empty())
+        for (int32_t j = 0; j < k; ++j) CHECK(std::abs(c.weight[j] - prev[j]) <= h / 8);
+      prev = c.weight;
+    }
+  }
+}

@@ -58,6 +58,11 @@ struct NaturalNeighborField {
   std::vector<int32_t> share_site;
   std::vector<double> share_area;
   std::vector<double> vertex_area;
+  // The largest site heat per vertex (top_value's first entry, contiguous: a
+  // query's scan for the vertices it takes reads one value per vertex) and the
+  // vertex graph (a taken vertex whose neighbours are all taken has no border face).
+  std::vector<double> max_heat;
+  Adjacency adjacency;
 };
 
 // H: the prepared heat operator of m (isotropic); sites: at least one, valid.
@@ -71,8 +76,9 @@ NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mes
 
 // Reusable per-thread scratch of the queries (marks sized to the mesh, zero between uses).
 struct NaturalScratch {
-  std::vector<uint8_t> vertex_mark, face_mark;
-  std::vector<int32_t> taken, faces;
+  std::vector<uint8_t> vertex_mark, face_mark;  // bit l: lane l (batched queries)
+  std::vector<int32_t> taken;
+  std::vector<int32_t> lane_faces[8];
 };
 
 struct NaturalCoordinates {
@@ -91,6 +97,13 @@ NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, c
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
                                                  const SurfacePoint& q, std::span<const double> heat_q,
                                                  NaturalScratch& scratch);
+// Up to 8 queries q[l] whose heat is heat8[v * 8 + l] (one 8-lane solve, as
+// kernels/solve's solve8 leaves it): the same coordinates as one query at a time,
+// bit for bit, from one pass over the vertices for all of them (nearby queries
+// take mostly the same vertices, whose shares are then read once).
+void natural_neighbor_coordinates8(const NaturalNeighborField& F, const Mesh& m, std::span<const SurfacePoint> q,
+                                   std::span<const double> heat8, NaturalScratch& scratch,
+                                   std::span<NaturalCoordinates> out);
 // One-shot: solves q's heat itself.
 NaturalCoordinates natural_neighbor_coordinates(const NaturalNeighborField& F, const Mesh& m,
                                                  const SurfacePoint& q);

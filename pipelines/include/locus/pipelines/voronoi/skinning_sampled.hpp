@@ -37,13 +37,17 @@ std::vector<int32_t> cover_samples(const Adjacency& adj, std::span<const int32_t
 struct Propagation {
   double radius = 0;  // rho
   int64_t ball_entries = 0;
+  std::vector<int32_t> rough;  // refine_miss > 0: non-sample vertices whose fit misses (ascending)
 };
 
 // rows: samples.size() * k exact rows; indicator: empty, or one flag per sample
 // whose row is an indicator for want of a cell (its zeros are not kept); out:
-// n * k (overwritten).
+// n * k (overwritten). refine_miss > 0: list in `rough` the vertices where a
+// stencil sample within 0.7 x the cover radius misses the stencil's weighted
+// linear fit of some weight by more than refine_miss (the exact weights jump
+// there; the caller computes those rows exactly).
 Propagation propagate_samples(const Mesh& m, const Adjacency& adj, std::span<const int32_t> samples,
                               std::span<const double> rows, std::span<const uint8_t> indicator, int32_t k,
-                              std::span<double> out, const RunContext& ctx);
+                              std::span<double> out, const RunContext& ctx, double refine_miss = 0);
 
 }  // namespace locus

@@ -8,11 +8,14 @@
 // vertices, and are exactly 0 for handles whose cells the vertex's cell does not touch.
 //
 // Two methods:
-//   Exact    one full heat solve per vertex (8 vertices per solve, batches in
-//            parallel, one slot per vertex: deterministic for any thread count),
-//            plus a re-split of the triangles each vertex's cell covers. The cost
-//            grows with n^2 / handles (a vertex's cell covers a fixed share of its
-//            handle's cell), as the thesis notes (§3.7.2: "comparably slow").
+//   Exact    one heat solve per vertex (8 vertices per solve, batches in
+//            parallel, one slot per vertex: deterministic for any thread count;
+//            the forward substitution runs over the 8 sources' etree paths only,
+//            the values are the full solve's), plus one pass over the vertices
+//            per batch for the 8 cells and a re-split of each cell's border
+//            triangles. The cost grows with n^2 / handles (a vertex's cell covers
+//            a fixed share of its handle's cell: a third of armadillo's vertices
+//            with 4 handles), as the thesis notes (§3.7.2: "comparably slow").
 //   Sampled  the thesis' way out (§3.7.2: compute on a coarse set, propagate):
 //            the exact coordinates at a greedy cover of the vertex graph (every
 //            vertex within `rings` edges of a sample, handle vertices first), then
@@ -22,11 +25,15 @@
 //            keep their indicator, and a weight is exactly 0 where the samples
 //            around have it 0 (the support is never widened past the samples'
 //            zeros; it may shrink by up to the cover radius where the weight is
-//            below 0.03). Cost: at most `samples` exact rows (each a full heat
-//            solve, 8 per batch, and a pass over its cell) plus O(n) propagation.
-//            The exact rows themselves vary from vertex to vertex by more than a
-//            smooth interpolant follows (the vertex-level discretization of the
-//            cells): docs/skinning.md has the measured differences.
+//            below 0.03). The exact rows themselves jump between neighbouring
+//            vertices where edges are long against the diffusion length sqrt(t)
+//            (docs/skinning.md), more than a smooth interpolant follows: where
+//            the samples around a vertex miss their linear fit by more than
+//            `refine_miss`, the vertex gets its exact row, and so do, round by
+//            round, the neighbours of every such vertex whose exact row differs
+//            from its propagated one by more than that. Cost: at most `samples`
+//            cover rows plus the refined ones (exact rows as above) plus O(n)
+//            propagation; a propagated weight below 1e-3 of its row's largest is 0.
 // Large meshes: the front ends take the coarse road of skinning_coarse.hpp
 // (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
@@ -50,6 +57,9 @@ struct SkinningOptions {
   // in edges that has at most this many; handle vertices are always samples);
   // 0 = the default 1024. More samples: closer to Exact, slower.
   int32_t samples = 0;
+  // Sampled: vertices where the samples around miss their linear fit by more than
+  // this (the exact weights jump between them) get their exact row too; 0 = off.
+  double refine_miss = 0.05;
 };
 
 struct SkinningWeights {
@@ -59,7 +69,8 @@ struct SkinningWeights {
   int64_t fallback_faces = 0;  // summed over vertices
   double max_clamped = 0;      // largest relative negative area difference clamped to 0
   std::string method;          // "exact" or "sampled"
-  int32_t samples = 0;         // vertices whose row is exact (all for Exact)
+  int32_t samples = 0;         // vertices whose row is exact (all for Exact; Sampled: cover + refined)
+  int32_t refined = 0;         // Sampled: of those, the vertices refined where the fit missed
   int32_t sample_rings = 0;    // Sampled: every vertex is within this many edges of a sample
   double radius = 0;           // Sampled: the propagation radius (length units)
   int32_t coarse_vertices = 0; // coarse road (skinning_coarse.hpp): vertices of the coarse level, else 0
