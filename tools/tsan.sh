@@ -113,6 +113,7 @@ run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
 run "remesh optimization (parallel colour-class sweeps)" --test-case='cvt remesh: sphere*,remesh optimization:*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
+run "skinning weights (exact rows 8 per batch in parallel, refinement rounds)" --test-case='skinning weights:*,sampled skinning weights:*'
 run "Session and C API concurrency" --test-case='*session: concurrent queries*,*c api: progress callback*,*session pipelines from several threads*'
 say "done"
 exit $status
