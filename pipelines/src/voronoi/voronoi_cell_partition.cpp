@@ -205,9 +205,9 @@ HostVector<double> cell_areas(const VertexStars& stars, const HeatVoronoi& V, st
     int32_t vertex;
     double w;
   };
-  tbb::enumerable_thread_specific<std::vector<Load>> scratch;
+  tbb::enumerable_thread_specific<HostVector<Load>> scratch;  // a large cell's loads exceed 64 KB: the host's allocator
   tbb::parallel_for(0, cells, [&](int32_t c) {
-    std::vector<Load>& loads = scratch.local();
+    HostVector<Load>& loads = scratch.local();
     loads.clear();
     int64_t fallback = 0;
     const std::span<const int32_t> cell(cell_vertices.data() + cell_offsets[c],
