@@ -56,7 +56,8 @@ struct Pass {
 
   V3 at(int32_t w, int32_t v, const V3& p) const { return w == v ? p : pos(m, w); }
 
-  // The triangles around v (v's and its neighbors') and the input vertices they own.
+  // The triangles around v (v's and its neighbors') and the input vertices
+  // whose nearest remesh triangle is one of v's.
   void neighborhood(int32_t v, std::vector<int32_t>& faces, std::vector<int32_t>& near) const {
     faces.clear();
     near.clear();
@@ -65,14 +66,13 @@ struct Pass {
       for (int32_t w : F[vf.item[q]]) verts.push_back(w);
     std::sort(verts.begin(), verts.end());
     verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-    for (int32_t w : verts) {
+    for (int32_t w : verts)
       for (int64_t q = vf.off[w]; q < vf.off[w + 1]; ++q) faces.push_back(vf.item[q]);
-      for (int64_t q = owned.off[w]; q < owned.off[w + 1]; ++q) near.push_back(owned.item[q]);
-    }
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    std::sort(near.begin(), near.end());
-    near.erase(std::unique(near.begin(), near.end()), near.end());
+    // Only the input vertices nearest to a triangle of v can get farther: any
+    // other keeps its nearest triangle, which v's move does not touch.
+    for (int64_t q = owned.off[v]; q < owned.off[v + 1]; ++q) near.push_back(owned.item[q]);
   }
 
   // The local two-sided distance with v at p.
@@ -132,6 +132,31 @@ struct Pass {
     return r;
   }
 
+  // After v moved: the input vertices whose nearest triangle touches v's
+  // ring, against the triangles around v (which hold that triangle).
+  void refresh(int32_t v, std::vector<ClosestPoint>& cp, std::vector<int32_t>& faces) const {
+    std::vector<int32_t> near;
+    neighborhood(v, faces, near);
+    std::vector<int32_t> pts;
+    for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q)
+      for (int32_t w : F[vf.item[q]])
+        for (int64_t r = owned.off[w]; r < owned.off[w + 1]; ++r) pts.push_back(owned.item[r]);
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    for (int32_t i : pts) {
+      const V3 x = pos(input, i);
+      ClosestPoint best;
+      best.distance = HUGE_VAL;
+      for (int32_t f : faces) {
+        const auto& t = F[f];
+        const V3 c = closest_point_on_triangle(x, pos(m, t[0]), pos(m, t[1]), pos(m, t[2]));
+        const double d = norm(sub(c, x));
+        if (d < best.distance) best = {c, f, d};
+      }
+      cp[i] = best;
+    }
+  }
+
   // v pulled towards input vertex i; true when a move was kept.
   bool pull(int32_t v, int32_t i, std::vector<int32_t>& faces, std::vector<int32_t>& near, double& budget) const {
     neighborhood(v, faces, near);
@@ -187,16 +212,40 @@ int64_t pull_to_input(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
   for (const auto& t : F) total += min_angle(pos(remesh, t[0]), pos(remesh, t[1]), pos(remesh, t[2]));
   const double tris = static_cast<double>(F.size());
   double budget = std::max(0.0, std::min(opt.budget_deg * M_PI / 180, total / tris - opt.mean_floor_deg * M_PI / 180)) * tris;
-  for (int pass = 0; pass < opt.passes; ++pass) {
+  // Each input vertex's nearest remesh triangle, once over a grid, then
+  // kept up to date around each move (refresh). A move can also bring one of
+  // v's triangles nearer to an input vertex owned elsewhere: its distance is
+  // then too large, so each pass queries again, over a new grid, those at
+  // the candidates' distance, until the farthest is exact.
+  std::vector<ClosestPoint> cp(ni);
+  if (opt.passes > 0) {
     const TriangleGrid rg(remesh);
-    std::vector<ClosestPoint> cp(ni);
     tbb::parallel_for(0, ni, [&](int32_t i) { cp[i] = rg.closest(pos(input, i)); });
+  }
+  auto farthest = [&] {
+    double far = 0;
+    for (const ClosestPoint& c : cp) far = std::max(far, c.distance);
+    return far;
+  };
+  for (int pass = 0; pass < opt.passes; ++pass) {
+    double far = farthest();
+    if (pass > 0) {
+      const TriangleGrid rg(remesh);
+      std::vector<uint8_t> fresh(ni, 0);
+      for (bool again = true; again;) {
+        std::vector<int32_t> stale;
+        for (int32_t i = 0; i < ni; ++i)
+          if (!fresh[i] && cp[i].distance >= opt.candidates * far) stale.push_back(i);
+        tbb::parallel_for(size_t{0}, stale.size(), [&](size_t k) { cp[stale[k]] = rg.closest(pos(input, stale[k])); });
+        for (int32_t i : stale) fresh[i] = 1;
+        again = !stale.empty();
+        far = farthest();
+      }
+    }
     const Csr owned = make_csr(n, ni, [&](int32_t i, auto&& put) {
       if (cp[i].face >= 0)
         for (int32_t v : F[cp[i].face]) put(v);
     });
-    double far = 0;
-    for (const ClosestPoint& c : cp) far = std::max(far, c.distance);
     std::vector<int32_t> order;
     for (int32_t i = 0; i < ni; ++i)
       if (cp[i].face >= 0 && cp[i].distance >= opt.candidates * far && far > 0) order.push_back(i);
@@ -207,6 +256,7 @@ int64_t pull_to_input(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
     std::vector<uint8_t> moved(n, 0);
     int64_t k = 0;
     for (int32_t i : order) {
+      if (cp[i].distance < opt.candidates * far) continue;  // nearer since a move
       // The vertices of i's nearest triangle, nearest to i first.
       std::array<int32_t, 3> t = F[cp[i].face];
       std::sort(t.begin(), t.end(), [&](int32_t a, int32_t b) {
@@ -220,7 +270,11 @@ int64_t pull_to_input(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
           break;
         }
       if (v < 0) continue;
-      moved[v] = 1;
+      // v's ring waits for the next pass: its triangles' nearest input
+      // vertices (`owned`) are out of date now.
+      for (int64_t q = vf.off[v]; q < vf.off[v + 1]; ++q)
+        for (int32_t w : F[vf.item[q]]) moved[w] = 1;
+      P.refresh(v, cp, faces);
       ++k;
     }
     moves += k;

@@ -6,14 +6,17 @@
 // distance, worst first, each pull a vertex of their nearest remesh triangle
 // (the nearest first) towards them: all the way, or 3/4 ... 1/8, projected
 // onto the input. A move is kept when the local two-sided distance falls
-// (the input vertices whose nearest remesh triangle touches the vertex or
-// its ring, to the triangles around them; the vertex's edge midpoints and
-// triangle centroids to the input), the input's normal there agrees with the
+// (the input vertices whose nearest remesh triangle is one of the vertex's,
+// the only ones that can get farther, to the triangles of the vertex and its
+// ring; the vertex's edge midpoints and triangle centroids to the input),
+// the input's normal there agrees with the
 // ring's, no triangle of the ring turns more than 60 degrees or drops below
 // min(the ring's smallest angle, `keep_deg`), and the mean smallest angle
 // lost so far stays within `budget_deg` and above `mean_floor_deg`. Boundary
-// vertices stay; connectivity does not change. A pass moves a vertex at most
-// once; passes until one moves nothing. Sequential (deterministic).
+// vertices stay; connectivity does not change. The input vertices' nearest
+// remesh triangles come from one grid query, then are updated around each
+// move; a moved vertex's ring waits for the next pass; passes until one
+// moves nothing. Sequential (deterministic).
 #pragma once
 #include <cstdint>
 
