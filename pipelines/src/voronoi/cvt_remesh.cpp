@@ -19,6 +19,7 @@
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_collapse.hpp"
+#include "locus/pipelines/voronoi/remesh_fidelity.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
 #include "locus/pipelines/voronoi/remesh_split.hpp"
@@ -236,6 +237,9 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     oo.rounds = o.optimize_rounds;
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
     split_and_reoptimize(m, grid, want, oo, r);
+    // Last, the input's farthest vertices pull the remesh to them (median
+    // Hausdorff distance of the sample meshes 1.56 -> 1.02%, docs/cvt.md).
+    r.optimize.moves += pull_to_input(m, grid, r.remesh);
   }
   r.optimize_s = sw.lap();
 }
