@@ -15,7 +15,8 @@
 namespace locus {
 
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
-                                   const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache) {
+                                   const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
+                                   bool factor_once) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   if (robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
@@ -37,7 +38,7 @@ HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTim
   }
   H.operator_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const FactorRequest request{"heat", H.t, &A};
-  Factors F = factor_or_load(files, mesh, std::span<const FactorRequest>(&request, 1), ctx);
+  Factors F = factor_or_load(files, mesh, std::span<const FactorRequest>(&request, 1), ctx, factor_once);
   H.factor = std::move(F.factors[0]);
   H.order_s = F.order_s;
   H.analyze_s = F.analyze_s;

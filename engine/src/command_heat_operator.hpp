@@ -16,8 +16,11 @@ namespace locus {
 // M - tL of `mesh` (t resolved on its mean edge length), factored or loaded:
 // the cotan operator's, or with `robust` the robust operator's Laplacian and
 // mass (operator_choice.hpp), the mesh then checked only for triangles and
-// finite coordinates. `cache` reports the files used.
+// finite coordinates. `cache` reports the files used. factor_once: the caller
+// only solves with the factor, never factors again with its symbolic part
+// (factor_or_load's factor_once).
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
-                                   const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache);
+                                   const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
+                                   bool factor_once = false);
 
 }  // namespace locus

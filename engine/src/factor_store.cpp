@@ -11,6 +11,7 @@
 #include "locus/io/factor_cache.hpp"
 #include "locus/kernels/factor/memory_budget.hpp"
 #include "locus/kernels/order/ordering.hpp"
+#include "locus/kernels/symbolic/assembly_map.hpp"
 
 namespace locus {
 namespace {
@@ -77,8 +78,16 @@ void check_factor_cache_files(const FactorCacheFiles& fc) {
     fail(ErrorCode::BadUsage, "--save and --load exclude each other (load " + fc.load + " or save " + fc.save + ")");
 }
 
-Factors factor_or_load(const FactorCacheFiles& fc, const Mesh& m, std::span<const FactorRequest> ops,
-                       const RunContext& ctx) {
+namespace {
+
+// Both paths build the symbolic factor as a mutable object (analyze, the cache
+// reader) and share it only with the returned factors, so it may be changed here.
+void release_assembly_of(Factors& F) {
+  if (F.symbolic) release_assembly_map(*std::const_pointer_cast<SymbolicFactor>(F.symbolic));
+}
+
+Factors factor_or_load_all(const FactorCacheFiles& fc, const Mesh& m, std::span<const FactorRequest> ops,
+                           const RunContext& ctx) {
   check_factor_cache_files(fc);
   if (ops.empty() || !ops[0].A) fail(ErrorCode::Internal, "factor_or_load: no operator");
   if (!fc.load.empty()) return load(fc, m, ops, ctx);
@@ -109,6 +118,15 @@ Factors factor_or_load(const FactorCacheFiles& fc, const Mesh& m, std::span<cons
     F.save_s = seconds_since(t0);
     ctx.note("saved " + std::to_string(entries.size()) + " factor(s) to " + fc.save);
   }
+  return F;
+}
+
+}  // namespace
+
+Factors factor_or_load(const FactorCacheFiles& fc, const Mesh& m, std::span<const FactorRequest> ops,
+                       const RunContext& ctx, bool factor_once) {
+  Factors F = factor_or_load_all(fc, m, ops, ctx);
+  if (factor_once) release_assembly_of(F);
   return F;
 }
 

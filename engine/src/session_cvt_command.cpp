@@ -258,7 +258,11 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   FactorCacheReport cache;
   HeatDiffusion prepared;
   const auto t0 = std::chrono::steady_clock::now();
-  if (isotropic) prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache);
+  // Without a centroid time of their own (which Lloyd's setup factors with the
+  // same symbolic part) the factor is only solved with: its assembly map goes.
+  const bool factor_once = tc.value == 0;
+  if (isotropic)
+    prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once);
   const double prepare_s = seconds(t0);
   CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
   r.prepare_s = prepare_s;

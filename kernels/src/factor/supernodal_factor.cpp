@@ -377,6 +377,8 @@ void check_pattern(const SymbolicFactor& S, const CscMatrix& A) {
   if (A.ncols != S.n || A.nrows != S.n || A.nnz() != S.a_nnz ||
       static_cast<int64_t>(A.values.size()) != A.nnz() || pattern_hash(A) != S.a_pattern_hash)
     fail(ErrorCode::BadUsage, "matrix does not have the sparsity pattern the symbolic factor was built for");
+  if (static_cast<int64_t>(S.a_src.size()) != S.a_nnz || static_cast<int64_t>(S.a_super_ptr.size()) != S.ns + 1)
+    fail(ErrorCode::BadUsage, "the symbolic factor's assembly map was released (a factor-once operator)");
   // A NaN or infinite entry would pass dpotrf silently and poison every solve.
   for (int32_t j = 0; j < A.ncols; ++j)
     for (int64_t p = A.colptr[j]; p < A.colptr[j + 1]; ++p)

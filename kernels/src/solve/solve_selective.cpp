@@ -20,16 +20,18 @@ constexpr int kBlasCols = 24;
 
 // Marks in ws.keep: bit 1 = kept column (Algorithm 2's K), bit 2 = column of a
 // supernode in plan.forward_pruned (its y value is needed).
-constexpr uint8_t kKept = 1, kNeeded = 2;
+// Bit 4: column of a touched supernode (it has a row of the compact x).
+constexpr uint8_t kKept = 1, kNeeded = 2, kTouched = 4;
 
 // L y = b on supernode s, updating only the rows below whose y is needed. The rows
 // below s lie in ancestors of s (a chain in the etree), and the needed supernodes
 // are closed under descendants in the reach, so the needed rows are a prefix.
-void forward_needed8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep) {
+void forward_needed8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep,
+                     const int32_t* local) {
   const auto [f, k, m, rows, L] = supernode_block(F, s);
   int below = m - k;
   while (below > 0 && !(keep[rows[k + below - 1]] & kNeeded)) --below;
-  double* xs = x8 + static_cast<int64_t>(f) * kLanes;
+  double* xs = x8 + static_cast<int64_t>(local[f]) * kLanes;
   if (k >= kBlasCols) {
     const char r = 'R', lo = 'L', tr = 'T', nt = 'N', nu = 'N';
     const int eight = kLanes, kk = k, mi = m;
@@ -38,7 +40,7 @@ void forward_needed8(const NumericFactor& F, int32_t s, double* x8, double* tmp,
     if (below > 0) {
       dgemm_(&nt, &tr, &eight, &below, &kk, &one, xs, &eight, L + k, &mi, &zero, tmp, &eight);
       for (int i = 0; i < below; ++i) {
-        double* xr = x8 + static_cast<int64_t>(rows[k + i]) * kLanes;
+        double* xr = x8 + static_cast<int64_t>(local[rows[k + i]]) * kLanes;
         Lane8 v = Lane8::load(xr);
         v.sub(Lane8::load(tmp + static_cast<int64_t>(i) * kLanes));
         v.store(xr);
@@ -72,7 +74,7 @@ void forward_needed8(const NumericFactor& F, int32_t s, double* x8, double* tmp,
     }
   }
   for (int i = 0; i < below; ++i) {
-    double* xr = x8 + static_cast<int64_t>(rows[k + i]) * kLanes;
+    double* xr = x8 + static_cast<int64_t>(local[rows[k + i]]) * kLanes;
     Lane8 v = Lane8::load(xr);
     v.sub(Lane8::load(tmp + static_cast<int64_t>(i) * kLanes));
     v.store(xr);
@@ -97,18 +99,19 @@ inline void dot_sub8(Lane8& acc, const double* a, const double* x, int count) {
 }
 
 // L^T x = y on supernode s restricted to kept columns; entries outside K read as zero.
-void backward_kept8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep) {
+void backward_kept8(const NumericFactor& F, int32_t s, double* x8, double* tmp, const uint8_t* keep,
+                    const int32_t* local) {
   const auto [f, k, m, rows, L] = supernode_block(F, s);
   const int below = m - k;
   for (int i = 0; i < below; ++i) {
     const int32_t r = rows[k + i];
     if (keep[r] & kKept) {
-      Lane8::load(x8 + static_cast<int64_t>(r) * kLanes).store(tmp + static_cast<int64_t>(i) * kLanes);
+      Lane8::load(x8 + static_cast<int64_t>(local[r]) * kLanes).store(tmp + static_cast<int64_t>(i) * kLanes);
     } else {
       Lane8::zero().store(tmp + static_cast<int64_t>(i) * kLanes);
     }
   }
-  double* xs = x8 + static_cast<int64_t>(f) * kLanes;
+  double* xs = x8 + static_cast<int64_t>(local[f]) * kLanes;
   int kept_here = 0;
   for (int j = 0; j < k; ++j) kept_here += (keep[f + j] & kKept) != 0;
   if (kept_here == k && k >= kBlasCols) {  // the whole supernode is kept: one GEMM and one TRSM
@@ -146,37 +149,51 @@ void solve_selective8(const NumericFactor& F, const SolvePlan& plan, std::span<c
     fail(ErrorCode::BadUsage, "selective solve: output has " + std::to_string(out.size()) + " entries, expected " +
                                   std::to_string(plan.outputs.size()) + " x 8");
   const SymbolicFactor& S = *F.symbolic;
-  const size_t nx = static_cast<size_t>(F.n()) * kLanes;
+  if (ws.keep.size() < static_cast<size_t>(F.n())) ws.keep.assign(F.n(), 0);
+  if (ws.local.size() < static_cast<size_t>(F.n())) ws.local.resize(F.n());
+  // Rows of x: the touched supernodes' columns in ascending order (a supernode's
+  // columns stay contiguous, as the dense kernels need); marked kTouched in keep
+  // so that an output outside them reads zero, as in the full-length x.
+  uint8_t* keep = ws.keep.data();
+  int32_t* local = ws.local.data();
+  int32_t rows = 0;
+  for (int32_t s : plan.touched)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) {
+      local[c] = rows++;
+      keep[c] = kTouched;
+    }
+  const size_t nx = static_cast<size_t>(rows) * kLanes;
   if (ws.x.size() < nx) ws.x.assign(nx, 0.0);
   const size_t nt = static_cast<size_t>(S.max_super_rows) * kLanes;
   if (ws.tmp.size() < nt) ws.tmp.resize(nt);
-  if (ws.keep.size() < static_cast<size_t>(F.n())) ws.keep.assign(F.n(), 0);
   blas::SingleThreaded single;
   double* x = ws.x.data();
   double* tmp = ws.tmp.data();
-  uint8_t* keep = ws.keep.data();
   for (size_t k = 0; k < plan.rhs.size(); ++k) {  // b is added: repeated support entries sum
-    const int64_t c = S.iperm[plan.rhs[k]];
-    for (int l = 0; l < kLanes; ++l) x[c * kLanes + l] += rhs[k * kLanes + l];
+    const int32_t c = S.iperm[plan.rhs[k]];
+    if (!(keep[c] & kTouched)) fail(ErrorCode::Internal, "selective solve: a right-hand side outside the plan");
+    for (int l = 0; l < kLanes; ++l) x[static_cast<int64_t>(local[c]) * kLanes + l] += rhs[k * kLanes + l];
   }
   // Forward over the pruned reach: every supernode feeding a kept entry, with all
   // of its own descendants in the reach (they are pruned-in too), so kept y is exact;
   // rows of supernodes outside it are not updated (nothing reads them).
   for (int32_t s : plan.forward_pruned)
-    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) keep[c] = kNeeded;
-  for (int32_t s : plan.forward_pruned) forward_needed8(F, s, x, tmp, keep);
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) keep[c] |= kNeeded;
+  for (int32_t s : plan.forward_pruned) forward_needed8(F, s, x, tmp, keep, local);
   for (int32_t c : plan.kept_cols) keep[c] |= kKept;
-  for (int32_t s : plan.backward) backward_kept8(F, s, x, tmp, keep);
-  for (int32_t c : plan.kept_cols) keep[c] = 0;
-  for (int32_t s : plan.forward_pruned)
-    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) keep[c] = 0;
+  for (int32_t s : plan.backward) backward_kept8(F, s, x, tmp, keep, local);
   for (size_t k = 0; k < plan.outputs.size(); ++k) {
-    const int64_t c = S.iperm[plan.outputs[k]];
-    for (int l = 0; l < kLanes; ++l) out[k * kLanes + l] = x[c * kLanes + l];
+    const int32_t c = S.iperm[plan.outputs[k]];
+    for (int l = 0; l < kLanes; ++l)
+      out[k * kLanes + l] = (keep[c] & kTouched) ? x[static_cast<int64_t>(local[c]) * kLanes + l] : 0.0;
   }
   // The rhs, the forward updates (ancestors of the reach) and the backward all
-  // stay inside plan.touched.
-  clear_workspace(F, plan, ws, kLanes);
+  // stay inside plan.touched: clearing its rows and marks cleans the workspace
+  // (the kept columns and the pruned reach are columns of touched supernodes).
+  std::fill(ws.x.begin(), ws.x.begin() + static_cast<int64_t>(nx), 0.0);
+  for (int32_t c : plan.kept_cols) keep[c] = 0;
+  for (int32_t s : plan.touched)
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) keep[c] = 0;
 }
 
 int64_t factor_entries(const SymbolicFactor& S) {

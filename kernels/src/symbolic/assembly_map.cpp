@@ -86,4 +86,13 @@ void assembly_map(SymbolicFactor& S, const CscMatrix& A, int chunks) {
   else range(tbb::blocked_range<int32_t>(0, ns));
 }
 
+void release_assembly_map(SymbolicFactor& S) {
+  // swap with empty vectors: clear() would keep the capacity
+  HostVector<int64_t>().swap(S.a_super_ptr);
+  HostVector<int64_t>().swap(S.a_src);
+  HostVector<int64_t>().swap(S.a_dst);
+  HostVector<int64_t>().swap(S.update_ptr);
+  HostVector<int32_t>().swap(S.update_from);
+}
+
 }  // namespace locus

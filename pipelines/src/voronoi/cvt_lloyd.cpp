@@ -507,7 +507,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
   if (local && opt.init_cells) {
-    if (first.empty()) first = geodesic_site_cells(m, geo.adj, sites);
+    if (first.empty()) first = geodesic_site_cells(m, geo.adj(), sites);
     if (std::find(first.begin(), first.end(), -1) != first.end()) first.clear();  // unreachable vertices: balls
   }
   if (!(local && opt.init_cells)) first.clear();
@@ -516,7 +516,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const double area = std::accumulate(mass3.begin(), mass3.end(), 0.0);
     const double radius = opt.init_radius * std::sqrt(area / (M_PI * ns));
     scope.reset();  // the neighborhoods below run on oneTBB workers
-    in_arena([&] { nb = geodesic_neighborhoods(m, geo.adj, sites, radius, ctx); });
+    in_arena([&] { nb = geodesic_neighborhoods(m, geo.adj(), sites, radius, ctx); });
     ctx.check_cancel();
   }
   scope.reset();

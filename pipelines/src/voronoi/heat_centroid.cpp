@@ -16,7 +16,13 @@
 
 namespace locus {
 
-CentroidGeometry prepare_centroid_geometry(const Mesh& m) { return prepare_centroid_geometry(m, vertex_adjacency(m)); }
+CentroidGeometry prepare_centroid_geometry(const Mesh& m) {
+  Adjacency adjacency = vertex_adjacency(m);
+  CentroidGeometry g = prepare_centroid_geometry(m, adjacency);
+  g.own_adj = std::move(adjacency);
+  g.borrowed = nullptr;
+  return g;
+}
 
 CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjacency) {
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": heat centroids need a triangle mesh");
@@ -35,7 +41,7 @@ CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjac
     cancel_point(f);
     for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) g.vf_faces[fill[v]++] = f;
   }
-  g.adj = adjacency;
+  g.borrowed = &adjacency;
   g.normals = area_weighted_normals(m);
   return g;
 }
@@ -79,6 +85,7 @@ namespace {
 template <class Heat>
 HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& heat, int32_t c, int rings,
                          double sigma) {
+  const Adjacency& adj = g.adj();
   HeatCentroid r;
   r.hottest = c;
   r.point = vertex_point(c);
@@ -89,8 +96,8 @@ HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& h
   for (int ring = 0; ring < rings || (pts.size() < 7 && ring < rings + 1); ++ring) {
     const size_t ring_end = pts.size();
     for (size_t k = ring_begin; k < ring_end; ++k)
-      for (int64_t p = g.adj.offsets[pts[k]]; p < g.adj.offsets[pts[k] + 1]; ++p) {
-        const int32_t w = g.adj.neighbors[p];
+      for (int64_t p = adj.offsets[pts[k]]; p < adj.offsets[pts[k] + 1]; ++p) {
+        const int32_t w = adj.neighbors[p];
         if (std::find(pts.begin(), pts.end(), w) == pts.end()) pts.push_back(w);
       }
     ring_begin = ring_end;
@@ -132,8 +139,8 @@ HeatCentroid refine_impl(const Mesh& m, const CentroidGeometry& g, const Heat& h
     // times the one ring's mean projected distance, so the values near the estimate
     // dominate and the patch's asymmetry about the hottest vertex matters less.
     double r1 = 0;
-    for (int64_t p = g.adj.offsets[c]; p < g.adj.offsets[c + 1]; ++p) r1 += project(g.adj.neighbors[p]).norm();
-    r1 /= static_cast<double>(std::max<int64_t>(1, g.adj.offsets[c + 1] - g.adj.offsets[c]));
+    for (int64_t p = adj.offsets[c]; p < adj.offsets[c + 1]; ++p) r1 += project(adj.neighbors[p]).norm();
+    r1 /= static_cast<double>(std::max<int64_t>(1, adj.offsets[c + 1] - adj.offsets[c]));
     const double inv2s2 = 1.0 / (2.0 * sigma * sigma * r1 * r1);
     for (size_t k = 0; k < pts.size(); ++k) {
       const Eigen::Vector2d d = project(pts[k]) - xs;

@@ -144,6 +144,31 @@ TEST_CASE("pruned selective solve rejects exact plans and mismatched sizes") {
   CHECK_THROWS_AS(solve_selective8(F, approx, rhs, out, ws), Error);  // out needs 2 x 8
 }
 
+TEST_CASE("pruned selective solve: x holds the touched columns only, same values as a full-length x") {
+  const int nx = 48, ny = 40;
+  const CscMatrix A = test::grid_laplacian(nx, ny, 0.05);
+  const NumericFactor F = factorize(analyze(A, order_matrix(A)), A);
+  const SymbolicFactor& S = *F.symbolic;
+  const std::vector<int32_t> supp = grid_patch(nx, 5, 8, 5, 8), kept = grid_patch(nx, 2, 12, 2, 12);
+  const SolvePlan plan = plan_selective_solve(S, supp, kept);
+  int64_t touched = 0;
+  for (int32_t s : plan.touched) touched += S.ncols(s);
+  REQUIRE(touched < F.n());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> rhs(supp.size() * kLanes), out(kept.size() * kLanes), wide(out.size());
+  for (auto& v : rhs) v = u(rng);
+  SolveWorkspace compact, full;
+  solve_selective8(F, plan, rhs, out, compact);
+  CHECK(static_cast<int64_t>(compact.x.size()) == touched * kLanes);
+  // A workspace already sized n x 8 (by a full-length solve) gives the same bits.
+  full.x.assign(static_cast<size_t>(F.n()) * kLanes, 0.0);
+  solve_selective8(F, plan, rhs, wide, full);
+  CHECK(out == wide);
+  CHECK(std::all_of(full.x.begin(), full.x.end(), [](double v) { return v == 0.0; }));
+  CHECK(std::all_of(full.keep.begin(), full.keep.end(), [](uint8_t v) { return v == 0; }));
+}
+
 TEST_CASE("selective solve reads: a full plan reads the whole factor twice, a local plan less") {
   const int nx = 48, ny = 40;
   const CscMatrix A = test::grid_laplacian(nx, ny, 0.05);

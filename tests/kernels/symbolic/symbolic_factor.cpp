@@ -16,6 +16,8 @@
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/factor/supernodal_factor.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/symbolic/assembly_map.hpp"
 #include "locus/kernels/symbolic/column_counts.hpp"
 #include "locus/kernels/symbolic/etree.hpp"
@@ -346,4 +348,20 @@ TEST_CASE("symbolic analysis: every array identical at 1/2/3/8 threads and colum
     CHECK(reports >= 1);
     CHECK(code == ErrorCode::Cancelled);
   }
+}
+
+TEST_CASE("a released assembly map: solves still work, factorizing again is refused") {
+  const CscMatrix A = test::grid_laplacian(12, 10, 0.1);
+  auto S = std::const_pointer_cast<SymbolicFactor>(analyze(A, order_matrix(A)));
+  const NumericFactor F = factorize(S, A);
+  std::vector<double> before(static_cast<size_t>(A.ncols), 1.0), after = before;
+  solve(F, before);
+  release_assembly_map(*S);
+  CHECK(S->a_src.capacity() == 0);
+  CHECK(S->a_dst.capacity() == 0);
+  solve(F, after);
+  CHECK(after == before);
+  CHECK_THROWS_AS(factorize(S, A), Error);
+  NumericFactor G = F;
+  CHECK_THROWS_AS(refactorize(G, A), Error);
 }

@@ -55,7 +55,10 @@ struct Factors {
   double factor_s() const { return order_s + analyze_s + numeric_s; }
 };
 
+// factor_once: no caller factors again with the returned symbolic factor, so its
+// assembly map is released once the factors are computed and saved
+// (release_assembly_map; ~16 bytes per entry of A).
 Factors factor_or_load(const FactorCacheFiles& fc, const Mesh& m, std::span<const FactorRequest> ops,
-                       const RunContext& ctx);
+                       const RunContext& ctx, bool factor_once = false);
 
 }  // namespace locus

@@ -18,9 +18,10 @@ namespace locus {
 
 // In the host's memory (core/include/locus/core/host_allocator.hpp): n * 8 doubles per batch at 416k vertices.
 struct SolveWorkspace {
-  HostVector<double> x;      // n * lanes, zero between calls
-  HostVector<double> tmp;    // max_super_rows * lanes
-  HostVector<uint8_t> keep;  // n, zero between calls
+  HostVector<double> x;        // n * lanes (solve_selective8: touched columns * 8), zero between calls
+  HostVector<double> tmp;      // max_super_rows * lanes
+  HostVector<uint8_t> keep;    // n, zero between calls
+  HostVector<int32_t> local;   // n, solve_selective8 only: row of x of a touched column (stale elsewhere)
 };
 
 // rhs[k] is b at plan.rhs[k] (b is zero elsewhere); out[k] receives x at plan.outputs[k].

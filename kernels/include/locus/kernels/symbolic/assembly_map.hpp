@@ -19,4 +19,10 @@ namespace locus {
 // of counters; chunks == 1: no oneTBB algorithm runs.
 void assembly_map(SymbolicFactor& S, const CscMatrix& A, int chunks);
 
+// Frees the assembly map and the update lists (~16 bytes per entry of A), which
+// only the numeric factorization reads: for a factor that is computed once and
+// then only solved with. A later factorize / refactorize with S throws
+// Error(BadUsage) instead of reading the missing map.
+void release_assembly_map(SymbolicFactor& S);
+
 }  // namespace locus

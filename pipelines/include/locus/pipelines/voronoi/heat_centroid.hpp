@@ -32,11 +32,14 @@ struct CentroidGeometry {
   int32_t n = 0;
   HostVector<int64_t> vf_offsets;  // n + 1: faces incident to each vertex (CSR), ascending
   HostVector<int32_t> vf_faces;
-  Adjacency adj;
   HostVector<double> normals;      // 3n, area-weighted unit normals
+  Adjacency own_adj;                // the adjacency when built here
+  const Adjacency* borrowed = nullptr;
+  const Adjacency& adj() const { return borrowed ? *borrowed : own_adj; }
 };
 CentroidGeometry prepare_centroid_geometry(const Mesh& m);
-// The same with m's vertex adjacency already built (MeshDerived::adjacency).
+// The same with m's vertex adjacency already built (MeshDerived::adjacency):
+// borrowed, not copied (13 MB at 416k vertices), so it must outlive the result.
 CentroidGeometry prepare_centroid_geometry(const Mesh& m, const Adjacency& adjacency);
 
 struct HeatCentroid {

@@ -50,10 +50,15 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
 // vertices in face order and its area (in the operator's metric). Stored per vertex
 // (CSR over the incident triangles) so that visiting a cell's stars reads one
 // contiguous block per vertex instead of scattered face and area arrays.
+// Packed to 20 bytes (the area 4-aligned; x86 reads it at no cost) instead of 24
+// with padding: 2.5M entries at 416k vertices, 10 MB less.
+#pragma pack(push, 4)
 struct StarFace {
   int32_t v[3];
   double area;
 };
+#pragma pack(pop)
+static_assert(sizeof(StarFace) == 20);
 struct VertexStars {
   HostVector<int64_t> offsets;  // n + 1
   HostVector<StarFace> faces;   // incident triangles of each vertex, ascending face id
