@@ -13,10 +13,6 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-double angle(const V3& o, const V3& u, const V3& w) {
-  const V3 a = sub(u, o), b = sub(w, o);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
 double pos_mod(double x, double len) {
   const double r = std::fmod(x, len);
   return r < 0 ? r + len : r;
@@ -35,7 +31,7 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
     }
     const V3 n0 = cross(sub(a[1], a[0]), sub(a[2], a[0])), n1 = cross(sub(b[1], b[0]), sub(b[2], b[0]));
     if (norm(n0) > 0 && dot(n0, n1) <= 0.5 * norm(n0) * norm(n1)) return -1;
-    worst = std::min({worst, angle(b[0], b[1], b[2]), angle(b[1], b[2], b[0]), angle(b[2], b[0], b[1])});
+    worst = std::min({worst, angle_at(b[0], b[1], b[2]), angle_at(b[1], b[2], b[0]), angle_at(b[2], b[0], b[1])});
   }
   return worst;
 }

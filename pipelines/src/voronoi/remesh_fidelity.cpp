@@ -18,11 +18,6 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-
-double angle_at(const V3& o, const V3& u, const V3& w) {
-  const V3 a = sub(u, o), b = sub(w, o);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
 double min_angle(const V3& a, const V3& b, const V3& c) {
   return std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
 }

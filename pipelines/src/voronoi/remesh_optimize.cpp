@@ -20,13 +20,8 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-
-double angle(const V3& o, const V3& u, const V3& w) {  // at o, radians
-  const V3 a = sub(u, o), b = sub(w, o);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
 double min_angle(const V3& a, const V3& b, const V3& c) {
-  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+  return std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
 }
 V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
 
@@ -73,7 +68,7 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
       const int before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
       const int after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
       if (after >= before) continue;
-    } else if (angle(pc, pa, pb) + angle(pd, pa, pb) <= M_PI + 1e-9) {
+    } else if (angle_at(pc, pa, pb) + angle_at(pd, pa, pb) <= M_PI + 1e-9) {
       continue;
     }
     const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);

@@ -22,10 +22,7 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
   std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> ef;
   for (int32_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) ef[{std::min(F[f][k], F[f][(k + 1) % 3]), std::max(F[f][k], F[f][(k + 1) % 3])}].push_back(f);
-  auto ang = [&](int32_t o, int32_t u, int32_t w) {
-    const V3 a = sub(pos(remesh, u), pos(remesh, o)), b = sub(pos(remesh, w), pos(remesh, o));
-    return std::atan2(norm(cross(a, b)), dot(a, b));
-  };
+  auto ang = [&](int32_t o, int32_t u, int32_t w) { return angle_at(pos(remesh, o), pos(remesh, u), pos(remesh, w)); };
   std::vector<std::pair<double, int32_t>> thin;
   for (int32_t f = 0; f < nf; ++f) {
     const double a = std::min({ang(F[f][0], F[f][1], F[f][2]), ang(F[f][1], F[f][2], F[f][0]), ang(F[f][2], F[f][0], F[f][1])});

@@ -16,6 +16,11 @@ inline V3 cross(const V3& a, const V3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 inline double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+// The angle at o between the directions to u and w, in radians (atan2: accurate near 0 and pi).
+inline double angle_at(const V3& o, const V3& u, const V3& w) {
+  const V3 a = sub(u, o), b = sub(w, o);
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
 inline V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
 
 }  // namespace locus::remesh_vec3
