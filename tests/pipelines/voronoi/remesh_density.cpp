@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "locus/kernels/mesh/mesh_derived.hpp"
@@ -36,6 +37,23 @@ void check_counts(const RemeshResult& r, int32_t sites) {
   CHECK(r.delivered == r.remesh.num_vertices());
   CHECK(static_cast<int32_t>(r.lloyd.sites.size()) == sites + r.added_sites);
   CHECK(r.added_sites == r.repair_sites - r.removed_sites);
+}
+
+// A sample mesh remeshed with 1,000 sites, its topology checked against the
+// input's; nothing when the mesh is not fetched.
+std::optional<RemeshResult> sample_remesh_1000(const std::string& path) {
+  if (!std::filesystem::exists(path)) {
+    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
+    return std::nullopt;
+  }
+  const Mesh m = read_mesh(path);
+  RemeshOptions o;
+  o.lloyd.sites = 1000;
+  const MeshDerived d = derive_mesh(m);
+  RemeshResult r = cvt_remesh(m, d, o, RunContext{});
+  REQUIRE(r.complete);
+  check_topology(m, r.remesh);
+  return r;
 }
 
 // A tube of one ring of needles: 2 nu triangles of height `height`, width
@@ -98,40 +116,20 @@ TEST_CASE("cvt remesh: without heat repair, the graph-geodesic rounds still give
 }
 
 TEST_CASE("cvt remesh: CAD needles (ALSTOM_TEST4: 6 components, 6 loops) at 1,000 sites: topology and density") {
-  const std::string path = "cache/meshes/ALSTOM_TEST4.off";
-  if (!std::filesystem::exists(path)) {
-    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
-    return;
-  }
-  const Mesh m = read_mesh(path);
-  RemeshOptions o;
-  o.lloyd.sites = 1000;
-  const MeshDerived d = derive_mesh(m);
-  const RemeshResult r = cvt_remesh(m, d, o, RunContext{});
-  REQUIRE(r.complete);
-  check_topology(m, r.remesh);
-  check_counts(r, 1000);
-  CHECK(std::abs(r.delivered - 1000) <= 20);
+  const std::optional<RemeshResult> r = sample_remesh_1000("cache/meshes/ALSTOM_TEST4.off");
+  if (!r) return;
+  check_counts(*r, 1000);
+  CHECK(std::abs(r->delivered - 1000) <= 20);
 }
 
 // 106 holes on 2,798 vertices: the repair's sites around the holes leave the
 // dual above the request after the density passes; the edge collapses
 // (remesh_collapse.hpp) bring it to the request, the topology kept.
 TEST_CASE("cvt remesh: elephant-with-holes at 1,000 sites: the requested count within 2%, topology kept") {
-  const std::string path = "cache/meshes/elephant-with-holes.off";
-  if (!std::filesystem::exists(path)) {
-    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
-    return;
-  }
-  const Mesh m = read_mesh(path);
-  RemeshOptions o;
-  o.lloyd.sites = 1000;
-  const MeshDerived d = derive_mesh(m);
-  const RemeshResult r = cvt_remesh(m, d, o, RunContext{});
-  REQUIRE(r.complete);
-  check_topology(m, r.remesh);
-  CHECK(r.delivered == r.remesh.num_vertices());
-  CHECK(std::abs(r.delivered - 1000) <= 20);
+  const std::optional<RemeshResult> r = sample_remesh_1000("cache/meshes/elephant-with-holes.off");
+  if (!r) return;
+  CHECK(r->delivered == r->remesh.num_vertices());
+  CHECK(std::abs(r->delivered - 1000) <= 20);
 }
 
 TEST_CASE("cvt remesh: the density passes bring a torus with thin handles to the requested count") {

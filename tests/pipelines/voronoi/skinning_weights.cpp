@@ -13,8 +13,10 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/error.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
+#include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
 using namespace locus;
+using locus::test::extreme_vertex;
 
 TEST_CASE("skinning weights: per-vertex coordinates, indicator at handles, deterministic") {
   const Mesh m = make_icosphere(3);
@@ -23,12 +25,7 @@ TEST_CASE("skinning weights: per-vertex coordinates, indicator at handles, deter
   // Handles at the vertices nearest to +-x, +-y, +z.
   const double dirs[][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   std::vector<SurfacePoint> handles;
-  for (const auto& d : dirs) {
-    int32_t best = 0;
-    for (int32_t v = 0; v < n; ++v)
-      if (m.x[v] * d[0] + m.y[v] * d[1] + m.z[v] * d[2] > m.x[best] * d[0] + m.y[best] * d[1] + m.z[best] * d[2]) best = v;
-    handles.push_back(vertex_point(best));
-  }
+  for (const auto& d : dirs) handles.push_back(vertex_point(extreme_vertex(m, d)));
   RunContext one, two;
   one.threads = 1;
   two.threads = 2;
@@ -74,12 +71,7 @@ TEST_CASE("skinning weights: exact weights smooth on a regular mesh (edge jumps,
   const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
   const double dirs[][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   std::vector<SurfacePoint> handles;
-  for (const auto& d : dirs) {
-    int32_t best = 0;
-    for (int32_t v = 0; v < n; ++v)
-      if (m.x[v] * d[0] + m.y[v] * d[1] + m.z[v] * d[2] > m.x[best] * d[0] + m.y[best] * d[1] + m.z[best] * d[2]) best = v;
-    handles.push_back(vertex_point(best));
-  }
+  for (const auto& d : dirs) handles.push_back(vertex_point(extreme_vertex(m, d)));
   const int32_t k = static_cast<int32_t>(handles.size());
   const SkinningWeights W = skinning_weights(H, m, handles, {});
   CHECK(W.degenerate == 0);
