@@ -14,7 +14,7 @@ if(NOT LOCUS_SOURCE_DIR)
   get_filename_component(LOCUS_SOURCE_DIR "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
 endif()
 
-set(core_headers "locus/error.hpp;locus/mesh.hpp;locus/sparse_matrix.hpp;locus/run_context.hpp;locus/view.hpp;locus/export.h;locus/version.h;locus/mesh_view.hpp")
+set(core_headers "locus/error.hpp;locus/mesh.hpp;locus/sparse_matrix.hpp;locus/run_context.hpp;locus/view.hpp;locus/export.h;locus/version.h;locus/mesh_view.hpp;locus/mesh_info.hpp")
 
 # Is include NAME (from a file of FLOOR, application APP) allowed? Sets OUT.
 function(allowed floor app name dir out)

@@ -13,6 +13,7 @@
 
 using namespace locus::c_api_detail;
 
+#include "field_copy.hpp"
 #include "locus/core/host_allocator.hpp"
 #include "locus/mesh_io.hpp"
 
@@ -82,14 +83,7 @@ locus::Mesh mesh_from_arrays(const double* xyz, int64_t nv, const int32_t* tris,
   m.face_offsets.resize(static_cast<size_t>(nf) + 1);
   for (int64_t f = 0; f <= nf; ++f) m.face_offsets[f] = static_cast<int32_t>(3 * f);
   m.face_vertices.assign(tris, tris + 3 * nf);
-  m.f0.resize(static_cast<size_t>(nf));
-  m.f1.resize(static_cast<size_t>(nf));
-  m.f2.resize(static_cast<size_t>(nf));
-  for (int64_t f = 0; f < nf; ++f) {
-    m.f0[f] = tris[3 * f];
-    m.f1[f] = tris[3 * f + 1];
-    m.f2[f] = tris[3 * f + 2];
-  }
+  m.rebuild_triangle_arrays();
   return m;
 }
 
@@ -150,12 +144,33 @@ namespace {
 template <class View, class CView>
 View view_of(const CView& c) {
   View v;
-  v.positions = c.positions;
+  LOCUS_COPY_FIELDS(v, c, positions, position_stride, vertex_count);
   v.position_type = static_cast<locus::ScalarType>(c.position_type);
-  v.position_stride = c.position_stride;
-  v.vertex_count = c.vertex_count;
   v.index_type = static_cast<locus::IndexType>(c.index_type);
   return v;
+}
+
+locus::MeshView engine_view(const locus_mesh_view& c) {
+  locus::MeshView v = view_of<locus::MeshView>(c);
+  LOCUS_COPY_FIELDS(v, c, indices, index_stride, triangle_count);
+  return v;
+}
+
+locus::PolygonMeshView engine_view(const locus_polygon_view& c) {
+  locus::PolygonMeshView v = view_of<locus::PolygonMeshView>(c);
+  LOCUS_COPY_FIELDS(v, c, face_offsets, face_indices, face_count);
+  return v;
+}
+
+// The frame of the session constructors: *out NULL on failure, and the view checked.
+template <class CView, class Make>
+locus_status create_session(const char* name, const CView* view, locus_session** out, Make make) {
+  if (out) *out = nullptr;
+  return guarded(name, [&] {
+    require(out != nullptr, "out is NULL");
+    require(view != nullptr, "view is NULL");
+    *out = new locus_session(make(engine_view(*view)));
+  });
 }
 
 }  // namespace
@@ -168,29 +183,13 @@ locus_status locus_session_create_from_view(const locus_mesh_view* view, locus_s
 
 locus_status locus_session_create_from_view_ex(const locus_mesh_view* view, const locus_session_options* opt,
                                                locus_session** out) {
-  if (out) *out = nullptr;
-  return guarded("locus_session_create_from_view", [&] {
-    require(out != nullptr, "out is NULL");
-    require(view != nullptr, "view is NULL");
-    locus::MeshView v = view_of<locus::MeshView>(*view);
-    v.indices = view->indices;
-    v.index_stride = view->index_stride;
-    v.triangle_count = view->triangle_count;
-    *out = new locus_session(locus::Session(v, session_options_of(opt)));
-  });
+  return create_session("locus_session_create_from_view", view, out,
+                        [&](const locus::MeshView& v) { return locus::Session(v, session_options_of(opt)); });
 }
 
 locus_status locus_session_create_from_polygon_view(const locus_polygon_view* view, locus_session** out) {
-  if (out) *out = nullptr;
-  return guarded("locus_session_create_from_polygon_view", [&] {
-    require(out != nullptr, "out is NULL");
-    require(view != nullptr, "view is NULL");
-    locus::PolygonMeshView v = view_of<locus::PolygonMeshView>(*view);
-    v.face_offsets = view->face_offsets;
-    v.face_indices = view->face_indices;
-    v.face_count = view->face_count;
-    *out = new locus_session(locus::Session(v));
-  });
+  return create_session("locus_session_create_from_polygon_view", view, out,
+                        [](const locus::PolygonMeshView& v) { return locus::Session(v); });
 }
 
 locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const int32_t* face_offsets,
@@ -201,12 +200,9 @@ locus_status locus_session_create_polygons(const double* xyz, int64_t nv, const 
     require(xyz != nullptr, "xyz is NULL");
     require(face_offsets != nullptr, "face_offsets is NULL");
     require(face_indices != nullptr, "face_indices is NULL");
-    locus::PolygonMeshView v;  // packed doubles and int32 ids: the view reads them as they are
-    v.positions = xyz;
-    v.vertex_count = nv;
-    v.face_offsets = face_offsets;
-    v.face_indices = face_indices;
-    v.face_count = nf;
+    // Packed doubles and int32 ids: the view reads them as they are.
+    const locus::PolygonMeshView v{.positions = xyz, .vertex_count = nv, .face_offsets = face_offsets,
+                                   .face_indices = face_indices, .face_count = nf};
     *out = new locus_session(locus::Session(v));
   });
 }
@@ -217,21 +213,13 @@ void locus_session_destroy(locus_session* session) {
 }
 
 int64_t locus_session_vertex_count(const locus_session* session) {
-  clear_error();
-  if (!session) {
-    set_error("locus_session_vertex_count", "session is NULL");
-    return -1;
-  }
-  return session->session.num_vertices();
+  return count_of("locus_session_vertex_count", session, "session is NULL",
+                  [&] { return session->session.num_vertices(); });
 }
 
 int64_t locus_session_face_count(const locus_session* session) {
-  clear_error();
-  if (!session) {
-    set_error("locus_session_face_count", "session is NULL");
-    return -1;
-  }
-  return session->session.num_faces();
+  return count_of("locus_session_face_count", session, "session is NULL",
+                  [&] { return session->session.num_faces(); });
 }
 
 locus_status locus_session_get_positions(const locus_session* session, double* out_xyz) {

@@ -56,8 +56,7 @@ locus_cvt_options locus_cvt_options_default(void) {
 
 locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
                            locus_cvt_report* out_report, locus_remesh** out_remesh, const locus_run_options* opts) {
-  return command_run("locus_cvt_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    no_run_time(cc);
+  return command_run("locus_cvt_run", session, options, {}, opts, [&](locus::Session& s, CallContext& cc) {
     locus::CvtReport r = s.cvt(request_of(*options), cc.ctx);
     if (out_labels) std::copy(r.label.begin(), r.label.end(), out_labels);
     if (out_report) fill_report(r, *out_report);

@@ -31,10 +31,8 @@ extern "C" {
 
 locus_status locus_cvt_ex(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                           int32_t* out_labels_nv, double* out_sites_xyz, const locus_run_options* opts) {
-  return guarded("locus_cvt", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_cvt", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_labels_nv != nullptr, "out_labels_nv is NULL");
-    CallContext cc(opts);
     check_cvt_call(iters, cc);
     const locus::CvtResult r = s.cvt(sites, iters, seed, cc.ctx);
     // The caller's arrays hold `sites` sites: a mesh that needed another count
@@ -59,10 +57,8 @@ extern "C" {
 
 locus_status locus_cvt_remesh(locus_session* session, int32_t sites, int32_t iters, uint64_t seed,
                               const locus_run_options* opts, locus_remesh** out) {
-  return guarded("locus_cvt_remesh", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_cvt_remesh", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
-    CallContext cc(opts);
     check_cvt_call(iters, cc);
     auto h = std::make_unique<locus_remesh>();
     h->r = s.cvt(sites, iters, seed, cc.ctx, true);
@@ -106,8 +102,7 @@ void locus_remesh_destroy(locus_remesh* remesh) { delete remesh; }
 locus_status locus_heat_values(locus_session* session, const int64_t* sources, int64_t n_sources,
                                const int64_t* targets, int64_t n_targets, double* out,
                                const locus_run_options* opts) {
-  return guarded("locus_heat_values", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_heat_values", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(sources != nullptr, "sources is NULL");
     require(targets != nullptr, "targets is NULL");
     require(out != nullptr, "out is NULL");
@@ -120,7 +115,6 @@ locus_status locus_heat_values(locus_session* session, const int64_t* sources, i
       src[k] = vertex_id(s, sources[k], ("sources[" + std::to_string(k) + "] =").c_str());
     for (int64_t k = 0; k < n_targets; ++k)
       tgt[k] = vertex_id(s, targets[k], ("targets[" + std::to_string(k) + "] =").c_str());
-    CallContext cc(opts);
     const std::vector<double> v = s.heat_values(src, tgt, cc.heat(), cc.ctx);
     std::copy(v.begin(), v.end(), out);
   });
@@ -137,12 +131,10 @@ struct locus_nncoords_field {
 extern "C" {
 
 locus_status locus_session_prepare(locus_session* session, int32_t operators, const locus_run_options* opts) {
-  return guarded("locus_session_prepare", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_session_prepare", session, opts, [&](locus::Session& s, CallContext& cc) {
     const int32_t all = LOCUS_PREPARE_HEAT_METHOD | LOCUS_PREPARE_DIFFUSION | LOCUS_PREPARE_LAPLACIAN;
     if (operators & ~all)
       fail(ErrorCode::BadUsage, "operators = " + std::to_string(operators) + " has bits outside LOCUS_PREPARE_*");
-    CallContext cc(opts);
     if (operators & LOCUS_PREPARE_HEAT_METHOD) s.prepare_heat(cc.heat(), cc.ctx);
     if (operators & LOCUS_PREPARE_DIFFUSION) s.prepare_diffusion(cc.heat(), cc.ctx);
     if (operators & LOCUS_PREPARE_LAPLACIAN) s.prepare_patch_parameterization(cc.ctx);
@@ -176,12 +168,9 @@ locus_status locus_voronoi_bound(const locus_session* session, int64_t* max_poin
 
 locus_status locus_voronoi(locus_session* session, const locus_surface_point* generators, int64_t n_generators,
                            locus_voronoi_output* out, const locus_run_options* opts) {
-  return guarded("locus_voronoi", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_voronoi", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
-    const std::vector<locus::MeshPoint> g = mesh_points(s, generators, n_generators, "generators");
-    CallContext cc(opts);
-    const locus::VoronoiResult r = s.voronoi(g, cc.heat(), cc.ctx);
+    const locus::VoronoiResult r = s.voronoi(mesh_points(s, generators, n_generators, "generators"), cc.heat(), cc.ctx);
     out->n_points = static_cast<int64_t>(r.points.size() / 3);
     out->n_lines = static_cast<int64_t>(r.line_offsets.size()) - 1;
     out->n_line_points = static_cast<int64_t>(r.line_points.size());
@@ -203,11 +192,9 @@ locus_status locus_voronoi(locus_session* session, const locus_surface_point* ge
 locus_status locus_nncoords_prepare(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
                                     const locus_run_options* opts, locus_nncoords_field** out) {
   if (out) *out = nullptr;
-  return guarded("locus_nncoords_prepare", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_nncoords_prepare", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
     const std::vector<locus::MeshPoint> p = mesh_points(s, sites, n_sites, "sites");
-    CallContext cc(opts);
     *out = new locus_nncoords_field(s.prepare_natural_neighbors(p, cc.heat(), cc.ctx), s.num_vertices(), s.num_faces());
   });
 }
@@ -224,12 +211,8 @@ locus_status locus_nncoords_query(const locus_nncoords_field* nn, const locus_su
 }
 
 int64_t locus_nncoords_site_count(const locus_nncoords_field* nn) {
-  clear_error();
-  if (!nn) {
-    set_error("locus_nncoords_site_count", "nn is NULL");
-    return -1;
-  }
-  return nn->field.num_sites();
+  return count_of("locus_nncoords_site_count", nn, "nn is NULL",
+                  [&] { return nn->field.num_sites(); });
 }
 
 void locus_nncoords_destroy(locus_nncoords_field* nn) {
@@ -239,12 +222,10 @@ void locus_nncoords_destroy(locus_nncoords_field* nn) {
 
 locus_status locus_nncoords(locus_session* session, const locus_surface_point* sites, int64_t n_sites,
                             const locus_surface_point* point, double* out_weights, const locus_run_options* opts) {
-  return guarded("locus_nncoords", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_nncoords", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_weights != nullptr, "out_weights is NULL");
     const std::vector<locus::MeshPoint> q = mesh_points(s, point, 1, "point");  // before the diagram: fails fast
     const std::vector<locus::MeshPoint> p = mesh_points(s, sites, n_sites, "sites");
-    CallContext cc(opts);
     const locus::NaturalNeighborResult r = s.natural_neighbor_coordinates(p, q[0], cc.heat(), cc.ctx);
     std::copy(r.weight.begin(), r.weight.end(), out_weights);
   });
@@ -252,11 +233,9 @@ locus_status locus_nncoords(locus_session* session, const locus_surface_point* s
 
 locus_status locus_skinning_weights(locus_session* session, const locus_surface_point* handles, int64_t n_handles,
                                     double* out, const locus_run_options* opts) {
-  return guarded("locus_skinning_weights", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_skinning_weights", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
     const std::vector<locus::MeshPoint> h = mesh_points(s, handles, n_handles, "handles");
-    CallContext cc(opts);
     const locus::SkinningWeightsResult r = s.skinning_weights(h, cc.heat(), cc.ctx);
     std::copy(r.weight.begin(), r.weight.end(), out);
   });
@@ -264,11 +243,9 @@ locus_status locus_skinning_weights(locus_session* session, const locus_surface_
 
 locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t n_vertices, int32_t selected_inversion,
                        double* out, const locus_run_options* opts) {
-  return guarded("locus_adf", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_adf", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
     const std::vector<int32_t> v = optional_vertex_ids(s, vertices, n_vertices, "vertices");
-    CallContext cc(opts);
     const std::vector<double> r = s.auto_diffusion(
         v, cc.heat(), selected_inversion ? locus::DiagonalMethod::SelectedInversion : locus::DiagonalMethod::Subset,
         cc.ctx);
@@ -278,8 +255,7 @@ locus_status locus_adf(locus_session* session, const int64_t* vertices, int64_t 
 
 locus_status locus_hks(locus_session* session, const double* t_factors, int64_t n_times, const int64_t* vertices,
                        int64_t n_vertices, int32_t selected_inversion, double* out, const locus_run_options* opts) {
-  return guarded("locus_hks", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_hks", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out != nullptr, "out is NULL");
     require(t_factors != nullptr, "t_factors is NULL");
     if (n_times < 1 || n_times > 1000)
@@ -292,7 +268,6 @@ locus_status locus_hks(locus_session* session, const double* t_factors, int64_t 
       times.push_back(locus::HeatQuery{t_factors[j], 0.0});
     }
     const std::vector<int32_t> v = optional_vertex_ids(s, vertices, n_vertices, "vertices");
-    CallContext cc(opts);
     const std::vector<double> r = s.heat_kernel_signature(
         times, v, selected_inversion ? locus::DiagonalMethod::SelectedInversion : locus::DiagonalMethod::Subset,
         cc.ctx);
@@ -303,12 +278,10 @@ locus_status locus_hks(locus_session* session, const double* t_factors, int64_t 
 locus_status locus_heat_exchange(locus_session* session, const int64_t* sources, int64_t n_sources,
                                  const int64_t* targets, int64_t n_targets, double* out_targets,
                                  const locus_run_options* opts) {
-  return guarded("locus_heat_exchange", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_heat_exchange", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_targets != nullptr, "out_targets is NULL");
     const std::vector<int32_t> src = vertex_ids(s, sources, n_sources, "sources");
     const std::vector<int32_t> tgt = vertex_ids(s, targets, n_targets, "targets");
-    CallContext cc(opts);
     const std::vector<double> r = s.heat_exchange(src, tgt, cc.heat(), cc.ctx);
     std::copy(r.begin(), r.end(), out_targets);
   });

@@ -53,6 +53,23 @@ void copy_signature(const locus::HeatSignatureReport& r, double* out, double* ou
   LOCUS_COPY_FIELDS(*rep, r, h, nnz_L, supernodes, etree_height, LOCUS_FACTOR_TIMES, query_s);
 }
 
+locus::HeatRequest request_of(const locus_heat_options& o) {
+  locus::HeatRequest q;
+  q.source = ids(o.source, o.n_source, "source");
+  q.target = ids(o.target, o.n_target, "target");
+  LOCUS_COPY_FIELDS(q, o, t, method, repeat, save, load);
+  return q;
+}
+
+locus::NncoordsRequest request_of(const locus_nncoords_options& o) {
+  locus::NncoordsRequest q;
+  q.sites = ids(o.sites, o.n_sites, "sites");
+  q.point.face = o.point.face;
+  for (int k = 0; k < 3; ++k) q.point.bary[k] = o.point.bary[k];
+  LOCUS_COPY_FIELDS(q, o, t);
+  return q;
+}
+
 }  // namespace
 
 extern "C" {
@@ -72,38 +89,30 @@ locus_heat_options locus_heat_options_default(void) {
 
 locus_status locus_adf_run(locus_session* session, const locus_adf_options* options, double* out, double* out_t,
                            locus_signature_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_adf_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out != nullptr, "out is NULL");
-    no_run_time(cc);
+  return command_run("locus_adf_run", session, options, {out, "out is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
     copy_signature(s.adf(request_of(*options), cc.ctx), out, out_t, out_report);
   });
 }
 
 locus_status locus_hks_run(locus_session* session, const locus_hks_options* options, double* out, double* out_t,
                            locus_signature_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_hks_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out != nullptr, "out is NULL");
-    no_run_time(cc);
+  return command_run("locus_hks_run", session, options, {out, "out is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
     copy_signature(s.hks(request_of(*options), cc.ctx), out, out_t, out_report);
   });
 }
 
 locus_status locus_heat_run(locus_session* session, const locus_heat_options* options, double* out_targets,
                             locus_heat_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_heat_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_targets != nullptr, "out_targets is NULL");
-    no_run_time(cc);
-    locus::HeatRequest q;
-    q.source = ids(options->source, options->n_source, "source");
-    q.target = ids(options->target, options->n_target, "target");
-    LOCUS_COPY_FIELDS(q, *options, t, method, repeat, save, load);
-    const locus::HeatReport r = s.heat(q, cc.ctx);
+  return command_run("locus_heat_run", session, options, {out_targets, "out_targets is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
+    const locus::HeatReport r = s.heat(request_of(*options), cc.ctx);
     std::copy(r.values.begin(), r.values.end(), out_targets);
-    if (!out_report) return;
-    locus_heat_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    LOCUS_COPY_FIELDS(o, r, t, h, total, nnz_L, etree_height, forward_columns, backward_columns,
-                      LOCUS_FACTOR_TIMES, query_s, plan_s, solve_s);
+    report_into(out_report, [&](locus_heat_report& o) {
+      LOCUS_COPY_FIELDS(o, r, t, h, total, nnz_L, etree_height, forward_columns, backward_columns,
+                        LOCUS_FACTOR_TIMES, query_s, plan_s, solve_s);
+    });
   });
 }
 
@@ -123,20 +132,13 @@ locus_nncoords_options locus_nncoords_options_default(void) {
 
 locus_status locus_nncoords_run(locus_session* session, const locus_nncoords_options* options, double* out_weights,
                                 locus_nncoords_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_nncoords_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_weights != nullptr, "out_weights is NULL");
-    no_run_time(cc);
-    locus::NncoordsRequest q;
-    q.sites = ids(options->sites, options->n_sites, "sites");
-    q.point.face = options->point.face;
-    for (int k = 0; k < 3; ++k) q.point.bary[k] = options->point.bary[k];
-    LOCUS_COPY_FIELDS(q, *options, t);
-    const locus::NncoordsReport r = s.nncoords(q, cc.ctx);
+  return command_run("locus_nncoords_run", session, options, {out_weights, "out_weights is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
+    const locus::NncoordsReport r = s.nncoords(request_of(*options), cc.ctx);
     std::copy(r.weights.begin(), r.weights.end(), out_weights);
-    if (!out_report) return;
-    locus_nncoords_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    LOCUS_COPY_FIELDS(o, r, cell_area, clamped, t, at_site, degenerate, fallback_faces, prepare_s, query_s);
+    report_into(out_report, [&](locus_nncoords_report& o) {
+      LOCUS_COPY_FIELDS(o, r, cell_area, clamped, t, at_site, degenerate, fallback_faces, prepare_s, query_s);
+    });
   });
 }
 

@@ -12,6 +12,16 @@
 
 using namespace locus::c_api_detail;
 
+namespace {
+
+locus::FactorCommandRequest request_of(const locus_factor_options& o) {
+  locus::FactorCommandRequest q;
+  LOCUS_COPY_FIELDS(q, o, repeat, seed, matrix, t, save, load);
+  return q;
+}
+
+}  // namespace
+
 extern "C" {
 
 locus_factor_options locus_factor_options_default(void) {
@@ -21,19 +31,15 @@ locus_factor_options locus_factor_options_default(void) {
 
 locus_status locus_factor_run(locus_session* session, const locus_factor_options* options, double* out_x,
                               locus_factor_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_factor_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    no_run_time(cc);
-    locus::FactorCommandRequest q;
-    LOCUS_COPY_FIELDS(q, *options, repeat, seed, matrix, t, save, load);
-    const locus::FactorCommandReport r = s.factor(q, cc.ctx);
+  return command_run("locus_factor_run", session, options, {}, opts, [&](locus::Session& s, CallContext& cc) {
+    const locus::FactorCommandReport r = s.factor(request_of(*options), cc.ctx);
     if (out_x) std::copy(r.x.begin(), r.x.end(), out_x);
-    if (!out_report) return;
-    locus_factor_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    LOCUS_COPY_FIELDS(o, r, n, repeats, nnz_A, nnz_L, nnz_L_exact, supernodes, etree_height, super_etree_height,
-                      flops, t, h, residual, residual8, lane0_vs_solve, operator_s, order_s, symbolic_s, numeric_s,
-                      solve_s, solve8_s);
-    o.load_s = r.factor_cache.load_s, o.save_s = r.factor_cache.save_s;
+    report_into(out_report, [&](locus_factor_report& o) {
+      LOCUS_COPY_FIELDS(o, r, n, repeats, nnz_A, nnz_L, nnz_L_exact, supernodes, etree_height, super_etree_height,
+                        flops, t, h, residual, residual8, lane0_vs_solve, operator_s, order_s, symbolic_s, numeric_s,
+                        solve_s, solve8_s);
+      o.load_s = r.factor_cache.load_s, o.save_s = r.factor_cache.save_s;
+    });
   });
 }
 

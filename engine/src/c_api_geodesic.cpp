@@ -78,8 +78,8 @@ locus_logmap_options locus_logmap_options_default(void) {
 
 locus_status locus_geodesic_run(locus_session* session, const locus_geodesic_options* options, double* out_nv,
                                 locus_geodesic_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_geodesic_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_nv != nullptr, "out_nv is NULL");
+  return timed_command_run("locus_geodesic_run", session, options, {out_nv, "out_nv is NULL"}, opts,
+                           [&](locus::Session& s, CallContext& cc) {
     const locus::GeodesicReport r = s.geodesic(request_of(*options, cc), cc.ctx);
     std::copy(r.distance.begin(), r.distance.end(), out_nv);
     if (out_report) *out_report = report_of(r);
@@ -90,11 +90,9 @@ locus_status locus_geodesic_distance_ex(locus_session* session, int64_t source, 
                                         const locus_run_options* opts) {
   // Straight into the caller's buffer (no report arrays): every block of a
   // query goes through the host's allocator (tests/interpose).
-  return guarded("locus_geodesic_distance", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_geodesic_distance", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_nv != nullptr, "out_nv is NULL");
     const int32_t src = vertex_id(s, source, "source");
-    CallContext cc(opts);
     s.geodesic_distance(src, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
     no_value_as_nan(out_nv, s.num_vertices());
   });
@@ -107,8 +105,8 @@ locus_status locus_geodesic_distance(locus_session* session, int64_t source, dou
 locus_status locus_logmap_run(locus_session* session, const locus_logmap_options* options, double* out_uv,
                               double* out_distance, double* out_angle, locus_logmap_report* out_report,
                               const locus_run_options* opts) {
-  return command_run("locus_logmap_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_uv != nullptr, "out_uv is NULL");
+  return timed_command_run("locus_logmap_run", session, options, {out_uv, "out_uv is NULL"}, opts,
+                           [&](locus::Session& s, CallContext& cc) {
     const locus::LogmapReport r = s.logmap(request_of(*options, cc), cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -129,11 +127,9 @@ locus_status locus_logmap_run(locus_session* session, const locus_logmap_options
 locus_status locus_logmap_ex(locus_session* session, int64_t center, double fraction, double* out_uv,
                              const locus_run_options* opts) {
   // The Session's log map keeps its arrays in the host's allocator (LogMapResult).
-  return guarded("locus_logmap", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_logmap", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_uv != nullptr, "out_uv is NULL");
     const int32_t c = vertex_id(s, center, "center");
-    CallContext cc(opts);
     const locus::LogMapResult r = s.logmap(c, fraction, cc.heat(), cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     std::fill(out_uv, out_uv + 2 * n, std::numeric_limits<double>::quiet_NaN());
@@ -167,11 +163,9 @@ locus_status locus_logmap(locus_session* session, int64_t center, double fractio
 
 locus_status locus_geodesic_distance_multi(locus_session* session, const locus_surface_point* sources,
                                            int64_t n_sources, double* out_nv, const locus_run_options* opts) {
-  return guarded("locus_geodesic_distance_multi", [&] {
-    locus::Session& s = session_of(session);
+  return session_run("locus_geodesic_distance_multi", session, opts, [&](locus::Session& s, CallContext& cc) {
     require(out_nv != nullptr, "out_nv is NULL");
     const std::vector<locus::MeshPoint> pts = mesh_points(s, sources, n_sources, "sources");
-    CallContext cc(opts);
     s.geodesic_distance(pts, std::span<double>(out_nv, static_cast<size_t>(s.num_vertices())), cc.heat(), cc.ctx);
     no_value_as_nan(out_nv, s.num_vertices());
   });

@@ -6,9 +6,15 @@
 #include "c_api_support.hpp"
 #include "field_copy.hpp"
 #include "locus/engine/mesh_info.hpp"
-#include "mesh_info_fields.hpp"
 
 using namespace locus::c_api_detail;
+
+// The report's numbers that the C struct names alike.
+#define LOCUS_MESH_INFO_NUMBERS                                                                                   \
+  n_vertices, n_faces, n_edges, components, boundary_loops, euler_characteristic, genus, manifold,               \
+      non_manifold_edges, non_manifold_vertices, degenerate_faces, unreferenced_vertices, mean_edge_length,      \
+      first_non_manifold_edge_v0, first_non_manifold_edge_v1, first_non_manifold_vertex, first_degenerate_face, \
+      first_unreferenced_vertex
 
 extern "C" {
 

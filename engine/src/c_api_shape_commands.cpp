@@ -19,6 +19,23 @@ using namespace locus::c_api_detail;
 #define LOCUS_PERFECT_LAPLACIAN_NUMBERS planar, iters, eps, anderson, no_active_set, noise, seed
 #define LOCUS_SELFSUPPORT_NUMBERS load_density, iters, eps
 
+namespace {
+
+locus::DeformCommandRequest request_of(const locus_deform_options& o) {
+  locus::DeformCommandRequest q;
+  LOCUS_COPY_FIELDS(q, o, LOCUS_DEFORM_NUMBERS, energy, save, load);
+  q.offset = {o.offset[0], o.offset[1], o.offset[2]};
+  return q;
+}
+
+locus::ParamRequest request_of(const locus_param_options& o) {
+  locus::ParamRequest q;
+  LOCUS_COPY_FIELDS(q, o, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
+  return q;
+}
+
+}  // namespace
+
 extern "C" {
 
 locus_deform_options locus_deform_options_default(void) {
@@ -28,20 +45,15 @@ locus_deform_options locus_deform_options_default(void) {
 
 locus_status locus_deform_run(locus_session* session, const locus_deform_options* options, double* out_xyz,
                               locus_deform_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_deform_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_xyz != nullptr, "out_xyz is NULL");
-    if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: deform has no diffusion time");
-    locus::DeformCommandRequest q;
-    LOCUS_COPY_FIELDS(q, *options, LOCUS_DEFORM_NUMBERS, energy, save, load);
-    q.offset = {options->offset[0], options->offset[1], options->offset[2]};
-    const locus::DeformCommandReport r = s.deform(q, cc.ctx);
+  return command_run("locus_deform_run", session, options, {out_xyz, "out_xyz is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
+    const locus::DeformCommandReport r = s.deform(request_of(*options), cc.ctx);
     std::copy(r.xyz.begin(), r.xyz.end(), out_xyz);
-    if (!out_report) return;
-    locus_deform_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    LOCUS_COPY_FIELDS(o, r, roi_vertices, handle_vertices, free_vertices, columns_updated_fraction,
-                      refinement_steps, residual, max_displacement, update_s, solve_s);
-    o.global_factor_s = r.order_s + r.analyze_s + r.factor_s;
+    report_into(out_report, [&](locus_deform_report& o) {
+      LOCUS_COPY_FIELDS(o, r, roi_vertices, handle_vertices, free_vertices, columns_updated_fraction,
+                        refinement_steps, residual, max_displacement, update_s, solve_s);
+      o.global_factor_s = r.order_s + r.analyze_s + r.factor_s;
+    });
   });
 }
 
@@ -57,11 +69,9 @@ locus_param_options locus_param_options_default(void) {
 
 locus_status locus_param_run(locus_session* session, const locus_param_options* options, double* out_uv,
                              locus_param_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_param_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_uv != nullptr, "out_uv is NULL");
-    if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: param has no diffusion time");
-    locus::ParamRequest q;
-    LOCUS_COPY_FIELDS(q, *options, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
+  return command_run("locus_param_run", session, options, {out_uv, "out_uv is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
+    const locus::ParamRequest q = request_of(*options);
     const locus::ParamReport r = s.param(q, cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     if (q.center < 0) {
@@ -73,13 +83,12 @@ locus_status locus_param_run(locus_session* session, const locus_param_options* 
         out_uv[2 * static_cast<size_t>(r.patch_vertices[k]) + 1] = r.uv[2 * k + 1];
       }
     }
-    if (!out_report) return;
-    locus_param_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    o.patch_size = q.center < 0 ? static_cast<int64_t>(n) : static_cast<int64_t>(r.patch_vertices.size());
-    LOCUS_COPY_FIELDS(o, r, flipped_faces, degenerate_faces, negative_weights, boundary_vertices, converged,
-                      iterations);
-    o.query_s = q.center < 0 ? r.param_s : r.query_s;
+    report_into(out_report, [&](locus_param_report& o) {
+      o.patch_size = q.center < 0 ? static_cast<int64_t>(n) : static_cast<int64_t>(r.patch_vertices.size());
+      LOCUS_COPY_FIELDS(o, r, flipped_faces, degenerate_faces, negative_weights, boundary_vertices, converged,
+                        iterations);
+      o.query_s = q.center < 0 ? r.param_s : r.query_s;
+    });
   });
 }
 
@@ -98,7 +107,8 @@ locus_perfect_laplacian_options locus_perfect_laplacian_options_default(void) {
 locus_status locus_perfect_laplacian_run(locus_session* session, const locus_perfect_laplacian_options* options,
                                          int32_t* out_edges, double* out_weights, double* out_xyz,
                                          int32_t* out_converged, const locus_run_options* opts) {
-  return command_run("locus_perfect_laplacian_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
+  return command_run("locus_perfect_laplacian_run", session, options, {}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
     locus::PerfectLaplacianCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_PERFECT_LAPLACIAN_NUMBERS, method);
     const locus::PerfectLaplacianCommandReport r = s.perfect_laplacian(q, cc.ctx);
@@ -115,7 +125,7 @@ locus_selfsupport_options locus_selfsupport_options_default(void) {
 locus_status locus_selfsupport_run(locus_session* session, const locus_selfsupport_options* options,
                                    int32_t* out_edges, double* out_forces, double* out_xyz, int32_t* out_converged,
                                    const locus_run_options* opts) {
-  return command_run("locus_selfsupport_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
+  return command_run("locus_selfsupport_run", session, options, {}, opts, [&](locus::Session& s, CallContext& cc) {
     locus::SelfSupportCommandRequest q;
     LOCUS_COPY_FIELDS(q, *options, LOCUS_SELFSUPPORT_NUMBERS, support);
     const locus::SelfSupportCommandReport r = s.self_supporting(q, cc.ctx);

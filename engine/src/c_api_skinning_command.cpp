@@ -49,8 +49,8 @@ locus::SkinningRequest skinning_request_of(const locus_skinweights_options& o) {
 
 locus_status locus_skinweights_run(locus_session* session, const locus_skinweights_options* options, double* out,
                                 locus_skinweights_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_skinweights_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out != nullptr, "out is NULL");
+  return command_run("locus_skinweights_run", session, options, {out, "out is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
     const locus::SkinningReport r = s.skinning(skinning_request_of(*options), cc.ctx);
     std::copy(r.weight.begin(), r.weight.end(), out);
     if (out_report) {

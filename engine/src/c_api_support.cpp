@@ -190,7 +190,7 @@ std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what) {
 }
 
 void no_run_time(const CallContext& cc) {
-  if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the options give the time (t)");
+  if (cc.t_factor != 0.0) fail(ErrorCode::BadUsage, "opts->t_factor must be 0 here: the command's options give its time (t), if it has one");
 }
 
 }  // namespace locus::c_api_detail

@@ -13,6 +13,7 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <new>
@@ -93,25 +94,75 @@ struct CallContext {
 };
 
 locus::Session& session_of(locus_session* s);
+// Error(BadUsage) unless opts->t_factor is 0: a command's options give its time (t), if it has one.
+void no_run_time(const CallContext& cc);
 
-// The frame of every locus_<command>_run: the guard, the session, the options
-// (not NULL), the call's context; body(session, context) does the rest.
-template <class Options, class Body>
-locus_status command_run(const char* function, locus_session* session, const Options* options,
-                         const locus_run_options* opts, Body&& body) noexcept {
+// The frame of the entry points that return a count: -1 with the error
+// `if_null` when the handle is NULL, count() otherwise (it does not throw).
+template <class Count>
+int64_t count_of(const char* function, const void* handle, const char* if_null, Count count) noexcept {
+  clear_error();
+  if (!handle) {
+    set_error(function, if_null);
+    return -1;
+  }
+  return count();
+}
+
+// The frame of an entry point on a session: the guard, the session, the
+// call's context (opts checked first); body(session, context) does the rest.
+template <class Body>
+locus_status session_run(const char* function, locus_session* session, const locus_run_options* opts,
+                         Body&& body) noexcept {
   return guarded(function, [&] {
     locus::Session& s = session_of(session);
-    require(options != nullptr, "options is NULL");
     CallContext cc(opts);
     body(s, cc);
   });
 }
+
+// The output array a command cannot run without ({}: every output is optional).
+struct RequiredOut {
+  const void* array = nullptr;
+  const char* if_null = nullptr;  // the message, naming the parameter as locus_commands.h does
+};
+
+// The frame of the locus_<command>_run that take opts->t_factor as their time
+// when the options give none (geodesic, logmap): session_run with the options
+// (not NULL) and the required output.
+template <class Options, class Body>
+locus_status timed_command_run(const char* function, locus_session* session, const Options* options,
+                               RequiredOut out, const locus_run_options* opts, Body&& body) noexcept {
+  return session_run(function, session, opts, [&](locus::Session& s, CallContext& cc) {
+    require(options != nullptr, "options is NULL");
+    if (out.if_null) require(out.array != nullptr, out.if_null);
+    body(s, cc);
+  });
+}
+
+// The frame of every other locus_<command>_run: their options give their time,
+// if they have one, so opts->t_factor must be 0 (no_run_time).
+template <class Options, class Body>
+locus_status command_run(const char* function, locus_session* session, const Options* options, RequiredOut out,
+                         const locus_run_options* opts, Body&& body) noexcept {
+  return timed_command_run(function, session, options, out, opts, [&](locus::Session& s, CallContext& cc) {
+    no_run_time(cc);
+    body(s, cc);
+  });
+}
+
+// Fills the caller's report, zeroed first; nothing when it is NULL (not wanted).
+template <class Report, class Fill>
+void report_into(Report* out, Fill fill) {
+  if (!out) return;
+  std::memset(out, 0, sizeof *out);
+  fill(*out);
+}
+
 // A C string option: `fallback` for NULL or "" (the request's default).
 std::string text(const char* s, const std::string& fallback = "");
 // A C id array (NULL with 0 allowed: an empty list) as a request's ids, at most kMaxHeatValues.
 std::vector<int64_t> ids(const int64_t* v, int64_t n, const char* what);
-// Error(BadUsage) unless opts->t_factor is 0: a command's options give its time (t).
-void no_run_time(const CallContext& cc);
 // The C API's "no value" is NaN (locus.h, as the CLI writes it).
 void no_value_as_nan(double* out, int64_t n);
 int32_t vertex_id(const locus::Session& s, int64_t v, const char* what);

@@ -12,6 +12,23 @@
 
 using namespace locus::c_api_detail;
 
+namespace {
+
+locus::VoronoiCommandRequest request_of(const locus_voronoi_options& o) {
+  locus::VoronoiCommandRequest q;
+  if (o.n_sites < 0 || o.n_sites > kMaxVertices)
+    fail(ErrorCode::BadUsage, "n_sites must be in 0.." + std::to_string(kMaxVertices) + " (got " +
+                                  std::to_string(o.n_sites) + ")");
+  if (o.n_sites > 0) {
+    require(o.sites != nullptr, "sites is NULL");
+    q.sites.assign(o.sites, o.sites + o.n_sites);
+  }
+  LOCUS_COPY_FIELDS(q, o, random, seed, t, save, load);
+  return q;
+}
+
+}  // namespace
+
 extern "C" {
 
 locus_voronoi_options locus_voronoi_options_default(void) {
@@ -21,27 +38,16 @@ locus_voronoi_options locus_voronoi_options_default(void) {
 
 locus_status locus_voronoi_run(locus_session* session, const locus_voronoi_options* options, int32_t* out_labels,
                                locus_voronoi_report* out_report, const locus_run_options* opts) {
-  return command_run("locus_voronoi_run", session, options, opts, [&](locus::Session& s, CallContext& cc) {
-    require(out_labels != nullptr, "out_labels is NULL");
-    no_run_time(cc);
-    locus::VoronoiCommandRequest q;
-    if (options->n_sites < 0 || options->n_sites > kMaxVertices)
-      fail(ErrorCode::BadUsage, "n_sites must be in 0.." + std::to_string(kMaxVertices) + " (got " +
-                                    std::to_string(options->n_sites) + ")");
-    if (options->n_sites > 0) {
-      require(options->sites != nullptr, "sites is NULL");
-      q.sites.assign(options->sites, options->sites + options->n_sites);
-    }
-    LOCUS_COPY_FIELDS(q, *options, random, seed, t, save, load);
-    const locus::VoronoiCommandReport r = s.voronoi(q, cc.ctx);
+  return command_run("locus_voronoi_run", session, options, {out_labels, "out_labels is NULL"}, opts,
+                     [&](locus::Session& s, CallContext& cc) {
+    const locus::VoronoiCommandReport r = s.voronoi(request_of(*options), cc.ctx);
     std::copy(r.label.begin(), r.label.end(), out_labels);
-    if (!out_report) return;
-    locus_voronoi_report& o = *out_report;
-    std::memset(&o, 0, sizeof o);
-    o.generators = static_cast<int64_t>(r.site_xyz.size() / 3);
-    o.points = static_cast<int64_t>(r.points.size() / 3);
-    o.polylines = static_cast<int64_t>(r.polylines.size());
-    LOCUS_COPY_FIELDS(o, r, segments, corners, empty_cells, vertices_without_heat, h, t);
+    report_into(out_report, [&](locus_voronoi_report& o) {
+      o.generators = static_cast<int64_t>(r.site_xyz.size() / 3);
+      o.points = static_cast<int64_t>(r.points.size() / 3);
+      o.polylines = static_cast<int64_t>(r.polylines.size());
+      LOCUS_COPY_FIELDS(o, r, segments, corners, empty_cells, vertices_without_heat, h, t);
+    });
   });
 }
 

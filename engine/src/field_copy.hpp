@@ -10,7 +10,7 @@
 // LOCUS_COPY_FIELDS(to, from, a, b, c) is `to.a = from.a; to.b = from.b; ...`
 // through assign_field(): numbers convert (C's int flags to bool and back), a
 // C string sets an engine string only when it is neither NULL nor "" (NULL
-// and "" mean the request's default).
+// and "" mean the request's default), other fields are copied.
 #pragma once
 #include <cstring>
 #include <string>
@@ -26,6 +26,13 @@ void assign_field(To& to, From from) {
 
 inline void assign_field(std::string& to, const char* from) {
   if (from && from[0]) to = from;
+}
+
+// Any other field of the same type on both sides (a vector, a string): a copy.
+template <class T>
+  requires(!std::is_arithmetic_v<T>)
+void assign_field(T& to, const T& from) {
+  to = from;
 }
 
 // A C options struct zeroed (its strings NULL: the request's defaults), then

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "locus/core/format_significant.hpp"
 #include "locus/error.hpp"
 
 namespace locus {
@@ -53,10 +54,6 @@ double heat_time_factor(const HeatTime& time, double h) {
   return time.value / (h * h);
 }
 
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string format_number(double v) { return format_significant(v, 6); }
 
 }  // namespace locus

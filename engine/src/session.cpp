@@ -104,8 +104,7 @@ std::shared_ptr<const HeatGeodesic> geodesic_engine(State& s, const HeatQuery& q
 
 std::shared_ptr<const HeatGeodesic> robust_geodesic_engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   const double tf = heat_method_t_factor(q);
-  check_t_factor(tf);
-  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+  check_heat_method_time(q, tf);
   return s.robust_engines.get(bits_of(tf), ctx, [&] {
     ctx.report(0.0, "prepare heat method (robust operator)");
     const std::shared_ptr<const RobustOperators> R = robust_operators(s, ctx);
@@ -148,10 +147,14 @@ void check_t_factor(double t_factor) {
     fail(ErrorCode::BadUsage, "t_factor must be a finite positive number (got " + std::to_string(t_factor) + ")");
 }
 
+void check_heat_method_time(const HeatQuery& q, double t_factor) {
+  check_t_factor(t_factor);
+  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+}
+
 std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   const double tf = heat_method_t_factor(q);
-  check_t_factor(tf);
-  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+  check_heat_method_time(q, tf);
   if (s.robust)  // the log map's frames and transport need one tangent plane per vertex
     fail(ErrorCode::BadInput, "the log map needs a manifold mesh without degenerate faces, and " + mesh_name(s.mesh) +
                                   " runs on the robust operator; geodesic distance and the diffusion queries answer on it");
@@ -330,6 +333,13 @@ std::vector<double> Session::geodesic_distance(int32_t source, const HeatQuery& 
   return d;
 }
 
+void session_detail::check_map_finite(int32_t center, const LogMapResult& r) {
+  for (size_t p = 0; p < r.patch.size(); ++p)
+    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
+      fail(ErrorCode::Numerical, "logmap: the map around vertex " + std::to_string(center) +
+                                     " is not finite at vertex " + std::to_string(r.patch[p]));
+}
+
 LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   check_vertex(*s, center, "logmap: center");
@@ -345,17 +355,11 @@ LogMapResult Session::logmap(int32_t center, double fraction, const HeatQuery& q
   LogMapResult r;
   PatchWorkspace pws;
   grow_patch_vertices(*g, center, geodesic_disk(count), pws, r.patch);
-  const int32_t k = static_cast<int32_t>(r.patch.size());
-  r.distance.resize(r.patch.size());
-  r.angle.resize(r.patch.size());
-  r.u.resize(r.patch.size());
-  r.v.resize(r.patch.size());
+  const size_t k = r.patch.size();
+  r.distance.resize(k), r.angle.resize(k), r.u.resize(k), r.v.resize(k);
   LogMapWorkspace ws;
   e->query(center, r.patch, {r.distance, r.angle, r.u, r.v}, ws);
-  for (int32_t p = 0; p < k; ++p)
-    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
-      fail(ErrorCode::Numerical, "logmap: the map around vertex " + std::to_string(center) +
-                                     " is not finite at vertex " + std::to_string(r.patch[p]));
+  check_map_finite(center, r);
   progress.finish("log map");
   return r;
 }
@@ -456,22 +460,13 @@ DeformResult Session::deform(const DeformRequest& req, const RunContext& ctx) co
   // The command's computation (session_deform_command.cpp) with the older fields.
   if (!(req.roi_fraction > 0 && req.roi_fraction <= 1))
     fail(ErrorCode::BadUsage, "deform: roi_fraction must be in (0, 1] (got " + std::to_string(req.roi_fraction) + ")");
-  DeformCommandRequest q;
-  q.roi_seed = req.roi_seed;
-  q.roi_fraction = req.roi_fraction;
-  q.handle = req.handle_vertex;
-  q.handle_ring = req.handle_ring;
-  q.offset = req.offset;
-  q.energy = req.energy == DeformEnergyKind::Bilaplacian ? "bilaplacian" : "laplacian";
+  const DeformCommandRequest q{.roi_seed = req.roi_seed, .roi_fraction = req.roi_fraction, .handle = req.handle_vertex,
+                               .handle_ring = req.handle_ring, .offset = req.offset,
+                               .energy = req.energy == DeformEnergyKind::Bilaplacian ? "bilaplacian" : "laplacian"};
   DeformCommandReport c = deform(q, ctx);
-  DeformResult r;
-  r.xyz = std::move(c.xyz);
-  r.roi_size = c.roi_vertices;
-  r.free_size = c.free_vertices;
-  r.columns_updated_fraction = c.columns_updated_fraction;
-  r.refinement_steps = c.refinement_steps;
-  r.residual = c.residual;
-  return r;
+  return DeformResult{.xyz = std::move(c.xyz), .roi_size = c.roi_vertices, .free_size = c.free_vertices,
+                      .columns_updated_fraction = c.columns_updated_fraction, .refinement_steps = c.refinement_steps,
+                      .residual = c.residual};
 }
 
 void Session::set_positions(ConstView<double> xyz) {

@@ -17,6 +17,7 @@
 #include "command_clock.hpp"
 #include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
 #include "locus/io/atomic_file_write.hpp"
@@ -205,10 +206,7 @@ CvtResult cvt_result_of(CvtReport&& c) {
     r.remesh_genus = st.genus;
     r.remesh_components = st.components;
     r.remesh_boundary_loops = st.boundary_loops;
-    r.mean_min_angle_deg = st.mean_min_angle_deg;
-    r.min_angle_deg = st.min_angle_deg;
-    r.pct_below_30_deg = st.pct_below_30_deg;
-    r.hausdorff_rel = st.hausdorff_rel;
+    LOCUS_COPY_FIELDS(r, st, mean_min_angle_deg, min_angle_deg, pct_below_30_deg, hausdorff_rel);
   }
   return r;
 }

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "command_clock.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/deform_request.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -27,6 +28,24 @@
 #include "sheets_session.hpp"
 
 namespace locus {
+
+using namespace session_detail;
+
+void check_request(const DeformCommandRequest& req) {
+  parse_deform_energy(req.energy);
+  if (req.roi_seed < 0) fail(ErrorCode::BadUsage, "roi_seed " + std::to_string(req.roi_seed) + " is not a vertex id");
+  if (req.handle < 0) fail(ErrorCode::BadUsage, "handle " + std::to_string(req.handle) + " is not a vertex id");
+  if (!(req.roi_fraction >= 0 && req.roi_fraction <= 1))
+    fail(ErrorCode::BadUsage, "roi_fraction must be in [0, 1] (got " + format_number(req.roi_fraction) + ")");
+  if (req.handle_ring < 0 || req.handle_ring > 1000)
+    fail(ErrorCode::BadUsage, "handle_ring must be in 0..1000 (got " + std::to_string(req.handle_ring) + ")");
+  for (double c : req.offset)
+    if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "the offset must be finite");
+  if (!(req.regularization > 0) || !std::isfinite(req.regularization))
+    fail(ErrorCode::BadUsage, "--regularization must be a positive number");
+  check_factor_cache_files({req.save, req.load});
+}
+
 namespace session_detail {
 namespace {
 
@@ -133,23 +152,6 @@ DeformCommandReport sheets_deform(State& s, const DeformCommandRequest& req, con
 }  // namespace
 }  // namespace session_detail
 
-using namespace session_detail;
-
-void check_request(const DeformCommandRequest& req) {
-  parse_deform_energy(req.energy);
-  if (req.roi_seed < 0) fail(ErrorCode::BadUsage, "roi_seed " + std::to_string(req.roi_seed) + " is not a vertex id");
-  if (req.handle < 0) fail(ErrorCode::BadUsage, "handle " + std::to_string(req.handle) + " is not a vertex id");
-  if (!(req.roi_fraction >= 0 && req.roi_fraction <= 1))
-    fail(ErrorCode::BadUsage, "roi_fraction must be in [0, 1] (got " + format_number(req.roi_fraction) + ")");
-  if (req.handle_ring < 0 || req.handle_ring > 1000)
-    fail(ErrorCode::BadUsage, "handle_ring must be in 0..1000 (got " + std::to_string(req.handle_ring) + ")");
-  for (double c : req.offset)
-    if (!std::isfinite(c)) fail(ErrorCode::BadUsage, "the offset must be finite");
-  if (!(req.regularization > 0) || !std::isfinite(req.regularization))
-    fail(ErrorCode::BadUsage, "--regularization must be a positive number");
-  check_factor_cache_files({req.save, req.load});
-}
-
 DeformCommandReport Session::deform(const DeformCommandRequest& req, const RunContext& ctx,
                                     bool compare_with_refactor) const {
   check_request(req);
@@ -188,9 +190,7 @@ DeformCommandReport Session::deform(const DeformCommandRequest& req, const RunCo
   r.roi_vertices = static_cast<int32_t>(region.roi.size());
   r.handle_vertices = static_cast<int32_t>(region.handle.size());
   r.free_vertices = static_cast<int32_t>(region.free.size());
-  r.columns_updated_fraction = us.columns_updated_fraction;
-  r.supernodes_recomputed = us.supernodes_recomputed;
-  r.supernodes = us.supernodes;
+  LOCUS_COPY_FIELDS(r, us, columns_updated_fraction, supernodes_recomputed, supernodes);
   r.values_stored_update = us.values_stored;
   r.update_structure_s = us.structure_s, r.update_mark_s = us.mark_s, r.update_copy_s = us.copy_s;
   r.update_factor_s = us.factor_s;

@@ -25,6 +25,15 @@
 #include "session_state.hpp"
 
 namespace locus {
+
+using namespace session_detail;
+
+void check_request(const GeodesicRequest& req) {
+  check_fraction(req.fraction);
+  heat_method_time(req.t, req.t_factor);
+  check_factor_cache_files({req.save, req.load});
+}
+
 namespace session_detail {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -186,14 +195,6 @@ GeodesicReport triangle_geodesic_report(State& s, const GeodesicRequest& req, co
 
 }  // namespace
 }  // namespace session_detail
-
-using namespace session_detail;
-
-void check_request(const GeodesicRequest& req) {
-  check_fraction(req.fraction);
-  heat_method_time(req.t, req.t_factor);
-  check_factor_cache_files({req.save, req.load});
-}
 
 bool keeps_polygons(const GeodesicRequest& req) {
   return !(req.fraction < 1.0) && req.save.empty() && req.load.empty();

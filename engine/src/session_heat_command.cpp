@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "command_clock.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -74,9 +75,7 @@ HeatReport Session::heat(const HeatRequest& req, const RunContext& ctx) const {
   const FactorRequest freq{"heat", r.t, &A};
   const FactorCacheFiles files{req.save, req.load};
   const Factors H = factor_or_load(files, m, std::span(&freq, 1), ctx);
-  r.order_s = H.order_s;
-  r.analyze_s = H.analyze_s;
-  r.numeric_s = H.numeric_s;
+  LOCUS_COPY_FIELDS(r, H, order_s, analyze_s, numeric_s);
   r.factor_cache = FactorCacheReport{req.load, req.save, H.load_s, H.save_s};
   r.nnz_L = H.symbolic->nnz_L;
   r.etree_height = H.symbolic->etree_height;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "command_clock.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/diffusion_requests.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -122,9 +123,7 @@ HeatSignatureReport signature(State& s, const SignatureArgs& a, const RunContext
   Factors F = factor_or_load(a.files, m, req, ctx);
   H.symbolic = F.symbolic;
   H.factors = std::move(F.factors);
-  r.order_s = F.order_s;
-  r.analyze_s = F.analyze_s;
-  r.numeric_s = F.numeric_s;
+  LOCUS_COPY_FIELDS(r, F, order_s, analyze_s, numeric_s);
   r.factor_cache = FactorCacheReport{a.files.load, a.files.save, F.load_s, F.save_s};
   r.nnz_L = H.symbolic->nnz_L;
   r.supernodes = H.symbolic->ns;

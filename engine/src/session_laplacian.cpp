@@ -9,6 +9,7 @@
 #include <cmath>
 #include <string>
 
+#include "field_copy.hpp"
 #include "locus/pipelines/laplacian/perfect_laplacian.hpp"
 #include "locus/pipelines/laplacian/self_supporting.hpp"
 #include "locus/session.hpp"
@@ -92,9 +93,7 @@ SelfSupportOutput self_supporting_of(const Mesh& mesh, const SelfSupportRequest&
   r.edges = interleave_edges(R.e0, R.e1);
   r.forces = R.forces;
   r.xyz = interleave_xyz(R.pos, mesh.num_vertices());
-  r.converged = R.converged;
-  r.iterations = R.iterations;
-  r.residual_rel = R.residual_rel;
+  LOCUS_COPY_FIELDS(r, R, converged, iterations, residual_rel);
   progress.finish("self-supporting surface");
   return r;
 }

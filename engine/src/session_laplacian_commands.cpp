@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "field_copy.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/laplacian_requests.hpp"
 #include "locus/error.hpp"
@@ -110,9 +111,7 @@ PerfectLaplacianCommandReport Session::perfect_laplacian(const PerfectLaplacianC
   r.xyz = interleaved(R.mode == "planar" ? p.pos : R.aligned);
   r.edges = edge_pairs(R.e0, R.e1);
   r.weights = p.weights;
-  r.mode = R.mode;
-  r.boundary_on_circle = R.boundary_on_circle;
-  r.boundary_loops = R.boundary_loops;
+  LOCUS_COPY_FIELDS(r, R, mode, boundary_on_circle, boundary_loops);
   r.pinned_vertices = R.pinned;
   r.converged = p.converged;
   r.iterations = p.iterations;
@@ -139,9 +138,7 @@ SelfSupportCommandReport Session::self_supporting(const SelfSupportCommandReques
   SelfSupportCommandReport r;
   r.xyz = interleaved(f.pos);
   r.edges = edge_pairs(f.e0, f.e1);
-  r.forces = f.forces;
-  r.converged = f.converged;
-  r.iterations = f.iterations;
+  LOCUS_COPY_FIELDS(r, f, forces, converged, iterations);
   r.residual_rel = f.residual_rel, r.min_force = f.min_force, r.max_force = f.max_force;
   r.zero_forces = f.zero_forces;
   r.max_displacement_rel = f.max_displacement_rel, r.mean_displacement_rel = f.mean_displacement_rel;

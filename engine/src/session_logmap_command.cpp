@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 
+#include "field_copy.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -27,6 +28,9 @@
 #include "sheets_session.hpp"
 
 namespace locus {
+
+using namespace session_detail;
+
 namespace session_detail {
 namespace {
 
@@ -126,12 +130,7 @@ void heat_map(State& s, const LogmapRequest& req, int32_t count, LogmapReport& r
   r.heat = true;
   r.t = e->geodesic().time();
   r.h = e->geodesic().mean_edge_length();
-  r.sources = st.sources;
-  r.batches = st.batches;
-  r.passes = st.passes;
-  r.two_ring = st.two_ring;
-  r.recentered = st.recentered;
-  r.angle_fallbacks = st.angle_fallbacks;
+  LOCUS_COPY_FIELDS(r, st, sources, batches, passes, two_ring, recentered, angle_fallbacks);
   r.heat_underflow_vertices = st.underflow;
   r.t_avoiding_underflow = st.t_no_underflow;
   progress.finish("log map");
@@ -188,8 +187,6 @@ LogmapReport sheets_map(State& s, const LogmapRequest& req, const RunContext& ct
 
 }  // namespace
 }  // namespace session_detail
-
-using namespace session_detail;
 
 void check_request(const LogmapRequest& req) {
   check_fraction(req.fraction);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "command_clock.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/nncoords_request.hpp"
 #include "locus/error.hpp"
@@ -69,11 +70,7 @@ NncoordsReport Session::nncoords(const NncoordsRequest& req, const RunContext& c
   r.weights = c.weight;
   for (size_t k = 0; k < sites.size(); ++k)
     if (c.weight[k] > 0) r.natural_neighbors.push_back(static_cast<int32_t>(req.sites[k]));
-  r.cell_area = c.cell_area;
-  r.at_site = c.at_site;
-  r.degenerate = c.degenerate;
-  r.clamped = c.clamped;
-  r.fallback_faces = c.fallback_faces;
+  LOCUS_COPY_FIELDS(r, c, cell_area, at_site, degenerate, clamped, fallback_faces);
   progress.finish("natural-neighbor coordinates");
   return r;
 }

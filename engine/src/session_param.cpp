@@ -13,6 +13,7 @@
 #include <cmath>
 #include <string>
 
+#include "field_copy.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/pipelines/laplacian/flipfree_param.hpp"
 #include "locus/pipelines/param/patch_param.hpp"
@@ -62,9 +63,7 @@ DiskParamResult parameterize_disk_of(const Mesh& mesh, const DiskParamRequest& r
   r.uv = f.uv;
   r.flipped_faces = f.faces.flipped_faces;
   r.degenerate_faces = f.faces.degenerate_faces;
-  r.negative_weights = f.negative_weights;
-  r.converged = f.converged;
-  r.iterations = f.iterations;
+  LOCUS_COPY_FIELDS(r, f, negative_weights, converged, iterations);
   progress.finish("disk parameterization");
   return r;
 }

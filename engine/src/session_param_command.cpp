@@ -11,6 +11,7 @@
 #include <string>
 
 #include "command_clock.hpp"
+#include "field_copy.hpp"
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/engine/param_request.hpp"
@@ -47,13 +48,7 @@ ParamReport disk(const State& s, const ParamRequest& req, const RunContext& ctx)
   r.degenerate_faces = f.faces.degenerate_faces;
   r.first_flipped_face = f.faces.first_flipped;
   r.min_corner_sin = f.faces.min_corner_sin;
-  r.negative_weights = f.negative_weights;
-  r.min_weight = f.min_weight;
-  r.converged = f.converged;
-  r.iterations = f.iterations;
-  r.zero_weights = f.zero_weights;
-  r.first_iter_s = f.first_iter_s;
-  r.iter_s = f.iter_s;
+  LOCUS_COPY_FIELDS(r, f, negative_weights, min_weight, converged, iterations, zero_weights, first_iter_s, iter_s);
   r.param_s = f.total_s;
   return r;
 }

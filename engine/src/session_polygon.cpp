@@ -41,8 +41,7 @@ double polygon_t_factor(const HeatQuery& q) {
 
 std::shared_ptr<const PolygonLogMap> polygon_engine(State& s, const HeatQuery& q, const RunContext& ctx) {
   const double tf = polygon_t_factor(q);
-  check_t_factor(tf);
-  if (q.t != 0.0) fail(ErrorCode::BadUsage, "the heat method (geodesic distance, log map) takes t_factor, not an absolute t");
+  check_heat_method_time(q, tf);
   return s.polygon_engines.get(bits_of(tf), ctx, [&] {
     ctx.report(0.0, "prepare polygon heat method");
     PolygonHeatGeodesicOptions o;  // the CLI's: only t_factor is set
@@ -142,10 +141,7 @@ LogMapResult polygon_logmap(State& s, int32_t center, int32_t count, const HeatQ
   const size_t k = r.patch.size();
   r.distance.resize(k), r.angle.resize(k), r.u.resize(k), r.v.resize(k);
   e->query_full(center, r.patch, {r.distance, r.angle, r.u, r.v});
-  for (size_t p = 0; p < k; ++p)
-    if (!std::isfinite(r.u[p]) || !std::isfinite(r.v[p]))
-      fail(ErrorCode::Numerical, "logmap: the map around vertex " + std::to_string(center) +
-                                     " is not finite at vertex " + std::to_string(r.patch[p]));
+  check_map_finite(center, r);
   progress.finish("log map");
   return r;
 }

@@ -248,6 +248,10 @@ std::vector<char> referenced_vertices(const State& s);
 // BadUsage naming `what` unless v is a vertex of s.mesh.
 void check_vertex(const State& s, int64_t v, const char* what);
 void check_t_factor(double t_factor);
+// check_t_factor, and BadUsage when q asks for an absolute t (the heat method scales t by h^2).
+void check_heat_method_time(const HeatQuery& q, double t_factor);
+// Numerical, naming the vertex, unless the log map's (u, v) are finite on the whole patch.
+void check_map_finite(int32_t center, const LogMapResult& r);
 // The heat-method engine (geodesic distance and log maps) for q.t_factor.
 std::shared_ptr<const HeatLogMap> engine(State& s, const HeatQuery& q, const RunContext& ctx);
 // The symbolic factor of A's pattern (shared by every State of the Session).

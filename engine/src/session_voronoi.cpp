@@ -39,10 +39,7 @@ NaturalNeighborResult NaturalNeighbors::coordinates(const MeshPoint& q) const {
   const SurfacePoint p = surface_point(*impl_->state, q, "natural neighbors: point", 0);
   const NaturalCoordinates c = natural_neighbor_coordinates(impl_->field, impl_->state->mesh, p);
   NaturalNeighborResult r;
-  r.weight = c.weight;
-  r.cell_area = c.cell_area;
-  r.at_site = c.at_site;
-  r.degenerate = c.degenerate;
+  LOCUS_COPY_FIELDS(r, c, weight, cell_area, at_site, degenerate);
   return r;
 }
 

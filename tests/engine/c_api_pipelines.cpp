@@ -333,3 +333,30 @@ TEST_CASE("C API pipelines: a progress callback that asks to stop cancels; the s
   REQUIRE(locus_adf(b.c, v, 1, 0, &adf, nullptr) == LOCUS_OK);
   CHECK(adf == b.cpp.auto_diffusion(std::vector<int32_t>{5})[0]);
 }
+
+TEST_CASE("C API commands whose options give their time refuse opts->t_factor, before any work") {
+  // Before the run frame checked it, skinweights, perfect-laplacian and
+  // selfsupport silently ignored opts->t_factor.
+  Both c(make_icosphere(2));
+  locus_run_options ro = locus_run_options_default();
+  ro.t_factor = 2.0;
+  locus_skinweights_options so = locus_skinweights_options_default();
+  const int64_t ids[2] = {0, 100};
+  so.handles = ids;
+  so.n_handles = 2;
+  std::vector<double> sw(2 * c.nv());
+  CHECK(locus_skinweights_run(c.c, &so, sw.data(), nullptr, &ro) == LOCUS_BAD_USAGE);
+  CHECK(message_has("opts->t_factor must be 0"));
+  const locus_perfect_laplacian_options po = locus_perfect_laplacian_options_default();
+  CHECK(locus_perfect_laplacian_run(c.c, &po, nullptr, nullptr, nullptr, nullptr, &ro) == LOCUS_BAD_USAGE);
+  CHECK(message_has("opts->t_factor must be 0"));
+  const locus_selfsupport_options ss = locus_selfsupport_options_default();
+  CHECK(locus_selfsupport_run(c.c, &ss, nullptr, nullptr, nullptr, nullptr, &ro) == LOCUS_BAD_USAGE);
+  CHECK(message_has("opts->t_factor must be 0"));
+  locus_deform_options dopt = locus_deform_options_default();
+  std::vector<double> xyz(3 * c.nv());
+  CHECK(locus_deform_run(c.c, &dopt, xyz.data(), nullptr, &ro) == LOCUS_BAD_USAGE);
+  CHECK(message_has("opts->t_factor must be 0"));
+  // Without it, the same skinning call answers.
+  CHECK(locus_skinweights_run(c.c, &so, sw.data(), nullptr, nullptr) == LOCUS_OK);
+}

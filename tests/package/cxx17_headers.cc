@@ -11,6 +11,7 @@
 #include <locus/locus.h>
 #include <locus/mesh.hpp>
 #include <locus/mesh_io.hpp>
+#include <locus/mesh_info.hpp>
 #include <locus/mesh_view.hpp>
 #include <locus/run_context.hpp>
 #include <locus/session.hpp>

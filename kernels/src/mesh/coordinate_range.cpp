@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "locus/core/format_significant.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 
@@ -13,11 +14,7 @@ namespace locus {
 
 namespace {
 
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
+std::string sci(double v) { return format_significant(v, 3); }
 
 }  // namespace
 

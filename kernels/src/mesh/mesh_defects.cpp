@@ -49,14 +49,11 @@ MeshDefects detect_mesh_defects(const Mesh& m, const EdgeIncidence& inc, const M
   if (r.first_non_finite_vertex >= 0)
     fail(ErrorCode::BadInput, mesh_name(m) + ": vertex " + std::to_string(r.first_non_finite_vertex) +
                                   " has a non-finite coordinate");
-  MeshDefects d;
-  d.non_manifold_vertices = r.non_manifold_vertices;
-  d.first_non_manifold_vertex = r.first_non_manifold_vertex;
-  d.first_non_manifold_vertex_fans = r.first_non_manifold_vertex_fans;
-  d.zero_area_faces = r.degenerate_faces;
-  d.first_zero_area_face = r.first_degenerate_face;
-  d.unreferenced_vertices = r.unreferenced_vertices;
-  d.first_unreferenced_vertex = r.first_unreferenced_vertex;
+  // The report's counts; the edge kinds and needles are counted below.
+  MeshDefects d{.non_manifold_vertices = r.non_manifold_vertices, .first_non_manifold_vertex = r.first_non_manifold_vertex,
+                .first_non_manifold_vertex_fans = r.first_non_manifold_vertex_fans,
+                .zero_area_faces = r.degenerate_faces, .first_zero_area_face = r.first_degenerate_face,
+                .unreferenced_vertices = r.unreferenced_vertices, .first_unreferenced_vertex = r.first_unreferenced_vertex};
   const Edges& E = inc.edges;
   const int64_t ne = static_cast<int64_t>(E.e0.size());
   const int32_t* fv = m.face_vertices.data();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "locus/core/format_significant.hpp"
 #include "locus/kernels/render/bitmap_font.hpp"
 #include "locus/kernels/render/colour_map.hpp"
 
@@ -48,11 +49,7 @@ int legend_height(int width, int height, const std::string& title) {
   return std::min(height / 2, 3 * kGlyphHeight * s + 8 * s + 16 * s);
 }
 
-std::string legend_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+std::string legend_number(double v) { return format_significant(v, 4); }
 
 void draw_marker(RasterImage& img, double x, double y, double r, bool hidden) {
   const double ring = std::max(1.5, 0.35 * r);

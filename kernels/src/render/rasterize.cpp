@@ -390,20 +390,12 @@ RasterImage rasterize_mesh(const Mesh& m, std::span<const double> values, const 
     if (opt.edges) draw_edges(zb, tris, sp3, img);
     hidden_markers = draw_markers(opt.markers, pr, zb, img);
   }
-  LegendContent lc;
-  lc.title = opt.title;
-  lc.coloring = opt.coloring;
-  lc.vmin = cr.vmin;
-  lc.vmax = cr.vmax;
-  lc.clipped_low = cr.clipped_low;
-  lc.clipped_high = cr.clipped_high;
-  lc.bands = opt.bands;
-  lc.labels = cr.labels;
-  lc.cell = cr.cell;
-  lc.missing = cr.missing;
-  lc.marker_label = opt.markers.empty() || opt.marker_label.empty() ? std::string()
-                   : hidden_markers > 0 ? opt.marker_label + " (ring: behind)"
-                                        : opt.marker_label;
+  const std::string marker_label = opt.markers.empty() || opt.marker_label.empty() ? std::string()
+                                   : hidden_markers > 0 ? opt.marker_label + " (ring: behind)"
+                                                        : opt.marker_label;
+  const LegendContent lc{.title = opt.title, .coloring = opt.coloring, .vmin = cr.vmin, .vmax = cr.vmax,
+                         .bands = opt.bands, .clipped_low = cr.clipped_low, .clipped_high = cr.clipped_high,
+                         .labels = cr.labels, .cell = cr.cell, .missing = cr.missing, .marker_label = marker_label};
   draw_legend(img, PH, lc);
   return img;
 }

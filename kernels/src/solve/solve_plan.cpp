@@ -101,6 +101,14 @@ void finish(const SymbolicFactor& S, SolvePlan& p) {
   }
 }
 
+template <class Plan>
+SolvePlan planned(Plan plan) {
+  SolvePlan p;
+  PlanWorkspace ws;
+  plan(p, ws);
+  return p;
+}
+
 }  // namespace
 
 void plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support, std::span<const int32_t> wanted,
@@ -190,20 +198,15 @@ void plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_
   finish(S, p);
 }
 
+// The one-shot forms: a plan with a workspace of its own.
 SolvePlan plan_subset_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
                             std::span<const int32_t> wanted) {
-  SolvePlan p;
-  PlanWorkspace ws;
-  plan_subset_solve(S, rhs_support, wanted, p, ws);
-  return p;
+  return planned([&](SolvePlan& p, PlanWorkspace& ws) { plan_subset_solve(S, rhs_support, wanted, p, ws); });
 }
 
 SolvePlan plan_selective_solve(const SymbolicFactor& S, std::span<const int32_t> rhs_support,
                                std::span<const int32_t> kept) {
-  SolvePlan p;
-  PlanWorkspace ws;
-  plan_selective_solve(S, rhs_support, kept, p, ws);
-  return p;
+  return planned([&](SolvePlan& p, PlanWorkspace& ws) { plan_selective_solve(S, rhs_support, kept, p, ws); });
 }
 
 PlanTraffic plan_traffic(const SymbolicFactor& S, const SolvePlan& plan) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <string>
 
+#include "locus/core/enum_names.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/patch_grower.hpp"
 #include "locus/kernels/order/ordering.hpp"
@@ -81,13 +82,12 @@ CscMatrix on_pattern(const SpMat& E, const CscMatrix& P) {
 
 }  // namespace
 
-DeformEnergy parse_deform_energy(std::string_view name) {
-  if (name == "laplacian") return DeformEnergy::Laplacian;
-  if (name == "bilaplacian") return DeformEnergy::Bilaplacian;
-  fail(ErrorCode::BadUsage, "unknown energy '" + std::string(name) + "' (expected laplacian or bilaplacian)");
-}
+constexpr EnumNames<DeformEnergy, 2> kDeformEnergies{
+    {{DeformEnergy::Laplacian, "laplacian"}, {DeformEnergy::Bilaplacian, "bilaplacian"}}};
 
-const char* deform_energy_name(DeformEnergy e) { return e == DeformEnergy::Laplacian ? "laplacian" : "bilaplacian"; }
+DeformEnergy parse_deform_energy(std::string_view name) { return parse_enum_name(name, kDeformEnergies, "energy"); }
+
+const char* deform_energy_name(DeformEnergy e) { return enum_name(e, kDeformEnergies); }
 
 DeformMatrices deform_matrices(const Mesh& m, DeformEnergy energy, double rel) {
   if (!(rel > 0) || !std::isfinite(rel)) fail(ErrorCode::BadUsage, "deform: regularization must be a positive number");

@@ -14,6 +14,7 @@
 #include <limits>
 #include <string>
 
+#include "locus/core/format_significant.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/factor/memory_budget.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
@@ -23,11 +24,7 @@ namespace locus::heat_geodesic_limits {
 
 namespace {
 
-std::string short_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string short_number(double v) { return format_significant(v, 6); }
 
 }  // namespace
 

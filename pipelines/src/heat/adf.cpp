@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "locus/core/enum_names.hpp"
 #include "locus/kernels/factor/blas.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/order/ordering.hpp"
@@ -117,21 +118,14 @@ HeatFactors factor_heat_operators(const Mesh& m, std::span<const double> t, cons
   return H;
 }
 
+constexpr EnumNames<AdfMethod, 3> kAdfMethods{
+    {{AdfMethod::Subset, "subset"}, {AdfMethod::Selinv, "selinv"}, {AdfMethod::Full, "full"}}};
+
 AdfMethod parse_adf_method(const std::string& name) {
-  if (name == "subset") return AdfMethod::Subset;
-  if (name == "selinv") return AdfMethod::Selinv;
-  if (name == "full") return AdfMethod::Full;
-  fail(ErrorCode::BadUsage, "unknown auto-diffusion method '" + name + "' (expected subset, selinv or full)");
+  return parse_enum_name(name, kAdfMethods, "auto-diffusion method");
 }
 
-const char* adf_method_name(AdfMethod m) {
-  switch (m) {
-    case AdfMethod::Subset: return "subset";
-    case AdfMethod::Selinv: return "selinv";
-    case AdfMethod::Full: return "full";
-  }
-  return "?";
-}
+const char* adf_method_name(AdfMethod m) { return enum_name(m, kAdfMethods); }
 
 double inverse_diagonal_entry(const NumericFactor& F, int32_t v, HeatWorkspace& ws) {
   check_vertex(F, v);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/core/enum_names.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/error.hpp"
@@ -28,21 +29,14 @@ void check_set(std::span<const int32_t> ids, int32_t n, const char* what) {
 
 }  // namespace
 
+constexpr EnumNames<HeatExchangeMethod, 3> kHeatExchangeMethods{
+    {{HeatExchangeMethod::Subset, "subset"}, {HeatExchangeMethod::Union, "union"}, {HeatExchangeMethod::Full, "full"}}};
+
 HeatExchangeMethod parse_heat_exchange_method(const std::string& name) {
-  if (name == "subset") return HeatExchangeMethod::Subset;
-  if (name == "union") return HeatExchangeMethod::Union;
-  if (name == "full") return HeatExchangeMethod::Full;
-  fail(ErrorCode::BadUsage, "unknown heat exchange method '" + name + "' (expected subset, union or full)");
+  return parse_enum_name(name, kHeatExchangeMethods, "heat exchange method");
 }
 
-const char* heat_exchange_method_name(HeatExchangeMethod m) {
-  switch (m) {
-    case HeatExchangeMethod::Subset: return "subset";
-    case HeatExchangeMethod::Union: return "union";
-    case HeatExchangeMethod::Full: return "full";
-  }
-  return "?";
-}
+const char* heat_exchange_method_name(HeatExchangeMethod m) { return enum_name(m, kHeatExchangeMethods); }
 
 void heat_exchange(const NumericFactor& F, std::span<const int32_t> sources, std::span<const int32_t> targets,
                    HeatExchangeMethod method, std::span<double> out, HeatWorkspace& ws, HeatExchangeStats* stats) {

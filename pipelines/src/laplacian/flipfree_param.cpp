@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "locus/core/enum_names.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/error.hpp"
@@ -13,21 +14,14 @@
 
 namespace locus {
 
+constexpr EnumNames<ParamMethod, 3> kParamMethods{
+    {{ParamMethod::Perfect, "perfect"}, {ParamMethod::Cotan, "cotan"}, {ParamMethod::Uniform, "uniform"}}};
+
 ParamMethod parse_param_method(const std::string& name) {
-  if (name == "perfect") return ParamMethod::Perfect;
-  if (name == "cotan") return ParamMethod::Cotan;
-  if (name == "uniform") return ParamMethod::Uniform;
-  fail(ErrorCode::BadUsage, "unknown parameterization method '" + name + "' (perfect, cotan or uniform)");
+  return parse_enum_name(name, kParamMethods, "parameterization method");
 }
 
-const char* param_method_name(ParamMethod m) {
-  switch (m) {
-    case ParamMethod::Perfect: return "perfect";
-    case ParamMethod::Cotan: return "cotan";
-    case ParamMethod::Uniform: return "uniform";
-  }
-  return "?";
-}
+const char* param_method_name(ParamMethod m) { return enum_name(m, kParamMethods); }
 
 PlanarFaceCheck check_planar_faces(const Mesh& m, const std::vector<double>& u, const std::vector<double>& v) {
   PlanarFaceCheck out;

@@ -1,40 +1,15 @@
-// What a mesh is and what is wrong with it: sizes, face degrees, topology,
-// bounding box, mean edge length, and the defects other commands refuse or
-// route to the robust operator (non-manifold edges and vertices, degenerate
-// faces, unreferenced vertices). One report for every front end: `locus info`,
-// Session::info, locus_session_info (C) and Session.info() (Python, a dict
-// with the CLI JSON's keys). It never fails on a mesh the readers return: it
-// is what a user runs to find out why another command refused a file.
-// Thesis §2.1 (the manifold triangle meshes the operators need).
+// The mesh report of every front end: `locus info`, Session::info,
+// locus_session_info (C) and Session.info() (Python, a dict with the CLI
+// JSON's keys); the fields are the core's MeshInfo (locus/mesh_info.hpp). It
+// never fails on a mesh the readers return: it is what a user runs to find
+// out why another command refused a file. Thesis §2.1.
 #pragma once
-#include <cstdint>
-#include <vector>
-
 #include "locus/export.h"
 #include "locus/mesh.hpp"
+#include "locus/mesh_info.hpp"
 
 LOCUS_API_BEGIN
 namespace locus {
-
-struct LOCUS_API MeshInfo {
-  int32_t n_vertices = 0, n_faces = 0;  // faces as given (polygons stay polygons)
-  int64_t n_edges = 0;
-  std::vector<int64_t> face_degree_histogram;  // index = vertices per face (0..max)
-  int32_t components = 0;                      // over referenced vertices
-  int32_t boundary_loops = 0;
-  int64_t euler_characteristic = 0;  // V - E + F over referenced vertices
-  int64_t genus = -1;                // (2 - chi - b) / 2 for a connected manifold; -1 = undefined
-  bool manifold = true;
-  int64_t non_manifold_edges = 0;     // edges with more than 2 faces or inconsistent orientation
-  int64_t non_manifold_vertices = 0;  // vertices whose faces form more than one fan
-  int64_t degenerate_faces = 0;       // zero area (relative to h^2 * 1e-14)
-  int64_t unreferenced_vertices = 0;
-  double bbox_min[3] = {0, 0, 0}, bbox_max[3] = {0, 0, 0};
-  double mean_edge_length = 0;
-  // The first offender of each kind, -1 when none.
-  int64_t first_non_manifold_edge_v0 = -1, first_non_manifold_edge_v1 = -1;
-  int64_t first_non_manifold_vertex = -1, first_degenerate_face = -1, first_unreferenced_vertex = -1;
-};
 
 // The report of `mesh` (a triangle or polygon mesh with its faces as given). O(nv + nf).
 LOCUS_API MeshInfo mesh_info(const Mesh& mesh);

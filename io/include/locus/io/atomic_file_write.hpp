@@ -18,6 +18,8 @@
 #include <string_view>
 #include <vector>
 
+#include "locus/core/non_copyable.hpp"
+
 namespace locus::io {
 
 // Checks that `path` may be replaced: its folder exists and is writable, and
@@ -50,12 +52,10 @@ class StagedFile {
 };
 
 // Writes made on this thread while a group is alive are committed together.
-class CommitGroup {
+class CommitGroup : NonCopyable {
  public:
   CommitGroup();
   ~CommitGroup();
-  CommitGroup(const CommitGroup&) = delete;
-  CommitGroup& operator=(const CommitGroup&) = delete;
   // Renames every staged file into place, in the order they were written.
   void commit();
   // Takes ownership of a finished file (used by write_file_atomically).

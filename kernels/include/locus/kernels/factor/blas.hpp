@@ -2,6 +2,7 @@
 // OpenBLAS adds. Kernels call BLAS single-threaded inside oneTBB tasks: one
 // scheduler owns the cores (STYLE.md habit 4).
 #pragma once
+#include "locus/core/non_copyable.hpp"
 
 extern "C" {
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
@@ -30,12 +31,10 @@ namespace locus::blas {
 // the first scope to open (on any thread) saves the host's
 // count and sets 1, the last to close restores the saved count. While locus
 // runs, a host thread calling BLAS itself sees 1; after the call, what it set.
-class SingleThreaded {
+class SingleThreaded : NonCopyable {
  public:
   SingleThreaded();
   ~SingleThreaded();
-  SingleThreaded(const SingleThreaded&) = delete;
-  SingleThreaded& operator=(const SingleThreaded&) = delete;
 };
 
 }  // namespace locus::blas

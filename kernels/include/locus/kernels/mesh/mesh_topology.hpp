@@ -15,6 +15,7 @@
 #include "locus/core/host_allocator.hpp"
 
 #include "locus/mesh.hpp"
+#include "locus/mesh_info.hpp"
 
 namespace locus {
 
@@ -64,30 +65,12 @@ int32_t connected_components(const Mesh& m, std::vector<int32_t>& component_of_v
 double mean_edge_length(const Mesh& m);
 double mean_edge_length(const Mesh& m, const Edges& edges);
 
-struct MeshReport {
-  int32_t n_vertices = 0, n_faces = 0;
-  int64_t n_edges = 0;
-  HostVector<int64_t> face_degree_histogram;  // index = degree (0..max)
-  int32_t components = 0;              // over referenced vertices
-  int32_t boundary_loops = 0;
-  int64_t euler_characteristic = 0;    // V - E + F (referenced vertices)
-  int64_t genus = 0;                   // (2 - chi - b) / 2 when connected and manifold, else -1
-  bool manifold = true;
-  int64_t non_manifold_edges = 0;      // edges with > 2 faces or inconsistent orientation
-  int64_t non_manifold_vertices = 0;   // vertices whose faces form more than one fan
-  int64_t degenerate_faces = 0;        // zero area (relative to h^2 * 1e-14)
-  int64_t unreferenced_vertices = 0;
-  double bbox_min[3] = {0, 0, 0}, bbox_max[3] = {0, 0, 0};
-  double mean_edge_length = 0;
-  // First offending elements, for messages (-1 if none).
-  int64_t first_non_manifold_edge_v0 = -1, first_non_manifold_edge_v1 = -1;
-  int64_t first_degenerate_face = -1, first_unreferenced_vertex = -1;
-  // Added after the first interface (all -1 / 0 when there is nothing to report):
+// MeshInfo (the front ends' report) and the details messages need.
+struct MeshReport : MeshInfo {
   int64_t boundary_edges = 0;
   int64_t first_non_manifold_edge_faces = -1;   // face count of that edge (2 = inconsistent orientation)
   int64_t first_non_manifold_edge_face_a = -1;  // two of the faces on that edge
   int64_t first_non_manifold_edge_face_b = -1;
-  int64_t first_non_manifold_vertex = -1;
   int64_t first_non_manifold_vertex_fans = 0;
   int64_t first_non_triangle_face = -1;
   int64_t first_boundary_vertex = -1;           // a vertex of the first boundary loop

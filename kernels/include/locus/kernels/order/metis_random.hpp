@@ -11,15 +11,15 @@
 #pragma once
 #include <cstdint>
 
+#include "locus/core/non_copyable.hpp"
+
 namespace locus {
 
 // While alive, METIS calls on this thread draw from this scope's generator.
-class MetisRandomScope {
+class MetisRandomScope : NonCopyable {
  public:
   MetisRandomScope();
   ~MetisRandomScope();
-  MetisRandomScope(const MetisRandomScope&) = delete;
-  MetisRandomScope& operator=(const MetisRandomScope&) = delete;
   uint64_t draws() const { return draws_; }  // numbers METIS took from this scope
 
   uint64_t state_ = 0;

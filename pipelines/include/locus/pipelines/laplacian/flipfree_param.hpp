@@ -28,14 +28,14 @@ namespace locus {
 
 enum class ParamMethod { Perfect, Cotan, Uniform };
 
-// "perfect" | "cotan" | "uniform"; throws BadUsage otherwise.
-ParamMethod parse_param_method(const std::string& name);
-const char* param_method_name(ParamMethod m);
-
 struct FlipFreeParamOptions {
   ParamMethod method = ParamMethod::Perfect;
   PerfectLaplacianOptions iteration;  // for ParamMethod::Perfect
 };
+
+// "perfect" | "cotan" | "uniform"; throws BadUsage otherwise.
+ParamMethod parse_param_method(const std::string& name);
+const char* param_method_name(ParamMethod m);
 
 // Face orientation in the plane (counter-clockwise expected).
 struct PlanarFaceCheck {
