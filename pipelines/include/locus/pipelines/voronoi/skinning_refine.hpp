@@ -13,11 +13,11 @@
 //   closing  up to 4 rounds: vertices with 3/4 of their neighbours exact, or an
 //            exact neighbour whose row differs from theirs by more than 2 x miss
 //            (an isolated exact row differs from all its neighbours'), then growth;
-//   budget   growth at 0.6 x miss from every exact row that missed by more, the
-//            largest misses first, while the exact rows number at most
-//            `row_budget`.
-// Deterministic: every front is sorted by vertex id (the budgeted one by miss,
-// then id) before it is solved.
+//   last     growth at 0.6 x miss from every exact row that missed by more.
+// Every growth round after the seeds keeps the exact rows (samples included) at
+// most `row_budget`: a front over it keeps the neighbours of the largest misses.
+// Deterministic: every front is sorted by vertex id (a truncated one is chosen by
+// miss, then id) before it is solved.
 #pragma once
 #include <cstdint>
 #include <functional>
