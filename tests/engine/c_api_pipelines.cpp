@@ -141,7 +141,7 @@ TEST_CASE("C API natural neighbors (prepared and one-shot) and skinning weights:
   CHECK(locus_nncoords(c.c, handles, 2, &bad, w, nullptr) == LOCUS_BAD_USAGE);
 
   // The skinweights command: a vertex-set handle {0, 1} and a vertex handle
-  // 100, sampled; the Session's weights bit for bit, rows summing to 1.
+  // 100 (a small mesh: exact rows everywhere); the Session's weights bit for bit, rows summing to 1.
   locus_skinweights_options so = locus_skinweights_options_default();
   const int64_t ids[3] = {0, 1, 100}, offsets[3] = {0, 2, 3};
   so.handles = ids;

@@ -27,13 +27,17 @@
 //            zeros; it may shrink by up to the cover radius where the weight is
 //            below 0.03). The exact rows themselves jump between neighbouring
 //            vertices where edges are long against the diffusion length sqrt(t)
-//            (docs/skinning.md), more than a smooth interpolant follows: where
-//            the samples around a vertex miss their linear fit by more than
-//            `refine_miss`, the vertex gets its exact row, and so do, round by
-//            round, the neighbours of every such vertex whose exact row differs
-//            from its propagated one by more than that. Cost: at most `samples`
-//            cover rows plus the refined ones (exact rows as above) plus O(n)
-//            propagation; a propagated weight below 1e-3 of its row's largest is 0.
+//            (docs/skinning.md), more than a smooth interpolant follows: the
+//            vertices where the samples around miss their linear fit by more
+//            than `refine_miss`, and probes between adjacent samples whose rows
+//            differ, get their exact rows, and so do, round by round, the
+//            neighbours of every such vertex whose exact row differs from its
+//            propagated one by more than that (skinning_refine.hpp), within a
+//            budget of exact rows that shrinks as 1/n (an exact row costs O(n)).
+//            A mesh of at most 3 x the sample target takes exact rows everywhere
+//            (about the same cost there). Cost: at most `samples` cover rows plus
+//            the refined ones (exact rows as above) plus O(n) propagation; a
+//            propagated weight below 1e-3 of its row's largest is 0.
 // Large meshes: the front ends take the coarse road of skinning_coarse.hpp
 // (the sampled method on a coarse level, propagated) instead of Sampled.
 #pragma once
@@ -58,7 +62,8 @@ struct SkinningOptions {
   // 0 = the default 1024. More samples: closer to Exact, slower.
   int32_t samples = 0;
   // Sampled: vertices where the samples around miss their linear fit by more than
-  // this (the exact weights jump between them) get their exact row too; 0 = off.
+  // this (the exact weights jump between them) get their exact row too, with the
+  // probes and growth of skinning_refine.hpp; 0 = off (and no small-mesh exact road).
   double refine_miss = 0.05;
 };
 

@@ -1,0 +1,43 @@
+// Refinement of sampled skinning weights (skinning_weights.hpp, Sampled; thesis
+// §3.7.2): exact rows where the propagation from the cover samples cannot follow
+// the exact weights, which jump and kink between neighbouring vertices where the
+// edges are long against the diffusion length (docs/skinning.md). In order:
+//   seeds    the vertices `rough` (their samples miss the stencil's linear fit)
+//            and probes on the borders between adjacent samples' regions (nearest
+//            sample in edges) where the two samples' rows differ by more than
+//            2 x miss, the largest differences first, none within 2 edges of a
+//            rough vertex or an earlier probe: the kinks lie between samples,
+//            where no test on the samples alone can see them;
+//   growth   round by round, the not yet exact neighbours of every vertex whose
+//            exact row differs from its propagated one by more than `miss`;
+//   closing  up to 4 rounds: vertices with 3/4 of their neighbours exact, or an
+//            exact neighbour whose row differs from theirs by more than 2 x miss
+//            (an isolated exact row differs from all its neighbours'), then growth;
+//   last     growth at 0.6 x miss from every exact row that missed by more.
+// Every growth round after the seeds keeps the exact rows (samples included) at
+// most `row_budget`: a front over it keeps the neighbours of the largest misses.
+// Deterministic: every front is sorted by vertex id (a truncated one is chosen by
+// miss, then id) before it is solved.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "locus/kernels/mesh/mesh_topology.hpp"
+#include "locus/pipelines/voronoi/skinning_weights.hpp"
+
+namespace locus {
+
+// Exact rows of `verts` into rows (verts.size() * k); one indicator flag per vertex.
+using SolveSkinRows = std::function<void(std::span<const int32_t> verts, std::vector<double>& rows,
+                                         std::vector<uint8_t>& indicator)>;
+
+// W.weight: the propagated weights with the samples' exact rows (overwritten with
+// exact rows where refined); sample_rows: samples.size() * k; owner: per vertex,
+// the handle it belongs to or -1 (never refined). Adds the refined count to W.refined.
+void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples, std::span<const double> sample_rows,
+                         std::span<const int32_t> rough, std::span<const int32_t> owner, double miss, int64_t row_budget,
+                         const SolveSkinRows& solve_rows, SkinningWeights& W);
+
+}  // namespace locus
