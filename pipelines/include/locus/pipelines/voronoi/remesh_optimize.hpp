@@ -44,11 +44,14 @@
 // input's boundary curves (remesh_boundary.hpp): after each smoothing pass
 // towards the arclength midpoint of their boundary neighbors, after each
 // angle pass to the position along the curve with the largest smallest angle.
+// Pinned vertices (RemeshOptimizeOptions::pinned: on the input's features)
+// do not move, and an edge between two of them does not flip.
 //
 // Deterministic: flips visit edges in a fixed order; moves are computed from
 // the previous positions (Jacobi) and applied together.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
@@ -95,6 +98,9 @@ struct RemeshOptimizeOptions {
   double hard_below_deg = 25;
   double hard_tip_reach = 0.3;
   int hard_sweeps = 30;
+  // Per remesh vertex (empty: none): 1 where the vertex stays (a feature's,
+  // remesh_features.hpp); an edge between two such vertices never flips.
+  std::vector<uint8_t> pinned;
 };
 
 struct RemeshOptimizeStats {

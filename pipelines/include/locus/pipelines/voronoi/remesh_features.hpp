@@ -1,0 +1,63 @@
+// Sharp features of a remesh's input (thesis §3.7.1, the CVT remesh; feature
+// protection as restricted-Delaunay meshers place fixed sites on creases):
+// the input's feature edges are its interior edges whose dihedral angle (the
+// angle between the normals of their two faces) exceeds a threshold. They
+// form a graph: its corners are the vertices where one or more than two
+// feature edges meet, where a curve turns by more than 45 degrees, or where
+// a curve meets the boundary; its curves are the chains of feature edges
+// between corners, or closed loops without one.
+//
+// The remesh keeps them by sites on the features, placed after the density
+// passes (cvt_remesh.hpp): one site at each corner and, along each curve,
+// sites at equal arclength steps as close as possible to the remesh's mean
+// edge (a 1-D uniform sampling, as the boundary's sites come out of the
+// cells); the Lloyd sites within half a mean edge of a feature go (their
+// cells would straddle it). The feature sites are labelled with the rest,
+// so the cells of consecutive sites on a curve meet along it and the dual
+// has an edge between them: the remesh's edges run along the creases, its
+// corners on the input's. The optimization then pins the feature vertices
+// (remesh_optimize.hpp, remesh_collapse.hpp, remesh_split.hpp,
+// remesh_fidelity.hpp: they neither move nor go, and no edge between two of
+// them flips or splits).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/mesh.hpp"
+
+namespace locus {
+
+struct FeatureGraph {
+  int64_t edges = 0;                         // feature edges
+  std::vector<int32_t> corners;              // vertices, ascending
+  std::vector<std::vector<int32_t>> curves;  // vertex chains; a closed loop repeats its first vertex last
+};
+
+// The feature graph of triangle mesh m (d derived from it) for dihedral
+// angles above angle_deg (in (0, 180); BadUsage otherwise).
+FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg);
+
+// The sites on g: its corners first, then per curve its interior samples,
+// `spacing` apart or as near to it as a whole number of steps allows (a
+// closed loop has three at least).
+std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing);
+
+// Per vertex of m: the graph-geodesic (Dijkstra) distance to the nearest
+// vertex of g (infinity where none is reachable).
+std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const FeatureGraph& g);
+
+// The sites of a remesh with features: feature_sites(m, d, g, spacing)
+// first, then those of `sites` farther than band * spacing from g (graph
+// distance from the site's nearest corner of its face, plus the way there).
+std::vector<SurfacePoint> with_feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g,
+                                             std::span<const SurfacePoint> sites, double spacing, double band,
+                                             int32_t& feature_count);
+
+// The remesh's mean edge for `sites` vertices on area `area` (equilateral
+// triangles, two per vertex).
+double feature_spacing(double area, int32_t sites);
+
+}  // namespace locus

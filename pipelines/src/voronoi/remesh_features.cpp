@@ -1,0 +1,219 @@
+// Feature graph of a remesh's input and the sites that keep its creases
+// (pipelines/include/locus/pipelines/voronoi/remesh_features.hpp; thesis §3.7.1).
+#include "locus/pipelines/voronoi/remesh_features.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <string>
+
+#include "locus/error.hpp"
+#include "remesh_vec3.hpp"
+
+namespace locus {
+
+namespace {
+
+using namespace remesh_vec3;
+
+V3 face_normal(const Mesh& m, int32_t f) {
+  const V3 a = pos(m, m.f0[f]), b = pos(m, m.f1[f]), c = pos(m, m.f2[f]);
+  return cross(sub(b, a), sub(c, a));
+}
+
+// Per edge: 1 when it is a feature edge (two faces, normals more than
+// angle_deg apart; a zero-area face has no normal and makes none).
+std::vector<uint8_t> feature_edges(const Mesh& m, const EdgeIncidence& inc, double angle_deg) {
+  const size_t ne = inc.edges.e0.size();
+  std::vector<uint8_t> sharp(ne, 0);
+  const double cos_max = std::cos(angle_deg * M_PI / 180);
+  for (size_t e = 0; e < ne; ++e) {
+    if (inc.edges.face_count[e] != 2) continue;
+    const int64_t c0 = inc.edge_corner_offsets[e];
+    const V3 na = face_normal(m, inc.edge_corners[c0] / 3), nb = face_normal(m, inc.edge_corners[c0 + 1] / 3);
+    const double la = norm(na), lb = norm(nb);
+    if (la > 0 && lb > 0 && dot(na, nb) < cos_max * la * lb) sharp[e] = 1;
+  }
+  return sharp;
+}
+
+// The edge id of u-w (u != w), -1 when none.
+int32_t edge_of(const EdgeIncidence& inc, int32_t u, int32_t w) {
+  const int32_t a = std::min(u, w), b = std::max(u, w);
+  // Edges are sorted by (e0, e1): binary search.
+  const auto& e0 = inc.edges.e0;
+  const auto& e1 = inc.edges.e1;
+  size_t lo = 0, hi = e0.size();
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    if (e0[mid] < a || (e0[mid] == a && e1[mid] < b)) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < e0.size() && e0[lo] == a && e1[lo] == b ? static_cast<int32_t>(lo) : -1;
+}
+
+// The point at fraction t of edge u-w as a point of one of its faces.
+SurfacePoint edge_point(const Mesh& m, const EdgeIncidence& inc, int32_t u, int32_t w, double t) {
+  if (t <= 1e-9) return vertex_point(u);
+  if (t >= 1 - 1e-9) return vertex_point(w);
+  const int32_t e = edge_of(inc, u, w);
+  const int32_t f = inc.edge_corners[inc.edge_corner_offsets[e]] / 3;
+  SurfacePoint p;
+  p.face = f;
+  p.bary = {0, 0, 0};
+  const int32_t fv[3] = {m.f0[f], m.f1[f], m.f2[f]};
+  for (int k = 0; k < 3; ++k) {
+    if (fv[k] == u) p.bary[k] = 1 - t;
+    if (fv[k] == w) p.bary[k] = t;
+  }
+  return p;
+}
+
+}  // namespace
+
+double feature_spacing(double area, int32_t sites) {
+  return std::sqrt(2 * area / (std::sqrt(3.0) * std::max(1, sites)));
+}
+
+FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg) {
+  if (!(angle_deg > 0 && angle_deg < 180))
+    fail(ErrorCode::BadUsage, "features: the dihedral angle must be in (0, 180) degrees, got " +
+                                  std::to_string(angle_deg));
+  const EdgeIncidence& inc = d.incidence;
+  const std::vector<uint8_t> sharp = feature_edges(m, inc, angle_deg);
+  const int32_t n = m.num_vertices();
+  FeatureGraph g;
+  // Per vertex its feature edges (CSR over the sharp ones).
+  std::vector<int32_t> deg(n, 0), nb_off(static_cast<size_t>(n) + 1, 0);
+  std::vector<uint8_t> on_boundary(n, 0);
+  for (size_t e = 0; e < sharp.size(); ++e) {
+    if (inc.edges.face_count[e] == 1) on_boundary[inc.edges.e0[e]] = on_boundary[inc.edges.e1[e]] = 1;
+    if (!sharp[e]) continue;
+    ++g.edges;
+    ++deg[inc.edges.e0[e]], ++deg[inc.edges.e1[e]];
+  }
+  for (int32_t v = 0; v < n; ++v) nb_off[v + 1] = nb_off[v] + deg[v];
+  std::vector<int32_t> nb_edge(static_cast<size_t>(nb_off[n]));
+  std::vector<int32_t> fill(nb_off.begin(), nb_off.end() - 1);
+  for (size_t e = 0; e < sharp.size(); ++e)
+    if (sharp[e]) {
+      nb_edge[fill[inc.edges.e0[e]]++] = static_cast<int32_t>(e);
+      nb_edge[fill[inc.edges.e1[e]]++] = static_cast<int32_t>(e);
+    }
+  auto other = [&](int32_t e, int32_t v) { return inc.edges.e0[e] == v ? inc.edges.e1[e] : inc.edges.e0[e]; };
+  std::vector<uint8_t> corner(n, 0);
+  for (int32_t v = 0; v < n; ++v) {
+    if (deg[v] == 0) continue;
+    bool c = deg[v] != 2 || on_boundary[v];
+    if (!c) {  // a curve turning more than 45 degrees
+      const V3 a = pos(m, other(nb_edge[nb_off[v]], v)), p = pos(m, v), b = pos(m, other(nb_edge[nb_off[v] + 1], v));
+      const V3 u = sub(p, a), w = sub(b, p);
+      c = norm(u) > 0 && norm(w) > 0 && dot(u, w) < std::sqrt(0.5) * norm(u) * norm(w);
+    }
+    if (c) {
+      corner[v] = 1;
+      g.corners.push_back(v);
+    }
+  }
+  std::vector<uint8_t> used(sharp.size(), 0);
+  auto walk = [&](int32_t start, int32_t e) {  // from `start` along e until a corner or back at start
+    std::vector<int32_t> chain{start};
+    int32_t v = start;
+    while (true) {
+      used[e] = 1;
+      v = other(e, v);
+      chain.push_back(v);
+      if (corner[v] || v == start) break;
+      int32_t next = -1;
+      for (int64_t k = nb_off[v]; k < nb_off[v + 1]; ++k)
+        if (!used[nb_edge[k]]) next = nb_edge[k];
+      if (next < 0) break;
+      e = next;
+    }
+    g.curves.push_back(std::move(chain));
+  };
+  for (int32_t v : g.corners)
+    for (int64_t k = nb_off[v]; k < nb_off[v + 1]; ++k)
+      if (!used[nb_edge[k]]) walk(v, nb_edge[k]);
+  for (int32_t v = 0; v < n; ++v)  // closed loops without a corner
+    for (int64_t k = nb_off[v]; k < nb_off[v + 1]; ++k)
+      if (!used[nb_edge[k]]) walk(v, nb_edge[k]);
+  return g;
+}
+
+std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing) {
+  std::vector<SurfacePoint> out;
+  for (int32_t v : g.corners) out.push_back(vertex_point(v));
+  for (const std::vector<int32_t>& c : g.curves) {
+    std::vector<double> s{0};
+    for (size_t i = 1; i < c.size(); ++i) s.push_back(s.back() + norm(sub(pos(m, c[i]), pos(m, c[i - 1]))));
+    const double len = s.back();
+    const bool closed = c.front() == c.back();
+    int64_t steps = std::max<int64_t>(1, std::llround(len / spacing));
+    if (closed) {
+      steps = std::max<int64_t>(3, steps);
+      out.push_back(vertex_point(c.front()));  // a loop's start is not a corner
+    }
+    size_t i = 0;
+    for (int64_t k = 1; k < steps; ++k) {
+      const double at = len * static_cast<double>(k) / static_cast<double>(steps);
+      while (i + 2 < s.size() && s[i + 1] < at) ++i;
+      const double seg = s[i + 1] - s[i];
+      out.push_back(edge_point(m, d.incidence, c[i], c[i + 1], seg > 0 ? (at - s[i]) / seg : 0.0));
+    }
+  }
+  // A vertex sample can repeat a corner (a step landing on it): keep the first.
+  std::vector<uint8_t> seen(static_cast<size_t>(m.num_vertices()), 0);
+  std::vector<SurfacePoint> unique;
+  for (const SurfacePoint& p : out) {
+    if (p.face < 0 && seen[p.vertex]) continue;
+    if (p.face < 0) seen[p.vertex] = 1;
+    unique.push_back(p);
+  }
+  return unique;
+}
+
+std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const FeatureGraph& g) {
+  const int32_t n = m.num_vertices();
+  std::vector<double> dist(n, INFINITY);
+  using Item = std::pair<double, int32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  for (const std::vector<int32_t>& c : g.curves)
+    for (int32_t v : c)
+      if (dist[v] > 0) dist[v] = 0, heap.push({0.0, v});
+  for (int32_t v : g.corners)
+    if (dist[v] > 0) dist[v] = 0, heap.push({0.0, v});
+  const Adjacency& adj = d.adjacency;
+  while (!heap.empty()) {
+    const auto [dv, v] = heap.top();
+    heap.pop();
+    if (dv > dist[v]) continue;
+    for (int64_t k = adj.offsets[v]; k < adj.offsets[v + 1]; ++k) {
+      const int32_t w = adj.neighbors[k];
+      const double dw = dv + norm(sub(pos(m, v), pos(m, w)));
+      if (dw < dist[w]) dist[w] = dw, heap.push({dw, w});
+    }
+  }
+  return dist;
+}
+
+std::vector<SurfacePoint> with_feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g,
+                                             std::span<const SurfacePoint> sites, double spacing, double band,
+                                             int32_t& feature_count) {
+  std::vector<SurfacePoint> out = feature_sites(m, d, g, spacing);
+  feature_count = static_cast<int32_t>(out.size());
+  const std::vector<double> dist = feature_distance(m, d, g);
+  for (const SurfacePoint& s : sites) {
+    int32_t v[3];
+    double w[3];
+    const int k = surface_point_support(m, s, v, w);
+    const V3 p = surface_point_position(m, s);
+    double near = INFINITY;
+    for (int i = 0; i < k; ++i) near = std::min(near, dist[v[i]] + norm(sub(p, pos(m, v[i]))));
+    if (near > band * spacing) out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace locus
