@@ -474,7 +474,10 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
 // first, so the repair's sites (appended) keep their ids.
 RestrictedDual insert_features(const RepairStage& st, Level& L, RestrictedDual dual, double p) {
   RemeshResult& r = st.r;
-  const FeatureGraph g = feature_graph(*L.m, *L.d, st.o.feature_angle_deg);
+  FeatureGraph g = feature_graph(*L.m, *L.d, st.o.feature_angle_deg);
+  const double area = std::accumulate(L.d->mass.begin(), L.d->mass.end(), 0.0);
+  const double spacing = feature_spacing(area, st.o.lloyd.sites);
+  drop_short_components(*L.m, g, spacing);
   if (g.edges == 0) return dual;
   // On a subdivided level every input edge is 2^k edges (k levels).
   int levels = 0;
@@ -483,16 +486,28 @@ RestrictedDual insert_features(const RepairStage& st, Level& L, RestrictedDual d
   r.feature_edges = g.edges >> levels;
   r.feature_curves = static_cast<int32_t>(g.curves.size());
   r.feature_corners = static_cast<int32_t>(g.corners.size());
-  const double area = std::accumulate(L.d->mass.begin(), L.d->mass.end(), 0.0);
-  const double spacing = feature_spacing(area, st.o.lloyd.sites);
   int32_t count = 0;
+  const int32_t want = dual.defects.total() == 0 ? cells_of(dual) : static_cast<int32_t>(r.lloyd.sites.size());
   std::vector<SurfacePoint> sites = with_feature_sites(*L.m, *L.d, g, r.lloyd.sites, spacing, 0.5, count);
+  const std::vector<SurfacePoint> fixed(sites.begin(), sites.begin() + count);
   st.ctx.check_cancel();
   LloydOptions ro = L.lo;
-  ro.iterations = 0;  // relabel only
+  ro.iterations = 0;  // labels, then the band's lost sites in the largest cells
   ro.init_radius = std::min(L.lo.init_radius, 2.5);
+  const RunContext part = st.ctx.sub(p, p);
+  LloydResult lr = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part);
+  const int32_t short_by = want - static_cast<int32_t>(lr.sites.size());
+  sites = split_largest_cells(*L.m, *L.d, lr.label, std::move(lr.sites), short_by, count);
+  ro.iterations = 1;  // the free sites relax around the feature sites, put back after each iteration
+  for (int it = 0; it < st.o.density_iterations; ++it) {
+    lr = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part);
+    r.lloyd_iterations += static_cast<int32_t>(lr.iter_s.size());
+    sites = std::move(lr.sites);
+    std::copy(fixed.begin(), fixed.end(), sites.begin());
+  }
+  ro.iterations = 0;
   ro.keep_voronoi = st.incremental;
-  r.lloyd_iterations += adopt_cells(cvt_lloyd(*L.m, *L.d, std::move(sites), ro, st.ctx.sub(p, p)), r.lloyd);
+  adopt_cells(cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part), r.lloyd);
   r.repair_s += st.sw.lap();
   dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
   r.dual_s += st.sw.lap();

@@ -7,6 +7,7 @@
 #include <functional>
 #include <queue>
 #include <string>
+#include <unordered_map>
 
 #include "locus/error.hpp"
 #include "remesh_vec3.hpp"
@@ -68,6 +69,63 @@ SurfacePoint edge_point(const Mesh& m, const EdgeIncidence& inc, int32_t u, int3
     if (fv[k] == w) p.bary[k] = t;
   }
   return p;
+}
+
+// The largest distance from the vertices of polyline c (arclengths s) to the
+// chords of its `steps` equal arclength steps.
+double chord_error(const Mesh& m, const std::vector<int32_t>& c, const std::vector<double>& s, int64_t steps) {
+  const double len = s.back();
+  auto at = [&](double a, size_t& i) {
+    while (i + 2 < s.size() && s[i + 1] < a) ++i;
+    const double seg = s[i + 1] - s[i], t = seg > 0 ? (a - s[i]) / seg : 0.0;
+    const V3 p = pos(m, c[i]), q = pos(m, c[i + 1]);
+    return V3{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+  };
+  double worst = 0;
+  size_t i = 0, j = 1;
+  V3 a = pos(m, c[0]);
+  for (int64_t k = 1; k <= steps; ++k) {
+    const double sb = len * static_cast<double>(k) / static_cast<double>(steps);
+    const V3 b = at(sb, i), d = sub(b, a);
+    const double dd = dot(d, d);
+    for (; j + 1 < c.size() && s[j] < sb; ++j) {
+      const V3 w = sub(pos(m, c[j]), a);
+      const double t = dd > 0 ? std::clamp(dot(w, d) / dd, 0.0, 1.0) : 0.0;
+      worst = std::max(worst, norm(V3{w[0] - t * d[0], w[1] - t * d[1], w[2] - t * d[2]}));
+    }
+    a = b;
+  }
+  return worst;
+}
+
+// Greedy thinning in the given order: a point closer than `sep` to one kept
+// before goes (a hash grid of cells `sep` wide). Clusters of corners and short
+// curves (a CAD tessellation's needles) get no more sites than the density
+// has room for; a sample landing on a corner repeats it and goes too.
+std::vector<SurfacePoint> thinned(const Mesh& m, std::vector<SurfacePoint> pts, double sep) {
+  std::unordered_map<uint64_t, std::vector<V3>> grid;
+  auto cell = [&](double x) { return static_cast<int64_t>(std::floor(x / sep)); };
+  auto key = [](int64_t i, int64_t j, int64_t k) {
+    return (static_cast<uint64_t>(i & 0x1fffff) << 42) | (static_cast<uint64_t>(j & 0x1fffff) << 21) |
+           static_cast<uint64_t>(k & 0x1fffff);
+  };
+  std::vector<SurfacePoint> out;
+  for (const SurfacePoint& s : pts) {
+    const V3 p = surface_point_position(m, s);
+    const int64_t ci = cell(p[0]), cj = cell(p[1]), ck = cell(p[2]);
+    bool near = false;
+    for (int64_t i = ci - 1; i <= ci + 1 && !near; ++i)
+      for (int64_t j = cj - 1; j <= cj + 1 && !near; ++j)
+        for (int64_t k = ck - 1; k <= ck + 1 && !near; ++k) {
+          const auto it = grid.find(key(i, j, k));
+          if (it == grid.end()) continue;
+          for (const V3& q : it->second) near = near || norm(sub(p, q)) < sep;
+        }
+    if (near) continue;
+    grid[key(ci, cj, ck)].push_back(p);
+    out.push_back(s);
+  }
+  return out;
 }
 
 }  // namespace
@@ -142,17 +200,55 @@ FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg
   return g;
 }
 
+void drop_short_components(const Mesh& m, FeatureGraph& g, double min_length) {
+  // Union-find over the curves: two curves are connected when they share an end.
+  const size_t nc = g.curves.size();
+  std::vector<size_t> parent(nc);
+  for (size_t i = 0; i < nc; ++i) parent[i] = i;
+  std::function<size_t(size_t)> root = [&](size_t i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+  std::unordered_map<int32_t, size_t> at_end;
+  for (size_t i = 0; i < nc; ++i)
+    for (int32_t v : {g.curves[i].front(), g.curves[i].back()}) {
+      const auto [it, fresh] = at_end.try_emplace(v, i);
+      if (!fresh) parent[root(i)] = root(it->second);
+    }
+  std::vector<double> length(nc, 0.0);
+  for (size_t i = 0; i < nc; ++i) {
+    const std::vector<int32_t>& c = g.curves[i];
+    for (size_t k = 1; k < c.size(); ++k) length[root(i)] += norm(sub(pos(m, c[k]), pos(m, c[k - 1])));
+  }
+  FeatureGraph kept;
+  std::vector<uint8_t> end(static_cast<size_t>(m.num_vertices()), 0);
+  for (size_t i = 0; i < nc; ++i) {
+    if (length[root(i)] < min_length) continue;
+    kept.edges += static_cast<int64_t>(g.curves[i].size()) - 1;
+    end[g.curves[i].front()] = end[g.curves[i].back()] = 1;
+    kept.curves.push_back(std::move(g.curves[i]));
+  }
+  for (int32_t v : g.corners)
+    if (end[v]) kept.corners.push_back(v);
+  g = std::move(kept);
+}
+
 std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing) {
   std::vector<SurfacePoint> out;
-  for (int32_t v : g.corners) out.push_back(vertex_point(v));
+  // Corners where most curves end first (they keep their place in thinned).
+  std::vector<int32_t> ends(static_cast<size_t>(m.num_vertices()), 0);
+  for (const std::vector<int32_t>& c : g.curves)
+    if (c.front() != c.back()) ++ends[c.front()], ++ends[c.back()];
+  std::vector<int32_t> corners = g.corners;
+  std::stable_sort(corners.begin(), corners.end(), [&](int32_t a, int32_t b) { return ends[a] > ends[b]; });
+  for (int32_t v : corners) out.push_back(vertex_point(v));
   for (const std::vector<int32_t>& c : g.curves) {
     std::vector<double> s{0};
     for (size_t i = 1; i < c.size(); ++i) s.push_back(s.back() + norm(sub(pos(m, c[i]), pos(m, c[i - 1]))));
     const double len = s.back();
     const bool closed = c.front() == c.back();
-    int64_t steps = std::max<int64_t>(1, std::llround(len / spacing));
+    int64_t steps = std::max<int64_t>(closed ? 3 : 1, std::llround(len / spacing));
+    // A bent curve gets more steps (at most twice as many), until its chords
+    // are within a tenth of the spacing of it.
+    for (const int64_t most = 2 * steps; steps < most && chord_error(m, c, s, steps) > 0.1 * spacing;) ++steps;
     if (closed) {
-      steps = std::max<int64_t>(3, steps);
       out.push_back(vertex_point(c.front()));  // a loop's start is not a corner
     }
     size_t i = 0;
@@ -163,15 +259,31 @@ std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, con
       out.push_back(edge_point(m, d.incidence, c[i], c[i + 1], seg > 0 ? (at - s[i]) / seg : 0.0));
     }
   }
-  // A vertex sample can repeat a corner (a step landing on it): keep the first.
-  std::vector<uint8_t> seen(static_cast<size_t>(m.num_vertices()), 0);
-  std::vector<SurfacePoint> unique;
-  for (const SurfacePoint& p : out) {
-    if (p.face < 0 && seen[p.vertex]) continue;
-    if (p.face < 0) seen[p.vertex] = 1;
-    unique.push_back(p);
+  return thinned(m, std::move(out), 0.4 * spacing);
+}
+
+std::vector<SurfacePoint> split_largest_cells(const Mesh& m, const MeshDerived& d, std::span<const int32_t> label,
+                                              std::vector<SurfacePoint> sites, int32_t count, int32_t fixed) {
+  const int32_t ns = static_cast<int32_t>(sites.size()), n = m.num_vertices();
+  std::vector<double> area(ns, 0.0);
+  for (int32_t v = 0; v < n; ++v) area[label[v]] += d.mass[v];
+  std::vector<int32_t> order;
+  for (int32_t s = fixed; s < ns; ++s) order.push_back(s);
+  std::stable_sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return area[a] > area[b]; });
+  order.resize(std::min<size_t>(order.size(), static_cast<size_t>(std::max(0, count))));
+  std::vector<int32_t> rank(ns, -1), far(order.size(), -1);
+  std::vector<double> far_d(order.size(), -1.0);
+  for (size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<int32_t>(k);
+  for (int32_t v = 0; v < n; ++v) {
+    const int32_t k = rank[label[v]];
+    if (k < 0) continue;
+    const V3 p = surface_point_position(m, sites[label[v]]), q = pos(m, v);
+    const double dd = dot(sub(p, q), sub(p, q));
+    if (dd > far_d[k]) far_d[k] = dd, far[k] = v;
   }
-  return unique;
+  for (int32_t v : far)
+    if (v >= 0) sites.push_back(vertex_point(v));
+  return sites;
 }
 
 std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const FeatureGraph& g) {

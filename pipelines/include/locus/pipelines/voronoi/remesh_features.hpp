@@ -7,15 +7,19 @@
 // a curve meets the boundary; its curves are the chains of feature edges
 // between corners, or closed loops without one.
 //
-// The remesh keeps them by sites on the features, placed after the density
-// passes (cvt_remesh.hpp): one site at each corner and, along each curve,
+// Parts of the graph shorter in total than the remesh's mean edge are left
+// out (scan noise). The remesh keeps the rest by sites on the features,
+// placed after the density passes (cvt_remesh.hpp): one site at each corner and, along each curve,
 // sites at equal arclength steps as close as possible to the remesh's mean
-// edge (a 1-D uniform sampling, as the boundary's sites come out of the
-// cells); the Lloyd sites within half a mean edge of a feature go (their
-// cells would straddle it). The feature sites are labelled with the rest,
-// so the cells of consecutive sites on a curve meet along it and the dual
-// has an edge between them: the remesh's edges run along the creases, its
-// corners on the input's. The optimization then pins the feature vertices
+// edge (a 1-D uniform sampling; a bent curve gets more steps, at most twice
+// as many, until its chords are within a tenth of the spacing of it); the
+// Lloyd sites within half a mean edge of a feature go (their cells would
+// straddle it), the largest cells are split for as many sites as the
+// features' band lost, and a few Lloyd iterations relax the free sites
+// around the feature sites (put back after each). The feature sites are
+// labelled with the rest, so the cells of consecutive sites on a curve meet
+// along it and the dual has an edge between them: the remesh's edges run
+// along the creases, its corners on the input's. The optimization then pins the feature vertices
 // (remesh_optimize.hpp, remesh_collapse.hpp, remesh_split.hpp,
 // remesh_fidelity.hpp: they neither move nor go, and no edge between two of
 // them flips or splits).
@@ -40,9 +44,16 @@ struct FeatureGraph {
 // angles above angle_deg (in (0, 180); BadUsage otherwise).
 FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg);
 
-// The sites on g: its corners first, then per curve its interior samples,
-// `spacing` apart or as near to it as a whole number of steps allows (a
-// closed loop has three at least).
+// Drops the connected parts of g (curves sharing ends) shorter in total than
+// min_length, and the corners only they ended at: isolated sharp edges of a
+// scan's noise, too short for a remesh edge of their own.
+void drop_short_components(const Mesh& m, FeatureGraph& g, double min_length);
+
+// The sites on g: its corners first (where most curves end first), then per
+// curve its interior samples, `spacing` apart or as near to it as a whole
+// number of steps allows (a closed loop has three at least); a site closer
+// than 0.4 spacing to one before it is left out (clusters of corners, short
+// curves).
 std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing);
 
 // Per vertex of m: the graph-geodesic (Dijkstra) distance to the nearest
@@ -55,6 +66,12 @@ std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const 
 std::vector<SurfacePoint> with_feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g,
                                              std::span<const SurfacePoint> sites, double spacing, double band,
                                              int32_t& feature_count);
+
+// `sites` with a site more in each of the `count` largest cells (by lumped
+// mass of `label`, sites from `fixed` on), at the cell's vertex farthest
+// from its site: the density the feature band's removed sites leave short.
+std::vector<SurfacePoint> split_largest_cells(const Mesh& m, const MeshDerived& d, std::span<const int32_t> label,
+                                              std::vector<SurfacePoint> sites, int32_t count, int32_t fixed);
 
 // The remesh's mean edge for `sites` vertices on area `area` (equilateral
 // triangles, two per vertex).
