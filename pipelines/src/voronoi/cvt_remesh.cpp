@@ -246,6 +246,7 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     RemeshOptimizeOptions oo;
     oo.rounds = o.optimize_rounds;
     oo.pinned = pinned();
+    oo.slides = feature_slides(r.feature_lines, r.vertex_site, r.feature_sites);  // after the collapses
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
     split_and_reoptimize(m, grid, want, oo, r);
     // Last, the input's farthest vertices pull the remesh to them (median
@@ -488,7 +489,8 @@ RestrictedDual insert_features(const RepairStage& st, Level& L, RestrictedDual d
   r.feature_corners = static_cast<int32_t>(g.corners.size());
   int32_t count = 0;
   const int32_t want = dual.defects.total() == 0 ? cells_of(dual) : static_cast<int32_t>(r.lloyd.sites.size());
-  std::vector<SurfacePoint> sites = with_feature_sites(*L.m, *L.d, g, r.lloyd.sites, spacing, 0.5, count);
+  std::vector<SurfacePoint> sites =
+      with_feature_sites(*L.m, *L.d, g, r.lloyd.sites, spacing, 0.5, count, &r.feature_lines);
   const std::vector<SurfacePoint> fixed(sites.begin(), sites.begin() + count);
   st.ctx.check_cancel();
   LloydOptions ro = L.lo;

@@ -102,16 +102,16 @@ double chord_error(const Mesh& m, const std::vector<int32_t>& c, const std::vect
 // before goes (a hash grid of cells `sep` wide). Clusters of corners and short
 // curves (a CAD tessellation's needles) get no more sites than the density
 // has room for; a sample landing on a corner repeats it and goes too.
-std::vector<SurfacePoint> thinned(const Mesh& m, std::vector<SurfacePoint> pts, double sep) {
+std::vector<int32_t> thinned(const Mesh& m, const std::vector<SurfacePoint>& pts, double sep) {
   std::unordered_map<uint64_t, std::vector<V3>> grid;
   auto cell = [&](double x) { return static_cast<int64_t>(std::floor(x / sep)); };
   auto key = [](int64_t i, int64_t j, int64_t k) {
     return (static_cast<uint64_t>(i & 0x1fffff) << 42) | (static_cast<uint64_t>(j & 0x1fffff) << 21) |
            static_cast<uint64_t>(k & 0x1fffff);
   };
-  std::vector<SurfacePoint> out;
-  for (const SurfacePoint& s : pts) {
-    const V3 p = surface_point_position(m, s);
+  std::vector<int32_t> out;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const V3 p = surface_point_position(m, pts[i]);
     const int64_t ci = cell(p[0]), cj = cell(p[1]), ck = cell(p[2]);
     bool near = false;
     for (int64_t i = ci - 1; i <= ci + 1 && !near; ++i)
@@ -123,7 +123,7 @@ std::vector<SurfacePoint> thinned(const Mesh& m, std::vector<SurfacePoint> pts, 
         }
     if (near) continue;
     grid[key(ci, cj, ck)].push_back(p);
-    out.push_back(s);
+    out.push_back(static_cast<int32_t>(i));
   }
   return out;
 }
@@ -230,16 +230,19 @@ void drop_short_components(const Mesh& m, FeatureGraph& g, double min_length) {
   g = std::move(kept);
 }
 
-std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing) {
+std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing,
+                                        std::vector<FeatureCurve>* curves) {
   std::vector<SurfacePoint> out;
+  std::vector<std::pair<int32_t, double>> on;  // per point: its curve (-1: a corner) and arclength
   // Corners where most curves end first (they keep their place in thinned).
   std::vector<int32_t> ends(static_cast<size_t>(m.num_vertices()), 0);
   for (const std::vector<int32_t>& c : g.curves)
     if (c.front() != c.back()) ++ends[c.front()], ++ends[c.back()];
   std::vector<int32_t> corners = g.corners;
   std::stable_sort(corners.begin(), corners.end(), [&](int32_t a, int32_t b) { return ends[a] > ends[b]; });
-  for (int32_t v : corners) out.push_back(vertex_point(v));
-  for (const std::vector<int32_t>& c : g.curves) {
+  for (int32_t v : corners) out.push_back(vertex_point(v)), on.push_back({-1, 0.0});
+  for (size_t ci = 0; ci < g.curves.size(); ++ci) {
+    const std::vector<int32_t>& c = g.curves[ci];
     std::vector<double> s{0};
     for (size_t i = 1; i < c.size(); ++i) s.push_back(s.back() + norm(sub(pos(m, c[i]), pos(m, c[i - 1]))));
     const double len = s.back();
@@ -248,18 +251,45 @@ std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, con
     // A bent curve gets more steps (at most twice as many), until its chords
     // are within a tenth of the spacing of it.
     for (const int64_t most = 2 * steps; steps < most && chord_error(m, c, s, steps) > 0.1 * spacing;) ++steps;
-    if (closed) {
-      out.push_back(vertex_point(c.front()));  // a loop's start is not a corner
-    }
+    if (closed) out.push_back(vertex_point(c.front())), on.push_back({static_cast<int32_t>(ci), 0.0});
     size_t i = 0;
     for (int64_t k = 1; k < steps; ++k) {
       const double at = len * static_cast<double>(k) / static_cast<double>(steps);
       while (i + 2 < s.size() && s[i + 1] < at) ++i;
       const double seg = s[i + 1] - s[i];
       out.push_back(edge_point(m, d.incidence, c[i], c[i + 1], seg > 0 ? (at - s[i]) / seg : 0.0));
+      on.push_back({static_cast<int32_t>(ci), at});
     }
   }
-  return thinned(m, std::move(out), 0.4 * spacing);
+  const std::vector<int32_t> keep = thinned(m, out, 0.4 * spacing);
+  std::vector<SurfacePoint> kept;
+  for (int32_t i : keep) kept.push_back(out[i]);
+  if (!curves) return kept;
+  // The curves with their kept sites in order (an open curve's corners at its ends).
+  std::unordered_map<int32_t, int32_t> corner_site;
+  curves->assign(g.curves.size(), FeatureCurve{});
+  for (size_t ci = 0; ci < g.curves.size(); ++ci) {
+    const std::vector<int32_t>& c = g.curves[ci];
+    FeatureCurve& fc = (*curves)[ci];
+    // A loop through a corner is an open curve from the corner back to it.
+    fc.closed = c.front() == c.back() && !std::binary_search(g.corners.begin(), g.corners.end(), c.front());
+    for (size_t k = 0; k + (fc.closed ? 1 : 0) < c.size(); ++k) fc.p.push_back(pos(m, c[k]));
+  }
+  for (size_t k = 0; k < keep.size(); ++k) {
+    const auto [ci, at] = on[keep[k]];
+    if (ci < 0) corner_site[out[keep[k]].vertex] = static_cast<int32_t>(k);
+    else (*curves)[ci].site.push_back(static_cast<int32_t>(k)), (*curves)[ci].s.push_back(at);
+  }
+  for (size_t ci = 0; ci < g.curves.size(); ++ci) {
+    FeatureCurve& fc = (*curves)[ci];
+    if (fc.closed) continue;
+    const auto a = corner_site.find(g.curves[ci].front()), b = corner_site.find(g.curves[ci].back());
+    double len = 0;
+    for (size_t k = 1; k < fc.p.size(); ++k) len += norm(sub(fc.p[k], fc.p[k - 1]));
+    if (a != corner_site.end()) fc.site.insert(fc.site.begin(), a->second), fc.s.insert(fc.s.begin(), 0.0);
+    if (b != corner_site.end()) fc.site.push_back(b->second), fc.s.push_back(len);
+  }
+  return kept;
 }
 
 std::vector<SurfacePoint> split_largest_cells(const Mesh& m, const MeshDerived& d, std::span<const int32_t> label,
@@ -310,10 +340,25 @@ std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const 
   return dist;
 }
 
+std::vector<FeatureCurve> feature_slides(const std::vector<FeatureCurve>& lines, std::span<const int32_t> vertex_site,
+                                         int32_t feature_sites) {
+  std::vector<int32_t> vertex(static_cast<size_t>(std::max(0, feature_sites)), -1);
+  for (size_t i = 0; i < vertex_site.size(); ++i)
+    if (vertex_site[i] >= 0 && vertex_site[i] < feature_sites) vertex[vertex_site[i]] = static_cast<int32_t>(i);
+  std::vector<FeatureCurve> out;
+  for (const FeatureCurve& c : lines) {
+    FeatureCurve s{c.p, c.closed, {}, {}};
+    for (size_t k = 0; k < c.site.size(); ++k)
+      if (vertex[c.site[k]] >= 0) s.site.push_back(vertex[c.site[k]]), s.s.push_back(c.s[k]);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 std::vector<SurfacePoint> with_feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g,
                                              std::span<const SurfacePoint> sites, double spacing, double band,
-                                             int32_t& feature_count) {
-  std::vector<SurfacePoint> out = feature_sites(m, d, g, spacing);
+                                             int32_t& feature_count, std::vector<FeatureCurve>* curves) {
+  std::vector<SurfacePoint> out = feature_sites(m, d, g, spacing, curves);
   feature_count = static_cast<int32_t>(out.size());
   const std::vector<double> dist = feature_distance(m, d, g);
   for (const SurfacePoint& s : sites) {

@@ -494,6 +494,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   std::vector<std::array<int32_t, 3>> F(remesh.num_faces());
   for (int32_t f = 0; f < remesh.num_faces(); ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
   BoundaryCurves curves(input, remesh);  // the boundary vertices move along the input's boundary only
+  for (const FeatureCurve& c : opt.slides) curves.add_curve(c.p, c.closed, c.site, c.s);
   std::vector<int32_t> valence(n, 0), target(n, 6);
   for (const auto& t : F)
     for (int32_t v : t) ++valence[v];

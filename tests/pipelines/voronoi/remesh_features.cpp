@@ -133,6 +133,24 @@ TEST_CASE("cvt remesh with features keeps a cube's corners and edges; without, i
   CHECK(sharp.feature_sites >= 8 + 12 * 2);
   CHECK(corners_kept(sharp.remesh) == 8);
   CHECK(crease_gap(sharp.remesh) < 1e-9);
+  // The feature sites' vertices (sliding along the edges in the optimization)
+  // are still on them: two coordinates +-1.
+  REQUIRE(sharp.feature_lines.size() == 12);
+  int on_edges = 0;
+  for (size_t i = 0; i < sharp.vertex_site.size(); ++i) {
+    if (sharp.vertex_site[i] >= sharp.feature_sites) continue;
+    const double c[3] = {sharp.remesh.x[i], sharp.remesh.y[i], sharp.remesh.z[i]};
+    int at_face = 0;
+    for (double x : c) at_face += std::abs(std::abs(x) - 1) < 1e-12;
+    on_edges += at_face >= 2;
+  }
+  CHECK(on_edges == sharp.feature_sites);
+  for (const FeatureCurve& c : sharp.feature_lines) {
+    CHECK_FALSE(c.closed);
+    CHECK(std::is_sorted(c.s.begin(), c.s.end()));
+    CHECK(c.s.front() == 0);          // the corner at its start
+    CHECK(c.s.back() == doctest::Approx(2));  // and at its end
+  }
   // Without features the dual's vertices are cell centroids, off the edges.
   CHECK(corners_kept(plain.remesh) < 8);
   CHECK(crease_gap(plain.remesh) > 0.02);

@@ -52,6 +52,7 @@
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/remesh_optimize.hpp"
 #include "locus/pipelines/voronoi/restricted_dual.hpp"
 #include "locus/run_context.hpp"
@@ -114,6 +115,7 @@ struct RemeshResult {
   // and the sites placed on them (the first feature_sites of lloyd.sites).
   int64_t feature_edges = 0;
   int32_t feature_curves = 0, feature_corners = 0, feature_sites = 0;
+  std::vector<FeatureCurve> feature_lines;  // the curves and their sites, in order along each
   RemeshOptimizeStats optimize;
   double optimize_s = 0;          // the input's triangle grid, flips and smoothing
 };

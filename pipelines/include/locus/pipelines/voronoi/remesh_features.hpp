@@ -21,9 +21,12 @@
 // along it and the dual has an edge between them: the remesh's edges run
 // along the creases, its corners on the input's. The optimization then pins the feature vertices
 // (remesh_optimize.hpp, remesh_collapse.hpp, remesh_split.hpp,
-// remesh_fidelity.hpp: they neither move nor go, and no edge between two of
-// them flips or splits).
+// remesh_fidelity.hpp: they neither go nor leave their curve, and no edge
+// between two of them flips or splits): a corner stays, a curve's vertex
+// slides along its curve between its neighbors on it, as boundary vertices
+// along the boundary (remesh_boundary.hpp).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -44,6 +47,16 @@ struct FeatureGraph {
 // angles above angle_deg (in (0, 180); BadUsage otherwise).
 FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg);
 
+// A feature curve and the feature sites on it, in order along it (an open
+// curve's corner sites at its ends, when they were kept): the curve the
+// remesh's vertices of those sites slide along (remesh_boundary.hpp).
+struct FeatureCurve {
+  std::vector<std::array<double, 3>> p;  // the polyline (closed: its first point not repeated)
+  bool closed = false;
+  std::vector<int32_t> site;             // feature site ids
+  std::vector<double> s;                 // their arclengths from p[0], increasing
+};
+
 // Drops the connected parts of g (curves sharing ends) shorter in total than
 // min_length, and the corners only they ended at: isolated sharp edges of a
 // scan's noise, too short for a remesh edge of their own.
@@ -54,7 +67,9 @@ void drop_short_components(const Mesh& m, FeatureGraph& g, double min_length);
 // number of steps allows (a closed loop has three at least); a site closer
 // than 0.4 spacing to one before it is left out (clusters of corners, short
 // curves).
-std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing);
+// With `curves`: the curves of g and their sites (ids into the result).
+std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g, double spacing,
+                                        std::vector<FeatureCurve>* curves = nullptr);
 
 // Per vertex of m: the graph-geodesic (Dijkstra) distance to the nearest
 // vertex of g (infinity where none is reachable).
@@ -65,13 +80,19 @@ std::vector<double> feature_distance(const Mesh& m, const MeshDerived& d, const 
 // distance from the site's nearest corner of its face, plus the way there).
 std::vector<SurfacePoint> with_feature_sites(const Mesh& m, const MeshDerived& d, const FeatureGraph& g,
                                              std::span<const SurfacePoint> sites, double spacing, double band,
-                                             int32_t& feature_count);
+                                             int32_t& feature_count, std::vector<FeatureCurve>* curves = nullptr);
 
 // `sites` with a site more in each of the `count` largest cells (by lumped
 // mass of `label`, sites from `fixed` on), at the cell's vertex farthest
 // from its site: the density the feature band's removed sites leave short.
 std::vector<SurfacePoint> split_largest_cells(const Mesh& m, const MeshDerived& d, std::span<const int32_t> label,
                                               std::vector<SurfacePoint> sites, int32_t count, int32_t fixed);
+
+// The curves of `lines` with the remesh vertices of their sites in place of
+// the site ids (vertex_site: per remesh vertex its site; sites without a
+// vertex left out): what the optimization slides along them.
+std::vector<FeatureCurve> feature_slides(const std::vector<FeatureCurve>& lines, std::span<const int32_t> vertex_site,
+                                         int32_t feature_sites);
 
 // The remesh's mean edge for `sites` vertices on area `area` (equilateral
 // triangles, two per vertex).

@@ -45,7 +45,9 @@
 // towards the arclength midpoint of their boundary neighbors, after each
 // angle pass to the position along the curve with the largest smallest angle.
 // Pinned vertices (RemeshOptimizeOptions::pinned: on the input's features)
-// do not move, and an edge between two of them does not flip.
+// do not move, but along their feature curve (RemeshOptimizeOptions::slides)
+// as boundary vertices along the boundary, and an edge between two of them
+// does not flip.
 //
 // Deterministic: flips visit edges in a fixed order; moves are computed from
 // the previous positions (Jacobi) and applied together.
@@ -54,6 +56,7 @@
 #include <vector>
 
 #include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
@@ -101,6 +104,10 @@ struct RemeshOptimizeOptions {
   // Per remesh vertex (empty: none): 1 where the vertex stays (a feature's,
   // remesh_features.hpp); an edge between two such vertices never flips.
   std::vector<uint8_t> pinned;
+  // Feature curves whose pinned vertices slide along them as boundary
+  // vertices do along the boundary (FeatureCurve with remesh vertex ids in
+  // `site`; remesh_boundary.hpp add_curve). Empty: they stay.
+  std::vector<FeatureCurve> slides;
 };
 
 struct RemeshOptimizeStats {
