@@ -59,7 +59,7 @@ Json remesh_json(const CvtRequest& q, const CvtReport& r) {
   j["dual_min_angle_deg"] = r.dual_min_angle_deg;
   j["flips"] = r.flips;
   j["smoothing_moves"] = r.smoothing_moves;
-  j["boundary_moves"] = r.boundary_moves;  // along the input's boundary curves
+  j["boundary_moves"] = r.boundary_moves;  // along the input's boundary curves (and feature curves)
   if (q.features > 0)  // the input's edges above the dihedral angle, their curves and corners, the sites on them
     j["features"] = {{"angle_deg", q.features},
                      {"edges", r.feature_edges},

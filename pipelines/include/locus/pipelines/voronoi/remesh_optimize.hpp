@@ -114,7 +114,7 @@ struct RemeshOptimizeStats {
   int64_t flips = 0;
   int64_t moves = 0;     // vertex moves kept, all rounds
   int64_t angle_moves = 0;  // moves of the targeted angle repair
-  int64_t boundary_moves = 0;  // moves of boundary vertices along the input's boundary
+  int64_t boundary_moves = 0;  // moves of boundary (and feature) vertices along the input's curves
   int64_t refused = 0;   // moves refused (a triangle would turn over, or the projection crossed a thin part)
 };
 
