@@ -17,7 +17,7 @@ using namespace locus::c_api_detail;
 // The cvt command's numeric options (its strings are NULL in the C defaults).
 #define LOCUS_CVT_NUMBERS                                                                                        \
   sites, iters, stop_energy, anisotropy, no_refine, fit_rings, fit_sigma, no_split, repair_rounds, refinements, \
-      optimize, no_hausdorff, track_quality, seed
+      optimize, no_hausdorff, track_quality, seed, features
 
 namespace {
 
@@ -33,7 +33,8 @@ void fill_report(const locus::CvtReport& r, locus_cvt_report& o) {
   LOCUS_COPY_FIELDS(o, r, complete, added_sites, repair_rounds, refinements, lloyd_iterations, h, t, t_centroid,
                     dual_triangles, area_cv, area_variance, area_cv_vertex, area_variance_vertex, empty_cells,
                     fallback_faces, flips, smoothing_moves, boundary_moves, requested, delivered, repair_sites,
-                    removed_sites, density_passes, geodesic_rounds);
+                    removed_sites, density_passes, geodesic_rounds, feature_edges, feature_curves, feature_corners,
+                    feature_sites);
   LOCUS_COPY_FIELDS(o.remesh, r.remesh_stats, vertices, faces, genus, components, boundary_loops, mean_min_angle_deg,
                     min_angle_deg, pct_below_30_deg, hausdorff_rel);
   o.remesh.manifold = r.remesh_stats.manifold && r.complete ? 1 : 0;

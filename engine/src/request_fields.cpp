@@ -43,6 +43,7 @@ std::vector<RequestField> cvt_fields() {
           {"repair_rounds", std::to_string(d.repair_rounds)},
           {"refinements", std::to_string(d.refinements)},
           {"optimize", std::to_string(d.optimize)},
+          {"features", format_number(d.features)},
           {"no_hausdorff", flag(d.no_hausdorff)},
           {"track_quality", flag(d.track_quality)}};
 }

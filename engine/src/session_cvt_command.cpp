@@ -162,6 +162,7 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   ro.max_repair_rounds = req.repair_rounds;
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
+  ro.feature_angle_deg = req.features;
   RemeshResult rr = cvt_remesh(mesh, derived, ro, ctx);
   CvtReport r;
   auto t0 = std::chrono::steady_clock::now();
@@ -179,6 +180,8 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   r.removed_sites = rr.removed_sites, r.density_passes = rr.density_passes, r.geodesic_rounds = rr.geodesic_rounds;
   r.dual_mean_min_angle_deg = rr.dual_mean_min_angle_deg, r.dual_min_angle_deg = rr.dual_min_angle_deg;
   r.flips = rr.optimize.flips, r.smoothing_moves = rr.optimize.moves, r.boundary_moves = rr.optimize.boundary_moves;
+  r.feature_edges = rr.feature_edges, r.feature_curves = rr.feature_curves;
+  r.feature_corners = rr.feature_corners, r.feature_sites = rr.feature_sites;
   r.defects_before_repair = defects_of(rr.first_defects);
   r.defects_left = defects_of(rr.defects);
   r.remesh_factor_s = rr.factor_s, r.lloyd_s = rr.lloyd_s, r.repair_s = rr.repair_s, r.dual_s = rr.dual_s;
@@ -225,6 +228,9 @@ void check_request(const CvtRequest& req) {
   check_count("--repair-rounds", req.repair_rounds, 0, 1000);
   check_count("--refinements", req.refinements, 0, 4);
   check_count("--optimize", req.optimize, 0, 100);
+  if (!(req.features >= 0 && req.features < 180))
+    fail(ErrorCode::BadUsage, "--features must be a dihedral angle in degrees, 0 <= DEG < 180 (0: no features; got " +
+                                  format_number(req.features) + ")");
   check_factor_cache_files({req.save, req.load});
   if (req.anisotropy > 0 && (!req.save.empty() || !req.load.empty()))
     fail(ErrorCode::BadUsage, "--save/--load cache the isotropic operator; not with --anisotropy");

@@ -27,7 +27,7 @@ py::dict defects_dict(const CvtDefects& d) {
 }
 
 // The `remesh` object of `locus cvt --json`, its input's topology included.
-py::dict remesh_dict(const CvtReport& r) {
+py::dict remesh_dict(const CvtReport& r, double features) {
   const CvtMeshStats& st = r.remesh_stats;
   py::dict d("vertices"_a = st.vertices, "faces"_a = st.faces, "manifold"_a = st.manifold && r.complete,
              "genus"_a = st.genus, "components"_a = st.components, "boundary_loops"_a = st.boundary_loops,
@@ -48,6 +48,9 @@ py::dict remesh_dict(const CvtReport& r) {
   d["removed_sites"] = r.removed_sites;
   d["density_passes"] = r.density_passes;
   d["geodesic_rounds"] = r.geodesic_rounds;
+  if (features > 0)
+    d["features"] = py::dict("angle_deg"_a = features, "edges"_a = r.feature_edges, "curves"_a = r.feature_curves,
+                             "corners"_a = r.feature_corners, "sites"_a = r.feature_sites);
   d["defects_before_repair"] = defects_dict(r.defects_before_repair);
   d["defects_left"] = defects_dict(r.defects_left);
   d["input"] = py::dict("genus"_a = r.input_stats.genus, "components"_a = r.input_stats.components,
@@ -61,7 +64,7 @@ py::dict remesh_dict(const CvtReport& r) {
   return d;
 }
 
-py::object report_object(CvtReport&& r) {
+py::object report_object(CvtReport&& r, double features) {
   const auto ns = static_cast<py::ssize_t>(r.site_face.size());
   std::vector<double> xyz;
   for (int32_t v = 0; v < r.remesh.num_vertices(); ++v) xyz.insert(xyz.end(), {r.remesh.x[v], r.remesh.y[v], r.remesh.z[v]});
@@ -72,7 +75,7 @@ py::object report_object(CvtReport&& r) {
              "site_face"_a = take(std::move(r.site_face)), "site_vertex"_a = take(std::move(r.site_vertex)),
              "site_bary"_a = take(std::move(r.site_bary), {ns, 3}), "complete"_a = r.complete,
              "remesh_V"_a = take(std::move(xyz), {nrv, 3}), "remesh_F"_a = take(std::move(tris), {nrf, 3}),
-             "remesh_site"_a = take(std::move(r.remesh_site)), "remesh"_a = remesh_dict(r));
+             "remesh_site"_a = take(std::move(r.remesh_site)), "remesh"_a = remesh_dict(r, features));
   d["n"] = r.n;
   d["h"] = r.h;
   d["t"] = r.t;
@@ -110,19 +113,19 @@ py::object cvt_command(const Session& s, int32_t sites, int32_t iters, double st
                        const std::string& solver, const std::string& t, const py::handle& save, const py::handle& load,
                        bool no_refine, const py::handle& centroid_t, const py::handle& t_centroid, int32_t fit_rings,
                        double fit_sigma, bool no_split, const py::handle& labels, const py::handle& sites_out,
-                       int32_t repair_rounds, int32_t refinements, int32_t optimize, bool no_hausdorff,
-                       bool track_quality, uint64_t seed, int threads, py::object progress) {
+                       int32_t repair_rounds, int32_t refinements, int32_t optimize, double features,
+                       bool no_hausdorff, bool track_quality, uint64_t seed, int threads, py::object progress) {
   CvtRequest q;
   q.sites = sites, q.iters = iters, q.stop_energy = stop_energy, q.anisotropy = anisotropy;
   q.solver = solver, q.t = t, q.save = optional_text(save), q.load = optional_text(load), q.no_refine = no_refine;
   q.centroid_t = optional_text(centroid_t), q.t_centroid = optional_text(t_centroid);
   q.fit_rings = fit_rings, q.fit_sigma = fit_sigma, q.no_split = no_split;
   q.labels = optional_text(labels), q.sites_out = optional_text(sites_out);
-  q.repair_rounds = repair_rounds, q.refinements = refinements, q.optimize = optimize;
+  q.repair_rounds = repair_rounds, q.refinements = refinements, q.optimize = optimize, q.features = features;
   q.no_hausdorff = no_hausdorff, q.track_quality = track_quality, q.seed = seed;
   CvtReport r;
   run({threads, progress}, [&](const RunContext& ctx) { r = s.cvt(q, ctx); });
-  return report_object(std::move(r));
+  return report_object(std::move(r), q.features);
 }
 
 }  // namespace
@@ -137,6 +140,7 @@ void bind_session_cvt_command(SessionClass& cls) {
       ", fit_sigma=" + py_literal(d.fit_sigma) + ", no_split=" + py_literal(d.no_split) +
       ", labels=None, sites_out=None, repair_rounds=" + py_literal(d.repair_rounds) +
       ", refinements=" + py_literal(d.refinements) + ", optimize=" + py_literal(d.optimize) +
+      ", features=" + py_literal(d.features) +
       ", no_hausdorff=" + py_literal(d.no_hausdorff) + ", track_quality=" + py_literal(d.track_quality) +
       ", seed=" + py_literal(d.seed) + ", threads=0, progress=None) -> namespace\n\n";
   cls.def("cvt_command", &cvt_command, "sites"_a = d.sites, "iters"_a = d.iters, py::kw_only(),
@@ -145,7 +149,7 @@ void bind_session_cvt_command(SessionClass& cls) {
           "t_centroid"_a = py::none(), "fit_rings"_a = d.fit_rings, "fit_sigma"_a = d.fit_sigma,
           "no_split"_a = d.no_split, "labels"_a = py::none(), "sites_out"_a = py::none(),
           "repair_rounds"_a = d.repair_rounds, "refinements"_a = d.refinements, "optimize"_a = d.optimize,
-          "no_hausdorff"_a = d.no_hausdorff, "track_quality"_a = d.track_quality, "seed"_a = d.seed,
+          "features"_a = d.features, "no_hausdorff"_a = d.no_hausdorff, "track_quality"_a = d.track_quality, "seed"_a = d.seed,
           "threads"_a = 0, "progress"_a = py::none(),
           (signature +
            "`locus cvt` with every option: `sites` seeded random initial sites (seed), `iters` Lloyd iterations "
@@ -154,7 +158,9 @@ void bind_session_cvt_command(SessionClass& cls) {
            "diffusion time as the CLI's --t ('4h2': a multiple of h^2; or absolute), centroid_t the centroids' "
            "(None: t; t_centroid C is its deprecated spelling, Ch2); no_refine, fit_rings, fit_sigma: the "
            "centroid's fit; no_split: cell sources from vertex labels only; repair_rounds, refinements, optimize: "
-           "the remesh's repair and optimization; no_hausdorff: skip the remesh's Hausdorff distance; "
+           "the remesh's repair and optimization; features: a dihedral angle in degrees (0 <= DEG < 180; 0: "
+           "none): input edges sharper than it stay remesh edges, their corners remesh vertices (.remesh['features'] "
+           "counts them); no_hausdorff: skip the remesh's Hausdorff distance; "
            "track_quality: .mean_angle_all / .min_angle_all per iteration; save / load: a factor cache file of "
            "the cells' operator (isotropic); labels / sites_out: files to write (.ply, .obj, .off). Returns "
            ".labels (per vertex, its site), .sites (k, 3) with .site_face, .site_vertex, .site_bary, .complete, "

@@ -4,7 +4,10 @@ The CLI writes PLY files read back by the independent reader of
 test_references.py; Python runs Session.geodesic / Session.logmap (the engine's
 one orchestration of these commands) with the same options.
 """
+import pathlib
+
 import numpy as np
+import pytest
 
 import locus
 from test_references import read_ply_vertices, run_cli
@@ -141,6 +144,24 @@ def test_cvt_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):
         sites = read_ply_vertices(tmp_path / "s.ply")
         assert same(r.sites, np.stack([sites["x"], sites["y"], sites["z"]], axis=1))
         assert r.remesh["vertices"] == report["remesh"]["vertices"] and r.energy == report["energy"]
+
+
+def test_cvt_features_equal_cli(cli, tmp_path):
+    """--features DEG: the remesh and the feature counts of `locus cvt`, bit for bit; a bad angle is a ValueError."""
+    path = pathlib.Path(__file__).resolve().parents[2] / "cache" / "meshes" / "fandisk.off"
+    if not path.exists():
+        pytest.skip("needs cache/meshes/fandisk.off")
+    report = run_cli(cli, tmp_path, "cvt", path, "--sites", 300, "--iters", 3, "--features", 30, "-o", tmp_path / "r.ply")
+    V, F = locus.read_mesh(str(tmp_path / "r.ply"))
+    s = locus.Session(*locus.read_mesh(str(path)))
+    r = s.cvt_command(300, 3, features=30)
+    assert r.complete and same(r.remesh_V, V) and np.array_equal(r.remesh_F, F)
+    assert r.remesh["features"] == report["remesh"]["features"]
+    assert report["remesh"]["features"]["corners"] > 0 and report["remesh"]["features"]["curves"] > 0
+    assert "features" not in s.cvt_command(300, 3).remesh
+    for bad in (-1.0, 180.0, float("nan")):
+        with pytest.raises(ValueError, match="--features"):
+            s.cvt_command(300, 3, features=bad)
 
 
 def test_skinweights_equal_cli(cli, armadillo_path, armadillo_session, tmp_path):

@@ -123,3 +123,38 @@ TEST_CASE("cvt CLI: -o writes the manifold remesh (OBJ, PLY, OFF) with the input
   CHECK(few.err.find("closed-ball") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "few.obj"));
 }
+
+TEST_CASE("cvt CLI: --features DEG keeps a cube's corners; its JSON counts the features; bad DEG exits 2") {
+  if (!have_locus()) return;
+  Scratch dir("cvt-features");
+  // The cube [-1, 1]^3 (a cube-sphere's vertices taken back to the cube): 12
+  // edges of dihedral angle 90 degrees meeting at 8 corners.
+  locus::Mesh m = locus::make_cube_sphere(10, true);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    const double s = std::max({std::abs(m.x[v]), std::abs(m.y[v]), std::abs(m.z[v])});
+    m.x[v] /= s, m.y[v] /= s, m.z[v] /= s;
+  }
+  const std::string cube = dir / "cube.off", out = dir / "remesh.off";
+  locus::write_mesh(cube, m);
+  const Run r = run_locus(dir, {"cvt", cube, "--sites", "120", "--features", "30", "--json", "-o", out});
+  REQUIRE_MESSAGE(r.status == 0, r.err);
+  const auto f = r.json()["remesh"]["features"];
+  CHECK(f["angle_deg"].get<double>() == 30);
+  CHECK(f["edges"].get<int>() == 12 * 10);
+  CHECK(f["curves"].get<int>() == 12);
+  CHECK(f["corners"].get<int>() == 8);
+  CHECK(f["sites"].get<int>() >= 8);
+  const locus::Mesh back = locus::read_mesh(out);
+  int corners = 0;
+  for (int32_t v = 0; v < back.num_vertices(); ++v)
+    corners += std::abs(back.x[v]) == 1 && std::abs(back.y[v]) == 1 && std::abs(back.z[v]) == 1;
+  CHECK(corners == 8);
+  const Run plain = run_locus(dir, {"cvt", cube, "--sites", "120", "--json"});
+  REQUIRE_MESSAGE(plain.status == 0, plain.err);
+  CHECK_FALSE(plain.json()["remesh"].contains("features"));  // without the option, the JSON of before
+  for (const char* bad : {"-1", "180", "nan", "x"}) {
+    const Run b = run_locus(dir, {"cvt", cube, "--sites", "20", "--features", bad});
+    CHECK_MESSAGE(b.status == 2, bad);
+    CHECK_MESSAGE(b.err.find("--features") != std::string::npos, b.err);
+  }
+}

@@ -6,6 +6,7 @@
 // against independent oracles in tests/pipelines/voronoi.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -131,5 +132,51 @@ TEST_CASE("cvt: the CLI, the Session (command and cached tier) and the C API agr
   bad.anisotropy = 0.05;
   bad.save = "f.locus";
   CHECK(locus_cvt_run(c, &bad, nullptr, nullptr, nullptr, nullptr) == LOCUS_BAD_USAGE);
+  locus_session_destroy(c);
+}
+
+TEST_CASE("cvt --features: the CLI, the Session and the C API agree bit for bit and count the same features") {
+  const std::string fandisk = LOCUS_MESH_CACHE_DIR "/fandisk.off";
+  if (!have_locus() || !std::filesystem::exists(fandisk)) return;
+  Scratch dir("front-ends-cvt-features");
+  const Run run = run_locus(dir, {"cvt", fandisk, "--sites", "300", "--iters", "3", "--features", "30", "--threads",
+                                  "2", "-o", dir / "r.ply", "--json"});
+  REQUIRE_MESSAGE(run.status == 0, run.err);
+  const nlohmann::json f = nlohmann::json::parse(run.out)["remesh"]["features"];
+  const locus::Mesh cli_remesh = locus::read_mesh(dir / "r.ply");
+  const locus::Session s = locus::Session::from_file(fandisk);
+  locus::CvtRequest q;
+  q.sites = 300, q.iters = 3, q.features = 30;
+  const locus::CvtReport r = s.cvt(q);
+  REQUIRE(r.complete);
+  CHECK(same_bits(positions(r.remesh), positions(cli_remesh)));
+  CHECK(faces(r.remesh) == faces(cli_remesh));
+  CHECK(f["edges"] == r.feature_edges);
+  CHECK(f["curves"] == r.feature_curves);
+  CHECK(f["corners"] == r.feature_corners);
+  CHECK(f["sites"] == r.feature_sites);
+  CHECK(r.feature_corners > 0);
+  locus_session* c = nullptr;
+  REQUIRE(locus_session_create_from_file(fandisk.c_str(), &c) == LOCUS_OK);
+  locus_cvt_options o = locus_cvt_options_default();
+  CHECK(o.features == 0);
+  o.sites = 300, o.iters = 3, o.features = 30;
+  locus_cvt_report rep;
+  locus_remesh* h = nullptr;
+  REQUIRE(locus_cvt_run(c, &o, nullptr, &rep, &h, nullptr) == LOCUS_OK);
+  std::vector<double> xyz(3 * static_cast<size_t>(rep.remesh.vertices));
+  std::vector<int32_t> tris(3 * static_cast<size_t>(rep.remesh.faces));
+  REQUIRE(locus_remesh_get(h, xyz.data(), tris.data()) == LOCUS_OK);
+  CHECK(same_bits(xyz, positions(r.remesh)));
+  CHECK(tris == faces(r.remesh));
+  CHECK(rep.feature_edges == r.feature_edges);
+  CHECK(rep.feature_curves == r.feature_curves);
+  CHECK(rep.feature_corners == r.feature_corners);
+  CHECK(rep.feature_sites == r.feature_sites);
+  locus_remesh_destroy(h);
+  for (double bad : {-1.0, 180.0, std::nan("")}) {
+    o.features = bad;
+    CHECK(locus_cvt_run(c, &o, nullptr, nullptr, nullptr, nullptr) == LOCUS_BAD_USAGE);
+  }
   locus_session_destroy(c);
 }

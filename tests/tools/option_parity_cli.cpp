@@ -258,6 +258,7 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
   CHECK(cv.repair_rounds == cq.repair_rounds);
   CHECK(cv.refinements == cq.refinements);
   CHECK(cv.optimize == cq.optimize);
+  CHECK(cv.features == cq.features);
   CHECK((cv.no_hausdorff != 0) == cq.no_hausdorff);
   CHECK((cv.track_quality != 0) == cq.track_quality);
   CHECK(cv.seed == cq.seed);
@@ -290,6 +291,7 @@ TEST_CASE("option parity: the C options' defaults are the engine's") {
     if (f.name == "t") CHECK(f.default_value == "4h2");
     if (f.name == "solver") CHECK(f.default_value == "local");
     if (f.name == "fit_sigma") CHECK(f.default_value == "1");
+    if (f.name == "features") CHECK(f.default_value == "0");
   }
   for (const locus::RequestField& f : locus::request_fields("heat"))
     if (f.name == "repeat") CHECK(f.default_value == "1");

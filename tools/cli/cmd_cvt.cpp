@@ -42,7 +42,7 @@ Json defects_json(const CvtDefects& d) {
 }
 
 // The `remesh` object (keys in the README's order) and the repair's counts.
-Json remesh_json(const CvtReport& r) {
+Json remesh_json(const CvtRequest& q, const CvtReport& r) {
   const CvtMeshStats& st = r.remesh_stats;
   Json j{{"vertices", st.vertices},
          {"faces", st.faces},
@@ -59,7 +59,13 @@ Json remesh_json(const CvtReport& r) {
   j["dual_min_angle_deg"] = r.dual_min_angle_deg;
   j["flips"] = r.flips;
   j["smoothing_moves"] = r.smoothing_moves;
-  j["boundary_moves"] = r.boundary_moves;  // along the input's boundary curves
+  j["boundary_moves"] = r.boundary_moves;  // along the input's boundary curves (and feature curves)
+  if (q.features > 0)  // the input's edges above the dihedral angle, their curves and corners, the sites on them
+    j["features"] = {{"angle_deg", q.features},
+                     {"edges", r.feature_edges},
+                     {"curves", r.feature_curves},
+                     {"corners", r.feature_corners},
+                     {"sites", r.feature_sites}};
   j["repair_rounds"] = r.repair_rounds;
   j["refinements"] = r.refinements;
   j["lloyd_iterations"] = r.lloyd_iterations;
@@ -185,7 +191,7 @@ Json cvt_json(const CommonOptions& opt, const CvtRequest& q, const Input& in, co
   Json j{{"command", "cvt"}, {"input", input_json(opt, in)}};
   j.update(lloyd_json(opt, q, r));
   j["factor_cache"] = factor_cache_json(r.factor_cache);
-  j["remesh"] = remesh_json(r);
+  j["remesh"] = remesh_json(q, r);
   const double factor_s = r.prepare_s + r.remesh_factor_s;
   j["timings"] = {{"load_s", load_s},       {"subdivide_s", in.subdivide_s}, {"factor_s", factor_s},
                   {"lloyd_s", r.lloyd_s},   {"repair_s", r.repair_s},        {"dual_s", r.dual_s},
@@ -310,6 +316,11 @@ void register_cvt_command(CommandTable& table) {
   app->add_option("--optimize", q.optimize,
                   "Rounds of edge flips and tangential smoothing of the remesh on the input (default 6; 0 = the dual as is)")
       ->check(CLI::Range(0, 100));
+  // Checked by the engine (check_request): NaN, negative or >= 180 is exit 2.
+  app->add_option("--features", q.features,
+                  "Keep sharp features: input edges whose dihedral angle (between the normals of their two faces) "
+                  "exceeds DEG degrees become remesh edges, their corners remesh vertices (0 <= DEG < 180; default 0 = "
+                  "none; e.g. 30 for CAD parts)");
   app->add_flag("--no-hausdorff", q.no_hausdorff, "Skip the Hausdorff distance of the remesh (JSON -1)");
   app->add_flag("--track-quality", q.track_quality, "JSON mean_angle_all/min_angle_all: dual angles of every iteration");
 }

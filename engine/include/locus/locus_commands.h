@@ -348,6 +348,7 @@ typedef struct locus_cvt_options {
   int32_t no_hausdorff;      /* nonzero: remesh.hausdorff_rel -1 */
   int32_t track_quality;     /* unused by the C report (the CLI's per-iteration JSON) */
   uint64_t seed;             /* of the initial sites, default 1 */
+  double features;           /* dihedral angle in degrees, [0, 180): sharper input edges stay remesh edges; default 0: none */
 } locus_cvt_options;
 LOCUS_API locus_cvt_options locus_cvt_options_default(void);
 typedef struct locus_cvt_report {
@@ -365,6 +366,9 @@ typedef struct locus_cvt_report {
   /* requested sites against delivered remesh vertices; sites the repair added
    * and the density passes removed; passes and shortest-path repair rounds run */
   int32_t requested, delivered, repair_sites, removed_sites, density_passes, geodesic_rounds;
+  /* with features: the input's feature edges, curves and corners, and the sites placed on them */
+  int64_t feature_edges;
+  int32_t feature_curves, feature_corners, feature_sites;
 } locus_cvt_report;
 LOCUS_API locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
                                      locus_cvt_report* out_report, locus_remesh** out_remesh,

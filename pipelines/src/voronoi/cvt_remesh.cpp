@@ -19,6 +19,7 @@
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/parallel/task_arenas.hpp"
 #include "locus/pipelines/voronoi/remesh_collapse.hpp"
+#include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/remesh_fidelity.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
@@ -204,7 +205,8 @@ void split_and_reoptimize(const Mesh& m, const TriangleGrid& grid, int32_t want,
   if (!(before < kBelow) || budget <= 0) return;
   Mesh keep = r.remesh;
   std::vector<int32_t> keep_site = r.vertex_site;
-  if (split_thin(grid, r.remesh, kBelow, budget, r.vertex_site) == 0) return;
+  if (split_thin(grid, r.remesh, kBelow, budget, r.vertex_site, oo.pinned) == 0) return;
+  if (!oo.pinned.empty()) oo.pinned.resize(static_cast<size_t>(r.remesh.num_vertices()), 0);  // new vertices move
   oo.rounds = 2;
   const RemeshOptimizeStats st = optimize_remesh(m, grid, r.remesh, oo);
   if (remesh_stats(m, r.remesh, false).min_angle_deg > before) {
@@ -232,14 +234,27 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     // More than 1.5% above the request (repair sites where the topology
     // needed them): the shortest interior edges collapse to it.
     const int32_t want = o.lloyd.sites;
-    if (r.remesh.num_vertices() * 200 > want * 203) collapse_to_count(m, grid, r.remesh, want, r.vertex_site);
+    // The vertices of feature sites stay (remesh_features.hpp); none without features.
+    auto pinned = [&] {
+      std::vector<uint8_t> p;
+      if (r.feature_sites > 0)
+        for (int32_t s : r.vertex_site) p.push_back(s < r.feature_sites);
+      return p;
+    };
+    if (r.remesh.num_vertices() * 200 > want * 203)
+      collapse_to_count(m, grid, r.remesh, want, r.vertex_site, pinned());
     RemeshOptimizeOptions oo;
     oo.rounds = o.optimize_rounds;
+    oo.pinned = pinned();
+    oo.slides = feature_slides(r.feature_lines, r.vertex_site, r.feature_sites);  // after the collapses
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
     split_and_reoptimize(m, grid, want, oo, r);
     // Last, the input's farthest vertices pull the remesh to them (median
     // Hausdorff distance of the sample meshes 1.56 -> 1.02%, docs/cvt.md).
-    r.optimize.moves += pull_to_input(m, grid, r.remesh);
+    RemeshFidelityOptions fo;
+    fo.pinned = std::move(oo.pinned);
+    if (!fo.pinned.empty()) fo.pinned.resize(static_cast<size_t>(r.remesh.num_vertices()), 0);  // split vertices move
+    r.optimize.moves += pull_to_input(m, grid, r.remesh, fo);
   }
   r.optimize_s = sw.lap();
 }
@@ -454,11 +469,62 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
   return dual;
 }
 
+// Sites on the input's features (remesh_features.hpp) replace the Lloyd
+// sites within half a mean edge of them; the sites are labelled again (they
+// stay where they are) and the partition repaired. The feature sites come
+// first, so the repair's sites (appended) keep their ids.
+RestrictedDual insert_features(const RepairStage& st, Level& L, RestrictedDual dual, double p) {
+  RemeshResult& r = st.r;
+  FeatureGraph g = feature_graph(*L.m, *L.d, st.o.feature_angle_deg);
+  const double area = std::accumulate(L.d->mass.begin(), L.d->mass.end(), 0.0);
+  const double spacing = feature_spacing(area, st.o.lloyd.sites);
+  drop_short_components(*L.m, g, spacing);
+  if (g.edges == 0) return dual;
+  // On a subdivided level every input edge is 2^k edges (k levels).
+  int levels = 0;
+  for (size_t k = 0; k < st.keep.meshes.size(); ++k)
+    if (L.m == &st.keep.meshes[k]) levels = static_cast<int>(k) + 1;
+  r.feature_edges = g.edges >> levels;
+  r.feature_curves = static_cast<int32_t>(g.curves.size());
+  r.feature_corners = static_cast<int32_t>(g.corners.size());
+  int32_t count = 0;
+  const int32_t want = dual.defects.total() == 0 ? cells_of(dual) : static_cast<int32_t>(r.lloyd.sites.size());
+  std::vector<SurfacePoint> sites =
+      with_feature_sites(*L.m, *L.d, g, r.lloyd.sites, spacing, 0.5, count, &r.feature_lines);
+  const std::vector<SurfacePoint> fixed(sites.begin(), sites.begin() + count);
+  st.ctx.check_cancel();
+  LloydOptions ro = L.lo;
+  ro.iterations = 0;  // labels, then the band's lost sites in the largest cells
+  ro.init_radius = std::min(L.lo.init_radius, 2.5);
+  const RunContext part = st.ctx.sub(p, p);
+  LloydResult lr = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part);
+  const int32_t short_by = want - static_cast<int32_t>(lr.sites.size());
+  sites = split_largest_cells(*L.m, *L.d, lr.label, std::move(lr.sites), short_by, count);
+  ro.iterations = 1;  // the free sites relax around the feature sites, put back after each iteration
+  for (int it = 0; it < st.o.density_iterations; ++it) {
+    lr = cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part);
+    r.lloyd_iterations += static_cast<int32_t>(lr.iter_s.size());
+    sites = std::move(lr.sites);
+    std::copy(fixed.begin(), fixed.end(), sites.begin());
+  }
+  ro.iterations = 0;
+  ro.keep_voronoi = st.incremental;
+  adopt_cells(cvt_lloyd(*L.m, *L.d, std::move(sites), ro, part), r.lloyd);
+  r.repair_s += st.sw.lap();
+  dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
+  r.dual_s += st.sw.lap();
+  r.feature_sites = count;
+  return repair(st, L, std::move(dual), p, p);
+}
+
 }  // namespace
 
 RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx) {
   if (o.max_repair_rounds < 0 || o.relax_iterations < 0 || o.max_refinements < 0)
     fail(ErrorCode::BadUsage, "cvt remesh: repair rounds, relaxation iterations and refinements must be >= 0");
+  if (!(o.feature_angle_deg >= 0 && o.feature_angle_deg < 180))
+    fail(ErrorCode::BadUsage, "cvt remesh: the feature angle must be in [0, 180) degrees (0: no features), got " +
+                                  std::to_string(o.feature_angle_deg));
   RemeshResult r;
   BatchStopwatch sw;
   Level L{&m, &d, o.lloyd, {}};
@@ -499,6 +565,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   const RepairStage st{m, o, incremental, keep, ctx, sw, r};
   dual = repair(st, L, std::move(dual), kLloydEnd, kRepairEnd);
   dual = meet_density(st, L, std::move(dual), kRepairEnd);
+  if (o.feature_angle_deg > 0) dual = insert_features(st, L, std::move(dual), kRepairEnd);
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;

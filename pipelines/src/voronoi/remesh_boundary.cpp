@@ -107,6 +107,24 @@ BoundaryCurves::BoundaryCurves(const Mesh& input, const Mesh& remesh) {
   }
 }
 
+void BoundaryCurves::add_curve(const std::vector<std::array<double, 3>>& p, bool closed, std::vector<int32_t> v,
+                               std::vector<double> u) {
+  if (p.size() < 2 || v.size() < (closed ? 3u : 2u) || v.size() != u.size()) return;
+  Curve c;
+  c.p = p;
+  c.s.push_back(0);
+  for (size_t i = 0; i < p.size(); ++i) c.s.push_back(c.s.back() + norm(sub(p[(i + 1) % p.size()], p[i])));
+  if (!closed) c.s.back() = c.s[p.size() - 1] + 1;  // no way back: the open end (never reached) wraps
+  Run r;
+  r.curve = static_cast<int32_t>(curves_.size());
+  r.v = std::move(v);
+  r.u = std::move(u);
+  r.pinned.assign(r.v.size(), 0);
+  if (!closed) r.pinned.front() = r.pinned.back() = 1;
+  curves_.push_back(std::move(c));
+  runs_.push_back(std::move(r));
+}
+
 int64_t BoundaryCurves::movable() const {
   int64_t k = 0;
   for (const Run& r : runs_)

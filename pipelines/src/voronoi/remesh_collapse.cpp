@@ -8,6 +8,7 @@
 #include <map>
 #include <utility>
 
+#include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "remesh_vec3.hpp"
 
@@ -23,6 +24,7 @@ struct Work {
   std::vector<V3> p;
   std::vector<std::array<int32_t, 3>> F;
   std::vector<uint8_t> face_alive, vert_alive, boundary;
+  std::span<const uint8_t> pinned;       // per vertex, or empty
   std::vector<std::vector<int32_t>> vf;  // per vertex: its faces (dead ones dropped lazily)
   std::vector<int32_t> loop, loop_size;   // per boundary vertex: its loop; per loop: its vertices
 
@@ -82,7 +84,12 @@ bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t 
   // endpoint when one is on the boundary.
   int32_t keep = u, drop = w;
   V3 target;
-  if (edge_on_boundary) {
+  const bool pin_u = !W.pinned.empty() && W.pinned[u], pin_w = !W.pinned.empty() && W.pinned[w];
+  if ((pin_u && pin_w) || ((pin_u || pin_w) && (W.boundary[u] || W.boundary[w]))) return false;
+  if (pin_u || pin_w) {  // the free vertex goes into the pinned one
+    if (pin_w) std::swap(keep, drop);
+    target = W.p[keep];
+  } else if (edge_on_boundary) {
     if (turning(W, w, nw) > turning(W, u, nu)) std::swap(keep, drop);
     target = W.p[keep];
   } else if (W.boundary[u] || W.boundary[w]) {
@@ -134,9 +141,11 @@ bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t 
 }  // namespace
 
 int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& remesh, int32_t target,
-                          std::vector<int32_t>& vertex_site) {
+                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned) {
   const int32_t n = remesh.num_vertices();
   if (n <= target) return 0;
+  if (!pinned.empty() && pinned.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "collapse remesh: pinned must have one entry per vertex");
   Work W;
   W.p.resize(n);
   for (int32_t v = 0; v < n; ++v) W.p[v] = pos(remesh, v);
@@ -145,6 +154,7 @@ int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& rem
   W.face_alive.assign(W.F.size(), 1);
   W.vert_alive.assign(n, 1);
   W.boundary.assign(n, 0);
+  W.pinned = pinned;
   W.vf.resize(n);
   std::map<std::pair<int32_t, int32_t>, int32_t> edge_faces;
   for (int32_t f = 0; f < static_cast<int32_t>(W.F.size()); ++f)

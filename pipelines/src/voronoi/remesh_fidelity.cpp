@@ -196,6 +196,7 @@ int64_t pull_to_input(const Mesh& input, const TriangleGrid& grid, Mesh& remesh,
   std::vector<uint8_t> fixed(n, 0);
   for (const auto& loop : boundary_loops(remesh))
     for (int32_t v : loop) fixed[v] = 1;
+  for (size_t v = 0; v < opt.pinned.size() && v < fixed.size(); ++v) fixed[v] = fixed[v] || opt.pinned[v];
   const Csr vf = make_csr(n, static_cast<int32_t>(F.size()), [&](int32_t f, auto&& put) {
     for (int32_t v : F[f]) put(v);
   });

@@ -31,7 +31,7 @@ uint64_t key(int32_t a, int32_t b) {
 
 // One sweep of flips over the edges in sorted order; returns the number of flips.
 int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<int32_t>& valence,
-                  const std::vector<int32_t>& target, bool by_valence) {
+                  const std::vector<int32_t>& target, const std::vector<uint8_t>& pinned, bool by_valence) {
   std::unordered_map<uint64_t, std::array<int32_t, 2>> ef;
   ef.reserve(F.size() * 2);
   for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
@@ -51,6 +51,7 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
     if (it == ef.end() || it->second[1] < 0) continue;
     const int32_t fa = it->second[0], fb = it->second[1];
     const int32_t u = static_cast<int32_t>(e >> 32), w = static_cast<int32_t>(e & 0xffffffffu);
+    if (!pinned.empty() && pinned[u] && pinned[w]) continue;  // a feature edge stays
     // fa = (a, b, c) with the edge running a -> b in fa; fb = (b, a, d).
     int ka = 0;
     while (!((F[fa][ka] == u && F[fa][(ka + 1) % 3] == w) || (F[fa][ka] == w && F[fa][(ka + 1) % 3] == u))) ++ka;
@@ -493,18 +494,22 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   std::vector<std::array<int32_t, 3>> F(remesh.num_faces());
   for (int32_t f = 0; f < remesh.num_faces(); ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
   BoundaryCurves curves(input, remesh);  // the boundary vertices move along the input's boundary only
+  for (const FeatureCurve& c : opt.slides) curves.add_curve(c.p, c.closed, c.site, c.s);
   std::vector<int32_t> valence(n, 0), target(n, 6);
   for (const auto& t : F)
     for (int32_t v : t) ++valence[v];
   for (int32_t v = 0; v < n; ++v)
     if (fixed[v]) target[v] = 4;
+  if (!opt.pinned.empty() && opt.pinned.size() != static_cast<size_t>(n))
+    fail(ErrorCode::BadUsage, "optimize remesh: pinned must have one entry per vertex");
+  for (int32_t v = 0; v < static_cast<int32_t>(opt.pinned.size()); ++v) fixed[v] = fixed[v] || opt.pinned[v];
   // Delaunay flips first (the discrete cells' connectivity) and last; valence
   // flips in the rounds between (both at once undo each other: docs/cvt.md).
   for (int r = 0; r <= opt.rounds; ++r) {
     for (int by_valence = 1; by_valence >= 0; --by_valence) {
       if (by_valence != (r > 0 && r < opt.rounds)) continue;
       for (int pass = 0; pass < 8; ++pass) {
-        const int64_t k = flip_pass(remesh, F, valence, target, by_valence);
+        const int64_t k = flip_pass(remesh, F, valence, target, opt.pinned, by_valence);
         st.flips += k;
         if (k == 0) break;
       }
@@ -526,7 +531,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     st.boundary_moves += b;
     changed += b;
     for (int pass = 0; pass < 8; ++pass) {
-      const int64_t k = flip_pass(remesh, F, valence, target, false);
+      const int64_t k = flip_pass(remesh, F, valence, target, opt.pinned, false);
       st.flips += k;
       changed += k;
       if (k == 0) break;

@@ -13,7 +13,7 @@
 namespace locus {
 
 int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
-                   std::vector<int32_t>& vertex_site) {
+                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned) {
   using namespace remesh_vec3;
   const double below = below_deg * M_PI / 180;
   const int32_t nf = remesh.num_faces();
@@ -43,6 +43,7 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
       if (l > len) len = l, best = k;
     }
     const int32_t u = F[f][best], w = F[f][(best + 1) % 3];
+    if (!pinned.empty() && pinned[u] && pinned[w]) continue;
     const auto& fs = ef[{std::min(u, w), std::max(u, w)}];
     if (fs.size() != 2 || used[fs[0]] || used[fs[1]]) continue;
     const V3 pu = pos(remesh, u), pw = pos(remesh, w);

@@ -43,6 +43,9 @@ struct LOCUS_API CvtRequest {
   int32_t repair_rounds = 12;   // 0..1000 rounds of added sites that make the remesh a manifold
   int32_t refinements = 3;      // 0..4 midpoint subdivisions the repair may use
   int32_t optimize = 6;         // 0..100 rounds of flips and tangential smoothing of the remesh
+  // Sharp features kept by the remesh: input edges whose dihedral angle (between
+  // their faces' normals) exceeds this many degrees, in [0, 180); 0 = none.
+  double features = 0.0;
   bool no_hausdorff = false;    // skip the remesh's Hausdorff distance (hausdorff_rel -1)
   bool track_quality = false;   // record the dual angles of every iteration (mean_angle_all, min_angle_all)
   uint64_t seed = 1;            // of the initial sites (the CLI's --seed)
@@ -96,6 +99,10 @@ struct LOCUS_API CvtReport {
           geodesic_rounds = 0;
   double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;  // before the optimization
   int64_t flips = 0, smoothing_moves = 0, boundary_moves = 0;
+  // With features: the input's feature edges, curves and corners, and the
+  // sites placed on them (their remesh vertices stay on the creases).
+  int64_t feature_edges = 0;
+  int32_t feature_curves = 0, feature_corners = 0, feature_sites = 0;
   CvtDefects defects_before_repair, defects_left;
   // Lloyd (the last round's run).
   int32_t n = 0;                      // vertices

@@ -35,6 +35,12 @@
 // still more than 1.5% above the request loses its shortest edges to
 // topology-keeping collapses (remesh_collapse.hpp).
 //
+// Features (feature_angle_deg > 0): after the density passes, sites on the
+// input's creases and corners replace the Lloyd sites next to them, the
+// cells are labelled again and repaired (remesh_features.hpp); the
+// optimization keeps those sites' vertices where they are. An input without
+// feature edges at that angle is remeshed as without the option.
+//
 // The manifold dual is then optimized on the input (remesh_optimize.hpp);
 // where triangles below 25 degrees remain, their longest edges split (up to
 // 1.5% above the request, remesh_split.hpp) and two optimization rounds
@@ -46,6 +52,7 @@
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
+#include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/remesh_optimize.hpp"
 #include "locus/pipelines/voronoi/restricted_dual.hpp"
 #include "locus/run_context.hpp"
@@ -70,6 +77,9 @@ struct RemeshOptions {
   int density_iterations = 2;
   // Flip + smoothing rounds on the dual (remesh_optimize.hpp); 0 = the dual as is.
   int optimize_rounds = RemeshOptimizeOptions{}.rounds;
+  // Feature edges: dihedral angle above this many degrees, in [0, 180);
+  // 0 = no features (remesh_features.hpp).
+  double feature_angle_deg = 0;
 };
 
 struct RemeshResult {
@@ -101,6 +111,11 @@ struct RemeshResult {
   double dual_s = 0;              // defect checks and the dual mesh, all rounds
   // The dual before optimization: mean and min over triangles of the smallest angle.
   double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;
+  // With feature_angle_deg: the input's feature edges, curves and corners,
+  // and the sites placed on them (the first feature_sites of lloyd.sites).
+  int64_t feature_edges = 0;
+  int32_t feature_curves = 0, feature_corners = 0, feature_sites = 0;
+  std::vector<FeatureCurve> feature_lines;  // the curves and their sites, in order along each
   RemeshOptimizeStats optimize;
   double optimize_s = 0;          // the input's triangle grid, flips and smoothing
 };

@@ -1,4 +1,5 @@
 // Boundary vertices of a remesh sliding along its input's boundary curves
+// (and, added by add_curve, a feature's vertices along its feature curve)
 // (thesis §3.7.1; the boundary side of remesh_optimize.hpp). The dual puts a
 // boundary cell's vertex on an input boundary vertex of its run, so the spacing
 // along a loop follows the cells, not the curve, and the triangles at the
@@ -34,6 +35,11 @@ class BoundaryCurves {
   // Returns the number of moves kept.
   int64_t sweep(Mesh& remesh, const std::vector<std::array<int32_t, 3>>& F, bool by_angle);
   int64_t movable() const;  // boundary vertices that may move
+  // A feature curve's vertices (remesh_features.hpp), sliding the same way:
+  // polyline p (closed or open), vertices v at arclengths u (increasing,
+  // from p[0]); an open curve's first and last vertex stay (its corners).
+  void add_curve(const std::vector<std::array<double, 3>>& p, bool closed, std::vector<int32_t> v,
+                 std::vector<double> u);
 
  private:
   struct Curve {  // one input loop: positions, cumulative arclength, corner arclengths

@@ -11,6 +11,7 @@
 // loops; the optimization that follows evens the vertices out.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "locus/mesh.hpp"
@@ -21,7 +22,9 @@ namespace locus {
 // Collapses edges of `remesh` (its vertices on `input`, grid built over it)
 // until it has `target` vertices or no edge may go; `vertex_site` (one entry
 // per vertex, or empty) follows the kept vertices. Returns the collapses.
+// `pinned` (one entry per vertex, or empty): vertices that neither move nor
+// go (a feature's, remesh_features.hpp); a free neighbor collapses into one.
 int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& remesh, int32_t target,
-                          std::vector<int32_t>& vertex_site);
+                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {});
 
 }  // namespace locus

@@ -12,13 +12,14 @@
 // the input's normal there agrees with the
 // ring's, no triangle of the ring turns more than 60 degrees or drops below
 // min(the ring's smallest angle, `keep_deg`), and the mean smallest angle
-// lost so far stays within `budget_deg` and above `mean_floor_deg`. Boundary
+// lost so far stays within `budget_deg` and above `mean_floor_deg`. Pinned and boundary
 // vertices stay; connectivity does not change. The input vertices' nearest
 // remesh triangles come from one grid query, then are updated around each
 // move; a moved vertex's ring waits for the next pass; passes until one
 // moves nothing. Sequential (deterministic).
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
@@ -31,6 +32,7 @@ struct RemeshFidelityOptions {
   double keep_deg = 30;          // no ring angle taken below min(itself, keep_deg)
   double budget_deg = 0.5;       // mean smallest angle all moves may spend together
   double mean_floor_deg = 50.5;  // ... never taking it below this
+  std::vector<uint8_t> pinned;   // per remesh vertex, 1: stays (a feature's); empty: none
 };
 
 // `grid` is built over `input`; returns the vertex moves.

@@ -44,13 +44,19 @@
 // input's boundary curves (remesh_boundary.hpp): after each smoothing pass
 // towards the arclength midpoint of their boundary neighbors, after each
 // angle pass to the position along the curve with the largest smallest angle.
+// Pinned vertices (RemeshOptimizeOptions::pinned: on the input's features)
+// do not move, but along their feature curve (RemeshOptimizeOptions::slides)
+// as boundary vertices along the boundary, and an edge between two of them
+// does not flip.
 //
 // Deterministic: flips visit edges in a fixed order; moves are computed from
 // the previous positions (Jacobi) and applied together.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
@@ -95,13 +101,20 @@ struct RemeshOptimizeOptions {
   double hard_below_deg = 25;
   double hard_tip_reach = 0.3;
   int hard_sweeps = 30;
+  // Per remesh vertex (empty: none): 1 where the vertex stays (a feature's,
+  // remesh_features.hpp); an edge between two such vertices never flips.
+  std::vector<uint8_t> pinned;
+  // Feature curves whose pinned vertices slide along them as boundary
+  // vertices do along the boundary (FeatureCurve with remesh vertex ids in
+  // `site`; remesh_boundary.hpp add_curve). Empty: they stay.
+  std::vector<FeatureCurve> slides;
 };
 
 struct RemeshOptimizeStats {
   int64_t flips = 0;
   int64_t moves = 0;     // vertex moves kept, all rounds
   int64_t angle_moves = 0;  // moves of the targeted angle repair
-  int64_t boundary_moves = 0;  // moves of boundary vertices along the input's boundary
+  int64_t boundary_moves = 0;  // moves of boundary (and feature) vertices along the input's curves
   int64_t refused = 0;   // moves refused (a triangle would turn over, or the projection crossed a thin part)
 };
 

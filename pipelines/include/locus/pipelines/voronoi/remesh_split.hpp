@@ -11,6 +11,7 @@
 // result when the smallest angle grew (docs/cvt.md).
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "locus/mesh.hpp"
@@ -19,8 +20,10 @@
 namespace locus {
 
 // `vertex_site` (one entry per vertex, or empty) gets, for a new vertex, the
-// site of the split edge's first endpoint. Returns the splits.
+// site of the split edge's first endpoint; new vertices are appended. An edge
+// between two `pinned` vertices (one entry per vertex, or empty: a feature's
+// edge, remesh_features.hpp) is not split. Returns the splits.
 int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
-                   std::vector<int32_t>& vertex_site);
+                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {});
 
 }  // namespace locus
