@@ -6,6 +6,7 @@
 // metric in kernels/mesh/lifted_metric.cpp.
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/core/host_allocator.hpp"
+#include "locus/core/release_free_memory.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -194,9 +195,12 @@ void LloydLoop::labels_of_sites() {
   // The centroid step's per-thread solve workspaces (8 n doubles each) are not
   // needed while the labels' own are: freed, not held across the whole loop.
   cscratch_.clear();
+  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
+  // What was just freed (the workspaces ~50 MB at 416k vertices, in the worker
+  // threads' heaps) is not kept resident through the labels' peak.
+  release_free_memory();
   BatchStopwatch psw;
   if (order_.empty()) order_ = spatial_order(m_, sites_);
-  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
   if (local_ && !batch_kept_.empty()) {
     V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, labels_ctx_);
   } else {  // first labels: per-site Dijkstra balls (localized) or full solves
@@ -467,7 +471,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   LloydResult r;
   BatchStopwatch sw;
-  const HostVector<double> area_r3 = face_areas(m);
+  HostVector<double> area_r3 = face_areas(m);
   // Progress: operators and first neighborhoods, then the iterations and the
   // final labels (LloydLoop), one monotone fraction. The first neighborhoods
   // cost ~1.3 iterations, the final labels about one (docs/shipping.md).
@@ -501,6 +505,9 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
                                 first);
   });
   ops.area_op = HostVector<double>();  // in the stars now
+  // Isotropic: area_op was a copy of these areas; only the anisotropic final
+  // cells (partition_cells) read them again.
+  if (opt.anisotropy == 0) area_r3 = HostVector<double>();
   ctx.check_cancel();
   const Edges& edges = derived.incidence.edges;
 

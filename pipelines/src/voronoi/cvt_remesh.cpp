@@ -510,6 +510,12 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   // needed by the assembly and the optimization (~20 MB at 416k vertices).
   r.lloyd.voronoi = HeatVoronoi{};
   L.topo = DualTopology{};
+  // No heat solve after the repair: the operator goes before the assembly and
+  // the optimization (the input's TriangleGrid) allocate.
+  L.lo.prepared = nullptr;
+  own = HeatDiffusion{};
+  keep.ops.clear();  // the finer levels' operators (their meshes stay: back_to_input)
+  if (o.operator_done) o.operator_done();
   if (r.complete) assemble(m, L, dual, o, sw, r);
   r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);
