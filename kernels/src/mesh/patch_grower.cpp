@@ -219,6 +219,16 @@ void check_seeds(std::span<const GrowSeed> seeds, int32_t nv) {
                                     std::to_string(nv - 1));
 }
 
+// Edge lengths from the positions as a grow reaches them: adjacency_edge_lengths'
+// expression (neighbor minus vertex, x, y, z), so the same bits.
+struct PositionLength {
+  const Mesh& m;
+  double operator()(int64_t, int32_t i, int32_t j) const {
+    return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
+                     (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
+  }
+};
+
 void check_edge_lengths(const Adjacency& adj, std::span<const double> edge_length) {
   if (edge_length.size() != adj.neighbors.size())
     fail(ErrorCode::BadUsage, "patch grower: geodesic mode needs one edge length per adjacency entry (" +
@@ -258,27 +268,44 @@ void grow_geodesic_vertices(const Adjacency& adj, const Mesh& m, std::span<const
     fail(ErrorCode::BadUsage, "patch vertex count must be >= 1, got " + std::to_string(opt.max_vertices));
   if (!(opt.max_radius >= 0)) fail(ErrorCode::BadUsage, "patch grower: the radius must be >= 0");
   prepare_workspace(ws, nv, true);
-  // adjacency_edge_lengths' expression (neighbor minus vertex, x, y, z), so the same bits.
-  auto length = [&m](int64_t, int32_t i, int32_t j) {
-    return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
-                     (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
-  };
-  grow_geodesic(adj, length, seeds, opt, ws, out, NoLabels{});
+  grow_geodesic(adj, PositionLength{m}, seeds, opt, ws, out, NoLabels{});
 }
 
-void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+namespace {
+
+template <class Length>
+void label_nearest(const Adjacency& adj, Length&& length, std::span<const GrowSeed> seeds,
+                   std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  std::fill(label.begin(), label.end(), -1);
+  prepare_workspace(ws, static_cast<int32_t>(adj.offsets.size()) - 1, true);
+  HostVector<int32_t> settled;
+  grow_geodesic(adj, length, seeds, GrowOptions{GrowMode::Geodesic}, ws, settled, SeedLabels{seed_label, label});
+}
+
+void check_labels(const Adjacency& adj, std::span<const GrowSeed> seeds, std::span<const int32_t> seed_label,
+                  std::span<int32_t> label) {
   const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
   if (label.size() != static_cast<size_t>(nv))
     fail(ErrorCode::BadUsage, "seed labels: one label per vertex expected");
   if (seed_label.size() != seeds.size()) fail(ErrorCode::BadUsage, "seed labels: one label per seed expected");
   check_seeds(seeds, nv);
+}
+
+}  // namespace
+
+void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  check_labels(adj, seeds, seed_label, label);
   check_edge_lengths(adj, edge_length);
-  std::fill(label.begin(), label.end(), -1);
-  prepare_workspace(ws, nv, true);
-  HostVector<int32_t> settled;
-  grow_geodesic(adj, [&](int64_t a, int32_t, int32_t) { return edge_length[a]; }, seeds,
-                GrowOptions{GrowMode::Geodesic}, ws, settled, SeedLabels{seed_label, label});
+  label_nearest(adj, [&](int64_t a, int32_t, int32_t) { return edge_length[a]; }, seeds, seed_label, ws, label);
+}
+
+void label_nearest_seeds(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  if (adj.offsets.size() != static_cast<size_t>(m.num_vertices()) + 1)
+    fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
+  check_labels(adj, seeds, seed_label, label);
+  label_nearest(adj, PositionLength{m}, seeds, seed_label, ws, label);
 }
 
 std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int32_t count) {

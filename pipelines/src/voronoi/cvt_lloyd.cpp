@@ -504,10 +504,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     geometry_beside_graph_start(m, derived, ops.area_op, r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
                                 first);
   });
-  ops.area_op = HostVector<double>();  // in the stars now
-  // Isotropic: area_op was a copy of these areas; only the anisotropic final
-  // cells (partition_cells) read them again.
-  if (opt.anisotropy == 0) area_r3 = HostVector<double>();
+  ops.area_op = HostVector<double>();  // in the stars now (isotropic: area_r3 moved there)
   ctx.check_cancel();
   const Edges& edges = derived.incidence.edges;
 

@@ -44,8 +44,9 @@ struct LloydOperators {
 };
 
 // Checks the diffusion times and a prepared operator, then builds `ops`; the
-// factorization's phases are timed on `sw`.
-void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
+// factorization's phases are timed on `sw`. Isotropic: area_r3 (face_areas)
+// moves into ops.area_op (left empty; anisotropic runs keep it).
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, HostVector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops);
 
 // The graph-metric iterations of a run (LloydOptions::graph_iterations): the

@@ -69,7 +69,7 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
   }
   HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
   GrowWorkspace ws;
-  label_nearest_seeds(adj, adjacency_edge_lengths(m, adj), seeds, seed_site, ws, label);
+  label_nearest_seeds(adj, m, seeds, seed_site, ws, label);
   return label;
 }
 
@@ -77,8 +77,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
                                    std::vector<SurfacePoint>& sites, int iterations, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
-  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
-  GrowWorkspace ws;
+  GrowWorkspace ws;  // edge lengths as the Dijkstras reach them: no mesh-wide array beside Lloyd's setup
   HostVector<int32_t> label(static_cast<size_t>(n));
   std::vector<GrowSeed> seeds;
   std::vector<int32_t> seed_site;
@@ -91,7 +90,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
       seeds.insert(seeds.end(), g, g + cnt);
       seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
     }
-    label_nearest_seeds(adj, edge_length, seeds, seed_site, ws, label);
+    label_nearest_seeds(adj, m, seeds, seed_site, ws, label);
   };
   std::vector<double> sum(4 * static_cast<size_t>(ns));
   std::vector<double> best(ns);

@@ -133,6 +133,12 @@ inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_
 void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
                          std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
 
+// The same with the edge lengths of m's positions computed as the Dijkstra
+// reaches them (adjacency_edge_lengths' values, bit for bit): no mesh-wide
+// array (20 MB at 416k vertices) for a caller that labels a few times.
+void label_nearest_seeds(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
+
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
 HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
