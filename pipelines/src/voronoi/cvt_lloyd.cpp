@@ -501,7 +501,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
   std::optional<CancelScope> scope(std::in_place, geometry_ticker);
   in_arena([&] {
-    geometry_beside_graph_start(m, derived, ops.area_op, r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
+    geometry_beside_graph_start(m, derived, std::move(ops.area_op), r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
                                 first);
   });
   ops.area_op = HostVector<double>();  // in the stars now (isotropic: area_r3 moved there)

@@ -159,7 +159,7 @@ int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices) {
   return vertices >= kGraphLloydVertices ? std::max(0, opt.iterations - kLargeHeatIterations) : 0;
 }
 
-void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector<double>&& area_op,
                                  int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
                                  std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
                                  HostVector<int32_t>& first) {
@@ -169,7 +169,7 @@ void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<
   try {
     geo = prepare_centroid_geometry(m, d.adjacency);
     ticker.add(1.0);
-    stars = vertex_stars(m, area_op);
+    stars = vertex_stars(m, std::move(area_op));
     ticker.add(1.0);
   } catch (...) {
     try {  // the task reads what unwinding frees: wait for it first

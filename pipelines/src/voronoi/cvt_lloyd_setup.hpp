@@ -54,12 +54,12 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
 // of them on meshes of at least kGraphLloydVertices vertices, else none.
 int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices);
 
-// The centroid fits' geometry and the stars (face areas area_op), and beside
+// The centroid fits' geometry and the stars (face areas area_op, moved into them), and beside
 // them (a oneTBB task in the caller's arena: they read only the adjacency and
 // the masses) the graph-metric iterations on `sites` (geodesic_lloyd), whose
 // last cells go to `first` (left empty when graph_iterations is 0). The
 // geometry's loops tick `ticker`.
-void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector<double>&& area_op,
                                  int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
                                  std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
                                  HostVector<int32_t>& first);

@@ -106,6 +106,10 @@ void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fr
 }
 
 VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
+  return vertex_stars(m, HostVector<double>(face_area.begin(), face_area.end()));
+}
+
+VertexStars vertex_stars(const Mesh& m, HostVector<double>&& face_area) {
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": vertex stars need a triangle mesh");
   if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
@@ -120,8 +124,10 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
   HostVector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = f;
   }
+  st.area = std::move(face_area);
+  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
   return st;
 }
 
@@ -138,21 +144,23 @@ void visit_cell_loads(const VertexStars& stars, const HeatVoronoi& V, int32_t c,
     // The cell's vertices are scattered in memory: fetch ahead (offsets 8 vertices
     // ahead, the star blocks 4 ahead) so the misses overlap instead of stalling.
     if (i + 8 < nc) __builtin_prefetch(stars.offsets.data() + cell[i + 8]);
-    if (i + 4 < nc) {
-      const StarFace* ahead = stars.faces.data() + stars.offsets[cell[i + 4]];
-      __builtin_prefetch(ahead);
-      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 64);
-      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 128);
+    if (i + 4 < nc) __builtin_prefetch(stars.faces.data() + stars.offsets[cell[i + 4]]);
+    if (i + 2 < nc) {  // the next vertices' faces: their corners and areas
+      const int32_t w = cell[i + 2];
+      for (int64_t p = stars.offsets[w]; p < stars.offsets[w + 1]; ++p) {
+        __builtin_prefetch(stars.corners.data() + 3 * static_cast<int64_t>(stars.faces[p]));
+        __builtin_prefetch(stars.area.data() + stars.faces[p]);
+      }
     }
     const int32_t cv = cell[i];
     for (int64_t p = stars.offsets[cv]; p < stars.offsets[cv + 1]; ++p) {
-      const StarFace& sf = stars.faces[p];
-      const int32_t* v = sf.v;
+      const int32_t f = stars.faces[p];
+      const int32_t* v = stars.corners.data() + 3 * static_cast<int64_t>(f);
       const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
       int first = 0;
       while (l[first] != c) ++first;  // cv is a corner labelled c
       if (v[first] != cv) continue;   // visited from its first corner labelled c
-      const double A = sf.area;
+      const double A = stars.area[f];
       if (l[0] == l[1] && l[1] == l[2]) {
         for (int k = 0; k < 3; ++k) add(v[k], A / 3);
         continue;
