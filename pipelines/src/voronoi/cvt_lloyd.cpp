@@ -540,7 +540,9 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
     if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
   }
-  geo = {};  // the centroid fits' geometry: not needed by the final labels (memory)
+  // The centroid fits' normals: not needed by the final labels (memory); the
+  // face lists stay, the stars borrow them.
+  geo.normals = HostVector<double>();
   loop.finish();
   return r;
 }

@@ -169,7 +169,7 @@ void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector
   try {
     geo = prepare_centroid_geometry(m, d.adjacency);
     ticker.add(1.0);
-    stars = vertex_stars(m, std::move(area_op));
+    stars = vertex_stars(m, geo.vf_offsets, geo.vf_faces, std::move(area_op));  // the fits' face lists, borrowed
     ticker.add(1.0);
   } catch (...) {
     try {  // the task reads what unwinding frees: wait for it first

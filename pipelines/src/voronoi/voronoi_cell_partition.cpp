@@ -109,23 +109,48 @@ VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
   return vertex_stars(m, HostVector<double>(face_area.begin(), face_area.end()));
 }
 
-VertexStars vertex_stars(const Mesh& m, HostVector<double>&& face_area) {
-  const int32_t n = m.num_vertices(), nf = m.num_faces();
+namespace {
+
+void check_star_input(const Mesh& m, size_t areas) {
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": vertex stars need a triangle mesh");
-  if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+  if (areas != static_cast<size_t>(m.num_faces())) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+}
+
+}  // namespace
+
+VertexStars vertex_stars(const Mesh& m, HostVector<double>&& face_area) {
+  check_star_input(m, face_area.size());
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
   VertexStars st;
-  st.offsets.assign(static_cast<size_t>(n) + 1, 0);
+  HostVector<int64_t>& off = st.own_offsets;
+  off.assign(static_cast<size_t>(n) + 1, 0);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++st.offsets[v + 1];
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++off[v + 1];
   }
-  for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
-  st.faces.resize(st.offsets[n]);
-  HostVector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
+  for (int32_t v = 0; v < n; ++v) off[v + 1] += off[v];
+  st.own_faces.resize(off[n]);
+  HostVector<int64_t> fill(off.begin(), off.end() - 1);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = f;
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.own_faces[fill[v]++] = f;
   }
+  st.offsets = std::span<const int64_t>(off.data(), off.size());
+  st.faces = std::span<const int32_t>(st.own_faces.data(), st.own_faces.size());
+  st.area = std::move(face_area);
+  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
+  return st;
+}
+
+VertexStars vertex_stars(const Mesh& m, std::span<const int64_t> vf_offsets, std::span<const int32_t> vf_faces,
+                         HostVector<double>&& face_area) {
+  check_star_input(m, face_area.size());
+  if (vf_offsets.size() != static_cast<size_t>(m.num_vertices()) + 1 ||
+      vf_faces.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "vertex stars: the face lists belong to another mesh");
+  VertexStars st;
+  st.offsets = vf_offsets;
+  st.faces = vf_faces;
   st.area = std::move(face_area);
   st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
   return st;
