@@ -300,8 +300,8 @@ void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_leng
   label_nearest(adj, [&](int64_t a, int32_t, int32_t) { return edge_length[a]; }, seeds, seed_label, ws, label);
 }
 
-void label_nearest_seeds(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
-                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+void label_nearest_seeds_by_positions(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                                      std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
   if (adj.offsets.size() != static_cast<size_t>(m.num_vertices()) + 1)
     fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
   check_labels(adj, seeds, seed_label, label);

@@ -69,7 +69,7 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
   }
   HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
   GrowWorkspace ws;
-  label_nearest_seeds(adj, m, seeds, seed_site, ws, label);
+  label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
   return label;
 }
 
@@ -90,7 +90,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
       seeds.insert(seeds.end(), g, g + cnt);
       seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
     }
-    label_nearest_seeds(adj, m, seeds, seed_site, ws, label);
+    label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
   };
   std::vector<double> sum(4 * static_cast<size_t>(ns));
   std::vector<double> best(ns);

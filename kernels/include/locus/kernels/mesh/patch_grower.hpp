@@ -136,8 +136,8 @@ void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_leng
 // The same with the edge lengths of m's positions computed as the Dijkstra
 // reaches them (adjacency_edge_lengths' values, bit for bit): no mesh-wide
 // array (20 MB at 416k vertices) for a caller that labels a few times.
-void label_nearest_seeds(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
-                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
+void label_nearest_seeds_by_positions(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                                      std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
