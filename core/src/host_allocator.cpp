@@ -1,9 +1,14 @@
 // The host's allocator (core/include/locus/core/host_allocator.hpp).
 #include "locus/core/host_allocator.hpp"
+#include "locus/core/release_free_memory.hpp"
 
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace locus {
 
@@ -88,6 +93,12 @@ void host_deallocate(void* p) noexcept {
     h->free(hd, h->user);
   else
     std::free(hd);
+}
+
+void release_free_memory() noexcept {
+#if defined(__GLIBC__)
+  if (!g_hooks.load(std::memory_order_acquire)) malloc_trim(0);
+#endif
 }
 
 std::size_t host_allocation_size(const void* p) noexcept {

@@ -11,6 +11,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -155,10 +156,12 @@ void take_quality(const CvtQuality& q, CvtReport& r) {
 }  // namespace
 
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
-                  const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx) {
+                  const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
+                  std::function<void()> operator_done) {
   RemeshOptions ro;
   ro.lloyd = lloyd_options(req, ts, tc);
   ro.lloyd.prepared = prepared;
+  ro.operator_done = std::move(operator_done);
   ro.max_repair_rounds = req.repair_rounds;
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
@@ -268,7 +271,9 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   if (isotropic)
     prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once);
   const double prepare_s = seconds(t0);
-  CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query());
+  // The command's own operator: freed once the remesh's repair is done with it.
+  CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
+                        [&prepared] { prepared = HeatDiffusion{}; });
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
   r.requested = req.sites;  // as asked: `delivered` shows what the components needed

@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <future>
 #include <map>
 #include <optional>
@@ -310,8 +311,10 @@ inline constexpr double kCvtFactorIterations = 2.2;
 // Lloyd and the remesh on `prepared` (the cells' M - tL; null: cvt_lloyd
 // factors its own), and the statistics. Session::cvt(const CvtRequest&) and
 // the cached tier (Session::cvt with remesh) both run it.
+// `operator_done`: RemeshOptions::operator_done (the owner of `prepared` frees it).
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
-                  const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx);
+                  const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
+                  std::function<void()> operator_done = {});
 
 // The cvt request's sites on this mesh: BadInput for more than its vertices;
 // fewer than its components are raised to their count (and ctx notes it).

@@ -80,9 +80,10 @@ struct SeedLabels {
 
 // Dijkstra with the DEM's heap; ws.touched lists every vertex whose state was set.
 // `rec` hears of every distance set (rec.seed: from seed k; rec.edge: from vertex q).
-template <class Recorder>
-void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<const GrowSeed> seeds,
-                   const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out, Recorder&& rec) {
+// `len(a, q, r)`: the length of adjacency entry a (from vertex q to its neighbor r).
+template <class Length, class Recorder>
+void grow_geodesic(const Adjacency& adj, Length&& len, std::span<const GrowSeed> seeds, const GrowOptions& opt,
+                   GrowWorkspace& ws, HostVector<int32_t>& out, Recorder&& rec) {
   double* dist = ws.dist.data();
   uint8_t* state = ws.state.data();
   const bool prune = opt.radius_rule == RadiusRule::PruneBeyond;
@@ -111,7 +112,7 @@ void grow_geodesic(const Adjacency& adj, std::span<const double> len, std::span<
     for (int64_t a = adj.offsets[q]; a < adj.offsets[q + 1]; ++a) {
       const int32_t r = adj.neighbors[a];
       if (state[r] == 2) continue;
-      const double nd = dq + len[a];
+      const double nd = dq + len(a, q, r);
       if (prune && !(nd <= radius)) continue;
       if (state[r] == 0) {
         state[r] = 1;
@@ -218,6 +219,16 @@ void check_seeds(std::span<const GrowSeed> seeds, int32_t nv) {
                                     std::to_string(nv - 1));
 }
 
+// Edge lengths from the positions as a grow reaches them: adjacency_edge_lengths'
+// expression (neighbor minus vertex, x, y, z), so the same bits.
+struct PositionLength {
+  const Mesh& m;
+  double operator()(int64_t, int32_t i, int32_t j) const {
+    return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
+                     (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
+  }
+};
+
 void check_edge_lengths(const Adjacency& adj, std::span<const double> edge_length) {
   if (edge_length.size() != adj.neighbors.size())
     fail(ErrorCode::BadUsage, "patch grower: geodesic mode needs one edge length per adjacency entry (" +
@@ -242,22 +253,59 @@ int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length,
   }
   check_edge_lengths(adj, edge_length);
   if (!(opt.max_radius >= 0)) fail(ErrorCode::BadUsage, "patch grower: the radius must be >= 0");
-  grow_geodesic(adj, edge_length, seeds, opt, ws, out, NoLabels{});
+  grow_geodesic(adj, [&](int64_t a, int32_t, int32_t) { return edge_length[a]; }, seeds, opt, ws, out, NoLabels{});
   return 0;
 }
 
-void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
-                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+void grow_geodesic_vertices(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                            const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out) {
+  const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
+  out.clear();
+  if (seeds.empty()) fail(ErrorCode::BadUsage, "patch grower: no seed vertex");
+  if (nv != m.num_vertices()) fail(ErrorCode::BadUsage, "patch grower: the adjacency belongs to another mesh");
+  check_seeds(seeds, nv);
+  if (opt.max_vertices < 1)
+    fail(ErrorCode::BadUsage, "patch vertex count must be >= 1, got " + std::to_string(opt.max_vertices));
+  if (!(opt.max_radius >= 0)) fail(ErrorCode::BadUsage, "patch grower: the radius must be >= 0");
+  prepare_workspace(ws, nv, true);
+  grow_geodesic(adj, PositionLength{m}, seeds, opt, ws, out, NoLabels{});
+}
+
+namespace {
+
+template <class Length>
+void label_nearest(const Adjacency& adj, Length&& length, std::span<const GrowSeed> seeds,
+                   std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  std::fill(label.begin(), label.end(), -1);
+  prepare_workspace(ws, static_cast<int32_t>(adj.offsets.size()) - 1, true);
+  HostVector<int32_t> settled;
+  grow_geodesic(adj, length, seeds, GrowOptions{GrowMode::Geodesic}, ws, settled, SeedLabels{seed_label, label});
+}
+
+void check_labels(const Adjacency& adj, std::span<const GrowSeed> seeds, std::span<const int32_t> seed_label,
+                  std::span<int32_t> label) {
   const int32_t nv = static_cast<int32_t>(adj.offsets.size()) - 1;
   if (label.size() != static_cast<size_t>(nv))
     fail(ErrorCode::BadUsage, "seed labels: one label per vertex expected");
   if (seed_label.size() != seeds.size()) fail(ErrorCode::BadUsage, "seed labels: one label per seed expected");
   check_seeds(seeds, nv);
+}
+
+}  // namespace
+
+void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
+                         std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  check_labels(adj, seeds, seed_label, label);
   check_edge_lengths(adj, edge_length);
-  std::fill(label.begin(), label.end(), -1);
-  prepare_workspace(ws, nv, true);
-  HostVector<int32_t> settled;
-  grow_geodesic(adj, edge_length, seeds, GrowOptions{GrowMode::Geodesic}, ws, settled, SeedLabels{seed_label, label});
+  label_nearest(adj, [&](int64_t a, int32_t, int32_t) { return edge_length[a]; }, seeds, seed_label, ws, label);
+}
+
+void label_nearest_seeds_by_positions(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                                      std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label) {
+  if (adj.offsets.size() != static_cast<size_t>(m.num_vertices()) + 1)
+    fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
+  check_labels(adj, seeds, seed_label, label);
+  label_nearest(adj, PositionLength{m}, seeds, seed_label, ws, label);
 }
 
 std::vector<int32_t> grow_ring_vertices(const Adjacency& adj, int32_t seed, int32_t count) {

@@ -6,6 +6,7 @@
 // metric in kernels/mesh/lifted_metric.cpp.
 #include "locus/pipelines/voronoi/cvt_lloyd.hpp"
 #include "locus/core/host_allocator.hpp"
+#include "locus/core/release_free_memory.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -194,9 +195,12 @@ void LloydLoop::labels_of_sites() {
   // The centroid step's per-thread solve workspaces (8 n doubles each) are not
   // needed while the labels' own are: freed, not held across the whole loop.
   cscratch_.clear();
+  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
+  // What was just freed (the workspaces ~50 MB at 416k vertices, in the worker
+  // threads' heaps) is not kept resident through the labels' peak.
+  release_free_memory();
   BatchStopwatch psw;
   if (order_.empty()) order_ = spatial_order(m_, sites_);
-  V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
   if (local_ && !batch_kept_.empty()) {
     V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, labels_ctx_);
   } else {  // first labels: per-site Dijkstra balls (localized) or full solves
@@ -467,7 +471,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
 
   LloydResult r;
   BatchStopwatch sw;
-  const HostVector<double> area_r3 = face_areas(m);
+  HostVector<double> area_r3 = face_areas(m);
   // Progress: operators and first neighborhoods, then the iterations and the
   // final labels (LloydLoop), one monotone fraction. The first neighborhoods
   // cost ~1.3 iterations, the final labels about one (docs/shipping.md).
@@ -475,6 +479,9 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const RunContext init_ctx = ctx.sub(0.0, init_share);
   LloydOperators ops;
   prepare_lloyd_operators(m, derived, opt, area_r3, sw, init_ctx.sub(0.0, 0.5), ops);
+  // The factorizations' workspaces are freed: not resident through the setup
+  // below (the peak of a 416k-vertex run's RSS otherwise).
+  release_free_memory();
   const HeatDiffusion& H = *ops.H;
   const HeatDiffusion& Hc = *ops.Hc;
   sw.lap();
@@ -497,10 +504,10 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   ProgressTicker geometry_ticker(init_ctx.sub(0.45, 0.5), "cvt geometry", 2.0);
   std::optional<CancelScope> scope(std::in_place, geometry_ticker);
   in_arena([&] {
-    geometry_beside_graph_start(m, derived, ops.area_op, r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
+    geometry_beside_graph_start(m, derived, std::move(ops.area_op), r.graph_iterations, geometry_ticker, ctx, sites, geo, stars,
                                 first);
   });
-  ops.area_op = HostVector<double>();  // in the stars now
+  ops.area_op = HostVector<double>();  // in the stars now (isotropic: area_r3 moved there)
   ctx.check_cancel();
   const Edges& edges = derived.incidence.edges;
 
@@ -536,7 +543,9 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
     if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
   }
-  geo = {};  // the centroid fits' geometry: not needed by the final labels (memory)
+  // The centroid fits' normals: not needed by the final labels (memory); the
+  // face lists stay, the stars borrow them.
+  geo.normals = HostVector<double>();
   loop.finish();
   return r;
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/lifted_metric.hpp"
@@ -94,7 +95,7 @@ const MeshDerived& check_lloyd_input(const Mesh& m, const MeshDerived* given, st
   return derived;
 }
 
-void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, HostVector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops) {
   const int32_t n = m.num_vertices();
   // Operator of the metric (R^3, or the R^6 lift) for time t: A = M - t L, lumped mass, h.
@@ -116,7 +117,7 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
     if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
     if (opt.prepared->n != n || opt.prepared->mass.size() != static_cast<size_t>(n))
       fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
-    ops.area_op = area_r3;
+    ops.area_op = std::move(area_r3);
   } else {
     HostVector<double> mass;
     double h = 0;
@@ -127,7 +128,10 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
     }
     const double t = opt.t_abs > 0 ? opt.t_abs : opt.t_factor * h * h;
     const CscMatrix A = build(t, mass, h);
-    ops.area_op = opt.anisotropy > 0 ? face_areas_from_positions(m, lifted, 6) : area_r3;
+    if (opt.anisotropy > 0)
+      ops.area_op = face_areas_from_positions(m, lifted, 6);
+    else
+      ops.area_op = std::move(area_r3);
     const double op_s = sw.lap();
     ops.H_own = prepare_heat_diffusion(A, std::move(mass), h, t, ctx);
     ops.H_own.operator_s = op_s;
@@ -155,7 +159,7 @@ int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices) {
   return vertices >= kGraphLloydVertices ? std::max(0, opt.iterations - kLargeHeatIterations) : 0;
 }
 
-void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector<double>&& area_op,
                                  int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
                                  std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
                                  HostVector<int32_t>& first) {
@@ -165,7 +169,7 @@ void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<
   try {
     geo = prepare_centroid_geometry(m, d.adjacency);
     ticker.add(1.0);
-    stars = vertex_stars(m, area_op);
+    stars = vertex_stars(m, geo.vf_offsets, geo.vf_faces, std::move(area_op));  // the fits' face lists, borrowed
     ticker.add(1.0);
   } catch (...) {
     try {  // the task reads what unwinding frees: wait for it first

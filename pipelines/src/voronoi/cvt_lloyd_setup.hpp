@@ -44,8 +44,9 @@ struct LloydOperators {
 };
 
 // Checks the diffusion times and a prepared operator, then builds `ops`; the
-// factorization's phases are timed on `sw`.
-void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, const HostVector<double>& area_r3,
+// factorization's phases are timed on `sw`. Isotropic: area_r3 (face_areas)
+// moves into ops.area_op (left empty; anisotropic runs keep it).
+void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOptions& opt, HostVector<double>& area_r3,
                              BatchStopwatch& sw, const RunContext& ctx, LloydOperators& ops);
 
 // The graph-metric iterations of a run (LloydOptions::graph_iterations): the
@@ -53,12 +54,12 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
 // of them on meshes of at least kGraphLloydVertices vertices, else none.
 int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices);
 
-// The centroid fits' geometry and the stars (face areas area_op), and beside
+// The centroid fits' geometry and the stars (face areas area_op, moved into them), and beside
 // them (a oneTBB task in the caller's arena: they read only the adjacency and
 // the masses) the graph-metric iterations on `sites` (geodesic_lloyd), whose
 // last cells go to `first` (left empty when graph_iterations is 0). The
 // geometry's loops tick `ticker`.
-void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, std::span<const double> area_op,
+void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector<double>&& area_op,
                                  int32_t graph_iterations, ProgressTicker& ticker, const RunContext& ctx,
                                  std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
                                  HostVector<int32_t>& first);

@@ -121,7 +121,7 @@ Level finer(const Level& coarse, bool same_t, Levels& keep, const RunContext& ct
   if (same_t && coarse.lo.prepared) L.lo.t_abs = coarse.lo.prepared->t;
   if (coarse.lo.anisotropy == 0)
     L.lo.prepared = &keep.ops.emplace_back(prepare_heat_diffusion(*L.m, *L.d, L.lo.t_factor, L.lo.t_abs, ctx));
-  L.topo = dual_topology(*L.m);
+  L.topo = dual_topology(*L.m, L.d->incidence);
   ++r.refinements;
   return L;
 }
@@ -556,9 +556,9 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   r.lloyd_s = sw.lap();
-  // The input's edge topology after Lloyd, not held through its iterations
-  // (~45 MB at 416k vertices); finer levels built theirs.
-  if (L.m == &m) L.topo = dual_topology(m);
+  // The input's dual topology on the derived data's edge incidence (not a
+  // second one, ~45 MB at 416k vertices; copies of the level share it).
+  if (L.m == &m) L.topo = dual_topology(m, d.incidence);
   RestrictedDual dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
   r.first_defects = dual.defects;
   r.dual_s += sw.lap();
@@ -573,10 +573,16 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.requested = o.lloyd.sites;
   r.repair_sites = r.added_sites;
   r.added_sites = static_cast<int32_t>(r.lloyd.sites.size()) - r.requested;  // net: sites = requested + added
-  // The repair is done: its top-K lists and the level's edge topology are not
-  // needed by the assembly and the optimization (~65 MB at 416k vertices).
+  // The repair is done: its top-K lists and the level's dual topology are not
+  // needed by the assembly and the optimization (~20 MB at 416k vertices).
   r.lloyd.voronoi = HeatVoronoi{};
   L.topo = DualTopology{};
+  // No heat solve after the repair: the operator goes before the assembly and
+  // the optimization (the input's TriangleGrid) allocate.
+  L.lo.prepared = nullptr;
+  own = HeatDiffusion{};
+  keep.ops.clear();  // the finer levels' operators (their meshes stay: back_to_input)
+  if (o.operator_done) o.operator_done();
   if (r.complete) assemble(m, L, dual, o, sw, r);
   r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);

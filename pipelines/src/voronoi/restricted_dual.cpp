@@ -93,7 +93,7 @@ struct Repairs {
 void check_cells(const Mesh& m, const DualTopology& topo, std::span<const int32_t> label,
                  std::span<const SurfacePoint> sites, RestrictedDual& d, Repairs& rep) {
   const int32_t n = m.num_vertices(), ns = static_cast<int32_t>(sites.size());
-  const Edges& e = topo.inc.edges;
+  const Edges& e = topo.inc().edges;
   std::vector<int64_t> chi(ns, 0);
   d.cell_size.assign(ns, 0);
   for (int32_t v = 0; v < n; ++v) ++d.cell_size[label[v]];
@@ -147,14 +147,14 @@ void check_cells(const Mesh& m, const DualTopology& topo, std::span<const int32_
 // two-label faces; endpoints are corners (three-label faces) and boundary edges.
 void check_interfaces(const Mesh& m, const DualTopology& topo, std::span<const int32_t> label, RestrictedDual& d,
                       Repairs& rep) {
-  const Edges& e = topo.inc.edges;
+  const Edges& e = topo.inc().edges;
   const int32_t ne = static_cast<int32_t>(e.e0.size());
   Dsu ed(ne);
   std::vector<uint8_t> corner_ends(ne, 0);
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const int32_t off = m.face_offsets[f];
     const int32_t l[3] = {label[m.f0[f]], label[m.f1[f]], label[m.f2[f]]};
-    const int32_t ee[3] = {topo.inc.corner_edge[off], topo.inc.corner_edge[off + 1], topo.inc.corner_edge[off + 2]};
+    const int32_t ee[3] = {topo.inc().corner_edge[off], topo.inc().corner_edge[off + 1], topo.inc().corner_edge[off + 2]};
     if (l[0] == l[1] && l[1] == l[2]) continue;
     if (l[0] != l[1] && l[1] != l[2] && l[0] != l[2]) {
       for (int k = 0; k < 3; ++k) ++corner_ends[ee[k]];
@@ -266,11 +266,11 @@ void check_boundary(const Mesh& m, const DualTopology& topo, std::span<const int
 
 }  // namespace
 
-DualTopology dual_topology(const Mesh& m) {
-  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": the restricted dual needs a triangle mesh");
-  DualTopology t;
-  t.inc = edge_incidence(m);
-  t.loops = boundary_loops(m, t.inc);
+namespace {
+
+// Loops and sharp boundary corners of t.inc().
+void complete_topology(const Mesh& m, DualTopology& t) {
+  t.loops = boundary_loops(m, t.inc());
   t.sharp_boundary.assign(m.num_vertices(), 0);
   for (const auto& loop : t.loops) {
     const size_t len = loop.size();
@@ -285,6 +285,29 @@ DualTopology dual_topology(const Mesh& m) {
       if (nu > 0 && nw > 0 && c < std::sqrt(0.5) * nu * nw) t.sharp_boundary[v] = 1;
     }
   }
+}
+
+void check_triangles(const Mesh& m) {
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": the restricted dual needs a triangle mesh");
+}
+
+}  // namespace
+
+DualTopology dual_topology(const Mesh& m) {
+  check_triangles(m);
+  DualTopology t;
+  t.own = edge_incidence(m);
+  complete_topology(m, t);
+  return t;
+}
+
+DualTopology dual_topology(const Mesh& m, const EdgeIncidence& inc) {
+  check_triangles(m);
+  if (inc.corner_edge.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "dual topology: the edge incidence belongs to another mesh");
+  DualTopology t;
+  t.borrowed = &inc;
+  complete_topology(m, t);
   return t;
 }
 
@@ -303,7 +326,7 @@ RestrictedDual restricted_dual(const Mesh& m, const DualTopology& topo, std::spa
   // neighborhoods (Repairs::add_near).
   for (bool near : {false, true}) {
     d = RestrictedDual{};
-    Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices, topo.inc.edges, near, {}, {}};
+    Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices, topo.inc().edges, near, {}, {}};
     for (const SurfacePoint& p : sites) {  // a site at a vertex (or at a face's corner) takes it
       if (p.face < 0 && p.vertex >= 0 && p.vertex < n) rep.taken[p.vertex] = 1;
       if (p.face >= 0)

@@ -16,8 +16,8 @@ namespace {
 
 // Vertices within graph distance `radius` of a surface point, sorted: the patch
 // grower's geodesic ball from the corners of the point's support.
-std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::span<const double> edge_length,
-                                   const SurfacePoint& s, double radius, GrowWorkspace& w) {
+std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, const SurfacePoint& s, double radius,
+                                   GrowWorkspace& w) {
   GrowSeed seeds[3];
   const int cnt = site_seeds(m, s, seeds);
   GrowOptions o;
@@ -25,7 +25,7 @@ std::vector<int32_t> geodesic_ball(const Mesh& m, const Adjacency& adj, std::spa
   o.max_radius = radius;
   o.radius_rule = RadiusRule::PruneBeyond;
   HostVector<int32_t> out;
-  grow_vertices(adj, edge_length, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
+  grow_geodesic_vertices(adj, m, std::span<const GrowSeed>(seeds, static_cast<size_t>(cnt)), o, w, out);
   std::sort(out.begin(), out.end());
   return std::vector<int32_t>(out);
 }
@@ -48,10 +48,11 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
                                                          const RunContext& ctx) {
   const int32_t ns = static_cast<int32_t>(sites.size());
   std::vector<std::vector<int32_t>> nb(ns);
-  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
+  // Edge lengths as the balls reach them: no mesh-wide array (20 MB at 416k
+  // vertices, held beside the repair's factor for a few relabelled sites).
   tbb::enumerable_thread_specific<GrowWorkspace> scratch;
   tbb::parallel_for(0, ns, [&](int32_t s) {
-    if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, edge_length, sites[s], radius, scratch.local());
+    if (!ctx.cancelled()) nb[s] = geodesic_ball(m, adj, sites[s], radius, scratch.local());
   });
   ctx.check_cancel();
   return nb;
@@ -68,7 +69,7 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
   }
   HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
   GrowWorkspace ws;
-  label_nearest_seeds(adj, adjacency_edge_lengths(m, adj), seeds, seed_site, ws, label);
+  label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
   return label;
 }
 
@@ -76,8 +77,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
                                    std::vector<SurfacePoint>& sites, int iterations, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
-  const HostVector<double> edge_length = adjacency_edge_lengths(m, adj);
-  GrowWorkspace ws;
+  GrowWorkspace ws;  // edge lengths as the Dijkstras reach them: no mesh-wide array beside Lloyd's setup
   HostVector<int32_t> label(static_cast<size_t>(n));
   std::vector<GrowSeed> seeds;
   std::vector<int32_t> seed_site;
@@ -90,7 +90,7 @@ HostVector<int32_t> geodesic_lloyd(const Mesh& m, const Adjacency& adj, std::spa
       seeds.insert(seeds.end(), g, g + cnt);
       seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
     }
-    label_nearest_seeds(adj, edge_length, seeds, seed_site, ws, label);
+    label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
   };
   std::vector<double> sum(4 * static_cast<size_t>(ns));
   std::vector<double> best(ns);

@@ -106,22 +106,53 @@ void split_triangle(int nl, const int32_t* lab, const double (*u)[3], double* fr
 }
 
 VertexStars vertex_stars(const Mesh& m, std::span<const double> face_area) {
-  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  return vertex_stars(m, HostVector<double>(face_area.begin(), face_area.end()));
+}
+
+namespace {
+
+void check_star_input(const Mesh& m, size_t areas) {
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": vertex stars need a triangle mesh");
-  if (face_area.size() != static_cast<size_t>(nf)) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+  if (areas != static_cast<size_t>(m.num_faces())) fail(ErrorCode::BadUsage, "vertex stars: one area per face expected");
+}
+
+}  // namespace
+
+VertexStars vertex_stars(const Mesh& m, HostVector<double>&& face_area) {
+  check_star_input(m, face_area.size());
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
   VertexStars st;
-  st.offsets.assign(static_cast<size_t>(n) + 1, 0);
+  HostVector<int64_t>& off = st.own_offsets;
+  off.assign(static_cast<size_t>(n) + 1, 0);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++st.offsets[v + 1];
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) ++off[v + 1];
   }
-  for (int32_t v = 0; v < n; ++v) st.offsets[v + 1] += st.offsets[v];
-  st.faces.resize(st.offsets[n]);
-  HostVector<int64_t> fill(st.offsets.begin(), st.offsets.end() - 1);
+  for (int32_t v = 0; v < n; ++v) off[v + 1] += off[v];
+  st.own_faces.resize(off[n]);
+  HostVector<int64_t> fill(off.begin(), off.end() - 1);
   for (int32_t f = 0; f < nf; ++f) {
     cancel_point(f);
-    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.faces[fill[v]++] = {{m.f0[f], m.f1[f], m.f2[f]}, face_area[f]};
+    for (int32_t v : {m.f0[f], m.f1[f], m.f2[f]}) st.own_faces[fill[v]++] = f;
   }
+  st.offsets = std::span<const int64_t>(off.data(), off.size());
+  st.faces = std::span<const int32_t>(st.own_faces.data(), st.own_faces.size());
+  st.area = std::move(face_area);
+  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
+  return st;
+}
+
+VertexStars vertex_stars(const Mesh& m, std::span<const int64_t> vf_offsets, std::span<const int32_t> vf_faces,
+                         HostVector<double>&& face_area) {
+  check_star_input(m, face_area.size());
+  if (vf_offsets.size() != static_cast<size_t>(m.num_vertices()) + 1 ||
+      vf_faces.size() != m.face_vertices.size())
+    fail(ErrorCode::BadUsage, "vertex stars: the face lists belong to another mesh");
+  VertexStars st;
+  st.offsets = vf_offsets;
+  st.faces = vf_faces;
+  st.area = std::move(face_area);
+  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
   return st;
 }
 
@@ -138,21 +169,23 @@ void visit_cell_loads(const VertexStars& stars, const HeatVoronoi& V, int32_t c,
     // The cell's vertices are scattered in memory: fetch ahead (offsets 8 vertices
     // ahead, the star blocks 4 ahead) so the misses overlap instead of stalling.
     if (i + 8 < nc) __builtin_prefetch(stars.offsets.data() + cell[i + 8]);
-    if (i + 4 < nc) {
-      const StarFace* ahead = stars.faces.data() + stars.offsets[cell[i + 4]];
-      __builtin_prefetch(ahead);
-      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 64);
-      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + 128);
+    if (i + 4 < nc) __builtin_prefetch(stars.faces.data() + stars.offsets[cell[i + 4]]);
+    if (i + 2 < nc) {  // the next vertices' faces: their corners and areas
+      const int32_t w = cell[i + 2];
+      for (int64_t p = stars.offsets[w]; p < stars.offsets[w + 1]; ++p) {
+        __builtin_prefetch(stars.corners.data() + 3 * static_cast<int64_t>(stars.faces[p]));
+        __builtin_prefetch(stars.area.data() + stars.faces[p]);
+      }
     }
     const int32_t cv = cell[i];
     for (int64_t p = stars.offsets[cv]; p < stars.offsets[cv + 1]; ++p) {
-      const StarFace& sf = stars.faces[p];
-      const int32_t* v = sf.v;
+      const int32_t f = stars.faces[p];
+      const int32_t* v = stars.corners.data() + 3 * static_cast<int64_t>(f);
       const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
       int first = 0;
       while (l[first] != c) ++first;  // cv is a corner labelled c
       if (v[first] != cv) continue;   // visited from its first corner labelled c
-      const double A = sf.area;
+      const double A = stars.area[f];
       if (l[0] == l[1] && l[1] == l[2]) {
         for (int k = 0; k < 3; ++k) add(v[k], A / 3);
         continue;

@@ -274,6 +274,46 @@ TEST_CASE("label_nearest_seeds: the labels of multi-source shortest paths (Bellm
   CHECK(std::all_of(tie.begin(), tie.end(), [](int32_t l) { return l == 1; }));
 }
 
+TEST_CASE("geodesic grows and seed labels on a mesh's positions: the oracles' order and labels") {
+  // Edge lengths computed as the grow reaches them, instead of an array per
+  // adjacency entry: the same Dijkstra and Bellman-Ford oracles as above.
+  const Mesh m = make_random_sphere(500, 11);
+  const Adjacency adj = vertex_adjacency(m);
+  GrowWorkspace ws;
+  // Distinct seed distances: the oracle's order of ties is not the heap's.
+  const std::vector<GrowSeed> seeds = {{3, 0.01}, {40, 0.02}, {41, 0.005}, {250, 0.0}, {477, 0.03}, {100, 0.015}};
+  std::vector<int32_t> order;
+  const std::vector<double> d = oracle_dijkstra(m, seeds, order);
+  HostVector<int32_t> got;
+  GrowOptions o;
+  o.mode = GrowMode::Geodesic;
+  grow_geodesic_vertices(adj, m, seeds, o, ws, got);
+  CHECK(std::vector<int32_t>(got) == order);
+  std::vector<int32_t> from_array;  // and the order of the lengths' array, settle for settle
+  grow_vertices(adj, adjacency_edge_lengths(m, adj), seeds, o, ws, from_array);
+  CHECK(std::vector<int32_t>(got) == from_array);
+  o.max_radius = 0.25;
+  o.radius_rule = RadiusRule::PruneBeyond;
+  grow_geodesic_vertices(adj, m, seeds, o, ws, got);
+  std::vector<int32_t> within;
+  for (int32_t v : order)
+    if (d[v] <= 0.25) within.push_back(v);
+  std::vector<int32_t> sorted(got.begin(), got.end());
+  std::sort(sorted.begin(), sorted.end());
+  std::sort(within.begin(), within.end());
+  CHECK(sorted == within);
+  const std::vector<int32_t> seed_label = {7, 7, 7, 2, 5, 5};
+  std::vector<double> dist;
+  std::vector<int32_t> want;
+  oracle_bellman_ford(m, seeds, seed_label, dist, want);
+  std::vector<int32_t> label(static_cast<size_t>(m.num_vertices()), 99);
+  label_nearest_seeds_by_positions(adj, m, seeds, seed_label, ws, label);
+  CHECK(label == want);
+  const Mesh other = make_random_sphere(60, 2);
+  CHECK_THROWS_AS(label_nearest_seeds_by_positions(adj, other, seeds, seed_label, ws, label), Error);
+  CHECK_THROWS_AS(grow_geodesic_vertices(adj, other, seeds, o, ws, got), Error);
+}
+
 TEST_CASE("label_nearest_seeds: unreached components get -1; no seeds; usage errors") {
   Mesh m = make_random_sphere(60, 2);
   const int32_t n0 = m.num_vertices();

@@ -175,6 +175,12 @@ TEST_CASE("restricted dual: Euclidean Voronoi cells of points on a sphere dualiz
       CHECK(n[0] * q[0] + n[1] * q[1] + n[2] * q[2] < 0);
     }
   }
+  // On a borrowed edge incidence (a caller's derived data): the same hull.
+  const EdgeIncidence inc = edge_incidence(m);
+  const RestrictedDual b = restricted_dual(m, dual_topology(m, inc), label, sites);
+  CHECK(b.defects.total() == 0);
+  CHECK(b.triangles == d.triangles);
+  CHECK_THROWS_AS(dual_topology(m, edge_incidence(make_icosphere(1))), Error);
   std::vector<int32_t> vs;
   const Mesh dm = dual_mesh(m, d, sites, vs);
   CHECK(dm.num_vertices() == ns);

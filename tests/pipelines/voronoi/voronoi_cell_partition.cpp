@@ -12,6 +12,7 @@
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/pipelines/voronoi/heat_centroid.hpp"
 #include "locus/error.hpp"
 
 using namespace locus;
@@ -104,37 +105,43 @@ TEST_CASE("cell partition: cell-by-cell loads give the exact areas and moments o
   const HeatVoronoi V = linear_heat(m, {[](double x, double) { return x; }, [](double, double y) { return y; },
                                         [](double, double) { return 0.6; }});
   const auto fa = face_areas(m);
-  const VertexStars st = vertex_stars(m, fa);
-  const int32_t n = m.num_vertices();
-  std::vector<double> acc(n, 0.0);
-  const double exact_area[3] = {0.32, 0.32, 0.36};
-  int64_t fallback = 0;
-  double total = 0;
-  for (int32_t c = 0; c < 3; ++c) {
-    std::vector<int32_t> cell, touched;
-    for (int32_t v = 0; v < n; ++v)
-      if (V.label[v] == c) cell.push_back(v);
-    const double area = accumulate_cell_load(st, V, c, cell, acc, touched, fallback);
-    CHECK(area == doctest::Approx(exact_area[c]).epsilon(1e-12));
-    double sum = 0, mx = 0;
-    for (int32_t v : touched) {
-      CHECK(acc[v] > 0);
-      sum += acc[v];
-      mx += acc[v] * m.x[v];
-      acc[v] = 0.0;
+  // Stars with their own face lists, and stars borrowing the centroid fits' (the same lists).
+  const CentroidGeometry geo = prepare_centroid_geometry(m);
+  const VertexStars own = vertex_stars(m, fa);
+  const VertexStars borrowed = vertex_stars(m, geo.vf_offsets, geo.vf_faces, HostVector<double>(fa.begin(), fa.end()));
+  for (const VertexStars* stars : {&own, &borrowed}) {
+    const VertexStars& st = *stars;
+    const int32_t n = m.num_vertices();
+    std::vector<double> acc(n, 0.0);
+    const double exact_area[3] = {0.32, 0.32, 0.36};
+    int64_t fallback = 0;
+    double total = 0;
+    for (int32_t c = 0; c < 3; ++c) {
+      std::vector<int32_t> cell, touched;
+      for (int32_t v = 0; v < n; ++v)
+        if (V.label[v] == c) cell.push_back(v);
+      const double area = accumulate_cell_load(st, V, c, cell, acc, touched, fallback);
+      CHECK(area == doctest::Approx(exact_area[c]).epsilon(1e-12));
+      double sum = 0, mx = 0;
+      for (int32_t v : touched) {
+        CHECK(acc[v] > 0);
+        sum += acc[v];
+        mx += acc[v] * m.x[v];
+        acc[v] = 0.0;
+      }
+      CHECK(sum == doctest::Approx(exact_area[c]).epsilon(1e-12));
+      if (c == 2) CHECK(mx == doctest::Approx(0.108).epsilon(1e-12));
+      if (c == 0) CHECK(mx == doctest::Approx((1 - 0.216) / 3).epsilon(1e-12));
+      // Loads reach across the cell's boundary (split triangles give their corners a share).
+      bool outside = false;
+      for (int32_t v : touched) outside = outside || V.label[v] != c;
+      CHECK(outside);
+      total += area;
     }
-    CHECK(sum == doctest::Approx(exact_area[c]).epsilon(1e-12));
-    if (c == 2) CHECK(mx == doctest::Approx(0.108).epsilon(1e-12));
-    if (c == 0) CHECK(mx == doctest::Approx((1 - 0.216) / 3).epsilon(1e-12));
-    // Loads reach across the cell's boundary (split triangles give their corners a share).
-    bool outside = false;
-    for (int32_t v : touched) outside = outside || V.label[v] != c;
-    CHECK(outside);
-    total += area;
+    CHECK(total == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(fallback == 0);
+    for (double a : acc) CHECK(a == 0.0);
   }
-  CHECK(total == doctest::Approx(1.0).epsilon(1e-12));
-  CHECK(fallback == 0);
-  for (double a : acc) CHECK(a == 0.0);
 }
 
 TEST_CASE("cell areas from the stars: partition_cells' areas bit for bit, the exact areas") {

@@ -108,6 +108,11 @@ struct GrowWorkspace {
 // Geodesic without edge lengths.
 int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
                       const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
+// A Geodesic grow (opt.mode is ignored) whose edge lengths come from m's
+// positions as the grow reaches them, the values of adjacency_edge_lengths bit
+// for bit: a few grows on a large mesh without its mesh-wide array.
+void grow_geodesic_vertices(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                            const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
 // The same into a std::vector (tools and tests; a copy of the grown vertices).
 inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
                              const GrowOptions& opt, GrowWorkspace& ws, std::vector<int32_t>& out) {
@@ -127,6 +132,12 @@ inline int32_t grow_vertices(const Adjacency& adj, std::span<const double> edge_
 // per adjacency entry).
 void label_nearest_seeds(const Adjacency& adj, std::span<const double> edge_length, std::span<const GrowSeed> seeds,
                          std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
+
+// The same with the edge lengths of m's positions computed as the Dijkstra
+// reaches them (adjacency_edge_lengths' values, bit for bit): no mesh-wide
+// array (20 MB at 416k vertices) for a caller that labels a few times.
+void label_nearest_seeds_by_positions(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                                      std::span<const int32_t> seed_label, GrowWorkspace& ws, std::span<int32_t> label);
 
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
@@ -174,6 +185,11 @@ int32_t patch_vertex_count(int32_t nv, double fraction);
 // from one center. Uses ws.grow; returns the BFS depth (Rings) or 0.
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
                             HostVector<int32_t>& out);
+// A Geodesic grow (opt.mode is ignored) whose edge lengths come from m's
+// positions as the grow reaches them, the values of adjacency_edge_lengths bit
+// for bit: a few grows on a large mesh without its mesh-wide array.
+void grow_geodesic_vertices(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
+                            const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
 // The same into a std::vector (tools and tests; a copy of the grown vertices).
 inline int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
                                    std::vector<int32_t>& out) {
