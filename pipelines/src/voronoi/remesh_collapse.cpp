@@ -18,8 +18,6 @@ namespace {
 
 using namespace remesh_vec3;
 
-V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
-
 struct Work {
   std::vector<V3> p;
   std::vector<std::array<int32_t, 3>> F;

@@ -18,10 +18,6 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-double min_angle(const V3& a, const V3& b, const V3& c) {
-  return std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
-}
-V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
 
 // Vertex -> items (CSR).
 struct Csr {

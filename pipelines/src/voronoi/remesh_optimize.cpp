@@ -20,10 +20,6 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-double min_angle(const V3& a, const V3& b, const V3& c) {
-  return std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
-}
-V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
 
 uint64_t key(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));

@@ -1,6 +1,7 @@
 // The few 3-vector operations the remesh's geometry files share (positions as
 // std::array, the remesh's own working type). Internal to the voronoi pipeline.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -22,5 +23,10 @@ inline double angle_at(const V3& o, const V3& u, const V3& w) {
   return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 inline V3 pos(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
+// A triangle's smallest angle, and its normal scaled by twice its area.
+inline double min_angle(const V3& a, const V3& b, const V3& c) {
+  return std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
+}
+inline V3 tri_normal(const V3& a, const V3& b, const V3& c) { return cross(sub(b, a), sub(c, a)); }
 
 }  // namespace locus::remesh_vec3
