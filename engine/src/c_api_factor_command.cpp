@@ -12,16 +12,6 @@
 
 using namespace locus::c_api_detail;
 
-namespace {
-
-locus::FactorCommandRequest request_of(const locus_factor_options& o) {
-  locus::FactorCommandRequest q;
-  LOCUS_COPY_FIELDS(q, o, repeat, seed, matrix, t, save, load);
-  return q;
-}
-
-}  // namespace
-
 extern "C" {
 
 locus_factor_options locus_factor_options_default(void) {
@@ -32,7 +22,9 @@ locus_factor_options locus_factor_options_default(void) {
 locus_status locus_factor_run(locus_session* session, const locus_factor_options* options, double* out_x,
                               locus_factor_report* out_report, const locus_run_options* opts) {
   return command_run("locus_factor_run", session, options, {}, opts, [&](locus::Session& s, CallContext& cc) {
-    const locus::FactorCommandReport r = s.factor(request_of(*options), cc.ctx);
+    locus::FactorCommandRequest q;
+    LOCUS_COPY_FIELDS(q, *options, repeat, seed, matrix, t, save, load);
+    const locus::FactorCommandReport r = s.factor(q, cc.ctx);
     if (out_x) std::copy(r.x.begin(), r.x.end(), out_x);
     report_into(out_report, [&](locus_factor_report& o) {
       LOCUS_COPY_FIELDS(o, r, n, repeats, nnz_A, nnz_L, nnz_L_exact, supernodes, etree_height, super_etree_height,

@@ -28,12 +28,6 @@ locus::DeformCommandRequest request_of(const locus_deform_options& o) {
   return q;
 }
 
-locus::ParamRequest request_of(const locus_param_options& o) {
-  locus::ParamRequest q;
-  LOCUS_COPY_FIELDS(q, o, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
-  return q;
-}
-
 }  // namespace
 
 extern "C" {
@@ -71,7 +65,8 @@ locus_status locus_param_run(locus_session* session, const locus_param_options* 
                              locus_param_report* out_report, const locus_run_options* opts) {
   return command_run("locus_param_run", session, options, {out_uv, "out_uv is NULL"}, opts,
                      [&](locus::Session& s, CallContext& cc) {
-    const locus::ParamRequest q = request_of(*options);
+    locus::ParamRequest q;
+    LOCUS_COPY_FIELDS(q, *options, LOCUS_PARAM_NUMBERS, method, boundary, save, load);
     const locus::ParamReport r = s.param(q, cc.ctx);
     const size_t n = static_cast<size_t>(s.num_vertices());
     if (q.center < 0) {
