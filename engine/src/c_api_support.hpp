@@ -110,7 +110,7 @@ int64_t count_of(const char* function, const void* handle, const char* if_null, 
 }
 
 // The frame of an entry point on a session: the guard, the session, the
-// call's context (opts checked first); body(session, context) does the rest.
+// call's context (opts checked before the body); body(session, context) does the rest.
 template <class Body>
 locus_status session_run(const char* function, locus_session* session, const locus_run_options* opts,
                          Body&& body) noexcept {
