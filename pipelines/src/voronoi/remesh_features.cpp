@@ -18,10 +18,7 @@ namespace {
 
 using namespace remesh_vec3;
 
-V3 face_normal(const Mesh& m, int32_t f) {
-  const V3 a = pos(m, m.f0[f]), b = pos(m, m.f1[f]), c = pos(m, m.f2[f]);
-  return cross(sub(b, a), sub(c, a));
-}
+V3 face_normal(const Mesh& m, int32_t f) { return tri_normal(pos(m, m.f0[f]), pos(m, m.f1[f]), pos(m, m.f2[f])); }
 
 // Per edge: 1 when it is a feature edge (two faces, normals more than
 // angle_deg apart; a zero-area face has no normal and makes none).

@@ -32,7 +32,7 @@ struct LOCUS_API DeformCommandRequest {
   std::array<double, 3> offset{0, 0, 0};  // required: the handle's displacement
   std::string energy = "laplacian";     // laplacian or bilaplacian
   double regularization = 1e-6;         // relative eps of the factored global operator (> 0)
-  std::string save, load;               // factor cache files of the global factor ("" = none)
+  std::string save{}, load{};           // factor cache files of the global factor ("" = none)
 };
 
 struct LOCUS_API DeformCommandReport {

@@ -185,11 +185,6 @@ int32_t patch_vertex_count(int32_t nv, double fraction);
 // from one center. Uses ws.grow; returns the BFS depth (Rings) or 0.
 int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
                             HostVector<int32_t>& out);
-// A Geodesic grow (opt.mode is ignored) whose edge lengths come from m's
-// positions as the grow reaches them, the values of adjacency_edge_lengths bit
-// for bit: a few grows on a large mesh without its mesh-wide array.
-void grow_geodesic_vertices(const Adjacency& adj, const Mesh& m, std::span<const GrowSeed> seeds,
-                            const GrowOptions& opt, GrowWorkspace& ws, HostVector<int32_t>& out);
 // The same into a std::vector (tools and tests; a copy of the grown vertices).
 inline int32_t grow_patch_vertices(const PatchGrower& g, int32_t center, const GrowOptions& opt, PatchWorkspace& ws,
                                    std::vector<int32_t>& out) {

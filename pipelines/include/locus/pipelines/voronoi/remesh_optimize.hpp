@@ -103,11 +103,11 @@ struct RemeshOptimizeOptions {
   int hard_sweeps = 30;
   // Per remesh vertex (empty: none): 1 where the vertex stays (a feature's,
   // remesh_features.hpp); an edge between two such vertices never flips.
-  std::vector<uint8_t> pinned;
+  std::vector<uint8_t> pinned{};
   // Feature curves whose pinned vertices slide along them as boundary
   // vertices do along the boundary (FeatureCurve with remesh vertex ids in
   // `site`; remesh_boundary.hpp add_curve). Empty: they stay.
-  std::vector<FeatureCurve> slides;
+  std::vector<FeatureCurve> slides{};
 };
 
 struct RemeshOptimizeStats {
