@@ -85,7 +85,7 @@ TEST_CASE("runner: summary.json does not list a report another run replaced") {
   fs::create_directories(c1);
   fs::create_directories(c2);
   locus::write_mesh((c1 / "x.off").string(), locus::make_icosphere(2));   // 162 vertices
-  locus::write_mesh((c1 / "y.off").string(), locus::make_icosphere(6));   // 40962 vertices: a long item
+  locus::write_mesh((c1 / "y.off").string(), locus::make_icosphere(5));   // 10242 vertices: a long item
   locus::write_mesh((c2 / "x.off").string(), locus::make_torus(20, 10));  // 200 vertices
   const std::string out = dir / "out";
   auto cvt = [&](const fs::path& in, const std::string& iters) {
@@ -115,6 +115,7 @@ TEST_CASE("runner: summary.json does not list a report another run replaced") {
     CHECK(r.status == 3);
   } else {
     MESSAGE("the first run ended before the second: nothing to check");
+    FAIL_CHECK("the long item ended before the second run: make it longer");
   }
 }
 
