@@ -3,6 +3,7 @@
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -277,35 +278,33 @@ uint8_t take_vertices(const NaturalNeighborField& F, const LaneHeat& heat, uint8
 }
 
 // The border faces of every lane (taken and untaken corners) into s.lane_faces[l],
-// each in the order of its smallest taken corner (its first touch in the ascending
-// taken vertices). Only a taken vertex with an untaken neighbour has border faces:
-// the cell's inside costs one neighbour check per vertex for all lanes at once.
-void border_faces(const NaturalNeighborField& F, const Mesh& m, NaturalScratch& s) {
-  const auto& adj = F.adjacency;
-  for (auto& faces : s.lane_faces) faces.clear();
-  for (int32_t v : s.taken) {
-    const uint8_t mask = s.vertex_mark[v];
-    uint8_t all = mask;
-    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1] && all; ++p) all &= s.vertex_mark[adj.neighbors[p]];
-    const uint8_t edge = mask & static_cast<uint8_t>(~all);
-    if (!edge) continue;
-    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
-      const int32_t f = F.vf_faces[p];
-      const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
-      uint8_t border = 0, later = edge;  // lanes where f has an untaken corner / v is f's smallest taken corner
-      for (int32_t u : c) {
-        border |= static_cast<uint8_t>(~s.vertex_mark[u]);
-        if (u < v) later &= static_cast<uint8_t>(~s.vertex_mark[u]);
-      }
-      const uint8_t add = edge & border & later & static_cast<uint8_t>(~s.face_mark[f]);
-      if (!add) continue;
-      s.face_mark[f] |= add;  // a face with a repeated corner is visited twice from it
-      for (int l = 0; l < kLanes; ++l)
-        if (add >> l & 1) s.lane_faces[l].push_back(f);
+// each in the order of its smallest taken corner, then by face id (the order in
+// which a pass over the ascending taken vertices and their ascending faces meets
+// them). One pass over the faces finds them for all lanes at once: a face is on
+// lane l's border when bit l differs among its corners' marks (the marks are
+// one byte per vertex: cache-resident); only border faces are then sorted.
+void border_faces(const Mesh& m, NaturalScratch& s) {
+  for (auto& keys : s.lane_keys) keys.clear();
+  const int32_t nf = m.num_faces();
+  const uint8_t* mark = s.vertex_mark.data();
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const uint8_t a = mark[c[0]], b = mark[c[1]], d = mark[c[2]];
+    uint8_t border = static_cast<uint8_t>((a | b | d) & ~(a & b & d));
+    while (border) {
+      const int l = std::countr_zero(border);
+      border &= static_cast<uint8_t>(border - 1);
+      int32_t first = INT32_MAX;
+      for (int32_t u : c)
+        if (mark[u] >> l & 1) first = std::min(first, u);
+      s.lane_keys[l].push_back(static_cast<int64_t>(first) << 32 | f);
     }
   }
-  for (auto& faces : s.lane_faces)
-    for (int32_t f : faces) s.face_mark[f] = 0;
+  for (int l = 0; l < kLanes; ++l) {
+    std::sort(s.lane_keys[l].begin(), s.lane_keys[l].end());
+    s.lane_faces[l].clear();
+    for (int64_t key : s.lane_keys[l]) s.lane_faces[l].push_back(static_cast<int32_t>(key & 0xffffffff));
+  }
 }
 
 // Lane l's border faces: the rest of their old parts (the untaken corners' thirds)
@@ -389,13 +388,12 @@ void coordinates_lanes(const NaturalNeighborField& F, const Mesh& m, std::span<c
   }
   if (!active) return;
   s.vertex_mark.resize(n, 0);
-  s.face_mark.resize(m.num_faces(), 0);
   std::vector<double> stolen(static_cast<size_t>(kLanes) * ns, 0.0);
   double aq[kLanes] = {};
   int64_t count[kLanes] = {};
   if (take_vertices(F, heat, active, s, stolen, aq, count))
     fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
-  border_faces(F, m, s);
+  border_faces(m, s);
   for (int l = 0; l < lanes; ++l) {
     if (!(active >> l & 1)) continue;
     NaturalCoordinates& r = out[l];

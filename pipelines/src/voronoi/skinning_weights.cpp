@@ -10,11 +10,10 @@
 #include <memory>
 
 #include "locus/error.hpp"
+#include "locus/kernels/factor/blas.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
-#include "locus/kernels/solve/solve_plan.hpp"
-#include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "locus/pipelines/voronoi/skinning_refine.hpp"
 #include "locus/pipelines/voronoi/skinning_sampled.hpp"
@@ -23,53 +22,103 @@ namespace locus {
 
 namespace {
 
+// Batches of 8 queries solved together on one pass over the factor (below).
+constexpr int kGroupBatches = 3;
+constexpr int kGroupLanes = kGroupBatches * kLanes;
+
 struct SkinMsg {
   int32_t first = 0;
   int lanes = 0;
-  NaturalCoordinates c[kLanes];
+  NaturalCoordinates c[kGroupLanes];
 };
 
 struct SkinScratch {
-  SolvePlan plan;
-  PlanWorkspace plan_ws;
-  SolveWorkspace ws;
-  std::vector<double> rhs;
-  HostVector<double> values;  // n x 8, vertex-major
+  HostVector<double> x[kGroupBatches];  // n x 8 each, factor numbering
+  HostVector<double> tmp;               // max_super_rows x 8
+  HostVector<double> values;            // n x 8, vertex-major
+  std::vector<uint8_t> in_reach;        // per supernode, zero between groups
+  std::vector<int32_t> reach;
   NaturalScratch nn;
 };
 
-// Exact rows of the vertices `query` (8 per solve, in parallel) into rows
+// Per-thread scratch kept across the calls of one skinning run (the refinement
+// solves in rounds): no allocation and no page faults once warm.
+using SkinScratchPool = tbb::enumerable_thread_specific<SkinScratch>;
+
+// Up to 3 batches of 8 unit sources: batch g's heat at every vertex into s.x[g]
+// (factor numbering), each with the full solve's per-supernode 8-lane arithmetic
+// (kernels/solve/solve_full.hpp), so the values are the full solve's bit for bit.
+// The forward substitution runs over each batch's reach (the sources' etree
+// paths, ascending), where x is zeroed first; the backward one over every
+// supernode, descending, a supernode outside the batch's reach zeroed just
+// before its step (L^{-1} b is zero there). The backward pass is what a row
+// costs and reads the whole factor (megabytes, outside the caches): the batches
+// take each supernode in turn while its block is in cache, one read for 24 lanes.
+void solve_sources(const NumericFactor& F, std::span<const int32_t> sources, SkinScratch& s) {
+  const SymbolicFactor& S = *F.symbolic;
+  const int groups = static_cast<int>((sources.size() + kLanes - 1) / kLanes);
+  const size_t nx = static_cast<size_t>(S.n) * kLanes;
+  const size_t nt = static_cast<size_t>(S.max_super_rows) * kLanes;
+  if (s.tmp.size() < nt) s.tmp.resize(nt);
+  if (s.in_reach.size() < static_cast<size_t>(S.ns)) s.in_reach.assign(S.ns, 0);
+  auto zero = [&](double* x, int32_t sn) {
+    std::fill(x + static_cast<int64_t>(S.super_first_col[sn]) * kLanes,
+              x + static_cast<int64_t>(S.super_first_col[sn + 1]) * kLanes, 0.0);
+  };
+  blas::SingleThreaded single;
+  for (int g = 0; g < groups; ++g) {  // forward: each batch over its reach
+    if (s.x[g].size() < nx) s.x[g].assign(nx, 0.0);
+    double* x = s.x[g].data();
+    const auto batch = sources.subspan(static_cast<size_t>(g) * kLanes,
+                                       std::min<size_t>(kLanes, sources.size() - static_cast<size_t>(g) * kLanes));
+    s.reach.clear();
+    for (int32_t v : batch)
+      for (int32_t sn = S.col_to_super[S.iperm[v]]; sn >= 0 && !(s.in_reach[sn] >> g & 1); sn = S.super_parent[sn]) {
+        s.in_reach[sn] |= static_cast<uint8_t>(1u << g);
+        s.reach.push_back(sn);
+      }
+    std::sort(s.reach.begin(), s.reach.end());
+    for (int32_t sn : s.reach) zero(x, sn);
+    for (size_t l = 0; l < batch.size(); ++l) x[static_cast<int64_t>(S.iperm[batch[l]]) * kLanes + l] = 1.0;
+    for (int32_t sn : s.reach) forward_supernode8(F, sn, x, s.tmp.data());
+  }
+  for (int32_t sn = S.ns - 1; sn >= 0; --sn) {
+    for (int g = 0; g < groups; ++g) {
+      if (!(s.in_reach[sn] >> g & 1)) zero(s.x[g].data(), sn);
+      backward_supernode8(F, sn, s.x[g].data(), s.tmp.data());
+    }
+    s.in_reach[sn] = 0;
+  }
+}
+
+// Exact rows of the vertices `query` (24 per task, in parallel) into rows
 // (query.size() * k, row i for query[i]); degenerate[i] (when not empty) set
 // where query[i]'s cell held no vertex (its row is an indicator); statistics into W.
-// The solve is the exact planned one with the 8 point sources as support and every
-// vertex wanted: the forward substitution runs over the sources' etree paths only
-// (the rest of L^{-1} b is zero), the backward one over every supernode, with the
-// full solve's per-supernode arithmetic, so the heat is the full solve's.
 void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mesh& m, std::span<const int32_t> query,
-                std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, const RunContext& ctx) {
+                std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, SkinScratchPool& scratch,
+                const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
-  const int32_t nb = (count + kLanes - 1) / kLanes;
-  const SymbolicFactor& S = *H.factor.symbolic;
-  const HostVector<int32_t> vertex_super = vertex_supernodes(S);
-  std::vector<int32_t> every(n);
-  for (int32_t v = 0; v < n; ++v) every[v] = v;
-  tbb::enumerable_thread_specific<SkinScratch> scratch;
+  const int32_t nb = (count + kGroupLanes - 1) / kGroupLanes;
+  const HostVector<int32_t>& iperm = H.factor.symbolic->iperm;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
-    msg->first = b * kLanes;
-    msg->lanes = std::min(kLanes, count - msg->first);
-    const std::span<const int32_t> sources = query.subspan(msg->first, msg->lanes);
-    s.rhs.assign(static_cast<size_t>(msg->lanes) * kLanes, 0.0);
-    for (int l = 0; l < msg->lanes; ++l) s.rhs[static_cast<size_t>(l) * kLanes + l] = 1.0;
-    plan_subset_solve(S, vertex_super, sources, every, s.plan, s.plan_ws);
+    msg->first = b * kGroupLanes;
+    msg->lanes = std::min(kGroupLanes, count - msg->first);
+    solve_sources(H.factor, query.subspan(msg->first, msg->lanes), s);
     s.values.resize(static_cast<size_t>(n) * kLanes);
-    solve_planned8(H.factor, s.plan, s.rhs, s.values, s.ws);
-    SurfacePoint q[kLanes];
-    for (int l = 0; l < msg->lanes; ++l) q[l] = vertex_point(query[msg->first + l]);
-    natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(msg->lanes)}, s.values, s.nn, msg->c);
+    for (int g = 0; g * kLanes < msg->lanes; ++g) {
+      const double* x = s.x[g].data();
+      for (int32_t v = 0; v < n; ++v)
+        std::copy_n(x + static_cast<size_t>(iperm[v]) * kLanes, kLanes, s.values.data() + static_cast<size_t>(v) * kLanes);
+      const int lanes = std::min(kLanes, msg->lanes - g * kLanes);
+      SurfacePoint q[kLanes];
+      for (int l = 0; l < lanes; ++l) q[l] = vertex_point(query[msg->first + g * kLanes + l]);
+      natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(lanes)}, s.values, s.nn,
+                                    {msg->c + g * kLanes, static_cast<size_t>(lanes)});
+    }
     return msg;
   };
   auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
@@ -100,7 +149,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   W.weight.assign(static_cast<size_t>(n) * W.handles, 0.0);
   std::vector<int32_t> all(n);
   for (int32_t v = 0; v < n; ++v) all[v] = v;
-  exact_rows(F, H, m, all, W.weight, {}, W, ctx);
+  SkinScratchPool scratch;
+  exact_rows(F, H, m, all, W.weight, {}, W, scratch, ctx);
   W.weights_s = sw.lap();
   return W;
 }
@@ -156,13 +206,14 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   // Rows of handle vertices are their indicator; the others are solved.
   // indicator[i]: verts[i]'s row is an indicator for want of a cell (a handle
   // vertex, or a degenerate query), not because its cell touches one handle only.
+  SkinScratchPool scratch;
   auto solve_rows = [&](std::span<const int32_t> verts, std::vector<double>& rows, std::vector<uint8_t>& indicator) {
     std::vector<int32_t> query;
     for (int32_t v : verts)
       if (owner[v] < 0) query.push_back(v);
     std::vector<double> qrows(query.size() * static_cast<size_t>(k));
     std::vector<uint8_t> qdeg(query.size(), 0);
-    exact_rows(F, H, m, query, qrows, qdeg, W, ctx);
+    exact_rows(F, H, m, query, qrows, qdeg, W, scratch, ctx);
     rows.assign(verts.size() * static_cast<size_t>(k), 0.0);
     indicator.assign(verts.size(), 1);
     size_t qi = 0;
