@@ -48,10 +48,9 @@ using SkinScratchPool = tbb::enumerable_thread_specific<SkinScratch>;
 // Up to 3 batches of 8 unit sources: batch g's heat at every vertex into s.x[g]
 // (factor numbering), each with the full solve's per-supernode 8-lane arithmetic
 // (kernels/solve/solve_full.hpp), so the values are the full solve's bit for bit.
-// The forward substitution runs over each batch's reach (the sources' etree
-// paths, ascending), where x is zeroed first; the backward one over every
-// supernode, descending, a supernode outside the batch's reach zeroed just
-// before its step (L^{-1} b is zero there). The backward pass is what a row
+// x is zero on entry (the caller zeroes it as it reads it out); the forward
+// substitution runs over each batch's reach (the sources' etree paths,
+// ascending), the backward one over every supernode, descending. The backward pass is what a row
 // costs and reads the whole factor (megabytes, outside the caches): the batches
 // take each supernode in turn while its block is in cache, one read for 24 lanes.
 void solve_sources(const NumericFactor& F, std::span<const int32_t> sources, SkinScratch& s) {
@@ -61,10 +60,6 @@ void solve_sources(const NumericFactor& F, std::span<const int32_t> sources, Ski
   const size_t nt = static_cast<size_t>(S.max_super_rows) * kLanes;
   if (s.tmp.size() < nt) s.tmp.resize(nt);
   if (s.in_reach.size() < static_cast<size_t>(S.ns)) s.in_reach.assign(S.ns, 0);
-  auto zero = [&](double* x, int32_t sn) {
-    std::fill(x + static_cast<int64_t>(S.super_first_col[sn]) * kLanes,
-              x + static_cast<int64_t>(S.super_first_col[sn + 1]) * kLanes, 0.0);
-  };
   blas::SingleThreaded single;
   for (int g = 0; g < groups; ++g) {  // forward: each batch over its reach
     if (s.x[g].size() < nx) s.x[g].assign(nx, 0.0);
@@ -78,15 +73,11 @@ void solve_sources(const NumericFactor& F, std::span<const int32_t> sources, Ski
         s.reach.push_back(sn);
       }
     std::sort(s.reach.begin(), s.reach.end());
-    for (int32_t sn : s.reach) zero(x, sn);
     for (size_t l = 0; l < batch.size(); ++l) x[static_cast<int64_t>(S.iperm[batch[l]]) * kLanes + l] = 1.0;
     for (int32_t sn : s.reach) forward_supernode8(F, sn, x, s.tmp.data());
   }
   for (int32_t sn = S.ns - 1; sn >= 0; --sn) {
-    for (int g = 0; g < groups; ++g) {
-      if (!(s.in_reach[sn] >> g & 1)) zero(s.x[g].data(), sn);
-      backward_supernode8(F, sn, s.x[g].data(), s.tmp.data());
-    }
+    for (int g = 0; g < groups; ++g) backward_supernode8(F, sn, s.x[g].data(), s.tmp.data());
     s.in_reach[sn] = 0;
   }
 }
@@ -101,7 +92,7 @@ void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mes
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
   const int32_t nb = (count + kGroupLanes - 1) / kGroupLanes;
-  const HostVector<int32_t>& iperm = H.factor.symbolic->iperm;
+  const HostVector<int32_t>& perm = H.factor.symbolic->perm;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
@@ -110,9 +101,14 @@ void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mes
     solve_sources(H.factor, query.subspan(msg->first, msg->lanes), s);
     s.values.resize(static_cast<size_t>(n) * kLanes);
     for (int g = 0; g * kLanes < msg->lanes; ++g) {
-      const double* x = s.x[g].data();
-      for (int32_t v = 0; v < n; ++v)
-        std::copy_n(x + static_cast<size_t>(iperm[v]) * kLanes, kLanes, s.values.data() + static_cast<size_t>(v) * kLanes);
+      double* x = s.x[g].data();
+      double* values = s.values.data();
+      for (int32_t c = 0; c < n; ++c) {  // to vertex order, leaving x zero for the next group
+        double* xv = x + static_cast<size_t>(c) * kLanes;
+        double* out = values + static_cast<size_t>(perm[c]) * kLanes;
+        for (int l = 0; l < kLanes; ++l) out[l] = xv[l];
+        for (int l = 0; l < kLanes; ++l) xv[l] = 0.0;
+      }
       const int lanes = std::min(kLanes, msg->lanes - g * kLanes);
       SurfacePoint q[kLanes];
       for (int l = 0; l < lanes; ++l) q[l] = vertex_point(query[msg->first + g * kLanes + l]);
