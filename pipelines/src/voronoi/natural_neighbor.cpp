@@ -181,7 +181,6 @@ void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns) {
   }
   F.max_heat.resize(n);
   for (int32_t v = 0; v < n; ++v) F.max_heat[v] = V.top_value[static_cast<size_t>(v) * kVoronoiTopK];
-  F.adjacency = vertex_adjacency(m);
   F.share_offsets.assign(static_cast<size_t>(n) + 1, 0);
   F.share_site.clear();
   F.share_area.clear();

@@ -59,10 +59,8 @@ struct NaturalNeighborField {
   std::vector<double> share_area;
   std::vector<double> vertex_area;
   // The largest site heat per vertex (top_value's first entry, contiguous: a
-  // query's scan for the vertices it takes reads one value per vertex) and the
-  // vertex graph (a taken vertex whose neighbours are all taken has no border face).
+  // query's scan for the vertices it takes reads one value per vertex).
   std::vector<double> max_heat;
-  Adjacency adjacency;
 };
 
 // H: the prepared heat operator of m (isotropic); sites: at least one, valid.
