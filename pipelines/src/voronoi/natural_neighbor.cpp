@@ -239,7 +239,10 @@ struct LaneHeat {
   const double* heat;
   int stride;
   double operator()(int32_t v, int l) const { return heat[static_cast<size_t>(v) * stride + l]; }
+  void prefetch(int32_t v) const { __builtin_prefetch(heat + static_cast<size_t>(v) * stride); }
 };
+
+constexpr size_t kFaceAhead = 8, kCornerAhead = 3;
 
 // The vertices each lane takes (its heat beats the current maximum; ties stay with
 // the sites) as bit l of s.vertex_mark (every vertex written), and in the same pass
@@ -314,7 +317,30 @@ int64_t resplit_border(const NaturalNeighborField& F, const Mesh& m, const LaneH
   const HeatVoronoi& V = F.voronoi;
   const int32_t ns = static_cast<int32_t>(F.sites.size());
   int64_t fallback = 0;
-  for (int32_t f : s.lane_faces[l]) {
+  const std::vector<int32_t>& faces = s.lane_faces[l];
+  const size_t nb = faces.size();
+  for (size_t i = 0; i < nb; ++i) {
+    // The faces are scattered: their records are fetched a few faces ahead, their
+    // corners' top-K lists and heat rows two ahead (latency, not work, is the cost).
+    if (i + kFaceAhead < nb) {
+      const int32_t g = faces[i + kFaceAhead];
+      __builtin_prefetch(&m.f0[g]);
+      __builtin_prefetch(&m.f1[g]);
+      __builtin_prefetch(&m.f2[g]);
+      __builtin_prefetch(&F.part_site[3 * static_cast<size_t>(g)]);
+      __builtin_prefetch(&F.part_area[3 * static_cast<size_t>(g)]);
+      __builtin_prefetch(&F.face_area[g]);
+    }
+    if (i + kCornerAhead < nb) {
+      const int32_t g = faces[i + kCornerAhead];
+      for (int32_t u : {m.f0[g], m.f1[g], m.f2[g]}) {
+        __builtin_prefetch(&V.top_site[static_cast<size_t>(u) * kVoronoiTopK]);
+        __builtin_prefetch(&V.top_value[static_cast<size_t>(u) * kVoronoiTopK]);
+        __builtin_prefetch(&V.label[u]);
+        heat.prefetch(u);
+      }
+    }
+    const int32_t f = faces[i];
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     const bool t[3] = {(s.vertex_mark[v[0]] >> l & 1) != 0, (s.vertex_mark[v[1]] >> l & 1) != 0,
                        (s.vertex_mark[v[2]] >> l & 1) != 0};

@@ -104,6 +104,7 @@ void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mes
       double* x = s.x[g].data();
       double* values = s.values.data();
       for (int32_t c = 0; c < n; ++c) {  // to vertex order, leaving x zero for the next group
+        if (c + 16 < n) __builtin_prefetch(values + static_cast<size_t>(perm[c + 16]) * kLanes, 1);
         double* xv = x + static_cast<size_t>(c) * kLanes;
         double* out = values + static_cast<size_t>(perm[c]) * kLanes;
         for (int l = 0; l < kLanes; ++l) out[l] = xv[l];
