@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cfloat>
 #include <cmath>
 #include <string>
 
@@ -249,25 +250,36 @@ constexpr size_t kFaceAhead = 8, kCornerAhead = 3;
 // over the vertices the taken vertices' areas and shares into aq[l] and
 // stolen[l * ns ..]: a third of each incident face per taken corner. Every lane
 // sums in the order of its ascending taken vertices; a vertex's shares are read
-// once for all the lanes that take it. The vertices some lane takes go to s.taken;
-// returns the lanes whose heat is not finite somewhere.
+// once for all the lanes that take it. Returns the lanes whose heat is not finite
+// somewhere (8 lanes per vertex: compared without branches).
 uint8_t take_vertices(const NaturalNeighborField& F, const LaneHeat& heat, uint8_t active, NaturalScratch& s,
                       std::vector<double>& stolen, double* aq, int64_t* count) {
   const int32_t n = static_cast<int32_t>(F.max_heat.size());
   const int32_t ns = static_cast<int32_t>(F.sites.size());
-  s.taken.clear();
   uint8_t bad = 0;
+  const bool wide = heat.stride == kLanes;  // 8 values per vertex: compared without branches
   for (int32_t v = 0; v < n; ++v) {
     uint8_t mask = 0;
-    for (int l = 0; l < kLanes; ++l) {
-      if (!(active >> l & 1)) continue;
-      const double h = heat(v, l);
-      if (!std::isfinite(h)) bad |= static_cast<uint8_t>(1u << l);
-      if (h > F.max_heat[v]) mask |= static_cast<uint8_t>(1u << l);
+    if (wide) {
+      const double* h = heat.heat + static_cast<size_t>(v) * kLanes;
+      const double mx = F.max_heat[v];
+      uint32_t over = 0, nonfinite = 0;
+      for (int l = 0; l < kLanes; ++l) {
+        over |= static_cast<uint32_t>(h[l] > mx) << l;
+        nonfinite |= static_cast<uint32_t>(!(std::abs(h[l]) <= DBL_MAX)) << l;
+      }
+      mask = static_cast<uint8_t>(over & active);
+      bad |= static_cast<uint8_t>(nonfinite & active);
+    } else {
+      for (int l = 0; l < kLanes; ++l) {
+        if (!(active >> l & 1)) continue;
+        const double h = heat(v, l);
+        if (!std::isfinite(h)) bad |= static_cast<uint8_t>(1u << l);
+        if (h > F.max_heat[v]) mask |= static_cast<uint8_t>(1u << l);
+      }
     }
     s.vertex_mark[v] = mask;
     if (!mask) continue;
-    s.taken.push_back(v);
     for (int l = 0; l < kLanes; ++l) {
       if (!(mask >> l & 1)) continue;
       ++count[l];

@@ -75,7 +75,6 @@ NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mes
 // Reusable per-thread scratch of the queries (marks sized to the mesh, zero between uses).
 struct NaturalScratch {
   std::vector<uint8_t> vertex_mark;  // bit l: lane l (batched queries)
-  std::vector<int32_t> taken;
   std::vector<int32_t> lane_faces[8];
   std::vector<int64_t> lane_keys[8];  // (smallest taken corner, face) of each border face
 };
