@@ -3,6 +3,7 @@
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -91,13 +92,19 @@ void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mes
   const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
-  const int32_t nb = (count + kGroupLanes - 1) / kGroupLanes;
+  // Up to 3 batches per task, but at least 4 tasks per thread where the
+  // refinement's fronts are small (the grouping changes no value: a batch is
+  // the same 8 queries either way).
+  const int threads = std::max(1, ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency());
+  const int32_t batches = (count + kLanes - 1) / kLanes;
+  const int32_t group_lanes = kLanes * std::clamp<int32_t>(batches / (4 * threads), 1, kGroupBatches);
+  const int32_t nb = (count + group_lanes - 1) / group_lanes;
   const HostVector<int32_t>& perm = H.factor.symbolic->perm;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
-    msg->first = b * kGroupLanes;
-    msg->lanes = std::min(kGroupLanes, count - msg->first);
+    msg->first = b * group_lanes;
+    msg->lanes = std::min(group_lanes, count - msg->first);
     solve_sources(H.factor, query.subspan(msg->first, msg->lanes), s);
     s.values.resize(static_cast<size_t>(n) * kLanes);
     for (int g = 0; g * kLanes < msg->lanes; ++g) {
