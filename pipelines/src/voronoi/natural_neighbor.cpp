@@ -3,6 +3,8 @@
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cfloat>
 #include <cmath>
 #include <string>
 
@@ -180,7 +182,6 @@ void finish_field(NaturalNeighborField& F, const Mesh& m, int32_t ns) {
   }
   F.max_heat.resize(n);
   for (int32_t v = 0; v < n; ++v) F.max_heat[v] = V.top_value[static_cast<size_t>(v) * kVoronoiTopK];
-  F.adjacency = vertex_adjacency(m);
   F.share_offsets.assign(static_cast<size_t>(n) + 1, 0);
   F.share_site.clear();
   F.share_area.clear();
@@ -239,32 +240,46 @@ struct LaneHeat {
   const double* heat;
   int stride;
   double operator()(int32_t v, int l) const { return heat[static_cast<size_t>(v) * stride + l]; }
+  void prefetch(int32_t v) const { __builtin_prefetch(heat + static_cast<size_t>(v) * stride); }
 };
+
+constexpr size_t kFaceAhead = 8, kCornerAhead = 3;
 
 // The vertices each lane takes (its heat beats the current maximum; ties stay with
 // the sites) as bit l of s.vertex_mark (every vertex written), and in the same pass
 // over the vertices the taken vertices' areas and shares into aq[l] and
 // stolen[l * ns ..]: a third of each incident face per taken corner. Every lane
 // sums in the order of its ascending taken vertices; a vertex's shares are read
-// once for all the lanes that take it. The vertices some lane takes go to s.taken;
-// returns the lanes whose heat is not finite somewhere.
+// once for all the lanes that take it. Returns the lanes whose heat is not finite
+// somewhere (8 lanes per vertex: compared without branches).
 uint8_t take_vertices(const NaturalNeighborField& F, const LaneHeat& heat, uint8_t active, NaturalScratch& s,
                       std::vector<double>& stolen, double* aq, int64_t* count) {
   const int32_t n = static_cast<int32_t>(F.max_heat.size());
   const int32_t ns = static_cast<int32_t>(F.sites.size());
-  s.taken.clear();
   uint8_t bad = 0;
+  const bool wide = heat.stride == kLanes;  // 8 values per vertex: compared without branches
   for (int32_t v = 0; v < n; ++v) {
     uint8_t mask = 0;
-    for (int l = 0; l < kLanes; ++l) {
-      if (!(active >> l & 1)) continue;
-      const double h = heat(v, l);
-      if (!std::isfinite(h)) bad |= static_cast<uint8_t>(1u << l);
-      if (h > F.max_heat[v]) mask |= static_cast<uint8_t>(1u << l);
+    if (wide) {
+      const double* h = heat.heat + static_cast<size_t>(v) * kLanes;
+      const double mx = F.max_heat[v];
+      uint32_t over = 0, nonfinite = 0;
+      for (int l = 0; l < kLanes; ++l) {
+        over |= static_cast<uint32_t>(h[l] > mx) << l;
+        nonfinite |= static_cast<uint32_t>(!(std::abs(h[l]) <= DBL_MAX)) << l;
+      }
+      mask = static_cast<uint8_t>(over & active);
+      bad |= static_cast<uint8_t>(nonfinite & active);
+    } else {
+      for (int l = 0; l < kLanes; ++l) {
+        if (!(active >> l & 1)) continue;
+        const double h = heat(v, l);
+        if (!std::isfinite(h)) bad |= static_cast<uint8_t>(1u << l);
+        if (h > F.max_heat[v]) mask |= static_cast<uint8_t>(1u << l);
+      }
     }
     s.vertex_mark[v] = mask;
     if (!mask) continue;
-    s.taken.push_back(v);
     for (int l = 0; l < kLanes; ++l) {
       if (!(mask >> l & 1)) continue;
       ++count[l];
@@ -277,35 +292,33 @@ uint8_t take_vertices(const NaturalNeighborField& F, const LaneHeat& heat, uint8
 }
 
 // The border faces of every lane (taken and untaken corners) into s.lane_faces[l],
-// each in the order of its smallest taken corner (its first touch in the ascending
-// taken vertices). Only a taken vertex with an untaken neighbour has border faces:
-// the cell's inside costs one neighbour check per vertex for all lanes at once.
-void border_faces(const NaturalNeighborField& F, const Mesh& m, NaturalScratch& s) {
-  const auto& adj = F.adjacency;
-  for (auto& faces : s.lane_faces) faces.clear();
-  for (int32_t v : s.taken) {
-    const uint8_t mask = s.vertex_mark[v];
-    uint8_t all = mask;
-    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1] && all; ++p) all &= s.vertex_mark[adj.neighbors[p]];
-    const uint8_t edge = mask & static_cast<uint8_t>(~all);
-    if (!edge) continue;
-    for (int64_t p = F.vf_offsets[v]; p < F.vf_offsets[v + 1]; ++p) {
-      const int32_t f = F.vf_faces[p];
-      const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
-      uint8_t border = 0, later = edge;  // lanes where f has an untaken corner / v is f's smallest taken corner
-      for (int32_t u : c) {
-        border |= static_cast<uint8_t>(~s.vertex_mark[u]);
-        if (u < v) later &= static_cast<uint8_t>(~s.vertex_mark[u]);
-      }
-      const uint8_t add = edge & border & later & static_cast<uint8_t>(~s.face_mark[f]);
-      if (!add) continue;
-      s.face_mark[f] |= add;  // a face with a repeated corner is visited twice from it
-      for (int l = 0; l < kLanes; ++l)
-        if (add >> l & 1) s.lane_faces[l].push_back(f);
+// each in the order of its smallest taken corner, then by face id (the order in
+// which a pass over the ascending taken vertices and their ascending faces meets
+// them). One pass over the faces finds them for all lanes at once: a face is on
+// lane l's border when bit l differs among its corners' marks (the marks are
+// one byte per vertex: cache-resident); only border faces are then sorted.
+void border_faces(const Mesh& m, NaturalScratch& s) {
+  for (auto& keys : s.lane_keys) keys.clear();
+  const int32_t nf = m.num_faces();
+  const uint8_t* mark = s.vertex_mark.data();
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const uint8_t a = mark[c[0]], b = mark[c[1]], d = mark[c[2]];
+    uint8_t border = static_cast<uint8_t>((a | b | d) & ~(a & b & d));
+    while (border) {
+      const int l = std::countr_zero(border);
+      border &= static_cast<uint8_t>(border - 1);
+      int32_t first = INT32_MAX;
+      for (int32_t u : c)
+        if (mark[u] >> l & 1) first = std::min(first, u);
+      s.lane_keys[l].push_back(static_cast<int64_t>(first) << 32 | f);
     }
   }
-  for (auto& faces : s.lane_faces)
-    for (int32_t f : faces) s.face_mark[f] = 0;
+  for (int l = 0; l < kLanes; ++l) {
+    std::sort(s.lane_keys[l].begin(), s.lane_keys[l].end());
+    s.lane_faces[l].clear();
+    for (int64_t key : s.lane_keys[l]) s.lane_faces[l].push_back(static_cast<int32_t>(key & 0xffffffff));
+  }
 }
 
 // Lane l's border faces: the rest of their old parts (the untaken corners' thirds)
@@ -316,7 +329,30 @@ int64_t resplit_border(const NaturalNeighborField& F, const Mesh& m, const LaneH
   const HeatVoronoi& V = F.voronoi;
   const int32_t ns = static_cast<int32_t>(F.sites.size());
   int64_t fallback = 0;
-  for (int32_t f : s.lane_faces[l]) {
+  const std::vector<int32_t>& faces = s.lane_faces[l];
+  const size_t nb = faces.size();
+  for (size_t i = 0; i < nb; ++i) {
+    // The faces are scattered: their records are fetched a few faces ahead, their
+    // corners' top-K lists and heat rows two ahead (latency, not work, is the cost).
+    if (i + kFaceAhead < nb) {
+      const int32_t g = faces[i + kFaceAhead];
+      __builtin_prefetch(&m.f0[g]);
+      __builtin_prefetch(&m.f1[g]);
+      __builtin_prefetch(&m.f2[g]);
+      __builtin_prefetch(&F.part_site[3 * static_cast<size_t>(g)]);
+      __builtin_prefetch(&F.part_area[3 * static_cast<size_t>(g)]);
+      __builtin_prefetch(&F.face_area[g]);
+    }
+    if (i + kCornerAhead < nb) {
+      const int32_t g = faces[i + kCornerAhead];
+      for (int32_t u : {m.f0[g], m.f1[g], m.f2[g]}) {
+        __builtin_prefetch(&V.top_site[static_cast<size_t>(u) * kVoronoiTopK]);
+        __builtin_prefetch(&V.top_value[static_cast<size_t>(u) * kVoronoiTopK]);
+        __builtin_prefetch(&V.label[u]);
+        heat.prefetch(u);
+      }
+    }
+    const int32_t f = faces[i];
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
     const bool t[3] = {(s.vertex_mark[v[0]] >> l & 1) != 0, (s.vertex_mark[v[1]] >> l & 1) != 0,
                        (s.vertex_mark[v[2]] >> l & 1) != 0};
@@ -389,13 +425,12 @@ void coordinates_lanes(const NaturalNeighborField& F, const Mesh& m, std::span<c
   }
   if (!active) return;
   s.vertex_mark.resize(n, 0);
-  s.face_mark.resize(m.num_faces(), 0);
   std::vector<double> stolen(static_cast<size_t>(kLanes) * ns, 0.0);
   double aq[kLanes] = {};
   int64_t count[kLanes] = {};
   if (take_vertices(F, heat, active, s, stolen, aq, count))
     fail(ErrorCode::Numerical, "natural neighbors: the query's heat is not finite");
-  border_faces(F, m, s);
+  border_faces(m, s);
   for (int l = 0; l < lanes; ++l) {
     if (!(active >> l & 1)) continue;
     NaturalCoordinates& r = out[l];

@@ -3,6 +3,7 @@
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,11 +11,10 @@
 #include <memory>
 
 #include "locus/error.hpp"
+#include "locus/kernels/factor/blas.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
 #include "locus/kernels/parallel/stopwatch.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
-#include "locus/kernels/solve/solve_plan.hpp"
-#include "locus/kernels/solve/solve_sparse.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "locus/pipelines/voronoi/skinning_refine.hpp"
 #include "locus/pipelines/voronoi/skinning_sampled.hpp"
@@ -23,53 +23,106 @@ namespace locus {
 
 namespace {
 
+// Batches of 8 queries solved together on one pass over the factor (below).
+constexpr int kGroupBatches = 3;
+constexpr int kGroupLanes = kGroupBatches * kLanes;
+
 struct SkinMsg {
   int32_t first = 0;
   int lanes = 0;
-  NaturalCoordinates c[kLanes];
+  NaturalCoordinates c[kGroupLanes];
 };
 
 struct SkinScratch {
-  SolvePlan plan;
-  PlanWorkspace plan_ws;
-  SolveWorkspace ws;
-  std::vector<double> rhs;
-  HostVector<double> values;  // n x 8, vertex-major
+  HostVector<double> x[kGroupBatches];  // n x 8 each, factor numbering
+  HostVector<double> tmp;               // max_super_rows x 8
+  HostVector<double> values;            // n x 8, vertex-major
+  std::vector<uint8_t> in_reach;        // per supernode, zero between groups
+  std::vector<int32_t> reach;
   NaturalScratch nn;
 };
 
-// Exact rows of the vertices `query` (8 per solve, in parallel) into rows
+// Per-thread scratch kept across the calls of one skinning run (the refinement
+// solves in rounds): no allocation and no page faults once warm.
+using SkinScratchPool = tbb::enumerable_thread_specific<SkinScratch>;
+
+// Up to 3 batches of 8 unit sources: batch g's heat at every vertex into s.x[g]
+// (factor numbering), each with the full solve's per-supernode 8-lane arithmetic
+// (kernels/solve/solve_full.hpp), so the values are the full solve's bit for bit.
+// x is zero on entry (the caller zeroes it as it reads it out); the forward
+// substitution runs over each batch's reach (the sources' etree paths,
+// ascending), the backward one over every supernode, descending. The backward pass is what a row
+// costs and reads the whole factor (megabytes, outside the caches): the batches
+// take each supernode in turn while its block is in cache, one read for 24 lanes.
+void solve_sources(const NumericFactor& F, std::span<const int32_t> sources, SkinScratch& s) {
+  const SymbolicFactor& S = *F.symbolic;
+  const int groups = static_cast<int>((sources.size() + kLanes - 1) / kLanes);
+  const size_t nx = static_cast<size_t>(S.n) * kLanes;
+  const size_t nt = static_cast<size_t>(S.max_super_rows) * kLanes;
+  if (s.tmp.size() < nt) s.tmp.resize(nt);
+  if (s.in_reach.size() < static_cast<size_t>(S.ns)) s.in_reach.assign(S.ns, 0);
+  blas::SingleThreaded single;
+  for (int g = 0; g < groups; ++g) {  // forward: each batch over its reach
+    if (s.x[g].size() < nx) s.x[g].assign(nx, 0.0);
+    double* x = s.x[g].data();
+    const auto batch = sources.subspan(static_cast<size_t>(g) * kLanes,
+                                       std::min<size_t>(kLanes, sources.size() - static_cast<size_t>(g) * kLanes));
+    s.reach.clear();
+    for (int32_t v : batch)
+      for (int32_t sn = S.col_to_super[S.iperm[v]]; sn >= 0 && !(s.in_reach[sn] >> g & 1); sn = S.super_parent[sn]) {
+        s.in_reach[sn] |= static_cast<uint8_t>(1u << g);
+        s.reach.push_back(sn);
+      }
+    std::sort(s.reach.begin(), s.reach.end());
+    for (size_t l = 0; l < batch.size(); ++l) x[static_cast<int64_t>(S.iperm[batch[l]]) * kLanes + l] = 1.0;
+    for (int32_t sn : s.reach) forward_supernode8(F, sn, x, s.tmp.data());
+  }
+  for (int32_t sn = S.ns - 1; sn >= 0; --sn) {
+    for (int g = 0; g < groups; ++g) backward_supernode8(F, sn, s.x[g].data(), s.tmp.data());
+    s.in_reach[sn] = 0;
+  }
+}
+
+// Exact rows of the vertices `query` (24 per task, in parallel) into rows
 // (query.size() * k, row i for query[i]); degenerate[i] (when not empty) set
 // where query[i]'s cell held no vertex (its row is an indicator); statistics into W.
-// The solve is the exact planned one with the 8 point sources as support and every
-// vertex wanted: the forward substitution runs over the sources' etree paths only
-// (the rest of L^{-1} b is zero), the backward one over every supernode, with the
-// full solve's per-supernode arithmetic, so the heat is the full solve's.
 void exact_rows(const NaturalNeighborField& F, const HeatDiffusion& H, const Mesh& m, std::span<const int32_t> query,
-                std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, const RunContext& ctx) {
+                std::span<double> rows, std::span<uint8_t> degenerate, SkinningWeights& W, SkinScratchPool& scratch,
+                const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   const int32_t k = static_cast<int32_t>(F.sites.size());
   const int32_t count = static_cast<int32_t>(query.size());
-  const int32_t nb = (count + kLanes - 1) / kLanes;
-  const SymbolicFactor& S = *H.factor.symbolic;
-  const HostVector<int32_t> vertex_super = vertex_supernodes(S);
-  std::vector<int32_t> every(n);
-  for (int32_t v = 0; v < n; ++v) every[v] = v;
-  tbb::enumerable_thread_specific<SkinScratch> scratch;
+  // Up to 3 batches per task, but at least 4 tasks per thread where the
+  // refinement's fronts are small (the grouping changes no value: a batch is
+  // the same 8 queries either way).
+  const int threads = std::max(1, ctx.threads > 0 ? ctx.threads : tbb::this_task_arena::max_concurrency());
+  const int32_t batches = (count + kLanes - 1) / kLanes;
+  const int32_t group_lanes = kLanes * std::clamp<int32_t>(batches / (4 * threads), 1, kGroupBatches);
+  const int32_t nb = (count + group_lanes - 1) / group_lanes;
+  const HostVector<int32_t>& perm = H.factor.symbolic->perm;
   auto solve_batch = [&](int32_t b) {
     SkinScratch& s = scratch.local();
     auto msg = std::make_shared<SkinMsg>();
-    msg->first = b * kLanes;
-    msg->lanes = std::min(kLanes, count - msg->first);
-    const std::span<const int32_t> sources = query.subspan(msg->first, msg->lanes);
-    s.rhs.assign(static_cast<size_t>(msg->lanes) * kLanes, 0.0);
-    for (int l = 0; l < msg->lanes; ++l) s.rhs[static_cast<size_t>(l) * kLanes + l] = 1.0;
-    plan_subset_solve(S, vertex_super, sources, every, s.plan, s.plan_ws);
+    msg->first = b * group_lanes;
+    msg->lanes = std::min(group_lanes, count - msg->first);
+    solve_sources(H.factor, query.subspan(msg->first, msg->lanes), s);
     s.values.resize(static_cast<size_t>(n) * kLanes);
-    solve_planned8(H.factor, s.plan, s.rhs, s.values, s.ws);
-    SurfacePoint q[kLanes];
-    for (int l = 0; l < msg->lanes; ++l) q[l] = vertex_point(query[msg->first + l]);
-    natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(msg->lanes)}, s.values, s.nn, msg->c);
+    for (int g = 0; g * kLanes < msg->lanes; ++g) {
+      double* x = s.x[g].data();
+      double* values = s.values.data();
+      for (int32_t c = 0; c < n; ++c) {  // to vertex order, leaving x zero for the next group
+        if (c + 16 < n) __builtin_prefetch(values + static_cast<size_t>(perm[c + 16]) * kLanes, 1);
+        double* xv = x + static_cast<size_t>(c) * kLanes;
+        double* out = values + static_cast<size_t>(perm[c]) * kLanes;
+        for (int l = 0; l < kLanes; ++l) out[l] = xv[l];
+        for (int l = 0; l < kLanes; ++l) xv[l] = 0.0;
+      }
+      const int lanes = std::min(kLanes, msg->lanes - g * kLanes);
+      SurfacePoint q[kLanes];
+      for (int l = 0; l < lanes; ++l) q[l] = vertex_point(query[msg->first + g * kLanes + l]);
+      natural_neighbor_coordinates8(F, m, {q, static_cast<size_t>(lanes)}, s.values, s.nn,
+                                    {msg->c + g * kLanes, static_cast<size_t>(lanes)});
+    }
     return msg;
   };
   auto store = [&](const std::shared_ptr<SkinMsg>& msg) {  // per-vertex slots: arrival order is irrelevant
@@ -100,7 +153,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   W.weight.assign(static_cast<size_t>(n) * W.handles, 0.0);
   std::vector<int32_t> all(n);
   for (int32_t v = 0; v < n; ++v) all[v] = v;
-  exact_rows(F, H, m, all, W.weight, {}, W, ctx);
+  SkinScratchPool scratch;
+  exact_rows(F, H, m, all, W.weight, {}, W, scratch, ctx);
   W.weights_s = sw.lap();
   return W;
 }
@@ -129,10 +183,12 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
 // (cow, 2,904 vertices: 0.20 s against 0.19-0.32 s, factor included).
 constexpr int32_t kExactBelowSamples = 3;
 // The refinement's budget of exact rows times vertices (an exact row costs about
-// one pass over the vertices): 1,653 rows on armadillo (26,002 vertices; the
-// default road then takes ~1.8 s with the factorization on 2 cores, about
-// Blender's Automatic Weights), 4,401 on camel (9,770).
-constexpr double kRowWork = 4.3e7;
+// one pass over the vertices): 2,422 rows on armadillo (26,002 vertices; the
+// default road then takes about the time 1,653 rows took before the rows got
+// cheaper, ~1.6-2 s with the factorization on 2 cores, about Blender's
+// Automatic Weights; armadillo's 7 handles stop at 2,402 rows, max |w - w_exact|
+// 0.043), 6,448 on camel (9,770; camel stops at 2,400-2,800).
+constexpr double kRowWork = 6.3e7;
 
 }  // namespace
 
@@ -156,13 +212,14 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   // Rows of handle vertices are their indicator; the others are solved.
   // indicator[i]: verts[i]'s row is an indicator for want of a cell (a handle
   // vertex, or a degenerate query), not because its cell touches one handle only.
+  SkinScratchPool scratch;
   auto solve_rows = [&](std::span<const int32_t> verts, std::vector<double>& rows, std::vector<uint8_t>& indicator) {
     std::vector<int32_t> query;
     for (int32_t v : verts)
       if (owner[v] < 0) query.push_back(v);
     std::vector<double> qrows(query.size() * static_cast<size_t>(k));
     std::vector<uint8_t> qdeg(query.size(), 0);
-    exact_rows(F, H, m, query, qrows, qdeg, W, ctx);
+    exact_rows(F, H, m, query, qrows, qdeg, W, scratch, ctx);
     rows.assign(verts.size() * static_cast<size_t>(k), 0.0);
     indicator.assign(verts.size(), 1);
     size_t qi = 0;

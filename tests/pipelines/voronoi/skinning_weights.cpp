@@ -1,17 +1,19 @@
 // Tests for pipelines/skinning_weights (thesis §3.7.2, blend skinning).
 // Oracles: barycentric-coordinate properties per vertex (non-negative, sum 1,
 // indicator at the handles), locality (a handle far from a vertex gets exactly 0),
-// agreement with single natural-neighbor queries, and bitwise equality for 1 and 2
-// threads.
+// agreement with single natural-neighbor queries and, bit for bit, with the
+// coordinates of full 8-lane solves, and bitwise equality for 1 and 2 threads.
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/error.hpp"
+#include "locus/kernels/solve/solve_full.hpp"
 #include "locus/pipelines/voronoi/natural_neighbor.hpp"
 #include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
@@ -57,6 +59,28 @@ TEST_CASE("skinning weights: per-vertex coordinates, indicator at handles, deter
     for (int32_t j = 0; j < k; ++j) CHECK(W.weight[static_cast<size_t>(v) * k + j] == doctest::Approx(c.weight[j]).epsilon(1e-12));
   }
   CHECK_THROWS_AS(skinning_weights(H, m, std::vector<SurfacePoint>{vertex_point(n)}, {}), Error);
+  // Bit for bit the coordinates of the full 8-lane solve (solve8) of the same
+  // batches of 8 vertices: the exact rows' solves (3 batches per pass over the
+  // factor, the forward substitution over the sources' etree paths only) change
+  // no value.
+  std::vector<double> b8(static_cast<size_t>(n) * kLanes);
+  std::vector<NaturalCoordinates> c8(kLanes);
+  NaturalScratch scratch;
+  int32_t differ = 0;
+  for (int32_t first = 0; first < n; first += kLanes) {
+    const int lanes = std::min<int32_t>(kLanes, n - first);
+    std::fill(b8.begin(), b8.end(), 0.0);
+    std::vector<SurfacePoint> q;
+    for (int l = 0; l < lanes; ++l) {
+      b8[static_cast<size_t>(first + l) * kLanes + l] = 1.0;
+      q.push_back(vertex_point(first + l));
+    }
+    solve8(H.factor, b8);
+    natural_neighbor_coordinates8(F, m, q, b8, scratch, c8);
+    for (int l = 0; l < lanes; ++l)
+      for (int32_t j = 0; j < k; ++j) differ += W.weight[static_cast<size_t>(first + l) * k + j] != c8[l].weight[j];
+  }
+  CHECK(differ == 0);
 }
 
 // Smoothness of the exact weights on a regular mesh (icosphere level 4, five
@@ -67,7 +91,6 @@ TEST_CASE("skinning weights: per-vertex coordinates, indicator at handles, deter
 // h / 0.8 = 0.08 per edge; a point moving by a tenth of an edge, by a tenth of that.
 TEST_CASE("skinning weights: exact weights smooth on a regular mesh (edge jumps, a point moving along an edge)") {
   const Mesh m = make_icosphere(4);
-  const int32_t n = m.num_vertices();
   const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
   const double dirs[][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   std::vector<SurfacePoint> handles;

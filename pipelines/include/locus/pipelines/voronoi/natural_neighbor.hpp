@@ -59,10 +59,8 @@ struct NaturalNeighborField {
   std::vector<double> share_area;
   std::vector<double> vertex_area;
   // The largest site heat per vertex (top_value's first entry, contiguous: a
-  // query's scan for the vertices it takes reads one value per vertex) and the
-  // vertex graph (a taken vertex whose neighbours are all taken has no border face).
+  // query's scan for the vertices it takes reads one value per vertex).
   std::vector<double> max_heat;
-  Adjacency adjacency;
 };
 
 // H: the prepared heat operator of m (isotropic); sites: at least one, valid.
@@ -76,9 +74,9 @@ NaturalNeighborField prepare_natural_neighbors(const HeatDiffusion& H, const Mes
 
 // Reusable per-thread scratch of the queries (marks sized to the mesh, zero between uses).
 struct NaturalScratch {
-  std::vector<uint8_t> vertex_mark, face_mark;  // bit l: lane l (batched queries)
-  std::vector<int32_t> taken;
+  std::vector<uint8_t> vertex_mark;  // bit l: lane l (batched queries)
   std::vector<int32_t> lane_faces[8];
+  std::vector<int64_t> lane_keys[8];  // (smallest taken corner, face) of each border face
 };
 
 struct NaturalCoordinates {

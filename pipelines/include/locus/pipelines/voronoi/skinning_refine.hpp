@@ -5,13 +5,13 @@
 //   seeds    the vertices `rough` (their samples miss the stencil's linear fit)
 //            and probes on the borders between adjacent samples' regions (nearest
 //            sample in edges) where the two samples' rows differ by more than
-//            2 x miss, the largest differences first, none within 2 edges of a
+//            1.4 x miss, the largest differences first, none within 2 edges of a
 //            rough vertex or an earlier probe: the kinks lie between samples,
 //            where no test on the samples alone can see them;
 //   growth   round by round, the not yet exact neighbours of every vertex whose
 //            exact row differs from its propagated one by more than `miss`;
 //   closing  up to 4 rounds: vertices with 3/4 of their neighbours exact, or an
-//            exact neighbour whose row differs from theirs by more than 2 x miss
+//            exact neighbour whose row differs from theirs by more than 1.2 x miss
 //            (an isolated exact row differs from all its neighbours'), then growth;
 //   last     growth at 0.6 x miss from every exact row that missed by more.
 // Every growth round after the seeds keeps the exact rows (samples included) at

@@ -8,10 +8,11 @@
 // vertices, and are exactly 0 for handles whose cells the vertex's cell does not touch.
 //
 // Two methods:
-//   Exact    one heat solve per vertex (8 vertices per solve, batches in
-//            parallel, one slot per vertex: deterministic for any thread count;
-//            the forward substitution runs over the 8 sources' etree paths only,
-//            the values are the full solve's), plus one pass over the vertices
+//   Exact    one heat solve per vertex (8 vertices per solve, 3 solves per
+//            pass over the factor, passes in parallel, one slot per vertex:
+//            deterministic for any thread count; the forward substitution runs
+//            over the 8 sources' etree paths only, the values are the full
+//            solve's bit for bit), plus one pass over the vertices
 //            per batch for the 8 cells and a re-split of each cell's border
 //            triangles. The cost grows with n^2 / handles (a vertex's cell covers
 //            a fixed share of its handle's cell: a third of armadillo's vertices
