@@ -23,7 +23,6 @@
 #include "cvt_lloyd_setup.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/heat/heat_batch.hpp"
-#include "locus/kernels/mesh/mesh_operators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/kernels/mesh/morton_order.hpp"
 #include "locus/kernels/parallel/batch_graph.hpp"
@@ -94,7 +93,7 @@ struct LloydInputs {
   const RunContext& ctx;
   const HeatDiffusion& H;   // cells (labels)
   const HeatDiffusion& Hc;  // centroids
-  CentroidGeometry& geo;  // its normals are freed while the labels fill (labels_of_sites)
+  const CentroidGeometry& geo;
   const Edges& edges;
   const VertexStars& stars;          // in the operator's metric
   const HostVector<double>& area_r3;
@@ -197,9 +196,6 @@ void LloydLoop::labels_of_sites() {
   // needed while the labels' own are: freed, not held across the whole loop.
   cscratch_.clear();
   V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
-  // Nor the fits' normals (10 MB at 416k vertices): iterate computes them
-  // again for the centroids, the same values.
-  in_.geo.normals = HostVector<double>();
   // What was just freed (the workspaces ~50 MB at 416k vertices, in the worker
   // threads' heaps) is not kept resident through the labels' peak.
   release_free_memory();
@@ -410,7 +406,6 @@ void LloydLoop::iterate(int32_t it) {
   BatchStopwatch isw;
   labels_ctx_ = step_context(it, 0.0, 0.5);
   labels_of_sites();
-  in_.geo.normals = area_weighted_normals(m_);
   BatchStopwatch psw;
   // New batches from the new cells (compact patches of the cell graph).
   order_ = cluster_order(cells_, spatial_order(m_, sites_), kLanes);
