@@ -16,16 +16,17 @@ namespace locus {
 
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
                                    const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
-                                   bool factor_once) {
+                                   bool factor_once, const MeshDerived* derived) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   if (robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
-  check_requirements(mesh, req);
+  if (derived) check_derived_of(*derived, mesh, "command_heat_operator");
+  if (!derived || !requirements_checked(*derived, req)) check_requirements(mesh, req);
   if (mesh.num_vertices() == 0) fail(ErrorCode::BadInput, mesh_name(mesh) + ": the mesh has no vertices");
   const auto t0 = std::chrono::steady_clock::now();
   HeatDiffusion H;
   H.n = mesh.num_vertices();
-  H.h = mean_edge_length(mesh);
+  H.h = derived ? derived->h : mean_edge_length(mesh);
   H.t = time.resolve(H.h);
   CscMatrix A;
   if (robust) {
@@ -33,8 +34,8 @@ HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTim
     A = robust_heat_operator(R, H.t);
     H.mass = R.mass;
   } else {
-    A = heat_operator(mesh, H.t);
-    H.mass = lumped_mass(mesh);
+    A = heat_operator(mesh, H.t, derived ? &derived->incidence : nullptr);
+    H.mass = derived && !derived->mass.empty() ? derived->mass : lumped_mass(mesh);
   }
   H.operator_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const FactorRequest request{"heat", H.t, &A};

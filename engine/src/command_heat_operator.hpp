@@ -8,6 +8,7 @@
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/kernels/heat/heat_diffusion.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/mesh.hpp"
 #include "locus/run_context.hpp"
 
@@ -18,9 +19,13 @@ namespace locus {
 // mass (operator_choice.hpp), the mesh then checked only for triangles and
 // finite coordinates. `cache` reports the files used. factor_once: the caller
 // only solves with the factor, never factors again with its symbolic part
-// (factor_or_load's factor_once).
+// (factor_or_load's factor_once). `derived` (the mesh's, when the caller
+// holds it) gives the check already made, h, the mass and the edge incidence
+// the cotan operator is assembled on, the same values bit for bit without
+// three more edge incidences (45 MB each at 416k vertices) freed just before
+// the factor is allocated.
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
                                    const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
-                                   bool factor_once = false);
+                                   bool factor_once = false, const MeshDerived* derived = nullptr);
 
 }  // namespace locus

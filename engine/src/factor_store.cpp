@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "locus/core/release_free_memory.hpp"
 #include "locus/engine/heat_time.hpp"
 #include "locus/error.hpp"
 #include "locus/io/factor_cache.hpp"
@@ -103,6 +104,9 @@ Factors factor_or_load_all(const FactorCacheFiles& fc, const Mesh& m, std::span<
   t0 = std::chrono::steady_clock::now();
   F.symbolic = analyze(A0, ord);
   F.analyze_s = seconds_since(t0);
+  // What the ordering, the analysis and the caller's checks freed stays
+  // resident in the heap beside the factor otherwise (~40 MB at 416k vertices).
+  release_free_memory();
   for (const FactorRequest& r : ops) {
     ctx.check_cancel();
     t0 = std::chrono::steady_clock::now();

@@ -78,12 +78,17 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoic
     if (out) *out = op;
     if (op.robust) {
       d->checked = base;
+      drop_edge_corners(d->incidence);
       return d;
     }
   }
   check_requirements(m, req, report);
   if (derive_error) std::rethrow_exception(derive_error);
   d->checked = req;
+  // The checks were the last to read the corners of each edge: the operators,
+  // Lloyd and the dual read the edges and corner_edge, and what needs them
+  // again (boundary loops, feature edges, a later report) rebuilds them.
+  drop_edge_corners(d->incidence);
   return d;
 }
 

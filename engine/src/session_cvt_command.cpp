@@ -269,7 +269,8 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   // same symbolic part) the factor is only solved with: its assembly map goes.
   const bool factor_once = tc.value == 0;
   if (isotropic)
-    prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once);
+    prepared =
+        command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once, &derived);
   const double prepare_s = seconds(t0);
   // The command's own operator: freed once the remesh's repair is done with it.
   CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),

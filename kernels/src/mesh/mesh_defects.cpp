@@ -57,6 +57,7 @@ MeshDefects detect_mesh_defects(const Mesh& m, const EdgeIncidence& inc, const M
   const Edges& E = inc.edges;
   const int64_t ne = static_cast<int64_t>(E.e0.size());
   const int32_t* fv = m.face_vertices.data();
+  const EdgeCorners corners(inc);
   for (int64_t e = 0; e < ne; ++e) {
     if (E.face_count[e] > 2) {
       if (d.non_manifold_edges++ == 0) {
@@ -65,9 +66,9 @@ MeshDefects detect_mesh_defects(const Mesh& m, const EdgeIncidence& inc, const M
         d.first_non_manifold_edge_faces = E.face_count[e];
       }
     } else if (E.face_count[e] == 2) {
-      const int64_t p = inc.edge_corner_offsets[e];
+      const int64_t p = corners.offsets()[e];
       // Both half-edges leave the same end: the faces run the edge the same way.
-      if (fv[inc.edge_corners[p]] == fv[inc.edge_corners[p + 1]] && d.inconsistent_orientation_edges++ == 0) {
+      if (fv[corners.corners()[p]] == fv[corners.corners()[p + 1]] && d.inconsistent_orientation_edges++ == 0) {
         d.first_inconsistent_edge_v0 = E.e0[e];
         d.first_inconsistent_edge_v1 = E.e1[e];
       }

@@ -167,6 +167,31 @@ EdgeIncidence edge_incidence(const Mesh& m) {
 
 Edges unique_edges(const Mesh& m) { return edge_incidence(m).edges; }
 
+void drop_edge_corners(EdgeIncidence& inc) {
+  HostVector<int64_t>().swap(inc.edge_corner_offsets);
+  HostVector<int32_t>().swap(inc.edge_corners);
+}
+
+EdgeCorners::EdgeCorners(const EdgeIncidence& inc) {
+  const Edges& E = inc.edges;
+  const size_t ne = E.e0.size();
+  if (inc.edge_corner_offsets.size() == ne + 1) {
+    offsets_ = inc.edge_corner_offsets.data();
+    corners_ = inc.edge_corners.data();
+    return;
+  }
+  own_offsets_.resize(ne + 1);
+  own_offsets_[0] = 0;
+  for (size_t e = 0; e < ne; ++e) own_offsets_[e + 1] = own_offsets_[e] + E.face_count[e];
+  own_corners_.resize(static_cast<size_t>(own_offsets_[ne]));
+  HostVector<int64_t> pos(own_offsets_.begin(), own_offsets_.end() - 1);
+  const int32_t nc = static_cast<int32_t>(inc.corner_edge.size());
+  for (int32_t c = 0; c < nc; ++c)
+    if (inc.corner_edge[c] >= 0) own_corners_[pos[inc.corner_edge[c]]++] = c;
+  offsets_ = own_offsets_.data();
+  corners_ = own_corners_.data();
+}
+
 Adjacency vertex_adjacency(const Mesh& m, const Edges& E) {
   const int32_t nv = m.num_vertices();
   const size_t ne = E.e0.size();
@@ -206,6 +231,7 @@ std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncide
       ++bstart[E.e1[e] + 1];
     }
   for (int32_t v = 0; v < nv; ++v) bstart[v + 1] += bstart[v];
+  if (bstart[nv] == 0) return {};  // closed: no corner lists needed
   HostVector<int32_t> bedges(static_cast<size_t>(bstart[nv]));
   {
     HostVector<int64_t> pos(bstart.begin(), bstart.end() - 1);
@@ -215,7 +241,8 @@ std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncide
         bedges[pos[E.e1[e]]++] = static_cast<int32_t>(e);
       }
   }
-  auto tail_of = [&](int64_t e) { return fv[inc.edge_corners[inc.edge_corner_offsets[e]]]; };
+  const EdgeCorners corners(inc);
+  auto tail_of = [&](int64_t e) { return fv[corners.first(e)]; };
   HostVector<char> used(static_cast<size_t>(ne), 0);
   std::vector<std::vector<int32_t>> loops;
   for (int64_t e = 0; e < ne; ++e) {

@@ -95,12 +95,13 @@ int32_t face_of_corner(const Mesh& m, int32_t c) {
 
 // The first offender among the non-manifold edges: the one of smallest id.
 void report_bad_edge(const Mesh& m, const EdgeIncidence& inc, int64_t e, MeshReport& r) {
-  const int64_t p = inc.edge_corner_offsets[e];
+  const EdgeCorners corners(inc);
+  const int64_t p = corners.offsets()[e];
   r.first_non_manifold_edge_v0 = inc.edges.e0[e];
   r.first_non_manifold_edge_v1 = inc.edges.e1[e];
   r.first_non_manifold_edge_faces = inc.edges.face_count[e];
-  r.first_non_manifold_edge_face_a = face_of_corner(m, inc.edge_corners[p]);
-  r.first_non_manifold_edge_face_b = face_of_corner(m, inc.edge_corners[p + 1]);
+  r.first_non_manifold_edge_face_a = face_of_corner(m, corners.corners()[p]);
+  r.first_non_manifold_edge_face_b = face_of_corner(m, corners.corners()[p + 1]);
 }
 
 // Every corner's two edges at its vertex (the half-edge arriving there, the one

@@ -536,6 +536,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   LloydLoop loop(in, sites, std::move(nb), r);
   if (!first.empty()) {
     loop.first_cells(first);
+    HostVector<int32_t>().swap(first);  // in the loop's batches now: not held through the iterations
     r.init_s += sw.lap();
   }
   for (int32_t it = 0; it < heat_opt.iterations; ++it) {
@@ -543,10 +544,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
     const std::vector<double>& e = r.energy;  // stopping rule (cvt_lloyd.hpp stop_energy)
     if (opt.stop_energy > 0 && e.size() >= 2 && e[e.size() - 2] - e.back() < opt.stop_energy * e.back()) break;
   }
-  // The centroid fits' normals: not needed by the final labels (memory); the
-  // face lists stay, the stars borrow them.
-  geo.normals = HostVector<double>();
-  loop.finish();
+  loop.finish();  // (the fits' face lists stay through it: the stars borrow them)
   return r;
 }
 

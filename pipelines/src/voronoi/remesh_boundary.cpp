@@ -135,7 +135,8 @@ int64_t BoundaryCurves::movable() const {
 int64_t BoundaryCurves::sweep(Mesh& remesh, const std::vector<std::array<int32_t, 3>>& F, bool by_angle) {
   std::vector<std::vector<int32_t>> faces(remesh.num_vertices());
   for (const Run& r : runs_)
-    for (int32_t v : r.v) faces[v].push_back(-1);  // marks the vertices whose triangles are needed
+    for (int32_t v : r.v)
+      if (faces[v].empty()) faces[v].push_back(-1);  // marks (once) the vertices whose triangles are needed
   for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
     for (int32_t v : F[f])
       if (!faces[v].empty()) faces[v].push_back(f);

@@ -26,10 +26,11 @@ std::vector<uint8_t> feature_edges(const Mesh& m, const EdgeIncidence& inc, doub
   const size_t ne = inc.edges.e0.size();
   std::vector<uint8_t> sharp(ne, 0);
   const double cos_max = std::cos(angle_deg * M_PI / 180);
+  const EdgeCorners corners(inc);
   for (size_t e = 0; e < ne; ++e) {
     if (inc.edges.face_count[e] != 2) continue;
-    const int64_t c0 = inc.edge_corner_offsets[e];
-    const V3 na = face_normal(m, inc.edge_corners[c0] / 3), nb = face_normal(m, inc.edge_corners[c0 + 1] / 3);
+    const int64_t c0 = corners.offsets()[e];
+    const V3 na = face_normal(m, corners.corners()[c0] / 3), nb = face_normal(m, corners.corners()[c0 + 1] / 3);
     const double la = norm(na), lb = norm(nb);
     if (la > 0 && lb > 0 && dot(na, nb) < cos_max * la * lb) sharp[e] = 1;
   }
@@ -52,11 +53,12 @@ int32_t edge_of(const EdgeIncidence& inc, int32_t u, int32_t w) {
 }
 
 // The point at fraction t of edge u-w as a point of one of its faces.
-SurfacePoint edge_point(const Mesh& m, const EdgeIncidence& inc, int32_t u, int32_t w, double t) {
+SurfacePoint edge_point(const Mesh& m, const EdgeIncidence& inc, const EdgeCorners& corners, int32_t u, int32_t w,
+                        double t) {
   if (t <= 1e-9) return vertex_point(u);
   if (t >= 1 - 1e-9) return vertex_point(w);
   const int32_t e = edge_of(inc, u, w);
-  const int32_t f = inc.edge_corners[inc.edge_corner_offsets[e]] / 3;
+  const int32_t f = corners.first(e) / 3;
   SurfacePoint p;
   p.face = f;
   p.bary = {0, 0, 0};
@@ -238,6 +240,7 @@ std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, con
   std::vector<int32_t> corners = g.corners;
   std::stable_sort(corners.begin(), corners.end(), [&](int32_t a, int32_t b) { return ends[a] > ends[b]; });
   for (int32_t v : corners) out.push_back(vertex_point(v)), on.push_back({-1, 0.0});
+  const EdgeCorners edge_corners(d.incidence);
   for (size_t ci = 0; ci < g.curves.size(); ++ci) {
     const std::vector<int32_t>& c = g.curves[ci];
     std::vector<double> s{0};
@@ -254,7 +257,7 @@ std::vector<SurfacePoint> feature_sites(const Mesh& m, const MeshDerived& d, con
       const double at = len * static_cast<double>(k) / static_cast<double>(steps);
       while (i + 2 < s.size() && s[i + 1] < at) ++i;
       const double seg = s[i + 1] - s[i];
-      out.push_back(edge_point(m, d.incidence, c[i], c[i + 1], seg > 0 ? (at - s[i]) / seg : 0.0));
+      out.push_back(edge_point(m, d.incidence, edge_corners, c[i], c[i + 1], seg > 0 ? (at - s[i]) / seg : 0.0));
       on.push_back({static_cast<int32_t>(ci), at});
     }
   }

@@ -513,3 +513,38 @@ TEST_CASE("manifold checks equal a brute-force count on soups and on damaged sph
     check_against_brute(m);
   }
 }
+
+TEST_CASE("an incidence without its edge-to-corner lists: EdgeCorners rebuilds them, boundary loops and reports agree") {
+  const Mesh fin = tri_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}}, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const Mesh flip = tri_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}}, {{0, 1, 2}, {0, 1, 3}});
+  for (const Mesh& m : {make_grid(6, 0.4, 3), make_disk(4, 1.0, 2), make_quad_torus(5, 4), make_icosphere(1), fin, flip}) {
+    // Oracle: per edge (lexicographic (lo, hi)), the corners whose half-edge runs along it, ascending.
+    std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> ref;
+    for (int32_t f = 0; f < m.num_faces(); ++f)
+      for (int32_t c = m.face_offsets[f]; c < m.face_offsets[f + 1]; ++c) {
+        const int32_t a = m.face_vertices[c], b = m.face_vertices[c + 1 == m.face_offsets[f + 1] ? m.face_offsets[f] : c + 1];
+        ref[{std::min(a, b), std::max(a, b)}].push_back(c);
+      }
+    const EdgeIncidence full = edge_incidence(m);
+    EdgeIncidence lean = full;
+    drop_edge_corners(lean);
+    CHECK(lean.edge_corner_offsets.empty());
+    CHECK(lean.edge_corners.empty());
+    const EdgeCorners rebuilt(lean), borrowed(full);
+    CHECK(borrowed.offsets() == full.edge_corner_offsets.data());  // held: not copied
+    REQUIRE(full.edges.e0.size() == ref.size());
+    size_t e = 0;
+    for (const auto& [edge, corners] : ref) {
+      const std::vector<int32_t> got(rebuilt.corners() + rebuilt.offsets()[e], rebuilt.corners() + rebuilt.offsets()[e + 1]);
+      CHECK(got == corners);
+      CHECK(rebuilt.first(static_cast<int64_t>(e)) == corners.front());
+      ++e;
+    }
+    CHECK(boundary_loops(m, lean) == boundary_loops(m, full));
+    const MeshReport a = analyze_mesh(m, full), b = analyze_mesh(m, lean);
+    CHECK(a.first_non_manifold_edge_face_a == b.first_non_manifold_edge_face_a);
+    CHECK(a.first_non_manifold_edge_face_b == b.first_non_manifold_edge_face_b);
+    CHECK(a.boundary_loops == b.boundary_loops);
+    CHECK(a.non_manifold_edges == b.non_manifold_edges);
+  }
+}

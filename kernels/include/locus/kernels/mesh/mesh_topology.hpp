@@ -39,6 +39,32 @@ struct EdgeIncidence {
   HostVector<int32_t> edge_corners;         //   (ascending corner index, i.e. ascending face)
 };
 
+// Frees an incidence's edge-to-corner CSR (edge_corner_offsets, edge_corners:
+// 20 MB at 416k vertices) when its holder keeps it for what reads only the
+// edges and corner_edge (the Session after its checks). What reads the CSR
+// takes it through EdgeCorners, which rebuilds it then.
+void drop_edge_corners(EdgeIncidence& inc);
+
+// The corners of each edge of an incidence: its own CSR, borrowed, or when it
+// was dropped the same arrays rebuilt from corner_edge (an edge's corners are
+// face_count of them; counting them in ascending corner order gives
+// edge_incidence's offsets and order), O(#corners).
+class EdgeCorners {
+ public:
+  explicit EdgeCorners(const EdgeIncidence& inc);
+  EdgeCorners(const EdgeCorners&) = delete;
+  EdgeCorners& operator=(const EdgeCorners&) = delete;
+  const int64_t* offsets() const { return offsets_; }  // ne + 1
+  const int32_t* corners() const { return corners_; }
+  int32_t first(int64_t e) const { return corners_[offsets_[e]]; }  // the edge's corner of lowest index
+
+ private:
+  HostVector<int64_t> own_offsets_;
+  HostVector<int32_t> own_corners_;
+  const int64_t* offsets_ = nullptr;
+  const int32_t* corners_ = nullptr;
+};
+
 // Throws BadInput (naming the mesh source, face and vertex) unless x/y/z have equal
 // length, face_offsets is a non-decreasing CSR starting at 0 and ending at
 // face_vertices.size(), every face has >= 3 vertices, every index is in [0, nv), and

@@ -31,8 +31,7 @@ namespace locus {
 struct CentroidGeometry {
   int32_t n = 0;
   HostVector<int64_t> vf_offsets;  // n + 1: faces incident to each vertex (CSR), ascending
-  HostVector<int32_t> vf_faces;
-  HostVector<double> normals;      // 3n, area-weighted unit normals
+  HostVector<int32_t> vf_faces;    // (the fits' area-weighted normals are summed over these when needed)
   Adjacency own_adj;                // the adjacency when built here
   const Adjacency* borrowed = nullptr;
   const Adjacency& adj() const { return borrowed ? *borrowed : own_adj; }
