@@ -107,6 +107,12 @@ struct RemeshResult {
   // Rounds on graph-geodesic labels, after heat labels kept failing (0: none
   // needed); see cvt_remesh.cpp geodesic_repair.
   int32_t geodesic_rounds = 0;
+  // Rounds that moved vertices from flat, wide regions to thin ones
+  // (remesh_rebalance.hpp; 0 on a remesh at the angle targets).
+  int32_t rebalance_rounds = 0;
+  // Components of one triangle remeshed as their input triangle
+  // (remesh_small_components.hpp: its angles are the input's).
+  int32_t single_triangles = 0;
   int32_t lloyd_iterations = 0;   // all rounds
   DualDefects first_defects;      // of the partition after the first Lloyd run
   DualDefects defects;            // left after the last round (all zero when complete)
