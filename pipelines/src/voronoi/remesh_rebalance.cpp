@@ -22,17 +22,21 @@ bool same_topology(const RemeshStats& a, const RemeshStats& b) {
          a.boundary_loops == b.boundary_loops;
 }
 
-// The angle the triangles below the smallest angle's target lack, summed
-// (degrees): one triangle the remesh cannot open (a component of one
-// triangle) does not hide the others.
+// The angle the triangles below the smallest angle's target lack, weighted
+// by their share of the area (degrees): one triangle the remesh cannot open
+// (a corner of the input sharper than the target) does not hide the others,
+// and a split that halves a thin triangle without opening it yet (a strip
+// needs a row of them) does not count twice.
 double deficit(const Mesh& m) {
   using namespace remesh_vec3;
-  double d = 0;
+  double d = 0, area = 0;
   for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const double a = min_angle(pos(m, m.f0[f]), pos(m, m.f1[f]), pos(m, m.f2[f])) * 180 / M_PI;
-    d += std::max(0.0, kMinTarget - a);
+    const V3 a = pos(m, m.f0[f]), b = pos(m, m.f1[f]), c = pos(m, m.f2[f]);
+    const double s = norm(tri_normal(a, b, c));
+    d += s * std::max(0.0, kMinTarget - min_angle(a, b, c) * 180 / M_PI);
+    area += s;
   }
-  return d;
+  return area > 0 ? d / area : 0;
 }
 
 struct Score {
@@ -47,7 +51,7 @@ Score score_of(const Mesh& input, const Mesh& remesh) { return {remesh_stats(inp
 // mean rises and the smallest angle stays at the target.
 bool better(const Score& now, const Score& was) {
   if (was.deficit > 0)
-    return now.deficit < was.deficit - 1e-6 && now.s.min_angle_deg >= was.s.min_angle_deg - 1e-9 &&
+    return now.deficit < was.deficit - 1e-9 && now.s.min_angle_deg >= was.s.min_angle_deg - 1e-9 &&
            now.s.mean_min_angle_deg > was.s.mean_min_angle_deg - 1;
   return now.s.min_angle_deg >= kMinTarget && now.s.mean_min_angle_deg > was.s.mean_min_angle_deg + 1e-3;
 }
