@@ -92,11 +92,7 @@ RebalanceStats rebalance_remesh(const Mesh& input, const TriangleGrid& grid, Mes
     ++st.rounds;
     st.splits += splits;
     st.collapses += collapses;
-    st.optimize.flips += os.flips;
-    st.optimize.moves += os.moves;
-    st.optimize.angle_moves += os.angle_moves;
-    st.optimize.boundary_moves += os.boundary_moves;
-    st.optimize.refused += os.refused;
+    st.optimize += os;
     was = now;
   }
   return st;

@@ -44,7 +44,11 @@
 // The manifold dual is then optimized on the input (remesh_optimize.hpp);
 // where triangles below 25 degrees remain, their longest edges split (up to
 // 1.5% above the request, remesh_split.hpp) and two optimization rounds
-// follow, kept when the smallest angle grew.
+// follow, kept when the smallest angle grew. A remesh still off the angle
+// targets (a triangle below 25 degrees, or the mean below 50) has vertices
+// moved from its flat, wide regions to its thin ones (remesh_rebalance.hpp).
+// A component of one triangle over an input component of one triangle is
+// that triangle (remesh_small_components.hpp).
 #pragma once
 #include <cstdint>
 #include <functional>
