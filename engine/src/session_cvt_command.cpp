@@ -181,6 +181,7 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   r.lloyd_iterations = rr.lloyd_iterations;
   r.requested = rr.requested, r.delivered = rr.delivered, r.repair_sites = rr.repair_sites;
   r.removed_sites = rr.removed_sites, r.density_passes = rr.density_passes, r.geodesic_rounds = rr.geodesic_rounds;
+  r.rebalance_rounds = rr.rebalance_rounds, r.single_triangles = rr.single_triangles;
   r.dual_mean_min_angle_deg = rr.dual_mean_min_angle_deg, r.dual_min_angle_deg = rr.dual_min_angle_deg;
   r.flips = rr.optimize.flips, r.smoothing_moves = rr.optimize.moves, r.boundary_moves = rr.optimize.boundary_moves;
   r.feature_edges = rr.feature_edges, r.feature_curves = rr.feature_curves;

@@ -48,6 +48,8 @@ py::dict remesh_dict(const CvtReport& r, double features) {
   d["removed_sites"] = r.removed_sites;
   d["density_passes"] = r.density_passes;
   d["geodesic_rounds"] = r.geodesic_rounds;
+  d["rebalance_rounds"] = r.rebalance_rounds;
+  d["single_triangles"] = r.single_triangles;
   if (features > 0)
     d["features"] = py::dict("angle_deg"_a = features, "edges"_a = r.feature_edges, "curves"_a = r.feature_curves,
                              "corners"_a = r.feature_corners, "sites"_a = r.feature_sites);

@@ -75,6 +75,8 @@ Json remesh_json(const CvtRequest& q, const CvtReport& r) {
   j["removed_sites"] = r.removed_sites;
   j["density_passes"] = r.density_passes;
   j["geodesic_rounds"] = r.geodesic_rounds;
+  j["rebalance_rounds"] = r.rebalance_rounds;
+  j["single_triangles"] = r.single_triangles;
   j["defects_before_repair"] = defects_json(r.defects_before_repair);
   j["defects_left"] = defects_json(r.defects_left);
   const CvtMeshStats& in = r.input_stats;

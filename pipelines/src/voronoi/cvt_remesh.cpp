@@ -22,6 +22,8 @@
 #include "locus/pipelines/voronoi/remesh_features.hpp"
 #include "locus/pipelines/voronoi/remesh_fidelity.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
+#include "locus/pipelines/voronoi/remesh_rebalance.hpp"
+#include "locus/pipelines/voronoi/remesh_small_components.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
 #include "locus/pipelines/voronoi/remesh_split.hpp"
 #include "locus/pipelines/voronoi/site_neighborhoods.hpp"
@@ -210,11 +212,7 @@ void split_and_reoptimize(const Mesh& m, const TriangleGrid& grid, int32_t want,
   oo.rounds = 2;
   const RemeshOptimizeStats st = optimize_remesh(m, grid, r.remesh, oo);
   if (remesh_stats(m, r.remesh, false).min_angle_deg > before) {
-    r.optimize.flips += st.flips;
-    r.optimize.moves += st.moves;
-    r.optimize.angle_moves += st.angle_moves;
-    r.optimize.boundary_moves += st.boundary_moves;
-    r.optimize.refused += st.refused;
+    r.optimize += st;
     return;
   }
   r.remesh = std::move(keep);
@@ -231,6 +229,8 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
   r.dual_min_angle_deg = raw.min_angle_deg;
   if (o.optimize_rounds > 0) {
     const TriangleGrid grid(m);
+    // Before the splits and collapses change them: one-triangle components.
+    r.single_triangles = restore_single_triangles(m, grid, r.remesh);
     // More than 1.5% above the request (repair sites where the topology
     // needed them): the shortest interior edges collapse to it.
     const int32_t want = o.lloyd.sites;
@@ -249,12 +249,17 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     oo.slides = feature_slides(r.feature_lines, r.vertex_site, r.feature_sites);  // after the collapses
     r.optimize = optimize_remesh(m, grid, r.remesh, oo);
     split_and_reoptimize(m, grid, want, oo, r);
+    // Off the angle targets: vertices from flat, wide regions to thin ones.
+    const RebalanceStats rb = rebalance_remesh(m, grid, r.remesh, oo, r.vertex_site);
+    r.rebalance_rounds = rb.rounds;
+    r.optimize += rb.optimize;
     // Last, the input's farthest vertices pull the remesh to them (median
     // Hausdorff distance of the sample meshes 1.56 -> 1.02%, docs/cvt.md).
     RemeshFidelityOptions fo;
     fo.pinned = std::move(oo.pinned);
     if (!fo.pinned.empty()) fo.pinned.resize(static_cast<size_t>(r.remesh.num_vertices()), 0);  // split vertices move
     r.optimize.moves += pull_to_input(m, grid, r.remesh, fo);
+    restore_single_triangles(m, grid, r.remesh);  // again, should a pass have moved one (idempotent)
   }
   r.optimize_s = sw.lap();
 }

@@ -63,7 +63,7 @@ double turning(const Work& W, int32_t v, const std::vector<int32_t>& nb) {
 // Collapses u-w when the conditions of the header hold; `touched` gets the
 // vertices whose neighborhood changed.
 bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t u, int32_t w,
-                  std::vector<int32_t>& touched) {
+                  std::vector<int32_t>& touched, double floor_rad) {
   const std::vector<int32_t> fu = W.faces_of(u), fw = W.faces_of(w);
   std::vector<int32_t> shared;
   for (int32_t f : fu)
@@ -88,7 +88,10 @@ bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t 
     if (pin_w) std::swap(keep, drop);
     target = W.p[keep];
   } else if (edge_on_boundary) {
-    if (turning(W, w, nw) > turning(W, u, nu)) std::swap(keep, drop);
+    const double tu = turning(W, u, nu), tw = turning(W, w, nw);
+    if (tw > tu) std::swap(keep, drop);
+    // Flat: only a vertex where the loop runs straight goes (its curve stays).
+    if (floor_rad > 0 && std::min(tu, tw) > 10 * M_PI / 180) return false;
     target = W.p[keep];
   } else if (W.boundary[u] || W.boundary[w]) {
     if (W.boundary[w]) std::swap(keep, drop);
@@ -118,6 +121,7 @@ bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t 
     }
     const V3 n0 = tri_normal(a[0], a[1], a[2]), n1 = tri_normal(b[0], b[1], b[2]);
     if (!(dot(n0, n1) > 0.5 * norm(n0) * norm(n1))) return false;
+    if (floor_rad > 0 && !(min_angle(b[0], b[1], b[2]) >= floor_rad)) return false;
   }
   for (int32_t f : shared) W.face_alive[f] = 0;
   for (int32_t f : drop == w ? fw : fu)
@@ -136,10 +140,31 @@ bool try_collapse(const Mesh& input, const TriangleGrid& grid, Work& W, int32_t 
   return true;
 }
 
+// Per vertex, in degrees: the largest angle between one of its triangles'
+// normals and their area-weighted sum (0 on a plane).
+std::vector<double> ring_bend(const Work& W) {
+  const size_t n = W.p.size();
+  std::vector<V3> sum(n, V3{0, 0, 0});
+  for (size_t f = 0; f < W.F.size(); ++f)
+    if (W.face_alive[f]) {
+      const V3 t = tri_normal(W.p[W.F[f][0]], W.p[W.F[f][1]], W.p[W.F[f][2]]);
+      for (int32_t v : W.F[f])
+        for (int k = 0; k < 3; ++k) sum[v][k] += t[k];
+    }
+  std::vector<double> bend(n, 0.0);
+  for (size_t f = 0; f < W.F.size(); ++f)
+    if (W.face_alive[f]) {
+      const V3 t = tri_normal(W.p[W.F[f][0]], W.p[W.F[f][1]], W.p[W.F[f][2]]);
+      for (int32_t v : W.F[f])
+        bend[v] = std::max(bend[v], std::atan2(norm(cross(t, sum[v])), dot(t, sum[v])) * 180 / M_PI);
+    }
+  return bend;
+}
+
 }  // namespace
 
 int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& remesh, int32_t target,
-                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned) {
+                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned, CollapseOrder order) {
   const int32_t n = remesh.num_vertices();
   if (n <= target) return 0;
   if (!pinned.empty() && pinned.size() != static_cast<size_t>(n))
@@ -183,13 +208,16 @@ int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& rem
           mean_edge[a] += l, ++deg[a];
           mean_edge[b] += l, ++deg[b];
         }
+    const std::vector<double> bend = order == CollapseOrder::Flat ? ring_bend(W) : std::vector<double>{};
     std::vector<std::pair<double, std::pair<int32_t, int32_t>>> edges;
     for (int32_t f = 0; f < static_cast<int32_t>(W.F.size()); ++f)
       if (W.face_alive[f])
         for (int k = 0; k < 3; ++k) {
           const int32_t a = W.F[f][k], b = W.F[f][(k + 1) % 3];
-          if (a < b)
-            edges.push_back({norm(sub(W.p[a], W.p[b])) * (deg[a] + deg[b]) / (mean_edge[a] + mean_edge[b]), {a, b}});
+          if (a >= b) continue;
+          const double rel = norm(sub(W.p[a], W.p[b])) * (deg[a] + deg[b]) / (mean_edge[a] + mean_edge[b]);
+          // Flat: whole degrees of bend first (flat regions), then the shortest.
+          edges.push_back({bend.empty() ? rel : std::floor(std::max(bend[a], bend[b])) + 0.5 * std::min(rel, 1.9), {a, b}});
         }
     std::sort(edges.begin(), edges.end());
     std::vector<uint8_t> locked(n, 0);  // one collapse per neighborhood and pass
@@ -198,7 +226,7 @@ int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& rem
       if (alive <= target) break;
       const auto [a, b] = e;
       if (locked[a] || locked[b] || !W.vert_alive[a] || !W.vert_alive[b]) continue;
-      if (!try_collapse(input, grid, W, a, b, touched)) continue;
+      if (!try_collapse(input, grid, W, a, b, touched, order == CollapseOrder::Flat ? 20 * M_PI / 180 : 0)) continue;
       for (int32_t v : touched) locked[v] = 1;
       --alive;
       ++collapses;

@@ -13,7 +13,7 @@
 namespace locus {
 
 int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
-                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned) {
+                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned, bool boundary_edges) {
   using namespace remesh_vec3;
   const double below = below_deg * M_PI / 180;
   const int32_t nf = remesh.num_faces();
@@ -45,7 +45,8 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
     const int32_t u = F[f][best], w = F[f][(best + 1) % 3];
     if (!pinned.empty() && pinned[u] && pinned[w]) continue;
     const auto& fs = ef[{std::min(u, w), std::max(u, w)}];
-    if (fs.size() != 2 || used[fs[0]] || used[fs[1]]) continue;
+    if (!(fs.size() == 2 || (boundary_edges && fs.size() == 1))) continue;
+    if (std::any_of(fs.begin(), fs.end(), [&](int32_t g) { return used[g] != 0; })) continue;
     const V3 pu = pos(remesh, u), pw = pos(remesh, w);
     const ClosestPoint cp = grid.closest({0.5 * (pu[0] + pw[0]), 0.5 * (pu[1] + pw[1]), 0.5 * (pu[2] + pw[2])});
     if (cp.face < 0) continue;

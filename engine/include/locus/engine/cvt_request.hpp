@@ -97,6 +97,9 @@ struct LOCUS_API CvtReport {
   // passes and shortest-path repair rounds (the repair's last resort) ran.
   int32_t requested = 0, delivered = 0, repair_sites = 0, removed_sites = 0, density_passes = 0,
           geodesic_rounds = 0;
+  // Rounds that moved vertices from flat, wide regions to thin ones, and
+  // components of one triangle given their input triangle (cvt_remesh.hpp).
+  int32_t rebalance_rounds = 0, single_triangles = 0;
   double dual_mean_min_angle_deg = 0, dual_min_angle_deg = 0;  // before the optimization
   int64_t flips = 0, smoothing_moves = 0, boundary_moves = 0;
   // With features: the input's feature edges, curves and corners, and the

@@ -44,7 +44,11 @@
 // The manifold dual is then optimized on the input (remesh_optimize.hpp);
 // where triangles below 25 degrees remain, their longest edges split (up to
 // 1.5% above the request, remesh_split.hpp) and two optimization rounds
-// follow, kept when the smallest angle grew.
+// follow, kept when the smallest angle grew. A remesh still off the angle
+// targets (a triangle below 25 degrees, or the mean below 50) has vertices
+// moved from its flat, wide regions to its thin ones (remesh_rebalance.hpp).
+// A component of one triangle over an input component of one triangle is
+// that triangle (remesh_small_components.hpp).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -107,6 +111,12 @@ struct RemeshResult {
   // Rounds on graph-geodesic labels, after heat labels kept failing (0: none
   // needed); see cvt_remesh.cpp geodesic_repair.
   int32_t geodesic_rounds = 0;
+  // Rounds that moved vertices from flat, wide regions to thin ones
+  // (remesh_rebalance.hpp; 0 on a remesh at the angle targets).
+  int32_t rebalance_rounds = 0;
+  // Components of one triangle remeshed as their input triangle
+  // (remesh_small_components.hpp: its angles are the input's).
+  int32_t single_triangles = 0;
   int32_t lloyd_iterations = 0;   // all rounds
   DualDefects first_defects;      // of the partition after the first Lloyd run
   DualDefects defects;            // left after the last round (all zero when complete)

@@ -24,7 +24,15 @@ namespace locus {
 // per vertex, or empty) follows the kept vertices. Returns the collapses.
 // `pinned` (one entry per vertex, or empty): vertices that neither move nor
 // go (a feature's, remesh_features.hpp); a free neighbor collapses into one.
+// Which edges go first: Short, the shortest against their vertices' mean
+// edge (the crowd of repair sites); Flat, the edges whose two rings are the
+// flattest (the largest angle between a ring triangle's normal and the
+// ring's), then the shortest, and only collapses that leave every triangle
+// of the merged ring at least 20 degrees: the vertices a flat, wide region
+// can spare (remesh_rebalance.hpp).
+enum class CollapseOrder { Short, Flat };
 int32_t collapse_to_count(const Mesh& input, const TriangleGrid& grid, Mesh& remesh, int32_t target,
-                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {});
+                          std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {},
+                          CollapseOrder order = CollapseOrder::Short);
 
 }  // namespace locus

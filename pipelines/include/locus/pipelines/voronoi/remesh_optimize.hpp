@@ -116,6 +116,11 @@ struct RemeshOptimizeStats {
   int64_t angle_moves = 0;  // moves of the targeted angle repair
   int64_t boundary_moves = 0;  // moves of boundary (and feature) vertices along the input's curves
   int64_t refused = 0;   // moves refused (a triangle would turn over, or the projection crossed a thin part)
+  RemeshOptimizeStats& operator+=(const RemeshOptimizeStats& o) {  // the counts of a later pass
+    flips += o.flips, moves += o.moves, angle_moves += o.angle_moves;
+    boundary_moves += o.boundary_moves, refused += o.refused;
+    return *this;
+  }
 };
 
 // `remesh` is a triangle mesh whose vertices lie on `input` (grid built over it).

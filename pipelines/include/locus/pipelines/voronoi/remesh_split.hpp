@@ -22,8 +22,13 @@ namespace locus {
 // `vertex_site` (one entry per vertex, or empty) gets, for a new vertex, the
 // site of the split edge's first endpoint; new vertices are appended. An edge
 // between two `pinned` vertices (one entry per vertex, or empty: a feature's
-// edge, remesh_features.hpp) is not split. Returns the splits.
+// edge, remesh_features.hpp) is not split. With `boundary_edges` a longest
+// edge on the boundary splits too (one triangle more; the new vertex, the
+// chord's midpoint projected onto the input, is on a straight boundary's
+// curve and near a curved one's: remesh_rebalance.hpp across a strip).
+// Returns the splits.
 int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
-                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {});
+                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {},
+                   bool boundary_edges = false);
 
 }  // namespace locus
