@@ -34,7 +34,7 @@ void fill_report(const locus::CvtReport& r, locus_cvt_report& o) {
                     dual_triangles, area_cv, area_variance, area_cv_vertex, area_variance_vertex, empty_cells,
                     fallback_faces, flips, smoothing_moves, boundary_moves, requested, delivered, repair_sites,
                     removed_sites, density_passes, geodesic_rounds, feature_edges, feature_curves, feature_corners,
-                    feature_sites);
+                    feature_sites, rebalance_rounds, single_triangles);
   LOCUS_COPY_FIELDS(o.remesh, r.remesh_stats, vertices, faces, genus, components, boundary_loops, mean_min_angle_deg,
                     min_angle_deg, pct_below_30_deg, hausdorff_rel);
   o.remesh.manifold = r.remesh_stats.manifold && r.complete ? 1 : 0;

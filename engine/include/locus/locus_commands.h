@@ -369,6 +369,8 @@ typedef struct locus_cvt_report {
   /* with features: the input's feature edges, curves and corners, and the sites placed on them */
   int64_t feature_edges;
   int32_t feature_curves, feature_corners, feature_sites;
+  /* rounds of the rebalance (sites moved from flat to thin parts) kept, and one-triangle components given back their input triangle */
+  int32_t rebalance_rounds, single_triangles;
 } locus_cvt_report;
 LOCUS_API locus_status locus_cvt_run(locus_session* session, const locus_cvt_options* options, int32_t* out_labels,
                                      locus_cvt_report* out_report, locus_remesh** out_remesh,
