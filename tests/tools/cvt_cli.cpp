@@ -116,7 +116,7 @@ TEST_CASE("cvt CLI: -o writes the manifold remesh (OBJ, PLY, OFF) with the input
   locus::write_mesh(torus, locus::make_torus(120, 48));  // genus 1
   check_remesh_cli(dir, torus, "300", "obj");
   check_remesh_cli(dir, torus, "300", "ply");
-  if (fs::exists("cache/meshes/armadillo.off")) check_remesh_cli(dir, "cache/meshes/armadillo.off", "1000", "off");
+  if (fs::exists(LOCUS_MESH_CACHE_DIR "/armadillo.off")) check_remesh_cli(dir, LOCUS_MESH_CACHE_DIR "/armadillo.off", "1000", "off");
   // Too few sites for a genus-1 surface: no manifold remesh; -o fails and writes nothing.
   const Run few = run_locus(dir, {"cvt", torus, "--sites", "3", "--repair-rounds", "0", "-o", dir / "few.obj"});
   CHECK(few.status == 4);

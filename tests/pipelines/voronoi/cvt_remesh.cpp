@@ -281,10 +281,10 @@ TEST_CASE("cvt remesh: real meshes (armadillo 1,000 sites, elephant genus 3, wit
     int32_t sites;
     std::vector<int32_t> holes;
   };
-  const Case cases[] = {{"cache/meshes/armadillo.off", 1000, {}},
-                        {"cache/meshes/elephant.off", 400, {}},
-                        {"cache/meshes/elephant.off", 400, {100, 1500, 2500}},
-                        {"cache/meshes/blade.off", 400, {}}};
+  const Case cases[] = {{LOCUS_MESH_CACHE_DIR "/armadillo.off", 1000, {}},
+                        {LOCUS_MESH_CACHE_DIR "/elephant.off", 400, {}},
+                        {LOCUS_MESH_CACHE_DIR "/elephant.off", 400, {100, 1500, 2500}},
+                        {LOCUS_MESH_CACHE_DIR "/blade.off", 400, {}}};
   for (const Case& c : cases) {
     if (!have_mesh(c.path)) continue;
     CAPTURE(c.path);
@@ -305,8 +305,8 @@ TEST_CASE("cvt remesh: real meshes (armadillo 1,000 sites, elephant genus 3, wit
 }
 
 TEST_CASE("cvt remesh: armadillo with 5,000 sites (long; --no-skip)" * doctest::skip()) {
-  if (!have_mesh("cache/meshes/armadillo.off")) return;
-  const Mesh m = read_mesh("cache/meshes/armadillo.off");
+  if (!have_mesh(LOCUS_MESH_CACHE_DIR "/armadillo.off")) return;
+  const Mesh m = read_mesh(LOCUS_MESH_CACHE_DIR "/armadillo.off");
   const RemeshResult r = remesh(m, 5000, 20);
   REQUIRE(r.complete);
   check_same_topology(m, r.remesh);

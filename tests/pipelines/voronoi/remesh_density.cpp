@@ -116,7 +116,7 @@ TEST_CASE("cvt remesh: without heat repair, the graph-geodesic rounds still give
 }
 
 TEST_CASE("cvt remesh: CAD needles (ALSTOM_TEST4: 6 components, 6 loops) at 1,000 sites: topology and density") {
-  const std::optional<RemeshResult> r = sample_remesh_1000("cache/meshes/ALSTOM_TEST4.off");
+  const std::optional<RemeshResult> r = sample_remesh_1000(LOCUS_MESH_CACHE_DIR "/ALSTOM_TEST4.off");
   if (!r) return;
   check_counts(*r, 1000);
   CHECK(std::abs(r->delivered - 1000) <= 20);
@@ -126,7 +126,7 @@ TEST_CASE("cvt remesh: CAD needles (ALSTOM_TEST4: 6 components, 6 loops) at 1,00
 // dual above the request after the density passes; the edge collapses
 // (remesh_collapse.hpp) bring it to the request, the topology kept.
 TEST_CASE("cvt remesh: elephant-with-holes at 1,000 sites: the requested count within 2%, topology kept") {
-  const std::optional<RemeshResult> r = sample_remesh_1000("cache/meshes/elephant-with-holes.off");
+  const std::optional<RemeshResult> r = sample_remesh_1000(LOCUS_MESH_CACHE_DIR "/elephant-with-holes.off");
   if (!r) return;
   CHECK(r->delivered == r->remesh.num_vertices());
   CHECK(std::abs(r->delivered - 1000) <= 20);

@@ -184,7 +184,7 @@ TEST_CASE("cvt remesh with features: crease runs that meet a boundary loop, at 2
   // boundary sweep once marked such a vertex per run and unmarked it once,
   // reading a face list at -1 (the sanitized build reports it; the Release
   // build crashed or differed from run to run).
-  const std::string path = "cache/meshes/cylinder_locally_refined.off";
+  const std::string path = LOCUS_MESH_CACHE_DIR "/cylinder_locally_refined.off";
   if (!std::filesystem::exists(path)) {
     MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
     return;
