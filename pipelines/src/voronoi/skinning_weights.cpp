@@ -184,10 +184,11 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
 constexpr int32_t kExactBelowSamples = 3;
 // The refinement's budget of exact rows times vertices (an exact row costs about
 // one pass over the vertices): 2,422 rows on armadillo (26,002 vertices; the
-// default road then takes about the time 1,653 rows took before the rows got
-// cheaper, ~1.6-2 s with the factorization on 2 cores, about Blender's
-// Automatic Weights; armadillo's 7 handles stop at 2,402 rows, max |w - w_exact|
-// 0.043), 6,448 on camel (9,770; camel stops at 2,400-2,800).
+// CLI's factor + weights 0.7-0.8 s at low load, under half of Blender's
+// Automatic Weights, docs/skinning.md; armadillo's 7 handles stop at 2,402
+// rows, max |w - w_exact| 0.043), 6,448 on camel (9,770; camel stops at
+// 2,400-2,800). More rows close armadillo 4's kinks only slowly (2,884 rows:
+// max 0.0625).
 constexpr double kRowWork = 6.3e7;
 
 }  // namespace
