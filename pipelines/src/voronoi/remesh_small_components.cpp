@@ -3,40 +3,25 @@
 #include "locus/pipelines/voronoi/remesh_small_components.hpp"
 
 #include <array>
-#include <numeric>
 #include <vector>
+
+#include "locus/kernels/mesh/mesh_topology.hpp"
 
 namespace locus {
 
 namespace {
 
-// Faces per component of a triangle mesh (components by shared vertices), and each face's component.
+// Faces per component of a triangle mesh (connected_components: by shared vertices), and each face's component.
 struct FaceComponents {
   std::vector<int32_t> of_face, faces;
 };
 
 FaceComponents face_components(const Mesh& m) {
-  std::vector<int32_t> parent(static_cast<size_t>(m.num_vertices()));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    parent[find(m.f0[f])] = find(m.f1[f]);
-    parent[find(m.f1[f])] = find(m.f2[f]);
-  }
+  std::vector<int32_t> of_vertex;
   FaceComponents c;
-  std::vector<int32_t> id(parent.size(), -1);
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const int32_t r = find(m.f0[f]);
-    if (id[r] < 0) {
-      id[r] = static_cast<int32_t>(c.faces.size());
-      c.faces.push_back(0);
-    }
-    c.of_face.push_back(id[r]);
-    ++c.faces[id[r]];
-  }
+  c.faces.assign(static_cast<size_t>(connected_components(m, of_vertex)), 0);
+  c.of_face.resize(static_cast<size_t>(m.num_faces()));
+  for (int32_t f = 0; f < m.num_faces(); ++f) ++c.faces[c.of_face[f] = of_vertex[m.f0[f]]];
   return c;
 }
 
