@@ -253,14 +253,13 @@ void LloydLoop::add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, in
   if (opt_.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
     accumulate_cell_load(in_.stars, V_, c, cv, cs.dense, cs.touched, msg.fallback);
     for (int32_t v : cs.touched) {
-      cs.weights.push_back(experimental_density().size() != static_cast<size_t>(n_) ? cs.dense[v] : cs.dense[v] * experimental_density()[v]);
+      cs.weights.push_back(cs.dense[v]);
       cs.dense[v] = 0.0;
     }
     cs.batch.add_source(cs.touched, cs.weights);
     area_centroid(m, cs.touched, cs.weights, msg.area_centroid[l]);
   } else {
-    for (int32_t v : cv)  // M chi_C (eqs. 3.7, 3.10)
-      cs.weights.push_back(experimental_density().size() != static_cast<size_t>(n_) ? in_.Hc.mass[v] : in_.Hc.mass[v] * experimental_density()[v]);
+    for (int32_t v : cv) cs.weights.push_back(in_.Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
     cs.batch.add_source(cv, cs.weights);
     area_centroid(m, cv, cs.weights, msg.area_centroid[l]);
   }

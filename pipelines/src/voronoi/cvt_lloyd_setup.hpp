@@ -64,10 +64,4 @@ void geometry_beside_graph_start(const Mesh& m, const MeshDerived& d, HostVector
                                  std::vector<SurfacePoint>& sites, CentroidGeometry& geo, VertexStars& stars,
                                  HostVector<int32_t>& first);
 
-// EXPERIMENT: a per-vertex density of the next runs (empty: uniform).
-inline std::span<const double>& experimental_density() {
-  static std::span<const double> d;
-  return d;
-}
-
 }  // namespace locus

@@ -6,7 +6,6 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <deque>
 #include <numeric>
@@ -26,11 +25,9 @@
 #include "locus/pipelines/voronoi/remesh_rebalance.hpp"
 #include "locus/pipelines/voronoi/remesh_small_components.hpp"
 #include "locus/pipelines/voronoi/remesh_refinement.hpp"
-#include "locus/pipelines/voronoi/remesh_sizing.hpp"
 #include "locus/pipelines/voronoi/remesh_split.hpp"
 #include "locus/pipelines/voronoi/site_neighborhoods.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
-#include "cvt_lloyd_setup.hpp"
 
 namespace locus {
 
@@ -561,12 +558,6 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
                                       nv < static_cast<int64_t>(o.min_vertices_per_site * L.lo.sites);
        nv *= 4)
     L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
-  std::vector<double> density;
-  if (const char* g = std::getenv("LOCUS_SIZING_GAIN"); g && std::atof(g) > 0) {
-    const double area = std::accumulate(L.d->mass.begin(), L.d->mass.end(), 0.0);
-    density = sizing_density(*L.m, feature_spacing(area, o.lloyd.sites), std::atof(g));
-    experimental_density() = density;
-  }
   r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   r.lloyd_s = sw.lap();
@@ -580,7 +571,6 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   dual = repair(st, L, std::move(dual), kLloydEnd, kRepairEnd);
   dual = meet_density(st, L, std::move(dual), kRepairEnd);
   if (o.feature_angle_deg > 0) dual = insert_features(st, L, std::move(dual), kRepairEnd);
-  experimental_density() = {};
   ctx.check_cancel();
   ctx.report(kRepairEnd, "remesh");
   r.defects = dual.defects;
