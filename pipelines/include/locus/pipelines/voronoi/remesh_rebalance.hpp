@@ -1,8 +1,8 @@
 // The vertices of a remesh moved from where the surface is flat and wide to
 // where it is thin (thesis §3.7.1): Lloyd spreads the sites uniformly, so a
-// surface with many small holes (cheese: genus 133, ~7.5 vertices per handle
-// at 1,000 sites) or strips one input triangle wide keeps its holes and
-// strips at their minimal triangulation, whose triangles are as thin as the
+// surface with small holes far apart or strips one input triangle wide keeps
+// its holes and strips at their minimal triangulation (not cheese's limit:
+// docs/cvt.md), whose triangles are as thin as the
 // feature against the edge length, while its flat faces hold vertices that
 // cost nothing to lose. Each round splits the longest edge of the thinnest
 // triangles (remesh_split.hpp, up to 2% of the vertices), collapses as many
