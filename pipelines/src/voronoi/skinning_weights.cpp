@@ -190,6 +190,11 @@ constexpr int32_t kExactBelowSamples = 3;
 // 2,400-2,800). More rows close armadillo 4's kinks only slowly (2,884 rows:
 // max 0.0625).
 constexpr double kRowWork = 6.3e7;
+// Corners under this angle (degrees) take exact rows with the budget left
+// (locus-bench skinning: camel 4 from 4 vertices off by more than 0.05 to 1,
+// camel 7 from 0.045 to 0.035 max |w - w_exact|, 353 and 303 more rows; 51
+// such vertices on armadillo, whose budget is spent before).
+constexpr double kSkinnyAngle = 10.0;
 
 }  // namespace
 
@@ -264,7 +269,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   W.propagate_s = sw.lap();
   if (options.refine_miss > 0) {
     const int64_t budget = static_cast<int64_t>(kRowWork / n);
-    refine_sampled_rows(adj, samples, rows, P.rough, owner, options.refine_miss, budget, solve_rows, W);
+    const std::vector<int32_t> skinny = skinny_corners(m, kSkinnyAngle);
+    refine_sampled_rows(adj, samples, rows, P.rough, skinny, owner, options.refine_miss, budget, solve_rows, W);
     W.samples += W.refined;
     W.weights_s += sw.lap();
   }
