@@ -9,6 +9,8 @@
 #include <numbers>
 #include <utility>
 
+#include "locus/error.hpp"
+
 namespace locus {
 
 namespace {
@@ -223,6 +225,9 @@ void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples,
 void correct_propagated_rows(const Adjacency& adj, std::span<const uint8_t> exact, std::span<const double> interp,
                              SkinningWeights& W) {
   const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = W.handles;
+  if (exact.size() != static_cast<size_t>(n) || W.weight.size() != static_cast<size_t>(n) * k ||
+      interp.size() != W.weight.size())
+    fail(ErrorCode::BadUsage, "correct propagated rows: sizes do not match");
   std::vector<double> out(W.weight);
   std::vector<int32_t> ring(n, -1), queue;
   std::vector<double> lo(k), hi(k);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
@@ -130,6 +131,8 @@ TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2
   check(6, 0.45, 0.55);              // only 5 (4 is not exact)
   for (int i = 0; i < 3; ++i)           // exact rows untouched
     for (int32_t j = 0; j < k; ++j) CHECK(W.weight[at[i] * k + j] == exact_rows[i][j]);
+  exact.pop_back();
+  CHECK_THROWS_AS(correct_propagated_rows(adj, exact, interp, W), Error);  // one flag short
 }
 
 // Corners under the angle: a right triangle with legs 1 and 0.1 has angles 90,
