@@ -189,9 +189,10 @@ constexpr int32_t kExactBelowSamples = 3;
 // 7,676 on camel (9,770; camel stops at 2,800-2,950).
 constexpr double kRowWork = 7.5e7;
 // Corners under this angle (degrees) take exact rows with the budget left
-// (locus-bench skinning: camel 4 from 4 vertices off by more than 0.05 to 1,
-// camel 7 from 0.045 to 0.035 max |w - w_exact|, 353 and 303 more rows; 51
-// such vertices on armadillo, whose budget is spent before).
+// (locus-bench skinning, with the zero-keeping at 0.03: camel 4 from 4 vertices
+// off by more than 0.05 to 1, camel 7 from 0.045 to 0.035 max |w - w_exact|,
+// about 340 and 300 more rows; as first seeds they took armadillo 7's budget,
+// 0.043 -> 0.052).
 constexpr double kSkinnyAngle = 10.0;
 
 }  // namespace
