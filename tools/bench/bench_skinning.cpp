@@ -42,6 +42,8 @@ struct SkinningBenchOptions {
   std::string exact_cache;  // file of the exact weights: read when it matches, else written
   bool coarse_only = false;
   double t_factor = 1.0;  // diffusion time t = t_factor * h^2 (skinweights' --t)
+  int32_t worst = 0;      // list this many vertices of the largest |w - w_exact|
+  std::string vertex_csv; // per-vertex features and errors (diagnostic)
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -179,6 +181,118 @@ void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, cons
   j["nonzero_outside_band_percent"] = zero_exact ? 100.0 * outside / zero_exact : 0.0;
 }
 
+// The `worst` vertices of the largest |w - w_exact|, each with what a rule could
+// see there: the distance in rings to the nearest exact row (a row bitwise equal
+// to the exact one), the exact neighbours' count, the spread of the exact rows
+// over the one-ring, the longest incident edge over the mean edge, the valence.
+Json worst_vertices(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, const SkinningWeights& E, int32_t worst) {
+  const int32_t n = m.num_vertices(), k = W.handles;
+  auto diff = [&](const SkinningWeights& A, int32_t a, const SkinningWeights& B, int32_t b) {
+    double d = 0;
+    for (int32_t i = 0; i < k; ++i)
+      d = std::max(d, std::abs(A.weight[static_cast<size_t>(a) * k + i] - B.weight[static_cast<size_t>(b) * k + i]));
+    return d;
+  };
+  std::vector<uint8_t> exact(n);
+  std::vector<std::pair<double, int32_t>> err(n);
+  for (int32_t v = 0; v < n; ++v) {
+    exact[v] = std::equal(W.weight.begin() + static_cast<size_t>(v) * k, W.weight.begin() + static_cast<size_t>(v + 1) * k,
+                          E.weight.begin() + static_cast<size_t>(v) * k);
+    err[v] = {-diff(W, v, E, v), v};
+  }
+  const double h = mean_edge_length(m);
+  std::sort(err.begin(), err.end());
+  Json out = Json::array();
+  int64_t nexact = 0;
+  for (uint8_t e : exact) nexact += e;
+  for (int32_t r = 0; r < std::min(worst, n); ++r) {
+    const int32_t v = err[r].second;
+    std::vector<int32_t> ring(n, -1), q{v};
+    ring[v] = 0;
+    int32_t near = -1;
+    for (size_t i = 0; i < q.size() && near < 0; ++i) {
+      if (exact[q[i]]) near = ring[q[i]];
+      for (int64_t p = adj.offsets[q[i]]; p < adj.offsets[q[i] + 1]; ++p)
+        if (ring[adj.neighbors[p]] < 0) {
+          ring[adj.neighbors[p]] = ring[q[i]] + 1;
+          q.push_back(adj.neighbors[p]);
+        }
+    }
+    int32_t ex = 0;
+    double lmax = 0, spread = 0, own = 0, residual = 0;
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
+      const int32_t u = adj.neighbors[p];
+      ex += exact[u];
+      lmax = std::max(lmax, std::hypot(m.x[u] - m.x[v], m.y[u] - m.y[v], m.z[u] - m.z[v]));
+      own = std::max(own, diff(E, u, E, v));
+      if (exact[u]) residual = std::max(residual, diff(W, u, W, v));
+      for (int64_t p2 = adj.offsets[v]; p2 < adj.offsets[v + 1]; ++p2) spread = std::max(spread, diff(E, u, E, adj.neighbors[p2]));
+    }
+    out.push_back({{"v", v}, {"err", -err[r].first}, {"exact", static_cast<int>(exact[v])}, {"rings_to_exact", near},
+                   {"exact_nbrs", ex}, {"valence", adj.offsets[v + 1] - adj.offsets[v]},
+                   {"max_edge_over_h", lmax / h}, {"exact_jump_to_nbrs", own}, {"exact_nbr_spread", spread},
+                   {"diff_to_exact_nbrs", residual}});
+  }
+  Json outside = Json::array();  // entries outside the one-ring band (compare)
+  for (int32_t v = 0; v < n; ++v)
+    for (int32_t i = 0; i < k; ++i) {
+      const size_t a = static_cast<size_t>(v) * k + i;
+      if (E.weight[a] != 0.0 || !(W.weight[a] > 0)) continue;
+      bool band = false;
+      for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1] && !band; ++p)
+        band = E.weight[static_cast<size_t>(adj.neighbors[p]) * k + i] > 0;
+      if (!band) outside.push_back({{"v", v}, {"handle", i}, {"w", W.weight[a]}});
+    }
+  return {{"exact_rows_bitwise", nexact}, {"vertices", out}, {"outside", outside}};
+}
+
+void write_vertex_csv(const std::string& path, const Mesh& m, const Adjacency& adj, const SkinningWeights& W,
+                      const SkinningWeights& E) {
+  const int32_t n = m.num_vertices(), k = W.handles;
+  auto diff = [&](const SkinningWeights& A, int32_t a, const SkinningWeights& B, int32_t b) {
+    double d = 0;
+    for (int32_t i = 0; i < k; ++i)
+      d = std::max(d, std::abs(A.weight[static_cast<size_t>(a) * k + i] - B.weight[static_cast<size_t>(b) * k + i]));
+    return d;
+  };
+  const double h = mean_edge_length(m);
+  std::vector<double> amax(n, 0), amin(n, 180), area(n, 0);
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t c[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    for (int e = 0; e < 3; ++e) {
+      const int32_t a = c[e], b = c[(e + 1) % 3], d = c[(e + 2) % 3];
+      const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
+      const double vx = m.x[d] - m.x[a], vy = m.y[d] - m.y[a], vz = m.z[d] - m.z[a];
+      const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+      const double ang = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ux * vx + uy * vy + uz * vz) * 180 / M_PI;
+      amax[a] = std::max(amax[a], ang);
+      amin[a] = std::min(amin[a], ang);
+      area[a] += 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz) / 3;
+    }
+  }
+  std::ofstream f(path);
+  f << "v,err,exact,iso,jump,valence,lmax,lmin,amax,amin,area,area_ratio\n";
+  for (int32_t v = 0; v < n; ++v) {
+    const bool ex = std::equal(W.weight.begin() + static_cast<size_t>(v) * k, W.weight.begin() + static_cast<size_t>(v + 1) * k,
+                               E.weight.begin() + static_cast<size_t>(v) * k);
+    double iso = 1e9, jump = 0, lmax = 0, lmin = 1e9, na = 0;
+    for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
+      const int32_t u = adj.neighbors[p];
+      const double d = diff(E, u, E, v);
+      iso = std::min(iso, d);
+      jump = std::max(jump, d);
+      const double l = std::hypot(m.x[u] - m.x[v], m.y[u] - m.y[v], m.z[u] - m.z[v]) / h;
+      lmax = std::max(lmax, l);
+      lmin = std::min(lmin, l);
+      na += area[u];
+    }
+    const int64_t deg = adj.offsets[v + 1] - adj.offsets[v];
+    f << v << ',' << diff(W, v, E, v) << ',' << ex << ',' << iso << ',' << jump << ',' << deg << ',' << lmax << ','
+      << lmin << ',' << amax[v] << ',' << amin[v] << ',' << area[v] / (h * h) << ',' << (deg ? area[v] * deg / na : 0)
+      << '\n';
+  }
+}
+
 // The exact weights cached in a raw file (n, k, handle ids, n * k doubles), so
 // repeated benchmark runs of the fast methods skip the slow exact reference.
 bool read_exact(const std::string& path, int32_t n, std::span<const int32_t> ids, SkinningWeights& E) {
@@ -273,6 +387,8 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
              {"phase_s", {{"prepare", W.prepare_s}, {"exact_rows", W.weights_s}, {"propagate", W.propagate_s}}},
              {"properties", properties(m, W, ids)}};
     if (run_exact) compare(m, adj, W, exact, row);
+    if (run_exact && !o.vertex_csv.empty()) write_vertex_csv(o.vertex_csv, m, adj, W, exact);
+    if (run_exact && o.worst > 0) row["worst"] = worst_vertices(m, adj, W, exact, o.worst);
     sampled.push_back(row);
   }
   j["sampled"] = sampled;
@@ -296,6 +412,8 @@ void register_skinning_bench(cli::CommandTable& table) {
   app->add_flag("--coarse-only", o->coarse_only,
                "Only the coarse road (no fine factorization, sampled or exact run: meshes too large for them)");
   app->add_option("--t-factor", o->t_factor, "Diffusion time in units of h^2 (default 1, as skinweights' default --t h2)");
+  app->add_option("--worst", o->worst, "List this many vertices of the largest |w - w_exact| with their surroundings");
+  app->add_option("--vertex-csv", o->vertex_csv, "Per-vertex features and |w - w_exact| into this CSV file");
   app->add_option("--exact-cache", o->exact_cache,
                   "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }

@@ -5,7 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <utility>
+
+#include "locus/error.hpp"
 
 namespace locus {
 
@@ -14,6 +18,8 @@ namespace {
 // Rings around a rough vertex or a probe within which no further probe is placed.
 constexpr int32_t kProbeSpacing = 2;
 constexpr double kProbeJump = 1.4;
+// Rings around a propagated row within which the exact rows' residuals correct it.
+constexpr int32_t kCorrectRings = 2;
 // Closing: share of exact neighbours that makes a vertex exact too.
 constexpr double kClosingShare = 0.75;
 // Closing: an exact neighbour whose row differs by more than this x miss
@@ -154,6 +160,14 @@ struct Refiner {
     return out;
   }
 
+  // The open vertices of `irregular` (ascending), as many as the budget leaves.
+  std::vector<int32_t> open_within_budget(std::span<const int32_t> irregular, int64_t budget) {
+    std::vector<int32_t> out;
+    for (int32_t v : irregular)
+      if (exact_rows + static_cast<int64_t>(out.size()) < budget && open(v)) out.push_back(v);
+    return out;
+  }
+
   // The budgeted growth's first front: open neighbours of exact rows that missed
   // their propagated row (interp) by more than `miss`, the largest misses first.
   std::vector<std::pair<double, int32_t>> missed_neighbours(std::span<const double> interp, double miss) {
@@ -177,8 +191,8 @@ struct Refiner {
 }  // namespace
 
 void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples, std::span<const double> sample_rows,
-                         std::span<const int32_t> rough, std::span<const int32_t> owner, double miss, int64_t row_budget,
-                         const SolveSkinRows& solve_rows, SkinningWeights& W) {
+                         std::span<const int32_t> rough, std::span<const int32_t> irregular, std::span<const int32_t> owner,
+                         double miss, int64_t row_budget, const SolveSkinRows& solve_rows, SkinningWeights& W) {
   Refiner R{adj, owner, solve_rows, W, std::vector<uint8_t>(static_cast<size_t>(adj.offsets.size()) - 1, 0), 0};
   for (int32_t v : samples) R.exact[v] = 1;
   R.exact_rows = static_cast<int64_t>(samples.size());
@@ -202,6 +216,81 @@ void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples,
   for (const auto& e : front) first.push_back(e.second);
   std::sort(first.begin(), first.end());
   R.grow(first, kBudgetMiss * miss, row_budget);
+  R.grow(R.open_within_budget(irregular, row_budget), kBudgetMiss * miss, row_budget);
+  std::vector<uint8_t> known(R.exact);
+  for (int32_t v = 0; v < R.n(); ++v) known[v] = known[v] || owner[v] >= 0;
+  correct_propagated_rows(adj, known, interp, W);
+}
+
+void correct_propagated_rows(const Adjacency& adj, std::span<const uint8_t> exact, std::span<const double> interp,
+                             SkinningWeights& W) {
+  const int32_t n = static_cast<int32_t>(adj.offsets.size()) - 1, k = W.handles;
+  if (exact.size() != static_cast<size_t>(n) || W.weight.size() != static_cast<size_t>(n) * k ||
+      interp.size() != W.weight.size())
+    fail(ErrorCode::BadUsage, "correct propagated rows: sizes do not match");
+  std::vector<double> out(W.weight);
+  std::vector<int32_t> ring(n, -1), queue;
+  std::vector<double> lo(k), hi(k);
+  for (int32_t v = 0; v < n; ++v) {
+    if (exact[v]) continue;
+    queue.assign(1, v);
+    ring[v] = 0;
+    bool any = false;
+    std::fill(lo.begin(), lo.end(), std::numeric_limits<double>::infinity());
+    std::fill(hi.begin(), hi.end(), -std::numeric_limits<double>::infinity());
+    for (size_t h = 0; h < queue.size(); ++h) {  // breadth-first, kCorrectRings deep
+      const int32_t x = queue[h];
+      if (exact[x]) {
+        any = true;
+        for (int32_t j = 0; j < k; ++j) {
+          const size_t a = static_cast<size_t>(x) * k + j;
+          lo[j] = std::min(lo[j], W.weight[a] - interp[a]);
+          hi[j] = std::max(hi[j], W.weight[a] - interp[a]);
+        }
+      }
+      if (ring[x] >= kCorrectRings) continue;
+      for (int64_t p = adj.offsets[x]; p < adj.offsets[x + 1]; ++p)
+        if (ring[adj.neighbors[p]] < 0) {
+          ring[adj.neighbors[p]] = ring[x] + 1;
+          queue.push_back(adj.neighbors[p]);
+        }
+    }
+    for (int32_t x : queue) ring[x] = -1;
+    if (!any) continue;
+    double* o = out.data() + static_cast<size_t>(v) * k;
+    double sum = 0;
+    for (int32_t j = 0; j < k; ++j) {  // minmod: the residual of least magnitude when all agree in sign, else 0
+      const double c = lo[j] > 0 ? lo[j] : (hi[j] < 0 ? hi[j] : 0.0);
+      if (o[j] > 0) o[j] = std::max(0.0, o[j] + c);
+      sum += o[j];
+    }
+    if (sum > 0)
+      for (int32_t j = 0; j < k; ++j) o[j] /= sum;
+    else  // every weight cancelled: the propagated row
+      std::copy_n(W.weight.data() + static_cast<size_t>(v) * k, k, o);
+  }
+  W.weight.swap(out);
+}
+
+std::vector<int32_t> skinny_corners(const Mesh& m, double max_angle_deg) {
+  const int32_t n = m.num_vertices();
+  const double limit = std::cos(max_angle_deg * std::numbers::pi / 180.0);
+  std::vector<uint8_t> mark(n, 0);
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const auto c = m.face(f);
+    const size_t nc = c.size();
+    for (size_t e = 0; e < nc; ++e) {  // the angle at corner c[e] between its two edges
+      const int32_t a = c[e], b = c[(e + 1) % nc], d = c[(e + nc - 1) % nc];
+      const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
+      const double vx = m.x[d] - m.x[a], vy = m.y[d] - m.y[a], vz = m.z[d] - m.z[a];
+      const double uu = ux * ux + uy * uy + uz * uz, vv = vx * vx + vy * vy + vz * vz;
+      if (uu > 0 && vv > 0 && ux * vx + uy * vy + uz * vz > limit * std::sqrt(uu * vv)) mark[a] = 1;
+    }
+  }
+  std::vector<int32_t> out;
+  for (int32_t v = 0; v < n; ++v)
+    if (mark[v]) out.push_back(v);
+  return out;
 }
 
 }  // namespace locus

@@ -183,13 +183,17 @@ std::vector<int32_t> fitting_cover(const Adjacency& adj, std::span<const int32_t
 // (cow, 2,904 vertices: 0.20 s against 0.19-0.32 s, factor included).
 constexpr int32_t kExactBelowSamples = 3;
 // The refinement's budget of exact rows times vertices (an exact row costs about
-// one pass over the vertices): 2,422 rows on armadillo (26,002 vertices; the
-// CLI's factor + weights 0.7-0.8 s at low load, under half of Blender's
-// Automatic Weights, docs/skinning.md; armadillo's 7 handles stop at 2,402
-// rows, max |w - w_exact| 0.043), 6,448 on camel (9,770; camel stops at
-// 2,400-2,800). More rows close armadillo 4's kinks only slowly (2,884 rows:
-// max 0.0625).
-constexpr double kRowWork = 6.3e7;
+// one pass over the vertices): 2,884 rows on armadillo (26,002 vertices; armadillo
+// 4 stops at 2,810, max |w - w_exact| 0.051, armadillo 7 at 2,330, 0.043;
+// docs/skinning.md has the CLI's time against Blender's Automatic Weights),
+// 7,676 on camel (9,770; camel stops at 2,800-2,950).
+constexpr double kRowWork = 7.5e7;
+// Corners under this angle (degrees) take exact rows with the budget left
+// (locus-bench skinning, with the zero-keeping at 0.03: camel 4 from 4 vertices
+// off by more than 0.05 to 1, camel 7 from 0.045 to 0.035 max |w - w_exact|,
+// about 340 and 300 more rows; as first seeds they took armadillo 7's budget,
+// 0.043 -> 0.052).
+constexpr double kSkinnyAngle = 10.0;
 
 }  // namespace
 
@@ -264,7 +268,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   W.propagate_s = sw.lap();
   if (options.refine_miss > 0) {
     const int64_t budget = static_cast<int64_t>(kRowWork / n);
-    refine_sampled_rows(adj, samples, rows, P.rough, owner, options.refine_miss, budget, solve_rows, W);
+    const std::vector<int32_t> skinny = skinny_corners(m, kSkinnyAngle);
+    refine_sampled_rows(adj, samples, rows, P.rough, skinny, owner, options.refine_miss, budget, solve_rows, W);
     W.samples += W.refined;
     W.weights_s += sw.lap();
   }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "tests/pipelines/voronoi/extreme_vertex.hpp"
 
@@ -89,4 +90,66 @@ TEST_CASE("sampled skinning weights: refinement deterministic, refined rows exac
   CHECK(worst_sum <= 1e-12);
   for (int32_t j = 0; j < k; ++j)
     for (int32_t i = 0; i < k; ++i) CHECK(A.weight[static_cast<size_t>(handles[j][0]) * k + i] == (i == j ? 1.0 : 0.0));
+}
+
+// The minmod correction on a path 0-1-...-6 with k = 3, every propagated row
+// (0.5, 0.5, 0); exact rows at 1 (residual (0, -0.1, +0.1)), 3 (+0.05, -0.05, 0)
+// and 5 (-0.05, +0.05, 0). Oracle: the rule by hand, vertex by vertex (the exact
+// rows within 2 edges; per weight the residual of least magnitude where all
+// agree in sign, else 0; weights at 0 stay 0; renormalized).
+TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2 rings, by hand") {
+  const int32_t n = 7, k = 3;
+  Adjacency adj;
+  adj.offsets.assign(n + 1, 0);
+  for (int32_t v = 0; v < n; ++v) {
+    if (v > 0) adj.neighbors.push_back(v - 1);
+    if (v + 1 < n) adj.neighbors.push_back(v + 1);
+    adj.offsets[v + 1] = static_cast<int64_t>(adj.neighbors.size());
+  }
+  std::vector<double> interp;
+  for (int32_t v = 0; v < n; ++v) interp.insert(interp.end(), {0.5, 0.5, 0.0});
+  SkinningWeights W;
+  W.handles = k;
+  W.weight = interp;
+  const double exact_rows[3][3] = {{0.5, 0.4, 0.1}, {0.55, 0.45, 0.0}, {0.45, 0.55, 0.0}};
+  const int32_t at[3] = {1, 3, 5};
+  std::vector<uint8_t> exact(n, 0);
+  for (int i = 0; i < 3; ++i) {
+    exact[at[i]] = 1;
+    std::copy_n(exact_rows[i], k, W.weight.begin() + at[i] * k);
+  }
+  correct_propagated_rows(adj, exact, interp, W);
+  auto check = [&](int32_t v, double a, double b) {
+    CAPTURE(v);
+    CHECK(W.weight[v * k] == doctest::Approx(a).epsilon(1e-14));
+    CHECK(W.weight[v * k + 1] == doctest::Approx(b).epsilon(1e-14));
+    CHECK(W.weight[v * k + 2] == 0.0);  // 0 where propagated 0, whatever the residuals
+  };
+  check(0, 0.5 / 0.9, 0.4 / 0.9);    // only 1: (0, -0.1) on the positive weights, renormalized
+  check(2, 0.5 / 0.95, 0.45 / 0.95);  // 1 and 3: weight 0 residuals 0, +0.05 -> 0; weight 1 -0.1, -0.05 -> -0.05
+  check(4, 0.5, 0.5);                // 3 and 5 disagree in sign: unchanged
+  check(6, 0.45, 0.55);              // only 5 (4 is not exact)
+  for (int i = 0; i < 3; ++i)           // exact rows untouched
+    for (int32_t j = 0; j < k; ++j) CHECK(W.weight[at[i] * k + j] == exact_rows[i][j]);
+  exact.pop_back();
+  CHECK_THROWS_AS(correct_propagated_rows(adj, exact, interp, W), Error);  // one flag short
+}
+
+// Corners under the angle: a right triangle with legs 1 and 0.1 has angles 90,
+// atan(0.1) = 5.71 and 84.29 degrees; an equilateral one 60 everywhere.
+TEST_CASE("skinny corners: the corners under the angle, by the analytic angles") {
+  Mesh m;
+  m.add_vertex(0, 0, 0);
+  m.add_vertex(1, 0, 0);
+  m.add_vertex(0, 0.1, 0);
+  m.add_vertex(2, 0, 0);
+  m.add_vertex(3, 0, 0);
+  m.add_vertex(2.5, std::sqrt(0.75), 0);
+  m.add_triangle(0, 1, 2);
+  m.add_triangle(3, 4, 5);
+  CHECK(skinny_corners(m, 5.0).empty());
+  CHECK(skinny_corners(m, 10.0) == std::vector<int32_t>{1});
+  CHECK(skinny_corners(m, 60.5) == std::vector<int32_t>{1, 3, 4, 5});
+  CHECK(skinny_corners(m, 85.0) == std::vector<int32_t>{1, 2, 3, 4, 5});
+  CHECK(skinny_corners(m, 90.5) == std::vector<int32_t>{0, 1, 2, 3, 4, 5});
 }

@@ -13,7 +13,16 @@
 //   closing  up to 4 rounds: vertices with 3/4 of their neighbours exact, or an
 //            exact neighbour whose row differs from theirs by more than 1.2 x miss
 //            (an isolated exact row differs from all its neighbours'), then growth;
-//   last     growth at 0.6 x miss from every exact row that missed by more.
+//   last     growth at 0.6 x miss from every exact row that missed by more;
+//   skinny   with the budget left, the open vertices of `irregular` (corners of
+//            an angle under 10 degrees: skinny_corners) and growth at 0.6 x miss:
+//            the exact rows jump at such corners without a sign on the samples;
+//   correct  every propagated row moves by the exact rows' residuals (exact
+//            minus propagated) within 2 rings, weight by weight the residual of
+//            least magnitude where all agree in sign, else not at all (minmod:
+//            it never passes the nearest exact rows' own correction, so it does
+//            not carry a jump across; a sample there has residual 0 and stops
+//            it); only weights > 0 move, negatives go to 0, rows renormalized.
 // Every growth round after the seeds keeps the exact rows (samples included) at
 // most `row_budget`: a front over it keeps the neighbours of the largest misses.
 // Deterministic: every front is sorted by vertex id (a truncated one is chosen by
@@ -24,6 +33,7 @@
 #include <span>
 #include <vector>
 
+#include "locus/mesh.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/skinning_weights.hpp"
 
@@ -34,10 +44,20 @@ using SolveSkinRows = std::function<void(std::span<const int32_t> verts, std::ve
                                          std::vector<uint8_t>& indicator)>;
 
 // W.weight: the propagated weights with the samples' exact rows (overwritten with
-// exact rows where refined); sample_rows: samples.size() * k; owner: per vertex,
+// exact rows where refined, then corrected); sample_rows: samples.size() * k;
+// irregular: ascending vertex ids; owner: per vertex,
 // the handle it belongs to or -1 (never refined). Adds the refined count to W.refined.
 void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples, std::span<const double> sample_rows,
-                         std::span<const int32_t> rough, std::span<const int32_t> owner, double miss, int64_t row_budget,
-                         const SolveSkinRows& solve_rows, SkinningWeights& W);
+                         std::span<const int32_t> rough, std::span<const int32_t> irregular, std::span<const int32_t> owner,
+                         double miss, int64_t row_budget, const SolveSkinRows& solve_rows, SkinningWeights& W);
+
+// The step `correct` above: exact flags the rows that are exact (or handle
+// indicators); interp: the propagated rows (n * k); W.weight: the exact rows where
+// exact, the propagated ones elsewhere (those are replaced).
+void correct_propagated_rows(const Adjacency& adj, std::span<const uint8_t> exact, std::span<const double> interp,
+                             SkinningWeights& W);
+
+// Vertices (ascending) at a face corner whose angle is under max_angle_deg.
+std::vector<int32_t> skinny_corners(const Mesh& m, double max_angle_deg);
 
 }  // namespace locus

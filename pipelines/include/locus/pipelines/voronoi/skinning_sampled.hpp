@@ -14,7 +14,7 @@
 //                      its nearest sample): linear precision, so smooth weights are
 //                      reproduced to second order. Then the natural
 //                      neighbourhoods are kept: a weight is set to 0 where it is
-//                      negative, or small (< 0.03) while a sample within 1.5 x the
+//                      negative, or small (< 0.02) while a sample within 1.5 x the
 //                      cover radius has it exactly 0; a weight whose samples are
 //                      all 0 is 0. Rows are renormalized to sum 1, so they stay
 //                      non-negative partitions of unity; samples keep their rows.
