@@ -46,7 +46,8 @@ TEST_CASE("cell graph: cell lists and adjacency as rebuilt from the faces") {
       if (d < best) best = d, label[v] = s;
     }
   }
-  const CellGraph g = build_cell_graph(unique_edges(m), label, ns);
+  const CellGraph by_edges = build_cell_graph(unique_edges(m), label, ns);
+  const CellGraph by_adjacency = build_cell_graph(vertex_adjacency(m), label, ns);
   std::vector<std::set<int32_t>> want_adj(ns);
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
@@ -58,6 +59,8 @@ TEST_CASE("cell graph: cell lists and adjacency as rebuilt from the faces") {
       }
     }
   }
+  for (const CellGraph* graph : {&by_edges, &by_adjacency}) {
+  const CellGraph& g = *graph;
   REQUIRE(g.offsets.size() == static_cast<size_t>(ns) + 1);
   REQUIRE(g.adj_offsets.size() == static_cast<size_t>(ns) + 1);
   for (int32_t s = 0; s < ns; ++s) {
@@ -85,6 +88,15 @@ TEST_CASE("cell graph: cell lists and adjacency as rebuilt from the faces") {
   std::vector<int32_t> got(verts.begin(), verts.end());
   std::sort(got.begin(), got.end());
   CHECK(got == want);
+  // Appended after what `verts` held: the same list behind it.
+  HostVector<int32_t> appended{-7};
+  std::vector<int32_t> again;
+  append_two_ring_cells(g, 0, again);
+  append_cells_vertices(g, again, appended);
+  REQUIRE(appended.size() == verts.size() + 1);
+  CHECK(appended[0] == -7);
+  CHECK(std::equal(verts.begin(), verts.end(), appended.begin() + 1));
+  }
 }
 
 TEST_CASE("cell graph: batches of neighboring cells on a row of cells") {
