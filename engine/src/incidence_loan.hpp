@@ -23,7 +23,8 @@ class IncidenceLoan {
   // Frees d.incidence (its edges, corner_edge and the edge-to-corner CSR if held).
   void release();
   // d.incidence as it was: edge_incidence(m), its edge-to-corner CSR dropped
-  // when it had been (drop_edge_corners). Nothing when not released.
+  // when it had been (drop_edge_corners; then rebuilt from d.adjacency, the
+  // same arrays with less transient memory). Nothing when not released.
   void restore();
   bool released() const { return released_; }
 

@@ -21,6 +21,7 @@
 #include "cvt_sheets.hpp"
 #include "field_copy.hpp"
 #include "incidence_loan.hpp"
+#include "locus/core/release_free_memory.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
 #include "locus/io/atomic_file_write.hpp"
@@ -295,7 +296,9 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
       mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
       [&prepared] { prepared = HeatDiffusion{}; },
       [&loan] {
-        if (loan) loan->restore();
+        if (!loan) return;
+        release_free_memory();  // Lloyd's geometry and cells, freed: not resident beside the rebuilt incidence
+        loan->restore();
       });
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
