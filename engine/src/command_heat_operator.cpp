@@ -16,7 +16,8 @@ namespace locus {
 
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
                                    const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
-                                   bool factor_once, const MeshDerived* derived) {
+                                   bool factor_once, const MeshDerived* derived,
+                                   const std::function<void()>& assembled) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   if (robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
@@ -37,6 +38,7 @@ HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTim
     A = heat_operator(mesh, H.t, derived ? &derived->incidence : nullptr);
     H.mass = derived && !derived->mass.empty() ? derived->mass : lumped_mass(mesh);
   }
+  if (assembled) assembled();
   H.operator_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const FactorRequest request{"heat", H.t, &A};
   Factors F = factor_or_load(files, mesh, std::span<const FactorRequest>(&request, 1), ctx, factor_once);

@@ -4,6 +4,8 @@
 // the resolved t, so a file of `locus factor --matrix heat`, `voronoi` or
 // `cvt` with the same t and mesh loads in any of them. Internal to the engine.
 #pragma once
+#include <functional>
+
 #include "locus/engine/factor_store.hpp"
 #include "locus/engine/geodesic_requests.hpp"
 #include "locus/engine/heat_time.hpp"
@@ -23,9 +25,13 @@ namespace locus {
 // holds it) gives the check already made, h, the mass and the edge incidence
 // the cotan operator is assembled on, the same values bit for bit without
 // three more edge incidences (45 MB each at 416k vertices) freed just before
-// the factor is allocated.
+// the factor is allocated. `assembled`, when given, is called once the
+// operator is assembled and before it is ordered and factored: nothing of
+// `derived` is read after it but its mass, h and checks (the cvt command frees
+// the incidence there).
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
                                    const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
-                                   bool factor_once = false, const MeshDerived* derived = nullptr);
+                                   bool factor_once = false, const MeshDerived* derived = nullptr,
+                                   const std::function<void()>& assembled = {});
 
 }  // namespace locus

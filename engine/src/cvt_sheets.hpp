@@ -14,8 +14,13 @@ namespace locus {
 // `components` its connected components): the sites raised to one per
 // component, the cells' M - tL (robust or cotan) factored or loaded, run_cvt,
 // the report with the request's own site count and the factor's timings.
+// `lend`: the caller's derived data itself (non-null only when nobody else
+// reads it meanwhile, SessionOptions::exclusive): its edge incidence is freed
+// from the operator's assembly to the end of the first Lloyd run and rebuilt
+// (incidence_loan.hpp).
 CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
-                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx);
+                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx,
+                         MeshDerived* lend = nullptr);
 
 // True when the Session's operator report names a defect the cells or the
 // remesh cannot take (needles they can).

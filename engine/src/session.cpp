@@ -253,6 +253,7 @@ Session::Session(Mesh mesh, const SessionOptions& opt) : impl_(std::make_unique<
     mesh = std::move(triangles);
   }
   impl_->op.asked = opt.mesh_operator;
+  impl_->exclusive = opt.exclusive;
   std::shared_ptr<const MeshDerived> derived = check_and_derive(mesh, opt.mesh_operator, &impl_->op);
   impl_->nv = mesh.num_vertices();
   impl_->nf = mesh.num_faces();

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@
 #include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
 #include "field_copy.hpp"
+#include "incidence_loan.hpp"
+#include "locus/core/release_free_memory.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/error.hpp"
 #include "locus/io/atomic_file_write.hpp"
@@ -153,15 +156,21 @@ void take_quality(const CvtQuality& q, CvtReport& r) {
   r.empty_cells = q.empty_cells;
 }
 
+// The Session's derived data, lent to the command (SessionOptions::exclusive:
+// nobody else reads it while the command runs). check_and_derive creates it
+// non-const; the State holds it as const for every concurrent reader.
+MeshDerived* exclusive_derived(const session_detail::State& s) { return const_cast<MeshDerived*>(s.derived.get()); }
+
 }  // namespace
 
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
-                  std::function<void()> operator_done) {
+                  std::function<void()> operator_done, std::function<void()> lloyd_done) {
   RemeshOptions ro;
   ro.lloyd = lloyd_options(req, ts, tc);
   ro.lloyd.prepared = prepared;
   ro.operator_done = std::move(operator_done);
+  ro.lloyd_done = std::move(lloyd_done);
   ro.max_repair_rounds = req.repair_rounds;
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
@@ -256,7 +265,8 @@ int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components,
 }
 
 CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
-                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx) {
+                         const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx,
+                         MeshDerived* lend) {
   CvtRequest raised = req;
   raised.sites = check_sites(req, mesh, components, ctx);
   // The cells' operator is factored here (isotropic): weighted in the progress
@@ -269,13 +279,27 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   // Without a centroid time of their own (which Lloyd's setup factors with the
   // same symbolic part) the factor is only solved with: its assembly map goes.
   const bool factor_once = tc.value == 0;
+  // The incidence is not read from the operator's assembly to the dual
+  // (incidence_loan.hpp): with `lend`, freed before the factor is allocated
+  // (isotropic: Lloyd factors the lifted metric's operator itself).
+  std::optional<IncidenceLoan> loan;
+  if (lend && isotropic) loan.emplace(mesh, *lend);
+  const auto assembled = [&loan] {
+    if (loan) loan->release();
+  };
   if (isotropic)
-    prepared =
-        command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once, &derived);
+    prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once,
+                                     &derived, assembled);
   const double prepare_s = seconds(t0);
   // The command's own operator: freed once the remesh's repair is done with it.
-  CvtReport r = run_cvt(mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
-                        [&prepared] { prepared = HeatDiffusion{}; });
+  CvtReport r = run_cvt(
+      mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
+      [&prepared] { prepared = HeatDiffusion{}; },
+      [&loan] {
+        if (!loan) return;
+        release_free_memory();  // Lloyd's geometry and cells, freed: not resident beside the rebuilt incidence
+        loan->restore();
+      });
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
   r.requested = req.sites;  // as asked: `delivered` shows what the components needed
@@ -290,7 +314,8 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   const std::shared_ptr<State> s = impl_->current();
   CvtReport r = cvt_needs_sheets(impl_->op)
                     ? cvt_on_sheets(s->mesh, s->robust, req, ts, tc, ctx)
-                    : cvt_command_on(s->mesh, *s->derived, impl_->components, s->robust, req, ts, tc, ctx);
+                    : cvt_command_on(s->mesh, *s->derived, impl_->components, s->robust, req, ts, tc, ctx,
+                                     impl_->exclusive ? exclusive_derived(*s) : nullptr);
   if (!req.labels.empty() || !req.sites_out.empty())
     write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},
                     s->polygons ? triangle_polygon() : std::vector<int32_t>{});

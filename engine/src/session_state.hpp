@@ -312,9 +312,10 @@ inline constexpr double kCvtFactorIterations = 2.2;
 // factors its own), and the statistics. Session::cvt(const CvtRequest&) and
 // the cached tier (Session::cvt with remesh) both run it.
 // `operator_done`: RemeshOptions::operator_done (the owner of `prepared` frees it).
+// `lloyd_done`: RemeshOptions::lloyd_done (the owner of `derived` restores what it freed).
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
-                  std::function<void()> operator_done = {});
+                  std::function<void()> operator_done = {}, std::function<void()> lloyd_done = {});
 
 // The cvt request's sites on this mesh: BadInput for more than its vertices;
 // fewer than its components are raised to their count (and ctx notes it).
@@ -333,6 +334,7 @@ struct Session::Impl {
   int64_t polygon_edges = 0;     // polygon meshes: unique edges of the faces as given
   OperatorReport op;             // the operator chosen at construction, and why
   bool robust_fallback = false;  // auto chose cotan: a failing cotan heat method falls back to robust
+  bool exclusive = false;        // SessionOptions::exclusive
 
   std::shared_ptr<session_detail::State> current() const {
     std::lock_guard<std::mutex> lock(mu);

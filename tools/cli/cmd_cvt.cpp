@@ -237,7 +237,9 @@ int run_cvt(const CommonOptions& opt, CvtOptions& o, const RunContext& ctx) {
   // A triangle mesh is moved into the Session (not copied: at 416k vertices a copy
   // is ~30 MB held through Lloyd) and copied back once the remesh is done.
   const bool lend = in.mesh.is_triangle_mesh();
-  const Session session{lend ? std::move(in.mesh) : Mesh(in.mesh), session_options(in)};
+  SessionOptions so = session_options(in);
+  so.exclusive = true;  // one command on it: its edge incidence is freed while Lloyd runs
+  const Session session{lend ? std::move(in.mesh) : Mesh(in.mesh), so};
   // The files on the input's vertices are written below, with the file's faces and attributes.
   CvtRequest engine = q;
   engine.labels.clear();

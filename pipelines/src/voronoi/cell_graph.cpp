@@ -21,31 +21,31 @@ void bucket_vertices(std::span<const int32_t> label, int32_t ns, CellGraph& c) {
   for (size_t v = 0; v < label.size(); ++v) c.verts[fill[label[v]]++] = static_cast<int32_t>(v);
 }
 
-}  // namespace
-
-CellGraph build_cell_graph(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
+// The graph from every edge (a, b) that `for_each_edge` visits, in any order:
+// the labels across the edges between two cells, bucketed by cell (CSR with
+// repeats), then sorted and deduplicated per cell in parallel.
+template <class ForEachEdge>
+CellGraph cell_graph_of(ForEachEdge&& for_each_edge, std::span<const int32_t> label, int32_t ns) {
   CellGraph c;
   bucket_vertices(label, ns, c);
-  // Cell adjacency: the labels across every edge between two cells, bucketed by
-  // cell (CSR with repeats), then sorted and deduplicated per cell in parallel.
   std::vector<int64_t> raw_off(static_cast<size_t>(ns) + 1, 0);
-  for (size_t k = 0; k < edges.e0.size(); ++k) {
-    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+  for_each_edge([&](int32_t u, int32_t v) {
+    const int32_t a = label[u], b = label[v];
     if (a != b) {
       ++raw_off[a + 1];
       ++raw_off[b + 1];
     }
-  }
+  });
   for (int32_t s = 0; s < ns; ++s) raw_off[s + 1] += raw_off[s];
   HostVector<int32_t> raw(static_cast<size_t>(raw_off[ns]));
   std::vector<int64_t> fill(raw_off.begin(), raw_off.end() - 1);
-  for (size_t k = 0; k < edges.e0.size(); ++k) {
-    const int32_t a = label[edges.e0[k]], b = label[edges.e1[k]];
+  for_each_edge([&](int32_t u, int32_t v) {
+    const int32_t a = label[u], b = label[v];
     if (a != b) {
       raw[fill[a]++] = b;
       raw[fill[b]++] = a;
     }
-  }
+  });
   std::vector<int64_t> count(ns);
   tbb::parallel_for(0, ns, [&](int32_t s) {
     auto first = raw.begin() + raw_off[s], last = raw.begin() + raw_off[s + 1];
@@ -60,6 +60,27 @@ CellGraph build_cell_graph(const Edges& edges, std::span<const int32_t> label, i
   return c;
 }
 
+}  // namespace
+
+CellGraph build_cell_graph(const Edges& edges, std::span<const int32_t> label, int32_t ns) {
+  return cell_graph_of(
+      [&](auto&& visit) {
+        for (size_t k = 0; k < edges.e0.size(); ++k) visit(edges.e0[k], edges.e1[k]);
+      },
+      label, ns);
+}
+
+CellGraph build_cell_graph(const Adjacency& adj, std::span<const int32_t> label, int32_t ns) {
+  const int32_t n = static_cast<int32_t>(label.size());
+  return cell_graph_of(
+      [&](auto&& visit) {  // each edge once, from its smaller end
+        for (int32_t u = 0; u < n; ++u)
+          for (int64_t p = adj.offsets[u]; p < adj.offsets[u + 1]; ++p)
+            if (adj.neighbors[p] > u) visit(u, adj.neighbors[p]);
+      },
+      label, ns);
+}
+
 void append_two_ring_cells(const CellGraph& c, int32_t s, std::vector<int32_t>& out) {
   out.push_back(s);
   for (int64_t p = c.adj_offsets[s]; p < c.adj_offsets[s + 1]; ++p) {
@@ -70,9 +91,13 @@ void append_two_ring_cells(const CellGraph& c, int32_t s, std::vector<int32_t>& 
 }
 
 void cells_to_vertices(const CellGraph& c, std::vector<int32_t>& cells, HostVector<int32_t>& verts) {
+  verts.clear();
+  append_cells_vertices(c, cells, verts);
+}
+
+void append_cells_vertices(const CellGraph& c, std::vector<int32_t>& cells, HostVector<int32_t>& verts) {
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-  verts.clear();
   // Cells are disjoint: the concatenation is already unique (the solve plan needs no order).
   for (int32_t a : cells) verts.insert(verts.end(), c.verts.begin() + c.offsets[a], c.verts.begin() + c.offsets[a + 1]);
 }

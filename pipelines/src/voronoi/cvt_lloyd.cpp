@@ -76,9 +76,11 @@ struct CentroidMsg {
 
 struct CentroidScratch {
   HeatBatch batch;
-  HostVector<double> dense;  // n, zero between uses
+  HostVector<double> dense;  // full solves only: n, zero between uses
   std::vector<int32_t> cells, touched;
-  HostVector<int32_t> pos;  // n, -1 between uses: position of a kept vertex in the batch's solution
+  // n, -1 between uses: a cell's load slots (split faces), then the position of a
+  // kept vertex in the batch's solution (the fits). No dense n-vector of loads.
+  HostVector<int32_t> pos;
   std::vector<double> weights;
   std::vector<uint8_t> read_mark;   // count_reads scratch
   std::vector<int32_t> label_support;
@@ -94,7 +96,7 @@ struct LloydInputs {
   const HeatDiffusion& H;   // cells (labels)
   const HeatDiffusion& Hc;  // centroids
   const CentroidGeometry& geo;
-  const Edges& edges;
+  const Adjacency& adj;              // the cell graph's edges
   const VertexStars& stars;          // in the operator's metric
   const HostVector<double>& area_r3;
   const HostVector<double>& mass_r3;
@@ -166,11 +168,14 @@ class LloydLoop {
   tbb::enumerable_thread_specific<CentroidScratch> cscratch_;
   std::vector<double> kept_fraction_;  // per centroid batch, summed in batch order at the end
   // Batches (runs of 8 in `order_`) and, localized, each batch's kept set: the union of
-  // its cells and their two rings of neighbor cells. Built by the centroid step from
-  // the labels of this iteration and reused by the next labels (same batches: the
-  // sites are the centroids of these cells), so no neighborhood is built twice.
+  // its cells and their two rings of neighbor cells (batch_kept). The centroid step
+  // builds them from the labels of this iteration and the next labels solve on the
+  // same sets (same batches: the sites are the centroids of these cells), rebuilt
+  // from the same cell graph where each solve needs its set instead of held for
+  // every batch between the two (~12 MB at 416k vertices).
   std::vector<int32_t> order_;
-  std::vector<HostVector<int32_t>> batch_kept_;
+  bool batches_ = false;  // order_ and cells_ give the next labels' kept sets
+  void batch_kept(int32_t b, HostVector<int32_t>& kept) const;
   const int64_t full_entries_;
   double centroid_read_sum_ = 0, label_read_sum_ = 0;
   int64_t read_batches_ = 0;
@@ -178,17 +183,19 @@ class LloydLoop {
 
 void LloydLoop::first_cells(std::span<const int32_t> label) {
   in_arena([&] {
-    cells_ = build_cell_graph(in_.edges, label, ns_);
+    cells_ = build_cell_graph(in_.adj, label, ns_);
     order_ = cluster_order(cells_, spatial_order(m_, sites_), kLanes);
-    const int32_t nbatch = (ns_ + kLanes - 1) / kLanes;
-    batch_kept_.assign(nbatch, {});
-    tbb::parallel_for(0, nbatch, [&](int32_t b) {
-      std::vector<int32_t> cells;
-      for (int32_t i = b * kLanes; i < std::min(ns_, (b + 1) * kLanes); ++i) append_two_ring_cells(cells_, order_[i], cells);
-      cells_to_vertices(cells_, cells, batch_kept_[b]);
-    });
   });
+  batches_ = true;
   nb_ = {};
+}
+
+// Batch b's kept set, appended: the vertices of its cells and their two rings of
+// neighbor cells in cells_ (the centroid step's hb.kept of the same batch).
+void LloydLoop::batch_kept(int32_t b, HostVector<int32_t>& kept) const {
+  std::vector<int32_t> cells;
+  for (int32_t i = b * kLanes; i < std::min(ns_, (b + 1) * kLanes); ++i) append_two_ring_cells(cells_, order_[i], cells);
+  append_cells_vertices(cells_, cells, kept);
 }
 
 void LloydLoop::labels_of_sites() {
@@ -201,8 +208,10 @@ void LloydLoop::labels_of_sites() {
   release_free_memory();
   BatchStopwatch psw;
   if (order_.empty()) order_ = spatial_order(m_, sites_);
-  if (local_ && !batch_kept_.empty()) {
-    V_ = heat_voronoi_batched(in_.H, m_, sites_, order_, batch_kept_, labels_ctx_);
+  if (local_ && batches_) {
+    V_ = heat_voronoi_batched(
+        in_.H, m_, sites_, order_, [this](int32_t b, HostVector<int32_t>& kept) { batch_kept(b, kept); },
+        labels_ctx_);
   } else {  // first labels: per-site Dijkstra balls (localized) or full solves
     V_ = heat_voronoi(in_.H, m_, sites_, local_ ? std::span<const std::vector<int32_t>>(nb_)
                                                  : std::span<const std::vector<int32_t>>(),
@@ -215,7 +224,7 @@ void LloydLoop::labels_of_sites() {
   for (int32_t v = 0; v < n_; ++v)
     if (V_.label[v] < 0)
       fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
-  in_arena([&] { cells_ = build_cell_graph(in_.edges, V_.label, ns_); });
+  in_arena([&] { cells_ = build_cell_graph(in_.adj, V_.label, ns_); });
   r_.partition_s += psw.lap();
 }
 
@@ -225,7 +234,7 @@ CentroidSlots LloydLoop::centroid_slots(int32_t nbatch) {
   s.cell_energy.assign(ns_, 0.0);
   s.has.assign(ns_, 0);
   s.bias.assign(ns_, 0.0);
-  if (local_) batch_kept_.assign(nbatch, {});
+  batches_ = local_;
   s.kept_base = kept_fraction_.size();
   s.centroid_reads.assign(nbatch, 0);
   s.label_reads.assign(nbatch, 0);
@@ -251,11 +260,8 @@ void LloydLoop::add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, in
   cs.touched.clear();
   cs.weights.clear();
   if (opt_.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
-    accumulate_cell_load(in_.stars, V_, c, cv, cs.dense, cs.touched, msg.fallback);
-    for (int32_t v : cs.touched) {
-      cs.weights.push_back(cs.dense[v]);
-      cs.dense[v] = 0.0;
-    }
+    if (cs.pos.size() != static_cast<size_t>(n_)) cs.pos.assign(n_, -1);
+    accumulate_cell_load(in_.stars, V_, c, cv, cs.pos, cs.weights, cs.touched, msg.fallback);
     cs.batch.add_source(cs.touched, cs.weights);
     area_centroid(m, cs.touched, cs.weights, msg.area_centroid[l]);
   } else {
@@ -321,7 +327,7 @@ void LloydLoop::refine_centroids(CentroidScratch& cs, CentroidMsg& msg) {
 std::shared_ptr<CentroidMsg> LloydLoop::solve_centroid_batch(int32_t b,
                                                              std::span<const std::array<double, 3>> before) {
   CentroidScratch& cs = cscratch_.local();
-  if (cs.dense.size() != static_cast<size_t>(n_)) cs.dense.assign(n_, 0.0);
+  if (!local_ && cs.dense.size() != static_cast<size_t>(n_)) cs.dense.assign(n_, 0.0);
   auto msg = std::make_shared<CentroidMsg>();
   HeatBatch& hb = cs.batch;
   hb.clear_sources();
@@ -336,8 +342,7 @@ std::shared_ptr<CentroidMsg> LloydLoop::solve_centroid_batch(int32_t b,
     if (local_) append_two_ring_cells(cells_, c, cs.cells);
   }
   if (local_) {
-    cells_to_vertices(cells_, cs.cells, hb.kept);
-    batch_kept_[b] = hb.kept;  // this batch's slot: the next labels solve on it
+    cells_to_vertices(cells_, cs.cells, hb.kept);  // the next labels' set of this batch too (batch_kept)
   }
   const double c0 = thread_cpu_seconds();
   solve_heat_batch(in_.Hc, hb);
@@ -509,7 +514,6 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   });
   ops.area_op = HostVector<double>();  // in the stars now (isotropic: area_r3 moved there)
   ctx.check_cancel();
-  const Edges& edges = derived.incidence.edges;
 
   // First neighborhoods: Dijkstra balls of the expected cell radius times init_radius.
   std::vector<std::vector<int32_t>> nb;
@@ -532,7 +536,7 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const RunContext loop_ctx = ctx.sub(init_share, 1.0);
   LloydOptions heat_opt = opt;  // the heat iterations: what the graph iterations left
   heat_opt.iterations = opt.iterations - r.graph_iterations;
-  const LloydInputs in{m, heat_opt, loop_ctx, H, Hc, geo, edges, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
+  const LloydInputs in{m, heat_opt, loop_ctx, H, Hc, geo, derived.adjacency, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
   LloydLoop loop(in, sites, std::move(nb), r);
   if (!first.empty()) {
     loop.first_cells(first);

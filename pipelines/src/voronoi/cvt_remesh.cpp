@@ -560,6 +560,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
   r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
+  if (o.lloyd_done) o.lloyd_done();  // d.incidence is read from here on
   r.lloyd_s = sw.lap();
   // The input's dual topology on the derived data's edge incidence (not a
   // second one, ~45 MB at 416k vertices; copies of the level share it).

@@ -98,9 +98,9 @@ void label_from_top_sites(const Mesh& m, HeatVoronoi& V) {
 // nb_first) or batch_kept (per batch) or neither (full solves).
 void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                 std::span<const int32_t> order, std::span<const std::vector<int32_t>> neighborhoods, int32_t nb_first,
-                std::span<const HostVector<int32_t>> batch_kept, HeatVoronoi& V, const RunContext& ctx) {
+                const BatchKept& batch_kept, HeatVoronoi& V, const RunContext& ctx) {
   const int32_t n = m.num_vertices();
-  const bool local = !neighborhoods.empty() || !batch_kept.empty();
+  const bool local = !neighborhoods.empty() || static_cast<bool>(batch_kept);
   const int32_t nb = static_cast<int32_t>((order.size() + kLanes - 1) / kLanes);
   V.batches += nb;
   tbb::enumerable_thread_specific<HeatBatch> scratch;
@@ -126,7 +126,7 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
       }
       if (local) hb.kept.insert(hb.kept.end(), v, v + c);
     }
-    if (!batch_kept.empty()) hb.kept.insert(hb.kept.end(), batch_kept[b].begin(), batch_kept[b].end());
+    if (batch_kept) batch_kept(b, hb.kept);
     if (local) {
       dedupe_kept(hb, n);  // first occurrences, in order: no sort needed by the plan
     }
@@ -171,7 +171,7 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
 
 HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                               std::span<const std::vector<int32_t>> neighborhoods,
-                              std::span<const HostVector<int32_t>> batch_kept, std::span<const int32_t> batch_order,
+                              const BatchKept& batch_kept, std::span<const int32_t> batch_order,
                               const RunContext& ctx) {
   const int32_t n = m.num_vertices();
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
@@ -179,8 +179,6 @@ HeatVoronoi heat_voronoi_impl(const HeatDiffusion& H, const Mesh& m, std::span<c
   for (size_t i = 0; i < sites.size(); ++i) check_surface_point(m, sites[i], "generator", i);
   if (!neighborhoods.empty() && neighborhoods.size() != sites.size())
     fail(ErrorCode::BadUsage, "heat voronoi: one neighborhood per generator expected");
-  if (!batch_kept.empty() && batch_kept.size() != (sites.size() + kLanes - 1) / kLanes)
-    fail(ErrorCode::BadUsage, "heat voronoi: one kept set per batch of 8 generators expected");
   const std::vector<int32_t> order = generator_order(sites.size(), batch_order);
   HeatVoronoi V;
   V.top_site.assign(static_cast<size_t>(n) * kVoronoiTopK, -1);
@@ -229,6 +227,18 @@ HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::spa
                                  std::span<const int32_t> batch_order,
                                  std::span<const HostVector<int32_t>> batch_kept, const RunContext& ctx) {
   if (batch_kept.empty()) fail(ErrorCode::BadUsage, "heat voronoi: no kept sets given");
+  if (batch_kept.size() != (sites.size() + kLanes - 1) / kLanes)
+    fail(ErrorCode::BadUsage, "heat voronoi: one kept set per batch of 8 generators expected");
+  return heat_voronoi_impl(
+      H, m, sites, {},
+      [&](int32_t b, HostVector<int32_t>& kept) { kept.insert(kept.end(), batch_kept[b].begin(), batch_kept[b].end()); },
+      batch_order, ctx);
+}
+
+HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                                 std::span<const int32_t> batch_order, const BatchKept& batch_kept,
+                                 const RunContext& ctx) {
+  if (!batch_kept) fail(ErrorCode::BadUsage, "heat voronoi: no kept sets given");
   return heat_voronoi_impl(H, m, sites, {}, batch_kept, batch_order, ctx);
 }
 

@@ -229,6 +229,24 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
   return area;
 }
 
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<int32_t> slot, std::vector<double>& load, std::vector<int32_t>& touched,
+                            int64_t& fallback) {
+  const size_t first = touched.size();
+  double area = 0;
+  visit_cell_loads(stars, V, c, cell, fallback, [&](int32_t v, double w) {
+    if (slot[v] < 0) {
+      slot[v] = static_cast<int32_t>(load.size());
+      touched.push_back(v);
+      load.push_back(0.0);
+    }
+    load[slot[v]] += w;
+    area += w;
+  });
+  for (size_t k = first; k < touched.size(); ++k) slot[touched[k]] = -1;
+  return area;
+}
+
 HostVector<double> cell_areas(const VertexStars& stars, const HeatVoronoi& V, std::span<const int64_t> cell_offsets,
                               std::span<const int32_t> cell_vertices) {
   if (cell_offsets.empty()) fail(ErrorCode::BadUsage, "cell areas: no cells");

@@ -359,6 +359,8 @@ TEST_CASE("a released assembly map: solves still work, factorizing again is refu
   release_assembly_map(*S);
   CHECK(S->a_src.capacity() == 0);
   CHECK(S->a_dst.capacity() == 0);
+  CHECK(S->parent.capacity() == 0);
+  CHECK(S->col_count.capacity() == 0);
   solve(F, after);
   CHECK(after == before);
   CHECK_THROWS_AS(factorize(S, A), Error);

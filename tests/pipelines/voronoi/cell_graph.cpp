@@ -46,7 +46,8 @@ TEST_CASE("cell graph: cell lists and adjacency as rebuilt from the faces") {
       if (d < best) best = d, label[v] = s;
     }
   }
-  const CellGraph g = build_cell_graph(unique_edges(m), label, ns);
+  const CellGraph by_edges = build_cell_graph(unique_edges(m), label, ns);
+  const CellGraph by_adjacency = build_cell_graph(vertex_adjacency(m), label, ns);
   std::vector<std::set<int32_t>> want_adj(ns);
   for (int32_t f = 0; f < m.num_faces(); ++f) {
     const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
@@ -58,33 +59,44 @@ TEST_CASE("cell graph: cell lists and adjacency as rebuilt from the faces") {
       }
     }
   }
-  REQUIRE(g.offsets.size() == static_cast<size_t>(ns) + 1);
-  REQUIRE(g.adj_offsets.size() == static_cast<size_t>(ns) + 1);
-  for (int32_t s = 0; s < ns; ++s) {
-    std::vector<int32_t> want_verts;
+  for (const CellGraph* graph : {&by_edges, &by_adjacency}) {
+    const CellGraph& g = *graph;
+    REQUIRE(g.offsets.size() == static_cast<size_t>(ns) + 1);
+    REQUIRE(g.adj_offsets.size() == static_cast<size_t>(ns) + 1);
+    for (int32_t s = 0; s < ns; ++s) {
+      std::vector<int32_t> want_verts;
+      for (int32_t v = 0; v < m.num_vertices(); ++v)
+        if (label[v] == s) want_verts.push_back(v);
+      CHECK(std::vector<int32_t>(g.verts.begin() + g.offsets[s], g.verts.begin() + g.offsets[s + 1]) == want_verts);
+      CHECK(std::vector<int32_t>(g.adj.begin() + g.adj_offsets[s], g.adj.begin() + g.adj_offsets[s + 1]) ==
+            std::vector<int32_t>(want_adj[s].begin(), want_adj[s].end()));
+    }
+    // Two rings of cell 0, as vertices: every vertex of the cells within two steps.
+    std::vector<int32_t> cells;
+    append_two_ring_cells(g, 0, cells);
+    std::set<int32_t> ring{0};
+    for (int32_t a : want_adj[0]) {
+      ring.insert(a);
+      ring.insert(want_adj[a].begin(), want_adj[a].end());
+    }
+    HostVector<int32_t> verts;
+    cells_to_vertices(g, cells, verts);
+    CHECK(cells == std::vector<int32_t>(ring.begin(), ring.end()));
+    std::vector<int32_t> want;
     for (int32_t v = 0; v < m.num_vertices(); ++v)
-      if (label[v] == s) want_verts.push_back(v);
-    CHECK(std::vector<int32_t>(g.verts.begin() + g.offsets[s], g.verts.begin() + g.offsets[s + 1]) == want_verts);
-    CHECK(std::vector<int32_t>(g.adj.begin() + g.adj_offsets[s], g.adj.begin() + g.adj_offsets[s + 1]) ==
-          std::vector<int32_t>(want_adj[s].begin(), want_adj[s].end()));
+      if (ring.count(label[v])) want.push_back(v);
+    std::vector<int32_t> got(verts.begin(), verts.end());
+    std::sort(got.begin(), got.end());
+    CHECK(got == want);
+    // Appended after what `verts` held: the same list behind it.
+    HostVector<int32_t> appended{-7};
+    std::vector<int32_t> again;
+    append_two_ring_cells(g, 0, again);
+    append_cells_vertices(g, again, appended);
+    REQUIRE(appended.size() == verts.size() + 1);
+    CHECK(appended[0] == -7);
+    CHECK(std::equal(verts.begin(), verts.end(), appended.begin() + 1));
   }
-  // Two rings of cell 0, as vertices: every vertex of the cells within two steps.
-  std::vector<int32_t> cells;
-  append_two_ring_cells(g, 0, cells);
-  std::set<int32_t> ring{0};
-  for (int32_t a : want_adj[0]) {
-    ring.insert(a);
-    ring.insert(want_adj[a].begin(), want_adj[a].end());
-  }
-  HostVector<int32_t> verts;
-  cells_to_vertices(g, cells, verts);
-  CHECK(cells == std::vector<int32_t>(ring.begin(), ring.end()));
-  std::vector<int32_t> want;
-  for (int32_t v = 0; v < m.num_vertices(); ++v)
-    if (ring.count(label[v])) want.push_back(v);
-  std::vector<int32_t> got(verts.begin(), verts.end());
-  std::sort(got.begin(), got.end());
-  CHECK(got == want);
 }
 
 TEST_CASE("cell graph: batches of neighboring cells on a row of cells") {

@@ -6,6 +6,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -141,6 +143,33 @@ TEST_CASE("cell partition: cell-by-cell loads give the exact areas and moments o
     CHECK(total == doctest::Approx(1.0).epsilon(1e-12));
     CHECK(fallback == 0);
     for (double a : acc) CHECK(a == 0.0);
+    // Without the dense vector: the same exact areas and moment, each touched
+    // vertex once with its load beside it, and the slots all -1 again.
+    std::vector<int32_t> slot(n, -1);
+    int64_t fallback_slots = 0;
+    for (int32_t c = 0; c < 3; ++c) {
+      std::vector<int32_t> cell, touched;
+      std::vector<double> load;
+      for (int32_t v = 0; v < n; ++v)
+        if (V.label[v] == c) cell.push_back(v);
+      const double area = accumulate_cell_load(st, V, c, cell, slot, load, touched, fallback_slots);
+      CHECK(area == doctest::Approx(exact_area[c]).epsilon(1e-12));
+      REQUIRE(load.size() == touched.size());
+      std::vector<int32_t> sorted = touched;
+      std::sort(sorted.begin(), sorted.end());
+      CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
+      double sum = 0, mx = 0;
+      for (size_t k = 0; k < touched.size(); ++k) {
+        CHECK(load[k] > 0);
+        sum += load[k];
+        mx += load[k] * m.x[touched[k]];
+      }
+      CHECK(sum == doctest::Approx(exact_area[c]).epsilon(1e-12));
+      if (c == 2) CHECK(mx == doctest::Approx(0.108).epsilon(1e-12));
+      if (c == 0) CHECK(mx == doctest::Approx((1 - 0.216) / 3).epsilon(1e-12));
+      CHECK(std::count(slot.begin(), slot.end(), -1) == n);
+    }
+    CHECK(fallback_slots == 0);
   }
 }
 

@@ -20,8 +20,9 @@ namespace locus {
 void assembly_map(SymbolicFactor& S, const CscMatrix& A, int chunks);
 
 // Frees the assembly map and the update lists (~16 bytes per entry of A), which
-// only the numeric factorization reads: for a factor that is computed once and
-// then only solved with. A later factorize / refactorize with S throws
+// only the numeric factorization reads, and the column etree and counts
+// (`parent`, `col_count`, which only the analysis reads): for a factor that is
+// computed once and then only solved with (and saved before). A later factorize / refactorize with S throws
 // Error(BadUsage) instead of reading the missing map.
 void release_assembly_map(SymbolicFactor& S);
 

@@ -32,6 +32,9 @@ struct CellGraph {
 // label[v] in [0, cells) for every vertex v (the caller checks); `edges` the mesh's
 // unique edges.
 CellGraph build_cell_graph(const Edges& edges, std::span<const int32_t> label, int32_t cells);
+// The same graph from the vertex adjacency (each edge from its smaller end), for
+// callers that hold the adjacency and not the edges (Lloyd's iterations).
+CellGraph build_cell_graph(const Adjacency& adj, std::span<const int32_t> label, int32_t cells);
 
 // Cell s, its neighbor cells and their neighbors, appended to `out` (with repeats).
 void append_two_ring_cells(const CellGraph& g, int32_t s, std::vector<int32_t>& out);
@@ -40,6 +43,8 @@ void append_two_ring_cells(const CellGraph& g, int32_t s, std::vector<int32_t>& 
 // `verts` becomes the concatenation of their vertex lists (unique: cells are
 // disjoint; ascending within each cell only).
 void cells_to_vertices(const CellGraph& g, std::vector<int32_t>& cells, HostVector<int32_t>& verts);
+// The same appended to `verts` (kept as it was).
+void append_cells_vertices(const CellGraph& g, std::vector<int32_t>& cells, HostVector<int32_t>& verts);
 
 // Every cell once, in runs of `batch` neighboring cells (the last run may be
 // shorter): each run breadth-first over the graph (neighbors in ascending id),

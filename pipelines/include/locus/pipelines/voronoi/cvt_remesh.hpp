@@ -89,6 +89,12 @@ struct RemeshOptions {
   // after the repair, before the assembly and the optimization. A caller that
   // owns the operator frees it there (its factor ~160 MB at 416k vertices).
   std::function<void()> operator_done;
+  // Called once the first Lloyd run is over, before anything reads the
+  // derived data's edge incidence: until then the remesh reads of `d` its
+  // checks, h, masses, components and vertex adjacency only (Lloyd's cell
+  // graph is built on the adjacency). A caller that freed d.incidence
+  // meanwhile restores it there (the cvt command's, 25 MB at 416k vertices).
+  std::function<void()> lloyd_done;
 };
 
 struct RemeshResult {

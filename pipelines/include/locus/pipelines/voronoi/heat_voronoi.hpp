@@ -26,6 +26,7 @@
 // Thread safety: queries on one prepared HeatDiffusion may run concurrently.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -64,6 +65,14 @@ HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const 
 HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
                                  std::span<const int32_t> batch_order,
                                  std::span<const HostVector<int32_t>> batch_kept, const RunContext& ctx);
+// The same with each batch's kept set produced where its solve needs it:
+// batch_kept(b, kept) appends batch b's set to `kept` (called from the solve
+// tasks, several at once). Lloyd's method rebuilds them from its cell graph
+// instead of holding every batch's list (~12 MB at 416k vertices).
+using BatchKept = std::function<void(int32_t batch, HostVector<int32_t>& kept)>;
+HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
+                                 std::span<const int32_t> batch_order, const BatchKept& batch_kept,
+                                 const RunContext& ctx);
 
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
 // the functions above; its top-K lists are kept) and sites[first_new ..] are

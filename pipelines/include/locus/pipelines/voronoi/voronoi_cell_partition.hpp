@@ -80,6 +80,13 @@ VertexStars vertex_stars(const Mesh& m, std::span<const int64_t> vf_offsets, std
 // each triangle once).
 double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
                             std::span<double> acc, std::vector<int32_t>& touched, int64_t& fallback);
+// The same loads without a dense n-vector: the k-th vertex appended to `touched`
+// gets its load in load[k] (appended alike; the same sums in the same order as
+// acc[v] above). slot: n entries, all -1 on entry and again on return (where
+// the call's vertices are in `load` meanwhile).
+double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int32_t c, std::span<const int32_t> cell,
+                            std::span<int32_t> slot, std::vector<double>& load, std::vector<int32_t>& touched,
+                            int64_t& fallback);
 
 // The cells' areas alone (partition_cells' `area`, bit for bit when the stars hold
 // the same face areas) without the mesh-wide list of loads: cell by cell in

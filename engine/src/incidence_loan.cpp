@@ -1,0 +1,81 @@
+// The edge incidence set aside and rebuilt (incidence_loan.hpp; thesis §3.7.1).
+#include "incidence_loan.hpp"
+
+#include <algorithm>
+
+#include "locus/core/host_allocator.hpp"
+#include "locus/kernels/mesh/mesh_topology.hpp"
+
+namespace locus {
+
+namespace {
+
+// edge_incidence(m) without its edge-to-corner CSR, from the vertex adjacency
+// d already holds (vertex_adjacency of the same edges): the edges are each
+// vertex's larger neighbors in ascending order, which is unique_edges' order,
+// and a corner finds its edge by a binary search in its smaller end's row.
+// Its transient memory is one n-vector, where edge_incidence sorts a key per
+// corner and builds the CSR beside the result (~70 MB at 416k vertices, at a
+// point of the remesh where the factor is still held).
+EdgeIncidence incidence_from_adjacency(const Mesh& m, const Adjacency& adj) {
+  const int32_t nv = m.num_vertices(), nf = m.num_faces();
+  HostVector<int64_t> first_edge(static_cast<size_t>(nv) + 1, 0);  // of each vertex as the smaller end
+  for (int32_t v = 0; v < nv; ++v) {
+    const int32_t* row = adj.neighbors.data() + adj.offsets[v];
+    const int32_t* end = adj.neighbors.data() + adj.offsets[v + 1];
+    first_edge[v + 1] = first_edge[v] + (end - std::upper_bound(row, end, v));
+  }
+  EdgeIncidence inc;
+  Edges& E = inc.edges;
+  const int64_t ne = first_edge[nv];
+  E.e0.resize(static_cast<size_t>(ne));
+  E.e1.resize(static_cast<size_t>(ne));
+  E.face_count.assign(static_cast<size_t>(ne), 0);
+  for (int32_t v = 0; v < nv; ++v) {
+    const int32_t* end = adj.neighbors.data() + adj.offsets[v + 1];
+    const int32_t* up = std::upper_bound(adj.neighbors.data() + adj.offsets[v], end, v);
+    for (int64_t e = first_edge[v]; e < first_edge[v + 1]; ++e, ++up) {
+      E.e0[e] = v;
+      E.e1[e] = *up;
+    }
+  }
+  const int32_t* off = m.face_offsets.data();
+  const int32_t* fv = m.face_vertices.data();
+  inc.corner_edge.assign(m.face_vertices.size(), -1);
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t c = off[f]; c < off[f + 1]; ++c) {
+      const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];
+      if (u == w) continue;
+      const int32_t lo = std::min(u, w), hi = std::max(u, w);
+      const int32_t* end = adj.neighbors.data() + adj.offsets[lo + 1];
+      const int32_t* up = std::upper_bound(adj.neighbors.data() + adj.offsets[lo], end, lo);
+      const int64_t e = first_edge[lo] + (std::lower_bound(up, end, hi) - up);
+      inc.corner_edge[c] = static_cast<int32_t>(e);
+      ++E.face_count[e];
+    }
+  return inc;
+}
+
+}  // namespace
+
+IncidenceLoan::~IncidenceLoan() {
+  try {
+    restore();
+  } catch (...) {  // out of memory while unwinding: the owner's incidence stays empty
+  }
+}
+
+void IncidenceLoan::release() {
+  if (released_) return;
+  had_corners_ = !d_.incidence.edge_corner_offsets.empty();
+  d_.incidence = EdgeIncidence{};
+  released_ = true;
+}
+
+void IncidenceLoan::restore() {
+  if (!released_) return;
+  d_.incidence = had_corners_ ? edge_incidence(m_) : incidence_from_adjacency(m_, d_.adjacency);
+  released_ = false;
+}
+
+}  // namespace locus
