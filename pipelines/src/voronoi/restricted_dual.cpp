@@ -268,6 +268,22 @@ void check_boundary(const Mesh& m, const DualTopology& topo, std::span<const int
 
 namespace {
 
+// A boundary vertex at the position of another boundary vertex ends a seam (a
+// tube cut along a line, the cut's vertices duplicated): its turn is the cut's,
+// not the surface's, and snapping dual vertices to both ends of a seam puts them
+// on one line (zero-area remesh triangles). Such vertices are not sharp corners.
+void clear_seam_ends(const Mesh& m, DualTopology& t) {
+  std::vector<int32_t> b;
+  for (const auto& loop : t.loops) b.insert(b.end(), loop.begin(), loop.end());
+  auto key = [&m](int32_t v) { return std::make_tuple(m.x[v], m.y[v], m.z[v], v); };
+  std::sort(b.begin(), b.end(), [&](int32_t p, int32_t q) { return key(p) < key(q); });
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  for (size_t i = 1; i < b.size(); ++i) {
+    const int32_t p = b[i - 1], q = b[i];
+    if (m.x[p] == m.x[q] && m.y[p] == m.y[q] && m.z[p] == m.z[q]) t.sharp_boundary[p] = t.sharp_boundary[q] = 0;
+  }
+}
+
 // Loops and sharp boundary corners of t.inc().
 void complete_topology(const Mesh& m, DualTopology& t) {
   t.loops = boundary_loops(m, t.inc());
@@ -285,6 +301,7 @@ void complete_topology(const Mesh& m, DualTopology& t) {
       if (nu > 0 && nw > 0 && c < std::sqrt(0.5) * nu * nw) t.sharp_boundary[v] = 1;
     }
   }
+  clear_seam_ends(m, t);
 }
 
 void check_triangles(const Mesh& m) {
