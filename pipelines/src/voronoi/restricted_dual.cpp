@@ -268,6 +268,33 @@ void check_boundary(const Mesh& m, const DualTopology& topo, std::span<const int
 
 namespace {
 
+// Seams: a tube cut along a line, the cut's vertices duplicated, has one loop
+// that runs along the cut twice (vertices at one position, and a neighbor of
+// each at another shared position). The 90-degree turns at the seam's ends are
+// the cut's, not the surface's: snapping dual vertices to both ends of a seam
+// puts them on one line (zero-area remesh triangles), so they are not sharp.
+// A loop touching itself at one point only (a pinch) and loops of different
+// components that touch (CAD patches) keep their corners.
+void clear_seam_ends(const Mesh& m, DualTopology& t) {
+  auto same = [&m](int32_t p, int32_t q) { return m.x[p] == m.x[q] && m.y[p] == m.y[q] && m.z[p] == m.z[q]; };
+  for (const auto& loop : t.loops) {
+    const size_t len = loop.size();
+    std::vector<size_t> at(len);  // loop positions sorted by vertex position
+    std::iota(at.begin(), at.end(), size_t{0});
+    auto key = [&](size_t i) { return std::make_tuple(m.x[loop[i]], m.y[loop[i]], m.z[loop[i]], i); };
+    std::sort(at.begin(), at.end(), [&](size_t i, size_t j) { return key(i) < key(j); });
+    for (size_t k = 0; k < len; ++k)
+      for (size_t l = k + 1; l < len && same(loop[at[k]], loop[at[l]]); ++l) {
+        const size_t i = at[k], j = at[l];
+        if (loop[i] == loop[j]) continue;
+        bool seam = false;
+        for (size_t di : {size_t{1}, len - 1})
+          for (size_t dj : {size_t{1}, len - 1}) seam = seam || same(loop[(i + di) % len], loop[(j + dj) % len]);
+        if (seam) t.sharp_boundary[loop[i]] = t.sharp_boundary[loop[j]] = 0;
+      }
+  }
+}
+
 // Loops and sharp boundary corners of t.inc().
 void complete_topology(const Mesh& m, DualTopology& t) {
   t.loops = boundary_loops(m, t.inc());
@@ -285,6 +312,7 @@ void complete_topology(const Mesh& m, DualTopology& t) {
       if (nu > 0 && nw > 0 && c < std::sqrt(0.5) * nu * nw) t.sharp_boundary[v] = 1;
     }
   }
+  clear_seam_ends(m, t);
 }
 
 void check_triangles(const Mesh& m) {

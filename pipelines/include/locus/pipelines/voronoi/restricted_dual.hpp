@@ -60,7 +60,8 @@ struct DualTopology {
   EdgeIncidence own;                          // edges, face_count, corner -> edge (when not borrowed)
   const EdgeIncidence* borrowed = nullptr;    // edge_incidence(m) of the caller's, or null
   std::vector<std::vector<int32_t>> loops;    // boundary loops (mesh_topology.hpp order)
-  std::vector<uint8_t> sharp_boundary;        // per vertex: boundary corner turning more than 45 degrees
+  std::vector<uint8_t> sharp_boundary;        // per vertex: boundary corner turning more than 45 degrees,
+                                              // not at a seam's end (restricted_dual.cpp)
   const EdgeIncidence& inc() const { return borrowed ? *borrowed : own; }
 };
 DualTopology dual_topology(const Mesh& m);
