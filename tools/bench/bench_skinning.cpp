@@ -181,24 +181,27 @@ void compare(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, cons
   j["nonzero_outside_band_percent"] = zero_exact ? 100.0 * outside / zero_exact : 0.0;
 }
 
+// max_i |A(a, i) - B(b, i)|: the largest difference between row a of A and row b of B.
+double row_diff(const SkinningWeights& A, int32_t a, const SkinningWeights& B, int32_t b) {
+  const int32_t k = A.handles;
+  double d = 0;
+  for (int32_t i = 0; i < k; ++i)
+    d = std::max(d, std::abs(A.weight[static_cast<size_t>(a) * k + i] - B.weight[static_cast<size_t>(b) * k + i]));
+  return d;
+}
+
 // The `worst` vertices of the largest |w - w_exact|, each with what a rule could
 // see there: the distance in rings to the nearest exact row (a row bitwise equal
 // to the exact one), the exact neighbours' count, the spread of the exact rows
 // over the one-ring, the longest incident edge over the mean edge, the valence.
 Json worst_vertices(const Mesh& m, const Adjacency& adj, const SkinningWeights& W, const SkinningWeights& E, int32_t worst) {
   const int32_t n = m.num_vertices(), k = W.handles;
-  auto diff = [&](const SkinningWeights& A, int32_t a, const SkinningWeights& B, int32_t b) {
-    double d = 0;
-    for (int32_t i = 0; i < k; ++i)
-      d = std::max(d, std::abs(A.weight[static_cast<size_t>(a) * k + i] - B.weight[static_cast<size_t>(b) * k + i]));
-    return d;
-  };
   std::vector<uint8_t> exact(n);
   std::vector<std::pair<double, int32_t>> err(n);
   for (int32_t v = 0; v < n; ++v) {
     exact[v] = std::equal(W.weight.begin() + static_cast<size_t>(v) * k, W.weight.begin() + static_cast<size_t>(v + 1) * k,
                           E.weight.begin() + static_cast<size_t>(v) * k);
-    err[v] = {-diff(W, v, E, v), v};
+    err[v] = {-row_diff(W, v, E, v), v};
   }
   const double h = mean_edge_length(m);
   std::sort(err.begin(), err.end());
@@ -224,9 +227,9 @@ Json worst_vertices(const Mesh& m, const Adjacency& adj, const SkinningWeights& 
       const int32_t u = adj.neighbors[p];
       ex += exact[u];
       lmax = std::max(lmax, std::hypot(m.x[u] - m.x[v], m.y[u] - m.y[v], m.z[u] - m.z[v]));
-      own = std::max(own, diff(E, u, E, v));
-      if (exact[u]) residual = std::max(residual, diff(W, u, W, v));
-      for (int64_t p2 = adj.offsets[v]; p2 < adj.offsets[v + 1]; ++p2) spread = std::max(spread, diff(E, u, E, adj.neighbors[p2]));
+      own = std::max(own, row_diff(E, u, E, v));
+      if (exact[u]) residual = std::max(residual, row_diff(W, u, W, v));
+      for (int64_t p2 = adj.offsets[v]; p2 < adj.offsets[v + 1]; ++p2) spread = std::max(spread, row_diff(E, u, E, adj.neighbors[p2]));
     }
     out.push_back({{"v", v}, {"err", -err[r].first}, {"exact", static_cast<int>(exact[v])}, {"rings_to_exact", near},
                    {"exact_nbrs", ex}, {"valence", adj.offsets[v + 1] - adj.offsets[v]},
@@ -249,12 +252,6 @@ Json worst_vertices(const Mesh& m, const Adjacency& adj, const SkinningWeights& 
 void write_vertex_csv(const std::string& path, const Mesh& m, const Adjacency& adj, const SkinningWeights& W,
                       const SkinningWeights& E) {
   const int32_t n = m.num_vertices(), k = W.handles;
-  auto diff = [&](const SkinningWeights& A, int32_t a, const SkinningWeights& B, int32_t b) {
-    double d = 0;
-    for (int32_t i = 0; i < k; ++i)
-      d = std::max(d, std::abs(A.weight[static_cast<size_t>(a) * k + i] - B.weight[static_cast<size_t>(b) * k + i]));
-    return d;
-  };
   const double h = mean_edge_length(m);
   std::vector<double> amax(n, 0), amin(n, 180), area(n, 0);
   for (int32_t f = 0; f < m.num_faces(); ++f) {
@@ -278,7 +275,7 @@ void write_vertex_csv(const std::string& path, const Mesh& m, const Adjacency& a
     double iso = 1e9, jump = 0, lmax = 0, lmin = 1e9, na = 0;
     for (int64_t p = adj.offsets[v]; p < adj.offsets[v + 1]; ++p) {
       const int32_t u = adj.neighbors[p];
-      const double d = diff(E, u, E, v);
+      const double d = row_diff(E, u, E, v);
       iso = std::min(iso, d);
       jump = std::max(jump, d);
       const double l = std::hypot(m.x[u] - m.x[v], m.y[u] - m.y[v], m.z[u] - m.z[v]) / h;
@@ -287,7 +284,7 @@ void write_vertex_csv(const std::string& path, const Mesh& m, const Adjacency& a
       na += area[u];
     }
     const int64_t deg = adj.offsets[v + 1] - adj.offsets[v];
-    f << v << ',' << diff(W, v, E, v) << ',' << ex << ',' << iso << ',' << jump << ',' << deg << ',' << lmax << ','
+    f << v << ',' << row_diff(W, v, E, v) << ',' << ex << ',' << iso << ',' << jump << ',' << deg << ',' << lmax << ','
       << lmin << ',' << amax[v] << ',' << amin[v] << ',' << area[v] / (h * h) << ',' << (deg ? area[v] * deg / na : 0)
       << '\n';
   }

@@ -14,6 +14,7 @@
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/restricted_dual.hpp"
+#include "triangle_area.hpp"
 
 using namespace locus;
 
@@ -38,13 +39,6 @@ Mesh make_seam_tube(int32_t nu, int32_t nv, double r, double h) {
       m.add_triangle(a, d, c);
     }
   return m;
-}
-
-double area(const Mesh& m, int32_t f) {
-  const int32_t a = m.f0[f], b = m.f1[f], c = m.f2[f];
-  const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
-  const double vx = m.x[c] - m.x[a], vy = m.y[c] - m.y[a], vz = m.z[c] - m.z[a];
-  return 0.5 * std::hypot(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
 }
 
 }  // namespace
@@ -76,7 +70,7 @@ TEST_CASE("remesh seam: a thin seam tube remeshed with 6 sites has no zero-area 
   REQUIRE(r.complete);
   REQUIRE(r.remesh.num_faces() > 0);
   const double scale = 0.8 * 0.8;
-  for (int32_t f = 0; f < r.remesh.num_faces(); ++f) CHECK(area(r.remesh, f) > 1e-6 * scale);
+  for (int32_t f = 0; f < r.remesh.num_faces(); ++f) CHECK(test::triangle_area(r.remesh, f) > 1e-6 * scale);
   const MeshReport in = analyze_mesh(m), out = analyze_mesh(r.remesh);
   CHECK(out.manifold);
   CHECK(out.components == in.components);

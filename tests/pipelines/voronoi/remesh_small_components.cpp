@@ -9,19 +9,9 @@
 #include <cmath>
 
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "triangle_area.hpp"
 
 using namespace locus;
-
-namespace {
-
-double area(const Mesh& m, int32_t f) {
-  const int32_t a = m.f0[f], b = m.f1[f], c = m.f2[f];
-  const double ux = m.x[b] - m.x[a], uy = m.y[b] - m.y[a], uz = m.z[b] - m.z[a];
-  const double vx = m.x[c] - m.x[a], vy = m.y[c] - m.y[a], vz = m.z[c] - m.z[a];
-  return 0.5 * std::hypot(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
-}
-
-}  // namespace
 
 TEST_CASE("remesh small components: a one-triangle component of zero area takes its input triangle back") {
   // The input: the unit square (a grid) and, apart, one triangle at z = 1.
@@ -42,10 +32,10 @@ TEST_CASE("remesh small components: a one-triangle component of zero area takes 
   remesh.add_vertex(2.5, 0, 1);
   remesh.add_vertex(3, 0, 1);
   remesh.add_triangle(4, 5, 6);
-  REQUIRE(area(remesh, 2) == 0);
+  REQUIRE(test::triangle_area(remesh, 2) == 0);
   const Mesh square = remesh;
   CHECK(restore_single_triangles(input, grid, remesh) == 1);
-  CHECK(area(remesh, 2) == doctest::Approx(0.5));
+  CHECK(test::triangle_area(remesh, 2) == doctest::Approx(0.5));
   // The input's corners, in the input's order from the one nearest vertex 4.
   CHECK(remesh.x[4] == 2);
   CHECK(remesh.x[5] == 3);
@@ -53,7 +43,7 @@ TEST_CASE("remesh small components: a one-triangle component of zero area takes 
   CHECK(remesh.y[6] == 1);
   for (int32_t v = 0; v < 4; ++v) CHECK(remesh.x[v] == square.x[v]);
   CHECK(restore_single_triangles(input, grid, remesh) == 1);  // idempotent: the same positions
-  CHECK(area(remesh, 2) == doctest::Approx(0.5));
+  CHECK(test::triangle_area(remesh, 2) == doctest::Approx(0.5));
 }
 
 TEST_CASE("remesh small components: a one-triangle remesh of a larger input component stays") {
