@@ -44,6 +44,7 @@ struct SkinningBenchOptions {
   double t_factor = 1.0;  // diffusion time t = t_factor * h^2 (skinweights' --t)
   int32_t worst = 0;      // list this many vertices of the largest |w - w_exact|
   std::string vertex_csv; // per-vertex features and errors (diagnostic)
+  int32_t exact_up_to = SkinningOptions{}.exact_up_to;  // the small-mesh exact road's size (0: off)
 };
 
 // Head, left hand, right hand, right foot, left foot, tail, chest of armadillo.off.
@@ -371,6 +372,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
     if (!fine) continue;
     SkinningOptions so;
     so.samples = std::stoi(text);
+    so.exact_up_to = o.exact_up_to;
     std::vector<double> wall;
     SkinningWeights W;
     for (int32_t r = 0; r < o.repeats; ++r) {
@@ -379,7 +381,7 @@ int run_skinning(const cli::CommonOptions& opt, const SkinningBenchOptions& o, c
       wall.push_back(sw.seconds());
     }
     const double med = cli::median(wall);
-    Json row{{"samples_target", so.samples}, {"samples", W.samples},   {"refined", W.refined}, {"sample_rings", W.sample_rings},
+    Json row{{"samples_target", so.samples}, {"method", W.method}, {"samples", W.samples},   {"refined", W.refined}, {"sample_rings", W.sample_rings},
              {"wall_s", med},                {"with_factor_s", med + factor_s}, {"wall_s_all", wall},
              {"phase_s", {{"prepare", W.prepare_s}, {"exact_rows", W.weights_s}, {"propagate", W.propagate_s}}},
              {"properties", properties(m, W, ids)}};
@@ -411,6 +413,9 @@ void register_skinning_bench(cli::CommandTable& table) {
   app->add_option("--t-factor", o->t_factor, "Diffusion time in units of h^2 (default 1, as skinweights' default --t h2)");
   app->add_option("--worst", o->worst, "List this many vertices of the largest |w - w_exact| with their surroundings");
   app->add_option("--vertex-csv", o->vertex_csv, "Per-vertex features and |w - w_exact| into this CSV file");
+  app->add_option("--exact-up-to", o->exact_up_to,
+                  "Sampled: meshes of at most this many vertices take exact rows everywhere (default 10000; 0: "
+                  "only by the sample target)");
   app->add_option("--exact-cache", o->exact_cache,
                   "File of the exact weights: read when it matches the mesh and handles, else computed and written");
 }

@@ -200,6 +200,7 @@ constexpr double kSkinnyAngle = 10.0;
 SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::span<const std::vector<int32_t>> handles,
                                  const SkinningOptions& options, const RunContext& ctx) {
   if (options.samples < 0) fail(ErrorCode::BadUsage, "skinning weights: samples must be >= 0");
+  if (options.exact_up_to < 0) fail(ErrorCode::BadUsage, "skinning weights: exact_up_to must be >= 0");
   BatchStopwatch sw;
   const NaturalNeighborField F = prepare_natural_neighbors(H, m, handles, ctx);
   SkinningWeights W;
@@ -239,7 +240,8 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   };
   const int32_t target = options.samples > 0 ? options.samples : 1024;
   const Adjacency adj = vertex_adjacency(m);
-  const bool small = options.refine_miss > 0 && static_cast<int64_t>(n) <= static_cast<int64_t>(kExactBelowSamples) * target;
+  const bool small = options.refine_miss > 0 && (n <= options.exact_up_to ||
+                                                  static_cast<int64_t>(n) <= static_cast<int64_t>(kExactBelowSamples) * target);
   if (options.method == SkinningMethod::Exact || small) {
     W.method = "exact";
     std::vector<int32_t> all;
@@ -269,7 +271,7 @@ SkinningWeights skinning_weights(const HeatDiffusion& H, const Mesh& m, std::spa
   if (options.refine_miss > 0) {
     const int64_t budget = static_cast<int64_t>(kRowWork / n);
     const std::vector<int32_t> skinny = skinny_corners(m, kSkinnyAngle);
-    refine_sampled_rows(adj, samples, rows, P.rough, skinny, owner, options.refine_miss, budget, solve_rows, W);
+    refine_sampled_rows(adj, samples, rows, indicator, P.rough, skinny, owner, options.refine_miss, budget, solve_rows, W);
     W.samples += W.refined;
     W.weights_s += sw.lap();
   }

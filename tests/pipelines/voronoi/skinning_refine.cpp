@@ -27,22 +27,35 @@ std::vector<std::vector<int32_t>> four_handles(const Mesh& m) {
 
 }  // namespace
 
-// A mesh of at most 3 x the sample target takes exact rows everywhere: the
-// weights are the exact method's, bit for bit; without refinement it stays sampled.
+// A mesh of at most exact_up_to vertices or 3 x the sample target takes exact
+// rows everywhere: the weights are the exact method's, bit for bit; without
+// refinement it stays sampled.
 TEST_CASE("sampled skinning weights: a small mesh takes the exact rows") {
   const Mesh m = make_icosphere(3);  // 642 vertices
   const HeatDiffusion H = prepare_heat_diffusion(m, 1.0, 0.0, {});
   const auto handles = four_handles(m);
-  SkinningOptions exact_o, small_o, plain_o;
+  SkinningOptions exact_o, small_o, plain_o, by_size;
   exact_o.method = SkinningMethod::Exact;
   small_o.samples = 214;  // 3 x 214 = 642
+  small_o.exact_up_to = 0;
   plain_o.samples = 214;
   plain_o.refine_miss = 0;
+  by_size.samples = 100;  // 3 x 100 < 642, but 642 <= exact_up_to (default 10,000)
+  const SkinningWeights Z = skinning_weights(H, m, handles, by_size, {});
+  CHECK(Z.method == "exact");
+  CHECK(Z.samples == m.num_vertices());
+  by_size.exact_up_to = 642;
+  CHECK(skinning_weights(H, m, handles, by_size, {}).method == "exact");
+  by_size.exact_up_to = 641;
+  CHECK(skinning_weights(H, m, handles, by_size, {}).method == "sampled");
+  by_size.exact_up_to = -1;
+  CHECK_THROWS_AS(skinning_weights(H, m, handles, by_size, {}), Error);
   const SkinningWeights E = skinning_weights(H, m, handles, exact_o, {});
   const SkinningWeights S = skinning_weights(H, m, handles, small_o, {});
   CHECK(S.method == "exact");
   CHECK(S.samples == m.num_vertices());
   CHECK(S.weight == E.weight);
+  CHECK(Z.weight == E.weight);
   const SkinningWeights P = skinning_weights(H, m, handles, plain_o, {});
   CHECK(P.method == "sampled");
   CHECK(P.samples < m.num_vertices());
@@ -62,6 +75,7 @@ TEST_CASE("sampled skinning weights: refinement deterministic, refined rows exac
   exact_o.method = SkinningMethod::Exact;
   on.samples = 150;
   on.refine_miss = 0.01;
+  on.exact_up_to = 0;  // 2,562 vertices: the sampled road
   RunContext one, two;
   one.threads = 1;
   two.threads = 2;
@@ -133,6 +147,41 @@ TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2
     for (int32_t j = 0; j < k; ++j) CHECK(W.weight[at[i] * k + j] == exact_rows[i][j]);
   exact.pop_back();
   CHECK_THROWS_AS(correct_propagated_rows(adj, exact, interp, W), Error);  // one flag short
+}
+
+// The zeros step on a path 0-1-2-3-4 with k = 3: rows 0 (exact) (1, 0, 0),
+// 1 (0.995, 0.005, 0), 2 (0.5, 0.5, 0), 3 (0.005, 0.005, 0.99), 4 (0, 0, 1), not a
+// zero source (a handle's indicator). Oracle: the rule by hand (a weight in
+// (0, 0.01) goes where a zero source next to it has it 0, from the rows as they
+// came in; rows renormalized, a row that would lose every weight kept).
+TEST_CASE("keep neighbour zeros: tiny weights next to a zero, by hand") {
+  const int32_t n = 5, k = 3;
+  Adjacency adj;
+  adj.offsets.assign(n + 1, 0);
+  for (int32_t v = 0; v < n; ++v) {
+    if (v > 0) adj.neighbors.push_back(v - 1);
+    if (v + 1 < n) adj.neighbors.push_back(v + 1);
+    adj.offsets[v + 1] = static_cast<int64_t>(adj.neighbors.size());
+  }
+  SkinningWeights W;
+  W.handles = k;
+  W.weight = {1, 0, 0, 0.995, 0.005, 0, 0.5, 0.5, 0, 0.005, 0.005, 0.99, 0, 0, 1};
+  const std::vector<uint8_t> exact = {1, 0, 0, 0, 1}, source = {1, 1, 1, 1, 0};
+  keep_neighbour_zeros(adj, exact, source, 0.01, W);
+  const std::vector<double> want = {1, 0, 0,                     // exact: untouched
+                                    1, 0, 0,                     // 0.005 next to 0's 0: gone, 0.995 / 0.995
+                                    0.5, 0.5, 0,                 // no weight in (0, 0.01)
+                                    0.005, 0.005, 0.99,          // 2 has neither weight at 0; 4 is no source
+                                    0, 0, 1};
+  for (size_t i = 0; i < want.size(); ++i) CHECK(W.weight[i] == doctest::Approx(want[i]).epsilon(1e-15));
+  W.weight = {0, 0, 1, 0.004, 0.006, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1};  // 1: both weights would go
+  const std::vector<uint8_t> exact2 = {0, 0, 1, 1, 1}, all = {1, 1, 1, 1, 1}, short_flags = {0, 0};
+  keep_neighbour_zeros(adj, exact2, all, 0.01, W);
+  CHECK(W.weight[3] == 0.004);
+  CHECK(W.weight[4] == 0.006);
+  CHECK(W.weight[0] == 0.0);  // row 0: its weight 1.0 is not below 0.01
+  CHECK(W.weight[2] == 1.0);
+  CHECK_THROWS_AS(keep_neighbour_zeros(adj, short_flags, source, 0.01, W), Error);
 }
 
 // Corners under the angle: a right triangle with legs 1 and 0.1 has angles 90,

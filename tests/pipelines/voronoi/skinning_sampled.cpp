@@ -128,6 +128,7 @@ TEST_CASE("sampled skinning weights: properties, locality against exact, differe
   SkinningOptions exact_o, fast_o;
   exact_o.method = SkinningMethod::Exact;
   fast_o.samples = 700;  // a cover of radius 1 ring (642 samples): genuinely sampled
+  fast_o.exact_up_to = 0;
   const SkinningWeights E = skinning_weights(H, m, handles, exact_o, {});
   RunContext one, two;
   one.threads = 1;
@@ -185,6 +186,7 @@ TEST_CASE("sampled skinning weights: refined vertices carry their exact rows, cl
   SkinningOptions exact_o, on, off;
   exact_o.method = SkinningMethod::Exact;
   on.samples = off.samples = 150;
+  on.exact_up_to = 0;
   off.refine_miss = 0;
   on.refine_miss = 0.005;
   const SkinningWeights E = skinning_weights(H, m, handles, exact_o, {});

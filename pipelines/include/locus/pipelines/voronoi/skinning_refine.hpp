@@ -22,7 +22,13 @@
 //            least magnitude where all agree in sign, else not at all (minmod:
 //            it never passes the nearest exact rows' own correction, so it does
 //            not carry a jump across; a sample there has residual 0 and stops
-//            it); only weights > 0 move, negatives go to 0, rows renormalized.
+//            it); only weights > 0 move, negatives go to 0, rows renormalized;
+//   zeros    a propagated weight under 0.01 where a neighbour's row (exact or
+//            propagated, not a handle's or a degenerate indicator) has it 0 is 0,
+//            row renormalized: one ring off the support's edge for tiny weights
+//            only. Where a natural neighbourhood ends within the cover radius the
+//            samples around carry a tail of the weight past its border (the
+//            propagation keeps only the cover samples' zeros); this stops it.
 // Every growth round after the seeds keeps the exact rows (samples included) at
 // most `row_budget`: a front over it keeps the neighbours of the largest misses.
 // Deterministic: every front is sorted by vertex id (a truncated one is chosen by
@@ -45,17 +51,25 @@ using SolveSkinRows = std::function<void(std::span<const int32_t> verts, std::ve
 
 // W.weight: the propagated weights with the samples' exact rows (overwritten with
 // exact rows where refined, then corrected); sample_rows: samples.size() * k;
-// irregular: ascending vertex ids; owner: per vertex,
+// sample_indicator: per sample, its row is an indicator for want of a cell; irregular: ascending vertex ids; owner: per vertex,
 // the handle it belongs to or -1 (never refined). Adds the refined count to W.refined.
 void refine_sampled_rows(const Adjacency& adj, std::span<const int32_t> samples, std::span<const double> sample_rows,
-                         std::span<const int32_t> rough, std::span<const int32_t> irregular, std::span<const int32_t> owner,
-                         double miss, int64_t row_budget, const SolveSkinRows& solve_rows, SkinningWeights& W);
+                         std::span<const uint8_t> sample_indicator, std::span<const int32_t> rough,
+                         std::span<const int32_t> irregular, std::span<const int32_t> owner, double miss,
+                         int64_t row_budget, const SolveSkinRows& solve_rows, SkinningWeights& W);
 
 // The step `correct` above: exact flags the rows that are exact (or handle
 // indicators); interp: the propagated rows (n * k); W.weight: the exact rows where
 // exact, the propagated ones elsewhere (those are replaced).
 void correct_propagated_rows(const Adjacency& adj, std::span<const uint8_t> exact, std::span<const double> interp,
                              SkinningWeights& W);
+
+// The step `zeros` above: in every row not flagged `exact`, a weight in (0, below)
+// set to 0 where a neighbour flagged `zero_source` has it exactly 0 (the rows as
+// they come in: the result does not depend on the vertex order); such rows
+// renormalized (a row whose weights would all go keeps them).
+void keep_neighbour_zeros(const Adjacency& adj, std::span<const uint8_t> exact, std::span<const uint8_t> zero_source,
+                          double below, SkinningWeights& W);
 
 // Vertices (ascending) at a face corner whose angle is under max_angle_deg.
 std::vector<int32_t> skinny_corners(const Mesh& m, double max_angle_deg);

@@ -26,7 +26,7 @@
 //            keep their indicator, and a weight is exactly 0 where the samples
 //            around have it 0 (the support is never widened past the samples'
 //            zeros; it may shrink by up to the cover radius where the weight is
-//            below 0.03). The exact rows themselves jump between neighbouring
+//            below 0.02). The exact rows themselves jump between neighbouring
 //            vertices where edges are long against the diffusion length sqrt(t)
 //            (docs/skinning.md), more than a smooth interpolant follows: the
 //            vertices where the samples around miss their linear fit by more
@@ -35,8 +35,10 @@
 //            neighbours of every such vertex whose exact row differs from its
 //            propagated one by more than that (skinning_refine.hpp), within a
 //            budget of exact rows that shrinks as 1/n (an exact row costs O(n)).
-//            A mesh of at most 3 x the sample target takes exact rows everywhere
-//            (about the same cost there). Cost: at most `samples` cover rows plus
+//            A mesh of at most `exact_up_to` vertices (default 10,000) or 3 x the
+//            sample target takes exact rows everywhere (method "exact"): there all
+//            rows cost about as many as the cover and the refinement's budget
+//            together, under a second (docs/skinning.md). Cost: at most `samples` cover rows plus
 //            the refined ones (exact rows as above) plus O(n) propagation; a
 //            propagated weight below 1e-3 of its row's largest is 0.
 // Large meshes: the front ends take the coarse road of skinning_coarse.hpp
@@ -66,6 +68,11 @@ struct SkinningOptions {
   // this (the exact weights jump between them) get their exact row too, with the
   // probes and growth of skinning_refine.hpp; 0 = off (and no small-mesh exact road).
   double refine_miss = 0.05;
+  // Sampled with refinement: a mesh of at most this many vertices takes exact rows
+  // everywhere (n rows of O(n) each; camel, 9,770 vertices: 1.5-1.9x the sampled
+  // road's time, under a second on a quiet machine); 0 = only by the sample
+  // target (at most 3 x samples).
+  int32_t exact_up_to = 10000;
 };
 
 struct SkinningWeights {
