@@ -310,9 +310,20 @@ void correct_propagated_rows(const Adjacency& adj, std::span<const uint8_t> exac
     if (!any) continue;
     double* o = out.data() + static_cast<size_t>(v) * k;
     double sum = 0;
-    for (int32_t j = 0; j < k; ++j) {  // minmod: the residual of least magnitude when all agree in sign, else 0
+    // minmod: per weight the residual of least magnitude when all agree in sign,
+    // else 0; only weights > 0 move. The side (gains or losses) that moves more
+    // is scaled down to the other: the row keeps its sum, and a residual that
+    // cannot land (on a weight at 0) is not handed to the others by the
+    // renormalization (armadillo 4: 0.051 -> 0.048 max |w - w_exact|).
+    double gain = 0, loss = 0;
+    for (int32_t j = 0; j < k; ++j) {
       const double c = lo[j] > 0 ? lo[j] : (hi[j] < 0 ? hi[j] : 0.0);
-      if (o[j] > 0) o[j] = std::max(0.0, o[j] + c);
+      if (o[j] > 0) (c > 0 ? gain : loss) += std::max(c, -o[j]);
+    }
+    const double scale_gain = gain > -loss ? -loss / gain : 1.0, scale_loss = -loss > gain ? gain / -loss : 1.0;
+    for (int32_t j = 0; j < k; ++j) {
+      const double c = lo[j] > 0 ? lo[j] : (hi[j] < 0 ? hi[j] : 0.0);
+      if (o[j] > 0) o[j] = std::max(0.0, o[j] + (c > 0 ? scale_gain : scale_loss) * c);
       sum += o[j];
     }
     if (sum > 0)

@@ -107,10 +107,11 @@ TEST_CASE("sampled skinning weights: refinement deterministic, refined rows exac
 }
 
 // The minmod correction on a path 0-1-...-6 with k = 3, every propagated row
-// (0.5, 0.5, 0); exact rows at 1 (residual (0, -0.1, +0.1)), 3 (+0.05, -0.05, 0)
-// and 5 (-0.05, +0.05, 0). Oracle: the rule by hand, vertex by vertex (the exact
-// rows within 2 edges; per weight the residual of least magnitude where all
-// agree in sign, else 0; weights at 0 stay 0; renormalized).
+// (0.5, 0.5, 0); exact rows at 1 (residual (+0.02, -0.1, +0.08)), 3 (+0.05, -0.05,
+// 0) and 5 (-0.05, +0.05, 0). Oracle: the rule by hand, vertex by vertex (the
+// exact rows within 2 edges; per weight the residual of least magnitude where all
+// agree in sign, else 0; weights at 0 stay 0; the larger side of gains and losses
+// scaled to the other's total).
 TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2 rings, by hand") {
   const int32_t n = 7, k = 3;
   Adjacency adj;
@@ -125,7 +126,7 @@ TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2
   SkinningWeights W;
   W.handles = k;
   W.weight = interp;
-  const double exact_rows[3][3] = {{0.5, 0.4, 0.1}, {0.55, 0.45, 0.0}, {0.45, 0.55, 0.0}};
+  const double exact_rows[3][3] = {{0.52, 0.4, 0.08}, {0.55, 0.45, 0.0}, {0.45, 0.55, 0.0}};
   const int32_t at[3] = {1, 3, 5};
   std::vector<uint8_t> exact(n, 0);
   for (int i = 0; i < 3; ++i) {
@@ -139,8 +140,8 @@ TEST_CASE("correct propagated rows: minmod of the exact rows' residuals within 2
     CHECK(W.weight[v * k + 1] == doctest::Approx(b).epsilon(1e-14));
     CHECK(W.weight[v * k + 2] == 0.0);  // 0 where propagated 0, whatever the residuals
   };
-  check(0, 0.5 / 0.9, 0.4 / 0.9);    // only 1: (0, -0.1) on the positive weights, renormalized
-  check(2, 0.5 / 0.95, 0.45 / 0.95);  // 1 and 3: weight 0 residuals 0, +0.05 -> 0; weight 1 -0.1, -0.05 -> -0.05
+  check(0, 0.52, 0.48);  // only 1: (+0.02, -0.1) on the positive weights, the loss scaled to 0.02
+  check(2, 0.52, 0.48);  // 1 and 3: weight 0 +0.02, +0.05 -> +0.02; weight 1 -0.1, -0.05 -> -0.05, scaled to -0.02
   check(4, 0.5, 0.5);                // 3 and 5 disagree in sign: unchanged
   check(6, 0.45, 0.55);              // only 5 (4 is not exact)
   for (int i = 0; i < 3; ++i)           // exact rows untouched

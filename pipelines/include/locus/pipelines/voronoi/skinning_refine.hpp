@@ -22,7 +22,10 @@
 //            least magnitude where all agree in sign, else not at all (minmod:
 //            it never passes the nearest exact rows' own correction, so it does
 //            not carry a jump across; a sample there has residual 0 and stops
-//            it); only weights > 0 move, negatives go to 0, rows renormalized;
+//            it); only weights > 0 move, and the gains or the losses, whichever
+//            are larger, are scaled to the other side's total (the row keeps its
+//            sum: a residual on a weight at 0, which does not move, is not handed
+//            to the others); negatives go to 0, rows renormalized to rounding;
 //   zeros    a propagated weight under 0.01 where a neighbour's row (exact or
 //            propagated, not a handle's or a degenerate indicator) has it 0 is 0,
 //            row renormalized: one ring off the support's edge for tiny weights
