@@ -186,7 +186,8 @@ constexpr int32_t kExactBelowSamples = 3;
 // one pass over the vertices): 2,884 rows on armadillo (26,002 vertices; armadillo
 // 4 stops at 2,810, max |w - w_exact| 0.051, armadillo 7 at 2,330, 0.043;
 // docs/skinning.md has the CLI's time against Blender's Automatic Weights),
-// 7,676 on camel (9,770; camel stops at 2,800-2,950).
+// 7,676 on camel (9,770; with exact_up_to 0 camel stops at 2,800-2,950; by
+// default it takes the small-mesh exact road).
 constexpr double kRowWork = 7.5e7;
 // Corners under this angle (degrees) take exact rows with the budget left
 // (locus-bench skinning, with the zero-keeping at 0.03: camel 4 from 4 vertices
