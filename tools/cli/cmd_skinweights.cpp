@@ -3,10 +3,12 @@
 // natural-neighbor coordinates of the handles (thesis §3.7.2); a client of
 // locus::Session::skinning (engine/include/locus/engine/skinning_requests.hpp).
 // A handle is a vertex, vertices joined by '+', or a bone (each --bone is one
-// more handle, after --handles). Default: the sampled method (exact rows at a
-// vertex cover, propagated; on a clean mesh of more than 48,000 vertices on a
-// coarse level of the mesh, method "coarse", pipelines/.../skinning_coarse.hpp);
-// --exact solves every vertex (slow on large meshes).
+// more handle, after --handles). Default by size: every vertex exact on a mesh
+// of at most 10,000 vertices (method "exact"); the sampled method above that
+// (exact rows at a vertex cover, propagated); on a clean mesh of more than
+// 48,000 vertices a coarse level of the mesh (method "coarse",
+// pipelines/.../skinning_coarse.hpp). --exact solves every vertex (slow on
+// large meshes).
 // -o writes the mesh with vertex properties w0..w{k-1} (PLY) in handle order.
 // JSON: `handles`, `handle_vertices`, `method`, `samples`, `sample_rings`,
 // `radius`, `coarse_vertices`, `degenerate_vertices`, `max_clamped`, `fallback_faces`, timings.
