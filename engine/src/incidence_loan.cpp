@@ -56,6 +56,46 @@ EdgeIncidence incidence_from_adjacency(const Mesh& m, const Adjacency& adj) {
   return inc;
 }
 
+// vertex_adjacency(m) from the faces alone (the incidence is out too): each
+// half-edge's ends, counted, filled, then each row sorted and its repeats
+// dropped, which leaves the neighbors of unique_edges' edges in ascending
+// order, as vertex_adjacency(m, edges) lists them. Transient: the rows with
+// repeats (two per corner, ~20 MB at 416k vertices), after the factorization
+// has freed far more.
+Adjacency adjacency_from_faces(const Mesh& m) {
+  const int32_t nv = m.num_vertices(), nf = m.num_faces();
+  const int32_t* off = m.face_offsets.data();
+  const int32_t* fv = m.face_vertices.data();
+  Adjacency A;
+  A.offsets.assign(static_cast<size_t>(nv) + 1, 0);
+  auto each_half_edge = [&](auto&& visit) {
+    for (int32_t f = 0; f < nf; ++f)
+      for (int32_t c = off[f]; c < off[f + 1]; ++c) {
+        const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];
+        if (u != w) visit(u, w);
+      }
+  };
+  each_half_edge([&](int32_t u, int32_t w) { ++A.offsets[u + 1], ++A.offsets[w + 1]; });
+  for (int32_t v = 0; v < nv; ++v) A.offsets[v + 1] += A.offsets[v];
+  HostVector<int32_t> rows(static_cast<size_t>(A.offsets[nv]));
+  {
+    HostVector<int64_t> pos(A.offsets.begin(), A.offsets.end() - 1);
+    each_half_edge([&](int32_t u, int32_t w) { rows[pos[u]++] = w, rows[pos[w]++] = u; });
+  }
+  int64_t out = 0;
+  for (int32_t v = 0; v < nv; ++v) {  // compacted in place: row v starts at or before where it was
+    int32_t* begin = rows.data() + A.offsets[v];
+    int32_t* end = rows.data() + A.offsets[v + 1];
+    std::sort(begin, end);
+    end = std::unique(begin, end);
+    A.offsets[v] = out;
+    for (const int32_t* w = begin; w < end; ++w) rows[out++] = *w;
+  }
+  A.offsets[nv] = out;
+  A.neighbors = HostVector<int32_t>(rows.begin(), rows.begin() + out);
+  return A;
+}
+
 }  // namespace
 
 IncidenceLoan::~IncidenceLoan() {
@@ -63,6 +103,18 @@ IncidenceLoan::~IncidenceLoan() {
     restore();
   } catch (...) {  // out of memory while unwinding: the owner's incidence stays empty
   }
+}
+
+void IncidenceLoan::release_adjacency() {
+  if (adjacency_out_) return;
+  d_.adjacency = Adjacency{};
+  adjacency_out_ = true;
+}
+
+void IncidenceLoan::restore_adjacency() {
+  if (!adjacency_out_) return;
+  d_.adjacency = adjacency_from_faces(m_);
+  adjacency_out_ = false;
 }
 
 void IncidenceLoan::release() {
@@ -73,6 +125,7 @@ void IncidenceLoan::release() {
 }
 
 void IncidenceLoan::restore() {
+  restore_adjacency();  // the incidence is rebuilt from it
   if (!released_) return;
   d_.incidence = had_corners_ ? edge_incidence(m_) : incidence_from_adjacency(m_, d_.adjacency);
   released_ = false;

@@ -1,4 +1,5 @@
-// The edge incidence of a mesh's derived data set aside while nothing reads it
+// The edge incidence (and for the factorization the vertex adjacency) of a
+// mesh's derived data set aside while nothing reads it
 // (thesis §3.7.1: between the assembly of the cells' operator M - tL and the
 // restricted dual, Lloyd's iterations read the vertex adjacency, the masses and
 // the components only). At 416k vertices the edges and corner_edge are 25 MB
@@ -22,9 +23,15 @@ class IncidenceLoan {
 
   // Frees d.incidence (its edges, corner_edge and the edge-to-corner CSR if held).
   void release();
+  // Frees d.adjacency too, for the factorization, which reads neither (13 MB
+  // of its peak at 416k vertices); restore_adjacency rebuilds it from the
+  // faces (the same arrays as vertex_adjacency) before Lloyd reads it.
+  void release_adjacency();
+  void restore_adjacency();
   // d.incidence as it was: edge_incidence(m), its edge-to-corner CSR dropped
   // when it had been (drop_edge_corners; then rebuilt from d.adjacency, the
-  // same arrays with less transient memory). Nothing when not released.
+  // same arrays with less transient memory), and d.adjacency if it was out.
+  // Nothing when not released.
   void restore();
   bool released() const { return released_; }
 
@@ -32,6 +39,7 @@ class IncidenceLoan {
   const Mesh& m_;
   MeshDerived& d_;
   bool released_ = false;
+  bool adjacency_out_ = false;
   bool had_corners_ = false;
 };
 

@@ -285,11 +285,14 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   std::optional<IncidenceLoan> loan;
   if (lend && isotropic) loan.emplace(mesh, *lend);
   const auto assembled = [&loan] {
-    if (loan) loan->release();
+    if (!loan) return;
+    loan->release();
+    loan->release_adjacency();  // the ordering and the factorization read the operator only
   };
   if (isotropic)
     prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once,
                                      &derived, assembled);
+  if (loan) loan->restore_adjacency();  // Lloyd's cell graph and neighborhoods read it
   const double prepare_s = seconds(t0);
   // The command's own operator: freed once the remesh's repair is done with it.
   CvtReport r = run_cvt(

@@ -1,12 +1,15 @@
-// The edge incidence set aside and rebuilt (engine/src/incidence_loan.hpp) and
-// the cvt command on an exclusive Session, which lends it out while Lloyd runs.
-// Oracles: the incidence rebuilt by brute force from the faces (std::map of the
-// sorted corner pairs: edges, face counts, each corner's edge, each edge's
-// corners), and the same command on a Session that lends nothing.
+// The edge incidence and the vertex adjacency set aside and rebuilt
+// (engine/src/incidence_loan.hpp) and the cvt command on an exclusive Session,
+// which lends them out while it factors and Lloyd runs. Oracles: the incidence
+// rebuilt by brute force from the faces (std::map of the sorted corner pairs:
+// edges, face counts, each corner's edge, each edge's corners), each vertex's
+// neighbors as a std::set from the faces, and the same command on a Session
+// that lends nothing.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -81,6 +84,47 @@ TEST_CASE("incidence loan: released empty, restored equal to the faces' incidenc
     }  // released at the end of its scope: restored there (an error's unwinding)
     check_incidence(m, d.incidence, with_corners);
     CHECK(d.adjacency.neighbors == adjacency);  // nothing else of d is touched
+  }
+}
+
+TEST_CASE("incidence loan: the adjacency released and rebuilt from the faces equals each vertex's neighbors") {
+  // A closed surface, a grid (boundary, quads split by its generator), a quad
+  // torus (polygon faces) and a sphere with a degenerate triangle (a repeated
+  // corner: no self loop) and a repeated face (each neighbor once).
+  Mesh degenerate = make_random_sphere(400, 5);
+  degenerate.add_triangle(3, 3, 7);
+  degenerate.add_triangle(degenerate.f0[0], degenerate.f1[0], degenerate.f2[0]);
+  for (const Mesh& m : {make_random_sphere(600, 3), make_grid(9), make_quad_torus(6, 5), degenerate}) {
+    // Oracle: a std::set of neighbors per vertex from every face's consecutive corners.
+    std::vector<std::set<int32_t>> want(static_cast<size_t>(m.num_vertices()));
+    for (int32_t f = 0; f < m.num_faces(); ++f) {
+      const auto face = m.face(f);
+      for (size_t k = 0; k < face.size(); ++k) {
+        const int32_t a = face[k], b = face[(k + 1) % face.size()];
+        if (a == b) continue;
+        want[a].insert(b);
+        want[b].insert(a);
+      }
+    }
+    MeshDerived d = derive_mesh(m);
+    drop_edge_corners(d.incidence);  // restore() then rebuilds the incidence from the adjacency
+    const HostVector<int32_t> corner_edge = d.incidence.corner_edge;
+    IncidenceLoan loan(m, d);
+    loan.release();
+    loan.release_adjacency();
+    CHECK(d.adjacency.offsets.empty());
+    CHECK(d.adjacency.neighbors.empty());
+    loan.restore_adjacency();
+    REQUIRE(d.adjacency.offsets.size() == want.size() + 1);
+    for (size_t v = 0; v < want.size(); ++v)
+      CHECK(std::vector<int32_t>(d.adjacency.neighbors.begin() + d.adjacency.offsets[v],
+                                 d.adjacency.neighbors.begin() + d.adjacency.offsets[v + 1]) ==
+            std::vector<int32_t>(want[v].begin(), want[v].end()));
+    CHECK(d.adjacency.neighbors.size() == static_cast<size_t>(d.adjacency.offsets.back()));
+    loan.release_adjacency();
+    loan.restore();  // the incidence from the rebuilt adjacency, the adjacency first
+    CHECK(!d.adjacency.neighbors.empty());
+    CHECK(d.incidence.corner_edge == corner_edge);
   }
 }
 

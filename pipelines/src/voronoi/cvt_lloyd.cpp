@@ -454,7 +454,10 @@ void LloydLoop::finish() {
                                                          : partition_cells(m_, in_.area_r3, V_, ns_).area;
     r_.cell_area.assign(area.begin(), area.end());
   });
-  if (opt_.keep_voronoi) r_.voronoi = std::move(V_);
+  if (opt_.keep_voronoi) {  // for heat_voronoi_add, which reads the labels' heat only
+    keep_hottest_only(V_);
+    r_.voronoi = std::move(V_);
+  }
   r_.sites = std::move(sites_);
   if (read_batches_ > 0) {
     r_.centroid_read_fraction = centroid_read_sum_ / static_cast<double>(read_batches_);

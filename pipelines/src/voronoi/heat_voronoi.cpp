@@ -24,9 +24,10 @@ inline bool hotter(double v, int32_t s, double tv, int32_t ts) {
 }
 
 // Returns false (and changes nothing) when (s, v) is not hotter than the K-th entry.
+template <int K = kVoronoiTopK>
 inline bool insert_top(int32_t* ts, double* tv, int32_t s, double v) {
-  if (!hotter(v, s, tv[kVoronoiTopK - 1], ts[kVoronoiTopK - 1])) return false;
-  int i = kVoronoiTopK - 1;
+  if (!hotter(v, s, tv[K - 1], ts[K - 1])) return false;
+  int i = K - 1;
   while (i > 0 && hotter(v, s, tv[i - 1], ts[i - 1])) {
     ts[i] = ts[i - 1];
     tv[i] = tv[i - 1];
@@ -43,7 +44,7 @@ inline bool insert_top(int32_t* ts, double* tv, int32_t s, double v) {
 // in the parallel solve node.
 struct VoronoiMsg {
   int lanes = 0;
-  int per_vertex = 0;  // candidates per vertex: min(lanes, kVoronoiTopK)
+  int per_vertex = 0;  // candidates per vertex: min(lanes, V.top_k)
   bool full = true;
   double solve_cpu_s = 0;    // thread CPU time of this batch's solve
   // Per-batch buffers in the host's memory (core/include/locus/core/host_allocator.hpp).
@@ -73,7 +74,7 @@ std::vector<int32_t> generator_order(size_t count, std::span<const int32_t> batc
 void label_from_top_sites(const Mesh& m, HeatVoronoi& V) {
   const int32_t n = m.num_vertices();
   V.label.assign(n, -1);
-  for (int32_t v = 0; v < n; ++v) V.label[v] = V.top_site[static_cast<size_t>(v) * kVoronoiTopK];
+  for (int32_t v = 0; v < n; ++v) V.label[v] = V.top_site[static_cast<size_t>(v) * V.top_k];
   const bool all_reached = std::find(V.label.begin(), V.label.end(), -1) == V.label.end();
   if (all_reached) return;
   std::vector<int32_t> queue;
@@ -136,7 +137,7 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
     msg->full = !local;
     if (local) msg->ids.assign(hb.kept.begin(), hb.kept.end());
     const int32_t cnt = hb.count();
-    const int pv = std::min(msg->lanes, kVoronoiTopK);
+    const int pv = std::min(msg->lanes, V.top_k);
     msg->per_vertex = pv;
     msg->cand_site.resize(static_cast<size_t>(cnt) * pv);
     msg->cand_value.resize(static_cast<size_t>(cnt) * pv);
@@ -156,14 +157,17 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
     const int32_t cnt = pv > 0 ? static_cast<int32_t>(msg->cand_site.size() / pv) : 0;
     V.solved_entries += cnt;
     V.solve_cpu_s += msg->solve_cpu_s;
+    const size_t stride = static_cast<size_t>(V.top_k);
     for (int32_t k = 0; k < cnt; ++k) {
       const int32_t v = msg->full ? k : msg->ids[k];
-      int32_t* ts = V.top_site.data() + static_cast<size_t>(v) * kVoronoiTopK;
-      double* tv = V.top_value.data() + static_cast<size_t>(v) * kVoronoiTopK;
-      for (int i = 0; i < pv; ++i)
-        if (!insert_top(ts, tv, msg->cand_site[static_cast<size_t>(k) * pv + i],
-                        msg->cand_value[static_cast<size_t>(k) * pv + i]))
+      int32_t* ts = V.top_site.data() + static_cast<size_t>(v) * stride;
+      double* tv = V.top_value.data() + static_cast<size_t>(v) * stride;
+      for (int i = 0; i < pv; ++i) {
+        const int32_t s = msg->cand_site[static_cast<size_t>(k) * pv + i];
+        const double x = msg->cand_value[static_cast<size_t>(k) * pv + i];
+        if (!(stride == 1 ? insert_top<1>(ts, tv, s, x) : insert_top(ts, tv, s, x)))
           break;  // the remaining candidates are colder
+      }
     }
   };
   run_batch_graph<VoronoiMsg>(ctx, nb, solve_batch, reduce, "heat voronoi");
@@ -196,7 +200,8 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
-  if (V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK || V.label.size() != static_cast<size_t>(n))
+  if ((V.top_k != 1 && V.top_k != kVoronoiTopK) || V.top_site.size() != static_cast<size_t>(n) * V.top_k ||
+      V.top_value.size() != V.top_site.size() || V.label.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "heat voronoi: the diagram to add to belongs to another mesh");
   if (first_new < 1 || first_new > ns) fail(ErrorCode::BadUsage, "heat voronoi: the old generators must come first");
   if (new_neighborhoods.size() != static_cast<size_t>(ns - first_new))
@@ -215,6 +220,22 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
   const int64_t unreached = V.unreached;
   label_from_top_sites(m, V);  // every vertex had a label: no fallback
   V.unreached = unreached;
+}
+
+void keep_hottest_only(HeatVoronoi& V) {
+  if (V.top_k == 1) return;
+  const size_t n = V.label.size(), k = static_cast<size_t>(V.top_k);
+  if (V.top_site.size() != n * k || V.top_value.size() != n * k)
+    fail(ErrorCode::BadUsage, "heat voronoi: top-K lists and labels do not match");
+  HostVector<int32_t> ts(n);
+  HostVector<double> tv(n);
+  for (size_t v = 0; v < n; ++v) {
+    ts[v] = V.top_site[v * k];
+    tv[v] = V.top_value[v * k];
+  }
+  V.top_site = std::move(ts);
+  V.top_value = std::move(tv);
+  V.top_k = 1;
 }
 
 HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
@@ -455,6 +476,8 @@ VoronoiDiagram extract_voronoi_diagram(const HeatDiffusion& H, const Mesh& m, st
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (static_cast<int32_t>(V.label.size()) != n || n != H.n)
     fail(ErrorCode::BadUsage, "voronoi diagram: labels were computed for another mesh");
+  if (V.top_k != kVoronoiTopK || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
+    fail(ErrorCode::BadUsage, "voronoi diagram: the neighbors' heat needs the full top-K lists");
   VoronoiDiagram D;
   HeatLookup lookup(V);
   std::vector<MissingValue> need = find_missing_values(m, V, lookup);

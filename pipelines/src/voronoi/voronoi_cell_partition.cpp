@@ -250,6 +250,7 @@ double accumulate_cell_load(const VertexStars& stars, const HeatVoronoi& V, int3
 HostVector<double> cell_areas(const VertexStars& stars, const HeatVoronoi& V, std::span<const int64_t> cell_offsets,
                               std::span<const int32_t> cell_vertices) {
   if (cell_offsets.empty()) fail(ErrorCode::BadUsage, "cell areas: no cells");
+  if (V.top_k != kVoronoiTopK) fail(ErrorCode::BadUsage, "cell areas: the split triangles need the full top-K lists");
   const int32_t cells = static_cast<int32_t>(cell_offsets.size() - 1);
   HostVector<double> area(cells, 0.0);
   struct Load {
@@ -379,7 +380,8 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
   if (face_area.size() != static_cast<size_t>(nf))
     fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
-  if (V.label.size() != static_cast<size_t>(n) || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
+  if (V.label.size() != static_cast<size_t>(n) || V.top_k != kVoronoiTopK ||
+      V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
     fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
   if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");
   for (int32_t v = 0; v < n; ++v)

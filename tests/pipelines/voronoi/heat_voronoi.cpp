@@ -302,6 +302,25 @@ TEST_CASE("heat voronoi: adding generators solves only them and matches a dense 
     }
   }
   CHECK(changed > 0);
+  // The old diagram with each vertex's hottest entry only (a CVT repair keeps
+  // that between its rounds): the same labels and label heat after the add,
+  // the dense argmax; the diagram extraction refuses the short lists.
+  HeatVoronoi hot = old;
+  keep_hottest_only(hot);
+  REQUIRE(hot.top_k == 1);
+  REQUIRE(hot.top_site.size() == static_cast<size_t>(n));
+  CHECK_THROWS_AS(extract_voronoi_diagram(H, m, std::span<const SurfacePoint>(sites.data(), first), hot, {}), Error);
+  heat_voronoi_add(H, m, sites, first, std::vector<std::vector<int32_t>>(5, all), order, hot, {});
+  REQUIRE(hot.top_value.size() == static_cast<size_t>(n));
+  for (int32_t v = 0; v < n; ++v) {
+    double best = -U(v, 0);
+    int32_t arg = 0;
+    for (int s = 1; s < static_cast<int>(sites.size()); ++s)
+      if (U(v, s) > -best) best = -U(v, s), arg = s;
+    CHECK(hot.label[v] == arg);
+    CHECK(hot.top_site[v] == arg);
+    CHECK(hot.top_value[v] == doctest::Approx(-best).epsilon(1e-9));
+  }
   // Small neighborhoods: vertices outside every new neighborhood keep their label.
   std::vector<std::vector<int32_t>> nb(5);
   std::vector<uint8_t> near(n, 0);

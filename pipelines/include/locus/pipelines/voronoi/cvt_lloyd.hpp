@@ -115,15 +115,16 @@ struct LloydOptions {
   // Isotropic only: the cells' operator M - t L already factored (e.g. loaded from a
   // factor cache); t_factor and t_abs are then ignored. Not owned; must outlive the call.
   const HeatDiffusion* prepared = nullptr;
-  // Keep the final labels' top-K heat lists (LloydResult::voronoi), e.g. to add
-  // sites later without relabelling everything (heat_voronoi_add).
+  // Keep the final labels' heat (LloydResult::voronoi: the hottest entry of each
+  // vertex's top-K list, keep_hottest_only), to add sites later without
+  // relabelling everything (heat_voronoi_add).
   bool keep_voronoi = false;
 };
 
 struct LloydResult {
   std::vector<SurfacePoint> sites;
   HostVector<int32_t> label;     // per vertex, cell of the final sites
-  HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top-K lists)
+  HeatVoronoi voronoi;            // with keep_voronoi: the diagram behind `label` (top_k = 1)
   double h = 0, t = 0;            // in the operator's metric
   double t_centroid = 0;          // the centroids' diffusion time (t unless set apart)
   double factor_s = 0;            // operator + ordering + symbolic + numeric

@@ -41,8 +41,9 @@ inline constexpr int kVoronoiTopK = 4;
 
 struct HeatVoronoi {
   HostVector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
-  HostVector<int32_t> top_site;   // nv * kVoronoiTopK, -1 where fewer values were seen
-  HostVector<double> top_value;   // nv * kVoronoiTopK, descending per vertex
+  HostVector<int32_t> top_site;   // nv * top_k, -1 where fewer values were seen
+  HostVector<double> top_value;   // nv * top_k, descending per vertex
+  int32_t top_k = kVoronoiTopK;   // entries per vertex: kVoronoiTopK, or 1 after keep_hottest_only
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
@@ -74,8 +75,17 @@ HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::spa
                                  std::span<const int32_t> batch_order, const BatchKept& batch_kept,
                                  const RunContext& ctx);
 
+// Keeps of V's top-K lists the hottest entry per vertex (top_k = 1): the label's
+// heat, all that heat_voronoi_add compares new generators with (its labels are
+// the same as with the full lists: the hottest of a merge in the total order
+// does not depend on the colder entries). A CVT repair holds V between its
+// rounds (cvt_remesh.hpp): 5 MB instead of 20 MB at 416k vertices. The diagram
+// extraction and the cell partition need the full lists and refuse such a V.
+void keep_hottest_only(HeatVoronoi& V);
+
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
-// the functions above; its top-K lists are kept) and sites[first_new ..] are
+// the functions above; its top-K lists are kept, or their hottest entries only:
+// keep_hottest_only) and sites[first_new ..] are
 // new. Only the new generators are solved, 8 at a time in `new_order` (a
 // permutation of first_new .. sites.size()-1; empty = ascending), each on its
 // own neighborhood (new_neighborhoods[s - first_new]; localized as above), and
