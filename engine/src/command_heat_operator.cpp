@@ -17,7 +17,7 @@ namespace locus {
 HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTime& time,
                                    const FactorCacheFiles& files, const RunContext& ctx, FactorCacheReport& cache,
                                    bool factor_once, const MeshDerived* derived,
-                                   const std::function<void()>& assembled) {
+                                   const std::function<void()>& assembled, bool borrow_mass) {
   MeshRequirements req;
   req.triangles = req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = true;
   if (robust) req.manifold = req.no_degenerate_faces = req.no_unreferenced_vertices = false;
@@ -36,7 +36,8 @@ HeatDiffusion command_heat_operator(const Mesh& mesh, bool robust, const HeatTim
     H.mass = R.mass;
   } else {
     A = heat_operator(mesh, H.t, derived ? &derived->incidence : nullptr);
-    H.mass = derived && !derived->mass.empty() ? derived->mass : lumped_mass(mesh);
+    if (!(borrow_mass && derived && !derived->mass.empty()))
+      H.mass = derived && !derived->mass.empty() ? derived->mass : lumped_mass(mesh);
   }
   if (assembled) assembled();
   H.operator_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,10 +17,11 @@ namespace locus {
 // `lend`: the caller's derived data itself (non-null only when nobody else
 // reads it meanwhile, SessionOptions::exclusive): its edge incidence is freed
 // from the operator's assembly to the end of the first Lloyd run and rebuilt
-// (incidence_loan.hpp).
+// (incidence_loan.hpp). `lend_mesh`: `mesh` itself, on the same terms; its
+// face_vertices are freed with the incidence (face_corner_loan.hpp).
 CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
                          const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx,
-                         MeshDerived* lend = nullptr);
+                         MeshDerived* lend = nullptr, Mesh* lend_mesh = nullptr);
 
 // True when the Session's operator report names a defect the cells or the
 // remesh cannot take (needles they can).

@@ -56,7 +56,8 @@ EdgeIncidence incidence_from_adjacency(const Mesh& m, const Adjacency& adj) {
   return inc;
 }
 
-// vertex_adjacency(m) from the faces alone (the incidence is out too): each
+// vertex_adjacency(m) from the faces alone (the incidence is out too; of a
+// triangle mesh from f0/f1/f2, its corners may be out as well): each
 // half-edge's ends, counted, filled, then each row sorted and its repeats
 // dropped, which leaves the neighbors of unique_edges' edges in ascending
 // order, as vertex_adjacency(m, edges) lists them. Transient: the rows with
@@ -68,7 +69,16 @@ Adjacency adjacency_from_faces(const Mesh& m) {
   const int32_t* fv = m.face_vertices.data();
   Adjacency A;
   A.offsets.assign(static_cast<size_t>(nv) + 1, 0);
+  const bool triangles = m.is_triangle_mesh();  // face_vertices may be lent out (face_corner_loan.hpp)
   auto each_half_edge = [&](auto&& visit) {
+    if (triangles) {  // the same half-edges in the same order as face_vertices'
+      for (int32_t f = 0; f < nf; ++f) {
+        const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+        for (int k = 0; k < 3; ++k)
+          if (v[k] != v[(k + 1) % 3]) visit(v[k], v[(k + 1) % 3]);
+      }
+      return;
+    }
     for (int32_t f = 0; f < nf; ++f)
       for (int32_t c = off[f]; c < off[f + 1]; ++c) {
         const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];

@@ -20,6 +20,7 @@
 #include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
 #include "field_copy.hpp"
+#include "face_corner_loan.hpp"
 #include "incidence_loan.hpp"
 #include "locus/core/release_free_memory.hpp"
 #include "locus/engine/cvt_request.hpp"
@@ -165,12 +166,14 @@ MeshDerived* exclusive_derived(const session_detail::State& s) { return const_ca
 
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
-                  std::function<void()> operator_done, std::function<void()> lloyd_done) {
+                  std::function<void()> operator_done, std::function<void()> lloyd_done,
+                  std::function<void()> refining) {
   RemeshOptions ro;
   ro.lloyd = lloyd_options(req, ts, tc);
   ro.lloyd.prepared = prepared;
   ro.operator_done = std::move(operator_done);
   ro.lloyd_done = std::move(lloyd_done);
+  ro.refining = std::move(refining);
   ro.max_repair_rounds = req.repair_rounds;
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
@@ -266,7 +269,7 @@ int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components,
 
 CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t components, bool robust,
                          const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx,
-                         MeshDerived* lend) {
+                         MeshDerived* lend, Mesh* lend_mesh) {
   CvtRequest raised = req;
   raised.sites = check_sites(req, mesh, components, ctx);
   // The cells' operator is factored here (isotropic): weighted in the progress
@@ -284,24 +287,34 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
   // (isotropic: Lloyd factors the lifted metric's operator itself).
   std::optional<IncidenceLoan> loan;
   if (lend && isotropic) loan.emplace(mesh, *lend);
-  const auto assembled = [&loan] {
+  // The corners too (face_corner_loan.hpp), unless the factor cache hashes the
+  // mesh or Lloyd assembles an operator of its own (a centroid time). Declared
+  // after `loan`: on an error they are back before it rebuilds the incidence.
+  std::optional<FaceCornerLoan> corners;
+  if (lend_mesh && loan && factor_once && req.save.empty() && req.load.empty()) corners.emplace(*lend_mesh);
+  const auto assembled = [&loan, &corners] {
     if (!loan) return;
     loan->release();
     loan->release_adjacency();  // the ordering and the factorization read the operator only
+    if (corners) corners->release();
   };
   if (isotropic)
     prepared = command_heat_operator(mesh, robust, ts, {req.save, req.load}, progress.build(), cache, factor_once,
-                                     &derived, assembled);
+                                     &derived, assembled, /*borrow_mass=*/true);
   if (loan) loan->restore_adjacency();  // Lloyd's cell graph and neighborhoods read it
   const double prepare_s = seconds(t0);
   // The command's own operator: freed once the remesh's repair is done with it.
   CvtReport r = run_cvt(
       mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
       [&prepared] { prepared = HeatDiffusion{}; },
-      [&loan] {
+      [&loan, &corners] {
+        if (corners) corners->restore();  // the incidence's rebuild reads them
         if (!loan) return;
         release_free_memory();  // Lloyd's geometry and cells, freed: not resident beside the rebuilt incidence
         loan->restore();
+      },
+      [&corners] {
+        if (corners) corners->restore();
       });
   r.prepare_s = prepare_s;
   r.factor_cache = cache;
@@ -318,7 +331,8 @@ CvtReport Session::cvt(const CvtRequest& req, const RunContext& ctx) const {
   CvtReport r = cvt_needs_sheets(impl_->op)
                     ? cvt_on_sheets(s->mesh, s->robust, req, ts, tc, ctx)
                     : cvt_command_on(s->mesh, *s->derived, impl_->components, s->robust, req, ts, tc, ctx,
-                                     impl_->exclusive ? exclusive_derived(*s) : nullptr);
+                                     impl_->exclusive ? exclusive_derived(*s) : nullptr,
+                                     impl_->exclusive ? &s->mesh : nullptr);
   if (!req.labels.empty() || !req.sites_out.empty())
     write_cvt_files(req, r, s->polygons ? *s->polygons : s->mesh, {},
                     s->polygons ? triangle_polygon() : std::vector<int32_t>{});

@@ -10,7 +10,31 @@
 #include "tools/cli/cli_common.hpp"
 #include "tools/runner/runner.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace {
+
+// The CLI is its own process, so it may tune the C library's heap (the
+// library never does: a host's allocator is the host's). glibc's dynamic
+// mmap threshold rises to 32 MB after the first large free, after which the
+// cvt's freed 10-30 MB arrays stay resident in the heap; fixing it at 32 MB
+// from the start and returning the heap's free top above 1 MB keeps only the
+// factor in its own mapping and took ~7 MB off the 416k cvt's peak RSS at
+// the same user CPU (docs/cvt.md, "Peak memory"). A 256 KB threshold (every
+// large array its own mapping) cost +11% CPU in page faults.
+void tune_process_heap() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 1024 * 1024);
+#endif
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  tune_process_heap();
   // CommandTable::run maps every error of a command to an exit status; this
   // guard covers building the table itself, so no exception ever leaves main.
   try {

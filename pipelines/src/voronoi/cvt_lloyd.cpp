@@ -102,6 +102,7 @@ struct LloydInputs {
   const HostVector<double>& mass_r3;
   double h_r3;
   int threads;                       // of the arena of the cell partitions (>= 1)
+  std::span<const double> mass_c;    // Hc's lumped masses (LloydOperators::mass_c)
 };
 
 // This iteration's centroid step: one slot per cell, filled as the batches arrive
@@ -265,7 +266,7 @@ void LloydLoop::add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, in
     cs.batch.add_source(cs.touched, cs.weights);
     area_centroid(m, cs.touched, cs.weights, msg.area_centroid[l]);
   } else {
-    for (int32_t v : cv) cs.weights.push_back(in_.Hc.mass[v]);  // M chi_C (eqs. 3.7, 3.10)
+    for (int32_t v : cv) cs.weights.push_back(in_.mass_c[v]);  // M chi_C (eqs. 3.7, 3.10)
     cs.batch.add_source(cv, cs.weights);
     area_centroid(m, cv, cs.weights, msg.area_centroid[l]);
   }
@@ -539,7 +540,8 @@ LloydResult cvt_lloyd_impl(const Mesh& m, const MeshDerived* given, std::vector<
   const RunContext loop_ctx = ctx.sub(init_share, 1.0);
   LloydOptions heat_opt = opt;  // the heat iterations: what the graph iterations left
   heat_opt.iterations = opt.iterations - r.graph_iterations;
-  const LloydInputs in{m, heat_opt, loop_ctx, H, Hc, geo, derived.adjacency, stars, area_r3, mass_r3, h_r3, std::max(1, threads)};
+  const LloydInputs in{m, heat_opt, loop_ctx, H, Hc, geo, derived.adjacency, stars, area_r3, mass_r3, h_r3, std::max(1, threads),
+                       ops.mass_c};
   LloydLoop loop(in, sites, std::move(nb), r);
   if (!first.empty()) {
     loop.first_cells(first);

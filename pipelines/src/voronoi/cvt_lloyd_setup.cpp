@@ -20,6 +20,12 @@ namespace locus {
 
 namespace {
 
+// Face f's first vertex; of a triangle mesh from f0 (the cvt command lends the
+// mesh's face_vertices out during Lloyd).
+int32_t face_first_vertex(const Mesh& m, int32_t f) {
+  return m.is_triangle_mesh() ? m.f0[f] : m.face_vertices[static_cast<size_t>(m.face_offsets[f])];
+}
+
 // Heat never crosses components: a component without a site would have no
 // cell (and labels of -1). Sites stay in their cell's component, so checking
 // the initial sites is enough.
@@ -30,7 +36,7 @@ void check_components_have_sites(const Mesh& m, const MeshDerived& d, std::span<
   if (nc <= 1) return;
   std::vector<uint8_t> has_site(static_cast<size_t>(nc), 0);
   for (const SurfacePoint& p : sites) {
-    const int32_t v = p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])];
+    const int32_t v = p.vertex >= 0 ? p.vertex : face_first_vertex(m, p.face);
     has_site[static_cast<size_t>(comp[v])] = 1;
   }
   for (int32_t v = 0; v < n; ++v)
@@ -51,7 +57,7 @@ void give_every_component_a_site(const Mesh& m, const MeshDerived* given, std::v
     fail(ErrorCode::BadUsage, "cvt: " + std::to_string(sites.size()) + " sites for " + std::to_string(nc) +
                                   " connected components; every component needs at least one site");
   auto comp_of = [&](const SurfacePoint& p) {
-    return comp[p.vertex >= 0 ? p.vertex : m.face_vertices[static_cast<size_t>(m.face_offsets[p.face])]];
+    return comp[p.vertex >= 0 ? p.vertex : face_first_vertex(m, p.face)];
   };
   std::vector<int32_t> count(nc, 0), first_vertex(nc, -1);
   for (const SurfacePoint& p : sites) ++count[comp_of(p)];
@@ -115,7 +121,8 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
     fail(ErrorCode::BadUsage, "cvt: the centroid diffusion time must be a finite number >= 0");
   if (opt.prepared) {
     if (opt.anisotropy > 0) fail(ErrorCode::BadUsage, "cvt: a prepared operator is for isotropic CVT only");
-    if (opt.prepared->n != n || opt.prepared->mass.size() != static_cast<size_t>(n))
+    const size_t masses = opt.prepared->mass.empty() ? d.mass.size() : opt.prepared->mass.size();
+    if (opt.prepared->n != n || masses != static_cast<size_t>(n))
       fail(ErrorCode::BadUsage, "cvt: the prepared operator belongs to another mesh");
     ops.area_op = std::move(area_r3);
   } else {
@@ -152,6 +159,8 @@ void prepare_lloyd_operators(const Mesh& m, const MeshDerived& d, const LloydOpt
     Hc_own.factor_s = sw.lap();
   }
   ops.Hc = t_centroid > 0 ? &Hc_own : ops.H;
+  const HostVector<double>& mass_c = ops.Hc->mass.empty() ? d.mass : ops.Hc->mass;
+  ops.mass_c = std::span<const double>(mass_c.data(), mass_c.size());
 }
 
 int32_t graph_iterations_of(const LloydOptions& opt, int32_t vertices) {

@@ -40,6 +40,10 @@ struct LloydOperators {
   HeatDiffusion H_own, Hc_own;
   const HeatDiffusion* H = nullptr;
   const HeatDiffusion* Hc = nullptr;
+  // Hc's masses: Hc->mass, or d.mass for a prepared operator without them (an
+  // operator assembled on d lends its masses: command_heat_operator's
+  // borrow_mass, 3.3 MB at 416k vertices).
+  std::span<const double> mass_c;
   HostVector<double> area_op;  // face areas in the operator's metric (lifted when anisotropic)
 };
 

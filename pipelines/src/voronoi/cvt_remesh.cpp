@@ -556,8 +556,10 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   Levels keep;
   for (int64_t nv = m.num_vertices(); r.refinements < o.max_refinements &&
                                       nv < static_cast<int64_t>(o.min_vertices_per_site * L.lo.sites);
-       nv *= 4)
+       nv *= 4) {
+    if (o.refining) o.refining();  // the subdivision reads the input's face_vertices
     L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
+  }
   r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
   r.lloyd_iterations = static_cast<int32_t>(r.lloyd.iter_s.size());
   if (o.lloyd_done) o.lloyd_done();  // d.incidence is read from here on

@@ -138,7 +138,9 @@ VertexStars vertex_stars(const Mesh& m, HostVector<double>&& face_area) {
   st.offsets = std::span<const int64_t>(off.data(), off.size());
   st.faces = std::span<const int32_t>(st.own_faces.data(), st.own_faces.size());
   st.area = std::move(face_area);
-  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
+  st.f0 = std::span<const int32_t>(m.f0.data(), m.f0.size());
+  st.f1 = std::span<const int32_t>(m.f1.data(), m.f1.size());
+  st.f2 = std::span<const int32_t>(m.f2.data(), m.f2.size());
   return st;
 }
 
@@ -146,13 +148,15 @@ VertexStars vertex_stars(const Mesh& m, std::span<const int64_t> vf_offsets, std
                          HostVector<double>&& face_area) {
   check_star_input(m, face_area.size());
   if (vf_offsets.size() != static_cast<size_t>(m.num_vertices()) + 1 ||
-      vf_faces.size() != m.face_vertices.size())
+      vf_faces.size() != 3 * static_cast<size_t>(m.num_faces()))
     fail(ErrorCode::BadUsage, "vertex stars: the face lists belong to another mesh");
   VertexStars st;
   st.offsets = vf_offsets;
   st.faces = vf_faces;
   st.area = std::move(face_area);
-  st.corners = std::span<const int32_t>(m.face_vertices.data(), m.face_vertices.size());
+  st.f0 = std::span<const int32_t>(m.f0.data(), m.f0.size());
+  st.f1 = std::span<const int32_t>(m.f1.data(), m.f1.size());
+  st.f2 = std::span<const int32_t>(m.f2.data(), m.f2.size());
   return st;
 }
 
@@ -173,14 +177,17 @@ void visit_cell_loads(const VertexStars& stars, const HeatVoronoi& V, int32_t c,
     if (i + 2 < nc) {  // the next vertices' faces: their corners and areas
       const int32_t w = cell[i + 2];
       for (int64_t p = stars.offsets[w]; p < stars.offsets[w + 1]; ++p) {
-        __builtin_prefetch(stars.corners.data() + 3 * static_cast<int64_t>(stars.faces[p]));
-        __builtin_prefetch(stars.area.data() + stars.faces[p]);
+        const int32_t f = stars.faces[p];
+        __builtin_prefetch(stars.f0.data() + f);
+        __builtin_prefetch(stars.f1.data() + f);
+        __builtin_prefetch(stars.f2.data() + f);
+        __builtin_prefetch(stars.area.data() + f);
       }
     }
     const int32_t cv = cell[i];
     for (int64_t p = stars.offsets[cv]; p < stars.offsets[cv + 1]; ++p) {
       const int32_t f = stars.faces[p];
-      const int32_t* v = stars.corners.data() + 3 * static_cast<int64_t>(f);
+      const int32_t v[3] = {stars.f0[f], stars.f1[f], stars.f2[f]};
       const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
       int first = 0;
       while (l[first] != c) ++first;  // cv is a corner labelled c

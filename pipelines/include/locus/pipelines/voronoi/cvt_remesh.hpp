@@ -95,6 +95,10 @@ struct RemeshOptions {
   // graph is built on the adjacency). A caller that freed d.incidence
   // meanwhile restores it there (the cvt command's, 25 MB at 416k vertices).
   std::function<void()> lloyd_done;
+  // Called before a refinement subdivides the input (max_refinements), the
+  // one reader of m.face_vertices before lloyd_done: until then the remesh
+  // reads m's faces through f0/f1/f2. A caller that freed them restores them.
+  std::function<void()> refining;
 };
 
 struct RemeshResult {

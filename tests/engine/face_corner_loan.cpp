@@ -1,0 +1,105 @@
+// A triangle mesh's corners set aside and rebuilt (engine/src/face_corner_loan.hpp)
+// and the cvt command on an exclusive Session, which lends them out while it
+// factors and Lloyd runs. Oracles: a copy of the corners taken before, each
+// vertex's neighbors as a std::set from the faces, and the same command on a
+// Session that lends nothing.
+#include <doctest/doctest.h>
+
+#include <set>
+#include <vector>
+
+#include "engine/src/face_corner_loan.hpp"
+#include "engine/src/incidence_loan.hpp"
+#include "locus/engine/cvt_request.hpp"
+#include "locus/kernels/mesh/mesh_derived.hpp"
+#include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/session.hpp"
+
+using namespace locus;
+
+TEST_CASE("face corner loan: a triangle mesh's corners released empty, restored as they were") {
+  Mesh m = make_random_sphere(500, 4);
+  const HostVector<int32_t> corners = m.face_vertices;
+  {
+    FaceCornerLoan loan(m);
+    loan.release();
+    CHECK(loan.released());
+    CHECK(m.face_vertices.empty());
+    CHECK(m.f0.size() == static_cast<size_t>(m.num_faces()));  // the faces stay in f0/f1/f2
+    loan.release();  // twice: still out
+    loan.restore();
+    CHECK(!loan.released());
+    CHECK(m.face_vertices == corners);
+    loan.restore();  // not released: nothing
+    CHECK(m.face_vertices == corners);
+    loan.release();
+  }  // released at the end of its scope: restored there (an error's unwinding)
+  CHECK(m.face_vertices == corners);
+}
+
+TEST_CASE("face corner loan: a polygon mesh keeps its corners (no triangle arrays to read them from)") {
+  Mesh m = make_quad_torus(6, 5);
+  REQUIRE(!m.is_triangle_mesh());
+  const HostVector<int32_t> corners = m.face_vertices;
+  FaceCornerLoan loan(m);
+  loan.release();
+  CHECK(!loan.released());
+  CHECK(m.face_vertices == corners);
+}
+
+TEST_CASE("incidence loan: the adjacency rebuilt while the corners are out equals each vertex's neighbors") {
+  Mesh m = make_random_sphere(600, 3);
+  m.add_triangle(3, 3, 7);  // a repeated corner: no self loop
+  std::vector<std::set<int32_t>> want(static_cast<size_t>(m.num_vertices()));
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const auto face = m.face(f);
+    for (size_t k = 0; k < face.size(); ++k) {
+      const int32_t a = face[k], b = face[(k + 1) % face.size()];
+      if (a == b) continue;
+      want[a].insert(b);
+      want[b].insert(a);
+    }
+  }
+  MeshDerived d = derive_mesh(m);
+  drop_edge_corners(d.incidence);
+  const HostVector<int32_t> corner_edge = d.incidence.corner_edge;
+  IncidenceLoan loan(m, d);
+  FaceCornerLoan corners(m);  // after `loan`: back before it rebuilds the incidence
+  loan.release();
+  loan.release_adjacency();
+  corners.release();
+  REQUIRE(m.face_vertices.empty());
+  loan.restore_adjacency();
+  REQUIRE(d.adjacency.offsets.size() == want.size() + 1);
+  for (size_t v = 0; v < want.size(); ++v)
+    CHECK(std::vector<int32_t>(d.adjacency.neighbors.begin() + d.adjacency.offsets[v],
+                               d.adjacency.neighbors.begin() + d.adjacency.offsets[v + 1]) ==
+          std::vector<int32_t>(want[v].begin(), want[v].end()));
+  corners.restore();
+  loan.restore();
+  CHECK(d.incidence.corner_edge == corner_edge);
+}
+
+TEST_CASE("cvt on an exclusive Session with corners lent: the same remesh, refined or not, the mesh whole after") {
+  const Mesh m = make_random_sphere(3000, 7);
+  // 120 sites: no refinement; 300: 3000 < 12 x 300 vertices, so the remesh
+  // subdivides the input (which reads its corners) before Lloyd.
+  for (int32_t sites : {120, 300}) {
+    CAPTURE(sites);
+    CvtRequest q;
+    q.sites = sites;
+    q.iters = 3;
+    SessionOptions exclusive;
+    exclusive.exclusive = true;
+    const Session shared{Mesh(m)}, lent{Mesh(m), exclusive};
+    const CvtReport a = shared.cvt(q), b = lent.cvt(q);
+    CHECK(a.complete == b.complete);
+    CHECK(a.refinements == b.refinements);
+    if (sites == 300) CHECK(a.refinements > 0);
+    CHECK(a.site_xyz == b.site_xyz);
+    CHECK(a.label == b.label);
+    CHECK(a.remesh.x == b.remesh.x);
+    CHECK(a.remesh.face_vertices == b.remesh.face_vertices);
+    CHECK(lent.mesh().face_vertices == m.face_vertices);
+  }
+}
