@@ -10,6 +10,7 @@
 
 #include "engine/src/face_corner_loan.hpp"
 #include "engine/src/incidence_loan.hpp"
+#include "tests/engine/neighbor_sets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
@@ -50,16 +51,7 @@ TEST_CASE("face corner loan: a polygon mesh keeps its corners (no triangle array
 TEST_CASE("incidence loan: the adjacency rebuilt while the corners are out equals each vertex's neighbors") {
   Mesh m = make_random_sphere(600, 3);
   m.add_triangle(3, 3, 7);  // a repeated corner: no self loop
-  std::vector<std::set<int32_t>> want(static_cast<size_t>(m.num_vertices()));
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const auto face = m.face(f);
-    for (size_t k = 0; k < face.size(); ++k) {
-      const int32_t a = face[k], b = face[(k + 1) % face.size()];
-      if (a == b) continue;
-      want[a].insert(b);
-      want[b].insert(a);
-    }
-  }
+  const std::vector<std::set<int32_t>> want = test::neighbor_sets(m);
   MeshDerived d = derive_mesh(m);
   drop_edge_corners(d.incidence);
   const HostVector<int32_t> corner_edge = d.incidence.corner_edge;

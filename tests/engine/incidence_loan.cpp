@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/src/incidence_loan.hpp"
+#include "tests/engine/neighbor_sets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
@@ -95,17 +96,7 @@ TEST_CASE("incidence loan: the adjacency released and rebuilt from the faces equ
   degenerate.add_triangle(3, 3, 7);
   degenerate.add_triangle(degenerate.f0[0], degenerate.f1[0], degenerate.f2[0]);
   for (const Mesh& m : {make_random_sphere(600, 3), make_grid(9), make_quad_torus(6, 5), degenerate}) {
-    // Oracle: a std::set of neighbors per vertex from every face's consecutive corners.
-    std::vector<std::set<int32_t>> want(static_cast<size_t>(m.num_vertices()));
-    for (int32_t f = 0; f < m.num_faces(); ++f) {
-      const auto face = m.face(f);
-      for (size_t k = 0; k < face.size(); ++k) {
-        const int32_t a = face[k], b = face[(k + 1) % face.size()];
-        if (a == b) continue;
-        want[a].insert(b);
-        want[b].insert(a);
-      }
-    }
+    const std::vector<std::set<int32_t>> want = test::neighbor_sets(m);  // the oracle
     MeshDerived d = derive_mesh(m);
     drop_edge_corners(d.incidence);  // restore() then rebuilds the incidence from the adjacency
     const HostVector<int32_t> corner_edge = d.incidence.corner_edge;
