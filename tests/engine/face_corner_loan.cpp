@@ -62,11 +62,7 @@ TEST_CASE("incidence loan: the adjacency rebuilt while the corners are out equal
   corners.release();
   REQUIRE(m.face_vertices.empty());
   loan.restore_adjacency();
-  REQUIRE(d.adjacency.offsets.size() == want.size() + 1);
-  for (size_t v = 0; v < want.size(); ++v)
-    CHECK(std::vector<int32_t>(d.adjacency.neighbors.begin() + d.adjacency.offsets[v],
-                               d.adjacency.neighbors.begin() + d.adjacency.offsets[v + 1]) ==
-          std::vector<int32_t>(want[v].begin(), want[v].end()));
+  test::check_rows(d.adjacency, want);
   corners.restore();
   loan.restore();
   CHECK(d.incidence.corner_edge == corner_edge);

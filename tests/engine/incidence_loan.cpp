@@ -106,11 +106,7 @@ TEST_CASE("incidence loan: the adjacency released and rebuilt from the faces equ
     CHECK(d.adjacency.offsets.empty());
     CHECK(d.adjacency.neighbors.empty());
     loan.restore_adjacency();
-    REQUIRE(d.adjacency.offsets.size() == want.size() + 1);
-    for (size_t v = 0; v < want.size(); ++v)
-      CHECK(std::vector<int32_t>(d.adjacency.neighbors.begin() + d.adjacency.offsets[v],
-                                 d.adjacency.neighbors.begin() + d.adjacency.offsets[v + 1]) ==
-            std::vector<int32_t>(want[v].begin(), want[v].end()));
+    test::check_rows(d.adjacency, want);
     CHECK(d.adjacency.neighbors.size() == static_cast<size_t>(d.adjacency.offsets.back()));
     loan.release_adjacency();
     loan.restore();  // the incidence from the rebuilt adjacency, the adjacency first

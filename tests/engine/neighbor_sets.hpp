@@ -3,10 +3,13 @@
 // every face's consecutive corners, a repeated corner giving no self loop.
 #pragma once
 
+#include <doctest/doctest.h>
+
 #include <cstdint>
 #include <set>
 #include <vector>
 
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh.hpp"
 
 namespace locus::test {
@@ -23,6 +26,14 @@ inline std::vector<std::set<int32_t>> neighbor_sets(const Mesh& m) {
     }
   }
   return want;
+}
+
+// The adjacency's rows against the oracle, vertex by vertex.
+inline void check_rows(const Adjacency& a, const std::vector<std::set<int32_t>>& want) {
+  REQUIRE(a.offsets.size() == want.size() + 1);
+  for (size_t v = 0; v < want.size(); ++v)
+    CHECK(std::vector<int32_t>(a.neighbors.begin() + a.offsets[v], a.neighbors.begin() + a.offsets[v + 1]) ==
+          std::vector<int32_t>(want[v].begin(), want[v].end()));
 }
 
 }  // namespace locus::test

@@ -9,6 +9,7 @@
 // edges are sorted by (e0, e1), edge e lands at position e + e0[e] + 1, so the
 // matrices are assembled directly in O(nnz) without triplets or sorting.
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/triangle_vector_area.hpp"
 #include "locus/core/host_allocator.hpp"
 
 #include <algorithm>
@@ -189,12 +190,10 @@ std::array<double, 3> face_vector_area(const Mesh& m, int32_t f) {
   const int32_t o = fv[0];
   double ax = 0, ay = 0, az = 0;
   for (size_t c = 1; c + 1 < fv.size(); ++c) {
-    const int32_t p = fv[c], q = fv[c + 1];
-    const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
-    const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
-    ax += uy * wz - uz * wy;
-    ay += uz * wx - ux * wz;
-    az += ux * wy - uy * wx;
+    const std::array<double, 3> t = triangle_vector_area(m, o, fv[c], fv[c + 1]);
+    ax += t[0];
+    ay += t[1];
+    az += t[2];
   }
   return {ax, ay, az};
 }

@@ -139,14 +139,12 @@ Level refine_level(const Level& coarse, bool incremental, Levels& keep, const Ru
   return L;
 }
 
-// The last resort when heat labels keep breaking the closed-ball property
-// (needle and fan triangles, as CAD tessellations have, make the heat's
-// argmax jump across cells on every level): graph-geodesic labels of the same
-// sites (one multi-source Dijkstra, site_neighborhoods.hpp). Every such cell is
-// connected (each vertex takes its predecessor's label), and a site on a
-// vertex keeps that vertex; so each round's added sites shrink the cells
-// around the defects and, at worst, every vertex becomes a cell whose dual is
-// the (manifold) level mesh itself: the rounds end with a manifold dual.
+// The last resort when heat labels keep breaking the closed-ball property (CAD
+// needles and fans make the heat's argmax jump across cells on every level):
+// graph-geodesic labels of the same sites (one multi-source Dijkstra,
+// site_neighborhoods.hpp). Such cells are connected and a site on a vertex keeps
+// it, so added sites shrink the cells around the defects until, at worst, the
+// dual is the (manifold) level mesh itself: the rounds end with a manifold dual.
 RestrictedDual geodesic_repair(const Level& L, RestrictedDual dual, const RunContext& ctx, BatchStopwatch& sw,
                                RemeshResult& r) {
   auto relabel = [&] {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "locus/kernels/mesh/mesh_operators.hpp"
+#include "locus/kernels/mesh/triangle_vector_area.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/parallel/cancel_point.hpp"
@@ -19,19 +20,6 @@ namespace locus {
 
 namespace {
 
-// face_vector_area(m, f) of a triangle from m.f0/f1/f2 (the same arithmetic,
-// from zero): the cvt command lends the mesh's face_vertices out during Lloyd.
-std::array<double, 3> triangle_vector_area(const Mesh& m, int32_t f) {
-  const int32_t o = m.f0[f], p = m.f1[f], q = m.f2[f];
-  double ax = 0, ay = 0, az = 0;
-  const double ux = m.x[p] - m.x[o], uy = m.y[p] - m.y[o], uz = m.z[p] - m.z[o];
-  const double wx = m.x[q] - m.x[o], wy = m.y[q] - m.y[o], wz = m.z[q] - m.z[o];
-  ax += uy * wz - uz * wy;
-  ay += uz * wx - ux * wz;
-  az += ux * wy - uy * wx;
-  return {ax, ay, az};
-}
-
 // Vertex v's area-weighted unit normal, area_weighted_normals(m)[v] bit for
 // bit: the same face vector areas summed in the same ascending face order (its
 // face list), normalized alike. Computed where a fit needs it instead of held
@@ -39,7 +27,8 @@ std::array<double, 3> triangle_vector_area(const Mesh& m, int32_t f) {
 std::array<double, 3> vertex_normal(const Mesh& m, const CentroidGeometry& g, int32_t v) {
   std::array<double, 3> n{0.0, 0.0, 0.0};
   for (int64_t p = g.vf_offsets[v]; p < g.vf_offsets[v + 1]; ++p) {
-    const std::array<double, 3> a = triangle_vector_area(m, g.vf_faces[p]);
+    const int32_t f = g.vf_faces[p];  // from f0/f1/f2: the cvt lends face_vertices out during Lloyd
+    const std::array<double, 3> a = triangle_vector_area(m, m.f0[f], m.f1[f], m.f2[f]);
     n[0] += a[0];
     n[1] += a[1];
     n[2] += a[2];
