@@ -76,7 +76,8 @@ tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
 cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread \
   -DTBB_DIR="$prefix/lib/cmake/TBB" -DLOCUS_BUILD_TOOLS=OFF -DLOCUS_WITH_CHOLMOD_BENCH=ON \
   "-DLOCUS_TEST_FILTER=$tests" >"$B/locus-configure.log"
-cmake --build "$B" -j2 --target locus-tests
+# The build's lines go to a file (its tail on failure): CI shows only the log's tail.
+cmake --build "$B" -j2 --target locus-tests >"$B/locus-build.log" 2>&1 || { tail -60 "$B/locus-build.log"; exit 1; }
 # The binary must load the instrumented library (CMake's build RPATH points at
 # the prefix); a system libtbb here would bring the false reports back.
 tbb_loaded=$(ldd "$B/locus-tests" | awk '/libtbb\.so/ {print $3}')
