@@ -129,6 +129,7 @@ CornerEdges corner_edges_by_vertex(const Mesh& m, const EdgeIncidence& inc) {
 
 // Insertion sort: a vertex has a dozen edge uses.
 void sort_small(uint64_t* b, uint64_t* e) {
+  if (b == e) return;  // an isolated vertex: b may be null, and null + 1 is undefined
   for (uint64_t* i = b + 1; i < e; ++i) {
     const uint64_t k = *i;
     uint64_t* j = i;
