@@ -51,6 +51,9 @@ locus_status locus_session_create_from_file(const char* path, locus_session** ou
   });
 }
 
+// C++ helpers of the C functions around them: C++ language linkage, as they
+// return C++ types.
+extern "C++" {
 namespace {
 
 // The arrays of locus_session_create as a Mesh, checked as locus.h says.
@@ -98,6 +101,7 @@ locus::SessionOptions session_options_of(const locus_session_options* opt) {
 }
 
 }  // namespace
+}  // extern "C++"
 
 locus_status locus_session_create(const double* xyz, int64_t nv, const int32_t* tris, int64_t nf,
                                   locus_session** out) {

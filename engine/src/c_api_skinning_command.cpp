@@ -23,6 +23,9 @@ locus_skinweights_options locus_skinweights_options_default(void) {
   return o;
 }
 
+// C++ helpers of the C functions around them: C++ language linkage, as they
+// return C++ types.
+extern "C++" {
 namespace {
 
 locus::SkinningRequest skinning_request_of(const locus_skinweights_options& o) {
@@ -46,6 +49,7 @@ locus::SkinningRequest skinning_request_of(const locus_skinweights_options& o) {
 }
 
 }  // namespace
+}  // extern "C++"
 
 locus_status locus_skinweights_run(locus_session* session, const locus_skinweights_options* options, double* out,
                                 locus_skinweights_report* out_report, const locus_run_options* opts) {

@@ -15,6 +15,7 @@
 
 #include "io_test_support.hpp"
 #include "locus/mesh_io.hpp"
+#include "tests/sanitized.hpp"
 
 using locus_test::Caught;
 using locus_test::catch_error;
@@ -157,7 +158,7 @@ TEST_CASE("hostile: header counts larger than the file are refused before alloca
   CHECK(named.has("invalid count"));
   CHECK(named.message.size() < 300);  // the 100k-character name is shortened in the message
   const double secs = double(std::clock() - c0) / CLOCKS_PER_SEC;
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if LOCUS_TEST_SANITIZED
   const double bound = 5.0;  // instrumented code runs several times slower
 #else
   const double bound = 1.0;

@@ -429,7 +429,8 @@ TEST_CASE("assimp: real exports from Debian's assimp-testmodels, when installed"
     return;
   }
   std::vector<int32_t> spider_vertices;  // the same model exported as FBX and as STL
-  for (const auto& [rel, unused] : models) {
+  for (const auto& model : models) {
+    const auto& rel = model.first;  // not a structured binding: doctest's lambdas capture it
     const fs::path p = root / rel;
     if (!fs::exists(p)) {
       MESSAGE(std::string(p.string() + " missing: skipped"));

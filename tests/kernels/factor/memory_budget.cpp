@@ -22,12 +22,13 @@
 #include "locus/kernels/order/ordering.hpp"
 #include "locus/kernels/solve/solve_full.hpp"
 #include "locus/kernels/factor/supernodal_factor.hpp"
+#include "tests/sanitized.hpp"
 
 using namespace locus;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if LOCUS_TEST_SANITIZED
 constexpr bool kHeapCountersWork = false;  // sanitizers replace malloc; mallinfo2 does not see it
 #else
 constexpr bool kHeapCountersWork = true;

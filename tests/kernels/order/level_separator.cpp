@@ -71,7 +71,8 @@ TEST_CASE("level separator: the middle vertex of a path; the vertex next to a he
 }
 
 TEST_CASE("level separator: a grid is cut along a diagonal no longer than its short side, sides balanced") {
-  for (const auto& [nx, ny] : {std::pair{20, 10}, std::pair{31, 31}, std::pair{50, 7}}) {
+  for (const auto& dims : {std::pair{20, 10}, std::pair{31, 31}, std::pair{50, 7}}) {
+    const int nx = dims.first, ny = dims.second;  // not bindings: CAPTURE takes them in a lambda
     CAPTURE(nx);
     CAPTURE(ny);
     const AdjacencyGraph g = grid(nx, ny);

@@ -66,7 +66,8 @@ TEST_CASE("symmetric_eigen3: eigenpairs of a rotated diagonal matrix") {
 
 TEST_CASE("preview camera: a standing and a lying figure are upright, y-up or z-up") {
   // Standing (tallest along y): up is +y; lying (longest along x, height y): up is still +y.
-  for (const auto& [a, b, c] : {std::array<double, 3>{1, 3, 0.5}, std::array<double, 3>{3, 1, 0.5}}) {
+  for (const auto& abc : {std::array<double, 3>{1, 3, 0.5}, std::array<double, 3>{3, 1, 0.5}}) {
+    const double a = abc[0], b = abc[1], c = abc[2];  // not bindings: CAPTURE takes them in a lambda
     CAPTURE(a);
     const locus::Mesh y_up = ellipsoid(a, b, c);
     const locus::PreviewCamera cy = locus::principal_axes_camera(y_up);

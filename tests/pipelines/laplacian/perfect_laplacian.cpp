@@ -21,6 +21,7 @@
 #include "locus/pipelines/laplacian/perfect_laplacian.hpp"
 #include "locus/kernels/mesh/polygon_laplacian.hpp"
 #include "tests/pipelines/delaunay_fixture.hpp"
+#include "tests/sanitized.hpp"
 
 using namespace locus;
 using locus::test::SplitMix;
@@ -199,7 +200,7 @@ TEST_CASE("1000 random regular planar meshes reach a perfect Laplacian without m
   // The budget (30 s for 1000 meshes) is for the default (Release) suite: measured 1.6 s.
   // The ASan+UBSan build runs the same arithmetic ~16x slower (measured 26 s), so
   // it gets a proportionate bound instead of failing on instrumentation cost.
-#if defined(__SANITIZE_ADDRESS__)
+#if LOCUS_TEST_SANITIZED
   CHECK(secs < 120.0);
 #else
   CHECK(secs < 30.0);
