@@ -35,9 +35,8 @@ tbb_dir="$B/_tbb"
 prefix="$tbb_dir/prefix"
 version=$(dpkg-query -W -f='${source:Version}' libtbb-dev)
 srcpkg=$(dpkg-query -W -f='${source:Package}' libtbb-dev)
-# clang, for oneTBB and locus alike (one TSan runtime in the process): it compiles
-# this tree under the sanitizers with ~40 % less CPU than gcc (docs/testing.md).
-export CC=clang CXX=clang++
+# clang, for oneTBB and locus alike (one TSan runtime in the process; tools/clang_tree.sh).
+. "$root/tools/clang_tree.sh"
 cc_id="$(clang -dumpversion 2>/dev/null || echo unknown)"
 stamp="$srcpkg $version tsan clang-$cc_id nohwloc"
 if [ -f "$prefix/lib/cmake/TBB/TBBConfig.cmake" ] && [ "$(cat "$prefix/.locus-stamp" 2>/dev/null)" = "$stamp" ]; then
@@ -60,7 +59,7 @@ else
   # tests link TBB::tbb only. Without the hwloc switch, a machine with
   # libhwloc-dev configures tbbbind, which the install step then looks for and
   # fails (CI, stop 31). IPO is off under TSan in oneTBB's CMake already.
-  cmake -S "$tbb_dir/src/tree" -B "$tbb_dir/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  cmake -S "$tbb_dir/src/tree" -B "$tbb_dir/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${clang_cmake_compilers[@]}" \
     -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBB4PY_BUILD=OFF -DTBBMALLOC_BUILD=OFF \
     -DTBB_STRICT=OFF -DTBB_DISABLE_HWLOC_AUTOMATIC_SEARCH=ON -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_LIBDIR=lib >"$tbb_dir/configure.log" 2>&1 ||
     { tail -40 "$tbb_dir/configure.log"; exit 1; }
@@ -76,16 +75,11 @@ say "building locus-tests (TSan)"
 tests="/tests/(kernels/(order/|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
 tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features)|geodesic/(heat_geodesic|logmap)\\.cpp"
 tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
-# A tree configured with another compiler starts over (CMake keeps the first one).
-if [ -f "$B/CMakeCache.txt" ] && ! grep -q "^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++" "$B/CMakeCache.txt"; then
-  rm -rf "$B/CMakeCache.txt" "$B/CMakeFiles"
-fi
-cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+clang_tree "$B"
+cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread "${clang_cmake_compilers[@]}" \
   -DTBB_DIR="$prefix/lib/cmake/TBB" -DLOCUS_BUILD_TOOLS=OFF -DLOCUS_WITH_CHOLMOD_BENCH=ON \
   "-DLOCUS_TEST_FILTER=$tests" >"$B/locus-configure.log"
-# The build's lines go to a file (its tail on failure): CI shows only the log's tail.
-cmake --build "$B" -j2 --target locus-tests >"$B/locus-build.log" 2>&1 || { tail -60 "$B/locus-build.log"; exit 1; }
+quiet_build "$B" locus-build.log locus-tests
 # The binary must load the instrumented library (CMake's build RPATH points at
 # the prefix); a system libtbb here would bring the false reports back.
 tbb_loaded=$(ldd "$B/locus-tests" | awk '/libtbb\.so/ {print $3}')
