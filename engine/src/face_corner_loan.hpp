@@ -1,10 +1,11 @@
 // A triangle mesh's face_vertices set aside while nothing reads them (thesis
 // §3.7.1: from the assembly of the cells' operator M - tL to the end of the
-// first Lloyd run, the factorization reads the operator only and Lloyd reads
-// the faces through f0/f1/f2, which hold the same triangles). At 416k vertices
-// the corners are 10 MB of a remesh's peak; rebuilding them from f0/f1/f2 is
-// one pass. Internal to the engine: only for a mesh nobody else reads
-// meanwhile (SessionOptions::exclusive).
+// repair, the factorization reads the operator only, and Lloyd, the incidence's
+// rebuild, the restricted dual and the repair's rounds read the faces through
+// f0/f1/f2, which hold the same triangles). At 416k vertices the corners are
+// 10 MB of a remesh's peak; rebuilding them from f0/f1/f2 is one pass.
+// Internal to the engine: only for a mesh nobody else reads meanwhile
+// (SessionOptions::exclusive).
 #pragma once
 #include "locus/mesh.hpp"
 

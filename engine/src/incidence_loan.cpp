@@ -16,7 +16,9 @@ namespace {
 // and a corner finds its edge by a binary search in its smaller end's row.
 // Its transient memory is one n-vector, where edge_incidence sorts a key per
 // corner and builds the CSR beside the result (~70 MB at 416k vertices, at a
-// point of the remesh where the factor is still held).
+// point of the remesh where the factor is still held). A triangle mesh's
+// corners come from f0/f1/f2: its face_vertices may be lent out until the
+// repair is done (face_corner_loan.hpp).
 EdgeIncidence incidence_from_adjacency(const Mesh& m, const Adjacency& adj) {
   const int32_t nv = m.num_vertices(), nf = m.num_faces();
   HostVector<int64_t> first_edge(static_cast<size_t>(nv) + 1, 0);  // of each vertex as the smaller end
@@ -41,18 +43,25 @@ EdgeIncidence incidence_from_adjacency(const Mesh& m, const Adjacency& adj) {
   }
   const int32_t* off = m.face_offsets.data();
   const int32_t* fv = m.face_vertices.data();
-  inc.corner_edge.assign(m.face_vertices.size(), -1);
-  for (int32_t f = 0; f < nf; ++f)
-    for (int32_t c = off[f]; c < off[f + 1]; ++c) {
-      const int32_t u = fv[c], w = fv[c + 1 == off[f + 1] ? off[f] : c + 1];
-      if (u == w) continue;
-      const int32_t lo = std::min(u, w), hi = std::max(u, w);
-      const int32_t* end = adj.neighbors.data() + adj.offsets[lo + 1];
-      const int32_t* up = std::upper_bound(adj.neighbors.data() + adj.offsets[lo], end, lo);
-      const int64_t e = first_edge[lo] + (std::lower_bound(up, end, hi) - up);
-      inc.corner_edge[c] = static_cast<int32_t>(e);
-      ++E.face_count[e];
+  inc.corner_edge.assign(static_cast<size_t>(off[nf]), -1);  // face_vertices may be out: its size
+  auto corner = [&](int32_t c, int32_t u, int32_t w) {
+    if (u == w) return;
+    const int32_t lo = std::min(u, w), hi = std::max(u, w);
+    const int32_t* end = adj.neighbors.data() + adj.offsets[lo + 1];
+    const int32_t* up = std::upper_bound(adj.neighbors.data() + adj.offsets[lo], end, lo);
+    const int64_t e = first_edge[lo] + (std::lower_bound(up, end, hi) - up);
+    inc.corner_edge[c] = static_cast<int32_t>(e);
+    ++E.face_count[e];
+  };
+  if (m.is_triangle_mesh()) {  // corner off[f] + k of f0/f1/f2 (face_corner_loan.hpp: the corners may be out)
+    for (int32_t f = 0; f < nf; ++f) {
+      const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+      for (int k = 0; k < 3; ++k) corner(off[f] + k, v[k], v[(k + 1) % 3]);
     }
+    return inc;
+  }
+  for (int32_t f = 0; f < nf; ++f)
+    for (int32_t c = off[f]; c < off[f + 1]; ++c) corner(c, fv[c], fv[c + 1 == off[f + 1] ? off[f] : c + 1]);
   return inc;
 }
 

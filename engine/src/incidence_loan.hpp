@@ -34,6 +34,9 @@ class IncidenceLoan {
   // Nothing when not released.
   void restore();
   bool released() const { return released_; }
+  // restore() reads m.face_vertices (edge_incidence: the CSR was held);
+  // otherwise a triangle mesh's f0/f1/f2 only.
+  bool restore_reads_corners() const { return released_ && had_corners_; }
 
  private:
   const Mesh& m_;

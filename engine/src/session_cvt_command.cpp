@@ -167,13 +167,13 @@ MeshDerived* exclusive_derived(const session_detail::State& s) { return const_ca
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
                   std::function<void()> operator_done, std::function<void()> lloyd_done,
-                  std::function<void()> refining) {
+                  std::function<void()> corners_needed) {
   RemeshOptions ro;
   ro.lloyd = lloyd_options(req, ts, tc);
   ro.lloyd.prepared = prepared;
   ro.operator_done = std::move(operator_done);
   ro.lloyd_done = std::move(lloyd_done);
-  ro.refining = std::move(refining);
+  ro.corners_needed = std::move(corners_needed);
   ro.max_repair_rounds = req.repair_rounds;
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
@@ -308,8 +308,8 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
       mesh, derived, raised, ts, tc, isotropic ? &prepared : nullptr, progress.query(),
       [&prepared] { prepared = HeatDiffusion{}; },
       [&loan, &corners] {
-        if (corners) corners->restore();  // the incidence's rebuild reads them
-        if (!loan) return;
+        if (!loan) return;  // the corners stay out through the repair (RemeshOptions::corners_needed)
+        if (corners && loan->restore_reads_corners()) corners->restore();
         release_free_memory();  // Lloyd's geometry and cells, freed: not resident beside the rebuilt incidence
         loan->restore();
       },

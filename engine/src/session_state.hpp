@@ -313,11 +313,11 @@ inline constexpr double kCvtFactorIterations = 2.2;
 // the cached tier (Session::cvt with remesh) both run it.
 // `operator_done`: RemeshOptions::operator_done (the owner of `prepared` frees it).
 // `lloyd_done`: RemeshOptions::lloyd_done (the owner of `derived` restores what it freed).
-// `refining`: RemeshOptions::refining (the owner of `mesh` restores its corners).
+// `corners_needed`: RemeshOptions::corners_needed (the owner of `mesh` restores its corners).
 CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest& req, const HeatTime& ts,
                   const HeatTime& tc, const HeatDiffusion* prepared, const RunContext& ctx,
                   std::function<void()> operator_done = {}, std::function<void()> lloyd_done = {},
-                  std::function<void()> refining = {});
+                  std::function<void()> corners_needed = {});
 
 // The cvt request's sites on this mesh: BadInput for more than its vertices;
 // fewer than its components are raised to their count (and ctx notes it).

@@ -5,6 +5,7 @@
 // Session that lends nothing.
 #include <doctest/doctest.h>
 
+#include <map>
 #include <set>
 #include <vector>
 
@@ -66,6 +67,50 @@ TEST_CASE("incidence loan: the adjacency rebuilt while the corners are out equal
   corners.restore();
   loan.restore();
   CHECK(d.incidence.corner_edge == corner_edge);
+}
+
+TEST_CASE("incidence loan: the incidence rebuilt while the corners are out equals each corner's edge by brute force") {
+  Mesh m = make_random_sphere(600, 5);
+  m.add_triangle(3, 3, 7);  // a repeated corner: no edge (-1)
+  // Oracle: the distinct {smaller, larger} ends of the faces' consecutive
+  // corners, ascending; each corner's edge found among them; faces per edge counted.
+  std::map<std::pair<int32_t, int32_t>, int32_t> edge_of;
+  for (int32_t f = 0; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = m.face(f)[k], b = m.face(f)[(k + 1) % 3];
+      if (a != b) edge_of[{std::min(a, b), std::max(a, b)}] = 0;
+    }
+  int32_t next = 0;
+  for (auto& [ends, id] : edge_of) id = next++;
+  std::vector<int32_t> want_corner, want_count(edge_of.size(), 0);
+  for (int32_t f = 0; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = m.face(f)[k], b = m.face(f)[(k + 1) % 3];
+      want_corner.push_back(a == b ? -1 : edge_of.at({std::min(a, b), std::max(a, b)}));
+      if (a != b) ++want_count[want_corner.back()];
+    }
+  const HostVector<int32_t> corners_before = m.face_vertices;
+  MeshDerived d = derive_mesh(m);
+  drop_edge_corners(d.incidence);
+  IncidenceLoan loan(m, d);
+  FaceCornerLoan corners(m);
+  loan.release();
+  loan.release_adjacency();
+  corners.release();
+  REQUIRE(m.face_vertices.empty());
+  CHECK(!loan.restore_reads_corners());  // the CSR was dropped: rebuilt from the adjacency and f0/f1/f2
+  loan.restore();                        // the corners still out (the remesh's dual and repair)
+  REQUIRE(m.face_vertices.empty());
+  const Edges& e = d.incidence.edges;
+  REQUIRE(e.e0.size() == edge_of.size());
+  for (const auto& [ends, id] : edge_of) {
+    CHECK(e.e0[id] == ends.first);
+    CHECK(e.e1[id] == ends.second);
+    CHECK(e.face_count[id] == want_count[id]);
+  }
+  CHECK(std::vector<int32_t>(d.incidence.corner_edge.begin(), d.incidence.corner_edge.end()) == want_corner);
+  corners.restore();
+  CHECK(m.face_vertices == corners_before);
 }
 
 TEST_CASE("cvt on an exclusive Session with corners lent: the same remesh, refined or not, the mesh whole after") {

@@ -97,7 +97,7 @@ struct LloydInputs {
   const HeatDiffusion& Hc;  // centroids
   const CentroidGeometry& geo;
   const Adjacency& adj;              // the cell graph's edges
-  const VertexStars& stars;          // in the operator's metric
+  VertexStars& stars;                // in the operator's metric (isotropic: areas out during the labels)
   const HostVector<double>& area_r3;
   const HostVector<double>& mass_r3;
   double h_r3;
@@ -139,7 +139,8 @@ class LloydLoop {
   void in_arena(F&& f) {  // reused per (thread, concurrency): an arena per call leaks inside oneTBB
     run_with_threads(in_.threads, f);
   }
-  void labels_of_sites();
+  // for_centroids: V_ keeps the split triangles' rows only (keep_split_rows).
+  void labels_of_sites(bool for_centroids);
   // This iteration's share of the progress (iteration it of n: [it, it + 1) / (n + 1); the final labels last).
   RunContext step_context(int32_t it, double begin, double end) const {
     const double n = std::max(1, opt_.iterations) + 1.0;
@@ -199,11 +200,15 @@ void LloydLoop::batch_kept(int32_t b, HostVector<int32_t>& kept) const {
   append_cells_vertices(cells_, cells, kept);
 }
 
-void LloydLoop::labels_of_sites() {
+void LloydLoop::labels_of_sites(bool for_centroids) {
   // The centroid step's per-thread solve workspaces (8 n doubles each) are not
   // needed while the labels' own are: freed, not held across the whole loop.
   cscratch_.clear();
   V_ = HeatVoronoi{};  // the last labels' top-K lists: not held while the new ones fill
+  // Isotropic: the stars' areas are face_areas(m) (moved there), read by no
+  // label: rebuilt after them (6.7 MB of their peak at 416k vertices).
+  const bool areas_out = opt_.anisotropy == 0;
+  if (areas_out) in_.stars.area = HostVector<double>();
   // What was just freed (the workspaces ~50 MB at 416k vertices, in the worker
   // threads' heaps) is not kept resident through the labels' peak.
   release_free_memory();
@@ -226,6 +231,12 @@ void LloydLoop::labels_of_sites() {
     if (V_.label[v] < 0)
       fail(ErrorCode::Numerical, "cvt: vertex " + std::to_string(v) + " received heat from no site");
   in_arena([&] { cells_ = build_cell_graph(in_.adj, V_.label, ns_); });
+  // The centroid step reads the heat at the split triangles' corners only.
+  if (for_centroids) keep_split_rows(V_, m_);
+  // That and the labels' solve workspaces and batch lists, freed: not resident
+  // through the centroid step (~25 MB of a 416k-vertex remesh's peak).
+  release_free_memory();
+  if (areas_out) in_.stars.area = face_areas(m_);
   r_.partition_s += psw.lap();
 }
 
@@ -411,7 +422,7 @@ void LloydLoop::iterate(int32_t it) {
   ctx_.check_cancel();
   BatchStopwatch isw;
   labels_ctx_ = step_context(it, 0.0, 0.5);
-  labels_of_sites();
+  labels_of_sites(true);
   BatchStopwatch psw;
   // New batches from the new cells (compact patches of the cell graph).
   order_ = cluster_order(cells_, spatial_order(m_, sites_), kLanes);
@@ -445,7 +456,7 @@ void LloydLoop::finish() {
   ctx_.check_cancel();
   BatchStopwatch fsw;
   labels_ctx_ = ctx_.sub(static_cast<double>(std::max(1, opt_.iterations)) / (std::max(1, opt_.iterations) + 1.0), 1.0);
-  labels_of_sites();
+  labels_of_sites(false);
   r_.final_labels_s = fsw.lap();
   r_.label.assign(V_.label.begin(), V_.label.end());
   in_arena([&] {

@@ -295,6 +295,7 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
   while (!heat_fails && r.refinements < st.o.max_refinements && dual.defects.total() > 0 &&
          4 * int64_t{L.m->num_vertices()} <= budget) {
     st.ctx.check_cancel();
+    if (st.o.corners_needed) st.o.corners_needed();  // the subdivision reads m.face_vertices
     L = refine_level(L, st.incremental, st.keep, st.ctx.sub(p1, p1), r);
     r.repair_s += st.sw.lap();
     dual = restricted_dual(*L.m, L.topo, r.lloyd.label, r.lloyd.sites);
@@ -311,6 +312,7 @@ RestrictedDual repair(const RepairStage& st, Level& L, RestrictedDual dual, doub
   L = start_level;
   r.lloyd.sites = start_sites;
   r.added_sites = start_added;
+  if (st.o.corners_needed) st.o.corners_needed();  // (RemeshOptions::corners_needed)
   return geodesic_repair(L, std::move(dual), st.ctx, st.sw, r);
 }
 
@@ -430,6 +432,7 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
     pre = relax ? std::max(3 * L.d->components, pre - error) : want;
     const int32_t drop = got - pre;
     if ((error > 0) != (drop > 0)) break;  // no site left to drop
+    if (st.o.corners_needed) st.o.corners_needed();  // adjust_sites' topology
     std::vector<SurfacePoint> sites = r.lloyd.sites;
     const int32_t removed = adjust_sites(L, dual, r.lloyd.label, drop, sites, added);
     st.ctx.check_cancel();
@@ -478,6 +481,7 @@ RestrictedDual meet_density(const RepairStage& st, Level& L, RestrictedDual dual
 // first, so the repair's sites (appended) keep their ids.
 RestrictedDual insert_features(const RepairStage& st, Level& L, RestrictedDual dual, double p) {
   RemeshResult& r = st.r;
+  if (st.o.corners_needed) st.o.corners_needed();
   FeatureGraph g = feature_graph(*L.m, *L.d, st.o.feature_angle_deg);
   const double area = std::accumulate(L.d->mass.begin(), L.d->mass.end(), 0.0);
   const double spacing = feature_spacing(area, st.o.lloyd.sites);
@@ -540,9 +544,8 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
     L.lo.prepared = &own;
     r.factor_s = sw.lap();
   }
-  // One monotone progress fraction: the Lloyd iterations, then each repair
-  // round's share, then the dual and its optimization (refined levels report
-  // no progress of their own).
+  // One monotone progress fraction: the Lloyd iterations, each repair round's share, then
+  // the dual and its optimization (refined levels report no progress of their own).
   constexpr double kLloydEnd = 0.7, kRepairEnd = 0.9;
   // Repair rounds without relaxation only add sites: they grow the final
   // diagram (heat_voronoi_add) instead of relabelling from scratch.
@@ -555,7 +558,7 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   for (int64_t nv = m.num_vertices(); r.refinements < o.max_refinements &&
                                       nv < static_cast<int64_t>(o.min_vertices_per_site * L.lo.sites);
        nv *= 4) {
-    if (o.refining) o.refining();  // the subdivision reads the input's face_vertices
+    if (o.corners_needed) o.corners_needed();  // the subdivision reads the input's face_vertices
     L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
   }
   r.lloyd = cvt_lloyd(*L.m, *L.d, L.lo, ctx.sub(lloyd_begin, kLloydEnd));
@@ -579,16 +582,15 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
   r.requested = o.lloyd.sites;
   r.repair_sites = r.added_sites;
   r.added_sites = static_cast<int32_t>(r.lloyd.sites.size()) - r.requested;  // net: sites = requested + added
-  // The repair is done: its top-K lists and the level's dual topology are not
-  // needed by the assembly and the optimization (~20 MB at 416k vertices).
+  // The repair's top-K lists and dual topology: not read by the assembly (~20 MB at 416k vertices).
   r.lloyd.voronoi = HeatVoronoi{};
   L.topo = DualTopology{};
-  // No heat solve after the repair: the operator goes before the assembly and
-  // the optimization (the input's TriangleGrid) allocate.
+  // No heat solve after the repair: the operator goes before the assembly allocates.
   L.lo.prepared = nullptr;
   own = HeatDiffusion{};
   keep.ops.clear();  // the finer levels' operators (their meshes stay: back_to_input)
   if (o.operator_done) o.operator_done();
+  if (o.corners_needed) o.corners_needed();  // the factor out first: the assembly reads them
   if (r.complete) assemble(m, L, dual, o, sw, r);
   r.delivered = r.remesh.num_vertices();
   back_to_input(m, keep.meshes, r.lloyd);

@@ -200,7 +200,8 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
-  if ((V.top_k != 1 && V.top_k != kVoronoiTopK) || V.top_site.size() != static_cast<size_t>(n) * V.top_k ||
+  if ((V.top_k != 1 && V.top_k != kVoronoiTopK) || !V.top_row.empty() ||
+      V.top_site.size() != static_cast<size_t>(n) * V.top_k ||
       V.top_value.size() != V.top_site.size() || V.label.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "heat voronoi: the diagram to add to belongs to another mesh");
   if (first_new < 1 || first_new > ns) fail(ErrorCode::BadUsage, "heat voronoi: the old generators must come first");
@@ -225,7 +226,7 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
 void keep_hottest_only(HeatVoronoi& V) {
   if (V.top_k == 1) return;
   const size_t n = V.label.size(), k = static_cast<size_t>(V.top_k);
-  if (V.top_site.size() != n * k || V.top_value.size() != n * k)
+  if (V.top_site.size() != n * k || V.top_value.size() != n * k || !V.top_row.empty())
     fail(ErrorCode::BadUsage, "heat voronoi: top-K lists and labels do not match");
   HostVector<int32_t> ts(n);
   HostVector<double> tv(n);
@@ -236,6 +237,33 @@ void keep_hottest_only(HeatVoronoi& V) {
   V.top_site = std::move(ts);
   V.top_value = std::move(tv);
   V.top_k = 1;
+}
+
+void keep_split_rows(HeatVoronoi& V, const Mesh& m) {
+  const int32_t n = m.num_vertices(), nf = m.num_faces();
+  const size_t k = static_cast<size_t>(V.top_k);
+  if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": split triangles need a triangle mesh");
+  if (!V.top_row.empty() || V.label.size() != static_cast<size_t>(n) || V.top_site.size() != n * k ||
+      V.top_value.size() != n * k)
+    fail(ErrorCode::BadUsage, "heat voronoi: top-K lists and labels do not match");
+  HostVector<int32_t> row(static_cast<size_t>(n), -1);
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t a = m.f0[f], b = m.f1[f], c = m.f2[f];
+    if (V.label[a] != V.label[b] || V.label[b] != V.label[c]) row[a] = row[b] = row[c] = 0;
+  }
+  size_t rows = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    if (row[v] < 0) continue;
+    if (rows != static_cast<size_t>(v)) {  // forward, in place: row `rows` lies before row v
+      std::copy_n(V.top_site.data() + v * k, k, V.top_site.data() + rows * k);
+      std::copy_n(V.top_value.data() + v * k, k, V.top_value.data() + rows * k);
+    }
+    row[v] = static_cast<int32_t>(rows++);
+  }
+  // Copied to arrays of their size (one at a time: the transient is the smaller one).
+  V.top_site = HostVector<int32_t>(V.top_site.begin(), V.top_site.begin() + static_cast<std::ptrdiff_t>(rows * k));
+  V.top_value = HostVector<double>(V.top_value.begin(), V.top_value.begin() + static_cast<std::ptrdiff_t>(rows * k));
+  V.top_row = std::move(row);
 }
 
 HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
@@ -476,7 +504,7 @@ VoronoiDiagram extract_voronoi_diagram(const HeatDiffusion& H, const Mesh& m, st
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (static_cast<int32_t>(V.label.size()) != n || n != H.n)
     fail(ErrorCode::BadUsage, "voronoi diagram: labels were computed for another mesh");
-  if (V.top_k != kVoronoiTopK || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
+  if (V.top_k != kVoronoiTopK || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK || !V.top_row.empty())
     fail(ErrorCode::BadUsage, "voronoi diagram: the neighbors' heat needs the full top-K lists");
   VoronoiDiagram D;
   HeatLookup lookup(V);

@@ -348,7 +348,7 @@ DualTopology dual_topology(const Mesh& m) {
 
 DualTopology dual_topology(const Mesh& m, const EdgeIncidence& inc) {
   check_triangles(m);
-  if (inc.corner_edge.size() != m.face_vertices.size())
+  if (inc.corner_edge.size() != static_cast<size_t>(m.face_offsets.back()))  // face_vertices may be lent out
     fail(ErrorCode::BadUsage, "dual topology: the edge incidence belongs to another mesh");
   DualTopology t;
   t.borrowed = &inc;
@@ -374,9 +374,11 @@ RestrictedDual restricted_dual(const Mesh& m, const DualTopology& topo, std::spa
     Repairs rep{std::vector<uint8_t>(n, 0), d.repair_vertices, topo.inc().edges, near, {}, {}};
     for (const SurfacePoint& p : sites) {  // a site at a vertex (or at a face's corner) takes it
       if (p.face < 0 && p.vertex >= 0 && p.vertex < n) rep.taken[p.vertex] = 1;
-      if (p.face >= 0)
+      if (p.face >= 0) {  // f0/f1/f2: the caller may have lent face_vertices out (cvt_remesh.hpp)
+        const int32_t fv[3] = {m.f0[p.face], m.f1[p.face], m.f2[p.face]};
         for (int k = 0; k < 3; ++k)
-          if (p.bary[k] >= 1 - 1e-9) rep.taken[m.face(p.face)[k]] = 1;
+          if (p.bary[k] >= 1 - 1e-9) rep.taken[fv[k]] = 1;
+      }
     }
     check_cells(m, topo, label, sites, d, rep);
     check_interfaces(m, topo, label, d, rep);

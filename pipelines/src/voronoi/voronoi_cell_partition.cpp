@@ -90,9 +90,15 @@ void split_part(int nl, const int32_t* lab, const double (*u)[3], int a, double&
   centroid[2] = c2;
 }
 
-// Heat of site s at vertex v from the top-K lists; ok = false when it is not there.
+// Heat of site s at vertex v from the top-K lists; ok = false when it is not
+// there (or v has no row: keep_split_rows keeps the split triangles' corners).
 inline double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
-  const size_t base = static_cast<size_t>(v) * kVoronoiTopK;
+  const int32_t row = V.top_row.empty() ? v : V.top_row[v];
+  if (row < 0) {
+    ok = false;
+    return 0.0;
+  }
+  const size_t base = static_cast<size_t>(row) * kVoronoiTopK;
   for (int i = 0; i < kVoronoiTopK; ++i)
     if (V.top_site[base + i] == s) return V.top_value[base + i];
   ok = false;
@@ -387,7 +393,7 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
   if (face_area.size() != static_cast<size_t>(nf))
     fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
-  if (V.label.size() != static_cast<size_t>(n) || V.top_k != kVoronoiTopK ||
+  if (V.label.size() != static_cast<size_t>(n) || V.top_k != kVoronoiTopK || !V.top_row.empty() ||
       V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
     fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
   if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");

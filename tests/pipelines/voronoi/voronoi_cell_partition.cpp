@@ -199,3 +199,72 @@ TEST_CASE("cell areas from the stars: partition_cells' areas bit for bit, the ex
   HeatVoronoi V = linear_heat(m, {[](double x, double) { return x; }});
   CHECK_THROWS_AS(cell_areas(vertex_stars(m, face_areas(m)), V, {}, {}), Error);
 }
+
+TEST_CASE("split rows: the split triangles' corners keep their lists, the loads the exact areas and moments") {
+  // The three cells of the tests above (areas 0.32, 0.32, 0.36; cell 2's first
+  // moment int x = 0.108). Oracle for the rows: a vertex keeps one iff some
+  // triangle at it has two labels or more (brute force over the faces), with
+  // the full lists' entries.
+  const Mesh m = make_grid(17, 0.4, 4);
+  const int32_t n = m.num_vertices();
+  const HeatVoronoi full = linear_heat(m, {[](double x, double) { return x; }, [](double, double y) { return y; },
+                                           [](double, double) { return 0.6; }});
+  std::vector<uint8_t> split(n, 0);
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    if (full.label[v[0]] != full.label[v[1]] || full.label[v[1]] != full.label[v[2]])
+      for (int32_t w : v) split[w] = 1;
+  }
+  HeatVoronoi V = full;
+  keep_split_rows(V, m);
+  REQUIRE(V.top_row.size() == static_cast<size_t>(n));
+  int32_t next = 0;
+  for (int32_t v = 0; v < n; ++v) {
+    CAPTURE(v);
+    if (!split[v]) {
+      CHECK(V.top_row[v] == -1);
+      continue;
+    }
+    REQUIRE(V.top_row[v] == next);  // in vertex order
+    for (int k = 0; k < kVoronoiTopK; ++k) {
+      CHECK(V.top_site[static_cast<size_t>(next) * kVoronoiTopK + k] == full.top_site[static_cast<size_t>(v) * kVoronoiTopK + k]);
+      CHECK(V.top_value[static_cast<size_t>(next) * kVoronoiTopK + k] == full.top_value[static_cast<size_t>(v) * kVoronoiTopK + k]);
+    }
+    ++next;
+  }
+  CHECK(next > 0);
+  CHECK(next < n / 2);  // most of the grid's vertices are inside a cell
+  CHECK(V.top_site.size() == static_cast<size_t>(next) * kVoronoiTopK);
+  CHECK(V.top_value.size() == V.top_site.size());
+  CHECK(V.label == full.label);
+  // The loads read the kept rows only: the exact areas and moment, bit for bit
+  // those of the full lists.
+  const auto fa = face_areas(m);
+  const VertexStars st = vertex_stars(m, fa);
+  const double exact_area[3] = {0.32, 0.32, 0.36};
+  std::vector<int32_t> slot(n, -1);
+  for (int32_t c = 0; c < 3; ++c) {
+    std::vector<int32_t> cell;
+    for (int32_t v = 0; v < n; ++v)
+      if (V.label[v] == c) cell.push_back(v);
+    std::vector<int32_t> touched, touched_full;
+    std::vector<double> load, load_full;
+    int64_t fallback = 0;
+    const double area = accumulate_cell_load(st, V, c, cell, slot, load, touched, fallback);
+    accumulate_cell_load(st, full, c, cell, slot, load_full, touched_full, fallback);
+    CHECK(fallback == 0);
+    CHECK(area == doctest::Approx(exact_area[c]).epsilon(1e-12));
+    CHECK(touched == touched_full);
+    CHECK(load == load_full);
+    double mx = 0;
+    for (size_t k = 0; k < touched.size(); ++k) mx += load[k] * m.x[touched[k]];
+    if (c == 2) CHECK(mx == doctest::Approx(0.108).epsilon(1e-12));
+  }
+  // What needs every vertex's list refuses the short ones; a second call too.
+  CHECK_THROWS_AS(partition_cells(m, fa, V, 3), Error);
+  CHECK_THROWS_AS(keep_hottest_only(V), Error);
+  CHECK_THROWS_AS(keep_split_rows(V, m), Error);
+  HeatVoronoi other = full;
+  other.label.pop_back();
+  CHECK_THROWS_AS(keep_split_rows(other, m), Error);
+}

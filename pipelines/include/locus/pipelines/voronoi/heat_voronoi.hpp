@@ -44,6 +44,7 @@ struct HeatVoronoi {
   HostVector<int32_t> top_site;   // nv * top_k, -1 where fewer values were seen
   HostVector<double> top_value;   // nv * top_k, descending per vertex
   int32_t top_k = kVoronoiTopK;   // entries per vertex: kVoronoiTopK, or 1 after keep_hottest_only
+  HostVector<int32_t> top_row;    // empty (row v is vertex v's), or nv after keep_split_rows: the vertex's row, -1 if none
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
@@ -82,6 +83,16 @@ HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::spa
 // rounds (cvt_remesh.hpp): 5 MB instead of 20 MB at 416k vertices. The diagram
 // extraction and the cell partition need the full lists and refuse such a V.
 void keep_hottest_only(HeatVoronoi& V);
+
+// Keeps of V's top-K lists the rows of the split triangles' corners (a
+// triangle of m whose corners have different labels), in vertex order; V.top_row
+// maps a vertex to its row (-1: not a corner of a split triangle). The cells'
+// split-triangle loads (voronoi_cell_partition.hpp accumulate_cell_load,
+// cell_areas) read no other row, so they are the same. Lloyd's centroid steps
+// hold the labels' lists so: ~10 MB instead of 20 MB at 416k vertices and
+// 10,000 sites. The diagram extraction, the cell partition, heat_voronoi_add
+// and keep_hottest_only refuse such a V; a second call too.
+void keep_split_rows(HeatVoronoi& V, const Mesh& m);
 
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
 // the functions above; its top-K lists are kept, or their hottest entries only:
