@@ -178,12 +178,17 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   ro.max_refinements = req.refinements;
   ro.optimize_rounds = req.optimize;
   ro.feature_angle_deg = req.features;
+  ro.hausdorff = !req.no_hausdorff;
   RemeshResult rr = cvt_remesh(mesh, derived, ro, ctx);
   CvtReport r;
   auto t0 = std::chrono::steady_clock::now();
-  if (rr.complete) r.remesh_stats = stats_of(remesh_stats(mesh, rr.remesh, !req.no_hausdorff));
+  if (rr.complete) {
+    RemeshStats st = remesh_stats(mesh, rr.remesh, false);
+    st.hausdorff_rel = rr.hausdorff_rel;  // the remesh's, through its grid of the input
+    r.remesh_stats = stats_of(st);
+  }
   r.input_stats = stats_of(mesh_topology_stats(mesh));
-  r.stats_s = seconds(t0);
+  r.stats_s = rr.hausdorff_s + seconds(t0);
   take_quality(cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites), r);
   take_lloyd(mesh, rr.lloyd, r);
   r.complete = rr.complete;

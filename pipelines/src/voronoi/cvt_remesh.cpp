@@ -258,8 +258,13 @@ void assemble(const Mesh& m, const Level& L, const RestrictedDual& dual, const R
     if (!fo.pinned.empty()) fo.pinned.resize(static_cast<size_t>(r.remesh.num_vertices()), 0);  // split vertices move
     r.optimize.moves += pull_to_input(m, grid, r.remesh, fo);
     restore_single_triangles(m, grid, r.remesh);  // again, should a pass have moved one (idempotent)
+    r.optimize_s = sw.lap();
+    if (o.hausdorff) r.hausdorff_rel = remesh_stats(m, grid, r.remesh).hausdorff_rel;
+  } else {
+    r.optimize_s = sw.lap();
+    if (o.hausdorff) r.hausdorff_rel = remesh_stats(m, r.remesh, true).hausdorff_rel;
   }
-  r.optimize_s = sw.lap();
+  r.hausdorff_s = sw.lap();
 }
 
 // The repair of one partition on level L: heat rounds, then finer levels

@@ -44,11 +44,28 @@ double smallest_angle_deg(const V3& a, const V3& b, const V3& c) {
   return best;
 }
 
+// The input's bounding-box diagonal (the scale of hausdorff_rel): the box of
+// every vertex, as analyze_mesh reports it, without the rest of its report.
+double bounding_box_diagonal(const Mesh& m) {
+  if (m.num_vertices() == 0) return 0;
+  double diag2 = 0;
+  for (const auto* c : {&m.x, &m.y, &m.z}) {
+    const auto [lo, hi] = std::minmax_element(c->begin(), c->end());
+    diag2 += (*hi - *lo) * (*hi - *lo);
+  }
+  return std::sqrt(diag2);
+}
+
 }  // namespace
 
 double hausdorff_distance(const Mesh& a, const Mesh& b) {
   if (a.num_faces() == 0 || b.num_faces() == 0) fail(ErrorCode::BadUsage, "hausdorff: both meshes need faces");
-  const TriangleGrid ga(a), gb(b);
+  return hausdorff_distance(a, TriangleGrid(a), b);
+}
+
+double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b) {
+  if (a.num_faces() == 0 || b.num_faces() == 0) fail(ErrorCode::BadUsage, "hausdorff: both meshes need faces");
+  const TriangleGrid gb(b);
   // Vertices of a to b (max is order-independent, so the reduction is deterministic).
   const double ab = max_over(a.num_vertices(), [&](int64_t v) { return gb.distance(pos(a, static_cast<int32_t>(v))); });
   static constexpr double kSamples[][3] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
@@ -86,7 +103,9 @@ RemeshStats mesh_topology_stats(const Mesh& m) {
   return s;
 }
 
-RemeshStats remesh_stats(const Mesh& input, const Mesh& remesh, bool hausdorff) {
+namespace {
+
+RemeshStats remesh_stats_with(const Mesh& input, const TriangleGrid* grid, const Mesh& remesh, bool hausdorff) {
   RemeshStats s = mesh_topology_stats(remesh);
   double sum = 0, mn = 180;
   int64_t below = 0, tris = 0;
@@ -104,12 +123,21 @@ RemeshStats remesh_stats(const Mesh& input, const Mesh& remesh, bool hausdorff) 
   s.min_angle_deg = tris ? mn : 0.0;
   s.pct_below_30_deg = tris ? 100.0 * static_cast<double>(below) / static_cast<double>(tris) : 0.0;
   if (hausdorff && tris > 0) {
-    double diag2 = 0;
-    const MeshReport rep = analyze_mesh(input);
-    for (int c = 0; c < 3; ++c) diag2 += (rep.bbox_max[c] - rep.bbox_min[c]) * (rep.bbox_max[c] - rep.bbox_min[c]);
-    s.hausdorff_rel = diag2 > 0 ? hausdorff_distance(input, remesh) / std::sqrt(diag2) : 0.0;
+    const double diag = bounding_box_diagonal(input);
+    const double d = grid ? hausdorff_distance(input, *grid, remesh) : hausdorff_distance(input, remesh);
+    s.hausdorff_rel = diag > 0 ? d / diag : 0.0;
   }
   return s;
+}
+
+}  // namespace
+
+RemeshStats remesh_stats(const Mesh& input, const Mesh& remesh, bool hausdorff) {
+  return remesh_stats_with(input, nullptr, remesh, hausdorff);
+}
+
+RemeshStats remesh_stats(const Mesh& input, const TriangleGrid& input_grid, const Mesh& remesh) {
+  return remesh_stats_with(input, &input_grid, remesh, true);
 }
 
 }  // namespace locus

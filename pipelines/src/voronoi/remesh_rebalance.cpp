@@ -65,7 +65,7 @@ RebalanceStats rebalance_remesh(const Mesh& input, const TriangleGrid& grid, Mes
   Score was = score_of(input, remesh);
   if (was.deficit == 0 && was.s.mean_min_angle_deg >= kMeanTarget) return st;
   oo.rounds = 2;
-  const double start_distance = hausdorff_distance(input, remesh);
+  const double start_distance = hausdorff_distance(input, grid, remesh);
   int32_t budget = std::max(1, remesh.num_vertices() / 50);
   for (int round = 0; round < max_rounds && budget > 0; ++round) {
     if (was.deficit == 0 && was.s.mean_min_angle_deg >= kMeanTarget) break;
@@ -80,7 +80,7 @@ RebalanceStats rebalance_remesh(const Mesh& input, const TriangleGrid& grid, Mes
     const RemeshOptimizeStats os = optimize_remesh(input, grid, remesh, oo);
     const Score now = score_of(input, remesh);
     // Faithfulness: the two-sided distance may not grow by more than 2% of itself.
-    const bool faithful = better(now, was) && hausdorff_distance(input, remesh) <= 1.02 * start_distance;
+    const bool faithful = better(now, was) && hausdorff_distance(input, grid, remesh) <= 1.02 * start_distance;
     if (!same_topology(now.s, was.s) || now.s.vertices > n || !faithful) {
       remesh = std::move(keep);
       vertex_site = std::move(keep_site);

@@ -85,6 +85,9 @@ struct RemeshOptions {
   // Feature edges: dihedral angle above this many degrees, in [0, 180);
   // 0 = no features (remesh_features.hpp).
   double feature_angle_deg = 0;
+  // RemeshResult::hausdorff_rel of the final remesh (remesh_quality.hpp),
+  // through the optimization's grid of the input (no second one).
+  bool hausdorff = false;
   // Called once the cells' operator (lloyd.prepared) is solved with no more:
   // after the repair, before the assembly and the optimization. A caller that
   // owns the operator frees it there (its factor ~160 MB at 416k vertices).
@@ -146,6 +149,8 @@ struct RemeshResult {
   std::vector<FeatureCurve> feature_lines;  // the curves and their sites, in order along each
   RemeshOptimizeStats optimize;
   double optimize_s = 0;          // the input's triangle grid, flips and smoothing
+  double hausdorff_rel = -1;      // with RemeshOptions::hausdorff and a complete remesh, else -1
+  double hausdorff_s = 0;
 };
 
 RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions& o, const RunContext& ctx);

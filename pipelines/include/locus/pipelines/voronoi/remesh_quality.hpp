@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "locus/mesh.hpp"
+#include "locus/pipelines/voronoi/triangle_grid.hpp"
 
 namespace locus {
 
@@ -36,8 +37,13 @@ RemeshStats mesh_topology_stats(const Mesh& m);
 
 // Topology and angles of `remesh`, and with `hausdorff` its distance to `input`.
 RemeshStats remesh_stats(const Mesh& input, const Mesh& remesh, bool hausdorff);
+// The same with the distance, through the input's grid a caller already holds
+// (at 416k input vertices building one costs ~0.7 s).
+RemeshStats remesh_stats(const Mesh& input, const TriangleGrid& input_grid, const Mesh& remesh);
 
 // The sampled two-sided Hausdorff distance above (absolute).
 double hausdorff_distance(const Mesh& a, const Mesh& b);
+// The same with a's grid given (ga must be TriangleGrid(a)).
+double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b);
 
 }  // namespace locus
