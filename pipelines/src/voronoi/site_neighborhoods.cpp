@@ -69,8 +69,14 @@ HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std
     seed_site.insert(seed_site.end(), static_cast<size_t>(cnt), s);
   }
   HostVector<int32_t> label(static_cast<size_t>(m.num_vertices()));
-  GrowWorkspace ws;
-  label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
+  const SeedBucketPlan plan = prepare_seed_buckets(adj, m);
+  if (plan.usable()) {
+    SeedBucketWorkspace ws;
+    label_nearest_seeds_bucketed(adj, m, plan, seeds, seed_site, ws, label);
+  } else {
+    GrowWorkspace ws;
+    label_nearest_seeds_by_positions(adj, m, seeds, seed_site, ws, label);
+  }
   return label;
 }
 

@@ -1,8 +1,9 @@
 // Graph-geodesic neighborhoods of sites on a mesh, the start of Lloyd's localized
 // solves (thesis §3.6: a solve is restricted to the vertices a cell can reach):
 // per site the Dijkstra ball of a radius, or the sites' graph-geodesic Voronoi
-// cells from one multi-source Dijkstra. Both run the patch grower's Dijkstra
-// (kernels/include/locus/kernels/mesh/patch_grower.hpp) on the edge lengths
+// cells from one multi-source Dijkstra. The balls run the patch grower's
+// Dijkstra (kernels/include/locus/kernels/mesh/patch_grower.hpp), the cells
+// its bucket-queue twin (nearest_seed_buckets.hpp), on the edge lengths
 // |x_j - x_i|, seeded at the corners of each site's support at their distance
 // |corner - site|.
 //
@@ -32,9 +33,10 @@ std::vector<std::vector<int32_t>> geodesic_neighborhoods(const Mesh& m, const Ad
                                                          const RunContext& ctx);
 
 // Graph-geodesic Voronoi cells of the sites: label[v] = the site nearest to v
-// along edges (label_nearest_seeds over every site's seeds, sites in id order,
-// so ties keep the smaller site). -1 where no site reaches (a component without
-// sites).
+// along edges (label_nearest_seeds_bucketed over every site's seeds, sites in
+// id order, where the edge lengths allow a bucket queue, else the heap's
+// label_nearest_seeds; exact ties go to the path queued first). -1 where no
+// site reaches (a component without sites).
 HostVector<int32_t> geodesic_site_cells(const Mesh& m, const Adjacency& adj, std::span<const SurfacePoint> sites);
 
 // Lloyd's method in the graph metric, a cheap start for the heat iterations on
