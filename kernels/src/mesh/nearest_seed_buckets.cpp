@@ -7,6 +7,8 @@
 #include <limits>
 #include <string>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include "locus/error.hpp"
 
 namespace locus {
@@ -22,6 +24,50 @@ double edge_length(const Mesh& m, int32_t i, int32_t j) {
 void check_sizes(const Adjacency& adj, const Mesh& m) {
   if (adj.offsets.size() != static_cast<size_t>(m.num_vertices()) + 1)
     fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
+}
+
+// The offers of bucket b's vertices to their neighbors not yet taken (a
+// shorter distance than the neighbor has), computed in parallel per chunk,
+// then applied in b's order: every offer that is still shorter lowers the
+// neighbor's distance, takes the label and queues it. Returns how many were
+// queued. Offers land in later buckets only (w is below every edge).
+using Offer = SeedBucketWorkspace::Offer;
+
+int64_t relax_bucket(const Adjacency& adj, const Mesh& m, std::span<const int32_t> b, SeedBucketWorkspace& ws,
+                     std::span<int32_t> label) {
+  constexpr size_t kChunk = 256;
+  const size_t chunks = (b.size() + kChunk - 1) / kChunk;
+  if (ws.offers.size() < chunks) ws.offers.resize(chunks);
+  const double* dist = ws.dist.data();
+  const uint8_t* done = ws.done.data();
+  auto offer = [&](size_t c) {
+    std::vector<Offer>& out = ws.offers[c];
+    out.clear();
+    for (size_t i = c * kChunk; i < std::min(b.size(), (c + 1) * kChunk); ++i) {
+      const int32_t q = b[i];
+      for (int64_t a = adj.offsets[q]; a < adj.offsets[q + 1]; ++a) {
+        const int32_t r = adj.neighbors[a];
+        if (done[r]) continue;
+        const double nd = dist[q] + edge_length(m, q, r);
+        if (nd < dist[r]) out.push_back({nd, r, q});
+      }
+    }
+  };
+  if (chunks > 1)
+    tbb::parallel_for(size_t{0}, chunks, offer);
+  else if (chunks == 1)
+    offer(0);
+  const size_t ring = ws.bucket.size();
+  int64_t queued = 0;
+  for (size_t c = 0; c < chunks; ++c)
+    for (const Offer& o : ws.offers[c]) {
+      if (!(o.distance < ws.dist[o.to])) continue;
+      ws.dist[o.to] = o.distance;
+      label[o.to] = label[o.from];
+      ws.bucket[static_cast<size_t>(o.distance / ws.width) % ring].push_back(o.to);
+      ++queued;
+    }
+  return queued;
 }
 
 }  // namespace
@@ -72,10 +118,11 @@ void label_nearest_seeds_bucketed(const Adjacency& adj, const Mesh& m, const See
   const double w = plan.width;
   // Seeds farther than an edge (not a site's corners) widen the ring.
   const size_t ring = static_cast<size_t>(std::max<double>(plan.buckets, std::floor(far / w) + 3));
-  if (ws.bucket.size() < ring) ws.bucket.resize(ring);
+  ws.bucket.resize(ring);  // relax_bucket's ring too; the buckets are empty between calls
   ws.dist.assign(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
   ws.done.assign(static_cast<size_t>(n), 0);
   std::fill(label.begin(), label.end(), -1);
+  ws.width = w;
   double* dist = ws.dist.data();
   uint8_t* done = ws.done.data();
   const auto bucket_of = [w](double d) { return static_cast<int64_t>(d / w); };
@@ -91,23 +138,15 @@ void label_nearest_seeds_bucketed(const Adjacency& adj, const Mesh& m, const See
   }
   for (; queued > 0; ++k) {
     std::vector<int32_t>& b = ws.bucket[static_cast<size_t>(k) % ring];
-    for (size_t i = 0; i < b.size(); ++i) {  // queue order; nothing lands here meanwhile
-      const int32_t q = b[i];
-      if (done[q]) continue;  // queued again at a shorter distance and taken then
-      done[q] = 1;
-      const double dq = dist[q];
-      for (int64_t a = adj.offsets[q]; a < adj.offsets[q + 1]; ++a) {
-        const int32_t r = adj.neighbors[a];
-        if (done[r]) continue;
-        const double nd = dq + edge_length(m, q, r);
-        if (!(nd < dist[r])) continue;
-        dist[r] = nd;
-        label[r] = label[q];
-        ws.bucket[static_cast<size_t>(bucket_of(nd)) % ring].push_back(r);
-        ++queued;
-      }
-    }
     queued -= static_cast<int64_t>(b.size());
+    // The bucket's vertices are final: taken all at once (repeats dropped,
+    // queue order kept), their neighbors' offers computed in parallel, then
+    // applied in queue order, as one vertex after another would.
+    size_t live = 0;
+    for (int32_t q : b)
+      if (!done[q]) done[q] = 1, b[live++] = q;
+    b.resize(live);
+    queued += relax_bucket(adj, m, b, ws, label);
     b.clear();
   }
 }

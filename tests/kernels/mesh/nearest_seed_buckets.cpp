@@ -10,6 +10,8 @@
 #include <limits>
 #include <vector>
 
+#include <oneapi/tbb/task_arena.h>
+
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
@@ -137,4 +139,33 @@ TEST_CASE("bucketed seed labels: no plan for a zero-length edge or a wide spread
   wide.x[0] = -1e4;  // edges of 1e4 beside edges of 0.25: beyond kMaxBucketSpread
   CHECK_FALSE(prepare_seed_buckets(vertex_adjacency(wide), wide).usable());
   CHECK_THROWS_AS(prepare_seed_buckets(vertex_adjacency(make_grid(3)), m), Error);  // another mesh's adjacency
+}
+
+TEST_CASE("bucketed seed labels: buckets of thousands of vertices, in parallel, are the heap's labels for any threads") {
+  // An icosphere's nearly equal edges (jittered: no exact ties) make wide
+  // buckets: each holds a good part of a front, hundreds of vertices.
+  Mesh m = make_icosphere(6);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) {
+    const double j = 1 + 1e-3 * std::sin(12.9898 * v);
+    m.x[v] *= j, m.y[v] *= j, m.z[v] *= j;
+  }
+  const Adjacency adj = vertex_adjacency(m);
+  const SeedBucketPlan plan = prepare_seed_buckets(adj, m);
+  REQUIRE(plan.usable());
+  const int32_t n = m.num_vertices();
+  const std::vector<GrowSeed> seeds = {{10, 0.0}, {n / 2, 0.001}, {n - 1, 0.002}};
+  const std::vector<int32_t> seed_label = {0, 1, 2};
+  GrowWorkspace gws;
+  std::vector<int32_t> heap(static_cast<size_t>(m.num_vertices()));
+  label_nearest_seeds_by_positions(adj, m, seeds, seed_label, gws, heap);
+  for (int threads : {1, 2, 4}) {
+    CAPTURE(threads);
+    tbb::task_arena arena(threads);
+    SeedBucketWorkspace ws;
+    std::vector<int32_t> got(heap.size(), -7);
+    arena.execute([&] { label_nearest_seeds_bucketed(adj, m, plan, seeds, seed_label, ws, got); });
+    CHECK(got == heap);
+  }
+  // Wide buckets (a width near the longest edge): each held most of a front.
+  CHECK(plan.buckets < 8);
 }

@@ -11,12 +11,15 @@
 // final when it is reached, and each is taken in the order it was queued.
 // Every distance is the heap's, bit for bit: both take the minimum over the
 // same relaxations. A label can differ only where two paths tie exactly
-// (the heap keeps the first to arrive in its own order).
+// (the heap keeps the first to arrive in its own order). A bucket's vertices
+// offer their neighbors shorter distances in parallel (the caller's oneTBB
+// arena); the offers are applied in queue order, so the labels are the same
+// for any number of threads.
 //
 // Needs the spread of edge lengths to be bounded: prepare_seed_buckets
 // returns an unusable plan (usable() false) when an edge has zero length or
 // the longest edge exceeds kMaxBucketSpread shortest ones; callers then take
-// the heap. Thread safety: re-entrant; a workspace per thread.
+// the heap. Thread safety: re-entrant; a workspace per concurrent call.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -40,9 +43,15 @@ struct SeedBucketPlan {
 };
 
 struct SeedBucketWorkspace {
+  struct Offer {
+    double distance;
+    int32_t to, from;
+  };
   HostVector<double> dist;
   HostVector<uint8_t> done;
   std::vector<std::vector<int32_t>> bucket;
+  std::vector<std::vector<Offer>> offers;  // per chunk of a bucket
+  double width = 0;
 };
 
 SeedBucketPlan prepare_seed_buckets(const Adjacency& adj, const Mesh& m);
