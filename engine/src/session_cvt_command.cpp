@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <oneapi/tbb/parallel_invoke.h>
+
 #include "command_clock.hpp"
 #include "command_heat_operator.hpp"
 #include "cvt_sheets.hpp"
@@ -187,9 +189,15 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
     st.hausdorff_rel = rr.hausdorff_rel;  // the remesh's, through its grid of the input
     r.remesh_stats = stats_of(st);
   }
-  r.input_stats = stats_of(mesh_topology_stats(mesh));
+  // The input's topology (a whole analyze_mesh: ~0.3 s at 416k vertices)
+  // beside the diagram's quality; both only read the mesh.
+  RemeshStats input;
+  CvtQuality quality;
+  tbb::parallel_invoke([&] { input = mesh_topology_stats(mesh); },
+                       [&] { quality = cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites); });
+  r.input_stats = stats_of(input);
   r.stats_s = rr.hausdorff_s + seconds(t0);
-  take_quality(cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites), r);
+  take_quality(quality, r);
   take_lloyd(mesh, rr.lloyd, r);
   r.complete = rr.complete;
   r.remesh = std::move(rr.remesh);
