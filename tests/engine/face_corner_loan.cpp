@@ -136,3 +136,23 @@ TEST_CASE("cvt on an exclusive Session with corners lent: the same remesh, refin
     CHECK(lent.mesh().face_vertices == m.face_vertices);
   }
 }
+
+TEST_CASE("cvt on an exclusive Session with corners lent, on a disk: the repair reads its boundary loops meanwhile") {
+  // The restricted dual's topology walks the boundary loops before the corners
+  // come back (through f0/f1/f2, boundary_loops).
+  const Mesh m = make_disk(20, 0.3, 5);  // 1,261 vertices: no refinement at 80 sites
+  CvtRequest q;
+  q.sites = 80;
+  q.iters = 3;
+  SessionOptions exclusive;
+  exclusive.exclusive = true;
+  const Session shared{Mesh(m)}, lent{Mesh(m), exclusive};
+  const CvtReport a = shared.cvt(q), b = lent.cvt(q);
+  REQUIRE(a.complete);
+  CHECK(b.complete);
+  CHECK(a.refinements == 0);
+  CHECK(a.remesh_stats.boundary_loops == 1);
+  CHECK(a.remesh.x == b.remesh.x);
+  CHECK(a.remesh.face_vertices == b.remesh.face_vertices);
+  CHECK(lent.mesh().face_vertices == m.face_vertices);
+}

@@ -242,7 +242,14 @@ std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncide
       }
   }
   const EdgeCorners corners(inc);
-  auto tail_of = [&](int64_t e) { return fv[corners.first(e)]; };
+  // Corner c of a triangle mesh is corner c % 3 of face c / 3.
+  const bool tri = m.is_triangle_mesh();
+  auto tail_of = [&](int64_t e) {
+    const int64_t c = corners.first(e);
+    if (!tri) return fv[c];
+    const int32_t f = static_cast<int32_t>(c / 3);
+    return c % 3 == 0 ? m.f0[f] : c % 3 == 1 ? m.f1[f] : m.f2[f];
+  };
   HostVector<char> used(static_cast<size_t>(ne), 0);
   std::vector<std::vector<int32_t>> loops;
   for (int64_t e = 0; e < ne; ++e) {

@@ -115,6 +115,11 @@ TEST_CASE("disk and grid: one counter-clockwise boundary loop, chi 1, genus 0") 
     const auto loops = boundary_loops(d);
     REQUIRE(loops.size() == 1);
     REQUIRE(loops[0].size() == 36);
+    // The same loops from the triangle arrays alone (face_vertices lent out).
+    const EdgeIncidence inc = edge_incidence(d);
+    Mesh lent = d;
+    lent.face_vertices = HostVector<int32_t>{};
+    CHECK(boundary_loops(lent, inc) == loops);
     // The outer ring: every loop vertex at radius 1, signed area of the loop polygon
     // positive (counter-clockwise) and equal to that of the regular 36-gon.
     double area2 = 0;

@@ -83,6 +83,9 @@ Edges unique_edges(const Mesh& m);
 // boundary edge and start at the tail of that edge's half-edge. At non-manifold
 // boundary vertices (more than two boundary edges) the walk prefers the first unused
 // boundary edge leaving the vertex in face direction.
+// With the incidence given, a triangle mesh's corners are read through
+// f0/f1/f2: its face_vertices may be lent out meanwhile (the cvt command's
+// repair reads the loops while it holds them).
 std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m);
 std::vector<std::vector<int32_t>> boundary_loops(const Mesh& m, const EdgeIncidence& inc);
 // Component id per vertex (unreferenced vertices get their own component id -1), returns count.
