@@ -72,7 +72,7 @@ fi
 # ---- 2. locus-tests with TSan, against that oneTBB ----
 say "building locus-tests (TSan)"
 # Only the test files the groups below run are compiled (keep the two lists in step).
-tests="/tests/(kernels/(order/|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
+tests="/tests/(kernels/(order/|mesh/nearest_seed_buckets|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
 tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features)|geodesic/(heat_geodesic|logmap)\\.cpp"
 tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
 clang_tree "$B"
@@ -120,6 +120,7 @@ run "selected inversion" --source-file='*tests/kernels/*/selected_inversion*'
 run "factor update" --source-file='*tests/kernels/*/factor_update*'
 run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
 run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
+run "graph-metric labels (a bucket's offers in parallel, applied in queue order)" --source-file='*tests/kernels/mesh/nearest_seed_buckets*'
 run "remesh optimization (parallel colour-class sweeps), with features" --test-case='cvt remesh: sphere*,remesh optimization:*,cvt remesh with features*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
