@@ -4,7 +4,7 @@
 //
 // Each triangle (polygons as fans) is listed in every cell its bounding box
 // overlaps; cells are about two triangles wide, and only the cells the surface
-// passes are stored (a hash table: the box has ~(nf / 4)^1.5 cells). A query scans shells of cells
+// passes are stored (a hash table: the box has ~(nf / 8)^1.5 cells). A query scans shells of cells
 // around the point's cell, nearest first, until the next shell is farther than
 // the best triangle found, so the answer is exact. Immutable after
 // construction: queries may run concurrently.
