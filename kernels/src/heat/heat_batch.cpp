@@ -26,6 +26,11 @@ void dedupe_kept(HeatBatch& b, int32_t n) {
   for (int32_t v : b.kept) b.mark_[v] = 0;
 }
 
+std::span<int32_t> HeatBatch::vertex_map(int32_t n) {
+  if (ws_.local.size() != static_cast<size_t>(n)) ws_.local.assign(n, -1);
+  return {ws_.local.data(), ws_.local.size()};
+}
+
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b) {
   const int32_t n = H.n;
   const int lanes = static_cast<int>(b.src_offsets.size()) - 1;
@@ -45,25 +50,25 @@ void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b) {
   // Localized: the union support, one row of 8 right-hand side values per support vertex.
   // Support in order of first occurrence (the plan takes any order), found through a
   // position map instead of a sort: CVT centroid batches bring hundreds of sources.
-  if (b.spos_.size() != static_cast<size_t>(n)) b.spos_.assign(n, -1);
+  const std::span<int32_t> spos = b.vertex_map(n);  // the selective solve's row map, all -1 here
   b.support_.clear();
   b.rhs_.clear();
   for (int l = 0; l < lanes; ++l)
     for (int32_t k = b.src_offsets[l]; k < b.src_offsets[l + 1]; ++k) {
       const int32_t v = b.src_vertex[k];
       if (v < 0 || v >= n) {
-        for (int32_t u : b.support_) b.spos_[u] = -1;
+        for (int32_t u : b.support_) spos[u] = -1;
         fail(ErrorCode::BadUsage, "heat batch: source vertex " + std::to_string(v) + " outside 0.." +
                                       std::to_string(n - 1));
       }
-      if (b.spos_[v] < 0) {
-        b.spos_[v] = static_cast<int32_t>(b.support_.size());
+      if (spos[v] < 0) {
+        spos[v] = static_cast<int32_t>(b.support_.size());
         b.support_.push_back(v);
         b.rhs_.resize(b.rhs_.size() + kLanes, 0.0);
       }
-      b.rhs_[static_cast<size_t>(b.spos_[v]) * kLanes + l] += b.src_weight[k];
+      b.rhs_[static_cast<size_t>(spos[v]) * kLanes + l] += b.src_weight[k];
     }
-  for (int32_t u : b.support_) b.spos_[u] = -1;
+  for (int32_t u : b.support_) spos[u] = -1;
   plan_selective_solve(*H.factor.symbolic, b.support_, b.kept, b.plan_, b.pws_);
   b.values.resize(b.kept.size() * kLanes);
   solve_selective8(H.factor, b.plan_, b.rhs_, b.values, b.ws_);

@@ -150,7 +150,7 @@ void solve_selective8(const NumericFactor& F, const SolvePlan& plan, std::span<c
                                   std::to_string(plan.outputs.size()) + " x 8");
   const SymbolicFactor& S = *F.symbolic;
   if (ws.keep.size() < static_cast<size_t>(F.n())) ws.keep.assign(F.n(), 0);
-  if (ws.local.size() < static_cast<size_t>(F.n())) ws.local.resize(F.n());
+  if (ws.local.size() < static_cast<size_t>(F.n())) ws.local.assign(F.n(), -1);
   // Rows of x: the touched supernodes' columns in ascending order (a supernode's
   // columns stay contiguous, as the dense kernels need); marked kTouched in keep
   // so that an output outside them reads zero, as in the full-length x.
@@ -193,7 +193,10 @@ void solve_selective8(const NumericFactor& F, const SolvePlan& plan, std::span<c
   std::fill(ws.x.begin(), ws.x.begin() + static_cast<int64_t>(nx), 0.0);
   for (int32_t c : plan.kept_cols) keep[c] = 0;
   for (int32_t s : plan.touched)
-    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) keep[c] = 0;
+    for (int32_t c = S.super_first_col[s]; c < S.super_first_col[s + 1]; ++c) {
+      keep[c] = 0;
+      local[c] = -1;
+    }
 }
 
 int64_t factor_entries(const SymbolicFactor& S) {

@@ -78,9 +78,9 @@ struct CentroidScratch {
   HeatBatch batch;
   HostVector<double> dense;  // full solves only: n, zero between uses
   std::vector<int32_t> cells, touched;
-  // n, -1 between uses: a cell's load slots (split faces), then the position of a
-  // kept vertex in the batch's solution (the fits). No dense n-vector of loads.
-  HostVector<int32_t> pos;
+  // (batch.vertex_map(): n, -1 between uses) a cell's load slots (split faces),
+  // then the position of a kept vertex in the batch's solution (the fits), beside
+  // the solve's own uses of that map. No dense n-vector of loads.
   std::vector<double> weights;
   std::vector<uint8_t> read_mark;   // count_reads scratch
   std::vector<int32_t> label_support;
@@ -272,8 +272,7 @@ void LloydLoop::add_cell_source(CentroidScratch& cs, CentroidMsg& msg, int l, in
   cs.touched.clear();
   cs.weights.clear();
   if (opt_.split_faces) {  // int_C phi_i over the split triangles (eqs. 3.9-3.11), this cell only
-    if (cs.pos.size() != static_cast<size_t>(n_)) cs.pos.assign(n_, -1);
-    accumulate_cell_load(in_.stars, V_, c, cv, cs.pos, cs.weights, cs.touched, msg.fallback);
+    accumulate_cell_load(in_.stars, V_, c, cv, cs.batch.vertex_map(n_), cs.weights, cs.touched, msg.fallback);
     cs.batch.add_source(cs.touched, cs.weights);
     area_centroid(m, cs.touched, cs.weights, msg.area_centroid[l]);
   } else {
@@ -309,10 +308,9 @@ void LloydLoop::refine_centroids(CentroidScratch& cs, CentroidMsg& msg) {
   hottest_vertices(hb, best);
   // Positions of the kept vertices in the solution (localized): the fits read
   // their rings through it (-1 = not kept, heat zero).
-  if (local_ && opt_.refine) {
-    if (cs.pos.size() != static_cast<size_t>(n_)) cs.pos.assign(n_, -1);
-    for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = k;
-  }
+  const std::span<int32_t> pos = local_ && opt_.refine ? cs.batch.vertex_map(n_) : std::span<int32_t>();
+  if (!pos.empty())
+    for (int32_t k = 0; k < cnt; ++k) pos[hb.id(k)] = k;
   for (int l = 0; l < msg.lanes; ++l) {
     const int32_t c = msg.cells[l];
     if (cells_.offsets[c + 1] == cells_.offsets[c]) {
@@ -323,14 +321,14 @@ void LloydLoop::refine_centroids(CentroidScratch& cs, CentroidMsg& msg) {
       msg.result[l].hottest = best[l];
       msg.result[l].point = vertex_point(best[l]);
     } else if (local_) {
-      msg.result[l] = refine_heat_maximum(m_, in_.geo, hb.values, cs.pos, l, best[l], opt_.fit_rings, opt_.fit_sigma);
+      msg.result[l] = refine_heat_maximum(m_, in_.geo, hb.values, pos, l, best[l], opt_.fit_rings, opt_.fit_sigma);
     } else {
       for (int32_t k = 0; k < cnt; ++k) cs.dense[k] = hb.values[static_cast<size_t>(k) * kLanes + l];
       msg.result[l] = refine_heat_maximum(m_, in_.geo, cs.dense, best[l], opt_.fit_rings, opt_.fit_sigma);
     }
   }
-  if (local_ && opt_.refine)
-    for (int32_t k = 0; k < cnt; ++k) cs.pos[hb.id(k)] = -1;
+  if (!pos.empty())
+    for (int32_t k = 0; k < cnt; ++k) pos[hb.id(k)] = -1;
   if (!local_) std::fill(cs.dense.begin(), cs.dense.end(), 0.0);
 }
 

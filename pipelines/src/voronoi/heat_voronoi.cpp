@@ -1,6 +1,7 @@
 // Heat-diffusion Voronoi diagrams (pipelines/include/locus/pipelines/voronoi/heat_voronoi.hpp; thesis §3.4,
 // eqs. 3.15-3.21, localized by §3.6 Algorithm 2).
 #include "locus/pipelines/voronoi/heat_voronoi.hpp"
+#include "locus/core/release_free_memory.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
@@ -73,6 +74,7 @@ std::vector<int32_t> generator_order(size_t count, std::span<const int32_t> batc
 // for vertices no batch reached (localized mode only).
 void label_from_top_sites(const Mesh& m, HeatVoronoi& V) {
   const int32_t n = m.num_vertices();
+  if (V.top_site.empty()) return;  // keep_hottest_only: the labels are the lists (every vertex had one)
   V.label.assign(n, -1);
   for (int32_t v = 0; v < n; ++v) V.label[v] = V.top_site[static_cast<size_t>(v) * V.top_k];
   const bool all_reached = std::find(V.label.begin(), V.label.end(), -1) == V.label.end();
@@ -160,7 +162,7 @@ void solve_into(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePo
     const size_t stride = static_cast<size_t>(V.top_k);
     for (int32_t k = 0; k < cnt; ++k) {
       const int32_t v = msg->full ? k : msg->ids[k];
-      int32_t* ts = V.top_site.data() + static_cast<size_t>(v) * stride;
+      int32_t* ts = V.top_site.empty() ? V.label.data() + v : V.top_site.data() + static_cast<size_t>(v) * stride;
       double* tv = V.top_value.data() + static_cast<size_t>(v) * stride;
       for (int i = 0; i < pv; ++i) {
         const int32_t s = msg->cand_site[static_cast<size_t>(k) * pv + i];
@@ -200,9 +202,10 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
   const int32_t n = m.num_vertices();
   const int32_t ns = static_cast<int32_t>(sites.size());
   if (n != H.n) fail(ErrorCode::BadUsage, "heat voronoi: the operator was prepared for another mesh");
-  if ((V.top_k != 1 && V.top_k != kVoronoiTopK) || !V.top_row.empty() ||
-      V.top_site.size() != static_cast<size_t>(n) * V.top_k ||
-      V.top_value.size() != V.top_site.size() || V.label.size() != static_cast<size_t>(n))
+  const bool sites_are_labels = V.top_k == 1 && V.top_site.empty();  // keep_hottest_only
+  if ((V.top_k != 1 && V.top_k != kVoronoiTopK) || !V.top_offsets.empty() ||
+      (!sites_are_labels && V.top_site.size() != static_cast<size_t>(n) * V.top_k) ||
+      V.top_value.size() != static_cast<size_t>(n) * V.top_k || V.label.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "heat voronoi: the diagram to add to belongs to another mesh");
   if (first_new < 1 || first_new > ns) fail(ErrorCode::BadUsage, "heat voronoi: the old generators must come first");
   if (new_neighborhoods.size() != static_cast<size_t>(ns - first_new))
@@ -221,17 +224,24 @@ void heat_voronoi_add(const HeatDiffusion& H, const Mesh& m, std::span<const Sur
   const int64_t unreached = V.unreached;
   label_from_top_sites(m, V);  // every vertex had a label: no fallback
   V.unreached = unreached;
+  // The solves' workspaces (a few MB per thread at 416k vertices), freed: not
+  // resident through a CVT repair's next steps (its peak, beside the factor).
+  release_free_memory();
 }
 
 void keep_hottest_only(HeatVoronoi& V) {
   if (V.top_k == 1) return;
   const size_t n = V.label.size(), k = static_cast<size_t>(V.top_k);
-  if (V.top_site.size() != n * k || V.top_value.size() != n * k || !V.top_row.empty())
+  if (V.top_site.size() != n * k || V.top_value.size() != n * k || !V.top_offsets.empty())
     fail(ErrorCode::BadUsage, "heat voronoi: top-K lists and labels do not match");
-  HostVector<int32_t> ts(n);
+  // The hottest sites are the labels unless the breadth-first fallback labelled
+  // a vertex no site reached (its list stays empty: kept apart then).
+  bool same = true;
+  for (size_t v = 0; v < n && same; ++v) same = V.top_site[v * k] == V.label[v];
+  HostVector<int32_t> ts(same ? 0 : n);
   HostVector<double> tv(n);
   for (size_t v = 0; v < n; ++v) {
-    ts[v] = V.top_site[v * k];
+    if (!same) ts[v] = V.top_site[v * k];
     tv[v] = V.top_value[v * k];
   }
   V.top_site = std::move(ts);
@@ -243,27 +253,39 @@ void keep_split_rows(HeatVoronoi& V, const Mesh& m) {
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   const size_t k = static_cast<size_t>(V.top_k);
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": split triangles need a triangle mesh");
-  if (!V.top_row.empty() || V.label.size() != static_cast<size_t>(n) || V.top_site.size() != n * k ||
-      V.top_value.size() != n * k)
+  if (!V.top_offsets.empty() || V.top_k != kVoronoiTopK || V.label.size() != static_cast<size_t>(n) ||
+      V.top_site.size() != n * k || V.top_value.size() != n * k)
     fail(ErrorCode::BadUsage, "heat voronoi: top-K lists and labels do not match");
-  HostVector<int32_t> row(static_cast<size_t>(n), -1);
+  // Bit i of wanted[v]: entry i of v's list is the heat of a label of a split
+  // triangle at v (the only heat the split reads there).
+  static_assert(kVoronoiTopK <= 8, "one bit per entry");
+  HostVector<uint8_t> wanted(static_cast<size_t>(n), 0);
   for (int32_t f = 0; f < nf; ++f) {
-    const int32_t a = m.f0[f], b = m.f1[f], c = m.f2[f];
-    if (V.label[a] != V.label[b] || V.label[b] != V.label[c]) row[a] = row[b] = row[c] = 0;
+    const int32_t v[3] = {m.f0[f], m.f1[f], m.f2[f]};
+    const int32_t l[3] = {V.label[v[0]], V.label[v[1]], V.label[v[2]]};
+    if (l[0] == l[1] && l[1] == l[2]) continue;
+    for (int32_t w : v)
+      for (size_t i = 0; i < k; ++i) {
+        const int32_t s = V.top_site[w * k + i];
+        if (s >= 0 && (s == l[0] || s == l[1] || s == l[2])) wanted[w] |= static_cast<uint8_t>(1u << i);
+      }
   }
-  size_t rows = 0;
+  HostVector<int32_t> offsets(static_cast<size_t>(n) + 1);
+  size_t kept = 0;
   for (int32_t v = 0; v < n; ++v) {
-    if (row[v] < 0) continue;
-    if (rows != static_cast<size_t>(v)) {  // forward, in place: row `rows` lies before row v
-      std::copy_n(V.top_site.data() + v * k, k, V.top_site.data() + rows * k);
-      std::copy_n(V.top_value.data() + v * k, k, V.top_value.data() + rows * k);
-    }
-    row[v] = static_cast<int32_t>(rows++);
+    offsets[v] = static_cast<int32_t>(kept);
+    for (size_t i = 0; i < k; ++i)
+      if (wanted[v] >> i & 1) {  // forward, in place: entry `kept` lies at or before entry v k + i
+        V.top_site[kept] = V.top_site[v * k + i];
+        V.top_value[kept] = V.top_value[v * k + i];
+        ++kept;
+      }
   }
+  offsets[n] = static_cast<int32_t>(kept);
   // Copied to arrays of their size (one at a time: the transient is the smaller one).
-  V.top_site = HostVector<int32_t>(V.top_site.begin(), V.top_site.begin() + static_cast<std::ptrdiff_t>(rows * k));
-  V.top_value = HostVector<double>(V.top_value.begin(), V.top_value.begin() + static_cast<std::ptrdiff_t>(rows * k));
-  V.top_row = std::move(row);
+  V.top_site = HostVector<int32_t>(V.top_site.begin(), V.top_site.begin() + static_cast<std::ptrdiff_t>(kept));
+  V.top_value = HostVector<double>(V.top_value.begin(), V.top_value.begin() + static_cast<std::ptrdiff_t>(kept));
+  V.top_offsets = std::move(offsets);
 }
 
 HeatVoronoi heat_voronoi(const HeatDiffusion& H, const Mesh& m, std::span<const SurfacePoint> sites,
@@ -504,7 +526,7 @@ VoronoiDiagram extract_voronoi_diagram(const HeatDiffusion& H, const Mesh& m, st
   const int32_t n = m.num_vertices(), nf = m.num_faces();
   if (static_cast<int32_t>(V.label.size()) != n || n != H.n)
     fail(ErrorCode::BadUsage, "voronoi diagram: labels were computed for another mesh");
-  if (V.top_k != kVoronoiTopK || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK || !V.top_row.empty())
+  if (V.top_k != kVoronoiTopK || V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK || !V.top_offsets.empty())
     fail(ErrorCode::BadUsage, "voronoi diagram: the neighbors' heat needs the full top-K lists");
   VoronoiDiagram D;
   HeatLookup lookup(V);

@@ -91,16 +91,15 @@ void split_part(int nl, const int32_t* lab, const double (*u)[3], int a, double&
 }
 
 // Heat of site s at vertex v from the top-K lists; ok = false when it is not
-// there (or v has no row: keep_split_rows keeps the split triangles' corners).
+// there (keep_split_rows keeps the entries the split triangles read only).
 inline double top_heat(const HeatVoronoi& V, int32_t v, int32_t s, bool& ok) {
-  const int32_t row = V.top_row.empty() ? v : V.top_row[v];
-  if (row < 0) {
-    ok = false;
-    return 0.0;
+  size_t first = static_cast<size_t>(v) * kVoronoiTopK, last = first + kVoronoiTopK;
+  if (!V.top_offsets.empty()) {
+    first = static_cast<size_t>(V.top_offsets[v]);
+    last = static_cast<size_t>(V.top_offsets[v + 1]);
   }
-  const size_t base = static_cast<size_t>(row) * kVoronoiTopK;
-  for (int i = 0; i < kVoronoiTopK; ++i)
-    if (V.top_site[base + i] == s) return V.top_value[base + i];
+  for (size_t i = first; i < last; ++i)
+    if (V.top_site[i] == s) return V.top_value[i];
   ok = false;
   return 0.0;
 }
@@ -393,7 +392,7 @@ CellPartition partition_cells(const Mesh& m, std::span<const double> face_area, 
   if (!m.is_triangle_mesh()) fail(ErrorCode::BadInput, mesh_name(m) + ": cell partition needs a triangle mesh");
   if (face_area.size() != static_cast<size_t>(nf))
     fail(ErrorCode::BadUsage, "cell partition: one area per face expected");
-  if (V.label.size() != static_cast<size_t>(n) || V.top_k != kVoronoiTopK || !V.top_row.empty() ||
+  if (V.label.size() != static_cast<size_t>(n) || V.top_k != kVoronoiTopK || !V.top_offsets.empty() ||
       V.top_site.size() != static_cast<size_t>(n) * kVoronoiTopK)
     fail(ErrorCode::BadUsage, "cell partition: labels and heat lists of another mesh");
   if (cells < 1) fail(ErrorCode::BadUsage, "cell partition: no cells");

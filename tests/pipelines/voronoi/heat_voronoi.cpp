@@ -308,19 +308,37 @@ TEST_CASE("heat voronoi: adding generators solves only them and matches a dense 
   HeatVoronoi hot = old;
   keep_hottest_only(hot);
   REQUIRE(hot.top_k == 1);
-  REQUIRE(hot.top_site.size() == static_cast<size_t>(n));
+  CHECK(hot.top_site.empty());  // every vertex reached: the hottest sites are the labels
   CHECK_THROWS_AS(extract_voronoi_diagram(H, m, std::span<const SurfacePoint>(sites.data(), first), hot, {}), Error);
   heat_voronoi_add(H, m, sites, first, std::vector<std::vector<int32_t>>(5, all), order, hot, {});
   REQUIRE(hot.top_value.size() == static_cast<size_t>(n));
+  CHECK(hot.top_site.empty());
   for (int32_t v = 0; v < n; ++v) {
     double best = -U(v, 0);
     int32_t arg = 0;
     for (int s = 1; s < static_cast<int>(sites.size()); ++s)
       if (U(v, s) > -best) best = -U(v, s), arg = s;
     CHECK(hot.label[v] == arg);
-    CHECK(hot.top_site[v] == arg);
     CHECK(hot.top_value[v] == doctest::Approx(-best).epsilon(1e-9));
   }
+  // A vertex no old site reached (labelled by the fallback, its list empty)
+  // keeps its empty entry apart from the label: any new site's heat enters
+  // there, so its label is the hottest new site (dense argmax over them).
+  HeatVoronoi gap = old;
+  std::fill_n(gap.top_site.begin(), kVoronoiTopK, -1);
+  std::fill_n(gap.top_value.begin(), kVoronoiTopK, 0.0);
+  keep_hottest_only(gap);
+  REQUIRE(gap.top_site.size() == static_cast<size_t>(n));
+  CHECK(gap.top_site[0] == -1);
+  CHECK(gap.label[0] == old.label[0]);
+  heat_voronoi_add(H, m, sites, first, std::vector<std::vector<int32_t>>(5, all), order, gap, {});
+  int32_t arg0 = first;
+  for (int s = first + 1; s < static_cast<int>(sites.size()); ++s)
+    if (U(0, s) > U(0, arg0)) arg0 = s;
+  CHECK(gap.label[0] == arg0);
+  CHECK(gap.top_site[0] == arg0);
+  CHECK(gap.top_value[0] == doctest::Approx(U(0, arg0)).epsilon(1e-9));
+  for (int32_t v = 1; v < n; ++v) CHECK(gap.label[v] == hot.label[v]);
   // Small neighborhoods: vertices outside every new neighborhood keep their label.
   std::vector<std::vector<int32_t>> nb(5);
   std::vector<uint8_t> near(n, 0);

@@ -40,6 +40,12 @@ class HeatBatch {
   // The selective-solve plan of the last localized solve (kept non-empty), e.g. to
   // count the factor entries it read (solve_selective.hpp selective_solve_reads).
   const SolvePlan& plan() const { return plan_; }
+  // An n-entry map, all -1 between uses, that a caller may use between solves
+  // if it leaves it all -1 again (e.g. a vertex's slot or position in a list).
+  // The batch's own source positions and the selective solve's rows use the
+  // same array, one after the other: one n-vector per batch instead of three
+  // (at 416k vertices 1.7 MB each, per thread).
+  std::span<int32_t> vertex_map(int32_t n);
 
  private:
   friend void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b);
@@ -53,7 +59,7 @@ class HeatBatch {
   HostVector<double> work_, rhs_;
   HostVector<int32_t> support_;
   HostVector<uint8_t> mark_;  // n, zero between uses
-  HostVector<int32_t> spos_;  // n, -1 between uses: position of a source vertex in support_
+  // (vertex_map: ws_.local, n, -1 between uses) the position of a source vertex in support_
 };
 // Solves b's sources on H (full when b.kept is empty, else selective on b.kept).
 void solve_heat_batch(const HeatDiffusion& H, HeatBatch& b);

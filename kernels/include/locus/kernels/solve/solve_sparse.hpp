@@ -21,7 +21,10 @@ struct SolveWorkspace {
   HostVector<double> x;        // n * lanes (solve_selective8: touched columns * 8), zero between calls
   HostVector<double> tmp;      // max_super_rows * lanes
   HostVector<uint8_t> keep;    // n, zero between calls
-  HostVector<int32_t> local;   // n, solve_selective8 only: row of x of a touched column (stale elsewhere)
+  // n, solve_selective8 only: row of x of a touched column during a call, -1
+  // between calls, so that a caller may use it as its own n-entry map between
+  // solves if it leaves it all -1 (HeatBatch::vertex_map: one such map per thread).
+  HostVector<int32_t> local;
 };
 
 // rhs[k] is b at plan.rhs[k] (b is zero elsewhere); out[k] receives x at plan.outputs[k].

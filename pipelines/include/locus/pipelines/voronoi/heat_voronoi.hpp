@@ -41,10 +41,12 @@ inline constexpr int kVoronoiTopK = 4;
 
 struct HeatVoronoi {
   HostVector<int32_t> label;      // nv: generator with the largest heat (eq. 3.18)
-  HostVector<int32_t> top_site;   // nv * top_k, -1 where fewer values were seen
+  HostVector<int32_t> top_site;   // nv * top_k, -1 where fewer values were seen (keep_hottest_only: empty if = label)
   HostVector<double> top_value;   // nv * top_k, descending per vertex
   int32_t top_k = kVoronoiTopK;   // entries per vertex: kVoronoiTopK, or 1 after keep_hottest_only
-  HostVector<int32_t> top_row;    // empty (row v is vertex v's), or nv after keep_split_rows: the vertex's row, -1 if none
+  // Empty (vertex v's entries are [v top_k, (v + 1) top_k)), or nv + 1 after
+  // keep_split_rows: vertex v's entries are [top_offsets[v], top_offsets[v + 1]).
+  HostVector<int32_t> top_offsets;
   int64_t unreached = 0;           // vertices labelled by the breadth-first fallback
   int32_t batches = 0;
   int64_t solved_entries = 0;      // sum over batches of the entries computed (n per full batch)
@@ -80,18 +82,22 @@ HeatVoronoi heat_voronoi_batched(const HeatDiffusion& H, const Mesh& m, std::spa
 // heat, all that heat_voronoi_add compares new generators with (its labels are
 // the same as with the full lists: the hottest of a merge in the total order
 // does not depend on the colder entries). A CVT repair holds V between its
-// rounds (cvt_remesh.hpp): 5 MB instead of 20 MB at 416k vertices. The diagram
-// extraction and the cell partition need the full lists and refuse such a V.
+// rounds (cvt_remesh.hpp): 3.3 MB instead of 20 MB at 416k vertices, the
+// hottest sites being the labels (top_site left empty; kept when a vertex was
+// labelled by the breadth-first fallback). The diagram extraction and the cell
+// partition need the full lists and refuse such a V.
 void keep_hottest_only(HeatVoronoi& V);
 
-// Keeps of V's top-K lists the rows of the split triangles' corners (a
-// triangle of m whose corners have different labels), in vertex order; V.top_row
-// maps a vertex to its row (-1: not a corner of a split triangle). The cells'
+// Keeps of V's top-K lists the entries the split triangles read: at a corner v
+// of a triangle of m whose corners have different labels, the heat of that
+// triangle's labels (the entries of v's list whose site is one of them), in
+// vertex order and, per vertex, in list order; V.top_offsets gives each
+// vertex's entries (none where no split triangle reads one). The cells'
 // split-triangle loads (voronoi_cell_partition.hpp accumulate_cell_load,
-// cell_areas) read no other row, so they are the same. Lloyd's centroid steps
-// hold the labels' lists so: ~10 MB instead of 20 MB at 416k vertices and
-// 10,000 sites. The diagram extraction, the cell partition, heat_voronoi_add
-// and keep_hottest_only refuse such a V; a second call too.
+// cell_areas) read no other entry and miss the same ones, so they are the same.
+// Lloyd's centroid steps hold the labels' lists so: ~6 MB instead of 20 MB at
+// 416k vertices and 10,000 sites. The diagram extraction, the cell partition,
+// heat_voronoi_add and keep_hottest_only refuse such a V; a second call too.
 void keep_split_rows(HeatVoronoi& V, const Mesh& m);
 
 // Adds generators to a diagram: V is the diagram of sites[0 .. first_new) (from
