@@ -78,6 +78,7 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoic
     if (out) *out = op;
     if (op.robust) {
       d->checked = base;
+      d->report = report;
       drop_edge_corners(d->incidence);
       return d;
     }
@@ -85,6 +86,7 @@ std::shared_ptr<const MeshDerived> check_and_derive(const Mesh& m, OperatorChoic
   check_requirements(m, req, report);
   if (derive_error) std::rethrow_exception(derive_error);
   d->checked = req;
+  d->report = report;
   // The checks were the last to read the corners of each edge: the operators,
   // Lloyd and the dual read the edges and corner_edge, and what needs them
   // again (boundary loops, feature edges, a later report) rebuilds them.

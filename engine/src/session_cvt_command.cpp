@@ -189,11 +189,12 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
     st.hausdorff_rel = rr.hausdorff_rel;  // the remesh's, through its grid of the input
     r.remesh_stats = stats_of(st);
   }
-  // The input's topology (a whole analyze_mesh: ~0.3 s at 416k vertices)
-  // beside the diagram's quality; both only read the mesh.
+  // The input's topology from the Session's check (a whole analyze_mesh:
+  // ~0.3 s at 416k vertices), else computed beside the diagram's quality.
   RemeshStats input;
   CvtQuality quality;
-  tbb::parallel_invoke([&] { input = mesh_topology_stats(mesh); },
+  if (derived.report) input = mesh_topology_stats(mesh, *derived.report);
+  tbb::parallel_invoke([&] { if (!derived.report) input = mesh_topology_stats(mesh); },
                        [&] { quality = cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites); });
   r.input_stats = stats_of(input);
   r.stats_s = rr.hausdorff_s + seconds(t0);

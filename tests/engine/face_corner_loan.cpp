@@ -15,6 +15,7 @@
 #include "locus/engine/cvt_request.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
+#include "locus/pipelines/voronoi/remesh_quality.hpp"
 #include "locus/session.hpp"
 
 using namespace locus;
@@ -152,6 +153,14 @@ TEST_CASE("cvt on an exclusive Session with corners lent, on a disk: the repair 
   CHECK(b.complete);
   CHECK(a.refinements == 0);
   CHECK(a.remesh_stats.boundary_loops == 1);
+  // The input's figures from the Session's check: a fresh analysis's.
+  const RemeshStats fresh = mesh_topology_stats(m);
+  for (const CvtReport* r : {&a, &b}) {
+    CHECK(r->input_stats.genus == fresh.genus);
+    CHECK(r->input_stats.components == fresh.components);
+    CHECK(r->input_stats.boundary_loops == fresh.boundary_loops);
+    CHECK(r->input_stats.manifold == fresh.manifold);
+  }
   CHECK(a.remesh.x == b.remesh.x);
   CHECK(a.remesh.face_vertices == b.remesh.face_vertices);
   CHECK(lent.mesh().face_vertices == m.face_vertices);

@@ -51,6 +51,10 @@ std::array<double, 3> BoundaryCurves::at(const Curve& c, double s) const {
 }
 
 BoundaryCurves::BoundaryCurves(const Mesh& input, const Mesh& remesh) {
+  // A closed remesh has no vertex to slide: the input's loops (an edge
+  // incidence of the whole input, ~0.15 s at 416k vertices) are not read.
+  const std::vector<std::vector<int32_t>> remesh_loops = boundary_loops(remesh);
+  if (remesh_loops.empty()) return;
   for (const std::vector<int32_t>& loop : boundary_loops(input)) {
     Curve c;
     const size_t k = loop.size();
@@ -65,7 +69,7 @@ BoundaryCurves::BoundaryCurves(const Mesh& input, const Mesh& remesh) {
     }
     if (c.s.back() > 0) curves_.push_back(std::move(c));
   }
-  for (const std::vector<int32_t>& loop : boundary_loops(remesh)) {
+  for (const std::vector<int32_t>& loop : remesh_loops) {
     if (loop.size() < 3) continue;
     Run r;
     std::vector<double> s;

@@ -89,8 +89,9 @@ double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b) 
   return std::max(ab, ba);
 }
 
-RemeshStats mesh_topology_stats(const Mesh& m) {
-  const MeshReport rep = analyze_mesh(m);
+RemeshStats mesh_topology_stats(const Mesh& m) { return mesh_topology_stats(m, analyze_mesh(m)); }
+
+RemeshStats mesh_topology_stats(const Mesh& m, const MeshReport& rep) {
   RemeshStats s;
   s.vertices = m.num_vertices();
   s.faces = m.num_faces();

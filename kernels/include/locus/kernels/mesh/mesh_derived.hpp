@@ -14,10 +14,13 @@
 // `checked` records which MeshRequirements the caller verified on m (nothing by
 // default: derive_mesh checks only the arrays). A pipeline given derived data
 // skips its own check_requirements when `checked` covers what it needs.
+// `report` is that check's analyze_mesh(m), when the caller made one: a
+// command reads the input's topology from it again (no second analysis).
 // The data belongs to one mesh and one set of positions: rebuild it when either
 // changes.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "locus/core/host_allocator.hpp"
@@ -36,6 +39,7 @@ struct MeshDerived {
   HostVector<int32_t> component;  // per vertex, -1 for unreferenced vertices
   int32_t components = 0;
   MeshRequirements checked{false, false, false, false, false, false, false};
+  std::optional<MeshReport> report;
 };
 
 // BadInput for malformed arrays (validate_mesh_arrays) or a face of non-finite

@@ -14,6 +14,7 @@
 #pragma once
 #include <cstdint>
 
+#include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/mesh.hpp"
 #include "locus/pipelines/voronoi/triangle_grid.hpp"
 
@@ -34,6 +35,8 @@ struct RemeshStats {
 // Topology of any triangle mesh: manifold, genus summed over components,
 // components, boundary loops (what the remesh must share with its input).
 RemeshStats mesh_topology_stats(const Mesh& m);
+// The same from analyze_mesh(m)'s report, already made.
+RemeshStats mesh_topology_stats(const Mesh& m, const MeshReport& rep);
 
 // Topology and angles of `remesh`, and with `hausdorff` its distance to `input`.
 RemeshStats remesh_stats(const Mesh& input, const Mesh& remesh, bool hausdorff);
