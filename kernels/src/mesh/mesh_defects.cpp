@@ -6,6 +6,9 @@
 // angles, as the heat geodesic measures them.
 #include "locus/kernels/mesh/mesh_defects.hpp"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -33,6 +36,11 @@ int32_t needle_vertex(const Mesh& m, const int32_t v[3]) {
   }
   return -1;
 }
+
+struct Needles {
+  int64_t count = 0;
+  int32_t first_face = -1, first_vertex = -1;
+};
 
 }  // namespace
 
@@ -79,19 +87,34 @@ MeshDefects detect_mesh_defects(const Mesh& m, const EdgeIncidence& inc, const M
   const double h = r.mean_edge_length;
   const double sc = power_of_two_scale(h);
   const double min_double_area = 2.0 * kDegenerateAreaRelative * (h * sc) * (h * sc);
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const int32_t v[3] = {fv[3 * f], fv[3 * f + 1], fv[3 * f + 2]};
-    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
-    const double ux = (m.x[v[1]] - m.x[v[0]]) * sc, uy = (m.y[v[1]] - m.y[v[0]]) * sc, uz = (m.z[v[1]] - m.z[v[0]]) * sc;
-    const double wx = (m.x[v[2]] - m.x[v[0]]) * sc, wy = (m.y[v[2]] - m.y[v[0]]) * sc, wz = (m.z[v[2]] - m.z[v[0]]) * sc;
-    const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
-    if (!(std::sqrt(cx * cx + cy * cy + cz * cz) > min_double_area)) continue;
-    const int32_t a = needle_vertex(m, v);
-    if (a >= 0 && d.needle_faces++ == 0) {
-      d.first_needle_face = f;
-      d.first_needle_vertex = a;
-    }
-  }
+  // In parallel (three angles per face: ~0.3 s at 832k faces), reduced to the
+  // count and the lowest face, so the answer does not depend on the threads.
+  const Needles n = tbb::parallel_reduce(
+      tbb::blocked_range<int32_t>(0, m.num_faces()), Needles{},
+      [&](const tbb::blocked_range<int32_t>& range, Needles acc) {
+        for (int32_t f = range.begin(); f < range.end(); ++f) {
+          const int32_t v[3] = {fv[3 * f], fv[3 * f + 1], fv[3 * f + 2]};
+          if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
+          const double ux = (m.x[v[1]] - m.x[v[0]]) * sc, uy = (m.y[v[1]] - m.y[v[0]]) * sc,
+                       uz = (m.z[v[1]] - m.z[v[0]]) * sc;
+          const double wx = (m.x[v[2]] - m.x[v[0]]) * sc, wy = (m.y[v[2]] - m.y[v[0]]) * sc,
+                       wz = (m.z[v[2]] - m.z[v[0]]) * sc;
+          const double cx = uy * wz - uz * wy, cy = uz * wx - ux * wz, cz = ux * wy - uy * wx;
+          if (!(std::sqrt(cx * cx + cy * cy + cz * cz) > min_double_area)) continue;
+          const int32_t a = needle_vertex(m, v);
+          if (a < 0) continue;
+          if (acc.count++ == 0 || f < acc.first_face) acc.first_face = f, acc.first_vertex = a;
+        }
+        return acc;
+      },
+      [](Needles a, const Needles& b) {
+        if (b.count > 0 && (a.count == 0 || b.first_face < a.first_face))
+          a.first_face = b.first_face, a.first_vertex = b.first_vertex;
+        a.count += b.count;
+        return a;
+      });
+  d.needle_faces = n.count;
+  if (n.count > 0) d.first_needle_face = n.first_face, d.first_needle_vertex = n.first_vertex;
   return d;
 }
 
