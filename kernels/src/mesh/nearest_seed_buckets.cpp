@@ -26,13 +26,13 @@ void check_sizes(const Adjacency& adj, const Mesh& m) {
     fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
 }
 
+using Offer = SeedBucketWorkspace::Offer;
+
 // The offers of bucket b's vertices to their neighbors not yet taken (a
 // shorter distance than the neighbor has), computed in parallel per chunk,
 // then applied in b's order: every offer that is still shorter lowers the
 // neighbor's distance, takes the label and queues it. Returns how many were
 // queued. Offers land in later buckets only (w is below every edge).
-using Offer = SeedBucketWorkspace::Offer;
-
 int64_t relax_bucket(const Adjacency& adj, const Mesh& m, std::span<const int32_t> b, SeedBucketWorkspace& ws,
                      std::span<int32_t> label) {
   constexpr size_t kChunk = 256;
@@ -41,7 +41,7 @@ int64_t relax_bucket(const Adjacency& adj, const Mesh& m, std::span<const int32_
   const double* dist = ws.dist.data();
   const uint8_t* done = ws.done.data();
   auto offer = [&](size_t c) {
-    std::vector<Offer>& out = ws.offers[c];
+    HostVector<Offer>& out = ws.offers[c];
     out.clear();
     for (size_t i = c * kChunk; i < std::min(b.size(), (c + 1) * kChunk); ++i) {
       const int32_t q = b[i];
@@ -137,7 +137,7 @@ void label_nearest_seeds_bucketed(const Adjacency& adj, const Mesh& m, const See
     ++queued;
   }
   for (; queued > 0; ++k) {
-    std::vector<int32_t>& b = ws.bucket[static_cast<size_t>(k) % ring];
+    HostVector<int32_t>& b = ws.bucket[static_cast<size_t>(k) % ring];
     queued -= static_cast<int64_t>(b.size());
     // The bucket's vertices are final: taken all at once (repeats dropped,
     // queue order kept), their neighbors' offers computed in parallel, then

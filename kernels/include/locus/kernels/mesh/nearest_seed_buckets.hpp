@@ -49,8 +49,8 @@ struct SeedBucketWorkspace {
   };
   HostVector<double> dist;
   HostVector<uint8_t> done;
-  std::vector<std::vector<int32_t>> bucket;
-  std::vector<std::vector<Offer>> offers;  // per chunk of a bucket
+  std::vector<HostVector<int32_t>> bucket;  // the ring: a front's vertices each
+  std::vector<HostVector<Offer>> offers;    // per chunk of a bucket
   double width = 0;
 };
 
