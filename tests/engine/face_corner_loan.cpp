@@ -11,6 +11,7 @@
 
 #include "engine/src/face_corner_loan.hpp"
 #include "engine/src/incidence_loan.hpp"
+#include "tests/engine/lending_sessions.hpp"
 #include "tests/engine/neighbor_sets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
@@ -123,9 +124,8 @@ TEST_CASE("cvt on an exclusive Session with corners lent: the same remesh, refin
     CvtRequest q;
     q.sites = sites;
     q.iters = 3;
-    SessionOptions exclusive;
-    exclusive.exclusive = true;
-    const Session shared{Mesh(m)}, lent{Mesh(m), exclusive};
+    const test::LendingSessions sessions(m);
+    const Session &shared = sessions.shared, &lent = sessions.lent;
     const CvtReport a = shared.cvt(q), b = lent.cvt(q);
     CHECK(a.complete == b.complete);
     CHECK(a.refinements == b.refinements);
@@ -145,9 +145,8 @@ TEST_CASE("cvt on an exclusive Session with corners lent, on a disk: the repair 
   CvtRequest q;
   q.sites = 80;
   q.iters = 3;
-  SessionOptions exclusive;
-  exclusive.exclusive = true;
-  const Session shared{Mesh(m)}, lent{Mesh(m), exclusive};
+  const test::LendingSessions sessions(m);
+  const Session &shared = sessions.shared, &lent = sessions.lent;
   const CvtReport a = shared.cvt(q), b = lent.cvt(q);
   REQUIRE(a.complete);
   CHECK(b.complete);

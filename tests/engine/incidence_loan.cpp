@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/src/incidence_loan.hpp"
+#include "tests/engine/lending_sessions.hpp"
 #include "tests/engine/neighbor_sets.hpp"
 #include "locus/engine/cvt_request.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
@@ -120,9 +121,8 @@ TEST_CASE("cvt on an exclusive Session: the same remesh as on a shared one, the 
   CvtRequest q;
   q.sites = 120;
   q.iters = 4;
-  SessionOptions exclusive;
-  exclusive.exclusive = true;
-  const Session shared{Mesh(m)}, lent{Mesh(m), exclusive};
+  const test::LendingSessions sessions(m);
+  const Session &shared = sessions.shared, &lent = sessions.lent;
   const CvtReport a = shared.cvt(q), b = lent.cvt(q);
   REQUIRE(a.complete);
   REQUIRE(b.complete);

@@ -15,12 +15,6 @@ namespace locus {
 
 namespace {
 
-// |x_j - x_i|, as label_nearest_seeds_by_positions computes it (bit for bit).
-double edge_length(const Mesh& m, int32_t i, int32_t j) {
-  return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
-                   (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
-}
-
 void check_sizes(const Adjacency& adj, const Mesh& m) {
   if (adj.offsets.size() != static_cast<size_t>(m.num_vertices()) + 1)
     fail(ErrorCode::BadUsage, "seed labels: the adjacency belongs to another mesh");
@@ -48,7 +42,7 @@ int64_t relax_bucket(const Adjacency& adj, const Mesh& m, std::span<const int32_
       for (int64_t a = adj.offsets[q]; a < adj.offsets[q + 1]; ++a) {
         const int32_t r = adj.neighbors[a];
         if (done[r]) continue;
-        const double nd = dist[q] + edge_length(m, q, r);
+        const double nd = dist[q] + adjacency_edge_length(m, q, r);
         if (nd < dist[r]) out.push_back({nd, r, q});
       }
     }
@@ -79,7 +73,7 @@ SeedBucketPlan prepare_seed_buckets(const Adjacency& adj, const Mesh& m) {
   for (int32_t i = 0; i < n; ++i)
     for (int64_t a = adj.offsets[i]; a < adj.offsets[i + 1]; ++a)
       if (adj.neighbors[a] > i) {
-        const double l = edge_length(m, i, adj.neighbors[a]);
+        const double l = adjacency_edge_length(m, i, adj.neighbors[a]);
         lo = std::min(lo, l);
         hi = std::max(hi, l);
       }
@@ -112,7 +106,8 @@ void label_nearest_seeds_bucketed(const Adjacency& adj, const Mesh& m, const See
       fail(ErrorCode::BadUsage, "seed labels: seed " + std::to_string(k) + " is vertex " + std::to_string(s.vertex) +
                                     ", outside 0.." + std::to_string(n - 1));
     if (!(s.distance >= 0) || !std::isfinite(s.distance))
-      fail(ErrorCode::BadUsage, "seed labels: seed " + std::to_string(k) + " has distance " + std::to_string(s.distance));
+      fail(ErrorCode::BadUsage,
+           "seed labels: seed " + std::to_string(k) + " has distance " + std::to_string(s.distance));
     far = std::max(far, s.distance);
   }
   const double w = plan.width;

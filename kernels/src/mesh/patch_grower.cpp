@@ -224,8 +224,7 @@ void check_seeds(std::span<const GrowSeed> seeds, int32_t nv) {
 struct PositionLength {
   const Mesh& m;
   double operator()(int64_t, int32_t i, int32_t j) const {
-    return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
-                     (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
+    return adjacency_edge_length(m, i, j);
   }
 };
 
@@ -320,16 +319,12 @@ HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj) {
   const int32_t nv = m.num_vertices();
   if (adj.offsets.size() != static_cast<size_t>(nv) + 1)
     fail(ErrorCode::BadUsage, "edge lengths: the adjacency belongs to another mesh");
-  // The DEM's (and the old CVT balls') edge lengths, bit for bit: neighbor minus
-  // vertex, squared, summed x, y, z.
+  // The DEM's (and the old CVT balls') edge lengths, bit for bit.
   HostVector<double> len(adj.neighbors.size());
   for (int32_t i = 0; i < nv; ++i) {
     cancel_point(i);
-    for (int64_t q = adj.offsets[i]; q < adj.offsets[i + 1]; ++q) {
-      const int32_t j = adj.neighbors[q];
-      len[q] = std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
-                         (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
-    }
+    for (int64_t q = adj.offsets[i]; q < adj.offsets[i + 1]; ++q)
+      len[q] = adjacency_edge_length(m, i, adj.neighbors[q]);
   }
   return len;
 }

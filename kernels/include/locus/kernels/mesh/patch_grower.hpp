@@ -50,6 +50,7 @@
 //
 // Thread safety: a prepared grower is const; one workspace per thread.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -142,6 +143,13 @@ void label_nearest_seeds_by_positions(const Adjacency& adj, const Mesh& m, std::
 // Edge lengths per adjacency entry of a mesh (the input of Geodesic):
 // sqrt of the summed squared coordinate differences, neighbor minus vertex.
 HostVector<double> adjacency_edge_lengths(const Mesh& m, const Adjacency& adj);
+// One of them: |x_j - x_i| for neighbor j of vertex i (the coordinate
+// differences neighbor minus vertex, squared, summed x, y, z), the length
+// every grow and seed labelling on a mesh's positions reads, bit for bit.
+inline double adjacency_edge_length(const Mesh& m, int32_t i, int32_t j) {
+  return std::sqrt((m.x[j] - m.x[i]) * (m.x[j] - m.x[i]) + (m.y[j] - m.y[i]) * (m.y[j] - m.y[i]) +
+                   (m.z[j] - m.z[i]) * (m.z[j] - m.z[i]));
+}
 
 // Rings from one seed, without a workspace (allocates n bytes per call): the
 // first `count` vertices of the BFS from `seed` (count <= 1 gives the seed).
