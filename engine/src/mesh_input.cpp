@@ -79,7 +79,8 @@ MeshInput load_mesh_input(const std::string& path, const MeshInputOptions& opt, 
     in.subdivide_s = seconds_since(t0);
   }
   in.op.asked = opt.mesh_operator;
-  if (opt.mesh_operator != OperatorChoice::Cotan && in.mesh.is_triangle_mesh() && in.mesh.num_faces() > 0) {
+  if (opt.choose_operator && opt.mesh_operator != OperatorChoice::Cotan && in.mesh.is_triangle_mesh() &&
+      in.mesh.num_faces() > 0) {
     in.op = choose_operator(in.mesh, opt.mesh_operator);
     if (in.op.robust && in.op.any_defect())
       ctx.note(path + ": the robust operator (" + in.op.reason() + ")");

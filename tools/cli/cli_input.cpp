@@ -9,8 +9,11 @@
 
 namespace locus::cli {
 
-Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces) {
+namespace {
+
+Input load(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces, bool choose_operator) {
   MeshInputOptions mo;
+  mo.choose_operator = choose_operator;
   mo.subdivide = opt.subdivide;
   mo.faces = faces;
   mo.weld = !opt.no_weld;
@@ -18,6 +21,22 @@ Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces f
   Input in = load_mesh_input(opt.mesh_path, mo, ctx);
   report_input(in.load_s, in.subdivide_s);
   return in;
+}
+
+}  // namespace
+
+Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces) {
+  return load(opt, ctx, faces, true);
+}
+
+Input load_input_for_session(const CommonOptions& opt, const RunContext& ctx) {
+  return load(opt, ctx, PolygonFaces::Triangulate, false);
+}
+
+void take_session_operator(Input& in, const Session& session, const RunContext& ctx) {
+  if (in.op.checked) return;
+  in.op = session.operator_report();
+  if (in.op.robust && in.op.any_defect()) ctx.note(in.path + ": the robust operator (" + in.op.reason() + ")");
 }
 
 SessionOptions session_options(const Input& in) {

@@ -20,6 +20,11 @@ using Input = MeshInput;
 // Reads <mesh-file> with --subdivide (load_mesh_input) and records its load
 // and subdivision times for the report's timings.
 Input load_input(const CommonOptions& opt, const RunContext& ctx, PolygonFaces faces = PolygonFaces::Triangulate);
+// The same, leaving the operator's choice to the Session made from it
+// (MeshInputOptions::choose_operator false): one edge incidence and report
+// instead of two. Once the Session exists, take_session_operator fills in.op.
+Input load_input_for_session(const CommonOptions& opt, const RunContext& ctx);
+void take_session_operator(Input& in, const Session& session, const RunContext& ctx);
 
 // The mesh an output on the input's vertices is written with: the file's
 // polygons when they were triangulated (the vertices are the same), else the
@@ -47,7 +52,8 @@ Json operator_json(const OperatorReport& op);
 // How an asset file's vertices became the mesh's: counts, and file_to_vertex
 // (file vertex -> result vertex) so results can be mapped back to the file.
 Json weld_json(const Input& in);
-// The Session a command builds on the input runs on the operator the loader chose.
+// The Session a command builds on the input runs on the operator the loader
+// chose (or, unchecked, chooses it: load_input_for_session).
 SessionOptions session_options(const Input& in);
 
 // Up-front checks of -o for commands whose result a format cannot hold

@@ -232,7 +232,7 @@ int run_cvt(const CommonOptions& opt, CvtOptions& o, const RunContext& ctx) {
   check_request(q);  // bad usage before reading the file
   check_preview_options(o.preview);
   const Stopwatch total;
-  Input in = load_input(opt, ctx);
+  Input in = load_input_for_session(opt, ctx);
   const double load_s = total.seconds();
   // A triangle mesh is moved into the Session (not copied: at 416k vertices a copy
   // is ~30 MB held through Lloyd) and copied back once the remesh is done.
@@ -240,6 +240,7 @@ int run_cvt(const CommonOptions& opt, CvtOptions& o, const RunContext& ctx) {
   SessionOptions so = session_options(in);
   so.exclusive = true;  // one command on it: its edge incidence is freed while Lloyd runs
   const Session session{lend ? std::move(in.mesh) : Mesh(in.mesh), so};
+  take_session_operator(in, session, ctx);
   // The files on the input's vertices are written below, with the file's faces and attributes.
   CvtRequest engine = q;
   engine.labels.clear();

@@ -39,6 +39,12 @@ struct LOCUS_API MeshInputOptions {
   // The operator the command runs on (operator_choice.hpp); a Session made from
   // the input takes it (session_options), and the loader passes it on.
   OperatorChoice mesh_operator = OperatorChoice::Auto;
+  // Look for the defects that choose the operator here (op below). false leaves
+  // op unchecked: a Session made from the input with mesh_operator looks for them
+  // in its own check, on the edge incidence it builds anyway (at 416k vertices
+  // the loader's own incidence and report cost ~0.4 s), and the caller copies
+  // Session::operator_report() into op.
+  bool choose_operator = true;
 };
 
 struct LOCUS_API MeshInput {
