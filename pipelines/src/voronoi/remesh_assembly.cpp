@@ -60,6 +60,9 @@ void optimize_on_input(const Mesh& m, const TriangleGrid& grid, const RemeshOpti
   };
   if (r.remesh.num_vertices() * 200 > want * 203)
     collapse_to_count(m, grid, r.remesh, want, r.vertex_site, pinned());
+  // More than 1.5% below it (cells that vanished on a coarse input): the
+  // longest edges split to it.
+  if (r.remesh.num_vertices() * 200 < want * 197) split_to_count(grid, r.remesh, want, r.vertex_site, pinned());
   RemeshOptimizeOptions oo;
   oo.rounds = o.optimize_rounds;
   oo.pinned = pinned();

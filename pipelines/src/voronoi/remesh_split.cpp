@@ -6,45 +6,54 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "remesh_vec3.hpp"
 
 namespace locus {
 
-int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
-                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned, bool boundary_edges) {
-  using namespace remesh_vec3;
-  const double below = below_deg * M_PI / 180;
-  const int32_t nf = remesh.num_faces();
-  std::vector<std::array<int32_t, 3>> F(nf);
-  for (int32_t f = 0; f < nf; ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
-  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> ef;
-  for (int32_t f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) ef[{std::min(F[f][k], F[f][(k + 1) % 3]), std::max(F[f][k], F[f][(k + 1) % 3])}].push_back(f);
-  auto ang = [&](int32_t o, int32_t u, int32_t w) { return angle_at(pos(remesh, o), pos(remesh, u), pos(remesh, w)); };
-  std::vector<std::pair<double, int32_t>> thin;
-  for (int32_t f = 0; f < nf; ++f) {
-    const double a = std::min({ang(F[f][0], F[f][1], F[f][2]), ang(F[f][1], F[f][2], F[f][0]), ang(F[f][2], F[f][0], F[f][1])});
-    if (a < below) thin.push_back({a, f});
-  }
-  std::sort(thin.begin(), thin.end());
-  std::vector<uint8_t> used(nf, 0);
+namespace {
+
+using namespace remesh_vec3;
+
+using Tri = std::array<int32_t, 3>;
+
+std::vector<Tri> triangles_of(const Mesh& remesh) {
+  std::vector<Tri> F(static_cast<size_t>(remesh.num_faces()));
+  for (int32_t f = 0; f < remesh.num_faces(); ++f) F[f] = {remesh.f0[f], remesh.f1[f], remesh.f2[f]};
+  return F;
+}
+
+using EdgeFaces = std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>>;
+
+EdgeFaces edge_faces(const std::vector<Tri>& F) {
+  EdgeFaces ef;
+  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
+    for (int k = 0; k < 3; ++k)
+      ef[{std::min(F[f][k], F[f][(k + 1) % 3]), std::max(F[f][k], F[f][(k + 1) % 3])}].push_back(f);
+  return ef;
+}
+
+double edge_length(const Mesh& remesh, int32_t u, int32_t w) { return norm(sub(pos(remesh, u), pos(remesh, w))); }
+
+// Splits the edges (u, w) in the given order, each at its midpoint projected
+// onto the input, skipping an edge whose triangles were split already (so each
+// split is one vertex and the same topology), an edge between two pinned
+// vertices, and a boundary edge unless boundary_edges; at most budget splits.
+int32_t split_edges(const TriangleGrid& grid, Mesh& remesh, const std::vector<std::pair<int32_t, int32_t>>& order,
+                    int32_t budget, std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned,
+                    bool boundary_edges) {
+  const std::vector<Tri> F = triangles_of(remesh);
+  const EdgeFaces ef = edge_faces(F);
+  std::vector<uint8_t> used(F.size(), 0);
   Mesh out = remesh;
+  std::vector<Tri> G = F;
   int32_t splits = 0;
-  std::vector<std::array<int32_t, 3>> G = F;
-  for (const auto& [a, f] : thin) {
+  for (const auto& [u, w] : order) {
     if (splits >= budget) break;
-    if (used[f]) continue;
-    int32_t best = 0;
-    double len = -1;
-    for (int k = 0; k < 3; ++k) {
-      const double l = norm(sub(pos(remesh, F[f][k]), pos(remesh, F[f][(k + 1) % 3])));
-      if (l > len) len = l, best = k;
-    }
-    const int32_t u = F[f][best], w = F[f][(best + 1) % 3];
     if (!pinned.empty() && pinned[u] && pinned[w]) continue;
-    const auto& fs = ef[{std::min(u, w), std::max(u, w)}];
+    const auto& fs = ef.at({std::min(u, w), std::max(u, w)});
     if (!(fs.size() == 2 || (boundary_edges && fs.size() == 1))) continue;
     if (std::any_of(fs.begin(), fs.end(), [&](int32_t g) { return used[g] != 0; })) continue;
     const V3 pu = pos(remesh, u), pw = pos(remesh, w);
@@ -66,9 +75,58 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
   if (splits == 0) return 0;
   Mesh res;
   for (int32_t v = 0; v < out.num_vertices(); ++v) res.add_vertex(out.x[v], out.y[v], out.z[v]);
-  for (const auto& t : G) res.add_triangle(t[0], t[1], t[2]);
+  for (const Tri& t : G) res.add_triangle(t[0], t[1], t[2]);
   remesh = std::move(res);
   return splits;
+}
+
+}  // namespace
+
+int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int32_t budget,
+                   std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned, bool boundary_edges) {
+  const double below = below_deg * M_PI / 180;
+  const std::vector<Tri> F = triangles_of(remesh);
+  auto ang = [&](int32_t o, int32_t u, int32_t w) { return angle_at(pos(remesh, o), pos(remesh, u), pos(remesh, w)); };
+  std::vector<std::pair<double, int32_t>> thin;
+  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f) {
+    const double a = std::min({ang(F[f][0], F[f][1], F[f][2]), ang(F[f][1], F[f][2], F[f][0]), ang(F[f][2], F[f][0], F[f][1])});
+    if (a < below) thin.push_back({a, f});
+  }
+  std::sort(thin.begin(), thin.end());
+  // Each thin triangle's longest edge, thinnest triangle first.
+  std::vector<std::pair<int32_t, int32_t>> order;
+  for (const auto& [a, f] : thin) {
+    int32_t best = 0;
+    double len = -1;
+    for (int k = 0; k < 3; ++k) {
+      const double l = edge_length(remesh, F[f][k], F[f][(k + 1) % 3]);
+      if (l > len) len = l, best = k;
+    }
+    order.push_back({F[f][best], F[f][(best + 1) % 3]});
+  }
+  return split_edges(grid, remesh, order, budget, vertex_site, pinned, boundary_edges);
+}
+
+int32_t split_to_count(const TriangleGrid& grid, Mesh& remesh, int32_t target, std::vector<int32_t>& vertex_site,
+                       std::span<const uint8_t> pinned) {
+  int32_t total = 0;
+  for (;;) {
+    const int32_t need = target - remesh.num_vertices();
+    if (need <= 0) break;
+    // Longest first (ties by the vertex ids: the same order on every run).
+    std::vector<std::tuple<double, int32_t, int32_t>> edges;
+    for (const auto& [e, fs] : edge_faces(triangles_of(remesh)))
+      edges.push_back({-edge_length(remesh, e.first, e.second), e.first, e.second});
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<int32_t, int32_t>> order;
+    for (const auto& [l, u, w] : edges) order.push_back({u, w});
+    std::vector<uint8_t> pins(pinned.begin(), pinned.end());
+    if (!pins.empty()) pins.resize(static_cast<size_t>(remesh.num_vertices()), 0);  // earlier passes' vertices move
+    const int32_t s = split_edges(grid, remesh, order, need, vertex_site, pins, true);
+    if (s == 0) break;
+    total += s;
+  }
+  return total;
 }
 
 }  // namespace locus

@@ -68,3 +68,76 @@ TEST_CASE("remesh split: nothing below the angle, nothing split") {
   CHECK(m.num_vertices() == 7);
   CHECK(site.empty());
 }
+
+TEST_CASE("remesh split to count: the longest edges split until the requested count, topology kept, on the input") {
+  // A torus remesh (genus 1) on a finer torus input, 37 vertices short.
+  const Mesh input = make_torus(96, 48);
+  const TriangleGrid grid(input);
+  Mesh m = make_torus(16, 8);
+  const Mesh before = m;
+  const int32_t target = before.num_vertices() + 37;
+  std::vector<int32_t> site(static_cast<size_t>(m.num_vertices()));
+  for (size_t v = 0; v < site.size(); ++v) site[v] = static_cast<int32_t>(v);
+  // The coarse torus' edges (each once per triangle side) with their midpoints.
+  struct Edge {
+    double length, x, y, z;
+  };
+  std::vector<Edge> edges;
+  for (int32_t f = 0; f < before.num_faces(); ++f) {
+    const int32_t c[3] = {before.f0[f], before.f1[f], before.f2[f]};
+    for (int k = 0; k < 3; ++k) {
+      const int32_t u = c[k], w = c[(k + 1) % 3];
+      edges.push_back({std::hypot(before.x[u] - before.x[w], before.y[u] - before.y[w], before.z[u] - before.z[w]),
+                       0.5 * (before.x[u] + before.x[w]), 0.5 * (before.y[u] + before.y[w]),
+                       0.5 * (before.z[u] + before.z[w])});
+    }
+  }
+  double mean = 0;
+  for (const Edge& e : edges) mean += e.length / static_cast<double>(edges.size());
+  CHECK(split_to_count(grid, m, target, site) == 37);
+  CHECK(m.num_vertices() == target);
+  const MeshReport a = analyze_mesh(before), b = analyze_mesh(m);
+  CHECK(b.manifold);
+  CHECK(b.euler_characteristic == a.euler_characteristic);
+  CHECK(b.components == a.components);
+  REQUIRE(site.size() == static_cast<size_t>(target));
+  for (int32_t v = before.num_vertices(); v < m.num_vertices(); ++v) {
+    // On the input torus (R = 1, r = 0.4), within the fine torus' chord error.
+    const double ring = std::hypot(m.x[v], m.y[v]) - 1.0;
+    CHECK(std::abs(std::hypot(ring, m.z[v]) - 0.4) < 3e-3);
+    CHECK(site[v] >= 0);
+    CHECK(site[v] < before.num_vertices());
+    // The midpoint of a longer than average edge, moved onto the input: no
+    // farther from it than the midpoint is from the torus (and the chord error).
+    const Edge* near = nullptr;
+    double d = 1e30;
+    for (const Edge& e : edges) {
+      const double de = std::hypot(m.x[v] - e.x, m.y[v] - e.y, m.z[v] - e.z);
+      if (de < d) d = de, near = &e;
+    }
+    const double off = std::abs(std::hypot(std::hypot(near->x, near->y) - 1.0, near->z) - 0.4);
+    CHECK(d < off + 3e-3);
+    CHECK(near->length > mean);
+  }
+  CHECK(split_to_count(grid, m, target - 5, site) == 0);  // already there
+}
+
+TEST_CASE("remesh split to count: boundary edges split too, the loops kept; pinned edges stay") {
+  const Mesh input = make_grid(20);
+  const TriangleGrid grid(input);
+  Mesh m = make_grid(4);
+  const Mesh before = m;
+  std::vector<int32_t> site;
+  const int32_t target = before.num_vertices() + 60;  // more than the interior edges in one pass
+  CHECK(split_to_count(grid, m, target, site) == 60);
+  CHECK(m.num_vertices() == target);
+  const MeshReport a = analyze_mesh(before), b = analyze_mesh(m);
+  CHECK(b.manifold);
+  CHECK(b.boundary_loops == a.boundary_loops);
+  CHECK(b.euler_characteristic == a.euler_characteristic);
+  for (int32_t v = 0; v < m.num_vertices(); ++v) CHECK(std::abs(m.z[v]) < 1e-12);
+  Mesh p = make_grid(4);
+  const std::vector<uint8_t> pinned(static_cast<size_t>(p.num_vertices()), 1);
+  CHECK(split_to_count(grid, p, p.num_vertices() + 10, site, pinned) == 0);
+  CHECK(p.num_vertices() == before.num_vertices());
+}

@@ -31,4 +31,13 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
                    std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned = {},
                    bool boundary_edges = false);
 
+// The requested vertex count where the remesh has fewer vertices (cells that
+// vanished: a coarse input, or sites close together on a needle fan): the
+// longest edges split, boundary edges too, in passes where no triangle is
+// split twice, until `target` vertices or no edge can split; the optimization
+// that follows evens the vertices out. `vertex_site` and `pinned` as above.
+// Returns the splits.
+int32_t split_to_count(const TriangleGrid& grid, Mesh& remesh, int32_t target, std::vector<int32_t>& vertex_site,
+                       std::span<const uint8_t> pinned = {});
+
 }  // namespace locus
