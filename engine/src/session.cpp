@@ -430,7 +430,7 @@ CvtResult Session::cvt(int32_t sites, int32_t iterations, uint64_t seed, const R
     if (!remesh) r.remeshed = false, r.remesh_xyz.clear(), r.remesh_triangles.clear(), r.remesh_site.clear();
     return r;
   }
-  q.sites = check_sites(q, s->mesh, impl_->components, ctx);
+  q.sites = check_sites(q, s->mesh, *s->derived, impl_->components, remesh, ctx);
   LloydOptions o;
   o.sites = q.sites;
   o.iterations = iterations;

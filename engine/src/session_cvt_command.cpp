@@ -30,6 +30,7 @@
 #include "locus/io/atomic_file_write.hpp"
 #include "locus/io/file_extension.hpp"
 #include "locus/kernels/heat/surface_point.hpp"
+#include "locus/kernels/mesh/subdivision_budget.hpp"
 #include "locus/pipelines/voronoi/cvt_quality.hpp"
 #include "locus/pipelines/voronoi/cvt_remesh.hpp"
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
@@ -270,11 +271,34 @@ void check_request(const CvtRequest& req) {
 
 // A refusal that depends on the mesh is bad input, like the mesh's own
 // defects; too few sites for the components (every part needs one) are
-// raised to their count and the note says so.
-int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components, const RunContext& ctx) {
-  if (req.sites > mesh.num_vertices())
+// raised to their count and the note says so. More sites than vertices: the
+// cells alone (no remesh) are sets of vertices and cannot hold them; a remesh
+// runs Lloyd on a midpoint subdivision of the input with at least
+// RemeshOptions::min_vertices_per_site vertices per site (cvt_remesh.cpp),
+// refused when that subdivision would pass the memory limit.
+int32_t check_sites(const CvtRequest& req, const Mesh& mesh, const MeshDerived& derived, int32_t components,
+                    bool remesh, const RunContext& ctx) {
+  const int64_t nv = mesh.num_vertices();
+  if (req.sites > nv && !remesh)
     fail(ErrorCode::BadInput, mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " +
-                                  std::to_string(mesh.num_vertices()) + " vertices of the mesh");
+                                  std::to_string(nv) + " vertices of the mesh (the remesh takes more)");
+  if (req.sites > nv) {
+    // Vertex counts of the subdivisions: V' = V + E, E' = 2E + 3F, F' = 4F.
+    int64_t v = nv, e = static_cast<int64_t>(derived.incidence.edges.e0.size()), f = mesh.num_faces();
+    int times = 0;
+    const double want = RemeshOptions{}.min_vertices_per_site * req.sites;
+    for (; static_cast<double>(v) < want && times < 16; ++times) v += e, e = 2 * e + 3 * f, f *= 4;
+    try {
+      check_subdivision(mesh, times, ctx);
+    } catch (const Error& err) {
+      fail(err.code(), mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " on " + std::to_string(nv) +
+                           " vertices needs " + std::to_string(times) + " midpoint subdivisions of the mesh: " +
+                           err.what());
+    }
+    ctx.note(mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " exceeds the " + std::to_string(nv) +
+             " vertices of the mesh: the cells run on its midpoint subdivision (" + std::to_string(times) +
+             " times, " + std::to_string(v) + " vertices)");
+  }
   if (req.sites >= components) return req.sites;
   ctx.note(mesh_name(mesh) + ": --sites " + std::to_string(req.sites) + " raised to " + std::to_string(components) +
            ": the mesh has " + std::to_string(components) + " connected components and every one needs a site");
@@ -285,7 +309,7 @@ CvtReport cvt_command_on(const Mesh& mesh, const MeshDerived& derived, int32_t c
                          const CvtRequest& req, const HeatTime& ts, const HeatTime& tc, const RunContext& ctx,
                          MeshDerived* lend, Mesh* lend_mesh) {
   CvtRequest raised = req;
-  raised.sites = check_sites(req, mesh, components, ctx);
+  raised.sites = check_sites(req, mesh, derived, components, true, ctx);
   // The cells' operator is factored here (isotropic): weighted in the progress
   // like kCvtFactorIterations Lloyd iterations (docs/shipping.md).
   const bool isotropic = req.anisotropy == 0;

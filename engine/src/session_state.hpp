@@ -321,7 +321,8 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
 
 // The cvt request's sites on this mesh: BadInput for more than its vertices;
 // fewer than its components are raised to their count (and ctx notes it).
-int32_t check_sites(const CvtRequest& req, const Mesh& mesh, int32_t components, const RunContext& ctx);
+int32_t check_sites(const CvtRequest& req, const Mesh& mesh, const MeshDerived& derived, int32_t components,
+                    bool remesh, const RunContext& ctx);
 
 // The cached tier's result (CvtResult: the remesh as arrays) from the command's report.
 CvtResult cvt_result_of(CvtReport&& c);

@@ -79,9 +79,20 @@ TEST_CASE("contract: refusals that depend on the file's contents exit 3, usage e
   const std::string sphere = dir / "sphere.off";
   locus::write_mesh(sphere, locus::make_icosphere(4));  // 5120 faces: 9 subdivisions overflow int32 indices
 
-  const Run sites = run_locus(dir, {"cvt", tri, "--sites", "4"});
-  CHECK(sites.status == 3);
-  CHECK(has(sites.err, "--sites 4 exceeds the 3 vertices"));
+  // More sites than vertices: the remesh runs on a subdivision, as many
+  // vertices as asked; unless that subdivision cannot be indexed.
+  const Run sites = run_locus(dir, {"cvt", tri, "--sites", "50", "--json"});
+  REQUIRE_MESSAGE(sites.status == 0, sites.err);
+  CHECK(has(sites.err, "--sites 50 exceeds the 3 vertices of the mesh"));
+  const auto rem = sites.json()["remesh"];
+  CHECK(rem["delivered"].get<int>() >= 49);
+  CHECK(rem["delivered"].get<int>() <= 51);
+  CHECK(rem["manifold"].get<bool>());
+  CHECK(rem["boundary_loops"].get<int>() == 1);
+  CHECK(rem["genus"].get<int>() == 0);
+  const Run huge = run_locus(dir, {"cvt", tri, "--sites", "100000000"});
+  CHECK(huge.status == 3);
+  CHECK(has(huge.err, "--sites 100000000 on 3 vertices needs"));
   // Too few sites for the components are raised to their count, and said.
   const Run comps = run_locus(dir, {"cvt", two, "--sites", "1", "--json"});
   CHECK(comps.status == 0);

@@ -478,11 +478,15 @@ RemeshResult cvt_remesh(const Mesh& m, const MeshDerived& d, const RemeshOptions
       o.relax_iterations == 0 && L.lo.prepared && L.lo.solver == LloydOptions::Solver::Local;
   L.lo.keep_voronoi = incremental;
   // Cells of fewer than min_vertices_per_site input vertices: Lloyd runs on a
-  // subdivided input from the start (the requested density, fewer defects).
+  // subdivided input from the start (the requested density, fewer defects),
+  // within max_refinements unless there are more sites than input vertices
+  // (points on the continuous surface, as many as asked: the caller bounds the
+  // subdivision's memory).
   Levels keep;
-  for (int64_t nv = m.num_vertices(); r.refinements < o.max_refinements &&
-                                      nv < static_cast<int64_t>(o.min_vertices_per_site * L.lo.sites);
-       nv *= 4) {
+  const double want = o.min_vertices_per_site * L.lo.sites;
+  const bool dense = L.lo.sites > m.num_vertices();
+  for (double nv = m.num_vertices();; nv *= 4) {  // 4x per level: the estimate the sample tables were made with
+    if (dense ? L.m->num_vertices() >= want : nv >= want || r.refinements >= o.max_refinements) break;
     if (o.corners_needed) o.corners_needed();  // the subdivision reads the input's face_vertices
     L = finer(L, false, keep, ctx.sub(lloyd_begin, lloyd_begin), r);
   }

@@ -25,7 +25,8 @@ LOCUS_API_BEGIN
 namespace locus {
 
 struct LOCUS_API CvtRequest {
-  int32_t sites = 100;          // seeded random initial sites: 1..vertex count, one per component at least
+  int32_t sites = 100;          // seeded random initial sites, one per component at least; more than the
+                                // vertices: the cells run on a midpoint subdivision of the mesh
   int32_t iters = 10;           // Lloyd iterations, 0..1000000
   double stop_energy = 0.0;     // [0, 1]: stop once an iteration lowers the energy by less than this fraction
   double anisotropy = 0.0;      // lambda of the R^6 lift (p, lambda n), 0..1e6; 0 = isotropic (thesis: 0.05)
