@@ -212,7 +212,8 @@ void bind_session_diffusion(py::module_& m, SessionClass& cls) {
           "progress"_a = py::none(),
           (std::string("cvt(sites, iterations=10, seed=1, *, remesh=False, threads=0, progress=None) -> namespace\n\n"
                        "Isotropic heat CVT (thesis §3.7): `sites` seeded random initial sites (1..nv, at least one "
-                       "per connected component), `iterations` localized Lloyd steps, t = 4 h^2 (as `locus cvt`).\n"
+                       "per connected component; more than nv with remesh=True: the cells run on a midpoint "
+                       "subdivision), `iterations` localized Lloyd steps, t = 4 h^2 (as `locus cvt`).\n"
                        "Returns .labels (int32 per vertex: its cell), .sites ((k, 3) positions), .site_face, "
                        ".site_vertex, .site_bary, .empty_cells, .unreached; with remesh=True also the remeshed "
                        "surface .remesh_V ((n, 3) float64), .remesh_F ((m, 3) int32), .remesh_site and its "
