@@ -26,8 +26,42 @@ uint64_t key(int32_t a, int32_t b) {
 }
 
 // One sweep of flips over the edges in sorted order; returns the number of flips.
-int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<int32_t>& valence,
-                  const std::vector<int32_t>& target, const std::vector<uint8_t>& pinned, bool by_valence) {
+// A pair folded onto itself against the input (one of its triangles more
+// than 90 degrees off the input's normal at its centroid) whose flip gives two
+// triangles within 60 degrees of the input's normals: the flip unfolds it
+// (polygon_mesh's boundary: a 4-degree ear folded 177 degrees onto its neighbor).
+using TriangleCorners = std::array<V3, 3>;
+
+// The input's normal at the point of the input nearest a triangle's centroid.
+bool input_normal_at(const Mesh& input, const TriangleGrid& grid, const TriangleCorners& t, V3& n) {
+  const ClosestPoint cp =
+      grid.closest({(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3});
+  if (cp.face < 0) return false;
+  const auto fv = input.face(cp.face);
+  n = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
+  return norm(n) > 0;
+}
+
+// True when the pair `before` is folded against the input (one of its
+// triangles more than 90 degrees off the input's normal) and the flipped pair
+// `after` faces like the input (both within 60 degrees): the flip unfolds it
+// (polygon_mesh's boundary: a 4-degree ear folded 177 degrees onto its
+// neighbor, which the 30-degree crease rule below kept).
+bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<TriangleCorners, 2>& before,
+             const std::array<TriangleCorners, 2>& after) {
+  V3 ni;
+  for (const TriangleCorners& t : after) {
+    const V3 n = tri_normal(t[0], t[1], t[2]);
+    if (!input_normal_at(input, grid, t, ni) || dot(n, ni) <= 0.5 * norm(n) * norm(ni)) return false;
+  }
+  for (const TriangleCorners& t : before)
+    if (input_normal_at(input, grid, t, ni) && dot(tri_normal(t[0], t[1], t[2]), ni) < 0) return true;
+  return false;
+}
+
+int64_t flip_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, std::vector<std::array<int32_t, 3>>& F,
+                  std::vector<int32_t>& valence, const std::vector<int32_t>& target,
+                  const std::vector<uint8_t>& pinned, bool by_valence) {
   std::unordered_map<uint64_t, std::array<int32_t, 2>> ef;
   ef.reserve(F.size() * 2);
   for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
@@ -76,13 +110,17 @@ int64_t flip_pass(Mesh& m, std::vector<std::array<int32_t, 3>>& F, std::vector<i
     const double la = tiny(norm(na)), lb = tiny(norm(nb)), l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
     if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
     if (dot(n1, n2) < cos30 * l1 * l2) continue;
-    // A degenerate triangle (collinear sites, e.g. added on a straight input
-    // edge) has no normal: its neighbor's orients the flip that removes it.
-    if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) continue;
-    const V3 navg = {(la > 0 ? na[0] / la : 0) + (lb > 0 ? nb[0] / lb : 0),
-                     (la > 0 ? na[1] / la : 0) + (lb > 0 ? nb[1] / lb : 0),
-                     (la > 0 ? na[2] / la : 0) + (lb > 0 ? nb[2] / lb : 0)};
-    if (dot(n1, navg) <= 0 || dot(n2, navg) <= 0) continue;
+    if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) {
+      // A crease stays, unless the pair is a fold the flip opens.
+      if (!unfolds(input, grid, {{{pa, pb, pc}, {pb, pa, pd}}}, {{{pc, pa, pd}, {pd, pb, pc}}})) continue;
+    } else {
+      // A degenerate triangle (collinear sites, e.g. added on a straight input
+      // edge) has no normal: its neighbor's orients the flip that removes it.
+      const V3 navg = {(la > 0 ? na[0] / la : 0) + (lb > 0 ? nb[0] / lb : 0),
+                       (la > 0 ? na[1] / la : 0) + (lb > 0 ? nb[1] / lb : 0),
+                       (la > 0 ? na[2] / la : 0) + (lb > 0 ? nb[2] / lb : 0)};
+      if (dot(n1, navg) <= 0 || dot(n2, navg) <= 0) continue;
+    }
     const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
     const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
     if (by_valence ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;
@@ -505,7 +543,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     for (int by_valence = 1; by_valence >= 0; --by_valence) {
       if (by_valence != (r > 0 && r < opt.rounds)) continue;
       for (int pass = 0; pass < 8; ++pass) {
-        const int64_t k = flip_pass(remesh, F, valence, target, opt.pinned, by_valence);
+        const int64_t k = flip_pass(input, grid, remesh, F, valence, target, opt.pinned, by_valence);
         st.flips += k;
         if (k == 0) break;
       }
@@ -527,7 +565,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     st.boundary_moves += b;
     changed += b;
     for (int pass = 0; pass < 8; ++pass) {
-      const int64_t k = flip_pass(remesh, F, valence, target, opt.pinned, false);
+      const int64_t k = flip_pass(input, grid, remesh, F, valence, target, opt.pinned, false);
       st.flips += k;
       changed += k;
       if (k == 0) break;

@@ -447,6 +447,58 @@ TEST_CASE("remesh optimization: a collinear (degenerate) triangle is flipped awa
   CHECK((r.x[C] == 1 && r.y[C] == 1));
 }
 
+// A pair folded onto itself: (a, b, c) and (b, a, d) with c and d on the same
+// side of ab, so the first faces -z and the second +z (a 177-degree fold: the
+// 30-degree crease rule alone keeps it). On a +z input the flip to (c, a, d),
+// (d, b, c) faces like the input and is taken; on the same square facing -z
+// the flipped pair would be the fold, and nothing flips.
+TEST_CASE("remesh optimization: a pair folded against the input is flipped open, and only against the input") {
+  auto square = [](bool up) {
+    Mesh in;
+    for (const auto& p : std::vector<std::array<double, 2>>{{0, 0}, {1, 0}, {1, 1}, {0, 1}}) in.add_vertex(p[0], p[1], 0);
+    if (up) in.add_triangle(0, 1, 2), in.add_triangle(0, 2, 3);
+    else in.add_triangle(0, 2, 1), in.add_triangle(0, 3, 2);
+    return in;
+  };
+  auto folded = [] {
+    Mesh r;
+    for (const auto& p : std::vector<std::array<double, 2>>{{0.2, 0.5}, {0.8, 0.5}, {0.5, 0.47}, {0.5, 0.2}})
+      r.add_vertex(p[0], p[1], 0);
+    r.add_triangle(0, 1, 2);  // a, b, c: -z
+    r.add_triangle(1, 0, 3);  // b, a, d: +z
+    return r;
+  };
+  RemeshOptimizeOptions o;
+  o.rounds = 0;  // the flip pass alone: no smoothing, no angle sweeps
+  o.angle_sweeps = o.sum_sweeps = o.hard_sweeps = 0;
+  auto normal_z = [](const Mesh& r, int32_t f) {
+    const int32_t a = r.f0[f], b = r.f1[f], c = r.f2[f];
+    return (r.x[b] - r.x[a]) * (r.y[c] - r.y[a]) - (r.y[b] - r.y[a]) * (r.x[c] - r.x[a]);
+  };
+  {
+    const Mesh input = square(true);
+    const TriangleGrid grid(input);
+    Mesh r = folded();
+    const RemeshOptimizeStats st = optimize_remesh(input, grid, r, o);
+    CHECK(st.flips == 1);
+    REQUIRE(r.num_faces() == 2);
+    for (int32_t f = 0; f < 2; ++f) {
+      CHECK(normal_z(r, f) > 0);
+      const std::set<int32_t> t = {r.f0[f], r.f1[f], r.f2[f]};
+      CHECK((t.count(2) == 1 && t.count(3) == 1));  // both hold the new edge c-d
+    }
+    CHECK(remesh_stats(input, r, false).min_angle_deg > 30);
+  }
+  {
+    const Mesh input = square(false);
+    const TriangleGrid grid(input);
+    Mesh r = folded();
+    CHECK(optimize_remesh(input, grid, r, o).flips == 0);
+    CHECK(r.f0[0] == 0);
+    CHECK(r.f2[1] == 3);
+  }
+}
+
 // The targeted angle repair alone (no smoothing rounds): a hexagon fan whose
 // center sits near one side has thin triangles; the best place for the center
 // is the hexagon's center (every angle 60 degrees), which the pattern search
