@@ -42,11 +42,12 @@ bool input_normal_at(const Mesh& input, const TriangleGrid& grid, const Triangle
   return norm(n) > 0;
 }
 
-// True when the pair `before` is folded against the input (one of its
-// triangles more than 90 degrees off the input's normal) and the flipped pair
-// `after` faces like the input (both within 60 degrees): the flip unfolds it
+// True when the pair `before` (its normals more than 120 degrees apart: a
+// fold, not a crease) is folded against the input (one of its triangles more
+// than 90 degrees off the input's normal) and the flipped pair `after` faces
+// like the input (both within 60 degrees): the flip unfolds it
 // (polygon_mesh's boundary: a 4-degree ear folded 177 degrees onto its
-// neighbor, which the 30-degree crease rule below kept).
+// neighbor, which the 30-degree crease rule below kept; docs/cvt.md).
 bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<TriangleCorners, 2>& before,
              const std::array<TriangleCorners, 2>& after) {
   V3 ni;
@@ -111,8 +112,10 @@ int64_t flip_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, std::vec
     if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
     if (dot(n1, n2) < cos30 * l1 * l2) continue;
     if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) {
-      // A crease stays, unless the pair is a fold the flip opens.
-      if (!unfolds(input, grid, {{{pa, pb, pc}, {pb, pa, pd}}}, {{{pc, pa, pd}, {pd, pb, pc}}})) continue;
+      // A crease stays, unless the pair is a fold (more than 120 degrees) the flip opens.
+      if (dot(na, nb) > -0.5 * la * lb ||
+          !unfolds(input, grid, {{{pa, pb, pc}, {pb, pa, pd}}}, {{{pc, pa, pd}, {pd, pb, pc}}}))
+        continue;
     } else {
       // A degenerate triangle (collinear sites, e.g. added on a straight input
       // edge) has no normal: its neighbor's orients the flip that removes it.
