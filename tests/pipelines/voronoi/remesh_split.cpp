@@ -27,6 +27,20 @@ Mesh thin_fan() {
   return r;
 }
 
+// split_to_count from m's count to `added` more: every split made, the
+// count met, the topology of analyze_mesh kept.
+void check_splits_to(const TriangleGrid& grid, Mesh& m, int32_t added, std::vector<int32_t>& site) {
+  const Mesh before = m;
+  const int32_t target = before.num_vertices() + added;
+  CHECK(split_to_count(grid, m, target, site) == added);
+  CHECK(m.num_vertices() == target);
+  const MeshReport a = analyze_mesh(before), b = analyze_mesh(m);
+  CHECK(b.manifold);
+  CHECK(b.euler_characteristic == a.euler_characteristic);
+  CHECK(b.components == a.components);
+  CHECK(b.boundary_loops == a.boundary_loops);
+}
+
 }  // namespace
 
 TEST_CASE("remesh split: the thin triangle's longest interior edge splits at its midpoint; topology and budget kept") {
@@ -94,12 +108,7 @@ TEST_CASE("remesh split to count: the longest edges split until the requested co
   }
   double mean = 0;
   for (const Edge& e : edges) mean += e.length / static_cast<double>(edges.size());
-  CHECK(split_to_count(grid, m, target, site) == 37);
-  CHECK(m.num_vertices() == target);
-  const MeshReport a = analyze_mesh(before), b = analyze_mesh(m);
-  CHECK(b.manifold);
-  CHECK(b.euler_characteristic == a.euler_characteristic);
-  CHECK(b.components == a.components);
+  check_splits_to(grid, m, 37, site);
   REQUIRE(site.size() == static_cast<size_t>(target));
   for (int32_t v = before.num_vertices(); v < m.num_vertices(); ++v) {
     // On the input torus (R = 1, r = 0.4), within the fine torus' chord error.
@@ -128,13 +137,7 @@ TEST_CASE("remesh split to count: boundary edges split too, the loops kept; pinn
   Mesh m = make_grid(4);
   const Mesh before = m;
   std::vector<int32_t> site;
-  const int32_t target = before.num_vertices() + 60;  // more than the interior edges in one pass
-  CHECK(split_to_count(grid, m, target, site) == 60);
-  CHECK(m.num_vertices() == target);
-  const MeshReport a = analyze_mesh(before), b = analyze_mesh(m);
-  CHECK(b.manifold);
-  CHECK(b.boundary_loops == a.boundary_loops);
-  CHECK(b.euler_characteristic == a.euler_characteristic);
+  check_splits_to(grid, m, 60, site);  // more than the interior edges in one pass
   for (int32_t v = 0; v < m.num_vertices(); ++v) CHECK(std::abs(m.z[v]) < 1e-12);
   Mesh p = make_grid(4);
   const std::vector<uint8_t> pinned(static_cast<size_t>(p.num_vertices()), 1);
