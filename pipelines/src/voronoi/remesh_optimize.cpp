@@ -25,29 +25,25 @@ uint64_t key(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
 }
 
-// One sweep of flips over the edges in sorted order; returns the number of flips.
-// A pair folded onto itself against the input (one of its triangles more
-// than 90 degrees off the input's normal at its centroid) whose flip gives two
-// triangles within 60 degrees of the input's normals: the flip unfolds it
-// (polygon_mesh's boundary: a 4-degree ear folded 177 degrees onto its neighbor).
 using TriangleCorners = std::array<V3, 3>;
 
 // The input's normal at the point of the input nearest a triangle's centroid.
 bool input_normal_at(const Mesh& input, const TriangleGrid& grid, const TriangleCorners& t, V3& n) {
-  const ClosestPoint cp =
-      grid.closest({(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3});
+  const ClosestPoint cp = grid.closest(
+      {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3});
   if (cp.face < 0) return false;
   const auto fv = input.face(cp.face);
   n = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
   return norm(n) > 0;
 }
 
-// True when the pair `before` (its normals more than 120 degrees apart: a
-// fold, not a crease) is folded against the input (one of its triangles more
-// than 90 degrees off the input's normal) and the flipped pair `after` faces
-// like the input (both within 60 degrees): the flip unfolds it
-// (polygon_mesh's boundary: a 4-degree ear folded 177 degrees onto its
-// neighbor, which the 30-degree crease rule below kept; docs/cvt.md).
+// For a pair `before` whose normals are more than 120 degrees apart (the
+// caller's test: a fold, not a crease): true when it is folded against the
+// input (one of its triangles more than 90 degrees off the input's normal)
+// and the flipped pair `after` faces like the input (both within 60
+// degrees): the flip unfolds it (polygon_mesh's boundary: a 4-degree ear
+// folded 177 degrees onto its neighbor, which the 30-degree crease rule
+// below kept; docs/cvt.md).
 bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<TriangleCorners, 2>& before,
              const std::array<TriangleCorners, 2>& after) {
   V3 ni;
@@ -60,6 +56,7 @@ bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<Trian
   return false;
 }
 
+// One sweep of flips over the edges in sorted order; returns the number of flips.
 int64_t flip_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, std::vector<std::array<int32_t, 3>>& F,
                   std::vector<int32_t>& valence, const std::vector<int32_t>& target,
                   const std::vector<uint8_t>& pinned, bool by_valence) {
