@@ -326,7 +326,7 @@ LOCUS_API locus_status locus_info_run(const locus_session* session, locus_info_r
  * and the final sites (locus_remesh_get_sites). opts->t_factor must be 0.
  * The labels, remesh and sites are `locus cvt`'s, bit for bit. */
 typedef struct locus_cvt_options {
-  int32_t sites;             /* 1..vertex count, at least one per component; default 100 */
+  int32_t sites;             /* at least one per component (more than the vertices: a subdivision); default 100 */
   int32_t iters;             /* 0..1000000, default 10 */
   double stop_energy;        /* [0, 1], default 0: all iters */
   double anisotropy;         /* lambda of the R^6 lift, 0..1e6; default 0: isotropic */

@@ -422,7 +422,8 @@ class LOCUS_API Session {
                                   const HeatQuery& q = {}, const RunContext& ctx = {}) const;
 
   // Isotropic heat CVT: `sites` seeded random initial sites (1 <= sites <= nv,
-  // at least one per connected component), `iterations` >= 0 localized Lloyd
+  // at least one per connected component; more than nv with `remesh`, whose
+  // cells run on a midpoint subdivision), `iterations` >= 0 localized Lloyd
   // steps, t = 4h^2. With `remesh`, also the remeshed surface (CvtResult).
   // The cached tier: the cells' operator is built once per positions and kept.
   CvtResult cvt(int32_t sites, int32_t iterations, uint64_t seed, const RunContext& ctx = {},
