@@ -42,7 +42,7 @@ struct LOCUS_API MeshInputOptions {
   // Look for the defects that choose the operator here (op below). false leaves
   // op unchecked: a Session made from the input with mesh_operator looks for them
   // in its own check, on the edge incidence it builds anyway (at 416k vertices
-  // the loader's own incidence and report cost ~0.4 s), and the caller copies
+  // the loader's own incidence and report cost 0.35-0.65 s), and the caller copies
   // Session::operator_report() into op.
   bool choose_operator = true;
 };
