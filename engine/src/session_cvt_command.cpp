@@ -194,9 +194,9 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   // ~0.3 s at 416k vertices), else computed beside the diagram's quality.
   RemeshStats input;
   CvtQuality quality;
-  if (derived.report) input = mesh_topology_stats(mesh, *derived.report);
-  tbb::parallel_invoke([&] { if (!derived.report) input = mesh_topology_stats(mesh); },
-                       [&] { quality = cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites); });
+  tbb::parallel_invoke(
+      [&] { input = derived.report ? mesh_topology_stats(mesh, *derived.report) : mesh_topology_stats(mesh); },
+      [&] { quality = cvt_quality(mesh, rr.lloyd.label, rr.lloyd.sites); });
   r.input_stats = stats_of(input);
   r.stats_s = rr.hausdorff_s + seconds(t0);
   take_quality(quality, r);

@@ -41,13 +41,12 @@ double edge_length(const Mesh& remesh, int32_t u, int32_t w) { return norm(sub(p
 // onto the input, skipping an edge whose triangles were split already (so each
 // split is one vertex and the same topology), an edge between two pinned
 // vertices, and a boundary edge unless boundary_edges; at most budget splits.
-int32_t split_edges(const TriangleGrid& grid, Mesh& remesh, const std::vector<std::pair<int32_t, int32_t>>& order,
-                    int32_t budget, std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned,
-                    bool boundary_edges) {
-  const std::vector<Tri> F = triangles_of(remesh);
-  const EdgeFaces ef = edge_faces(F);
+// F and ef are remesh's triangles and edge_faces(F).
+int32_t split_edges(const TriangleGrid& grid, Mesh& remesh, const std::vector<Tri>& F, const EdgeFaces& ef,
+                    const std::vector<std::pair<int32_t, int32_t>>& order, int32_t budget,
+                    std::vector<int32_t>& vertex_site, std::span<const uint8_t> pinned, bool boundary_edges) {
   std::vector<uint8_t> used(F.size(), 0);
-  Mesh out = remesh;
+  std::vector<V3> added;  // the new vertices, after remesh's
   std::vector<Tri> G = F;
   int32_t splits = 0;
   for (const auto& [u, w] : order) {
@@ -59,8 +58,8 @@ int32_t split_edges(const TriangleGrid& grid, Mesh& remesh, const std::vector<st
     const V3 pu = pos(remesh, u), pw = pos(remesh, w);
     const ClosestPoint cp = grid.closest({0.5 * (pu[0] + pw[0]), 0.5 * (pu[1] + pw[1]), 0.5 * (pu[2] + pw[2])});
     if (cp.face < 0) continue;
-    const int32_t m = out.num_vertices();
-    out.add_vertex(cp.point[0], cp.point[1], cp.point[2]);
+    const int32_t m = remesh.num_vertices() + static_cast<int32_t>(added.size());
+    added.push_back(cp.point);
     if (!vertex_site.empty()) vertex_site.push_back(vertex_site[u]);
     for (int32_t g : fs) {
       used[g] = 1;
@@ -74,7 +73,8 @@ int32_t split_edges(const TriangleGrid& grid, Mesh& remesh, const std::vector<st
   }
   if (splits == 0) return 0;
   Mesh res;
-  for (int32_t v = 0; v < out.num_vertices(); ++v) res.add_vertex(out.x[v], out.y[v], out.z[v]);
+  for (int32_t v = 0; v < remesh.num_vertices(); ++v) res.add_vertex(remesh.x[v], remesh.y[v], remesh.z[v]);
+  for (const V3& p : added) res.add_vertex(p[0], p[1], p[2]);
   for (const Tri& t : G) res.add_triangle(t[0], t[1], t[2]);
   remesh = std::move(res);
   return splits;
@@ -104,7 +104,7 @@ int32_t split_thin(const TriangleGrid& grid, Mesh& remesh, double below_deg, int
     }
     order.push_back({F[f][best], F[f][(best + 1) % 3]});
   }
-  return split_edges(grid, remesh, order, budget, vertex_site, pinned, boundary_edges);
+  return split_edges(grid, remesh, F, edge_faces(F), order, budget, vertex_site, pinned, boundary_edges);
 }
 
 int32_t split_to_count(const TriangleGrid& grid, Mesh& remesh, int32_t target, std::vector<int32_t>& vertex_site,
@@ -114,15 +114,16 @@ int32_t split_to_count(const TriangleGrid& grid, Mesh& remesh, int32_t target, s
     const int32_t need = target - remesh.num_vertices();
     if (need <= 0) break;
     // Longest first (ties by the vertex ids: the same order on every run).
+    const std::vector<Tri> F = triangles_of(remesh);
+    const EdgeFaces ef = edge_faces(F);
     std::vector<std::tuple<double, int32_t, int32_t>> edges;
-    for (const auto& [e, fs] : edge_faces(triangles_of(remesh)))
-      edges.push_back({-edge_length(remesh, e.first, e.second), e.first, e.second});
+    for (const auto& [e, fs] : ef) edges.push_back({-edge_length(remesh, e.first, e.second), e.first, e.second});
     std::sort(edges.begin(), edges.end());
     std::vector<std::pair<int32_t, int32_t>> order;
     for (const auto& [l, u, w] : edges) order.push_back({u, w});
     std::vector<uint8_t> pins(pinned.begin(), pinned.end());
     if (!pins.empty()) pins.resize(static_cast<size_t>(remesh.num_vertices()), 0);  // earlier passes' vertices move
-    const int32_t s = split_edges(grid, remesh, order, need, vertex_site, pins, true);
+    const int32_t s = split_edges(grid, remesh, F, ef, order, need, vertex_site, pins, true);
     if (s == 0) break;
     total += s;
   }
