@@ -13,8 +13,16 @@ mesh with fewer vertices is remeshed on its subdivision); --cap-at-vertices
 asks for at most one point per input vertex instead. A row breaking a target
 is marked.
 
+With --score (run it with /usr/bin/python3: numpy and scipy) every remesh is
+scored again by tools/remesh_score.py, from the files alone: the row's
+topology, angles and Hausdorff distance are then the independent ones, the
+engine's own are kept beside them (`engine`) and a disagreement is marked,
+and the input's angle bound (its sharpest boundary corner or one-triangle
+component) is given: a smallest angle at that bound is the input's.
+
   python3 tools/remesh_table.py --locus build/locus --min-vertices 3000
   python3 tools/remesh_table.py --meshes three_peaks cow camel --json-out t.json
+  /usr/bin/python3 tools/remesh_table.py --score --json-out t.json
 """
 import argparse
 import json
@@ -42,25 +50,47 @@ def off_vertex_count(path):
         return -1
 
 
-def run_one(locus, path, sites, timeout, extra):
-    """One remesh: (exit status, wall seconds, JSON or None, last stderr line)."""
+def run_one(locus, path, sites, timeout, extra, scorer=None):
+    """One remesh: (exit status, wall seconds, JSON or None, last stderr line, independent score or None)."""
     with tempfile.TemporaryDirectory() as tmp:
         cmd = [locus, "cvt", path, "--sites", str(sites), "-o", os.path.join(tmp, "out.obj"), "--json"] + extra
         t0 = time.monotonic()
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
         except subprocess.TimeoutExpired:
-            return None, time.monotonic() - t0, None, "timeout"
+            return None, time.monotonic() - t0, None, "timeout", None
         wall = time.monotonic() - t0
         try:
             j = json.loads(p.stdout) if p.stdout.strip() else None
         except json.JSONDecodeError:
             j = None
         err = p.stderr.strip().splitlines()
-        return p.returncode, wall, j, (err[-1] if err else "")
+        out = os.path.join(tmp, "out.obj")
+        sc = scorer(path, out) if scorer and p.returncode == 0 and os.path.exists(out) else None
+        return p.returncode, wall, j, (err[-1] if err else ""), sc
 
 
-def row_of(name, nv, sites, code, wall, j, err, angle_min_vertices):
+def independent(r, sc):
+    """The row's figures from the independent score; the engine's kept beside them, disagreements marked."""
+    engine = {k: r[k] for k in ("kept", "topology", "min_angle", "mean_min_angle", "hausdorff_pct")}
+    t = sc["remesh_topology"]
+    r["kept"] = bool(sc["topology_kept"])
+    r["topology"] = "g%s c%s b%s" % (t["genus"], t["components"], t["boundary_loops"])
+    r["min_angle"] = round(sc["min_angle_deg"], 1)
+    r["mean_min_angle"] = round(sc["mean_min_angle_deg"], 1)
+    r["hausdorff_pct"] = round(100 * sc["hausdorff_rel"], 2)
+    b = sc["input_angle_bound_deg"]
+    r["input_bound"] = None if b is None else round(b, 1)
+    r["engine"] = engine
+    # The engine samples each remesh face at 7 points, the score at ~200,000
+    # over the surface: its distance may be lower, never higher beyond noise.
+    h = engine["hausdorff_pct"]
+    r["disagree"] = [k for k in ("kept", "topology", "min_angle", "mean_min_angle") if engine[k] != r[k]]
+    if h is not None and h > 1.01 * r["hausdorff_pct"] + 0.01:
+        r["disagree"].append("hausdorff")
+
+
+def row_of(name, nv, sites, code, wall, j, err, angle_min_vertices, sc=None):
     r = {"mesh": name, "input_vertices": nv, "exit": code, "wall_s": round(wall, 2)}
     rem = (j or {}).get("remesh")
     if code != 0 or not rem:
@@ -75,6 +105,8 @@ def row_of(name, nv, sites, code, wall, j, err, angle_min_vertices):
     r["requested"] = sites
     r["added_sites"] = rem.get("added_sites", 0)
     r["hausdorff_pct"] = round(100 * rem["hausdorff_rel"], 2) if rem.get("hausdorff_rel", -1) >= 0 else None
+    if sc:
+        independent(r, sc)
     fails = []
     if not r["kept"]:
         fails.append("topology")
@@ -82,21 +114,32 @@ def row_of(name, nv, sites, code, wall, j, err, angle_min_vertices):
         fails.append("angles")
     if abs(r["delivered"] - sites) > 0.02 * sites:
         fails.append("density")
+    if r.get("disagree"):
+        fails.append("engine's figures: " + "/".join(r["disagree"]))
     r["fails"] = fails
     return r
 
 
+def min_cell(r):
+    if "input_bound" not in r:
+        return "%.1f" % r["min_angle"]
+    return "%.1f (%s)" % (r["min_angle"], "-" if r["input_bound"] is None else "%.1f" % r["input_bound"])
+
+
 def markdown(rows):
+    scored = any("input_bound" in r for r in rows)
     head = "| mesh | n | exit | wall s | topology kept | min ° | mean min ° | delivered | added | Hausdorff % | fails |"
+    if scored:
+        head = head.replace("| min ° |", "| min ° (input bound) |")
     out = [head, "|" + "---|" * 11]
     for r in rows:
         if "error" in r:
             out.append("| %s | %d | %s | %.2f | - | - | - | - | - | - | %s |" %
                        (r["mesh"], r["input_vertices"], r["exit"], r["wall_s"], r["error"].replace("|", "/")))
             continue
-        out.append("| %s | %d | %d | %.2f | %s (%s) | %.1f | %.1f | %d | %d | %s | %s |" % (
+        out.append("| %s | %d | %d | %.2f | %s (%s) | %s | %.1f | %d | %d | %s | %s |" % (
             r["mesh"], r["input_vertices"], r["exit"], r["wall_s"], "yes" if r["kept"] else "NO", r["topology"],
-            r["min_angle"], r["mean_min_angle"], r["delivered"], r["added_sites"],
+            min_cell(r), r["mean_min_angle"], r["delivered"], r["added_sites"],
             "-" if r["hausdorff_pct"] is None else "%.2f" % r["hausdorff_pct"], ", ".join(r["fails"]) or "-"))
     return "\n".join(out)
 
@@ -113,8 +156,17 @@ def main():
     ap.add_argument("--cap-at-vertices", action="store_true", help="at most one point per input vertex")
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--json-out", help="also write the rows as JSON")
+    ap.add_argument("--score", action="store_true", help="score every remesh again with tools/remesh_score.py")
     ap.add_argument("extra", nargs="*", help="after --: more `locus cvt` options")
     a = ap.parse_args()
+    scorer = None
+    if a.score:
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        try:
+            import remesh_score
+        except ImportError as e:
+            sys.exit("remesh_table: --score needs numpy and scipy (python3-numpy, python3-scipy; /usr/bin/python3): %s" % e)
+        scorer = remesh_score.score
     names = a.meshes or sorted(re.sub(r"\.off$", "", f) for f in os.listdir(a.dir) if f.endswith(".off"))
     rows = []
     for name in names:
@@ -125,8 +177,8 @@ def main():
         if nv < a.min_vertices or nv < 1:
             continue
         sites = min(a.sites, nv) if a.cap_at_vertices else a.sites
-        code, wall, j, err = run_one(a.locus, path, sites, a.timeout, a.extra)
-        r = row_of(name, nv, sites, code, wall, j, err, a.angle_min_vertices)
+        code, wall, j, err, sc = run_one(a.locus, path, sites, a.timeout, a.extra, scorer)
+        r = row_of(name, nv, sites, code, wall, j, err, a.angle_min_vertices, sc)
         rows.append(r)
         print(json.dumps(r), file=sys.stderr, flush=True)
     print(markdown(rows))

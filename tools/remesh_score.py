@@ -1,0 +1,310 @@
+#!/usr/bin/python3
+"""An independent score of a remesh against its input, sharing no code with locus.
+
+The remesh table (tools/remesh_table.py) reads the figures `locus cvt --json`
+computes itself (remesh_quality.hpp); this script computes them again from the
+two files alone, with numpy and scipy, so that a bug in the engine's own
+statistics cannot make a row look right:
+
+- topology: edge-manifold (no edge in more than two faces), vertex-manifold
+  (the faces around each vertex form one fan), consistently oriented, no
+  unreferenced vertex; components, boundary loops, Euler characteristic and
+  the genus 2g = 2c - b - chi;
+- angles: each triangle's smallest angle, their minimum and mean, and the
+  share below 25 and 30 degrees;
+- the two-sided Hausdorff distance over the input's bounding-box diagonal, on
+  samples (every vertex and ~`--samples` points spread by area on each
+  surface; each sample's distance is exact to the 16 triangles of the other
+  surface whose own samples are nearest, so it is an upper bound there and
+  the maximum over samples a close lower bound of the true distance);
+- the input's angle bound: the smallest interior angle of its boundary
+  corners (the angle sum of a boundary vertex, below 180 degrees) and of its
+  components of one triangle. A remesh with a vertex at each such corner, or
+  that keeps a one-triangle component, has a triangle no better than it: any
+  triangulation that keeps a corner of angle a has an angle <= a there.
+
+Reads OFF and OBJ (triangles and polygons, fanned). Needs python3-numpy and
+python3-scipy (Debian packages).
+
+  /usr/bin/python3 tools/remesh_score.py cache/meshes/cow.off /tmp/cow.obj
+  /usr/bin/python3 tools/remesh_score.py --json INPUT REMESH
+"""
+import argparse
+import json
+import math
+import sys
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+
+def read_mesh(path):
+    """(vertices n x 3 float, triangles m x 3 int) of an OFF or OBJ file."""
+    if path.lower().endswith(".obj"):
+        vs, fs = [], []
+        with open(path, encoding="utf-8", errors="replace") as f:
+            for line in f:
+                t = line.split()
+                if not t:
+                    continue
+                if t[0] == "v":
+                    vs.append([float(x) for x in t[1:4]])
+                elif t[0] == "f":
+                    idx = [int(x.split("/")[0]) for x in t[1:]]
+                    idx = [i - 1 if i > 0 else len(vs) + i for i in idx]
+                    fs += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
+        return np.array(vs, float).reshape(-1, 3), np.array(fs, np.int64).reshape(-1, 3)
+    toks = []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            toks += line.split("#")[0].split()
+    if not toks or not toks[0].endswith("OFF"):
+        sys.exit(f"remesh_score: {path}: neither OBJ nor OFF")
+    nv, nf = int(toks[1]), int(toks[2])
+    v = np.array(toks[4:4 + 3 * nv], float).reshape(nv, 3)
+    i, fs = 4 + 3 * nv, []
+    for _ in range(nf):
+        n = int(toks[i])
+        idx = [int(x) for x in toks[i + 1:i + 1 + n]]
+        fs += [[idx[0], idx[k], idx[k + 1]] for k in range(1, n - 1)]
+        i += 1 + n
+    return v, np.array(fs, np.int64).reshape(-1, 3)
+
+
+def find(parent, x):
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
+def topology(v, f):
+    """Manifoldness, orientation, components, boundary loops, chi and genus."""
+    nv = len(v)
+    half = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    und = np.sort(half, axis=1)
+    edges, inverse, count = np.unique(und, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.reshape(-1)
+    edge_manifold = bool(count.max(initial=0) <= 2)
+    # Consistent orientation: no directed edge twice.
+    _, dcount = np.unique(half, axis=0, return_counts=True)
+    oriented = bool(dcount.max(initial=0) <= 1)
+    used = np.zeros(nv, bool)
+    used[f.reshape(-1)] = True
+    # Vertex-manifold: the faces around a vertex joined through their edges at it form one fan.
+    m = len(f)
+    fan_parent = {}
+    corner_faces = {}
+    for k in range(3):
+        for fi, vi in enumerate(f[:, k]):
+            corner_faces.setdefault(int(vi), []).append(fi)
+    face_of_half = np.tile(np.arange(m), 3)
+    by_edge = {}
+    for h, e in enumerate(inverse):
+        by_edge.setdefault(int(e), []).append(int(face_of_half[h]))
+    vertex_manifold = True
+    for e, (a, b) in enumerate(edges):
+        fs = by_edge[e]
+        if len(fs) == 2:
+            for x in (int(a), int(b)):
+                p = fan_parent.setdefault(x, {})
+                for g in fs:
+                    p.setdefault(g, g)
+                r0, r1 = find(p, fs[0]), find(p, fs[1])
+                p[r0] = r1
+    for x, fs in corner_faces.items():
+        p = fan_parent.get(x, {})
+        roots = {find(p, g) if g in p else ("alone", g) for g in fs}
+        if len(roots) != 1:
+            vertex_manifold = False
+            break
+    # Components over the edges of used vertices.
+    parent = list(range(nv))
+    for a, b in edges:
+        ra, rb = find(parent, int(a)), find(parent, int(b))
+        if ra != rb:
+            parent[ra] = rb
+    comps = len({find(parent, x) for x in range(nv) if used[x]})
+    # Boundary loops: cycles of the boundary edges (each boundary vertex of a
+    # manifold has two; at a pinch the directed edges, consistently oriented, pair up).
+    bnd = edges[count == 1]
+    bparent = {}
+    for a, b in bnd:
+        for x in (int(a), int(b)):
+            bparent.setdefault(x, x)
+    if vertex_manifold:
+        for a, b in bnd:
+            ra, rb = find(bparent, int(a)), find(bparent, int(b))
+            if ra != rb:
+                bparent[ra] = rb
+        loops = len({find(bparent, x) for x in bparent})
+    else:
+        loops = -1
+    chi = int(used.sum()) - len(edges) + m
+    manifold = edge_manifold and vertex_manifold and oriented and bool(used.all())
+    twice = 2 * comps - chi - loops
+    genus = twice // 2 if manifold and twice >= 0 and twice % 2 == 0 else -1
+    return {"manifold": manifold, "edge_manifold": edge_manifold, "vertex_manifold": vertex_manifold,
+            "oriented": oriented, "unreferenced": int((~used).sum()), "components": comps,
+            "boundary_loops": loops, "euler": chi, "genus": genus}
+
+
+def corner_angles(v, f):
+    """Each triangle's three angles in degrees (m x 3)."""
+    out = np.zeros((len(f), 3))
+    for k in range(3):
+        p, q, r = v[f[:, k]], v[f[:, (k + 1) % 3]], v[f[:, (k + 2) % 3]]
+        u, w = q - p, r - p
+        nu, nw = np.linalg.norm(u, axis=1), np.linalg.norm(w, axis=1)
+        c = np.einsum("ij,ij->i", u, w) / np.maximum(nu * nw, 1e-300)
+        out[:, k] = np.degrees(np.arccos(np.clip(c, -1, 1)))
+        out[(nu == 0) | (nw == 0), k] = 0
+    return out
+
+
+def angle_bound(v, f):
+    """The input's smallest boundary corner and one-triangle component angle (degrees, or None)."""
+    ang = corner_angles(v, f)
+    und = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    edges, count = np.unique(und, axis=0, return_counts=True)
+    bverts = np.unique(edges[count == 1].reshape(-1))
+    sums = np.zeros(len(v))
+    np.add.at(sums, f.reshape(-1), ang.reshape(-1))
+    corner = float(sums[bverts].min()) if len(bverts) else None
+    # Components of one triangle: all three of its edges on the boundary.
+    idx = {tuple(e): c for e, c in zip(map(tuple, edges), count)}
+    single = [fi for fi, t in enumerate(f)
+              if all(idx[tuple(sorted((int(t[k]), int(t[(k + 1) % 3]))))] == 1 for k in range(3))]
+    single_min = float(ang[single].min()) if single else None
+    return corner, single_min, len(single)
+
+
+def closest_on_triangles(p, a, b, c):
+    """The closest points to p (n x 3) on triangles (a, b, c) (n x 3 each), by regions."""
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
+    bp = p - b
+    d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
+    cp = p - c
+    d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    denom = va + vb + vc
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v = vb / denom
+        w = vc / denom
+    out = a + ab * v[:, None] + ac * w[:, None]  # inside
+    # Edges, then vertices, each overriding where its region holds.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ab = d1 / (d1 - d3)
+        t_ac = d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+    r_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+    r_ac = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+    r_bc = (va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0)
+    out[r_bc] = (b + (c - b) * t_bc[:, None])[r_bc]
+    out[r_ac] = (a + ac * t_ac[:, None])[r_ac]
+    out[r_ab] = (a + ab * t_ab[:, None])[r_ab]
+    r_a = (d1 <= 0) & (d2 <= 0)
+    r_b = (d3 >= 0) & (d4 <= d3)
+    r_c = (d6 >= 0) & (d5 <= d6)
+    out[r_a], out[r_b], out[r_c] = a[r_a], b[r_b], c[r_c]
+    bad = ~np.isfinite(out).all(axis=1)  # a degenerate triangle: its nearest vertex
+    if bad.any():
+        cand = np.stack([a[bad], b[bad], c[bad]], axis=1)
+        k = np.argmin(np.linalg.norm(cand - p[bad][:, None, :], axis=2), axis=1)
+        out[bad] = cand[np.arange(len(k)), k]
+    return out
+
+
+def surface_samples(v, f, n, rng):
+    """Every vertex, each face's centroid and ~n points spread by area: (points, face of each or -1)."""
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    pts = [(a + b + c) / 3]
+    faces = [np.arange(len(f))]
+    if area.sum() > 0 and n > 0:
+        k = rng.poisson(n * area / area.sum())
+        fi = np.repeat(np.arange(len(f)), k)
+        r1, r2 = rng.random(len(fi)), rng.random(len(fi))
+        s = np.sqrt(r1)
+        pts.append(a[fi] * (1 - s)[:, None] + b[fi] * (s * (1 - r2))[:, None] + c[fi] * (s * r2)[:, None])
+        faces.append(fi)
+    return np.concatenate(pts), np.concatenate(faces)
+
+
+def one_sided(src_pts, v, f, tree, tree_face, k=16):
+    """Each source point's distance to the surface (v, f), exact to its k candidate triangles."""
+    k = min(k, len(tree_face))
+    best = np.full(len(src_pts), np.inf)
+    step = 20000
+    for s in range(0, len(src_pts), step):
+        p = src_pts[s:s + step]
+        _, nn = tree.query(p, k=k)
+        nn = nn.reshape(len(p), -1)
+        for j in range(nn.shape[1]):
+            t = f[tree_face[nn[:, j]]]
+            q = closest_on_triangles(p, v[t[:, 0]], v[t[:, 1]], v[t[:, 2]])
+            best[s:s + step] = np.minimum(best[s:s + step], np.linalg.norm(q - p, axis=1))
+    return best
+
+
+def hausdorff_rel(v0, f0, v1, f1, samples, seed=1):
+    rng = np.random.default_rng(seed)
+    diag = float(np.linalg.norm(v0.max(axis=0) - v0.min(axis=0)))
+    p0, t0 = surface_samples(v0, f0, samples, rng)
+    p1, t1 = surface_samples(v1, f1, samples, rng)
+    tree0, tree1 = cKDTree(p0), cKDTree(p1)
+    used0 = np.unique(f0.reshape(-1))
+    used1 = np.unique(f1.reshape(-1))
+    d01 = one_sided(np.concatenate([v0[used0], p0]), v1, f1, tree1, t1)
+    d10 = one_sided(np.concatenate([v1[used1], p1]), v0, f0, tree0, t0)
+    h = max(float(d01.max(initial=0)), float(d10.max(initial=0)))
+    return h / diag if diag > 0 else 0.0
+
+
+def score(input_path, remesh_path, samples=200000):
+    v0, f0 = read_mesh(input_path)
+    v1, f1 = read_mesh(remesh_path)
+    if len(f1) == 0:
+        sys.exit(f"remesh_score: {remesh_path}: no faces")
+    top_in, top_out = topology(v0, f0), topology(v1, f1)
+    smallest = corner_angles(v1, f1).min(axis=1)
+    corner, single_min, singles = angle_bound(v0, f0)
+    bounds = [x for x in (corner, single_min) if x is not None]
+    keys = ("genus", "components", "boundary_loops")
+    return {
+        "input": input_path, "remesh": remesh_path, "vertices": int(len(v1)), "faces": int(len(f1)),
+        "input_topology": top_in, "remesh_topology": top_out,
+        "topology_kept": top_out["manifold"] and all(top_in[k] == top_out[k] for k in keys),
+        "min_angle_deg": float(smallest.min()), "mean_min_angle_deg": float(smallest.mean()),
+        "pct_below_25_deg": float(100 * (smallest < 25).mean()),
+        "pct_below_30_deg": float(100 * (smallest < 30).mean()),
+        "hausdorff_rel": hausdorff_rel(v0, f0, v1, f1, samples),
+        "input_sharpest_boundary_corner_deg": corner, "input_single_triangles": singles,
+        "input_single_triangle_min_angle_deg": single_min,
+        "input_angle_bound_deg": min(bounds) if bounds else None,
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("input")
+    ap.add_argument("remesh")
+    ap.add_argument("--samples", type=int, default=200000, help="area samples per surface (and every vertex)")
+    ap.add_argument("--json", action="store_true", help="one JSON object instead of lines")
+    a = ap.parse_args()
+    s = score(a.input, a.remesh, a.samples)
+    if a.json:
+        print(json.dumps(s))
+        return
+    t = s["remesh_topology"]
+    print(f"{a.remesh}: {s['vertices']} vertices, manifold {t['manifold']}, genus {t['genus']}, "
+          f"components {t['components']}, boundary loops {t['boundary_loops']}, topology kept {s['topology_kept']}")
+    print(f"smallest angle {s['min_angle_deg']:.2f}, mean smallest {s['mean_min_angle_deg']:.2f} degrees, "
+          f"{s['pct_below_25_deg']:.2f}% below 25; Hausdorff {100 * s['hausdorff_rel']:.3f}% of the diagonal")
+    b = s["input_angle_bound_deg"]
+    print("input angle bound: " + ("none (closed, no one-triangle component)" if b is None else f"{b:.2f} degrees"))
+
+
+if __name__ == "__main__":
+    main()
