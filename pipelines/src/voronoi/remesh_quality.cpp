@@ -2,6 +2,7 @@
 // (pipelines/include/locus/pipelines/voronoi/remesh_quality.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 
+#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_reduce.h>
 #include <oneapi/tbb/blocked_range.h>
 
@@ -63,30 +64,124 @@ double hausdorff_distance(const Mesh& a, const Mesh& b) {
   return hausdorff_distance(a, TriangleGrid(a), b);
 }
 
+namespace {
+
+// The distance to a surface is 1-Lipschitz, and every point of a triangle
+// lies within its longest edge / sqrt(3) of a corner (the circumradius of
+// an acute triangle, half the longest edge of an obtuse one). So a triangle
+// whose corners' distances plus that reach stay below the largest distance
+// found (within kTol, or kAbsTol of the meshes' size) holds no point
+// farther; the others are split at their edge midpoints, depth first. When
+// its three corners are nearest to one target triangle, their mean point on
+// it is within the corners' largest distance of any point of the triangle
+// (convexity), so the corners give its largest distance. The answer is the
+// largest distance met: a lower bound, within kTol of the true distance
+// unless a face reaches kMaxSplits (~4,000 midpoint queries).
+constexpr double kTol = 0.01, kAbsTol = 1e-7;
+constexpr int kMaxSplits = 1365;  // 4^0 + ... + 4^5 sub-triangles
+
+struct SubTriangle {
+  V3 p[3];
+  double d[3];
+  int32_t f[3];  // each corner's nearest target face
+};
+
+double reach(const V3& a, const V3& b, const V3& c) {
+  const double l2 = std::max({dot(sub(a, b), sub(a, b)), dot(sub(b, c), sub(b, c)), dot(sub(c, a), sub(c, a))});
+  return std::sqrt(l2 / 3);
+}
+
+V3 mid(const V3& a, const V3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
+
+struct Target {
+  const Mesh& mesh;
+  const TriangleGrid& grid;
+  double abs_tol;
+  bool triangle(int32_t f) const { return f >= 0 && mesh.face(f).size() == 3; }
+};
+
+// The largest distance from triangle `root` to the target above `floor` (else
+// `floor`): a search of its own, so the thread count does not change it.
+double face_search(const Target& tg, const SubTriangle& root, double floor) {
+  double best = floor;
+  std::vector<SubTriangle> stack{root};
+  for (int splits = 0; !stack.empty();) {
+    const SubTriangle t = stack.back();
+    stack.pop_back();
+    const double top = std::max({t.d[0], t.d[1], t.d[2]});
+    best = std::max(best, top);
+    if (t.f[0] == t.f[1] && t.f[1] == t.f[2] && tg.triangle(t.f[0])) continue;
+    const double bound = std::max(best * (1 + kTol), best + tg.abs_tol);
+    if (top + reach(t.p[0], t.p[1], t.p[2]) <= bound || ++splits > kMaxSplits) continue;
+    const V3 m[3] = {mid(t.p[0], t.p[1]), mid(t.p[1], t.p[2]), mid(t.p[2], t.p[0])};
+    ClosestPoint c[3];
+    for (int k = 0; k < 3; ++k) c[k] = tg.grid.closest(m[k]);
+    const double dm[3] = {c[0].distance, c[1].distance, c[2].distance};
+    const int32_t fm[3] = {c[0].face, c[1].face, c[2].face};
+    stack.push_back({{t.p[0], m[0], m[2]}, {t.d[0], dm[0], dm[2]}, {t.f[0], fm[0], fm[2]}});
+    stack.push_back({{m[0], t.p[1], m[1]}, {dm[0], t.d[1], dm[1]}, {fm[0], t.f[1], fm[1]}});
+    stack.push_back({{m[2], m[1], t.p[2]}, {dm[2], dm[1], t.d[2]}, {fm[2], fm[1], t.f[2]}});
+    stack.push_back({{m[0], m[1], m[2]}, {dm[0], dm[1], dm[2]}, {fm[0], fm[1], fm[2]}});
+  }
+  return best;
+}
+
+double face_max(const Target& tg, const SubTriangle& root, double floor) {
+  // Most faces end at the root: no stack for them.
+  const double top = std::max({root.d[0], root.d[1], root.d[2]}), best = std::max(floor, top);
+  const bool one_face = root.f[0] == root.f[1] && root.f[1] == root.f[2] && tg.triangle(root.f[0]);
+  if (one_face || top + reach(root.p[0], root.p[1], root.p[2]) <= std::max(best * (1 + kTol), best + tg.abs_tol))
+    return best;
+  return face_search(tg, root, floor);
+}
+
+// Every vertex of `src` to the target: distance and nearest face.
+void vertex_distances(const Mesh& src, const TriangleGrid& g, std::vector<double>& d, std::vector<int32_t>& f) {
+  d.resize(static_cast<size_t>(src.num_vertices()));
+  f.resize(d.size());
+  tbb::parallel_for(tbb::blocked_range<int32_t>(0, src.num_vertices()), [&](const tbb::blocked_range<int32_t>& r) {
+    for (int32_t v = r.begin(); v < r.end(); ++v) {
+      const ClosestPoint c = g.closest(pos(src, v));
+      d[static_cast<size_t>(v)] = c.distance;
+      f[static_cast<size_t>(v)] = c.face;
+    }
+  });
+}
+
+// The faces of `src` (polygons as fans) searched against the target, above `floor`.
+double faces_max(const Mesh& src, const std::vector<double>& dv, const std::vector<int32_t>& near,
+                 const Target& tg, double floor) {
+  return max_over(src.num_faces(), [&](int64_t f) {
+    const auto fv = src.face(static_cast<int32_t>(f));
+    double best = floor;
+    for (size_t t = 1; t + 1 < fv.size(); ++t) {
+      const int32_t i[3] = {fv[0], fv[t], fv[t + 1]};
+      const SubTriangle root{{pos(src, i[0]), pos(src, i[1]), pos(src, i[2])},
+                             {dv[i[0]], dv[i[1]], dv[i[2]]},
+                             {near[i[0]], near[i[1]], near[i[2]]}};
+      best = std::max(best, face_max(tg, root, floor));
+    }
+    return best;
+  });
+}
+
+}  // namespace
+
 double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b) {
   if (a.num_faces() == 0 || b.num_faces() == 0) fail(ErrorCode::BadUsage, "hausdorff: both meshes need faces");
   const TriangleGrid gb(b);
-  // Vertices of a to b (max is order-independent, so the reduction is deterministic).
-  const double ab = max_over(a.num_vertices(), [&](int64_t v) { return gb.distance(pos(a, static_cast<int32_t>(v))); });
-  static constexpr double kSamples[][3] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
-                                           {4 / 6., 1 / 6., 1 / 6.}, {1 / 6., 4 / 6., 1 / 6.}, {1 / 6., 1 / 6., 4 / 6.},
-                                           {1 / 3., 1 / 3., 1 / 3.}};
-  auto samples_to = [&](const Mesh& src, const TriangleGrid& g) {
-    return max_over(src.num_faces(), [&](int64_t f) {
-      const auto fv = src.face(static_cast<int32_t>(f));
-      double d = g.distance(pos(src, fv[0]));
-      for (size_t t = 1; t + 1 < fv.size(); ++t) {
-        const V3 p0 = pos(src, fv[0]), p1 = pos(src, fv[t]), p2 = pos(src, fv[t + 1]);
-        for (const auto& w : kSamples)
-          d = std::max(d, g.distance({w[0] * p0[0] + w[1] * p1[0] + w[2] * p2[0], w[0] * p0[1] + w[1] * p1[1] + w[2] * p2[1],
-                                      w[0] * p0[2] + w[1] * p1[2] + w[2] * p2[2]}));
-      }
-      return d;
-    });
-  };
-  const double ba = std::max(max_over(b.num_vertices(), [&](int64_t v) { return ga.distance(pos(b, static_cast<int32_t>(v))); }),
-                             samples_to(b, ga));
-  return std::max(ab, ba);
+  // Vertices first: their largest distance is the floor every face search starts from.
+  std::vector<double> da, db;
+  std::vector<int32_t> near_a, near_b;  // per vertex of a (of b): its nearest face of b (of a)
+  vertex_distances(a, gb, da, near_a);
+  vertex_distances(b, ga, db, near_b);
+  double floor = 0;
+  for (const auto* d : {&da, &db})
+    for (double x : *d) floor = std::max(floor, x);
+  const double abs_tol = kAbsTol * bounding_box_diagonal(a);
+  // A floor fixed before the parallel searches keeps the answer the same on any thread count.
+  const double ab = faces_max(a, da, near_a, Target{b, gb, abs_tol}, floor);
+  return std::max(ab, faces_max(b, db, near_b, Target{a, ga, abs_tol}, floor));
 }
 
 RemeshStats mesh_topology_stats(const Mesh& m) { return mesh_topology_stats(m, analyze_mesh(m)); }
