@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "locus/error.hpp"
@@ -175,9 +176,11 @@ double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b) 
   std::vector<int32_t> near_a, near_b;  // per vertex of a (of b): its nearest face of b (of a)
   vertex_distances(a, gb, da, near_a);
   vertex_distances(b, ga, db, near_b);
+  // The floor over the faces' corners: an unreferenced vertex is not on the surface.
   double floor = 0;
-  for (const auto* d : {&da, &db})
-    for (double x : *d) floor = std::max(floor, x);
+  for (const auto& [m, d] : {std::pair{&a, &da}, std::pair{&b, &db}})
+    for (int32_t f = 0; f < m->num_faces(); ++f)
+      for (int32_t v : m->face(f)) floor = std::max(floor, (*d)[static_cast<size_t>(v)]);
   const double abs_tol = kAbsTol * bounding_box_diagonal(a);
   // A floor fixed before the parallel searches keeps the answer the same on any thread count.
   const double ab = faces_max(a, da, near_a, Target{b, gb, abs_tol}, floor);
