@@ -287,7 +287,7 @@ def one_sided(src_pts, v, f, tree, tree_face, k=16):
     step = 20000
     for s in range(0, len(src_pts), step):
         p = src_pts[s:s + step]
-        _, nn = tree.query(p, k=k)
+        _, nn = tree.query(p, k=k, workers=-1)
         nn = nn.reshape(len(p), -1)
         for j in range(nn.shape[1]):
             t = f[tree_face[nn[:, j]]]
@@ -315,8 +315,9 @@ def one_direction(vs, fs, ps, ts, vt, ft, tree, tree_face, refine_faces, refine_
     farthest samples, and around the farthest grid points a search that halves
     its step six times (a local maximum is not missed between grid points)."""
     used = np.unique(fs.reshape(-1))
-    best = float(one_sided(np.concatenate([vs[used], ps]), vt, ft, tree, tree_face).max(initial=0))
-    d = one_sided(ps, vt, ft, tree, tree_face)
+    dall = one_sided(np.concatenate([vs[used], ps]), vt, ft, tree, tree_face)
+    best = float(dall.max(initial=0))
+    d = dall[len(used):]
     if refine_faces <= 0 or not len(d):
         return best
     top = np.unique(ts[np.argsort(d)[-refine_faces:]])

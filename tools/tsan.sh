@@ -73,7 +73,7 @@ fi
 say "building locus-tests (TSan)"
 # Only the test files the groups below run are compiled (keep the two lists in step).
 tests="/tests/(kernels/(order/|mesh/nearest_seed_buckets|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
-tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features)|geodesic/(heat_geodesic|logmap)\\.cpp"
+tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features|remesh_quality)|geodesic/(heat_geodesic|logmap)\\.cpp"
 tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
 clang_tree "$B"
 cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread "${clang_cmake_compilers[@]}" \
@@ -121,7 +121,7 @@ run "factor update" --source-file='*tests/kernels/*/factor_update*'
 run "memory budget" --source-file='*tests/kernels/*/memory_budget*'
 run "CVT (flow graph)" --source-file='*tests/pipelines/*/cvt_lloyd*'
 run "graph-metric labels (a bucket's offers in parallel, applied in queue order)" --source-file='*tests/kernels/mesh/nearest_seed_buckets*'
-run "remesh optimization (parallel colour-class sweeps), with features" --test-case='cvt remesh: sphere*,remesh optimization:*,cvt remesh with features*'
+run "remesh optimization (parallel colour-class sweeps), with features; the Hausdorff search" --test-case='cvt remesh: sphere*,remesh optimization:*,cvt remesh with features*,remesh quality: the Hausdorff*'
 run "heat geodesic and log map threads" --test-case='*queries from several threads*,*log map: angles from the batched*'
 run "ADF and heat Voronoi threads" --test-case='*adf: results do not depend on the thread count*,*heat voronoi: localized*'
 # The cases that compare 1 and 2 threads; the others check numbers the Release and ASan stages check.
