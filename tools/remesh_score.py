@@ -19,16 +19,19 @@ statistics cannot make a row look right:
   samples (every vertex and ~`--samples` points spread by area on each
   surface, then a grid of 861 points on each of the 200 faces holding the
   farthest samples, and a local search around the 20 farthest grid points;
-  each point's distance is exact to the 16 triangles of the other surface
-  whose own samples are nearest, so it is an upper bound there and the
-  maximum over points a close lower bound of the true distance);
+  each point's distance to the 16 triangles of the other surface whose own
+  samples are nearest is an upper bound, and the points are then taken in
+  decreasing bound against every triangle until no bound exceeds the best
+  exact distance: the maximum over the points, exactly, a close lower bound
+  of the true distance);
 - the input's angle bound: the smallest interior angle of its boundary
   corners (the angle sum of a boundary vertex, below 180 degrees) and of its
   components of one triangle. A remesh with a vertex at each such corner, or
   that keeps a one-triangle component, has a triangle no better than it: any
   triangulation that keeps a corner of angle a has an angle <= a there.
 
-Reads OFF and OBJ (triangles and polygons, fanned). Needs python3-numpy and
+Reads OFF and OBJ (triangles, and polygons cut into triangles by ear clipping
+in the plane of their Newell normal). Needs python3-numpy and
 python3-scipy (Debian packages).
 
   /usr/bin/python3 tools/remesh_score.py cache/meshes/cow.off /tmp/cow.obj
@@ -41,6 +44,42 @@ import sys
 
 import numpy as np
 from scipy.spatial import cKDTree
+
+
+def ear_clip(v, idx):
+    """Triangles of polygon idx (vertex indices into v): its Newell normal's
+    plane, then ears cut in turn (a convex corner holding no other corner);
+    a fan where no ear is left (a polygon folded in that plane)."""
+    if len(idx) == 3:
+        return [list(idx)]
+    p = np.asarray([v[i] for i in idx], float)
+    n = np.zeros(3)
+    for k in range(len(p)):
+        a, b = p[k], p[(k + 1) % len(p)]
+        n += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])]
+    ax = int(np.argmax(np.abs(n)))
+    uv = np.delete(p, ax, axis=1)
+    if n[ax] < 0:
+        uv[:, 0] = -uv[:, 0]  # counterclockwise in the plane
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    ring, tris = list(range(len(idx))), []
+    while len(ring) > 3:
+        for k in range(len(ring)):
+            i0, i1, i2 = ring[k - 1], ring[k], ring[(k + 1) % len(ring)]
+            if cross(uv[i0], uv[i1], uv[i2]) <= 0:
+                continue
+            inside = any(cross(uv[i0], uv[i1], uv[j]) >= 0 and cross(uv[i1], uv[i2], uv[j]) >= 0 and
+                         cross(uv[i2], uv[i0], uv[j]) >= 0 for j in ring if j not in (i0, i1, i2))
+            if not inside:
+                tris.append([idx[i0], idx[i1], idx[i2]])
+                ring.pop(k)
+                break
+        else:
+            tris += [[idx[ring[0]], idx[ring[k]], idx[ring[k + 1]]] for k in range(1, len(ring) - 1)]
+            return tris
+    tris.append([idx[i] for i in ring])
+    return tris
 
 
 def read_mesh(path):
@@ -57,7 +96,9 @@ def read_mesh(path):
                 elif t[0] == "f":
                     idx = [int(x.split("/")[0]) for x in t[1:]]
                     idx = [i - 1 if i > 0 else len(vs) + i for i in idx]
-                    fs += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
+                    fs.append(idx)
+        if any(len(x) > 3 for x in fs):
+            fs = [t for x in fs for t in ear_clip(vs, x)]
         return np.array(vs, float).reshape(-1, 3), np.array(fs, np.int64).reshape(-1, 3)
     # Line by line: a vertex line may carry colors or normals after its
     # position (COFF, NOFF), a face line colors after its indices.
@@ -72,8 +113,7 @@ def read_mesh(path):
     fs = []
     for t in body[nv:nv + nf]:
         n = int(t[0])
-        idx = [int(x) for x in t[1:1 + n]]
-        fs += [[idx[0], idx[k], idx[k + 1]] for k in range(1, n - 1)]
+        fs += ear_clip(v, [int(x) for x in t[1:1 + n]])
     return v, np.array(fs, np.int64).reshape(-1, 3)
 
 
@@ -309,35 +349,63 @@ def grid_bary(n):
     return np.stack([i[keep] / n, j[keep] / n], axis=1)
 
 
-def one_direction(vs, fs, ps, ts, vt, ft, tree, tree_face, refine_faces, refine_steps, zoom=20):
+def exact_distances(pts, v, f):
+    """Each point's distance to every triangle of (v, f), the smallest: exact, in chunks."""
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    step = max(1, 2000000 // max(1, len(f)))
+    out = np.empty(len(pts))
+    for s in range(0, len(pts), step):
+        p = pts[s:s + step]
+        n = len(p)
+        pp = np.repeat(p, len(f), axis=0)
+        q = closest_on_triangles(pp, np.tile(a, (n, 1)), np.tile(b, (n, 1)), np.tile(c, (n, 1)))
+        out[s:s + step] = np.linalg.norm(q - pp, axis=1).reshape(n, len(f)).min(axis=1)
+    return out
+
+
+def exact_max(pts, upper, v, f, slack):
+    """The largest exact distance over pts, given upper bounds: the points in
+    decreasing bound, until the bound is no more than the best exact (+ slack)."""
+    order = np.argsort(-upper)
+    best, i = 0.0, 0
+    chunk = max(16, 2000000 // max(1, len(f)))
+    while i < len(order) and upper[order[i]] > best + slack:
+        idx = order[i:i + chunk]
+        idx = idx[upper[idx] > best + slack]
+        best = max(best, float(exact_distances(pts[idx], v, f).max(initial=0)))
+        i += chunk
+    return best
+
+
+def one_direction(vs, fs, ps, ts, vt, ft, tree, tree_face, refine_faces, refine_steps, slack, zoom=20):
     """Largest distance from surface s (its vertices and samples ps on faces ts) to
     surface t; then a grid of barycentric steps on the faces of s holding the
     farthest samples, and around the farthest grid points a search that halves
-    its step six times (a local maximum is not missed between grid points)."""
+    its step six times. The candidates' distances (to 16 triangles each) are
+    upper bounds; the largest is then made exact against every triangle."""
     used = np.unique(fs.reshape(-1))
-    dall = one_sided(np.concatenate([vs[used], ps]), vt, ft, tree, tree_face)
-    best = float(dall.max(initial=0))
-    d = dall[len(used):]
-    if refine_faces <= 0 or not len(d):
-        return best
-    top = np.unique(ts[np.argsort(d)[-refine_faces:]])
-    g = grid_bary(refine_steps)
-    faces = np.repeat(top, len(g))
-    bary = np.tile(g, (len(top), 1))
-    dd = one_sided(on_faces(vs, fs, faces, bary), vt, ft, tree, tree_face)
-    best = max(best, float(dd.max(initial=0)))
-    offsets = np.stack(np.meshgrid(np.linspace(-1, 1, 7), np.linspace(-1, 1, 7)), axis=-1).reshape(-1, 2)
-    for k in np.argsort(dd)[-zoom:]:
-        centre, face, step = bary[k], faces[k], 1.0 / refine_steps
-        for _ in range(6):
-            cand = np.clip(centre + step * offsets, 0, 1)
-            over = cand.sum(axis=1) > 1
-            cand[over] /= cand[over].sum(axis=1, keepdims=True)
-            dz = one_sided(on_faces(vs, fs, np.full(len(cand), face), cand), vt, ft, tree, tree_face)
-            centre = cand[int(np.argmax(dz))]
-            best = max(best, float(dz.max()))
-            step /= 2
-    return best
+    pts = [np.concatenate([vs[used], ps])]
+    ups = [one_sided(pts[0], vt, ft, tree, tree_face)]
+    d = ups[0][len(used):]
+    if refine_faces > 0 and len(d):
+        top = np.unique(ts[np.argsort(d)[-refine_faces:]])
+        g = grid_bary(refine_steps)
+        faces = np.repeat(top, len(g))
+        bary = np.tile(g, (len(top), 1))
+        pts.append(on_faces(vs, fs, faces, bary))
+        ups.append(one_sided(pts[-1], vt, ft, tree, tree_face))
+        offsets = np.stack(np.meshgrid(np.linspace(-1, 1, 7), np.linspace(-1, 1, 7)), axis=-1).reshape(-1, 2)
+        for k in np.argsort(ups[1])[-zoom:]:
+            centre, face, step = bary[k], faces[k], 1.0 / refine_steps
+            for _ in range(6):
+                cand = np.clip(centre + step * offsets, 0, 1)
+                over = cand.sum(axis=1) > 1
+                cand[over] /= cand[over].sum(axis=1, keepdims=True)
+                pts.append(on_faces(vs, fs, np.full(len(cand), face), cand))
+                ups.append(one_sided(pts[-1], vt, ft, tree, tree_face))
+                centre = cand[int(np.argmax(ups[-1]))]
+                step /= 2
+    return exact_max(np.concatenate(pts), np.concatenate(ups), vt, ft, slack)
 
 
 def hausdorff_rel(v0, f0, v1, f1, samples, seed=1, refine_faces=200, refine_steps=40):
@@ -348,8 +416,9 @@ def hausdorff_rel(v0, f0, v1, f1, samples, seed=1, refine_faces=200, refine_step
     p0, t0 = surface_samples(v0, f0, samples, rng)
     p1, t1 = surface_samples(v1, f1, samples, rng)
     tree0, tree1 = cKDTree(p0), cKDTree(p1)
-    h = max(one_direction(v0, f0, p0, t0, v1, f1, tree1, t1, refine_faces, refine_steps),
-            one_direction(v1, f1, p1, t1, v0, f0, tree0, t0, refine_faces, refine_steps))
+    slack = 1e-6 * diag  # a point's bound this close to the best exact distance is not refined
+    h = max(one_direction(v0, f0, p0, t0, v1, f1, tree1, t1, refine_faces, refine_steps, slack),
+            one_direction(v1, f1, p1, t1, v0, f0, tree0, t0, refine_faces, refine_steps, slack))
     return h / diag if diag > 0 else 0.0
 
 
