@@ -187,6 +187,26 @@ double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b) 
   return std::max(ab, faces_max(b, db, near_b, Target{a, ga, abs_tol}, floor));
 }
 
+double sampled_hausdorff_distance(const Mesh& input, const TriangleGrid& grid, const Mesh& remesh) {
+  const TriangleGrid rg(remesh);
+  static constexpr double kSamples[][3] = {{0.5, 0.5, 0},           {0, 0.5, 0.5},           {0.5, 0, 0.5},
+                                           {4 / 6., 1 / 6., 1 / 6.}, {1 / 6., 4 / 6., 1 / 6.}, {1 / 6., 1 / 6., 4 / 6.},
+                                           {1 / 3., 1 / 3., 1 / 3.}};
+  const double to_remesh =
+      max_over(input.num_vertices(), [&](int64_t v) { return rg.distance(pos(input, static_cast<int32_t>(v))); });
+  const double to_input = max_over(remesh.num_faces(), [&](int64_t f) {
+    const V3 p0 = pos(remesh, remesh.f0[f]), p1 = pos(remesh, remesh.f1[f]), p2 = pos(remesh, remesh.f2[f]);
+    double d = 0;
+    for (const auto& w : kSamples)
+      d = std::max(d, grid.distance({w[0] * p0[0] + w[1] * p1[0] + w[2] * p2[0], w[0] * p0[1] + w[1] * p1[1] + w[2] * p2[1],
+                                     w[0] * p0[2] + w[1] * p1[2] + w[2] * p2[2]}));
+    return d;
+  });
+  const double vertices =
+      max_over(remesh.num_vertices(), [&](int64_t v) { return grid.distance(pos(remesh, static_cast<int32_t>(v))); });
+  return std::max({to_remesh, to_input, vertices});
+}
+
 RemeshStats mesh_topology_stats(const Mesh& m) { return mesh_topology_stats(m, analyze_mesh(m)); }
 
 RemeshStats mesh_topology_stats(const Mesh& m, const MeshReport& rep) {

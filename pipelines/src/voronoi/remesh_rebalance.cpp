@@ -2,9 +2,6 @@
 // (pipelines/include/locus/pipelines/voronoi/remesh_rebalance.hpp; thesis §3.7.1).
 #include "locus/pipelines/voronoi/remesh_rebalance.hpp"
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_reduce.h>
-
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -42,38 +39,6 @@ double deficit(const Mesh& m) {
   return area > 0 ? d / area : 0;
 }
 
-// The faithfulness guard's distance: the input's vertices to the remesh, and
-// the remesh's vertices and 7 points of each face to the input. Cheaper than
-// hausdorff_distance and blind between its samples, it only compares a
-// round with the start; the remeshes of docs/cvt.md were kept by it.
-double sampled_distance(const Mesh& input, const TriangleGrid& grid, const Mesh& remesh) {
-  using namespace remesh_vec3;
-  const TriangleGrid rg(remesh);
-  static constexpr double kSamples[][3] = {{0.5, 0.5, 0},           {0, 0.5, 0.5},           {0.5, 0, 0.5},
-                                           {4 / 6., 1 / 6., 1 / 6.}, {1 / 6., 4 / 6., 1 / 6.}, {1 / 6., 1 / 6., 4 / 6.},
-                                           {1 / 3., 1 / 3., 1 / 3.}};
-  auto max_over = [](int64_t n, auto&& f) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<int64_t>(0, n), 0.0,
-        [&](const tbb::blocked_range<int64_t>& r, double acc) {
-          for (int64_t i = r.begin(); i < r.end(); ++i) acc = std::max(acc, f(i));
-          return acc;
-        },
-        [](double a, double b) { return std::max(a, b); });
-  };
-  const double to_remesh = max_over(input.num_vertices(), [&](int64_t v) { return rg.distance(pos(input, static_cast<int32_t>(v))); });
-  const double to_input = max_over(remesh.num_faces(), [&](int64_t f) {
-    const V3 p0 = pos(remesh, remesh.f0[f]), p1 = pos(remesh, remesh.f1[f]), p2 = pos(remesh, remesh.f2[f]);
-    double d = 0;
-    for (const auto& w : kSamples)
-      d = std::max(d, grid.distance({w[0] * p0[0] + w[1] * p1[0] + w[2] * p2[0], w[0] * p0[1] + w[1] * p1[1] + w[2] * p2[1],
-                                     w[0] * p0[2] + w[1] * p1[2] + w[2] * p2[2]}));
-    return d;
-  });
-  const double vertices = max_over(remesh.num_vertices(), [&](int64_t v) { return grid.distance(pos(remesh, static_cast<int32_t>(v))); });
-  return std::max({to_remesh, to_input, vertices});
-}
-
 struct Score {
   RemeshStats s;
   double deficit = 0;
@@ -100,7 +65,7 @@ RebalanceStats rebalance_remesh(const Mesh& input, const TriangleGrid& grid, Mes
   Score was = score_of(input, remesh);
   if (was.deficit == 0 && was.s.mean_min_angle_deg >= kMeanTarget) return st;
   oo.rounds = 2;
-  const double start_distance = sampled_distance(input, grid, remesh);
+  const double start_distance = sampled_hausdorff_distance(input, grid, remesh);
   int32_t budget = std::max(1, remesh.num_vertices() / 50);
   for (int round = 0; round < max_rounds && budget > 0; ++round) {
     if (was.deficit == 0 && was.s.mean_min_angle_deg >= kMeanTarget) break;
@@ -115,7 +80,7 @@ RebalanceStats rebalance_remesh(const Mesh& input, const TriangleGrid& grid, Mes
     const RemeshOptimizeStats os = optimize_remesh(input, grid, remesh, oo);
     const Score now = score_of(input, remesh);
     // Faithfulness: the two-sided distance may not grow by more than 2% of itself.
-    const bool faithful = better(now, was) && sampled_distance(input, grid, remesh) <= 1.02 * start_distance;
+    const bool faithful = better(now, was) && sampled_hausdorff_distance(input, grid, remesh) <= 1.02 * start_distance;
     if (!same_topology(now.s, was.s) || now.s.vertices > n || !faithful) {
       remesh = std::move(keep);
       vertex_site = std::move(keep_site);

@@ -2,8 +2,8 @@
 // Oracles: an analytic distance (a flat square over a ring with a square hole:
 // the farthest point is the hole's center, half the hole's width from the
 // ring) and a dense brute force (a barycentric grid on every face of both
-// meshes, each point against every triangle of the other by a point-triangle
-// distance written here by another route), which brackets the true distance.
+// meshes, each point against every triangle of the other: brute_distance.hpp),
+// which brackets the true distance.
 #include "locus/pipelines/voronoi/remesh_quality.hpp"
 
 #include <doctest/doctest.h>
@@ -14,43 +14,14 @@
 #include <cmath>
 #include <vector>
 
+#include "brute_distance.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
 
 using namespace locus;
 
 namespace {
 
-using A3 = std::array<double, 3>;
-
-A3 sub(const A3& a, const A3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const A3& u, const A3& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
-A3 at(const Mesh& m, int32_t v) { return {m.x[v], m.y[v], m.z[v]}; }
-
-// The plane distance when the projection falls inside, else the nearest of the three edges.
-double point_triangle(const A3& p, const A3& a, const A3& b, const A3& c) {
-  const A3 e1 = sub(b, a), e2 = sub(c, a), q = sub(p, a);
-  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), q1 = dot(q, e1), q2 = dot(q, e2);
-  const double det = d11 * d22 - d12 * d12;
-  const double u = (d22 * q1 - d12 * q2) / det, v = (d11 * q2 - d12 * q1) / det;
-  if (u >= 0 && v >= 0 && u + v <= 1) {
-    const A3 x = {a[0] + u * e1[0] + v * e2[0], a[1] + u * e1[1] + v * e2[1], a[2] + u * e1[2] + v * e2[2]};
-    return std::sqrt(dot(sub(p, x), sub(p, x)));
-  }
-  auto seg = [&](const A3& s0, const A3& s1) {
-    const A3 dd = sub(s1, s0), w = sub(p, s0);
-    const double t = std::clamp(dot(w, dd) / dot(dd, dd), 0.0, 1.0);
-    const A3 x = {s0[0] + t * dd[0], s0[1] + t * dd[1], s0[2] + t * dd[2]};
-    return std::sqrt(dot(sub(p, x), sub(p, x)));
-  };
-  return std::min({seg(a, b), seg(b, c), seg(c, a)});
-}
-
-double to_mesh(const A3& p, const Mesh& m) {
-  double best = INFINITY;
-  for (int32_t f = 0; f < m.num_faces(); ++f)
-    best = std::min(best, point_triangle(p, at(m, m.f0[f]), at(m, m.f1[f]), at(m, m.f2[f])));
-  return best;
-}
+using namespace locus::test;
 
 // The largest distance over an n-step barycentric grid on every face, both
 // ways, and how far any surface point can be from its face's grid (the
@@ -65,16 +36,16 @@ Dense dense_hausdorff(const Mesh& a, const Mesh& b, int n) {
     const Mesh& s = dir ? b : a;
     const Mesh& t = dir ? a : b;
     for (int32_t f = 0; f < s.num_faces(); ++f) {
-      const A3 p0 = at(s, s.f0[f]), p1 = at(s, s.f1[f]), p2 = at(s, s.f2[f]);
+      const P3 p0 = at(s, s.f0[f]), p1 = at(s, s.f1[f]), p2 = at(s, s.f2[f]);
       const double longest = std::sqrt(std::max({dot(sub(p0, p1), sub(p0, p1)), dot(sub(p1, p2), sub(p1, p2)),
                                                  dot(sub(p2, p0), sub(p2, p0))}));
       d.reach = std::max(d.reach, longest / n / std::sqrt(3.0));
       for (int i = 0; i <= n; ++i)
         for (int j = 0; i + j <= n; ++j) {
           const double u = double(i) / n, v = double(j) / n, w = 1 - u - v;
-          const A3 x = {w * p0[0] + u * p1[0] + v * p2[0], w * p0[1] + u * p1[1] + v * p2[1],
+          const P3 x = {w * p0[0] + u * p1[0] + v * p2[0], w * p0[1] + u * p1[1] + v * p2[1],
                         w * p0[2] + u * p1[2] + v * p2[2]};
-          d.h = std::max(d.h, to_mesh(x, t));
+          d.h = std::max(d.h, distance_to(t, x));
         }
     }
   }

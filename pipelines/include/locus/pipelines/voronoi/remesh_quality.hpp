@@ -52,4 +52,11 @@ double hausdorff_distance(const Mesh& a, const Mesh& b);
 // The same with a's grid given (ga must be TriangleGrid(a)).
 double hausdorff_distance(const Mesh& a, const TriangleGrid& ga, const Mesh& b);
 
+// The rebalance's guard (remesh_rebalance.hpp): the input's vertices to the
+// remesh, the remesh's vertices and 7 fixed points of each of its triangles
+// to the input (`grid`: TriangleGrid(input)). Cheaper than the search and
+// blind between its samples; it only compares a round with the start, and
+// the remeshes of docs/cvt.md were kept by it.
+double sampled_hausdorff_distance(const Mesh& input, const TriangleGrid& grid, const Mesh& remesh);
+
 }  // namespace locus
