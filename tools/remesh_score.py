@@ -31,7 +31,8 @@ statistics cannot make a row look right:
   triangulation that keeps a corner of angle a has an angle <= a there.
 
 Reads OFF and OBJ (triangles, and polygons cut into triangles by ear clipping
-in the plane of their Newell normal). Needs python3-numpy and
+in the plane of their Newell normal; a non-planar polygon's triangles are a
+choice, which the engine's own ear clipping may make otherwise: counted). Needs python3-numpy and
 python3-scipy (Debian packages).
 
   /usr/bin/python3 tools/remesh_score.py cache/meshes/cow.off /tmp/cow.obj
@@ -59,7 +60,8 @@ def ear_clip(v, idx):
         n += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])]
     ax = int(np.argmax(np.abs(n)))
     uv = np.delete(p, ax, axis=1)
-    if n[ax] < 0:
+    x, y = uv[:, 0], uv[:, 1]
+    if np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y) < 0:
         uv[:, 0] = -uv[:, 0]  # counterclockwise in the plane
     def cross(o, a, b):
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
@@ -82,8 +84,9 @@ def ear_clip(v, idx):
     return tris
 
 
-def read_mesh(path):
-    """(vertices n x 3 float, triangles m x 3 int) of an OFF or OBJ file."""
+def read_mesh(path, polygons=None):
+    """(vertices n x 3 float, triangles m x 3 int) of an OFF or OBJ file; its
+    faces of more than three corners are appended to `polygons` if given."""
     if path.lower().endswith(".obj"):
         vs, fs = [], []
         with open(path, encoding="utf-8", errors="replace") as f:
@@ -97,6 +100,8 @@ def read_mesh(path):
                     idx = [int(x.split("/")[0]) for x in t[1:]]
                     idx = [i - 1 if i > 0 else len(vs) + i for i in idx]
                     fs.append(idx)
+        if polygons is not None:
+            polygons += [x for x in fs if len(x) > 3]
         if any(len(x) > 3 for x in fs):
             fs = [t for x in fs for t in ear_clip(vs, x)]
         return np.array(vs, float).reshape(-1, 3), np.array(fs, np.int64).reshape(-1, 3)
@@ -113,7 +118,10 @@ def read_mesh(path):
     fs = []
     for t in body[nv:nv + nf]:
         n = int(t[0])
-        fs += ear_clip(v, [int(x) for x in t[1:1 + n]])
+        idx = [int(x) for x in t[1:1 + n]]
+        if polygons is not None and n > 3:
+            polygons.append(idx)
+        fs += ear_clip(v, idx)
     return v, np.array(fs, np.int64).reshape(-1, 3)
 
 
@@ -156,6 +164,22 @@ def orientable_by_flips(f, inverse, by_edge, half):
                 elif flip[o] != want:
                     return False
     return True
+
+
+def nonplanar(v, polygons, tol):
+    """Polygons whose corners leave the plane of their Newell normal by more than tol:
+    their triangulation is a choice (the engine's ear clipping may choose another)."""
+    count = 0
+    for idx in polygons:
+        p = v[idx]
+        n = np.zeros(3)
+        for k in range(len(p)):
+            a, b = p[k], p[(k + 1) % len(p)]
+            n += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])]
+        norm = np.linalg.norm(n)
+        if norm > 0 and np.abs((p - p.mean(axis=0)) @ (n / norm)).max() > tol:
+            count += 1
+    return count
 
 
 def topology(v, f):
@@ -423,7 +447,8 @@ def hausdorff_rel(v0, f0, v1, f1, samples, seed=1, refine_faces=200, refine_step
 
 
 def score(input_path, remesh_path, samples=200000):
-    v0, f0 = read_mesh(input_path)
+    polygons = []
+    v0, f0 = read_mesh(input_path, polygons)
     v1, f1 = read_mesh(remesh_path)
     if len(f1) == 0:
         sys.exit(f"remesh_score: {remesh_path}: no faces")
@@ -446,6 +471,7 @@ def score(input_path, remesh_path, samples=200000):
         "input_sharpest_boundary_corner_deg": corner, "input_single_triangles": singles,
         "input_single_triangle_min_angle_deg": single_min,
         "input_angle_bound_deg": min(bounds) if bounds else None,
+        "input_nonplanar_polygons": nonplanar(v0, polygons, 1e-4 * float(np.linalg.norm(v0.max(axis=0) - v0.min(axis=0)))),
     }
 
 
