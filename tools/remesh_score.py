@@ -33,7 +33,7 @@ statistics cannot make a row look right:
 Reads OFF and OBJ (triangles, and polygons cut into triangles by ear clipping
 in the plane of their Newell normal; a non-planar polygon's triangles are a
 choice, which the engine's own ear clipping may make otherwise: counted). Needs python3-numpy and
-python3-scipy (Debian packages).
+python3-scipy (Debian packages; `bash tools/setup.sh --bench-peers` installs them).
 
   /usr/bin/python3 tools/remesh_score.py cache/meshes/cow.off /tmp/cow.obj
   /usr/bin/python3 tools/remesh_score.py --json INPUT REMESH
@@ -47,6 +47,21 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 
+def newell_normal(p):
+    """A polygon's normal scaled by twice its area (p: its corners in order, k x 3)."""
+    q = np.roll(p, -1, axis=0)
+    return np.array([((p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])).sum(), ((p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])).sum(),
+                     ((p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])).sum()])
+
+
+def edge_table(f):
+    """The half-edges (3m x 2, face by face in blocks of m), the undirected edges,
+    each half-edge's edge, and each edge's face count."""
+    half = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    edges, inverse, count = np.unique(np.sort(half, axis=1), axis=0, return_inverse=True, return_counts=True)
+    return half, edges, inverse.reshape(-1), count
+
+
 def ear_clip(v, idx):
     """Triangles of polygon idx (vertex indices into v): its Newell normal's
     plane, then ears cut in turn (a convex corner holding no other corner);
@@ -54,10 +69,7 @@ def ear_clip(v, idx):
     if len(idx) == 3:
         return [list(idx)]
     p = np.asarray([v[i] for i in idx], float)
-    n = np.zeros(3)
-    for k in range(len(p)):
-        a, b = p[k], p[(k + 1) % len(p)]
-        n += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])]
+    n = newell_normal(p)
     ax = int(np.argmax(np.abs(n)))
     uv = np.delete(p, ax, axis=1)
     x, y = uv[:, 0], uv[:, 1]
@@ -172,10 +184,7 @@ def nonplanar(v, polygons, tol):
     count = 0
     for idx in polygons:
         p = v[idx]
-        n = np.zeros(3)
-        for k in range(len(p)):
-            a, b = p[k], p[(k + 1) % len(p)]
-            n += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])]
+        n = newell_normal(p)
         norm = np.linalg.norm(n)
         if norm > 0 and np.abs((p - p.mean(axis=0)) @ (n / norm)).max() > tol:
             count += 1
@@ -185,10 +194,7 @@ def nonplanar(v, polygons, tol):
 def topology(v, f):
     """Manifoldness, orientation, components, boundary loops, chi and genus."""
     nv = len(v)
-    half = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    und = np.sort(half, axis=1)
-    edges, inverse, count = np.unique(und, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.reshape(-1)
+    half, edges, inverse, count = edge_table(f)
     edge_manifold = bool(count.max(initial=0) <= 2)
     # Consistent orientation: no directed edge twice.
     _, dcount = np.unique(half, axis=0, return_counts=True)
@@ -277,8 +283,7 @@ def corner_angles(v, f):
 def angle_bound(v, f):
     """The input's smallest boundary corner and one-triangle component angle (degrees, or None)."""
     ang = corner_angles(v, f)
-    und = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
-    edges, count = np.unique(und, axis=0, return_counts=True)
+    _, edges, _, count = edge_table(f)
     bverts = np.unique(edges[count == 1].reshape(-1))
     sums = np.zeros(len(v))
     np.add.at(sums, f.reshape(-1), ang.reshape(-1))

@@ -182,7 +182,7 @@ def main():
         try:
             import remesh_score
         except ImportError as e:
-            sys.exit("remesh_table: --score needs numpy and scipy (python3-numpy, python3-scipy; /usr/bin/python3): %s" % e)
+            sys.exit("remesh_table: --score needs numpy and scipy (python3-numpy, python3-scipy: bash tools/setup.sh --bench-peers; run with /usr/bin/python3): %s" % e)
         scorer = remesh_score.score
     names = a.meshes or sorted(re.sub(r"\.off$", "", f) for f in os.listdir(a.dir) if f.endswith(".off"))
     rows = []

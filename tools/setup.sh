@@ -20,12 +20,13 @@ PKGS=(
 )
 # `tools/setup.sh --bench-peers` also installs the peers only benchmarks use
 # (CGAL's Heat_method_3 for locus-bench-cgal, GPL; SCOTCH for locus-bench-scotch,
-# CeCILL-C; never linked into locus).
+# CeCILL-C; never linked into locus) and scipy for the remesh table's
+# independent scorer (tools/remesh_score.py).
 # Not by default: CI and the tests do not need them, and Boost is large.
 # assimp-testmodels (real exports, ~100 MB) is not installed either: tests/io/read_assimp.cpp
 # reads a few of them when present and skips that case otherwise.
 if [ "${1:-}" = "--bench-peers" ]; then
-  PKGS+=(libcgal-dev libscotch-dev)
+  PKGS+=(libcgal-dev libscotch-dev python3-scipy)
 fi
 missing=()
 for p in "${PKGS[@]}"; do

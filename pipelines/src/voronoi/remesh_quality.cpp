@@ -101,6 +101,15 @@ struct Target {
   bool triangle(int32_t f) const { return f >= 0 && mesh.face(f).size() == 3; }
 };
 
+double top_of(const SubTriangle& t) { return std::max({t.d[0], t.d[1], t.d[2]}); }
+
+// Nothing in t can be farther than `best` (within the tolerances): its corners
+// are nearest one target triangle, or their distances plus its reach stay below.
+bool settled(const Target& tg, const SubTriangle& t, double best) {
+  if (t.f[0] == t.f[1] && t.f[1] == t.f[2] && tg.triangle(t.f[0])) return true;
+  return top_of(t) + reach(t.p[0], t.p[1], t.p[2]) <= std::max(best * (1 + kTol), best + tg.abs_tol);
+}
+
 // The largest distance from triangle `root` to the target above `floor` (else
 // `floor`): a search of its own, so the thread count does not change it.
 double face_search(const Target& tg, const SubTriangle& root, double floor) {
@@ -109,11 +118,8 @@ double face_search(const Target& tg, const SubTriangle& root, double floor) {
   for (int splits = 0; !stack.empty();) {
     const SubTriangle t = stack.back();
     stack.pop_back();
-    const double top = std::max({t.d[0], t.d[1], t.d[2]});
-    best = std::max(best, top);
-    if (t.f[0] == t.f[1] && t.f[1] == t.f[2] && tg.triangle(t.f[0])) continue;
-    const double bound = std::max(best * (1 + kTol), best + tg.abs_tol);
-    if (top + reach(t.p[0], t.p[1], t.p[2]) <= bound || ++splits > kMaxSplits) continue;
+    best = std::max(best, top_of(t));
+    if (settled(tg, t, best) || ++splits > kMaxSplits) continue;
     const V3 m[3] = {mid(t.p[0], t.p[1]), mid(t.p[1], t.p[2]), mid(t.p[2], t.p[0])};
     ClosestPoint c[3];
     for (int k = 0; k < 3; ++k) c[k] = tg.grid.closest(m[k]);
@@ -129,11 +135,8 @@ double face_search(const Target& tg, const SubTriangle& root, double floor) {
 
 double face_max(const Target& tg, const SubTriangle& root, double floor) {
   // Most faces end at the root: no stack for them.
-  const double top = std::max({root.d[0], root.d[1], root.d[2]}), best = std::max(floor, top);
-  const bool one_face = root.f[0] == root.f[1] && root.f[1] == root.f[2] && tg.triangle(root.f[0]);
-  if (one_face || top + reach(root.p[0], root.p[1], root.p[2]) <= std::max(best * (1 + kTol), best + tg.abs_tol))
-    return best;
-  return face_search(tg, root, floor);
+  const double best = std::max(floor, top_of(root));
+  return settled(tg, root, best) ? best : face_search(tg, root, floor);
 }
 
 // Every vertex of `src` to the target: distance and nearest face.
