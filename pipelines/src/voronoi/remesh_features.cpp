@@ -199,6 +199,17 @@ FeatureGraph feature_graph(const Mesh& m, const MeshDerived& d, double angle_deg
   return g;
 }
 
+std::vector<std::pair<int32_t, int32_t>> feature_curve_edges(const std::vector<FeatureCurve>& curves) {
+  std::vector<std::pair<int32_t, int32_t>> out;
+  auto add = [&](int32_t a, int32_t b) { out.push_back({std::min(a, b), std::max(a, b)}); };
+  for (const FeatureCurve& c : curves) {
+    for (size_t k = 1; k < c.site.size(); ++k) add(c.site[k - 1], c.site[k]);
+    if (c.closed && c.site.size() > 2) add(c.site.back(), c.site.front());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 void drop_short_components(const Mesh& m, FeatureGraph& g, double min_length) {
   // Union-find over the curves: two curves are connected when they share an end.
   const size_t nc = g.curves.size();

@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <unordered_map>
 #include <vector>
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_topology.hpp"
 #include "locus/pipelines/voronoi/remesh_boundary.hpp"
+#include "remesh_flips.hpp"
 #include "remesh_vec3.hpp"
 
 namespace locus {
@@ -20,126 +20,6 @@ namespace locus {
 namespace {
 
 using namespace remesh_vec3;
-
-uint64_t key(int32_t a, int32_t b) {
-  return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
-}
-
-using TriangleCorners = std::array<V3, 3>;
-
-// The input's normal at the point of the input nearest a triangle's centroid.
-bool input_normal_at(const Mesh& input, const TriangleGrid& grid, const TriangleCorners& t, V3& n) {
-  const ClosestPoint cp = grid.closest(
-      {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3});
-  if (cp.face < 0) return false;
-  const auto fv = input.face(cp.face);
-  n = tri_normal(pos(input, fv[0]), pos(input, fv[1]), pos(input, fv[2]));
-  return norm(n) > 0;
-}
-
-// For a pair `before` whose normals are more than 120 degrees apart (the
-// caller's test: a fold, not a crease): true when it is folded against the
-// input (one of its triangles more than 90 degrees off the input's normal)
-// and the flipped pair `after` faces like the input (both within 60
-// degrees): the flip unfolds it (polygon_mesh's boundary: a 4-degree ear
-// folded 177 degrees onto its neighbor, which the 30-degree crease rule
-// below kept; docs/cvt.md).
-bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<TriangleCorners, 2>& before,
-             const std::array<TriangleCorners, 2>& after) {
-  V3 ni;
-  for (const TriangleCorners& t : after) {
-    const V3 n = tri_normal(t[0], t[1], t[2]);
-    if (!input_normal_at(input, grid, t, ni) || dot(n, ni) <= 0.5 * norm(n) * norm(ni)) return false;
-  }
-  for (const TriangleCorners& t : before)
-    if (input_normal_at(input, grid, t, ni) && dot(tri_normal(t[0], t[1], t[2]), ni) < 0) return true;
-  return false;
-}
-
-// One sweep of flips over the edges in sorted order; returns the number of flips.
-int64_t flip_pass(const Mesh& input, const TriangleGrid& grid, Mesh& m, std::vector<std::array<int32_t, 3>>& F,
-                  std::vector<int32_t>& valence, const std::vector<int32_t>& target,
-                  const std::vector<uint8_t>& pinned, bool by_valence) {
-  std::unordered_map<uint64_t, std::array<int32_t, 2>> ef;
-  ef.reserve(F.size() * 2);
-  for (int32_t f = 0; f < static_cast<int32_t>(F.size()); ++f)
-    for (int k = 0; k < 3; ++k) {
-      auto [it, fresh] = ef.try_emplace(key(F[f][k], F[f][(k + 1) % 3]), std::array<int32_t, 2>{f, -1});
-      if (!fresh) it->second[1] = f;
-    }
-  std::vector<uint64_t> edges;
-  edges.reserve(ef.size());
-  for (const auto& [k, v] : ef)
-    if (v[1] >= 0) edges.push_back(k);
-  std::sort(edges.begin(), edges.end());
-  const double cos30 = std::cos(M_PI / 6);
-  int64_t flips = 0;
-  for (uint64_t e : edges) {
-    const auto it = ef.find(e);
-    if (it == ef.end() || it->second[1] < 0) continue;
-    const int32_t fa = it->second[0], fb = it->second[1];
-    const int32_t u = static_cast<int32_t>(e >> 32), w = static_cast<int32_t>(e & 0xffffffffu);
-    if (!pinned.empty() && pinned[u] && pinned[w]) continue;  // a feature edge stays
-    // fa = (a, b, c) with the edge running a -> b in fa; fb = (b, a, d).
-    int ka = 0;
-    while (!((F[fa][ka] == u && F[fa][(ka + 1) % 3] == w) || (F[fa][ka] == w && F[fa][(ka + 1) % 3] == u))) ++ka;
-    const int32_t a = F[fa][ka], b = F[fa][(ka + 1) % 3], c = F[fa][(ka + 2) % 3];
-    int32_t d = -1;
-    for (int k = 0; k < 3; ++k)
-      if (F[fb][k] != a && F[fb][k] != b) d = F[fb][k];
-    if (d < 0 || c == d || ef.count(key(c, d))) continue;
-    const V3 pa = pos(m, a), pb = pos(m, b), pc = pos(m, c), pd = pos(m, d);
-    if (by_valence) {
-      auto dev = [&](int32_t v, int delta) {
-        const int x = valence[v] + delta - target[v];
-        return x * x;
-      };
-      const int before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
-      const int after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
-      if (after >= before) continue;
-    } else if (angle_at(pc, pa, pb) + angle_at(pd, pa, pb) <= M_PI + 1e-9) {
-      continue;
-    }
-    const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
-    const V3 n1 = tri_normal(pc, pa, pd), n2 = tri_normal(pd, pb, pc);
-    // Degenerate (collinear) triangles have only a rounding-noise normal: zero it.
-    const double scale = std::max({dot(sub(pa, pb), sub(pa, pb)), dot(sub(pc, pa), sub(pc, pa)), dot(sub(pd, pa), sub(pd, pa))});
-    auto tiny = [&](double l) { return l <= 1e-12 * scale ? 0.0 : l; };
-    const double la = tiny(norm(na)), lb = tiny(norm(nb)), l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
-    if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) continue;
-    if (dot(n1, n2) < cos30 * l1 * l2) continue;
-    if (la > 0 && lb > 0 && dot(na, nb) < cos30 * la * lb) {
-      // A crease stays, unless the pair is a fold (more than 120 degrees) the flip opens.
-      if (dot(na, nb) > -0.5 * la * lb ||
-          !unfolds(input, grid, {{{pa, pb, pc}, {pb, pa, pd}}}, {{{pc, pa, pd}, {pd, pb, pc}}}))
-        continue;
-    } else {
-      // A degenerate triangle (collinear sites, e.g. added on a straight input
-      // edge) has no normal: its neighbor's orients the flip that removes it.
-      const V3 navg = {(la > 0 ? na[0] / la : 0) + (lb > 0 ? nb[0] / lb : 0),
-                       (la > 0 ? na[1] / la : 0) + (lb > 0 ? nb[1] / lb : 0),
-                       (la > 0 ? na[2] / la : 0) + (lb > 0 ? nb[2] / lb : 0)};
-      if (dot(n1, navg) <= 0 || dot(n2, navg) <= 0) continue;
-    }
-    const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
-    const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
-    if (by_valence ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;
-    --valence[a];
-    --valence[b];
-    ++valence[c];
-    ++valence[d];
-    F[fa] = {c, a, d};
-    F[fb] = {d, b, c};
-    ef.erase(it);
-    ef[key(c, d)] = {fa, fb};
-    auto& ad = ef[key(a, d)];
-    (ad[0] == fb ? ad[0] : ad[1]) = fa;
-    auto& bc = ef[key(b, c)];
-    (bc[0] == fa ? bc[0] : bc[1]) = fb;
-    ++flips;
-  }
-  return flips;
-}
 
 // Per vertex: its incident triangles (CSR); flips change it, moves do not.
 struct VertexFaces {
@@ -307,29 +187,19 @@ double ring_min_angle(const Mesh& m, const std::vector<std::array<int32_t, 3>>& 
   return worst;
 }
 
-// Targeted repair of the few triangles the smoothing leaves below `below`
-// radians (thin triangles at pinned claw and ear tips): each free vertex of
-// such a triangle climbs, in its tangent plane and projected onto the input,
-// towards the position that maximizes the smallest angle of its own triangles
-// (pattern search, 8 directions, steps of 1/4 to 1/32 of its mean edge).
-// Moving the tip's neighbors opens the angle at the tip without moving the
-// tip, so the Hausdorff distance stays; sequential, in vertex order
-// (deterministic), and only a handful of vertices are visited.
-// With `by_sum`, every free vertex climbs instead, lexicographically: first
-// the smallest angle of its triangles up to `below`, then the sum of their
-// smallest angles (the remesh's mean smallest angle, term by term), so no
-// triangle of the ring drops below min(its ring's smallest angle, below);
-// these climbs start at 1/8 of an edge (they refine a good mesh), and tips and
-// ridges stay within tip_reach of `home` (where the smoothing left them: the
-// sum would otherwise pull them a little further every sweep and cut the
-// tips, docs/cvt.md), and, unless the ring is flat, no edge of the ring grows
-// longer than edge_growth times the ring's longest edge when the climb starts
-// (0: no bound; longer edges cut the surface's curvature: docs/cvt.md)
-// unless the ring's chord error does not grow. Returns the number of moves.
-// A ring whose triangles are all within 20 degrees of the vertex normal is
-// flat enough that a longer edge adds little chord error: the sum's climbs may
-// lengthen its edges (CAD faces: blade's mean smallest angle 49.4 -> 50.4
-// degrees, armadillo's Hausdorff distance unchanged; docs/cvt.md).
+// Targeted repair of the triangles the smoothing leaves below `below` radians
+// (thin triangles at pinned tips): each free vertex of one climbs, in its
+// tangent plane and projected onto the input, to the largest smallest angle of
+// its triangles (pattern search, 8 directions, steps of 1/4 to 1/32 of its mean
+// edge); moving a tip's neighbors opens the tip's angle and keeps the Hausdorff
+// distance. Sequential in vertex order (deterministic). With `by_sum`, every
+// free vertex climbs, lexicographically: its smallest angle up to `below`, then
+// the sum of its triangles' smallest angles; from 1/8 of an edge; tips and
+// ridges within tip_reach of `home` (else the sum cuts them a little every
+// sweep); no ring edge longer than edge_growth times the longest at the start
+// (0: no bound) unless the ring is flat (all within 20 degrees of the vertex
+// normal: blade 49.4 -> 50.4 degrees) or its chord error does not grow
+// (docs/cvt.md). Returns the number of moves.
 constexpr double kFlatCos = 0.93969262078590838;  // cos 20 degrees
 
 // The longest edge from v, at p, to its ring.
@@ -537,13 +407,15 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   if (!opt.pinned.empty() && opt.pinned.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "optimize remesh: pinned must have one entry per vertex");
   for (int32_t v = 0; v < static_cast<int32_t>(opt.pinned.size()); ++v) fixed[v] = fixed[v] || opt.pinned[v];
+  const FeatureEdges features(opt.slides, opt.pinned);
+  const FlipContext fc{input, grid, features};
   // Delaunay flips first (the discrete cells' connectivity) and last; valence
   // flips in the rounds between (both at once undo each other: docs/cvt.md).
   for (int r = 0; r <= opt.rounds; ++r) {
     for (int by_valence = 1; by_valence >= 0; --by_valence) {
       if (by_valence != (r > 0 && r < opt.rounds)) continue;
       for (int pass = 0; pass < 8; ++pass) {
-        const int64_t k = flip_pass(input, grid, remesh, F, valence, target, opt.pinned, by_valence);
+        const int64_t k = flip_pass(fc, remesh, F, valence, target, by_valence);
         st.flips += k;
         if (k == 0) break;
       }
@@ -565,7 +437,7 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
     st.boundary_moves += b;
     changed += b;
     for (int pass = 0; pass < 8; ++pass) {
-      const int64_t k = flip_pass(input, grid, remesh, F, valence, target, opt.pinned, false);
+      const int64_t k = flip_pass(fc, remesh, F, valence, target, false);
       st.flips += k;
       changed += k;
       if (k == 0) break;

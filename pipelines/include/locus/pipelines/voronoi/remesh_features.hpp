@@ -29,6 +29,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "locus/kernels/heat/surface_point.hpp"
@@ -56,6 +57,10 @@ struct FeatureCurve {
   std::vector<int32_t> site;             // feature site ids
   std::vector<double> s;                 // their arclengths from p[0], increasing
 };
+
+// The edges of the curves (site ids of `site`): consecutive sites, and a
+// closed curve's last to its first, as (smaller, larger) pairs, sorted.
+std::vector<std::pair<int32_t, int32_t>> feature_curve_edges(const std::vector<FeatureCurve>& curves);
 
 // Drops the connected parts of g (curves sharing ends) shorter in total than
 // min_length, and the corners only they ended at: isolated sharp edges of a
