@@ -7,6 +7,7 @@
 // its limit; --max-memory bounds the subdivision and the data derived from it.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -104,6 +105,25 @@ TEST_CASE("contract: refusals that depend on the file's contents exit 3, usage e
   const Run source = run_locus(dir, {"geodesic", sphere, "--source", "99999"});
   CHECK(source.status == 3);
   CHECK(has(source.err, "--source 99999 is not a vertex"));
+  // Feature curves that take more than half the sites are said, with the
+  // count that leaves room between them (a cube's 12 edges at 30 sites: 8
+  // corners and ~12 edge sites); at 400 sites they are not.
+  locus::Mesh cube = locus::make_cube_sphere(8, true);
+  for (int32_t v = 0; v < cube.num_vertices(); ++v) {
+    const double m = std::max({std::abs(cube.x[v]), std::abs(cube.y[v]), std::abs(cube.z[v])});
+    cube.x[v] /= m, cube.y[v] /= m, cube.z[v] /= m;
+  }
+  const std::string box = dir / "cube.off";
+  locus::write_mesh(box, cube);
+  const Run few = run_locus(dir, {"cvt", box, "--sites", "30", "--features", "30", "--json"});
+  REQUIRE_MESSAGE(few.status == 0, few.err);
+  const int fs = few.json()["remesh"]["features"]["sites"].get<int>();
+  CHECK(fs > 15);
+  CHECK(has(few.err, "the feature curves take " + std::to_string(fs) + " sites at the density of 30"));
+  CHECK(has(few.err, "ask for about " + std::to_string(4 * fs) + " sites"));
+  const Run many = run_locus(dir, {"cvt", box, "--sites", "400", "--features", "30"});
+  REQUIRE_MESSAGE(many.status == 0, many.err);
+  CHECK_FALSE(has(many.err, "the feature curves take"));
   // What can be told without the file stays bad usage.
   CHECK(run_locus(dir, {"cvt", tri, "--sites", "0"}).status == 2);
   CHECK(run_locus(dir, {"geodesic", sphere, "--source", "0", "--t", "abc"}).status == 2);
