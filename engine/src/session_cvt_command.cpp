@@ -186,9 +186,9 @@ CvtReport run_cvt(const Mesh& mesh, const MeshDerived& derived, const CvtRequest
   // Crease networks longer than the density samples (cheese at 1,000 sites:
   // 1,652 feature sites) leave the optimization almost nothing to move.
   if (rr.feature_sites > 0 && 2 * static_cast<int64_t>(rr.feature_sites) > rr.requested)
-    ctx.note(mesh_name(mesh) + ": --features " + format_number(req.features) + ": the feature curves take " +
-             std::to_string(rr.feature_sites) + " sites at the density of " + std::to_string(rr.requested) +
-             ", more than half of them; the triangles between the curves have little room to improve (ask for about " +
+    ctx.note(mesh_name(mesh) + ": --features " + format_number(req.features) + ": the feature curves need " +
+             std::to_string(rr.feature_sites) + " sites at the spacing of --sites " + std::to_string(rr.requested) +
+             ", more than half as many; the triangles between the curves have little room to improve (ask for about " +
              std::to_string(4 * static_cast<int64_t>(rr.feature_sites)) + " sites, or a larger feature angle)");
   CvtReport r;
   auto t0 = std::chrono::steady_clock::now();

@@ -119,11 +119,11 @@ TEST_CASE("contract: refusals that depend on the file's contents exit 3, usage e
   REQUIRE_MESSAGE(few.status == 0, few.err);
   const int fs = few.json()["remesh"]["features"]["sites"].get<int>();
   CHECK(fs > 15);
-  CHECK(has(few.err, "the feature curves take " + std::to_string(fs) + " sites at the density of 30"));
+  CHECK(has(few.err, "the feature curves need " + std::to_string(fs) + " sites at the spacing of --sites 30"));
   CHECK(has(few.err, "ask for about " + std::to_string(4 * fs) + " sites"));
   const Run many = run_locus(dir, {"cvt", box, "--sites", "400", "--features", "30"});
   REQUIRE_MESSAGE(many.status == 0, many.err);
-  CHECK_FALSE(has(many.err, "the feature curves take"));
+  CHECK_FALSE(has(many.err, "the feature curves need"));
   // What can be told without the file stays bad usage.
   CHECK(run_locus(dir, {"cvt", tri, "--sites", "0"}).status == 2);
   CHECK(run_locus(dir, {"geodesic", sphere, "--source", "0", "--t", "abc"}).status == 2);
