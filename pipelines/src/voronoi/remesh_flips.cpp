@@ -54,10 +54,12 @@ bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<Trian
 // The flip of the pair (a, b, c), (b, a, d) to (c, a, d), (d, b, c) keeps the
 // surface: the new pair within 30 degrees of itself; an old pair across a
 // crease (more than 30 degrees) only when it is a fold the flip opens; a
-// degenerate old triangle oriented by its neighbor. A triangle whose angle
-// opposite the edge is above 170 degrees counts as degenerate: its normal is
-// noise (a vertex projected onto a crease between the edge's ends; hand with
-// --features 2.6 -> 18.4 degrees, docs/cvt.md).
+// degenerate old triangle oriented by its neighbor. With feature curves, a
+// triangle whose angle opposite the edge is above 170 degrees counts as
+// degenerate: its normal is noise (a vertex projected onto a crease between
+// the edge's ends, where no move takes it off; hand 2.6 -> 18.4 degrees).
+// Without them the moves resolve it, and the rule changed 15 sample meshes
+// either way (docs/cvt.md).
 bool keeps_surface(const FlipContext& fc, const V3& pa, const V3& pb, const V3& pc, const V3& pd) {
   const double cos30 = std::cos(M_PI / 6);
   const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
@@ -65,8 +67,9 @@ bool keeps_surface(const FlipContext& fc, const V3& pa, const V3& pb, const V3& 
   // Degenerate (collinear) triangles have only a rounding-noise normal: zero it.
   const double scale = std::max({dot(sub(pa, pb), sub(pa, pb)), dot(sub(pc, pa), sub(pc, pa)), dot(sub(pd, pa), sub(pd, pa))});
   auto tiny = [&](double l) { return l <= 1e-12 * scale ? 0.0 : l; };
-  const double la = angle_at(pc, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(na));
-  const double lb = angle_at(pd, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(nb));
+  const bool curves = fc.features.by_curves();
+  const double la = curves && angle_at(pc, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(na));
+  const double lb = curves && angle_at(pd, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(nb));
   const double l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
   if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) return false;
   if (dot(n1, n2) < cos30 * l1 * l2) return false;

@@ -22,6 +22,7 @@ class FeatureEdges {
  public:
   FeatureEdges(const std::vector<FeatureCurve>& slides, const std::vector<uint8_t>& pinned);
   bool kept(int32_t u, int32_t w) const;
+  bool by_curves() const { return !edges_.empty(); }
 
  private:
   std::vector<std::pair<int32_t, int32_t>> edges_;  // sorted (smaller, larger)
