@@ -46,8 +46,8 @@
 // angle pass to the position along the curve with the largest smallest angle.
 // Pinned vertices (RemeshOptimizeOptions::pinned: on the input's features)
 // do not move, but along their feature curve (RemeshOptimizeOptions::slides)
-// as boundary vertices along the boundary, and an edge between two of them
-// does not flip.
+// as boundary vertices along the boundary, and an edge between two
+// consecutive vertices of a curve does not flip (remesh_flips.hpp).
 //
 // Deterministic: flips visit edges in a fixed order; moves are computed from
 // the previous positions (Jacobi) and applied together.
@@ -102,7 +102,8 @@ struct RemeshOptimizeOptions {
   double hard_tip_reach = 0.3;
   int hard_sweeps = 30;
   // Per remesh vertex (empty: none): 1 where the vertex stays (a feature's,
-  // remesh_features.hpp); an edge between two such vertices never flips.
+  // remesh_features.hpp); without slides, an edge between two such
+  // vertices never flips.
   std::vector<uint8_t> pinned{};
   // Feature curves whose pinned vertices slide along them as boundary
   // vertices do along the boundary (FeatureCurve with remesh vertex ids in
