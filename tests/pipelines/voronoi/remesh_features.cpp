@@ -208,3 +208,36 @@ TEST_CASE("cvt remesh with features: crease runs that meet a boundary loop, at 2
   CHECK(out.boundary_loops == in.boundary_loops);
   CHECK(out.euler_characteristic == in.euler_characteristic);
 }
+
+TEST_CASE("cvt remesh with features: vertices on a straight crease leave no degenerate triangle (oblong)") {
+  // oblong's creases are straight runs of input edges: three consecutive
+  // feature vertices on one gave a triangle of 0 degrees while every edge
+  // between two feature vertices was kept from flipping.
+  const std::string path = LOCUS_MESH_CACHE_DIR "/oblong.off";
+  if (!std::filesystem::exists(path)) {
+    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
+    return;
+  }
+  const Mesh m = read_mesh(path);
+  const MeshDerived d = derive_mesh(m);
+  const RemeshResult r = remesh(m, d, 300, 45);
+  REQUIRE(r.complete);
+  CHECK(r.feature_sites > 0);
+  const MeshReport in = analyze_mesh(m), out = analyze_mesh(r.remesh);
+  CHECK(out.manifold);
+  CHECK(out.degenerate_faces == 0);
+  CHECK(out.euler_characteristic == in.euler_characteristic);
+  double smallest = 180;
+  for (int32_t f = 0; f < r.remesh.num_faces(); ++f) {
+    const int32_t v[3] = {r.remesh.f0[f], r.remesh.f1[f], r.remesh.f2[f]};
+    for (int k = 0; k < 3; ++k) {
+      const int32_t o = v[k], a = v[(k + 1) % 3], b = v[(k + 2) % 3];
+      const double ux = r.remesh.x[a] - r.remesh.x[o], uy = r.remesh.y[a] - r.remesh.y[o], uz = r.remesh.z[a] - r.remesh.z[o];
+      const double wx = r.remesh.x[b] - r.remesh.x[o], wy = r.remesh.y[b] - r.remesh.y[o], wz = r.remesh.z[b] - r.remesh.z[o];
+      const double c = (ux * wx + uy * wy + uz * wz) /
+                       std::sqrt((ux * ux + uy * uy + uz * uz) * (wx * wx + wy * wy + wz * wz));
+      smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI);
+    }
+  }
+  CHECK(smallest > 20);
+}
