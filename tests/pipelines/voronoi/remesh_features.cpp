@@ -3,7 +3,8 @@
 // whose 12 edges and 8 corners are known exactly, the graph has them, and the
 // remesh with features holds the corners as vertices and covers every point
 // of the edges with its own edges (without features it does not); a smooth
-// mesh is remeshed the same with or without the option; bad angles refused.
+// mesh is remeshed the same with or without the option; bad angles refused;
+// vertices on a straight crease leave no degenerate triangle (oblong).
 #include <doctest/doctest.h>
 
 #include <algorithm>
