@@ -124,9 +124,34 @@ void BoundaryCurves::add_curve(const std::vector<std::array<double, 3>>& p, bool
   r.v = std::move(v);
   r.u = std::move(u);
   r.pinned.assign(r.v.size(), 0);
+  r.closed = closed;
   if (!closed) r.pinned.front() = r.pinned.back() = 1;
   curves_.push_back(std::move(c));
   runs_.push_back(std::move(r));
+}
+
+bool BoundaryCurves::adopt(Mesh& remesh, int32_t a, int32_t b, int32_t c) {
+  for (Run& r : runs_) {
+    const size_t k = r.v.size();
+    for (size_t i = 0; i < k; ++i) {
+      const size_t j = (i + 1) % k;
+      if (j == 0 && !r.closed) break;  // an open run's ends are no neighbors
+      if (!((r.v[i] == a && r.v[j] == b) || (r.v[i] == b && r.v[j] == a))) continue;
+      const Curve& cv = curves_[r.curve];
+      const double ui = r.u[i], uj = j == 0 ? r.u[0] + cv.s.back() : r.u[j];
+      const V3 p = pos(remesh, c);
+      const double di = norm(sub(p, pos(remesh, r.v[i]))), dj = norm(sub(p, pos(remesh, r.v[j])));
+      const double uc = di + dj > 0 ? ui + (uj - ui) * di / (di + dj) : 0.5 * (ui + uj);
+      const V3 q = at(cv, r.dir * uc);
+      remesh.x[c] = q[0], remesh.y[c] = q[1], remesh.z[c] = q[2];
+      const auto at_i = static_cast<std::ptrdiff_t>(i + 1);
+      r.v.insert(r.v.begin() + at_i, c);
+      r.u.insert(r.u.begin() + at_i, uc);
+      r.pinned.insert(r.pinned.begin() + at_i, 0);
+      return true;
+    }
+  }
+  return false;
 }
 
 int64_t BoundaryCurves::movable() const {

@@ -99,6 +99,13 @@ bool FeatureEdges::kept(int32_t u, int32_t w) const {
   return std::binary_search(edges_.begin(), edges_.end(), std::pair{std::min(u, w), std::max(u, w)});
 }
 
+void FeatureEdges::split(int32_t a, int32_t b, int32_t c) {
+  auto edge = [](int32_t u, int32_t w) { return std::pair{std::min(u, w), std::max(u, w)}; };
+  const auto it = std::lower_bound(edges_.begin(), edges_.end(), edge(a, b));
+  if (it != edges_.end() && *it == edge(a, b)) edges_.erase(it);
+  for (const auto e : {edge(a, c), edge(c, b)}) edges_.insert(std::lower_bound(edges_.begin(), edges_.end(), e), e);
+}
+
 int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t, 3>>& F,
                   std::vector<int32_t>& valence, const std::vector<int32_t>& target, bool by_valence) {
   std::unordered_map<uint64_t, std::array<int32_t, 2>> ef;
@@ -119,7 +126,8 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
     if (it == ef.end() || it->second[1] < 0) continue;
     const int32_t fa = it->second[0], fb = it->second[1];
     const int32_t u = static_cast<int32_t>(e >> 32), w = static_cast<int32_t>(e & 0xffffffffu);
-    if (fc.features.kept(u, w)) continue;  // a feature edge stays
+    const bool feature = fc.features.kept(u, w);
+    if (feature && !fc.features.by_curves()) continue;  // a pinned pair stays
     // fa = (a, b, c) with the edge running a -> b in fa; fb = (b, a, d).
     int ka = 0;
     while (!((F[fa][ka] == u && F[fa][(ka + 1) % 3] == w) || (F[fa][ka] == w && F[fa][(ka + 1) % 3] == u))) ++ka;
@@ -129,7 +137,12 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
       if (F[fb][k] != a && F[fb][k] != b) d = F[fb][k];
     if (d < 0 || c == d || ef.count(key(c, d))) continue;
     const V3 pa = pos(m, a), pb = pos(m, b), pc = pos(m, c), pd = pos(m, d);
-    if (by_valence) {
+    int32_t on = -1;  // a free vertex on the feature edge: it joins the curve
+    if (feature) {
+      if (!fc.fixed[c] && angle_at(pc, pa, pb) > kFlatAngle) on = c;
+      else if (!fc.fixed[d] && angle_at(pd, pa, pb) > kFlatAngle) on = d;
+      if (on < 0) continue;  // a feature edge stays
+    } else if (by_valence) {
       auto dev = [&](int32_t v, int delta) {
         const int x = valence[v] + delta - target[v];
         return x * x;
@@ -143,7 +156,8 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
     if (!keeps_surface(fc, pa, pb, pc, pd)) continue;
     const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
     const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
-    if (by_valence ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;
+    if (by_valence && on < 0 ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;
+    if (on >= 0 && !fc.curves.adopt(m, a, b, on)) continue;
     --valence[a];
     --valence[b];
     ++valence[c];
@@ -156,6 +170,7 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
     (ad[0] == fb ? ad[0] : ad[1]) = fa;
     auto& bc = ef[key(b, c)];
     (bc[0] == fa ? bc[0] : bc[1]) = fb;
+    if (on >= 0) fc.features.split(a, b, on), fc.fixed[on] = 1;
     ++flips;
   }
   return flips;

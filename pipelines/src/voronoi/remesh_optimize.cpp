@@ -407,8 +407,8 @@ RemeshOptimizeStats optimize_remesh(const Mesh& input, const TriangleGrid& grid,
   if (!opt.pinned.empty() && opt.pinned.size() != static_cast<size_t>(n))
     fail(ErrorCode::BadUsage, "optimize remesh: pinned must have one entry per vertex");
   for (int32_t v = 0; v < static_cast<int32_t>(opt.pinned.size()); ++v) fixed[v] = fixed[v] || opt.pinned[v];
-  const FeatureEdges features(opt.slides, opt.pinned);
-  const FlipContext fc{input, grid, features};
+  FeatureEdges features(opt.slides, opt.pinned);
+  const FlipContext fc{input, grid, features, fixed, curves};
   // Delaunay flips first (the discrete cells' connectivity) and last; valence
   // flips in the rounds between (both at once undo each other: docs/cvt.md).
   for (int r = 0; r <= opt.rounds; ++r) {

@@ -380,40 +380,6 @@ TEST_CASE("remesh optimization: a collinear (degenerate) triangle is flipped awa
   CHECK((r.x[C] == 1 && r.y[C] == 1));
 }
 
-// The same collinear triangle with P, Q, R pinned on a feature curve along
-// y = 0.5: P-Q and Q-R are the curve's edges and stay; P-R skips Q, is no
-// feature edge, and flips (the rule had kept every edge between two pinned
-// vertices, and with them a 0-degree triangle).
-TEST_CASE("remesh optimization: on a feature curve, the edge skipping a vertex flips; the curve's edges stay") {
-  const Mesh input = make_grid(10);
-  Mesh r;
-  for (const auto& p : std::vector<std::array<double, 2>>{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.25, 0.5}, {0.5, 0.5}, {0.75, 0.5}})
-    r.add_vertex(p[0], p[1], 0);
-  const int32_t A = 0, B = 1, C = 2, D = 3, P = 4, Q = 5, R = 6;
-  for (const auto& t : std::vector<std::array<int32_t, 3>>{
-           {A, B, R}, {A, R, P}, {P, R, Q}, {Q, R, C}, {Q, C, D}, {P, Q, D}, {A, P, D}, {B, C, R}})
-    r.add_triangle(t[0], t[1], t[2]);
-  RemeshOptimizeOptions o{2};
-  o.pinned = {0, 0, 0, 0, 1, 1, 1};
-  o.slides = {FeatureCurve{{{0, 0.5, 0}, {1, 0.5, 0}}, false, {P, Q, R}, {0.25, 0.5, 0.75}}};
-  const TriangleGrid grid(input);
-  optimize_remesh(input, grid, r, o);
-  auto has_edge = [&](int32_t u, int32_t w) {
-    for (int32_t f = 0; f < r.num_faces(); ++f) {
-      const int32_t t[3] = {r.f0[f], r.f1[f], r.f2[f]};
-      for (int k = 0; k < 3; ++k)
-        if ((t[k] == u && t[(k + 1) % 3] == w) || (t[k] == w && t[(k + 1) % 3] == u)) return true;
-    }
-    return false;
-  };
-  CHECK(analyze_mesh(r).degenerate_faces == 0);
-  CHECK(remesh_stats(input, r, false).min_angle_deg > 10);
-  CHECK(has_edge(P, Q));
-  CHECK(has_edge(Q, R));
-  CHECK_FALSE(has_edge(P, R));
-  for (int32_t v : {P, Q, R}) CHECK(r.y[v] == 0.5);  // they slide along the curve only
-}
-
 // A pair folded onto itself: (a, b, c) and (b, a, d) with c and d on the same
 // side of ab, so the first faces -z and the second +z (a 177-degree fold: the
 // 30-degree crease rule alone keeps it). On a +z input the flip to (c, a, d),

@@ -40,6 +40,11 @@ class BoundaryCurves {
   // from p[0]); an open curve's first and last vertex stay (its corners).
   void add_curve(const std::vector<std::array<double, 3>>& p, bool closed, std::vector<int32_t> v,
                  std::vector<double> u);
+  // Vertex c (on no run) joins the run where a and b are neighbors, between
+  // them, at the arclength that splits their gap as c's distances to them
+  // do, and moves onto the curve there. False (nothing changed) when no run
+  // has a and b as neighbors.
+  bool adopt(Mesh& remesh, int32_t a, int32_t b, int32_t c);
 
  private:
   struct Curve {  // one input loop: positions, cumulative arclength, corner arclengths
@@ -50,6 +55,7 @@ class BoundaryCurves {
   struct Run {  // one remesh loop on one curve: vertices and their unwrapped arclength u (increasing)
     int32_t curve = -1;
     double dir = 1;  // position at arclength dir * u
+    bool closed = true;  // false: an open feature curve (its ends are corners)
     std::vector<int32_t> v;
     std::vector<double> u;
     std::vector<uint8_t> pinned;
