@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <string>
 
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
@@ -89,6 +90,17 @@ RemeshResult remesh(const Mesh& m, const MeshDerived& d, int32_t sites, double f
   o.lloyd.sites = sites;
   o.feature_angle_deg = features;
   return cvt_remesh(m, d, o, RunContext{});
+}
+
+// The sample mesh `name` of the cache into m; false, said, when it is not fetched.
+bool cached(const std::string& name, Mesh& m) {
+  const std::string path = LOCUS_MESH_CACHE_DIR "/" + name + ".off";
+  if (!std::filesystem::exists(path)) {
+    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
+    return false;
+  }
+  m = read_mesh(path);
+  return true;
 }
 
 }  // namespace
@@ -185,12 +197,8 @@ TEST_CASE("cvt remesh with features: crease runs that meet a boundary loop, at 2
   // boundary sweep once marked such a vertex per run and unmarked it once,
   // reading a face list at -1 (the sanitized build reports it; the Release
   // build crashed or differed from run to run).
-  const std::string path = LOCUS_MESH_CACHE_DIR "/cylinder_locally_refined.off";
-  if (!std::filesystem::exists(path)) {
-    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
-    return;
-  }
-  const Mesh m = read_mesh(path);
+  Mesh m;
+  if (!cached("cylinder_locally_refined", m)) return;
   const MeshDerived d = derive_mesh(m);
   RemeshOptions o;
   o.lloyd.sites = 500;
@@ -214,12 +222,8 @@ TEST_CASE("cvt remesh with features: vertices on a straight crease leave no dege
   // oblong's creases are straight runs of input edges: three consecutive
   // feature vertices on one gave a triangle of 0 degrees while every edge
   // between two feature vertices was kept from flipping.
-  const std::string path = LOCUS_MESH_CACHE_DIR "/oblong.off";
-  if (!std::filesystem::exists(path)) {
-    MESSAGE(path << " not present (run tools/fetch_meshes.sh); skipping");
-    return;
-  }
-  const Mesh m = read_mesh(path);
+  Mesh m;
+  if (!cached("oblong", m)) return;
   const MeshDerived d = derive_mesh(m);
   const RemeshResult r = remesh(m, d, 300, 45);
   REQUIRE(r.complete);
