@@ -176,5 +176,4 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
   return flips;
 }
 
-
 }  // namespace locus

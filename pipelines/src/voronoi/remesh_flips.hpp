@@ -16,10 +16,9 @@ namespace locus {
 
 // The edges that never flip: the feature curves' own (feature_curve_edges),
 // split where a vertex joins a curve. An edge between two feature vertices
-// that skips one is no feature edge:
-// three vertices on a straight crease would otherwise keep a 0-degree
-// triangle. Without curves (pinned vertices only), every edge between two
-// pinned vertices.
+// that skips one is no feature edge: three vertices on a straight crease
+// would otherwise keep a 0-degree triangle. Without curves (pinned vertices
+// only), every edge between two pinned vertices.
 class FeatureEdges {
  public:
   FeatureEdges(const std::vector<FeatureCurve>& slides, const std::vector<uint8_t>& pinned);
