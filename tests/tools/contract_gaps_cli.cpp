@@ -4,11 +4,9 @@
 // file's contents exit 3 (2 is bad usage, checked before the file is read);
 // coordinates at scales whose areas overflow or underflow are refused naming
 // the scale and the range that works; an absurd heat time is refused naming
-// its limit; --max-memory bounds the subdivision and the data derived from it;
-// feature curves that crowd out the other sites are said.
+// its limit; --max-memory bounds the subdivision and the data derived from it.
 #include <doctest/doctest.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -109,29 +107,6 @@ TEST_CASE("contract: refusals that depend on the file's contents exit 3, usage e
   // What can be told without the file stays bad usage.
   CHECK(run_locus(dir, {"cvt", tri, "--sites", "0"}).status == 2);
   CHECK(run_locus(dir, {"geodesic", sphere, "--source", "0", "--t", "abc"}).status == 2);
-}
-
-TEST_CASE("contract: feature curves that take more than half the sites are said") {
-  if (!have_locus()) return;
-  Scratch dir("gaps-features");
-  // Said with the count that leaves room between them: a cube's 12 edges at
-  // 30 sites (8 corners and ~12 edge sites); at 400 sites not.
-  locus::Mesh cube = locus::make_cube_sphere(8, true);
-  for (int32_t v = 0; v < cube.num_vertices(); ++v) {
-    const double m = std::max({std::abs(cube.x[v]), std::abs(cube.y[v]), std::abs(cube.z[v])});
-    cube.x[v] /= m, cube.y[v] /= m, cube.z[v] /= m;
-  }
-  const std::string box = dir / "cube.off";
-  locus::write_mesh(box, cube);
-  const Run few = run_locus(dir, {"cvt", box, "--sites", "30", "--features", "30", "--json"});
-  REQUIRE_MESSAGE(few.status == 0, few.err);
-  const int fs = few.json()["remesh"]["features"]["sites"].get<int>();
-  CHECK(fs > 15);
-  CHECK(has(few.err, "the feature curves need " + std::to_string(fs) + " sites at the spacing of --sites 30"));
-  CHECK(has(few.err, "ask for about " + std::to_string(4 * fs) + " sites"));
-  const Run many = run_locus(dir, {"cvt", box, "--sites", "400", "--features", "30"});
-  REQUIRE_MESSAGE(many.status == 0, many.err);
-  CHECK_FALSE(has(many.err, "the feature curves need"));
 }
 
 TEST_CASE("contract: coordinates whose areas overflow or underflow are refused naming the scale and the range") {

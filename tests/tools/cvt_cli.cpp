@@ -124,7 +124,7 @@ TEST_CASE("cvt CLI: -o writes the manifold remesh (OBJ, PLY, OFF) with the input
   CHECK_FALSE(fs::exists(dir / "few.obj"));
 }
 
-TEST_CASE("cvt CLI: --features DEG keeps a cube's corners; its JSON counts the features; bad DEG exits 2") {
+TEST_CASE("cvt CLI: --features DEG keeps a cube's corners; its JSON counts the features; crowded curves said; bad DEG exits 2") {
   if (!have_locus()) return;
   Scratch dir("cvt-features");
   // The cube [-1, 1]^3 (a cube-sphere's vertices taken back to the cube): 12
@@ -149,6 +149,16 @@ TEST_CASE("cvt CLI: --features DEG keeps a cube's corners; its JSON counts the f
   for (int32_t v = 0; v < back.num_vertices(); ++v)
     corners += std::abs(back.x[v]) == 1 && std::abs(back.y[v]) == 1 && std::abs(back.z[v]) == 1;
   CHECK(corners == 8);
+  // Feature curves that take more than half the sites are said, with the
+  // count that leaves room between them: at 30 sites, not at 120.
+  const std::string crowded = "the feature curves need ";
+  CHECK(r.err.find(crowded) == std::string::npos);
+  const Run few = run_locus(dir, {"cvt", cube, "--sites", "30", "--features", "30", "--json"});
+  REQUIRE_MESSAGE(few.status == 0, few.err);
+  const int fs = few.json()["remesh"]["features"]["sites"].get<int>();
+  CHECK(fs > 15);
+  CHECK(few.err.find(crowded + std::to_string(fs) + " sites at the spacing of --sites 30") != std::string::npos);
+  CHECK(few.err.find("ask for about " + std::to_string(4 * fs) + " sites") != std::string::npos);
   const Run plain = run_locus(dir, {"cvt", cube, "--sites", "120", "--json"});
   REQUIRE_MESSAGE(plain.status == 0, plain.err);
   CHECK_FALSE(plain.json()["remesh"].contains("features"));  // without the option, the JSON of before
