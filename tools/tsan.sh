@@ -73,7 +73,7 @@ fi
 say "building locus-tests (TSan)"
 # Only the test files the groups below run are compiled (keep the two lists in step).
 tests="/tests/(kernels/(order/|mesh/nearest_seed_buckets|symbolic/symbolic_factor|factor/(supernodal_factor|memory_budget)|solve/(solve_|selected_inversion)"
-tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features|remesh_quality)|geodesic/(heat_geodesic|logmap)\\.cpp"
+tests="$tests|update/factor_update)|pipelines/(voronoi/(cvt_lloyd|cvt_remesh|heat_voronoi|skinning_|remesh_features|remesh_quality|remesh_flips)|geodesic/(heat_geodesic|logmap)\\.cpp"
 tests="$tests|heat/adf\\.cpp)|engine/(session|c_api|session_pipelines)\\.cpp)"
 clang_tree "$B"
 cmake -S "$root" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_SANITIZE=thread "${clang_cmake_compilers[@]}" \

@@ -60,7 +60,9 @@ bool unfolds(const Mesh& input, const TriangleGrid& grid, const std::array<Trian
 // the edge's ends, where no move takes it off; hand 2.6 -> 18.4 degrees).
 // Without them the moves resolve it, and the rule changed 15 sample meshes
 // either way (docs/cvt.md).
-bool keeps_surface(const FlipContext& fc, const V3& pa, const V3& pb, const V3& pc, const V3& pd) {
+// at_c, at_d: the old pair's angles opposite the edge.
+bool keeps_surface(const FlipContext& fc, const V3& pa, const V3& pb, const V3& pc, const V3& pd, double at_c,
+                   double at_d) {
   const double cos30 = std::cos(M_PI / 6);
   const V3 na = tri_normal(pa, pb, pc), nb = tri_normal(pb, pa, pd);
   const V3 n1 = tri_normal(pc, pa, pd), n2 = tri_normal(pd, pb, pc);
@@ -68,8 +70,8 @@ bool keeps_surface(const FlipContext& fc, const V3& pa, const V3& pb, const V3& 
   const double scale = std::max({dot(sub(pa, pb), sub(pa, pb)), dot(sub(pc, pa), sub(pc, pa)), dot(sub(pd, pa), sub(pd, pa))});
   auto tiny = [&](double l) { return l <= 1e-12 * scale ? 0.0 : l; };
   const bool curves = fc.features.by_curves();
-  const double la = curves && angle_at(pc, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(na));
-  const double lb = curves && angle_at(pd, pa, pb) > kFlatAngle ? 0.0 : tiny(norm(nb));
+  const double la = curves && at_c > kFlatAngle ? 0.0 : tiny(norm(na));
+  const double lb = curves && at_d > kFlatAngle ? 0.0 : tiny(norm(nb));
   const double l1 = tiny(norm(n1)), l2 = tiny(norm(n2));
   if (!(l1 > 0 && l2 > 0) || !(la > 0 || lb > 0)) return false;
   if (dot(n1, n2) < cos30 * l1 * l2) return false;
@@ -137,10 +139,11 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
       if (F[fb][k] != a && F[fb][k] != b) d = F[fb][k];
     if (d < 0 || c == d || ef.count(key(c, d))) continue;
     const V3 pa = pos(m, a), pb = pos(m, b), pc = pos(m, c), pd = pos(m, d);
+    const double at_c = angle_at(pc, pa, pb), at_d = angle_at(pd, pa, pb);
     int32_t on = -1;  // a free vertex on the feature edge: it joins the curve
     if (feature) {
-      if (!fc.fixed[c] && angle_at(pc, pa, pb) > kFlatAngle) on = c;
-      else if (!fc.fixed[d] && angle_at(pd, pa, pb) > kFlatAngle) on = d;
+      if (!fc.fixed[c] && at_c > kFlatAngle) on = c;
+      else if (!fc.fixed[d] && at_d > kFlatAngle) on = d;
       if (on < 0) continue;  // a feature edge stays
     } else if (by_valence) {
       auto dev = [&](int32_t v, int delta) {
@@ -150,10 +153,10 @@ int64_t flip_pass(const FlipContext& fc, Mesh& m, std::vector<std::array<int32_t
       const int before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
       const int after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
       if (after >= before) continue;
-    } else if (angle_at(pc, pa, pb) + angle_at(pd, pa, pb) <= M_PI + 1e-9) {
+    } else if (at_c + at_d <= M_PI + 1e-9) {
       continue;
     }
-    if (!keeps_surface(fc, pa, pb, pc, pd)) continue;
+    if (!keeps_surface(fc, pa, pb, pc, pd, at_c, at_d)) continue;
     const double old_min = std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd));
     const double new_min = std::min(min_angle(pc, pa, pd), min_angle(pd, pb, pc));
     if (by_valence && on < 0 ? new_min < std::min(old_min, M_PI / 9) : new_min <= old_min) continue;

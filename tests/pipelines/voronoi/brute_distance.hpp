@@ -1,7 +1,7 @@
 // Distances by brute force, for the remesh tests' oracles (computed here, not
 // by the library the tests check): a point to a triangle (the plane when the
 // point projects inside, else the nearest of the three edges), and a point to
-// every triangle of a mesh.
+// every triangle of a mesh; and a mesh's smallest angle.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -41,6 +41,19 @@ inline double distance_to(const Mesh& m, const P3& p) {
   for (int32_t f = 0; f < m.num_faces(); ++f)
     d = std::min(d, tri_distance(p, at(m, m.f0[f]), at(m, m.f1[f]), at(m, m.f2[f])));
   return d;
+}
+
+// The smallest angle of any triangle of m, in degrees.
+inline double smallest_angle_deg(const Mesh& m) {
+  double best = 180;
+  for (int32_t f = 0; f < m.num_faces(); ++f) {
+    const P3 p[3] = {at(m, m.f0[f]), at(m, m.f1[f]), at(m, m.f2[f])};
+    for (int k = 0; k < 3; ++k) {
+      const P3 a = sub(p[(k + 1) % 3], p[k]), b = sub(p[(k + 2) % 3], p[k]);
+      best = std::min(best, std::acos(std::clamp(dot(a, b) / std::sqrt(dot(a, a) * dot(b, b)), -1.0, 1.0)) * 180 / M_PI);
+    }
+  }
+  return best;
 }
 
 }  // namespace locus::test

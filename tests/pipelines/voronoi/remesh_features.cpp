@@ -14,6 +14,7 @@
 #include <limits>
 #include <string>
 
+#include "brute_distance.hpp"
 #include "locus/error.hpp"
 #include "locus/kernels/mesh/mesh_derived.hpp"
 #include "locus/kernels/mesh/mesh_generators.hpp"
@@ -232,17 +233,5 @@ TEST_CASE("cvt remesh with features: vertices on a straight crease leave no dege
   CHECK(out.manifold);
   CHECK(out.degenerate_faces == 0);
   CHECK(out.euler_characteristic == in.euler_characteristic);
-  double smallest = 180;
-  for (int32_t f = 0; f < r.remesh.num_faces(); ++f) {
-    const int32_t v[3] = {r.remesh.f0[f], r.remesh.f1[f], r.remesh.f2[f]};
-    for (int k = 0; k < 3; ++k) {
-      const int32_t o = v[k], a = v[(k + 1) % 3], b = v[(k + 2) % 3];
-      const double ux = r.remesh.x[a] - r.remesh.x[o], uy = r.remesh.y[a] - r.remesh.y[o], uz = r.remesh.z[a] - r.remesh.z[o];
-      const double wx = r.remesh.x[b] - r.remesh.x[o], wy = r.remesh.y[b] - r.remesh.y[o], wz = r.remesh.z[b] - r.remesh.z[o];
-      const double c = (ux * wx + uy * wy + uz * wz) /
-                       std::sqrt((ux * ux + uy * uy + uz * uz) * (wx * wx + wy * wy + wz * wz));
-      smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI);
-    }
-  }
-  CHECK(smallest > 20);
+  CHECK(test::smallest_angle_deg(r.remesh) > 20);
 }

@@ -22,18 +22,6 @@ namespace {
 
 using namespace locus::test;
 
-double smallest_angle_deg(const Mesh& m) {
-  double best = 180;
-  for (int32_t f = 0; f < m.num_faces(); ++f) {
-    const P3 p[3] = {at(m, m.f0[f]), at(m, m.f1[f]), at(m, m.f2[f])};
-    for (int k = 0; k < 3; ++k) {
-      const P3 a = sub(p[(k + 1) % 3], p[k]), b = sub(p[(k + 2) % 3], p[k]);
-      best = std::min(best, std::acos(dot(a, b) / std::sqrt(dot(a, a) * dot(b, b))) * 180 / M_PI);
-    }
-  }
-  return best;
-}
-
 P3 rim(int k) { return {0.5 + 0.4 * std::cos(k * M_PI / 3), 0.5 + 0.4 * std::sin(k * M_PI / 3), 0}; }
 
 // A hexagonal cone: six triangles from the apex to the rim (radius 0.4 around

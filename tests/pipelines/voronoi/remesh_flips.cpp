@@ -1,8 +1,9 @@
-// Flips between feature vertices (pipelines/src/voronoi/remesh_flips.hpp):
-// on a flat square with a feature curve along y = 0.5, the edge that skips a
-// curve vertex flips and the curve's own edges stay; a free vertex lying on a
-// feature edge joins the curve and the edge flips. Checked against the
-// square's known connectivity and coordinates.
+// Flips of a remesh (pipelines/src/voronoi/remesh_flips.hpp) on a flat square
+// with a collinear triangle: without features it flips away; with a feature
+// curve along y = 0.5, the edge that skips a curve vertex flips and the
+// curve's own edges stay; a free vertex lying on a feature edge joins the
+// curve and the edge flips. Checked against the square's known connectivity
+// and coordinates.
 #include <doctest/doctest.h>
 
 #include <array>
@@ -42,6 +43,28 @@ bool has_edge(const Mesh& r, int32_t u, int32_t w) {
 }
 
 }  // namespace
+
+TEST_CASE("remesh optimization: a collinear (degenerate) triangle is flipped away; topology and surface kept") {
+  const Mesh input = make_grid(10);  // the unit square, z = 0
+  Mesh r = collinear_square();
+  const MeshReport before = analyze_mesh(r);
+  REQUIRE(before.manifold);
+  REQUIRE(remesh_stats(input, r, false).min_angle_deg == 0);
+  const TriangleGrid grid(input);
+  const RemeshOptimizeStats st = optimize_remesh(input, grid, r, RemeshOptimizeOptions{2});
+  CHECK(st.flips >= 1);
+  const MeshReport after = analyze_mesh(r);
+  CHECK(after.manifold);
+  CHECK(after.euler_characteristic == before.euler_characteristic);
+  CHECK(after.boundary_loops == 1);
+  CHECK(after.degenerate_faces == 0);
+  CHECK(remesh_stats(input, r, false).min_angle_deg > 10);
+  for (int32_t v = 0; v < r.num_vertices(); ++v) {  // on the input; the corners stay
+    CHECK(r.z[v] == 0);
+    CHECK((r.x[v] >= 0 && r.x[v] <= 1 && r.y[v] >= 0 && r.y[v] <= 1));
+  }
+  CHECK((r.x[C] == 1 && r.y[C] == 1));
+}
 
 // P, Q, R pinned on the curve: P-Q and Q-R are its edges and stay; P-R skips
 // Q, is no feature edge, and flips (the rule had kept every edge between two
